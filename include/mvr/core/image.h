@@ -1,0 +1,77 @@
+// mvr/core/image.h — RGBA8 color images and float depth images, PNG I/O.
+//
+// Conventions: row 0 is the TOP row of the picture (as in PNG files); pixel (x, y) is at
+// index y * width + x. Color is RGBA8, 4 bytes per pixel, non-premultiplied, values as
+// rendered (mvr's lighting writes its linear result straight to 8 bits; no sRGB encode).
+// Depth is window-space depth in [0, 1] (GL convention: 0 = near plane, 1 = far plane, the
+// clear value); a pixel that nothing covered holds 1.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mvr/core/status.h"
+
+namespace mvr {
+
+struct Rgba8 {
+    std::uint8_t r = 0, g = 0, b = 0, a = 255;
+    friend bool operator==(const Rgba8&, const Rgba8&) = default;
+};
+
+/// An RGBA8 image, row 0 at the top.
+struct Image {
+    int width = 0;
+    int height = 0;
+    std::vector<std::uint8_t> rgba;  ///< width * height * 4 bytes
+
+    Image() = default;
+    Image(int w, int h, Rgba8 fill = {0, 0, 0, 255});
+
+    bool empty() const { return width <= 0 || height <= 0; }
+    Rgba8 at(int x, int y) const;
+    void set(int x, int y, Rgba8 c);
+    std::uint8_t* row(int y) { return rgba.data() + static_cast<std::size_t>(y) * width * 4; }
+    const std::uint8_t* row(int y) const {
+        return rgba.data() + static_cast<std::size_t>(y) * width * 4;
+    }
+    friend bool operator==(const Image&, const Image&) = default;
+};
+
+/// A float depth image, row 0 at the top, window depth in [0, 1].
+struct DepthImage {
+    int width = 0;
+    int height = 0;
+    std::vector<float> depth;  ///< width * height values
+
+    DepthImage() = default;
+    DepthImage(int w, int h, float fill = 1.0f)
+        : width(w), height(h), depth(static_cast<std::size_t>(w) * h, fill) {}
+    float at(int x, int y) const { return depth[static_cast<std::size_t>(y) * width + x]; }
+    friend bool operator==(const DepthImage&, const DepthImage&) = default;
+};
+
+/// Per-pixel comparison of two images of the same size.
+struct ImageDiff {
+    int maxDelta = 0;         ///< largest absolute channel difference (0..255)
+    double meanDelta = 0.0;   ///< mean absolute channel difference over all RGB channels
+    long differingPixels = 0; ///< pixels whose RGB differ by more than the threshold given
+    int worstX = -1, worstY = -1;
+};
+
+/// Compares RGB channels (alpha ignored). Precondition: same size (else maxDelta = 256).
+ImageDiff compareImages(const Image& a, const Image& b, int threshold = 0);
+
+/// Writes an RGBA8 PNG through libpng. Errors: ErrorCode::Output naming the path.
+Status writePng(const std::filesystem::path& path, const Image& image);
+
+/// Reads a PNG file (any bit depth / color type, converted to RGBA8) through libpng.
+/// Errors: ErrorCode::Input naming the path and the problem (missing, not a PNG, truncated).
+Result<Image> readPng(const std::filesystem::path& path);
+
+/// Writes a depth image as a 16-bit grayscale PNG (0 = near, 65535 = far / empty), for looking at.
+Status writeDepthPng(const std::filesystem::path& path, const DepthImage& depth);
+
+}  // namespace mvr

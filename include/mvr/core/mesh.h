@@ -1,0 +1,60 @@
+// mvr/core/mesh.h — triangle meshes, loaded from OBJ, PLY and glTF 2.0 through assimp.
+//
+// Conventions: right-handed, counter-clockwise front faces, model units as in the file.
+// Every mesh that leaves the loader has: at least one triangle, finite positions, a unit
+// normal per vertex (smooth normals are generated when the file has none), and indices that
+// are all < positions.size(). Vertex order is optimized for locality with meshoptimizer.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "mvr/core/status.h"
+
+namespace mvr {
+
+struct Bounds {
+    glm::vec3 min{std::numeric_limits<float>::max()};
+    glm::vec3 max{-std::numeric_limits<float>::max()};
+    bool empty() const { return min.x > max.x; }
+    void extend(const glm::vec3& p) { min = glm::min(min, p); max = glm::max(max, p); }
+    void extend(const Bounds& b) { if (!b.empty()) { extend(b.min); extend(b.max); } }
+    glm::vec3 center() const { return (min + max) * 0.5f; }
+    float radius() const { return glm::length(max - min) * 0.5f; }
+};
+
+struct Mesh {
+    std::string name;
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;     ///< one per position, unit length
+    std::vector<glm::vec2> texcoords;   ///< empty, or one per position
+    std::vector<std::uint32_t> indices; ///< 3 per triangle, counter-clockwise = front
+
+    std::size_t triangleCount() const { return indices.size() / 3; }
+    Bounds bounds() const;
+};
+
+/// Checks the invariants above. Errors: ErrorCode::Input naming `what` and the problem
+/// ("has no triangles", "index 9 out of range for 5 vertices", "non-finite position").
+Status validateMesh(const Mesh& mesh, const std::string& what);
+
+/// Computes area-weighted smooth vertex normals (degenerate triangles contribute nothing; a
+/// vertex with no usable triangle gets +Z).
+void computeSmoothNormals(Mesh& mesh);
+
+/// Reorders triangles and vertices for post-transform cache and fetch locality
+/// (meshopt_optimizeVertexCache + meshopt_optimizeVertexFetch). Pixels do not change.
+void optimizeMeshLocality(Mesh& mesh);
+
+/// Loads every mesh in a model file (OBJ, PLY, glTF 2.0 .gltf/.glb; whatever assimp reads) and
+/// merges them into one mesh with node transforms applied. Triangulates, generates smooth
+/// normals when absent, validates, and reorders for locality.
+/// Errors: ErrorCode::Input — "mvr::loadMesh(): PATH: file not found" / "not a readable model
+/// (assimp: ...)" / "has no triangles" / ...
+Result<Mesh> loadMesh(const std::filesystem::path& path);
+
+}  // namespace mvr
