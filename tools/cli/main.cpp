@@ -1,0 +1,47 @@
+// mvr — multiple-viewpoint rendering: command-line entry point.
+#include <algorithm>
+#include <cstdio>
+
+#include <fmt/core.h>
+
+#include "command.h"
+
+namespace mvr::cli {
+std::vector<CommandEntry>& commandRegistry() {
+    static std::vector<CommandEntry> registry;
+    return registry;
+}
+}  // namespace mvr::cli
+
+int main(int argc, char** argv) {
+    using namespace mvr::cli;
+    CLI::App app{"mvr — render one 3D scene from 2..N viewpoints (stereo pairs, autostereo rows, "
+                 "view grids) cheaper than N renders."};
+    app.require_subcommand(1);
+    app.fallthrough(false);
+    auto& registry = commandRegistry();
+    std::sort(registry.begin(), registry.end(),
+              [](const CommandEntry& a, const CommandEntry& b) { return a.order < b.order; });
+    std::vector<std::pair<CLI::App*, std::function<int()>>> commands;
+    for (const CommandEntry& entry : registry) {
+        const std::size_t before = app.get_subcommands({}).size();
+        std::function<int()> run = entry.setup(app);
+        auto subs = app.get_subcommands({});
+        if (subs.size() > before) commands.emplace_back(subs.back(), std::move(run));
+    }
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        fmt::print(stderr, "error: {}\n", e.what());
+        fmt::print(stderr, "run `mvr --help` (or `mvr COMMAND --help`) for usage\n");
+        return 1;
+    }
+    for (auto& [sub, run] : commands) {
+        if (sub->parsed()) return run();
+    }
+    return 1;
+}

@@ -1,0 +1,61 @@
+// tools/cli/options.h — options shared by `mvr render`, `mvr bench` and `mvr view`: the scene
+// (models, --grid), the rig (--views/--view-grid, --rig, --interaxial/--separation,
+// --convergence, --fov), the image (--size, --shading, --cull, --wireframe) and the backend.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "mvr/core/render.h"
+#include "mvr/core/rig.h"
+#include "mvr/core/scene.h"
+#include "mvr/core/status.h"
+
+namespace mvr::cli {
+
+/// A scene, rig and settings ready to render.
+struct Prepared {
+    Scene scene;
+    Rig rig;
+    RenderSettings settings;
+    std::string sceneName;  ///< "default scene" or the model file names
+};
+
+struct SceneOptions {
+    std::vector<std::string> models;
+    int grid = 1;
+    int views = 2;
+    std::string viewGrid;  ///< "CxR", overrides --views
+    std::string rig = "offaxis";
+    std::optional<double> interaxial;
+    std::optional<double> separation;
+    std::optional<double> convergence;
+    double fov = 45.0;
+    std::string size = "1024x768";
+    std::string shading = "vertex";
+    bool cullBackFaces = false;
+    bool wireframe = false;
+
+    /// Adds the options to a subcommand. `withModels`: also the positional MODEL... list.
+    void addTo(CLI::App* app, bool withModels = true);
+    /// Loads the models (or the default scene), builds the rig and settings; validates all.
+    Result<Prepared> prepare() const;
+};
+
+/// Parses "WxH" (both 1..16384). Errors: ErrorCode::Usage.
+Result<std::pair<int, int>> parseSize(const std::string& text, const char* what);
+
+/// Creates a backend by name ("soft", "gl"). Errors: Usage for an unknown name, Unsupported
+/// for one not built into this binary.
+Result<std::unique_ptr<Backend>> makeBackend(const std::string& name);
+/// Names of the backends built into this binary.
+std::vector<std::string> backendNames();
+
+/// Prints "error: <message>" on stderr and returns the exit code of its category.
+int fail(const Status& status);
+
+}  // namespace mvr::cli
