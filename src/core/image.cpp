@@ -1,0 +1,159 @@
+#include "mvr/core/image.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+
+#include <fmt/core.h>
+#include <png.h>
+
+namespace mvr {
+
+Image::Image(int w, int h, Rgba8 fill) : width(w), height(h) {
+    rgba.resize(static_cast<std::size_t>(w) * h * 4);
+    for (std::size_t i = 0; i < rgba.size(); i += 4) {
+        rgba[i] = fill.r;
+        rgba[i + 1] = fill.g;
+        rgba[i + 2] = fill.b;
+        rgba[i + 3] = fill.a;
+    }
+}
+
+Rgba8 Image::at(int x, int y) const {
+    const std::uint8_t* p = rgba.data() + (static_cast<std::size_t>(y) * width + x) * 4;
+    return {p[0], p[1], p[2], p[3]};
+}
+
+void Image::set(int x, int y, Rgba8 c) {
+    std::uint8_t* p = rgba.data() + (static_cast<std::size_t>(y) * width + x) * 4;
+    p[0] = c.r;
+    p[1] = c.g;
+    p[2] = c.b;
+    p[3] = c.a;
+}
+
+ImageDiff compareImages(const Image& a, const Image& b, int threshold) {
+    ImageDiff diff;
+    if (a.width != b.width || a.height != b.height) {
+        diff.maxDelta = 256;
+        return diff;
+    }
+    double sum = 0.0;
+    for (int y = 0; y < a.height; ++y) {
+        const std::uint8_t* pa = a.row(y);
+        const std::uint8_t* pb = b.row(y);
+        for (int x = 0; x < a.width; ++x) {
+            int worst = 0;
+            for (int c = 0; c < 3; ++c) {
+                const int d = std::abs(int(pa[x * 4 + c]) - int(pb[x * 4 + c]));
+                worst = std::max(worst, d);
+                sum += d;
+            }
+            if (worst > threshold) ++diff.differingPixels;
+            if (worst > diff.maxDelta) {
+                diff.maxDelta = worst;
+                diff.worstX = x;
+                diff.worstY = y;
+            }
+        }
+    }
+    const double count = double(a.width) * a.height * 3;
+    diff.meanDelta = count > 0 ? sum / count : 0.0;
+    return diff;
+}
+
+namespace {
+
+struct FileCloser {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+};
+
+// libpng reports errors by longjmp; the simplified png_image API wraps that for us and
+// returns failure with a message in image.message, which keeps this code exception-free.
+Status writePngRaw(const std::filesystem::path& path, int width, int height, png_uint_32 format,
+                   const void* pixels, std::ptrdiff_t rowStride) {
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    image.width = static_cast<png_uint_32>(width);
+    image.height = static_cast<png_uint_32>(height);
+    image.format = format;
+    std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
+    if (!file) {
+        return outputError(fmt::format("mvr::writePng(): {}: cannot open for writing", path.string()));
+    }
+    if (!png_image_write_to_stdio(&image, file.get(), 0, pixels, static_cast<png_int_32>(rowStride),
+                                  nullptr)) {
+        const std::string why = image.message;
+        png_image_free(&image);
+        return outputError(fmt::format("mvr::writePng(): {}: {}", path.string(), why));
+    }
+    if (std::fflush(file.get()) != 0 || std::ferror(file.get())) {
+        return outputError(fmt::format("mvr::writePng(): {}: write failed", path.string()));
+    }
+    return {};
+}
+
+}  // namespace
+
+Status writePng(const std::filesystem::path& path, const Image& image) {
+    if (image.empty() || image.rgba.size() != std::size_t(image.width) * image.height * 4) {
+        return outputError(fmt::format("mvr::writePng(): {}: image is empty or its size ({}x{}) "
+                                       "does not match its data",
+                                       path.string(), image.width, image.height));
+    }
+    return writePngRaw(path, image.width, image.height, PNG_FORMAT_RGBA, image.rgba.data(),
+                       image.width * 4);
+}
+
+Status writeDepthPng(const std::filesystem::path& path, const DepthImage& depth) {
+    if (depth.width <= 0 || depth.height <= 0) {
+        return outputError(fmt::format("mvr::writeDepthPng(): {}: empty depth image", path.string()));
+    }
+    std::vector<std::uint16_t> gray(depth.depth.size());
+    for (std::size_t i = 0; i < gray.size(); ++i) {
+        const float d = std::isfinite(depth.depth[i]) ? std::clamp(depth.depth[i], 0.0f, 1.0f) : 1.0f;
+        gray[i] = static_cast<std::uint16_t>(d * 65535.0f + 0.5f);
+    }
+    // PNG_FORMAT_LINEAR_Y: 16-bit gray samples in native byte order; libpng swaps them.
+    return writePngRaw(path, depth.width, depth.height, PNG_FORMAT_LINEAR_Y, gray.data(),
+                       depth.width);
+}
+
+Result<Image> readPng(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+        return inputError(fmt::format("mvr::readPng(): {}: file not found", path.string()));
+    }
+    if (std::filesystem::is_directory(path, ec)) {
+        return inputError(fmt::format("mvr::readPng(): {}: is a directory", path.string()));
+    }
+    std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
+    if (!file) {
+        return inputError(fmt::format("mvr::readPng(): {}: cannot open for reading", path.string()));
+    }
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_stdio(&image, file.get())) {
+        const std::string why = image.message;
+        png_image_free(&image);
+        return inputError(fmt::format("mvr::readPng(): {}: not a readable PNG ({})", path.string(), why));
+    }
+    if (image.width == 0 || image.height == 0 || image.width > 65536 || image.height > 65536) {
+        png_image_free(&image);
+        return inputError(fmt::format("mvr::readPng(): {}: unsupported size {}x{}", path.string(),
+                                      image.width, image.height));
+    }
+    image.format = PNG_FORMAT_RGBA;
+    Image out(static_cast<int>(image.width), static_cast<int>(image.height));
+    if (!png_image_finish_read(&image, nullptr, out.rgba.data(), 0, nullptr)) {
+        const std::string why = image.message;
+        png_image_free(&image);
+        return inputError(fmt::format("mvr::readPng(): {}: corrupt or truncated PNG ({})",
+                                      path.string(), why));
+    }
+    return out;
+}
+
+}  // namespace mvr

@@ -1,0 +1,187 @@
+#include "mvr/core/mesh.h"
+
+#include <cmath>
+#include <fstream>
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <fmt/core.h>
+#include <meshoptimizer.h>
+
+namespace mvr {
+
+Bounds Mesh::bounds() const {
+    Bounds b;
+    for (const glm::vec3& p : positions) b.extend(p);
+    return b;
+}
+
+Status validateMesh(const Mesh& mesh, const std::string& what) {
+    if (mesh.indices.empty()) return inputError(fmt::format("{}: has no triangles", what));
+    if (mesh.indices.size() % 3 != 0) {
+        return inputError(fmt::format("{}: index count {} is not a multiple of 3", what,
+                                      mesh.indices.size()));
+    }
+    if (mesh.normals.size() != mesh.positions.size()) {
+        return inputError(fmt::format("{}: {} normals for {} positions", what, mesh.normals.size(),
+                                      mesh.positions.size()));
+    }
+    if (!mesh.texcoords.empty() && mesh.texcoords.size() != mesh.positions.size()) {
+        return inputError(fmt::format("{}: {} texture coordinates for {} positions", what,
+                                      mesh.texcoords.size(), mesh.positions.size()));
+    }
+    for (std::size_t i = 0; i < mesh.indices.size(); ++i) {
+        if (mesh.indices[i] >= mesh.positions.size()) {
+            return inputError(fmt::format("{}: index {} out of range for {} vertices", what,
+                                          mesh.indices[i], mesh.positions.size()));
+        }
+    }
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        const glm::vec3& p = mesh.positions[i];
+        const glm::vec3& n = mesh.normals[i];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+            return inputError(fmt::format("{}: vertex {} has a non-finite position", what, i));
+        }
+        if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z)) {
+            return inputError(fmt::format("{}: vertex {} has a non-finite normal", what, i));
+        }
+    }
+    // A mesh whose triangles all have zero area draws nothing: that is a degenerate mesh.
+    bool anyArea = false;
+    for (std::size_t t = 0; t + 2 < mesh.indices.size() && !anyArea; t += 3) {
+        const glm::vec3 a = mesh.positions[mesh.indices[t]];
+        const glm::vec3 e1 = mesh.positions[mesh.indices[t + 1]] - a;
+        const glm::vec3 e2 = mesh.positions[mesh.indices[t + 2]] - a;
+        anyArea = glm::length(glm::cross(e1, e2)) > 0.0f;
+    }
+    if (!anyArea) return inputError(fmt::format("{}: is degenerate (every triangle has zero area)", what));
+    return {};
+}
+
+void computeSmoothNormals(Mesh& mesh) {
+    mesh.normals.assign(mesh.positions.size(), glm::vec3(0.0f));
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        const std::uint32_t i0 = mesh.indices[t], i1 = mesh.indices[t + 1], i2 = mesh.indices[t + 2];
+        // The cross product's length is twice the area: area weighting for free.
+        const glm::vec3 n = glm::cross(mesh.positions[i1] - mesh.positions[i0],
+                                       mesh.positions[i2] - mesh.positions[i0]);
+        if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z)) continue;
+        mesh.normals[i0] += n;
+        mesh.normals[i1] += n;
+        mesh.normals[i2] += n;
+    }
+    for (glm::vec3& n : mesh.normals) {
+        const float len = glm::length(n);
+        n = (len > 0.0f && std::isfinite(len)) ? n / len : glm::vec3(0.0f, 0.0f, 1.0f);
+    }
+}
+
+void optimizeMeshLocality(Mesh& mesh) {
+    if (mesh.indices.empty()) return;
+    const std::size_t vertexCount = mesh.positions.size();
+    meshopt_optimizeVertexCache(mesh.indices.data(), mesh.indices.data(), mesh.indices.size(),
+                                vertexCount);
+    std::vector<unsigned int> remap(vertexCount);
+    const std::size_t used = meshopt_optimizeVertexFetchRemap(remap.data(), mesh.indices.data(),
+                                                              mesh.indices.size(), vertexCount);
+    meshopt_remapIndexBuffer(mesh.indices.data(), mesh.indices.data(), mesh.indices.size(),
+                             remap.data());
+    auto remapStream = [&](auto& stream) {
+        if (stream.empty()) return;
+        using T = typename std::decay_t<decltype(stream)>::value_type;
+        std::vector<T> out(used);
+        meshopt_remapVertexBuffer(out.data(), stream.data(), vertexCount, sizeof(T), remap.data());
+        stream = std::move(out);
+    };
+    remapStream(mesh.positions);
+    remapStream(mesh.normals);
+    remapStream(mesh.texcoords);
+}
+
+namespace {
+
+void appendNode(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, Mesh& out,
+                bool& allHaveNormals) {
+    const aiMatrix4x4 transform = parent * node.mTransformation;
+    aiMatrix3x3 normalMatrix(transform);
+    normalMatrix.Inverse().Transpose();
+    for (unsigned m = 0; m < node.mNumMeshes; ++m) {
+        if (node.mMeshes[m] >= scene.mNumMeshes) continue;
+        const aiMesh& mesh = *scene.mMeshes[node.mMeshes[m]];
+        if (!(mesh.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+        const auto base = static_cast<std::uint32_t>(out.positions.size());
+        const bool hasNormals = mesh.HasNormals();
+        allHaveNormals = allHaveNormals && hasNormals;
+        const bool hasUv = mesh.HasTextureCoords(0);
+        for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+            const aiVector3D p = transform * mesh.mVertices[v];
+            out.positions.emplace_back(p.x, p.y, p.z);
+            if (hasNormals) {
+                const aiVector3D n = (normalMatrix * mesh.mNormals[v]).NormalizeSafe();
+                out.normals.emplace_back(n.x, n.y, n.z);
+            } else {
+                out.normals.emplace_back(0.0f);
+            }
+            if (hasUv) {
+                out.texcoords.emplace_back(mesh.mTextureCoords[0][v].x, mesh.mTextureCoords[0][v].y);
+            } else {
+                out.texcoords.emplace_back(0.0f);
+            }
+        }
+        for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+            const aiFace& face = mesh.mFaces[f];
+            if (face.mNumIndices != 3) continue;  // points and lines are not drawn
+            for (int k = 0; k < 3; ++k) out.indices.push_back(base + face.mIndices[k]);
+        }
+    }
+    for (unsigned c = 0; c < node.mNumChildren; ++c) {
+        appendNode(scene, *node.mChildren[c], transform, out, allHaveNormals);
+    }
+}
+
+}  // namespace
+
+Result<Mesh> loadMesh(const std::filesystem::path& path) {
+    const std::string what = fmt::format("mvr::loadMesh(): {}", path.string());
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) return inputError(what + ": file not found");
+    if (!std::filesystem::is_regular_file(path, ec)) return inputError(what + ": not a regular file");
+    {
+        std::ifstream probe(path, std::ios::binary);
+        if (!probe) return inputError(what + ": cannot open for reading");
+    }
+    if (std::filesystem::file_size(path, ec) == 0) return inputError(what + ": file is empty");
+
+    Assimp::Importer importer;
+    // Drop points and lines; keep only triangles (after triangulating polygons).
+    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    const aiScene* scene = importer.ReadFile(
+        path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                           aiProcess_SortByPType | aiProcess_ValidateDataStructure |
+                           aiProcess_FindInvalidData);
+    if (!scene || !scene->mRootNode) {
+        std::string why = importer.GetErrorString();
+        if (why.empty()) why = "unknown error";
+        return inputError(fmt::format("{}: not a readable model (assimp: {})", what, why));
+    }
+    Mesh mesh;
+    mesh.name = path.filename().string();
+    bool allHaveNormals = true;
+    appendNode(*scene, *scene->mRootNode, aiMatrix4x4(), mesh, allHaveNormals);
+    bool anyUv = false;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) anyUv = anyUv || scene->mMeshes[m]->HasTextureCoords(0);
+    if (!anyUv) mesh.texcoords.clear();
+    if (mesh.indices.empty()) return inputError(what + ": has no triangles");
+    bool normalsUsable = allHaveNormals;
+    for (const glm::vec3& n : mesh.normals) {
+        const float len = glm::length(n);
+        normalsUsable = normalsUsable && std::isfinite(len) && len > 0.5f;
+    }
+    if (!normalsUsable) computeSmoothNormals(mesh);
+    if (Status s = validateMesh(mesh, what); !s) return s;
+    optimizeMeshLocality(mesh);
+    return mesh;
+}
+
+}  // namespace mvr

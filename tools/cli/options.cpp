@@ -1,0 +1,196 @@
+#include "options.h"
+
+#include <cmath>
+#include <cstdio>
+#include <regex>
+
+#include <fmt/core.h>
+
+#ifdef MVR_HAVE_RASTER
+#include "mvr/raster/soft_backend.h"
+#endif
+#ifdef MVR_HAVE_GL
+#include "mvr/gl/gl_backend.h"
+#endif
+
+namespace mvr::cli {
+
+int fail(const Status& status) {
+    fmt::print(stderr, "error: {}\n", status.message());
+    const int code = exitCode(status.code());
+    return code == 0 ? 1 : code;
+}
+
+Result<std::pair<int, int>> parseSize(const std::string& text, const char* what) {
+    static const std::regex kSize(R"(\s*(-?\d+)\s*[xX]\s*(-?\d+)\s*)");
+    std::smatch m;
+    if (!std::regex_match(text, m, kSize)) {
+        return usageError(fmt::format("{} '{}' is not of the form WxH (e.g. 1024x768)", what, text));
+    }
+    long w = 0, h = 0;
+    try {
+        w = std::stol(m[1].str());
+        h = std::stol(m[2].str());
+    } catch (...) {
+        return usageError(fmt::format("{} '{}' is out of range (expected 1..16384 each)", what, text));
+    }
+    if (w < 1 || h < 1 || w > 16384 || h > 16384) {
+        return usageError(fmt::format("{} '{}' is out of range (expected 1..16384 each)", what, text));
+    }
+    return std::pair<int, int>{int(w), int(h)};
+}
+
+std::vector<std::string> backendNames() {
+    std::vector<std::string> names;
+#ifdef MVR_HAVE_RASTER
+    names.push_back("soft");
+#endif
+#ifdef MVR_HAVE_GL
+    names.push_back("gl");
+#endif
+    return names;
+}
+
+Result<std::unique_ptr<Backend>> makeBackend(const std::string& name) {
+#ifdef MVR_HAVE_RASTER
+    if (name == "soft") return raster::makeSoftBackend();
+#endif
+#ifdef MVR_HAVE_GL
+    if (name == "gl") return gl::makeGlBackend();
+#endif
+    if (name == "soft" || name == "gl") {
+        return unsupportedError(fmt::format("backend '{}' is not built into this mvr", name));
+    }
+    return usageError(fmt::format("unknown backend '{}' (expected soft or gl)", name));
+}
+
+void SceneOptions::addTo(CLI::App* app, bool withModels) {
+    if (withModels) {
+        app->add_option("models", models,
+                        "Model files (OBJ, PLY, glTF 2.0). None: the procedural default scene");
+    }
+    app->add_option("--grid", grid, "Lay out K copies of the model(s) in a grid (sorbier2008: 1, 3, 5, 9)")
+        ->default_val(grid);
+    auto* views_ = app->add_option("--views", views, "Number of views in a horizontal row (1..64)")
+                       ->default_val(views);
+    app->add_option("--view-grid", viewGrid, "CxR grid of views, numbered left to right, top to bottom")
+        ->excludes(views_);
+    app->add_option("--rig", rig, "Rig: offaxis (asymmetric frustums), toein or parallel")->default_val(rig);
+    auto* ia = app->add_option("--interaxial", interaxial,
+                               "Distance between adjacent eyes, world units (default: convergence / 30)");
+    app->add_option("--separation", separation,
+                    "Interaxial as a fraction of the screen width at the convergence plane (nvidia-gtc2010)")
+        ->excludes(ia);
+    app->add_option("--convergence", convergence,
+                    "Distance of the zero-parallax plane, world units (default: distance to the scene center)");
+    app->add_option("--fov", fov, "Vertical field of view, degrees")->default_val(fov);
+    app->add_option("--size", size, "Size of one view, WxH pixels")->default_val(size);
+    app->add_option("--shading", shading, "Shading: flat, vertex (Gouraud) or pixel (per-fragment)")
+        ->default_val(shading);
+    app->add_flag("--cull", cullBackFaces, "Cull back faces");
+    app->add_flag("--wireframe", wireframe, "Draw triangle edges only");
+}
+
+Result<Prepared> SceneOptions::prepare() const {
+    Prepared out;
+    // Numbers first: they are cheap to check and the model may be large.
+    auto sz = parseSize(size, "--size");
+    if (!sz) return sz.status();
+    out.settings.width = sz->first;
+    out.settings.height = sz->second;
+    auto sh = parseShading(shading);
+    if (!sh) return sh.status();
+    out.settings.shading = *sh;
+    out.settings.cullBackFaces = cullBackFaces;
+    out.settings.wireframe = wireframe;
+    out.settings.clearColor = models.empty() ? glm::vec3(0.06f, 0.07f, 0.1f) : glm::vec3(0.08f);
+    auto kind = parseRigKind(rig);
+    if (!kind) return kind.status();
+    RigParams params;
+    params.kind = *kind;
+    if (!viewGrid.empty()) {
+        static const std::regex kGrid(R"(\s*(\d{1,3})\s*[xX]\s*(\d{1,3})\s*)");
+        std::smatch m;
+        if (!std::regex_match(viewGrid, m, kGrid)) {
+            return usageError(fmt::format("--view-grid '{}' is not of the form CxR (e.g. 3x3)", viewGrid));
+        }
+        params.columns = std::stoi(m[1].str());
+        params.rows = std::stoi(m[2].str());
+    } else {
+        params.columns = views;
+        params.rows = 1;
+    }
+    if (params.columns < 1 || params.rows < 1 || params.columns * params.rows > kMaxViews) {
+        return usageError(fmt::format("view count {} is out of range (expected 1..{})",
+                                      viewGrid.empty() ? fmt::format("{}", views) : viewGrid, kMaxViews));
+    }
+    if (grid < 1 || grid > 1024) {
+        return usageError(fmt::format("--grid {} is out of range (expected 1..1024 copies)", grid));
+    }
+    if (!std::isfinite(fov) || fov <= 0.0 || fov >= 180.0) {
+        return usageError(fmt::format("--fov {} is out of range (expected 0 < fov < 180 degrees)", fov));
+    }
+    for (const auto& [name, value] : {std::pair{"--interaxial", interaxial}, std::pair{"--separation", separation},
+                                      std::pair{"--convergence", convergence}}) {
+        if (value && (!std::isfinite(*value) || *value < 0.0)) {
+            return usageError(fmt::format("{} {} is out of range (expected a finite value >= 0)", name, *value));
+        }
+    }
+    if (convergence && *convergence <= 0.0) {
+        return usageError("--convergence 0 is out of range (expected a distance > 0)");
+    }
+
+    // The scene.
+    if (models.empty()) {
+        out.scene = makeDefaultScene();
+        out.sceneName = "default scene";
+        if (grid != 1) {
+            return usageError(fmt::format("--grid {} needs a model file (the default scene is not gridded)", grid));
+        }
+    } else {
+        std::vector<Mesh> meshes;
+        for (const std::string& path : models) {
+            auto mesh = loadMesh(path);
+            if (!mesh) return mesh.status();
+            meshes.push_back(std::move(mesh).value());
+            out.sceneName += (out.sceneName.empty() ? "" : " + ") + path;
+        }
+        out.scene = makeGridScene(std::move(meshes), grid);
+    }
+    if (Status s = validateScene(out.scene); !s) return s;
+
+    // The camera: looking at the scene from the front (+Z), far enough to frame its bounding sphere.
+    const Bounds bounds = out.scene.bounds();
+    const glm::vec3 center = bounds.center();
+    const float radius = std::max(bounds.radius(), 1e-4f);
+    Camera camera;
+    camera.fovYDegrees = static_cast<float>(fov);
+    camera.aspect = float(out.settings.width) / float(out.settings.height);
+    const float halfFov = glm::radians(camera.fovYDegrees) * 0.5f;
+    const float halfFovX = std::atan(std::tan(halfFov) * camera.aspect);
+    const float fitDistance = radius / std::sin(std::min(halfFov, halfFovX));
+    if (models.empty()) {
+        camera.position = glm::vec3(0.0f, 1.2f, 6.0f);
+        camera.target = glm::vec3(0.0f, -0.2f, 0.0f);
+    } else {
+        camera.target = center;
+        camera.position = center + glm::vec3(0.0f, 0.0f, fitDistance * 1.05f);
+    }
+    const float distance = glm::length(camera.position - camera.target);
+    camera.near = std::max(distance - radius * 2.5f, distance * 0.02f);
+    camera.far = distance + radius * 3.0f;
+    params.convergence = convergence ? static_cast<float>(*convergence) : distance;
+    if (params.convergence <= camera.near) camera.near = params.convergence * 0.5f;
+    if (separation) {
+        params.interaxial = interaxialFromSeparation(camera, static_cast<float>(*separation), params.convergence);
+    } else {
+        params.interaxial = interaxial ? static_cast<float>(*interaxial) : params.convergence / 30.0f;
+    }
+    auto madeRig = makeRig(camera, params);
+    if (!madeRig) return madeRig.status();
+    out.rig = std::move(madeRig).value();
+    if (Status s = validateSettings(out.settings); !s) return s;
+    return out;
+}
+
+}  // namespace mvr::cli

@@ -1,0 +1,147 @@
+// `mvr render`: scene or model files → one PNG per view (+ depth), the anaglyph for a stereo
+// pair, and any composite format.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include <fmt/core.h>
+
+#include "command.h"
+#include "options.h"
+
+#ifdef MVR_HAVE_COMPOSITE
+#include "mvr/composite/compose.h"
+#endif
+
+namespace mvr::cli {
+namespace {
+
+struct RenderOptions {
+    SceneOptions scene;
+    std::string backend = "soft";
+    std::string method = "multipass";
+    std::string outDir = "out";
+    std::vector<std::string> formats;
+    bool depth = false;
+    bool quiet = false;
+#ifdef MVR_HAVE_COMPOSITE
+    composite::ComposeOptions compose;
+#endif
+};
+
+/// Eye-space distance w of a window depth d in [0, 1) for a perspective near/far.
+float distanceFromWindowDepth(float d, float near, float far) {
+    const float z = 2.0f * d - 1.0f;
+    return 2.0f * near * far / ((far + near) - z * (far - near));
+}
+
+int runRender(const RenderOptions& o) {
+    auto prepared = o.scene.prepare();
+    if (!prepared) return fail(prepared.status());
+    auto backend = makeBackend(o.backend);
+    if (!backend) return fail(backend.status());
+    if (Status s = (*backend)->supports(o.method); !s) return fail(s);
+    const Prepared& p = *prepared;
+
+    std::error_code ec;
+    std::filesystem::create_directories(o.outDir, ec);
+    if (ec || !std::filesystem::is_directory(o.outDir)) {
+        return fail(outputError(fmt::format("cannot create output directory '{}': {}", o.outDir,
+                                            ec ? ec.message() : "not a directory")));
+    }
+
+    const auto start = std::chrono::steady_clock::now();
+    auto rendered = (*backend)->render(p.scene, p.rig, p.settings, o.method);
+    if (!rendered) return fail(rendered.status());
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const RenderOutput& out = *rendered;
+    if (int(out.color.size()) != p.rig.viewCount()) {
+        return fail(internalError(fmt::format("backend returned {} images for {} views", out.color.size(),
+                                              p.rig.viewCount())));
+    }
+
+    const std::filesystem::path dir(o.outDir);
+    std::vector<std::string> written;
+    for (int v = 0; v < p.rig.viewCount(); ++v) {
+        const auto path = dir / fmt::format("view-{}.png", v);
+        if (Status s = writePng(path, out.color[v]); !s) return fail(s);
+        written.push_back(path.string());
+        if (o.depth && v < int(out.depth.size())) {
+            const auto dpath = dir / fmt::format("depth-{}.png", v);
+            if (Status s = writeDepthPng(dpath, out.depth[v]); !s) return fail(s);
+            written.push_back(dpath.string());
+        }
+    }
+#ifdef MVR_HAVE_COMPOSITE
+    composite::ComposeOptions compose = o.compose;
+    compose.baseline = p.rig.interaxial;
+    compose.convergence = p.rig.convergence;
+    if (p.rig.viewCount() == 2) {
+        // The red-cyan anaglyph every stereo render gets: Dubois' least-squares red-cyan.
+        auto anaglyph = composite::compose("anaglyph-dubois", out.color, compose);
+        if (!anaglyph) return fail(anaglyph.status());
+        const auto path = dir / "anaglyph.png";
+        if (Status s = writePng(path, *anaglyph); !s) return fail(s);
+        written.push_back(path.string());
+    }
+    for (const std::string& format : o.formats) {
+        auto path = composite::writeComposite(format, out.color, compose, dir);
+        if (!path) return fail(path.status());
+        written.push_back(path->string());
+    }
+#else
+    if (!o.formats.empty()) return fail(unsupportedError("--format: output formats are not built into this mvr"));
+#endif
+    if (!o.quiet) {
+        fmt::print("rendered {} ({} triangles) from {} view{} at {}x{}, {} shading, {}:{}{} in {:.1f} ms\n",
+                   p.sceneName, p.scene.triangleCount(), p.rig.viewCount(), p.rig.viewCount() == 1 ? "" : "s",
+                   p.settings.width, p.settings.height, shadingName(p.settings.shading), o.backend, out.method,
+                   out.note.empty() ? "" : " (" + out.note + ")", ms);
+        fmt::print("rig: {} {}x{}, interaxial {:.4g}, convergence {:.4g}, separation {:.2f}% of screen width\n",
+                   rigKindName(p.rig.kind), p.rig.columns, p.rig.rows, p.rig.interaxial, p.rig.convergence,
+                   100.0 * p.rig.separation());
+        if (!out.depth.empty() && p.rig.columns > 1) {
+            float dMin = 1.0f, dMax = 0.0f;
+            for (float d : out.depth[0].depth) {
+                if (d < 1.0f) {
+                    dMin = std::min(dMin, d);
+                    dMax = std::max(dMax, d);
+                }
+            }
+            if (dMin <= dMax) {
+                const ParallaxRange r = parallaxRange(p.rig, distanceFromWindowDepth(dMin, p.rig.camera.near, p.rig.camera.far),
+                                                      distanceFromWindowDepth(dMax, p.rig.camera.near, p.rig.camera.far));
+                fmt::print("parallax between outer views: {:+.2f}% .. {:+.2f}% of screen width ({})\n",
+                           100.0 * r.minParallax, 100.0 * r.maxParallax,
+                           r.comfortable ? "comfortable: all within [convergence/2, 100 x convergence]"
+                                         : "uncomfortable: scene reaches closer than convergence/2 or beyond 100 x convergence");
+            }
+        }
+        fmt::print("wrote:\n");
+        for (const std::string& w : written) fmt::print("  {}\n", w);
+    }
+    return 0;
+}
+
+const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
+    auto o = std::make_shared<RenderOptions>();
+    CLI::App* app = root.add_subcommand(
+        "render", "Render a scene or model files from N viewpoints into DIR/view-0.png ... view-{N-1}.png "
+                  "(views numbered left to right, then top to bottom), plus DIR/anaglyph.png for a stereo pair");
+    o->scene.addTo(app);
+    app->add_option("--backend", o->backend, "Backend: soft (CPU) or gl (OpenGL through EGL)")->default_val(o->backend);
+    app->add_option("--method", o->method, "Method of the backend (see `mvr info`)")->default_val(o->method);
+    app->add_option("-o,--output", o->outDir, "Output directory")->default_val(o->outDir);
+    app->add_flag("--depth", o->depth, "Also write depth-0.png ... (16-bit, near = black)");
+    app->add_flag("-q,--quiet", o->quiet, "Print nothing on success");
+#ifdef MVR_HAVE_COMPOSITE
+    app->add_option("--format", o->formats, "Also write composites: DIR/<format>.png (.mpo, .jps); repeatable")
+        ->check(CLI::IsMember(composite::formatNames()));
+    composite::addComposeOptions(app, o->compose);
+#endif
+    return [o] { return runRender(*o); };
+});
+
+}  // namespace
+}  // namespace mvr::cli
