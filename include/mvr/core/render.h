@@ -29,16 +29,20 @@ struct RenderSettings {
     glm::vec3 clearColor{0.0f, 0.0f, 0.0f};  ///< background, linear [0,1]; alpha is 1
 };
 
+/// Wall-clock time per pipeline stage of one render, where a backend measures it (soft does:
+/// vertex = vertex stage, setup = primitive stage (cull, clip tests, binning), raster = triangle
+/// setup + coverage + depth + shading, fill = clearing and handing out the images).
+struct StageTimes {
+    double vertexMs = 0, setupMs = 0, rasterMs = 0, fillMs = 0;
+};
+
 /// What one render produces: a color and a depth image per view, in rig view order.
 struct RenderOutput {
     std::vector<Image> color;
     std::vector<DepthImage> depth;   ///< empty for methods without a per-view depth buffer
     std::string method;              ///< the method that actually ran (differs for "auto")
     std::string note;                ///< e.g. why "auto" picked that method
-};
-
-struct StageTimes {
-    double vertexMs = 0, setupMs = 0, rasterMs = 0, fillMs = 0;
+    StageTimes stages;               ///< per-stage times (zero where not measured)
 };
 
 class Backend {
