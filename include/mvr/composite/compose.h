@@ -1,0 +1,162 @@
+// mvr/composite/compose.h — turn N rendered views into one stereo / multi-view output.
+//
+// Conventions of the composite module:
+//  - Views are numbered left to right: view 0 is the leftmost eye, so for stereo formats
+//    views[0] is the LEFT image and views[1] the RIGHT image.
+//  - Images are mvr::Image: RGBA8, row 0 at the TOP, non-premultiplied. Formats that only move
+//    pixels (sbs, tb, interleaves, quilt, hdmi) copy all four channels; formats that mix colors
+//    (anaglyphs, lenticular) write alpha = 255. Blank areas (HDMI gap, unused quilt tiles) are
+//    opaque black.
+//  - All composites here are pure CPU functions of their inputs (deterministic, no globals).
+//    The gl backend composites on the GPU and must match these within rounding; the per-pixel
+//    math it has to mirror is public in anaglyph.h and lenticular.h.
+//  - Errors are Status/Result values, never aborts: a wrong view count, views of different
+//    sizes or a size a format cannot take is ErrorCode::Usage ("mvr::composite::compose():
+//    sbs needs 2 views (got 3)"); a format this build lacks is Unsupported; unwritable output
+//    is Output.
+//
+// Formats (formatNames() lists them; `mvr compose --help` prints formatHelp()):
+//   anaglyph-color | anaglyph-half-color | anaglyph-gray | anaglyph-true |
+//   anaglyph-dubois (red-cyan) | anaglyph-dubois-gm | anaglyph-dubois-ab        2 views, W×H
+//   sbs (full: 2W×H) | sbs-half (W×H, each view squeezed 2:1)                   2 views
+//   tb (W×2H, left on top) | tb-half (W×H)                                      2 views
+//   rows (row y from view y mod N) | columns (column x from view x mod N)       2..N views
+//   checkerboard ((x + y) even: left)                                           2 views
+//   hdmi-frame-packing (HDMI 1.4a: 1280×720 → 1280×1470, 1920×1080 → 1920×2205) 2 views
+//   quilt (C×R tiles, view 0 bottom left, last view top right)                  1..N views
+//   lenticular (slanted-lens sub-pixel interleave, see lenticular.h)            2..N views
+//   jps (JPEG, side by side, RIGHT view on the left)                             2 views, file
+//   mpo (CIPA DC-007 multi-picture JPEG, one JPEG per view)                     2..N views, file
+#pragma once
+
+#include <filesystem>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "mvr/core/image.h"
+#include "mvr/core/status.h"
+
+namespace mvr::composite {
+
+/// Calibration of a slanted-lenticular autostereoscopic panel, in the units of the Looking
+/// Glass calibration file (visual.json); see lenticular.h for the formula that uses them.
+/// The defaults are the published example values of a Looking Glass Portrait; a real panel
+/// needs its own calibration.
+struct LenticularCalibration {
+    double pitch = 52.59267;     ///< lenticules per inch, measured horizontally on the panel
+    double slope = -7.08354;     ///< lens slant: panel rows per lenticule column shift (signed)
+    double center = 0.81679;     ///< phase offset of the lens grid, in lenticules (0..1)
+    double dpi = 324.0;          ///< panel pixels per inch
+    int screenWidth = 0;         ///< output width in panel pixels; 0 = the view width
+    int screenHeight = 0;        ///< output height in panel pixels; 0 = the view height
+    bool bgr = false;            ///< sub-pixel order B,G,R instead of R,G,B (LG "flipSubp")
+    bool invertViews = false;    ///< view order runs the other way under the lens (LG "invView")
+    bool flipX = false;          ///< panel mirrored horizontally (LG "flipImageX")
+    bool flipY = false;          ///< panel mirrored vertically (LG "flipImageY")
+};
+
+/// Options of every format; each format reads only the ones it documents.
+struct ComposeOptions {
+    /// Exchange left and right (stereo formats); for N-view formats (quilt, lenticular, rows,
+    /// columns, mpo) reverse the view order.
+    bool swapEyes = false;
+    /// sbs / sbs-half only: right view on the left half, for cross-eyed free viewing.
+    /// Combined with swapEyes the two cancel.
+    bool crossEyed = false;
+    /// quilt: tile columns and rows; 0 = choose (see chooseQuiltLayout()). Both or neither.
+    int quiltColumns = 0;
+    int quiltRows = 0;
+    /// lenticular panel calibration.
+    LenticularCalibration lenticular;
+    /// jps / mpo: JPEG quality 1..100; chroma is never subsampled (4:4:4).
+    int jpegQuality = 95;
+    /// mpo: distance between adjacent viewpoints (the rig's interaxial) in METRES — the unit of
+    /// the MPF BaselineLength tag; mvr render passes its world units as metres. 0 = unknown.
+    double baseline = 0.0;
+    /// mpo: convergence DISTANCE of the rig (where adjacent views' lines of sight meet), same
+    /// unit as baseline; 0 = parallel. Written as MPF ConvergenceAngle =
+    /// convergenceAngleDegrees(baseline, convergence).
+    double convergence = 0.0;
+    /// mpo: 1-based number of the base (reference) viewpoint; 0 = (N + 1) / 2 (1 for stereo).
+    int baseViewpoint = 0;
+};
+
+/// One output format and what it needs.
+struct FormatInfo {
+    std::string_view name;
+    int minViews;            ///< fewest views the format accepts
+    int maxViews;            ///< most views (kAnyViewCount = no limit)
+    bool fileOnly;           ///< true for mpo (a file, not one image); compose() refuses it
+    std::string_view extension;  ///< of the file writeComposite() writes: ".png", ".jps", ".mpo"
+    std::string_view summary;    ///< one line for --help
+};
+inline constexpr int kAnyViewCount = 1 << 20;
+
+/// All formats, in --help order.
+std::span<const FormatInfo> formats();
+/// The names of all formats, in --help order.
+std::vector<std::string> formatNames();
+/// The format called `name`. Errors: ErrorCode::Usage listing the valid names.
+Result<FormatInfo> findFormat(std::string_view name);
+/// Multi-line description of the formats for `--help`.
+std::string formatHelp();
+
+/// The default anaglyph of `mvr render`: Dubois least-squares red-cyan.
+inline constexpr std::string_view kDefaultAnaglyph = "anaglyph-dubois";
+
+/// Composes `views` (left to right, all the same size) into the image of `format`.
+/// Every format except mpo gives one image (jps gives its side-by-side picture, right view on
+/// the left). Errors (ErrorCode::Usage): unknown format, wrong number of views, views of
+/// different sizes or empty, a size the format cannot take (odd width for sbs-half, non-HDMI
+/// size for hdmi-frame-packing, a quilt grid too small for N), out-of-range options.
+/// ErrorCode::Unsupported: "mpo" (a multi-image file: use writeComposite() or encodeMpo()).
+Result<Image> compose(std::string_view format, std::span<const Image> views,
+                      const ComposeOptions& options = {});
+
+/// File name (no folder) writeComposite() uses: "<format>.png" for image formats,
+/// "quilt_qs<C>x<R>a<A>.png" for the quilt (Looking Glass convention, A = width / height of
+/// one view as formatAspect() writes it), "jps.jps", "mpo.mpo". Errors as compose().
+Result<std::string> compositeFileName(std::string_view format, std::span<const Image> views,
+                                      const ComposeOptions& options = {});
+
+/// Composes and writes into `outDir` (which must exist) under compositeFileName().
+/// Returns the written path. Errors: as compose(); ErrorCode::Output naming the path when it
+/// cannot be written.
+Result<std::filesystem::path> writeComposite(std::string_view format, std::span<const Image> views,
+                                             const ComposeOptions& options,
+                                             const std::filesystem::path& outDir);
+
+/// Composes and writes to exactly `file`. The container follows `file`'s extension: .png,
+/// .jpg/.jpeg (image formats), .jps (jps), .mpo (mpo). Errors: as writeComposite(), plus
+/// ErrorCode::Usage for an extension that does not fit the format.
+Status writeCompositeFile(std::string_view format, std::span<const Image> views,
+                          const ComposeOptions& options, const std::filesystem::path& file);
+
+/// Quilt grid for `viewCount` views of `viewWidth`×`viewHeight` when the caller gives none:
+/// the C×R with no empty row whose whole quilt is closest to square (|ln(C·W / (R·H))|),
+/// ties to fewer blank tiles. 45 views of 1.8:1 → 5×9, 48 views of 3:4 → 8×6 (the Looking
+/// Glass defaults). Precondition: all arguments ≥ 1.
+std::pair<int, int> chooseQuiltLayout(int viewCount, int viewWidth, int viewHeight);
+
+/// Aspect ratio for the quilt file name: width / height with at most 4 decimals and no
+/// trailing zeros ("0.75", "1", "1.7778").
+std::string formatAspect(int width, int height);
+
+/// Parses a quilt grid "CxR" (both 1..256). Errors: ErrorCode::Usage.
+Result<std::pair<int, int>> parseQuiltGrid(std::string_view text);
+
+/// Equivalent convergence angle in degrees of two viewpoints `interaxial` apart whose lines of
+/// sight meet at `convergenceDistance` (same units): 2·atan(interaxial / (2·distance)).
+/// Returns 0 for a distance ≤ 0 (parallel).
+double convergenceAngleDegrees(double interaxial, double convergenceDistance);
+
+/// Reads the views in an image file, left to right: a PNG or JPEG gives one view, an MPO all
+/// of its images, a JPS (by extension .jps) its two halves (stored right|left) as {left,
+/// right}. Errors: ErrorCode::Input naming the path (missing, unreadable, not PNG/JPEG,
+/// truncated or corrupt data).
+Result<std::vector<Image>> readViewFile(const std::filesystem::path& path);
+
+}  // namespace mvr::composite

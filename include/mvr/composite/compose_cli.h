@@ -1,0 +1,131 @@
+// mvr/composite/compose_cli.h — the command-line options of the composite formats, for any
+// CLI11 subcommand (mvr render, mvr compose, mvr view). Header-only so that the mvr_composite
+// library itself does not depend on CLI11.
+//
+// Options added: --swap-eyes, --cross-eyed, --quilt CxR, --jpeg-quality Q, --base-viewpoint K,
+// --lenticular-pitch/-slope/-center/-dpi/-screen WxH, --lenticular-bgr,
+// --lenticular-invert-views, --lenticular-flip-x, --lenticular-flip-y. Values are validated
+// while parsing (a bad value is a CLI11 ValidationError: usage, exit 1). The MPO stereo
+// metadata (baseline, convergence) comes from the rig in `mvr render`; `withStereoMetadata`
+// also adds --baseline M and --convergence D for `mvr compose`, where there is no rig.
+#pragma once
+
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include "mvr/composite/compose.h"
+
+namespace mvr::composite {
+
+/// Adds the composite options to `app`; they write into `options`, which must outlive parsing.
+inline void addComposeOptions(CLI::App* app, ComposeOptions& options,
+                              bool withStereoMetadata = false) {
+    const std::string group = "Composite formats";
+    app->add_flag("--swap-eyes", options.swapEyes,
+                  "Exchange left and right (N views: reverse their order)")
+        ->group(group);
+    app->add_flag("--cross-eyed", options.crossEyed,
+                  "sbs / sbs-half: right view on the left, for cross-eyed viewing")
+        ->group(group);
+    app->add_option_function<std::string>(
+           "--quilt",
+           [&options](const std::string& text) {
+               Result<std::pair<int, int>> grid = parseQuiltGrid(text);
+               if (!grid) throw CLI::ValidationError("--quilt", grid.status().message());
+               options.quiltColumns = grid->first;
+               options.quiltRows = grid->second;
+           },
+           "quilt: tile grid CxR, e.g. 8x6 (default: the most square quilt that fits N views)")
+        ->type_name("CxR")
+        ->group(group);
+    app->add_option("--jpeg-quality", options.jpegQuality, "jps / mpo / .jpg: JPEG quality")
+        ->check(CLI::Range(1, 100))
+        ->default_val(options.jpegQuality)
+        ->group(group);
+    app->add_option("--base-viewpoint", options.baseViewpoint,
+                    "mpo: 1-based base viewpoint (default (N + 1) / 2)")
+        ->check(CLI::Range(1, 4096))
+        ->group(group);
+    if (withStereoMetadata) {
+        app->add_option("--baseline", options.baseline,
+                        "mpo: distance between adjacent viewpoints in metres (BaselineLength)")
+            ->check(CLI::Range(0.0, 1.0e6))
+            ->group(group);
+        app->add_option("--convergence", options.convergence,
+                        "mpo: convergence distance in metres, 0 = parallel (ConvergenceAngle)")
+            ->check(CLI::Range(0.0, 1.0e9))
+            ->group(group);
+    }
+    LenticularCalibration& cal = options.lenticular;
+    const auto finite = CLI::Validator(
+        [](std::string& text) -> std::string {
+            try {
+                std::size_t used = 0;
+                const double v = std::stod(text, &used);
+                if (used != text.size() || !std::isfinite(v)) return "not a finite number";
+            } catch (const std::exception&) {
+                return "not a number";
+            }
+            return {};
+        },
+        "NUMBER");
+    app->add_option("--lenticular-pitch", cal.pitch, "lenticular: lenticules per inch")
+        ->check(CLI::PositiveNumber)
+        ->default_val(cal.pitch)
+        ->group(group);
+    app->add_option("--lenticular-slope", cal.slope, "lenticular: lens slope (non-zero)")
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                try {
+                    std::size_t used = 0;
+                    const double v = std::stod(text, &used);
+                    if (used != text.size() || !std::isfinite(v) || v == 0.0)
+                        return "not a finite non-zero number";
+                } catch (const std::exception&) {
+                    return "not a number";
+                }
+                return {};
+            },
+            "NONZERO"))
+        ->default_val(cal.slope)
+        ->group(group);
+    app->add_option("--lenticular-center", cal.center, "lenticular: lens phase (lenticules)")
+        ->check(finite)
+        ->default_val(cal.center)
+        ->group(group);
+    app->add_option("--lenticular-dpi", cal.dpi, "lenticular: panel pixels per inch")
+        ->check(CLI::PositiveNumber)
+        ->default_val(cal.dpi)
+        ->group(group);
+    app->add_option_function<std::string>(
+           "--lenticular-screen",
+           [&cal](const std::string& text) {
+               int w = 0, h = 0;
+               char x = 0, extra = 0;
+               if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 ||
+                   (x != 'x' && x != 'X') || w < 1 || h < 1 || w > 16384 || h > 16384)
+                   throw CLI::ValidationError(
+                       "--lenticular-screen",
+                       fmt::format("'{}' (expected WxH, 1..16384 each, e.g. 1536x2048)", text));
+               cal.screenWidth = w;
+               cal.screenHeight = h;
+           },
+           "lenticular: panel resolution WxH (default: the view size)")
+        ->type_name("WxH")
+        ->group(group);
+    app->add_flag("--lenticular-bgr", cal.bgr, "lenticular: sub-pixels are B,G,R")->group(group);
+    app->add_flag("--lenticular-invert-views", cal.invertViews,
+                  "lenticular: views run right to left under the lens")
+        ->group(group);
+    app->add_flag("--lenticular-flip-x", cal.flipX, "lenticular: panel mirrored horizontally")
+        ->group(group);
+    app->add_flag("--lenticular-flip-y", cal.flipY, "lenticular: panel mirrored vertically")
+        ->group(group);
+}
+
+}  // namespace mvr::composite

@@ -1,0 +1,61 @@
+// mvr/composite/lenticular.h — sub-pixel interleave of N views for a slanted-lenticular
+// autostereoscopic panel (Looking Glass, or any van Berkel-style display).
+//
+// Source of the formula: C. van Berkel, "Image preparation for 3D-LCD", Proc. SPIE 3639
+// (Stereoscopic Displays and Virtual Reality Systems VI), 1999: under a lens sheet slanted by
+// α over an RGB-stripe panel, sub-pixel k of row l shows view
+//     ((k + k_off − 3·l·tan α) mod X) · N / X,   X = sub-pixels per lens, horizontally.
+// mvr uses the same relation in the parametrisation of Looking Glass Factory's lightfield
+// shader and calibration (holoplay.js / LookingGlassConfig), so a panel's visual.json values
+// can be used as they are:
+//
+//     pitchU = pitch · (screenW / dpi) · cos(atan(1 / slope))   lenticules across the screen
+//     tilt   = screenH / (screenW · slope) · (flipX ? −1 : 1)
+//     subp   = 1 / (3 · screenW)                                one sub-pixel, in u
+//     for output pixel (px, py), row 0 at the top, texture coordinates with v UP (as in GL):
+//         u = (px + 0.5) / screenW,   v = 1 − (py + 0.5) / screenH
+//     for sub-pixel i = 0, 1, 2 (left to right on the panel):
+//         z_i  = fract((u + i · subp + v · tilt) · pitchU − center)
+//         z_i  = invertViews ? 1 − z_i : z_i
+//         view_i = min(⌊z_i · N⌋, N − 1)
+//         c_i  = views[view_i] sampled at (u, v) (nearest pixel; with flipX / flipY the
+//                lookup is mirrored: u → 1 − u, v → 1 − v)
+//     out = (c_ri.r, c_1.g, c_bi.b, 255), ri = bgr ? 2 : 0, bi = bgr ? 0 : 2
+//
+// View 0 is the leftmost eye's view (compose.h), which is the first tile of a Looking Glass
+// quilt, so view_i indexes the quilt the same way the Looking Glass shader does.
+#pragma once
+
+#include <span>
+
+#include "mvr/composite/compose.h"
+#include "mvr/core/image.h"
+#include "mvr/core/status.h"
+
+namespace mvr::composite {
+
+/// The shader-side values derived from a calibration for a screen of screenW×screenH.
+struct LenticularShaderParams {
+    double pitchU = 0;  ///< lenticules across the screen width (pitch adjusted for the slant)
+    double tilt = 0;    ///< lens phase change per unit of v
+    double subp = 0;    ///< one sub-pixel in u
+    double center = 0;
+    int ri = 0, bi = 2; ///< which sub-pixel sample feeds red / blue
+    bool invertViews = false;
+};
+
+/// Derives the shader values. Errors: Usage for dpi ≤ 0, slope = 0, a non-finite value or a
+/// screen size < 1.
+Result<LenticularShaderParams> lenticularShaderParams(const LenticularCalibration& calibration,
+                                                      int screenWidth, int screenHeight);
+
+/// The view (0..viewCount−1) that sub-pixel `subpixel` (0, 1, 2 from the left) of output pixel
+/// (px, py) shows.
+int lenticularView(const LenticularShaderParams& params, int viewCount, int screenWidth,
+                   int screenHeight, int px, int py, int subpixel);
+
+/// Interleaves views (2..N, one size) into a screenWidth×screenHeight image (0 = view size).
+/// Errors: Usage (view count/sizes, calibration).
+Result<Image> lenticular(std::span<const Image> views, const LenticularCalibration& calibration);
+
+}  // namespace mvr::composite

@@ -1,0 +1,284 @@
+#include "mvr/composite/compose.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include <fmt/core.h>
+
+#include "mvr/composite/anaglyph.h"
+#include "mvr/composite/jpeg.h"
+#include "mvr/composite/layout.h"
+#include "mvr/composite/lenticular.h"
+
+namespace mvr::composite {
+namespace {
+
+constexpr int kAny = kAnyViewCount;
+
+const std::array kFormats = {
+    FormatInfo{"anaglyph-dubois", 2, 2, false, ".png",
+               "red-cyan, Dubois least squares (the default anaglyph)"},
+    FormatInfo{"anaglyph-color", 2, 2, false, ".png", "red-cyan, full color"},
+    FormatInfo{"anaglyph-half-color", 2, 2, false, ".png", "red-cyan, left eye as luminance"},
+    FormatInfo{"anaglyph-gray", 2, 2, false, ".png", "red-cyan, luminance only"},
+    FormatInfo{"anaglyph-true", 2, 2, false, ".png", "red-blue, luminance (true anaglyph)"},
+    FormatInfo{"anaglyph-dubois-gm", 2, 2, false, ".png", "green-magenta, Dubois least squares"},
+    FormatInfo{"anaglyph-dubois-ab", 2, 2, false, ".png", "amber-blue, Dubois least squares"},
+    FormatInfo{"sbs", 2, 2, false, ".png", "side by side, full width (2W x H)"},
+    FormatInfo{"sbs-half", 2, 2, false, ".png", "side by side, squeezed (W x H)"},
+    FormatInfo{"tb", 2, 2, false, ".png", "top-bottom, left on top (W x 2H)"},
+    FormatInfo{"tb-half", 2, 2, false, ".png", "top-bottom, squeezed (W x H)"},
+    FormatInfo{"rows", 2, kAny, false, ".png", "row-interleaved: row y from view y mod N"},
+    FormatInfo{"columns", 2, kAny, false, ".png",
+               "column-interleaved: column x from view x mod N (parallax barrier)"},
+    FormatInfo{"checkerboard", 2, 2, false, ".png", "checkerboard: (x + y) even from the left"},
+    FormatInfo{"hdmi-frame-packing", 2, 2, false, ".png",
+               "HDMI 1.4a frame packing: 720p -> 1280x1470, 1080p -> 1920x2205"},
+    FormatInfo{"quilt", 1, kAny, false, ".png",
+               "Looking Glass quilt, view 0 bottom left: quilt_qsCxRaA.png"},
+    FormatInfo{"lenticular", 2, kAny, false, ".png",
+               "slanted-lens sub-pixel interleave from a panel calibration"},
+    FormatInfo{"jps", 2, 2, false, ".jps", "JPEG side by side, right view on the left"},
+    FormatInfo{"mpo", 2, 4096, true, ".mpo", "CIPA multi-picture JPEG, one image per view"},
+};
+
+std::string lower(std::string_view s) {
+    std::string out(s);
+    for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return out;
+}
+
+// The views in the order the format should use them: reversed for swapEyes.
+struct Ordered {
+    std::span<const Image> span;
+    std::vector<Image> storage;
+};
+
+Ordered ordered(std::span<const Image> views, bool reverse) {
+    Ordered o;
+    if (!reverse) {
+        o.span = views;
+        return o;
+    }
+    o.storage.assign(views.rbegin(), views.rend());
+    o.span = o.storage;
+    return o;
+}
+
+Result<std::pair<int, int>> quiltGridFor(std::span<const Image> views,
+                                         const ComposeOptions& options, const char* who) {
+    if ((options.quiltColumns == 0) != (options.quiltRows == 0) || options.quiltColumns < 0 ||
+        options.quiltRows < 0)
+        return usageError(fmt::format("{}: quilt grid {}x{} (expected both columns and rows >= 1, "
+                                      "or both 0 for automatic)",
+                                      who, options.quiltColumns, options.quiltRows));
+    if (options.quiltColumns > 0) return std::pair{options.quiltColumns, options.quiltRows};
+    return chooseQuiltLayout(static_cast<int>(views.size()), views[0].width, views[0].height);
+}
+
+}  // namespace
+
+std::span<const FormatInfo> formats() { return kFormats; }
+
+std::vector<std::string> formatNames() {
+    std::vector<std::string> names;
+    for (const FormatInfo& f : kFormats) names.emplace_back(f.name);
+    return names;
+}
+
+Result<FormatInfo> findFormat(std::string_view name) {
+    for (const FormatInfo& f : kFormats)
+        if (f.name == name) return f;
+    std::string all;
+    for (const FormatInfo& f : kFormats) all += (all.empty() ? "" : ", ") + std::string(f.name);
+    return usageError(fmt::format("unknown output format '{}' (expected one of: {})", name, all));
+}
+
+std::string formatHelp() {
+    std::string out;
+    for (const FormatInfo& f : kFormats) {
+        const std::string views = f.minViews == f.maxViews ? fmt::format("{} views", f.minViews)
+                                  : f.maxViews >= kAny     ? fmt::format("{}+ views", f.minViews)
+                                                           : fmt::format("{}-{} views", f.minViews,
+                                                                         f.maxViews);
+        out += fmt::format("  {:<20} {:<10} {}\n", f.name, views, f.summary);
+    }
+    return out;
+}
+
+std::pair<int, int> chooseQuiltLayout(int viewCount, int viewWidth, int viewHeight) {
+    MVR_ASSERT(viewCount >= 1 && viewWidth >= 1 && viewHeight >= 1);
+    std::pair<int, int> best{viewCount, 1};
+    double bestCost = 1e300;
+    int bestBlank = 0;
+    for (int rows = 1; rows <= viewCount; ++rows) {
+        const int columns = (viewCount + rows - 1) / rows;
+        if ((rows - 1) * columns >= viewCount) continue;  // an empty row
+        const double aspect = (double(columns) * viewWidth) / (double(rows) * viewHeight);
+        const double cost = std::abs(std::log(aspect));
+        const int blank = columns * rows - viewCount;
+        if (cost < bestCost - 1e-9 || (std::abs(cost - bestCost) <= 1e-9 && blank < bestBlank)) {
+            best = {columns, rows};
+            bestCost = cost;
+            bestBlank = blank;
+        }
+    }
+    return best;
+}
+
+std::string formatAspect(int width, int height) {
+    std::string s = fmt::format("{:.4f}", double(width) / double(height));
+    while (!s.empty() && s.back() == '0') s.pop_back();
+    if (!s.empty() && s.back() == '.') s.pop_back();
+    return s;
+}
+
+Result<std::pair<int, int>> parseQuiltGrid(std::string_view text) {
+    const std::string t(text);
+    int c = 0, r = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(t.c_str(), "%d%c%d%c", &c, &x, &r, &extra) != 3 || (x != 'x' && x != 'X') ||
+        c < 1 || r < 1 || c > 256 || r > 256 || t.find_first_of("+- ") != std::string::npos)
+        return usageError(
+            fmt::format("--quilt '{}': expected CxR with 1..256 columns and rows, e.g. 8x6", t));
+    return std::pair{c, r};
+}
+
+double convergenceAngleDegrees(double interaxial, double convergenceDistance) {
+    if (!(convergenceDistance > 0) || !std::isfinite(convergenceDistance) ||
+        !std::isfinite(interaxial))
+        return 0.0;
+    return 2.0 * std::atan(interaxial / (2.0 * convergenceDistance)) * 180.0 / std::numbers::pi;
+}
+
+Result<Image> compose(std::string_view format, std::span<const Image> views,
+                      const ComposeOptions& options) {
+    Result<FormatInfo> info = findFormat(format);
+    if (!info) return info.status();
+    const std::string who = fmt::format("mvr::composite::compose(): {}", info->name);
+    if (Status s = validateViews(views, info->minViews, info->maxViews, who.c_str()); !s) return s;
+    if (info->fileOnly)
+        return unsupportedError(fmt::format("{}: a multi-image file, not one image (write it with "
+                                            "writeComposite(), or `mvr compose -o DIR`)",
+                                            who));
+    const Ordered o = ordered(views, options.swapEyes);
+    const std::span<const Image> v = o.span;
+    const std::string_view name = info->name;
+
+    static constexpr std::pair<std::string_view, AnaglyphMethod> kAnaglyphs[] = {
+        {"anaglyph-color", AnaglyphMethod::Color},
+        {"anaglyph-half-color", AnaglyphMethod::HalfColor},
+        {"anaglyph-gray", AnaglyphMethod::Gray},
+        {"anaglyph-true", AnaglyphMethod::True},
+        {"anaglyph-dubois", AnaglyphMethod::Dubois},
+        {"anaglyph-dubois-gm", AnaglyphMethod::DuboisGreenMagenta},
+        {"anaglyph-dubois-ab", AnaglyphMethod::DuboisAmberBlue},
+    };
+    for (const auto& [n, method] : kAnaglyphs)
+        if (n == name) return anaglyph(v[0], v[1], method);
+
+    if (name == "sbs" || name == "sbs-half") {
+        const bool rightFirst = options.crossEyed;
+        return sideBySide(v[rightFirst ? 1 : 0], v[rightFirst ? 0 : 1], name == "sbs-half");
+    }
+    if (name == "tb" || name == "tb-half") return topBottom(v[0], v[1], name == "tb-half");
+    if (name == "rows") return interleaveRows(v);
+    if (name == "columns") return interleaveColumns(v);
+    if (name == "checkerboard") return checkerboard(v[0], v[1]);
+    if (name == "hdmi-frame-packing") return hdmiFramePacking(v[0], v[1]);
+    if (name == "quilt") {
+        Result<std::pair<int, int>> grid = quiltGridFor(v, options, who.c_str());
+        if (!grid) return grid.status();
+        return quilt(v, grid->first, grid->second);
+    }
+    if (name == "lenticular") return lenticular(v, options.lenticular);
+    if (name == "jps") return sideBySide(v[1], v[0], false);
+    return internalError(fmt::format("{}: format without an implementation", who));
+}
+
+Result<std::string> compositeFileName(std::string_view format, std::span<const Image> views,
+                                      const ComposeOptions& options) {
+    Result<FormatInfo> info = findFormat(format);
+    if (!info) return info.status();
+    const std::string who = fmt::format("mvr::composite::compositeFileName(): {}", info->name);
+    if (Status s = validateViews(views, info->minViews, info->maxViews, who.c_str()); !s) return s;
+    if (info->name == "quilt") {
+        Result<std::pair<int, int>> grid = quiltGridFor(views, options, who.c_str());
+        if (!grid) return grid.status();
+        return fmt::format("quilt_qs{}x{}a{}.png", grid->first, grid->second,
+                           formatAspect(views[0].width, views[0].height));
+    }
+    return fmt::format("{}{}", info->name, info->extension);
+}
+
+Status writeCompositeFile(std::string_view format, std::span<const Image> views,
+                          const ComposeOptions& options, const std::filesystem::path& file) {
+    Result<FormatInfo> info = findFormat(format);
+    if (!info) return info.status();
+    const std::string ext = lower(file.extension().string());
+    const std::string who = fmt::format("mvr::composite::writeCompositeFile(): {}", info->name);
+    if (info->name == "mpo") {
+        if (ext != ".mpo")
+            return usageError(fmt::format("{}: output '{}' (expected a .mpo file name)", who,
+                                          file.string()));
+        Result<std::vector<std::uint8_t>> bytes = encodeMpo(views, options);
+        if (!bytes) return bytes.status();
+        return writeFileBytes(file, *bytes);
+    }
+    if (info->name == "jps") {
+        if (ext != ".jps" && ext != ".jpg" && ext != ".jpeg")
+            return usageError(fmt::format("{}: output '{}' (expected a .jps file name)", who,
+                                          file.string()));
+        Result<Image> picture = compose(format, views, options);
+        if (!picture) return picture.status();
+        return writeJpeg(file, *picture, options.jpegQuality);
+    }
+    if (ext != ".png" && ext != ".jpg" && ext != ".jpeg")
+        return usageError(fmt::format("{}: output '{}' (expected a .png, .jpg or .jpeg file name)",
+                                      who, file.string()));
+    Result<Image> image = compose(format, views, options);
+    if (!image) return image.status();
+    if (ext == ".png") return writePng(file, *image);
+    return writeJpeg(file, *image, options.jpegQuality);
+}
+
+Result<std::filesystem::path> writeComposite(std::string_view format, std::span<const Image> views,
+                                             const ComposeOptions& options,
+                                             const std::filesystem::path& outDir) {
+    Result<std::string> name = compositeFileName(format, views, options);
+    if (!name) return name.status();
+    std::filesystem::path path = outDir / *name;
+    if (Status s = writeCompositeFile(format, views, options, path); !s) return s;
+    return path;
+}
+
+Result<std::vector<Image>> readViewFile(const std::filesystem::path& path) {
+    Result<std::vector<std::uint8_t>> bytes = readFileBytes(path);
+    if (!bytes) return bytes.status();
+    const std::vector<std::uint8_t>& d = *bytes;
+    const std::string what = path.string();
+    if (d.empty()) return inputError(fmt::format("{}: empty file (expected PNG or JPEG)", what));
+    static constexpr std::uint8_t kPng[] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+    if (d.size() >= 8 && std::equal(std::begin(kPng), std::end(kPng), d.begin())) {
+        Result<Image> image = readPng(path);
+        if (!image) return image.status();
+        std::vector<Image> views;
+        views.push_back(std::move(*image));
+        return views;
+    }
+    if (d.size() >= 2 && d[0] == 0xFF && d[1] == 0xD8) {
+        if (lower(path.extension().string()) == ".jps") {
+            Result<Image> picture = decodeJpeg(d, what);
+            if (!picture) return picture.status();
+            return splitJps(*picture, what);
+        }
+        return decodeMpo(d, what);
+    }
+    return inputError(fmt::format("{}: not a PNG or JPEG file (unrecognised signature)", what));
+}
+
+}  // namespace mvr::composite
