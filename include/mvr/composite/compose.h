@@ -39,6 +39,10 @@
 #include "mvr/core/image.h"
 #include "mvr/core/status.h"
 
+namespace CLI {
+class App;
+}
+
 namespace mvr::composite {
 
 /// Calibration of a slanted-lenticular autostereoscopic panel, in the units of the Looking
@@ -158,5 +162,13 @@ double convergenceAngleDegrees(double interaxial, double convergenceDistance);
 /// right}. Errors: ErrorCode::Input naming the path (missing, unreadable, not PNG/JPEG,
 /// truncated or corrupt data).
 Result<std::vector<Image>> readViewFile(const std::filesystem::path& path);
+
+/// Adds the composite options to a CLI11 subcommand; they write into `options`, which must
+/// outlive parsing: --swap-eyes, --cross-eyed, --quilt CxR, --jpeg-quality Q,
+/// --base-viewpoint K, --lenticular-pitch/-slope/-center/-dpi, --lenticular-screen WxH,
+/// --lenticular-bgr, --lenticular-invert-views, --lenticular-flip-x, --lenticular-flip-y, and
+/// with `withStereoMetadata` (for `mvr compose`, which has no rig) --baseline M and
+/// --convergence D. Bad values are CLI11 validation errors (usage, exit 1).
+void addComposeOptions(CLI::App* app, ComposeOptions& options, bool withStereoMetadata = false);
 
 }  // namespace mvr::composite

@@ -1,15 +1,8 @@
-// mvr/composite/compose_cli.h — the command-line options of the composite formats, for any
-// CLI11 subcommand (mvr render, mvr compose, mvr view). Header-only so that the mvr_composite
-// library itself does not depend on CLI11.
-//
-// Options added: --swap-eyes, --cross-eyed, --quilt CxR, --jpeg-quality Q, --base-viewpoint K,
-// --lenticular-pitch/-slope/-center/-dpi/-screen WxH, --lenticular-bgr,
-// --lenticular-invert-views, --lenticular-flip-x, --lenticular-flip-y. Values are validated
-// while parsing (a bad value is a CLI11 ValidationError: usage, exit 1). The MPO stereo
-// metadata (baseline, convergence) comes from the rig in `mvr render`; `withStereoMetadata`
-// also adds --baseline M and --convergence D for `mvr compose`, where there is no rig.
-#pragma once
+#include "mvr/composite/compose.h"
 
+// The command-line options of the composite formats, declared in mvr/composite/compose.h so that
+// `mvr render`, `mvr compose` and `mvr view` need no extra include. CLI11 is header-only and a
+// dependency of mvr already; only this file of the library includes it.
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -18,13 +11,9 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
-#include "mvr/composite/compose.h"
-
 namespace mvr::composite {
 
-/// Adds the composite options to `app`; they write into `options`, which must outlive parsing.
-inline void addComposeOptions(CLI::App* app, ComposeOptions& options,
-                              bool withStereoMetadata = false) {
+void addComposeOptions(CLI::App* app, ComposeOptions& options, bool withStereoMetadata) {
     const std::string group = "Composite formats";
     app->add_flag("--swap-eyes", options.swapEyes,
                   "Exchange left and right (N views: reverse their order)")
