@@ -1,0 +1,89 @@
+// mvr/gl/gl_backend.h — the OpenGL 4.5 backend ("gl"), headless through EGL.
+//
+// Conventions (all OpenGL): right-handed world and eye space, eye looks down −Z; NDC z in
+// [−1, 1]; window depth = ndc.z / 2 + 1/2 stored as 32-bit float, cleared to 1, depth test
+// GL_LESS; counter-clockwise front faces; fill rule = the driver's (GL's top-left-like rule
+// with the pixel-center sample). Images come back with row 0 at the TOP (GL's row 0 is the
+// bottom: rows are flipped on readback), RGBA8 with alpha 255, as image.h requires.
+//
+// Context: created lazily on the first call that needs GL (supports(), render(), info()), never
+// in makeGlBackend(). Platforms tried, in order: EGL_EXT_platform_device on a hardware device
+// (a GPU; devices with EGL_MESA_device_software are skipped), then Mesa's surfaceless platform
+// (EGL_MESA_platform_surfaceless: llvmpipe on machines without a GPU), then the default
+// display. The environment variable MVR_EGL_PLATFORM=device|surfaceless|default forces one.
+// When none gives an OpenGL 4.5 core context every GL call returns ErrorCode::Unsupported with
+// "no EGL display: EGL_…" or "…: OpenGL 4.5 core context not available: EGL_…".
+//
+// Methods (render()'s `method`), each producing per-view color and, where it has a depth
+// buffer per view, per-view depth:
+//   multipass          one draw of the scene per view into its own layer. The reference.
+//   gs-mrt             sorbier2008 §4: the geometry shader clones each triangle to the left and
+//                      right eye with a flag; the fragment shader writes its eye's MRT attachment
+//                      and alpha 0 to the other; blending SRC_ALPHA/ONE_MINUS_SRC_ALPHA; depth
+//                      test off; instances drawn back to front. No depth output. 2 views only.
+//                      Visibility errors inside concave objects are the paper's (Fig. 4, 5).
+//   gs-depthmap        sorbier2008 §5.2: left-eye depth pre-pass into a depth texture, then the
+//                      gs-mrt pass with each fragment tested against it (the right eye through
+//                      its left-eye coordinates). No depth output. 2 views only.
+//   gs-layered         GS loop over N views writing gl_Layer of a layered color + depth target.
+//   gs-invocations     the same with layout(invocations = N): one GS invocation per view.
+//   instanced-layer    N instances; the vertex shader writes gl_Layer
+//                      (GL_ARB_shader_viewport_layer_array or GL_AMD_vertex_shader_layer).
+//   viewport-array     GS loop writing gl_ViewportIndex into one tiled target (scissored tiles).
+//   multiview          GL_OVR_multiview (gl_ViewID_OVR) where the driver has it.
+//   kalaiah-emulation  kalaiah2007 §4: 3·N dummy vertices (i = corner, j = view) drawn once per
+//                      triangle (instanced: the triangle's corners are per-instance attributes),
+//                      viewport transform done in the vertex shader into one partitioned
+//                      offscreen buffer, per-view clipping through gl_ClipDistance.
+//   auto               measures the exact (per-view depth) methods this driver supports for this
+//                      scene, view count and size, and uses the fastest (RenderOutput::method,
+//                      ::note say which and the times measured). Measurements are cached.
+// Each method's view limit depends on the driver; info() lists it and render() explains a
+// refusal ("gs-invocations: 40 views exceed GL_MAX_GEOMETRY_SHADER_INVOCATIONS = 32").
+//
+// Shading: exactly lighting.h (Flat / Vertex / Pixel), with the specular view vector toward
+// rig.centerEye(). Flat shading uses the world-space face normal: computed from the three
+// world-space corners where a geometry shader or the kalaiah vertex shader sees them, and for
+// multipass / instanced-layer / multiview from a per-mesh buffer of model-space face normals
+// (cofactor-transformed, which equals the cross product of the world-space edges) fetched with
+// gl_PrimitiveID.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mvr/core/image.h"
+#include "mvr/core/render.h"
+#include "mvr/core/status.h"
+
+namespace mvr::gl {
+
+/// Creates the gl backend (name "gl"). Makes no GL or EGL call: safe without a display/GPU.
+std::unique_ptr<mvr::Backend> makeGlBackend();
+
+/// Every method name of the gl backend, in a stable order ("multipass" first, "auto" last).
+const std::vector<std::string>& glMethodNames();
+
+/// Timings of the last successful render() of a gl backend.
+struct GlFrameStats {
+    std::string method;       ///< the method that ran
+    double gpuMs = 0.0;       ///< GL_TIME_ELAPSED of the draws (readback excluded); <0 if none
+    double drawWallMs = 0.0;  ///< wall time from first draw to glFinish()
+    double readbackWallMs = 0.0;  ///< wall time of reading back every view's color (+ depth)
+    double totalWallMs = 0.0;     ///< the whole render() call
+};
+
+/// The stats of `backend`'s last render(), when it is a gl backend that has rendered.
+std::optional<GlFrameStats> lastFrameStats(const mvr::Backend& backend);
+
+/// Red-cyan anaglyph composed on the GPU as sorbier2008 §4.3 does it: depth test off,
+/// additive blending, colour mask red → full-screen quad textured with `left`, colour mask
+/// green+blue → full-screen quad textured with `right`. Result: R from left, G and B from
+/// right, alpha 255 — the same mapping as the CPU "color" anaglyph.
+/// Errors: Usage when the images are empty or differ in size; Unsupported when no GL context
+/// can be made. GL requires: 4.5 core (direct state access).
+Result<Image> composeAnaglyphGpu(const Image& left, const Image& right);
+
+}  // namespace mvr::gl

@@ -1,0 +1,122 @@
+// The red-cyan anaglyph composed on the GPU, as sorbier2008 §4.3 lists it: depth test off,
+// additive blending, colour mask red + full-screen quad of the left image, colour mask
+// green/blue + full-screen quad of the right image.
+#include <cstring>
+#include <mutex>
+
+#include <fmt/format.h>
+
+#include "egl_context.h"
+#include "gl_objects.h"
+#include "mvr/gl/gl_backend.h"
+#include "shaders.h"
+
+namespace mvr::gl {
+
+namespace {
+
+struct CompositeContext {
+    std::unique_ptr<detail::EglContext> context;
+    detail::Program program;
+    detail::VertexArray vao;
+    Status status;
+};
+
+// One context for the process's GPU composites, made on first use.
+CompositeContext& compositeContext() {
+    static CompositeContext c = [] {
+        CompositeContext cc;
+        auto ctx = detail::EglContext::create();
+        if (!ctx) {
+            cc.status = ctx.status();
+            return cc;
+        }
+        cc.context = std::move(ctx).value();
+        auto p = detail::buildCompositeProgram();
+        if (!p) {
+            cc.status = p.status();
+            return cc;
+        }
+        cc.program = std::move(p).value();
+        cc.vao = detail::createVertexArray();
+        return cc;
+    }();
+    return c;
+}
+
+detail::Texture upload(const Image& img) {
+    detail::Texture t = detail::createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.get(), 1, GL_RGBA8, img.width, img.height);
+    // Image row 0 goes to texture row 0 and the result is read back without a flip, so the
+    // orientation is kept end to end.
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(t.get(), 0, 0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                        img.rgba.data());
+    return t;
+}
+
+}  // namespace
+
+Result<Image> composeAnaglyphGpu(const Image& left, const Image& right) {
+    if (left.empty() || right.empty()) {
+        return usageError("mvr::gl::composeAnaglyphGpu(): empty input image");
+    }
+    if (left.width != right.width || left.height != right.height) {
+        return usageError(fmt::format(
+            "mvr::gl::composeAnaglyphGpu(): left is {}x{}, right is {}x{} (expected the same size)",
+            left.width, left.height, right.width, right.height));
+    }
+    const std::size_t bytes = static_cast<std::size_t>(left.width) * left.height * 4;
+    if (left.rgba.size() != bytes || right.rgba.size() != bytes) {
+        return usageError("mvr::gl::composeAnaglyphGpu(): pixel buffer size does not match "
+                          "width x height x 4");
+    }
+    static std::mutex mutex;
+    std::lock_guard lock(mutex);
+    CompositeContext& c = compositeContext();
+    if (!c.status) return c.status;
+    if (Status s = c.context->makeCurrent(); !s) return s;
+    GLint maxSize = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+    if (left.width > maxSize || left.height > maxSize) {
+        return unsupportedError(fmt::format(
+            "mvr::gl::composeAnaglyphGpu(): {}x{} exceeds GL_MAX_TEXTURE_SIZE = {}", left.width,
+            left.height, maxSize));
+    }
+
+    detail::Texture texLeft = upload(left), texRight = upload(right);
+    detail::Texture target = detail::createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(target.get(), 1, GL_RGBA8, left.width, left.height);
+    detail::Framebuffer fbo = detail::createFramebuffer();
+    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, target.get(), 0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo.get());
+    glViewport(0, 0, left.width, left.height);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);  // additive
+    glUseProgram(c.program.get());
+    glBindVertexArray(c.vao.get());
+    glColorMask(GL_TRUE, GL_FALSE, GL_FALSE, GL_FALSE);  // red from the left eye
+    glBindTextureUnit(0, texLeft.get());
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glColorMask(GL_FALSE, GL_TRUE, GL_TRUE, GL_FALSE);   // cyan from the right eye
+    glBindTextureUnit(0, texRight.get());
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDisable(GL_BLEND);
+
+    Image out(left.width, left.height);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(target.get(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                      static_cast<GLsizei>(out.rgba.size()), out.rgba.data());
+    glBindTextureUnit(0, 0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    if (Status s = detail::checkGlError("composeAnaglyphGpu"); !s) return s;
+    return out;
+}
+
+}  // namespace mvr::gl

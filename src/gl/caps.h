@@ -1,0 +1,35 @@
+// src/gl/caps.h — what the current GL context offers: strings, extensions, limits.
+#pragma once
+
+#include <set>
+#include <string>
+#include <vector>
+
+namespace mvr::gl::detail {
+
+struct GlCaps {
+    std::string vendor, renderer, version, glslVersion;
+    std::set<std::string> extensions;
+    int maxTextureSize = 0, maxArrayLayers = 0, maxFramebufferLayers = 0;
+    int maxViewportDims[2] = {0, 0};
+    int maxViewports = 0;
+    int maxDrawBuffers = 0, maxColorAttachments = 0;
+    int maxGsOutputVertices = 0, maxGsTotalOutputComponents = 0, maxGsOutputComponents = 0;
+    int maxGsInvocations = 0;
+    int maxClipDistances = 0;
+    int maxUniformBlockSize = 0;
+    int maxViewsOvr = 0;  ///< GL_MAX_VIEWS_OVR, 0 without GL_OVR_multiview
+    int timerBits = 0;    ///< GL_QUERY_COUNTER_BITS of GL_TIME_ELAPSED (0 = no timer)
+
+    bool has(const std::string& ext) const { return extensions.count(ext) != 0; }
+    /// gl_Layer from the vertex shader (ARB_shader_viewport_layer_array or AMD_vertex_shader_layer).
+    bool vertexLayer() const;
+    std::string vertexLayerExtension() const;
+
+    /// Queries the current context.
+    static GlCaps query();
+    /// Lines for `mvr info`.
+    std::vector<std::string> describe() const;
+};
+
+}  // namespace mvr::gl::detail

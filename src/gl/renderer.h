@@ -1,0 +1,162 @@
+// src/gl/renderer.h — the gl backend's internals: context, GPU copies of meshes, render
+// targets, programs and the per-method draw paths (methods.cpp).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "caps.h"
+#include "egl_context.h"
+#include "gl_objects.h"
+#include "mvr/core/render.h"
+#include "mvr/gl/gl_backend.h"
+#include "shaders.h"
+
+namespace mvr::gl::detail {
+
+/// One mesh on the GPU. Keyed by a hash of its contents, so a scene object that is rendered
+/// again (bench loops) is not uploaded again, and a changed mesh is.
+struct GpuMesh {
+    Buffer positions, normals, indices, faceNormals;
+    Texture faceNormalTexture;  ///< GL_RGB32F buffer texture over faceNormals
+    VertexArray vao;
+    GLsizei indexCount = 0;
+    GLsizei triangleCount = 0;
+    Bounds bounds;
+    // kalaiah2007 emulation: per-triangle corners + normals (divisor 1) and the dummy array.
+    Buffer kalaiahTriangles;
+    VertexArray kalaiahVao;
+    int kalaiahViews = 0;
+    Buffer kalaiahDummy;
+    std::uint64_t lastUse = 0;
+};
+
+/// The std140 "Frame" uniform block of shaders.cpp.
+struct FrameBlock {
+    glm::mat4 clipFromWorld[64];
+    glm::vec4 tile[64];
+    glm::vec4 lightDir[4];
+    glm::vec4 lightColor[4];
+    glm::vec4 ambient;
+    glm::vec4 centerEye;
+    glm::ivec4 counts;
+};
+
+/// Where each view lies in a tiled (partitioned / side-by-side) target.
+struct TileLayout {
+    int columns = 1, rows = 1;
+    int width = 0, height = 0;  ///< of one view
+    /// GL (bottom-up) pixel origin of view `view`'s tile; view 0 is the top-left tile.
+    glm::ivec2 origin(int view) const {
+        return {(view % columns) * width, (rows - 1 - view / columns) * height};
+    }
+};
+
+/// Per-call inputs shared by the draw paths.
+struct Frame {
+    const Scene* scene = nullptr;
+    const Rig* rig = nullptr;
+    const RenderSettings* settings = nullptr;
+    int views = 0;
+    std::vector<GpuMesh*> meshes;  ///< per scene mesh
+    std::vector<int> order;        ///< instance draw order
+};
+
+class Renderer {
+public:
+    Renderer() = default;
+    ~Renderer();
+
+    /// Creates the EGL context on first use; the same Status thereafter.
+    Status ensureContext();
+    const GlCaps& caps() const { return mCaps; }
+    std::vector<std::string> info();
+
+    /// Can this driver run `method` at all? (Usage for an unknown name.)
+    Status supports(const std::string& method);
+    /// The largest view count `method` allows here for this shading and view size (0: none).
+    int viewLimit(const std::string& method, Shading shading, int width, int height) const;
+    /// Checks `views` against the method's limits, naming the limit that is exceeded.
+    Status checkViews(const std::string& method, int views, const RenderSettings& s) const;
+
+    Result<RenderOutput> render(const Scene& scene, const Rig& rig, const RenderSettings& s,
+                                const std::string& method);
+
+    const std::optional<GlFrameStats>& lastStats() const { return mLastStats; }
+
+private:
+    Result<RenderOutput> renderOnce(const Scene& scene, const Rig& rig, const RenderSettings& s,
+                                    const std::string& method);
+    Result<RenderOutput> renderAuto(const Scene& scene, const Rig& rig, const RenderSettings& s);
+
+    Status prepareScene(const Scene& scene, Frame& frame, std::uint64_t& sceneKey);
+    void uploadFrameBlock(const Frame& frame, const TileLayout* tiles);
+    Result<GLuint> program(const std::string& method, const Frame& frame);
+    void setInstanceUniforms(GLuint program, const Instance& instance);
+    void setCommonState(const RenderSettings& s);
+    Status ensureKalaiahBuffers(GpuMesh& mesh, const Mesh& source, int views);
+    Result<TileLayout> tileLayout(const Rig& rig, int width, int height, int maxViewports) const;
+
+    // Draw paths (methods.cpp); each leaves its results in the targets below.
+    Status drawMultipass(const Frame& f, GLuint program);
+    Status drawLayeredGs(const Frame& f, GLuint program);
+    Status drawInstancedLayer(const Frame& f, GLuint program);
+    Status drawMultiview(const Frame& f, GLuint program);
+    Status drawViewportArray(const Frame& f, GLuint program, const TileLayout& t);
+    Status drawKalaiah(const Frame& f, GLuint program, const TileLayout& t);
+    Status drawGsMrt(const Frame& f, GLuint program, bool depthMap);
+    void drawScene(const Frame& f, GLuint program, int instances);
+
+    // Targets, reallocated when their size changes.
+    void ensureLayered(int w, int h, int layers);
+    void ensureMrt(int w, int h);
+    void ensureTiled(int w, int h);
+    void readLayered(RenderOutput& out, const Frame& f, bool depth);
+    void readTiled(RenderOutput& out, const Frame& f, const TileLayout& t);
+    void readMrt(RenderOutput& out, const Frame& f);
+
+    std::unique_ptr<EglContext> mContext;
+    std::optional<Status> mContextStatus;
+    GlCaps mCaps;
+    std::map<std::uint64_t, GpuMesh> mMeshes;
+    std::uint64_t mUseCounter = 0;
+    std::map<std::string, Program> mPrograms;
+    std::map<std::string, Status> mProgramErrors;
+    Buffer mFrameUbo;
+    Query mTimer;
+    VertexArray mEmptyVao;
+
+    struct {
+        int w = 0, h = 0, layers = 0;
+        Texture color, depth;
+        Framebuffer fbo;
+    } mLayered;
+    struct {
+        int w = 0, h = 0;
+        Texture color[2], depthMap;
+        Framebuffer fbo, depthFbo;
+    } mMrt;
+    struct {
+        int w = 0, h = 0;
+        Texture color, depth;
+        Framebuffer fbo;
+    } mTiled;
+
+    struct AutoChoice {
+        std::string method;
+        std::string note;
+    };
+    std::map<std::string, AutoChoice> mAutoChoices;
+    std::optional<GlFrameStats> mLastStats;
+    std::uint64_t mLastSceneKey = 0;
+};
+
+/// Every method name, "multipass" first and "auto" last.
+const std::vector<std::string>& methodNames();
+
+}  // namespace mvr::gl::detail

@@ -1,0 +1,368 @@
+#include "shaders.h"
+
+#include <fmt/format.h>
+
+#include "egl_context.h"
+
+namespace mvr::gl::detail {
+
+namespace {
+
+// Shared by every stage: the per-frame block, the per-instance uniforms and lighting.h in GLSL.
+const char* const kCommon = R"glsl(
+#define MAX_VIEWS 64
+#define MAX_LIGHTS 4
+layout(std140, binding = 0) uniform Frame {
+    mat4 uClipFromWorld[MAX_VIEWS];
+    vec4 uTile[MAX_VIEWS];      // kalaiah: clip.xy' = clip.xy * uTile.xy + clip.w * uTile.zw
+    vec4 uLightDir[MAX_LIGHTS]; // unit, toward the light, world space
+    vec4 uLightColor[MAX_LIGHTS];
+    vec4 uAmbient;
+    vec4 uCenterEye;            // specular view vector target (lighting.h)
+    ivec4 uCounts;              // x: lights, y: views, zw: per-view target size in pixels
+};
+layout(location = 0) uniform int uView;
+layout(location = 1) uniform mat4 uWorldFromModel;
+layout(location = 2) uniform mat4 uNormalFromModel;  // inverse transpose (upper 3x3 used)
+layout(location = 3) uniform mat4 uCofactor;         // det * inverse transpose: model edge cross -> world edge cross
+layout(location = 4) uniform vec4 uMaterial;         // albedo rgb, specular
+layout(location = 5) uniform float uShininess;
+
+// lighting.h shadeFlat()
+vec3 shadeFlat(vec3 faceNormal) {
+    vec3 albedo = uMaterial.rgb;
+    vec3 c = uAmbient.rgb * albedo;
+    for (int i = 0; i < uCounts.x; ++i) {
+        c += max(dot(faceNormal, uLightDir[i].xyz), 0.0) * albedo * uLightColor[i].rgb;
+    }
+    return clamp(c, 0.0, 1.0);
+}
+
+// lighting.h shadeBlinnPhong()
+vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
+    vec3 albedo = uMaterial.rgb;
+    vec3 n = normalize(normal);
+    vec3 v = normalize(uCenterEye.xyz - worldPos);
+    vec3 c = uAmbient.rgb * albedo;
+    for (int i = 0; i < uCounts.x; ++i) {
+        vec3 l = uLightDir[i].xyz;
+        float nl = dot(n, l);
+        if (nl > 0.0) {
+            vec3 h = normalize(l + v);
+            float spec = uMaterial.w * pow(max(dot(n, h), 0.0), uShininess);
+            c += (nl * albedo + vec3(spec)) * uLightColor[i].rgb;
+        }
+    }
+    return clamp(c, 0.0, 1.0);
+}
+)glsl";
+
+const char* const kVertex = R"glsl(
+#ifdef VS_KALAIAH
+// kalaiah2007 §4: the vertex is a dummy (corner i, view j); the triangle's real corners
+// arrive as attributes (per instance = per triangle).
+layout(location = 0) in ivec2 aDummy;
+layout(location = 1) in vec3 aP0;
+layout(location = 2) in vec3 aP1;
+layout(location = 3) in vec3 aP2;
+layout(location = 4) in vec3 aN0;
+layout(location = 5) in vec3 aN1;
+layout(location = 6) in vec3 aN2;
+out float gl_ClipDistance[4];
+#else
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec3 aNormal;
+#endif
+
+#if !defined(DEPTH_ONLY)
+layout(location = 0) out vec3 oWorld;
+layout(location = 1) out vec3 oNormal;
+#if defined(SHADING_FLAT) && defined(VS_KALAIAH)
+layout(location = 2) flat out vec3 oColor;
+#else
+layout(location = 2) out vec3 oColor;
+#endif
+#endif
+
+#ifdef VS_MULTIVIEW
+layout(num_views = NUM_VIEWS) in;
+#endif
+
+void main() {
+#ifdef VS_KALAIAH
+    int corner = aDummy.x;
+    int view = aDummy.y;
+    vec3 p = corner == 0 ? aP0 : (corner == 1 ? aP1 : aP2);
+    vec3 n = corner == 0 ? aN0 : (corner == 1 ? aN1 : aN2);
+#else
+    vec3 p = aPosition;
+    vec3 n = aNormal;
+#endif
+    vec4 world = uWorldFromModel * vec4(p, 1.0);
+#if !defined(DEPTH_ONLY)
+    oWorld = world.xyz;
+    oNormal = mat3(uNormalFromModel) * n;
+    oColor = vec3(0.0);
+#if defined(SHADING_VERTEX)
+    oColor = shadeBlinnPhong(oNormal, world.xyz);
+#elif defined(SHADING_FLAT) && defined(VS_KALAIAH)
+    vec3 w0 = (uWorldFromModel * vec4(aP0, 1.0)).xyz;
+    vec3 w1 = (uWorldFromModel * vec4(aP1, 1.0)).xyz;
+    vec3 w2 = (uWorldFromModel * vec4(aP2, 1.0)).xyz;
+    oColor = shadeFlat(normalize(cross(w1 - w0, w2 - w0)));
+#endif
+#endif
+
+#if defined(VS_DIRECT)
+    gl_Position = uClipFromWorld[uView] * world;
+#elif defined(VS_TO_GS)
+    gl_Position = world;
+#elif defined(VS_INSTANCED_LAYER)
+    gl_Layer = gl_InstanceID;
+    gl_Position = uClipFromWorld[gl_InstanceID] * world;
+#elif defined(VS_MULTIVIEW)
+    gl_Position = uClipFromWorld[int(gl_ViewID_OVR)] * world;
+#elif defined(VS_KALAIAH)
+    vec4 clip = uClipFromWorld[view] * world;
+    // Per-view clipping: the view's own frustum sides, since the partitioned buffer's
+    // viewport would otherwise let a triangle spill into the neighbouring view.
+    gl_ClipDistance[0] = clip.w + clip.x;
+    gl_ClipDistance[1] = clip.w - clip.x;
+    gl_ClipDistance[2] = clip.w + clip.y;
+    gl_ClipDistance[3] = clip.w - clip.y;
+    // The viewport transform into this view's partition, done here (kalaiah2007 §4).
+    gl_Position = vec4(clip.xy * uTile[view].xy + clip.w * uTile[view].zw, clip.z, clip.w);
+#endif
+}
+)glsl";
+
+const char* const kGeometry = R"glsl(
+#ifdef GS_INVOCATIONS
+layout(triangles, invocations = GS_INVOCATIONS) in;
+layout(triangle_strip, max_vertices = 3) out;
+#else
+layout(triangles) in;
+layout(triangle_strip, max_vertices = GS_MAX_VERTICES) out;
+#endif
+
+layout(location = 0) in vec3 gWorld[];
+layout(location = 1) in vec3 gNormal[];
+layout(location = 2) in vec3 gColor[];
+
+#if defined(SHADING_PIXEL)
+layout(location = 0) out vec3 oWorld;
+layout(location = 1) out vec3 oNormal;
+#elif defined(SHADING_FLAT)
+layout(location = 2) flat out vec3 oColor;
+#else
+layout(location = 2) out vec3 oColor;
+#endif
+#ifdef DEPTHMAP
+layout(location = 3) out vec4 oLeftClip;
+#endif
+#ifdef GS_OUT_FLAG
+layout(location = 4) flat out int oFlag;
+#endif
+
+void emitView(int view, vec4 w[3], vec3 faceColor) {
+    for (int i = 0; i < 3; ++i) {
+        gl_Position = uClipFromWorld[view] * w[i];
+#if defined(SHADING_PIXEL)
+        oWorld = gWorld[i];
+        oNormal = gNormal[i];
+#elif defined(SHADING_FLAT)
+        oColor = faceColor;
+#else
+        oColor = gColor[i];
+#endif
+#ifdef DEPTHMAP
+        oLeftClip = uClipFromWorld[0] * w[i];
+#endif
+#if defined(GS_OUT_LAYER)
+        gl_Layer = view;
+#elif defined(GS_OUT_VIEWPORT)
+        gl_ViewportIndex = view;
+#elif defined(GS_OUT_FLAG)
+        oFlag = view;
+#endif
+        EmitVertex();
+    }
+    EndPrimitive();
+}
+
+void main() {
+    vec4 w[3] = vec4[3](vec4(gWorld[0], 1.0), vec4(gWorld[1], 1.0), vec4(gWorld[2], 1.0));
+    vec3 faceColor = vec3(0.0);
+#ifdef SHADING_FLAT
+    // Shaded once per triangle for every view (view-independent work).
+    faceColor = shadeFlat(normalize(cross(gWorld[1] - gWorld[0], gWorld[2] - gWorld[0])));
+#endif
+#ifdef GS_INVOCATIONS
+    emitView(gl_InvocationID, w, faceColor);
+#else
+    for (int view = 0; view < GS_VIEWS; ++view) emitView(view, w, faceColor);
+#endif
+}
+)glsl";
+
+const char* const kFragment = R"glsl(
+#if !defined(DEPTH_ONLY)
+layout(location = 0) in vec3 iWorld;
+layout(location = 1) in vec3 iNormal;
+#if defined(SHADING_FLAT) && !defined(FLAT_PRIMID)
+layout(location = 2) flat in vec3 iColor;
+#else
+layout(location = 2) in vec3 iColor;
+#endif
+#ifdef DEPTHMAP
+layout(location = 3) in vec4 iLeftClip;
+layout(binding = 1) uniform sampler2D uDepthMap;
+#endif
+#ifdef GS_OUT_FLAG
+layout(location = 4) flat in int iFlag;
+layout(location = 1) out vec4 oColor1;
+#endif
+#ifdef FLAT_PRIMID
+layout(binding = 0) uniform samplerBuffer uFaceNormals;  // model-space edge cross products
+#endif
+layout(location = 0) out vec4 oColor0;
+#endif
+
+void main() {
+#if !defined(DEPTH_ONLY)
+#ifdef DEPTHMAP
+    // sorbier2008 §5.2. Left fragments: the depth map at their own pixel. Right fragments:
+    // the depth map at the left-eye pixel of the same surface point (from the left clip
+    // position the GS passed along), if it is inside the map; else accepted. The depth
+    // compared is the point's left-eye depth (= its right-eye depth on an off-axis rig,
+    // whose eyes share the image plane, as the paper says).
+    float zLeft = (iLeftClip.z / iLeftClip.w) * 0.5 + 0.5;
+    float slope = fwidth(zLeft);
+    ivec2 texel;
+    float bias;
+    if (iFlag == 0) {
+        texel = ivec2(gl_FragCoord.xy);
+        bias = 1e-6;
+    } else {
+        vec2 ndc = iLeftClip.xy / iLeftClip.w;
+        texel = ivec2(floor((ndc * 0.5 + 0.5) * vec2(uCounts.zw)));
+        // The map holds the depth at the texel centre, the point is anywhere in the texel.
+        bias = 1e-6 + slope;
+    }
+    if (all(greaterThanEqual(texel, ivec2(0))) && all(lessThan(texel, uCounts.zw))) {
+        if (zLeft > texelFetch(uDepthMap, texel, 0).r + bias) discard;
+    }
+#endif
+    vec3 c;
+#if defined(SHADING_PIXEL)
+    c = shadeBlinnPhong(iNormal, iWorld);
+#elif defined(SHADING_FLAT) && defined(FLAT_PRIMID)
+    vec3 nModel = texelFetch(uFaceNormals, gl_PrimitiveID).xyz;
+    c = shadeFlat(normalize(mat3(uCofactor) * nModel));
+#else
+    c = iColor;
+#endif
+#ifdef GS_OUT_FLAG
+    // sorbier2008 §4.2: every fragment is written to both MRT attachments; the other eye's
+    // gets alpha 0, which the SRC_ALPHA / ONE_MINUS_SRC_ALPHA blend turns into "no change".
+    if (iFlag == 0) {
+        oColor0 = vec4(c, 1.0);
+        oColor1 = vec4(0.0);
+    } else {
+        oColor0 = vec4(0.0);
+        oColor1 = vec4(c, 1.0);
+    }
+#else
+    oColor0 = vec4(c, 1.0);
+#endif
+#endif
+}
+)glsl";
+
+const char* const kCompositeVertex = R"glsl(
+// A full-screen quad as a 4-vertex triangle strip, no vertex buffer.
+void main() {
+    vec2 p = vec2(float(gl_VertexID & 1), float(gl_VertexID >> 1)) * 2.0 - 1.0;
+    gl_Position = vec4(p, 0.0, 1.0);
+}
+)glsl";
+
+const char* const kCompositeFragment = R"glsl(
+layout(binding = 0) uniform sampler2D uImage;
+layout(location = 0) out vec4 oColor;
+void main() {
+    oColor = texelFetch(uImage, ivec2(gl_FragCoord.xy), 0);
+}
+)glsl";
+
+const char* stageName(GLenum stage) {
+    switch (stage) {
+    case GL_VERTEX_SHADER: return "vertex";
+    case GL_GEOMETRY_SHADER: return "geometry";
+    case GL_FRAGMENT_SHADER: return "fragment";
+    default: return "?";
+    }
+}
+
+Result<Shader> compile(GLenum stage, const std::string& source) {
+    Shader s(glCreateShader(stage));
+    const char* src = source.c_str();
+    glShaderSource(s.get(), 1, &src, nullptr);
+    glCompileShader(s.get());
+    GLint ok = 0;
+    glGetShaderiv(s.get(), GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        GLint len = 0;
+        glGetShaderiv(s.get(), GL_INFO_LOG_LENGTH, &len);
+        std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
+        glGetShaderInfoLog(s.get(), len, nullptr, log.data());
+        return internalError(
+            fmt::format("mvr::gl: {} shader does not compile: {}", stageName(stage), log.c_str()));
+    }
+    return s;
+}
+
+Result<Program> link(std::initializer_list<const Shader*> shaders) {
+    Program p(glCreateProgram());
+    for (const Shader* s : shaders) glAttachShader(p.get(), s->get());
+    glLinkProgram(p.get());
+    GLint ok = 0;
+    glGetProgramiv(p.get(), GL_LINK_STATUS, &ok);
+    if (!ok) {
+        GLint len = 0;
+        glGetProgramiv(p.get(), GL_INFO_LOG_LENGTH, &len);
+        std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
+        glGetProgramInfoLog(p.get(), len, nullptr, log.data());
+        return internalError(fmt::format("mvr::gl: program does not link: {}", log.c_str()));
+    }
+    if (Status s = checkGlError("linking a program"); !s) return s;
+    return p;
+}
+
+}  // namespace
+
+Result<Program> buildProgram(const ProgramDesc& desc) {
+    const std::string head = "#version 450 core\n";
+    auto vs = compile(GL_VERTEX_SHADER,
+                      head + desc.vsExtensions + desc.defines + kCommon + kVertex);
+    if (!vs) return vs.status();
+    auto fs = compile(GL_FRAGMENT_SHADER, head + desc.defines + kCommon + kFragment);
+    if (!fs) return fs.status();
+    if (desc.geometry) {
+        auto gs = compile(GL_GEOMETRY_SHADER, head + desc.defines + kCommon + kGeometry);
+        if (!gs) return gs.status();
+        return link({&vs.value(), &gs.value(), &fs.value()});
+    }
+    return link({&vs.value(), &fs.value()});
+}
+
+Result<Program> buildCompositeProgram() {
+    const std::string head = "#version 450 core\n";
+    auto vs = compile(GL_VERTEX_SHADER, head + kCompositeVertex);
+    if (!vs) return vs.status();
+    auto fs = compile(GL_FRAGMENT_SHADER, head + kCompositeFragment);
+    if (!fs) return fs.status();
+    return link({&vs.value(), &fs.value()});
+}
+
+}  // namespace mvr::gl::detail

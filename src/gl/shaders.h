@@ -1,0 +1,34 @@
+// src/gl/shaders.h — the GLSL of the gl backend (embedded at build as raw string literals in
+// shaders.cpp) and the program builder. One source per stage; a method is a set of #defines.
+//
+// Defines (one of each group):
+//   shading   SHADING_FLAT | SHADING_VERTEX | SHADING_PIXEL   (DEPTH_ONLY: no colour at all)
+//   vertex    VS_DIRECT (uClipFromWorld[uView]) | VS_TO_GS | VS_INSTANCED_LAYER | VS_MULTIVIEW |
+//             VS_KALAIAH
+//   flat      FLAT_PRIMID (face normal from a buffer texture by gl_PrimitiveID) when no stage
+//             before the fragment shader sees the whole triangle
+//   geometry  GS_VIEWS n (loop) | GS_INVOCATIONS n, and GS_OUT_LAYER | GS_OUT_VIEWPORT |
+//             GS_OUT_FLAG (sorbier2008 MRT); DEPTHMAP (sorbier2008 §5.2 test)
+//   multiview NUM_VIEWS n
+#pragma once
+
+#include <string>
+
+#include "gl_objects.h"
+#include "mvr/core/status.h"
+
+namespace mvr::gl::detail {
+
+struct ProgramDesc {
+    std::string defines;       ///< "#define X 1\n…"
+    std::string vsExtensions;  ///< "#extension …: require\n" lines for the vertex shader
+    bool geometry = false;     ///< link a geometry shader
+};
+
+/// Compiles and links. Errors: Internal with the stage's compile log or the link log.
+Result<Program> buildProgram(const ProgramDesc& desc);
+
+/// Full-screen-quad program for the anaglyph composite (texelFetch of binding 0).
+Result<Program> buildCompositeProgram();
+
+}  // namespace mvr::gl::detail
