@@ -1,0 +1,59 @@
+// mvr/raster/soft_backend.h — `soft`: mvr's own CPU rasterizer, the reference for every method.
+//
+// Conventions (the same as the GL backend, so that images compare pixel for pixel):
+//  - Clip space as OpenGL: NDC = clip.xyz / clip.w, x and y in [−1, 1], z in [−1, 1] near→far.
+//    Triangles are clipped in homogeneous space against the near and far planes (z = ±w) and a
+//    guard band |x|, |y| ≤ 64·w; the viewport scissors the rest.
+//  - Window coordinates: x_w = (ndc.x/2 + 1/2)·width, y_w = (ndc.y/2 + 1/2)·height, y UP; the
+//    output images are flipped so that row 0 is the top (image.h). Pixel centers at
+//    (x + 0.5, y + 0.5).
+//  - Vertices snap to 1/256 pixel (8 sub-pixel bits; window coordinates fit a 24.8 int32 inside
+//    the guard band; edge functions are evaluated exactly in int64). Fill rule: top-left (a pixel
+//    center exactly on an edge is covered only by a top or left edge), so triangles that share an
+//    edge cover each pixel once.
+//  - Front faces are counter-clockwise. Culling (RenderSettings::cullBackFaces) uses the sign of
+//    the homogeneous determinant det[x, y, w] of the triangle's clip positions (Olano & Greer),
+//    which for off-axis rigs is evaluated in adelson1991's stereo form (see unified.cpp).
+//  - Depth: window depth z_w = ndc.z/2 + 1/2 in [0, 1], interpolated linearly in screen space,
+//    test LESS, cleared to 1. Colors and other attributes are interpolated perspective-correctly.
+//  - Shading is lighting.h's model (Flat / Vertex / Pixel), view vector to Rig::centerEye().
+//
+// Methods:
+//  - "multipass": N independent single-view renders (vertex shading, transform, clip, setup and
+//    raster per view). Simple and exact; the ground truth.
+//  - "unified": kalaiah2007's unified pipeline with adelson1991's simultaneous algorithms: vertex
+//    work once, per-view positions by a clip-space shear, primitives replicated with a view tag,
+//    back-face / clip / y setup shared by the views that share y, per-view depth and color.
+//    Produces the same pixels as "multipass", bit for bit.
+//
+// Both methods run on a pool of worker threads pinned to the machine's cores; they split the
+// views' images into horizontal bands (screen tiles spanning every view).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "mvr/core/render.h"
+
+namespace mvr::raster {
+
+/// Which SIMD code path the soft backend's kernels use.
+enum class SimdPath { Auto, Scalar, Avx2, Avx512 };
+
+struct SoftOptions {
+    int threads = 0;               ///< worker threads; 0 = one per core the process may use
+    SimdPath simd = SimdPath::Auto;///< Auto: the best the CPU has and this build compiled
+};
+
+/// "scalar" | "avx2" | "avx512".
+const char* simdPathName(SimdPath path);
+
+/// The best SIMD path that both this build and this CPU support (never Auto).
+SimdPath bestSimdPath();
+
+/// Creates the soft backend (name "soft", methods "multipass" and "unified").
+/// A requested SIMD path that the CPU or build lacks falls back to the best available one
+/// (info() says which path runs).
+std::unique_ptr<Backend> makeSoftBackend(const SoftOptions& options = {});
+
+}  // namespace mvr::raster

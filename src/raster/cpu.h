@@ -1,0 +1,44 @@
+// src/raster/cpu.h — CPU identification and the runtime-dispatched SIMD kernels.
+//
+// Kernels exist in three translation units compiled with their own ISA flags (simd/*.cpp,
+// MaskedOcclusionCulling style): scalar (always built, the reference), AVX2 and AVX-512 (built
+// unless MVR_SIMD=scalar). All three compute the same operations in the same order, so their
+// results are identical bit for bit (tests/raster check this).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "mvr/raster/soft_backend.h"
+
+namespace mvr::raster::detail {
+
+std::string cpuModelName();
+SimdPath bestSupportedSimd();
+/// Auto → best; a path this CPU/build lacks → best available.
+SimdPath resolveSimd(SimdPath requested);
+
+/// Projection of (y, z, w) for n vertices: outcodeYZW, and where no clip bit is set, q = 1/w,
+/// snapped window y and window depth (other lanes hold unspecified values).
+using ProjectYZWFn = void (*)(const float* y, const float* z, const float* w, std::size_t n,
+                              float height, std::uint8_t* code, float* q, std::int32_t* sy,
+                              float* zw);
+/// Projection of x for n vertices given q: outcodeX, and snapped window x.
+using ProjectXFn = void (*)(const float* x, const float* w, const float* q, std::size_t n,
+                            float width, std::uint8_t* code, std::int32_t* sx);
+
+struct Kernels {
+    ProjectYZWFn projectYZW;
+    ProjectXFn projectX;
+};
+
+/// The kernel table of a path (resolved first, so always a valid table).
+const Kernels& kernels(SimdPath path);
+
+// Per-ISA tables (simd/kernels_*.cpp).
+const Kernels& scalarKernels();
+const Kernels* avx2Kernels();    ///< nullptr when not built
+const Kernels* avx512Kernels();  ///< nullptr when not built
+
+}  // namespace mvr::raster::detail

@@ -1,0 +1,74 @@
+#include "frame.h"
+
+#include <algorithm>
+
+namespace mvr::raster::detail {
+
+DrawList makeDrawList(const Scene& scene) {
+    DrawList list;
+    for (const Instance& inst : scene.instances) {
+        const Mesh& mesh = scene.meshes[static_cast<std::size_t>(inst.mesh)];
+        DrawItem item{&mesh, &inst, list.vertexCount, list.triangleCount,
+                      glm::transpose(glm::inverse(glm::mat3(inst.worldFromModel)))};
+        list.items.push_back(item);
+        list.vertexCount += static_cast<std::uint32_t>(mesh.positions.size());
+        list.triangleCount += static_cast<std::uint32_t>(mesh.triangleCount());
+    }
+    return list;
+}
+
+glm::mat4 centerClipFromWorld(const Rig& rig) {
+    return rig.camera.clipFromView() * rig.camera.viewFromWorld();
+}
+
+BandLayout makeBands(int height, int threads) {
+    // About four bands per worker for load balance, at least 16 rows each (a triangle straddling
+    // a band boundary is set up once per band it touches).
+    BandLayout b;
+    b.height = height;
+    const int want = std::max(1, threads * 4);
+    b.rows = std::max(16, (height + want - 1) / want);
+    b.count = (height + b.rows - 1) / b.rows;
+    return b;
+}
+
+void Bins::reset(std::uint32_t triangleCount, int bands) {
+    chunkCount = static_cast<int>(std::clamp<std::uint32_t>(triangleCount / 8192u, 1u, 64u));
+    chunkSize = (triangleCount + chunkCount - 1) / chunkCount;
+    if (chunkSize == 0) chunkSize = 1;
+    lists.resize(std::size_t(chunkCount) * bands);
+    for (auto& l : lists) l.clear();
+}
+
+void allocateOutputs(RenderOutput& out, int views, const RenderSettings& s,
+                     std::vector<Target>& targets) {
+    out.color.resize(views);
+    out.depth.resize(views);
+    targets.resize(views);
+    for (int v = 0; v < views; ++v) {
+        Image& c = out.color[v];
+        c.width = s.width, c.height = s.height;
+        c.rgba.resize(std::size_t(s.width) * s.height * 4);
+        DepthImage& d = out.depth[v];
+        d.width = s.width, d.height = s.height;
+        d.depth.resize(std::size_t(s.width) * s.height);
+        targets[v] = Target{reinterpret_cast<std::uint32_t*>(c.rgba.data()), d.depth.data(), s.width,
+                            s.height};
+    }
+}
+
+void clearTargets(ThreadPool& pool, std::span<const Target> targets, const BandLayout& bands,
+                  const RenderSettings& s) {
+    const std::uint32_t clear = packColor(s.clearColor);
+    pool.run(bands.count, [&](int band, int) {
+        for (const Target& t : targets) {
+            // Band rows are GL rows; image rows run top down.
+            const std::size_t first = t.index(0, bands.rowEnd(band) - 1);
+            const std::size_t count = std::size_t(bands.rowEnd(band) - bands.rowBegin(band)) * t.width;
+            std::fill_n(t.color + first, count, clear);
+            std::fill_n(t.depth + first, count, 1.0f);
+        }
+    });
+}
+
+}  // namespace mvr::raster::detail

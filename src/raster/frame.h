@@ -1,0 +1,137 @@
+// src/raster/frame.h — what one soft render needs around the pipeline: the flattened draw list,
+// per-instance matrices, the band (screen tile) layout, triangle bins, and timing.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "mvr/core/render.h"
+#include "cpu.h"
+#include "pipeline.h"
+#include "thread_pool.h"
+
+namespace mvr::raster::detail {
+
+/// One instance of the scene with its vertex and triangle offsets in the frame's global
+/// numbering (triangles are drawn in instance order, then mesh order, by both methods).
+struct DrawItem {
+    const Mesh* mesh;
+    const Instance* instance;
+    std::uint32_t vertexBase, triangleBase;
+    glm::mat3 normalFromModel;  ///< transpose(inverse(mat3(worldFromModel)))
+};
+
+struct DrawList {
+    std::vector<DrawItem> items;
+    std::uint32_t vertexCount = 0, triangleCount = 0;
+};
+
+DrawList makeDrawList(const Scene& scene);
+
+/// The rig's center clip transform, from which sheared views derive (rig.h: View::clipShear).
+glm::mat4 centerClipFromWorld(const Rig& rig);
+
+/// Screen tiles: horizontal bands of rows (GL window y, up) spanning every view.
+struct BandLayout {
+    int count = 1, rows = 1, height = 1;
+    int rowBegin(int band) const { return band * rows; }
+    int rowEnd(int band) const { return std::min(height, (band + 1) * rows); }
+};
+BandLayout makeBands(int height, int threads);
+
+/// Triangle indices per (chunk of the triangle range, band). Reading a band's lists chunk by chunk
+/// gives its triangles in submission order, so depth ties resolve the same in every method.
+struct Bins {
+    int chunkCount = 0;
+    std::uint32_t chunkSize = 1;
+    std::vector<std::vector<std::uint32_t>> lists;  ///< [chunk * bands + band]
+
+    void reset(std::uint32_t triangleCount, int bands);
+    /// Appends triangle t to every band overlapping pixel rows [rowMin, rowMax].
+    void add(int chunk, std::uint32_t t, int rowMin, int rowMax, const BandLayout& layout) {
+        const int b0 = std::max(0, rowMin / layout.rows);
+        const int b1 = std::min(layout.count - 1, rowMax / layout.rows);
+        for (int b = b0; b <= b1; ++b) lists[std::size_t(chunk) * layout.count + b].push_back(t);
+    }
+};
+
+/// Outputs sized for the views, plus Targets pointing into them.
+void allocateOutputs(RenderOutput& out, int views, const RenderSettings& settings,
+                     std::vector<Target>& targets);
+/// Fills every target with the clear color (alpha 255) and depth 1, band by band in parallel.
+void clearTargets(ThreadPool& pool, std::span<const Target> targets, const BandLayout& bands,
+                  const RenderSettings& settings);
+
+/// Pixel rows [rowMin, rowMax] a triangle with snapped window y may cover (whole screen rows).
+inline void triangleRows(std::int32_t y0, std::int32_t y1, std::int32_t y2, int height,
+                         int& rowMin, int& rowMax) {
+    const std::int32_t lo = std::min(y0, std::min(y1, y2)), hi = std::max(y0, std::max(y1, y2));
+    rowMin = std::max(0, ceilDivSub(std::int64_t(lo) - kHalfSubpixel));
+    rowMax = std::min(height - 1, floorDivSub(std::int64_t(hi) - kHalfSubpixel));
+}
+
+class StageClock {
+public:
+    StageClock() : mLast(std::chrono::steady_clock::now()) {}
+    /// Milliseconds since the previous lap (or construction).
+    double lap() {
+        const auto now = std::chrono::steady_clock::now();
+        const double ms = std::chrono::duration<double, std::milli>(now - mLast).count();
+        mLast = now;
+        return ms;
+    }
+
+private:
+    std::chrono::steady_clock::time_point mLast;
+};
+
+/// Everything a method needs for one render.
+struct FrameContext {
+    const Scene& scene;
+    const Rig& rig;
+    const RenderSettings& settings;
+    ThreadPool& pool;
+    ShadingContext shading;
+    DrawList draw;
+    BandLayout bands;
+    glm::mat4 centerClip;
+    const Kernels& kernels;
+};
+
+/// The rasterization stage of a single triangle whose clip positions needed clipping: clip
+/// (planes from the outcodes), project, and draw the fan for one view. Used by multipass for
+/// every clipped triangle and by unified for views whose x needs guard-band clipping.
+template <class SinkT>
+void drawClippedTriangle(ClipVertex* poly, std::uint8_t planes, int attrCount, const Target& target,
+                         int rowLo, int rowHi, SinkT& sink, FragmentTri& frag) {
+    ClipVertex scratch[kMaxPolyVerts];
+    const int n = clipPolygon(poly, 3, planes, attrCount, scratch);
+    if (n < 3) return;
+    std::int32_t px[kMaxPolyVerts], py[kMaxPolyVerts];
+    float pz[kMaxPolyVerts], pq[kMaxPolyVerts];
+    for (int i = 0; i < n; ++i) {
+        if (!(poly[i].w > 0.0f)) return;
+        pq[i] = 1.0f / poly[i].w;
+        px[i] = snapX(poly[i].x, pq[i], float(target.width));
+        py[i] = snapY(poly[i].y, pq[i], float(target.height));
+        pz[i] = windowDepth(poly[i].z, pq[i]);
+    }
+    for (int k = 1; k + 1 < n; ++k) {
+        const int idx[3] = {0, k, k + 1};
+        YSetup ys;
+        setupY(ys, py[0], py[k], py[k + 1], rowLo, rowHi);
+        const std::int32_t x[3] = {px[0], px[k], px[k + 1]};
+        for (int j = 0; j < 3; ++j) {
+            frag.z[j] = pz[idx[j]];
+            frag.q[j] = pq[idx[j]];
+            frag.attr[j] = poly[idx[j]].a;
+        }
+        rasterTriangle(ys, x, target.width, sink);
+    }
+}
+
+}  // namespace mvr::raster::detail

@@ -1,0 +1,220 @@
+// src/raster/multipass.cpp — the reference: N independent single-view renders.
+//
+// Per view: vertex stage (lighting, transform, outcodes, projection), primitive stage (trivial
+// reject, back-face cull, binning into bands), raster stage (clip if needed, setup, coverage,
+// depth, shading). Nothing is shared between views except the cleared framebuffers' layout.
+//
+// Choice for bit-exactness with "unified" (documented in soft_backend.h): a view that has
+// View::clipShear gets its clip position as the rig's center clip position sheared,
+// x = x_c + s_x(w − c), y = y_c + s_y(w − c) — the form the unified pipeline computes once per
+// vertex — and its back-face test uses the same linear form of det[x, y, w]. Views without a
+// shear use their own clipFromWorld matrix.
+#include "methods.h"
+
+namespace mvr::raster::detail {
+
+namespace {
+
+struct ViewVertexData : MethodScratch {
+    std::vector<float> x, y, z, w, cx, cy;  // clip (and center clip x, y for sheared views)
+    std::vector<std::int32_t> sx, sy;       // snapped window position
+    std::vector<float> zw, q;               // window depth, 1/w
+    std::vector<std::uint8_t> codeYZW, codeX;  // outcodes
+    std::vector<float> attr;                // kMaxAttrs per vertex
+    std::vector<glm::vec3> world;           // world positions (Flat's face normal)
+    Bins bins;
+
+    void resize(std::size_t n) {
+        for (auto* v : {&x, &y, &z, &w, &cx, &cy, &zw, &q}) v->resize(n);
+        sx.resize(n), sy.resize(n), codeYZW.resize(n), codeX.resize(n), attr.resize(n * kMaxAttrs), world.resize(n);
+    }
+};
+
+/// Outcodes of a triangle: AND (trivial reject) and OR (clip planes) over its vertices.
+struct TriCodes {
+    std::uint8_t andYZW, andX, orYZW, orX;
+    bool rejected() const { return (andYZW & kRejectYZW) || (andX & kRejectX); }
+    std::uint8_t planes() const { return std::uint8_t((orYZW & kClipYZW) | (orX & kClipX)); }
+};
+
+void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
+    const Shading shading = f.settings.shading;
+    const float width = float(f.settings.width), height = float(f.settings.height);
+    const bool sheared = view.clipShear.has_value();
+    const glm::vec2 shear = sheared ? *view.clipShear : glm::vec2(0.0f);
+    const float conv = f.rig.convergence;
+    const glm::mat4 viewClip = sheared ? f.centerClip : view.clipFromWorld();
+    for (const DrawItem& item : f.draw.items) {
+        const glm::mat4 clipFromModel = viewClip * item.instance->worldFromModel;
+        const std::uint32_t n = std::uint32_t(item.mesh->positions.size());
+        const std::uint32_t chunks = std::max(1u, n / 4096u);
+        f.pool.run(int(chunks), [&](int chunk, int) {
+            const std::uint32_t begin = n * std::uint64_t(chunk) / chunks;
+            const std::uint32_t end = n * std::uint64_t(chunk + 1) / chunks;
+            for (std::uint32_t i = begin; i < end; ++i) {
+                const std::uint32_t g = item.vertexBase + i;
+                const glm::vec3& p = item.mesh->positions[i];
+                const glm::vec4 c = transformPoint(clipFromModel, p);
+                float x = c.x, y = c.y;
+                if (sheared) {
+                    d.cx[g] = c.x, d.cy[g] = c.y;
+                    x = shearClip(c.x, shear.x, c.w, conv);
+                    y = shearClip(c.y, shear.y, c.w, conv);
+                }
+                d.x[g] = x, d.y[g] = y, d.z[g] = c.z, d.w[g] = c.w;
+                const glm::vec3 world = glm::vec3(transformPoint(item.instance->worldFromModel, p));
+                d.world[g] = world;
+                if (shading != Shading::Flat) {
+                    vertexAttributes(shading, f.shading, item.instance->material, world,
+                                     transformDir(item.normalFromModel, item.mesh->normals[i]),
+                                     &d.attr[std::size_t(g) * kMaxAttrs]);
+                }
+            }
+            const std::uint32_t g = item.vertexBase + begin, count = end - begin;
+            f.kernels.projectYZW(&d.y[g], &d.z[g], &d.w[g], count, height, &d.codeYZW[g], &d.q[g],
+                                 &d.sy[g], &d.zw[g]);
+            f.kernels.projectX(&d.x[g], &d.w[g], &d.q[g], count, width, &d.codeX[g], &d.sx[g]);
+        });
+    }
+}
+
+struct TriangleRef {
+    std::uint32_t i[3];
+    const DrawItem* item;
+};
+
+/// Iterates the triangles [begin, end) of the frame with their global vertex indices.
+template <class Fn>
+void forTriangles(const DrawList& draw, std::uint32_t begin, std::uint32_t end, Fn&& fn) {
+    for (const DrawItem& item : draw.items) {
+        const std::uint32_t tBegin = std::max(begin, item.triangleBase);
+        const std::uint32_t tEnd =
+            std::min(end, item.triangleBase + std::uint32_t(item.mesh->triangleCount()));
+        const std::uint32_t* idx = item.mesh->indices.data();
+        for (std::uint32_t t = tBegin; t < tEnd; ++t) {
+            const std::uint32_t local = (t - item.triangleBase) * 3;
+            fn(t, TriangleRef{{item.vertexBase + idx[local], item.vertexBase + idx[local + 1],
+                               item.vertexBase + idx[local + 2]},
+                              &item});
+        }
+    }
+}
+
+TriCodes triCodes(const ViewVertexData& d, const std::uint32_t v[3]) {
+    const std::uint8_t* y = d.codeYZW.data();
+    const std::uint8_t* x = d.codeX.data();
+    return {std::uint8_t(y[v[0]] & y[v[1]] & y[v[2]]), std::uint8_t(x[v[0]] & x[v[1]] & x[v[2]]),
+            std::uint8_t(y[v[0]] | y[v[1]] | y[v[2]]), std::uint8_t(x[v[0]] | x[v[1]] | x[v[2]])};
+}
+
+/// Back-face test: true when the triangle is culled in this view.
+bool culled(const FrameContext& f, const View& view, const ViewVertexData& d, const TriangleRef& t) {
+    if (!f.settings.cullBackFaces) return false;
+    const float w[3] = {d.w[t.i[0]], d.w[t.i[1]], d.w[t.i[2]]};
+    float det;
+    if (view.clipShear) {
+        const float cx[3] = {d.cx[t.i[0]], d.cx[t.i[1]], d.cx[t.i[2]]};
+        const float cy[3] = {d.cy[t.i[0]], d.cy[t.i[1]], d.cy[t.i[2]]};
+        det = shearedDet(shearDet(cx, cy, w, f.rig.convergence), view.clipShear->x,
+                         view.clipShear->y);
+    } else {
+        const float x[3] = {d.x[t.i[0]], d.x[t.i[1]], d.x[t.i[2]]};
+        const float y[3] = {d.y[t.i[0]], d.y[t.i[1]], d.y[t.i[2]]};
+        det = det3(x, y, w);
+    }
+    return det < 0.0f;
+}
+
+void binStage(FrameContext& f, const View& view, const ViewVertexData& d, Bins& bins) {
+    bins.reset(f.draw.triangleCount, f.bands.count);
+    f.pool.run(bins.chunkCount, [&](int chunk, int) {
+        const std::uint32_t begin = bins.chunkSize * std::uint32_t(chunk);
+        const std::uint32_t end = std::min(f.draw.triangleCount, begin + bins.chunkSize);
+        forTriangles(f.draw, begin, end, [&](std::uint32_t t, const TriangleRef& tri) {
+            const TriCodes codes = triCodes(d, tri.i);
+            if (codes.rejected()) return;
+            if (culled(f, view, d, tri)) return;
+            int rowMin = 0, rowMax = f.settings.height - 1;
+            if (!codes.planes()) {
+                triangleRows(d.sy[tri.i[0]], d.sy[tri.i[1]], d.sy[tri.i[2]], f.settings.height,
+                             rowMin, rowMax);
+                if (rowMin > rowMax) return;
+            }
+            bins.add(chunk, t, rowMin, rowMax, f.bands);
+        });
+    });
+}
+
+template <Shading S>
+void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, const Target& target) {
+    const int attrCount = attributeCount(S);
+    f.pool.run(f.bands.count, [&](int band, int) {
+        const int rowLo = f.bands.rowBegin(band), rowHi = f.bands.rowEnd(band) - 1;
+        FragmentTri frag{};
+        FragmentSink<S> sink{target, &frag, {&f.shading, nullptr}};
+        std::size_t item = 0;
+        for (int chunk = 0; chunk < bins.chunkCount; ++chunk) {
+            for (std::uint32_t t : bins.lists[std::size_t(chunk) * f.bands.count + band]) {
+                while (t >= f.draw.items[item].triangleBase + f.draw.items[item].mesh->triangleCount()) {
+                    ++item;
+                }
+                const DrawItem& it = f.draw.items[item];
+                const std::uint32_t* idx = &it.mesh->indices[std::size_t(t - it.triangleBase) * 3];
+                const std::uint32_t v[3] = {it.vertexBase + idx[0], it.vertexBase + idx[1],
+                                            it.vertexBase + idx[2]};
+                sink.shade.material = &it.instance->material;
+                if constexpr (S == Shading::Flat) {
+                    frag.flat = flatColor(f.shading, it.instance->material, d.world[v[0]],
+                                          d.world[v[1]], d.world[v[2]]);
+                }
+                const std::uint8_t planes = triCodes(d, v).planes();
+                if (!planes) {
+                    YSetup ys;
+                    setupY(ys, d.sy[v[0]], d.sy[v[1]], d.sy[v[2]], rowLo, rowHi);
+                    const std::int32_t x[3] = {d.sx[v[0]], d.sx[v[1]], d.sx[v[2]]};
+                    for (int j = 0; j < 3; ++j) {
+                        frag.z[j] = d.zw[v[j]];
+                        frag.q[j] = d.q[v[j]];
+                        frag.attr[j] = &d.attr[std::size_t(v[j]) * kMaxAttrs];
+                    }
+                    rasterTriangle(ys, x, target.width, sink);
+                } else {
+                    ClipVertex poly[kMaxPolyVerts];
+                    for (int j = 0; j < 3; ++j) {
+                        ClipVertex& cv = poly[j];
+                        cv.x = d.x[v[j]], cv.y = d.y[v[j]], cv.z = d.z[v[j]], cv.w = d.w[v[j]];
+                        std::copy_n(&d.attr[std::size_t(v[j]) * kMaxAttrs], kMaxAttrs, cv.a);
+                    }
+                    drawClippedTriangle(poly, planes, attrCount, target, rowLo, rowHi,
+                                        sink, frag);
+                }
+            }
+        }
+    });
+}
+
+}  // namespace
+
+void renderMultipass(FrameContext& f, std::span<const Target> targets, StageTimes& times,
+                     std::unique_ptr<MethodScratch>& scratch) {
+    if (!dynamic_cast<ViewVertexData*>(scratch.get())) scratch = std::make_unique<ViewVertexData>();
+    ViewVertexData& d = static_cast<ViewVertexData&>(*scratch);
+    d.resize(f.draw.vertexCount);
+    Bins& bins = d.bins;
+    for (int v = 0; v < f.rig.viewCount(); ++v) {
+        const View& view = f.rig.views[std::size_t(v)];
+        StageClock clock;
+        vertexStage(f, view, d);
+        times.vertexMs += clock.lap();
+        binStage(f, view, d, bins);
+        times.setupMs += clock.lap();
+        switch (f.settings.shading) {
+            case Shading::Flat: rasterStage<Shading::Flat>(f, d, bins, targets[v]); break;
+            case Shading::Vertex: rasterStage<Shading::Vertex>(f, d, bins, targets[v]); break;
+            case Shading::Pixel: rasterStage<Shading::Pixel>(f, d, bins, targets[v]); break;
+        }
+        times.rasterMs += clock.lap();
+    }
+}
+
+}  // namespace mvr::raster::detail

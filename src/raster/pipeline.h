@@ -1,0 +1,365 @@
+// src/raster/pipeline.h — the pieces both soft methods are built from: vertex transform,
+// homogeneous clipping, projection and snapping, triangle setup, coverage and fragment shading.
+//
+// Bit-exactness between "multipass" and "unified" rests on one rule: every value that reaches a
+// pixel is computed by the SAME function below from the SAME inputs, in the same operation order;
+// "unified" only computes a value once where its inputs are identical for several views.
+// All raster sources are compiled with -ffp-contract=off so that no a*b+c is fused in one
+// translation unit and not in another (scalar vs AVX files would otherwise differ in the last bit).
+//
+// Fixed point: window coordinates in 1/256 pixel ("24.8" in an int32: the guard band keeps
+// |x_w|, |y_w| < 2^20 px for images up to 16384 px). Edge functions are exact in int64
+// (|Δ| < 2^29, products < 2^58).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include <glm/glm.hpp>
+
+#include "mvr/core/lighting.h"
+#include "mvr/core/render.h"
+
+namespace mvr::raster::detail {
+
+inline constexpr int kSubpixelBits = 8;
+inline constexpr int kSubpixel = 1 << kSubpixelBits;
+inline constexpr int kHalfSubpixel = kSubpixel / 2;
+/// Guard band in NDC units: triangles are clipped against |x|, |y| ≤ kGuardBand·w only.
+inline constexpr float kGuardBand = 64.0f;
+/// Attributes interpolated per fragment: Vertex = color (3), Pixel = normal + world position (6).
+inline constexpr int kMaxAttrs = 6;
+/// A triangle clipped by 6 planes has at most 3 + 6 vertices.
+inline constexpr int kMaxPolyVerts = 9;
+
+inline int attributeCount(Shading s) {
+    return s == Shading::Vertex ? 3 : s == Shading::Pixel ? 6 : 0;
+}
+
+// ---- outcodes --------------------------------------------------------------------------------
+// Clip planes, in the order the clipper applies them. Near, far, bottom and top involve only
+// (y, z, w) and are therefore shared by the views of an off-axis row (adelson1991's
+// Liang–Barsky observation); left and right involve x and are per view.
+enum : std::uint8_t {
+    kClipNear = 1 << 0,    ///< z < −w
+    kClipFar = 1 << 1,     ///< z > w
+    kClipBottom = 1 << 2,  ///< y < −G·w  (guard band)
+    kClipTop = 1 << 3,     ///< y > G·w
+    kClipLeft = 1 << 4,    ///< x < −G·w
+    kClipRight = 1 << 5,   ///< x > G·w
+    kOutBottom = 1 << 6,   ///< y < −w   (outside the viewport: trivial reject only)
+    kOutTop = 1 << 7,      ///< y > w
+};
+// x-side viewport outcodes live in a second byte for per-view codes (bits reuse the layout).
+enum : std::uint8_t {
+    kOutLeft = 1 << 6,   ///< x < −w
+    kOutRight = 1 << 7,  ///< x > w
+};
+inline constexpr std::uint8_t kClipYZW = kClipNear | kClipFar | kClipBottom | kClipTop;
+inline constexpr std::uint8_t kRejectYZW = kClipNear | kClipFar | kOutBottom | kOutTop;
+inline constexpr std::uint8_t kClipX = kClipLeft | kClipRight;
+inline constexpr std::uint8_t kRejectX = kOutLeft | kOutRight;
+
+/// Outcode bits of (y, z, w): near, far, guard bottom/top, viewport bottom/top.
+inline std::uint8_t outcodeYZW(float y, float z, float w) {
+    std::uint8_t c = 0;
+    if (z < -w) c |= kClipNear;
+    if (z > w) c |= kClipFar;
+    if (y < -kGuardBand * w) c |= kClipBottom;
+    if (y > kGuardBand * w) c |= kClipTop;
+    if (y < -w) c |= kOutBottom;
+    if (y > w) c |= kOutTop;
+    // w ≤ 0 (or NaN) cannot be projected: send the triangle to the clipper, which drops
+    // polygons that still have such a vertex after clipping.
+    if (!(w > 0.0f)) c |= kClipNear;
+    return c;
+}
+/// Outcode bits of (x, w): guard left/right, viewport left/right.
+inline std::uint8_t outcodeX(float x, float w) {
+    std::uint8_t c = 0;
+    if (x < -kGuardBand * w) c |= kClipLeft;
+    if (x > kGuardBand * w) c |= kClipRight;
+    if (x < -w) c |= kOutLeft;
+    if (x > w) c |= kOutRight;
+    return c;
+}
+
+// ---- vertex stage --------------------------------------------------------------------------------
+/// m · (p, 1) with a fixed operation order ((m0·x + m1·y) + m2·z) + m3, so that the scalar and
+/// SIMD vertex kernels agree bit for bit.
+inline glm::vec4 transformPoint(const glm::mat4& m, const glm::vec3& p) {
+    glm::vec4 r;
+    for (int i = 0; i < 4; ++i) r[i] = ((m[0][i] * p.x + m[1][i] * p.y) + m[2][i] * p.z) + m[3][i];
+    return r;
+}
+inline glm::vec3 transformDir(const glm::mat3& m, const glm::vec3& n) {
+    glm::vec3 r;
+    for (int i = 0; i < 3; ++i) r[i] = (m[0][i] * n.x + m[1][i] * n.y) + m[2][i] * n.z;
+    return r;
+}
+/// The off-axis shear of kalaiah2007/nvidia-gtc2010: clip.x += shear · (clip.w − convergence).
+inline float shearClip(float centerClip, float shear, float w, float convergence) {
+    return centerClip + shear * (w - convergence);
+}
+
+/// Per-vertex shading attributes (the view-independent vertex outputs of kalaiah2007).
+/// Vertex: Blinn-Phong color; Pixel: world normal (not normalized) and world position.
+inline void vertexAttributes(Shading shading, const ShadingContext& ctx, const Material& material,
+                             const glm::vec3& worldPos, const glm::vec3& worldNormal, float* out) {
+    if (shading == Shading::Vertex) {
+        const glm::vec3 c = shadeBlinnPhong(ctx, material, worldNormal, worldPos);
+        out[0] = c.x, out[1] = c.y, out[2] = c.z;
+    } else if (shading == Shading::Pixel) {
+        out[0] = worldNormal.x, out[1] = worldNormal.y, out[2] = worldNormal.z;
+        out[3] = worldPos.x, out[4] = worldPos.y, out[5] = worldPos.z;
+    }
+}
+
+inline std::uint32_t packColor(const glm::vec3& c) {
+    return std::uint32_t(quantizeUnorm8(c.x)) | (std::uint32_t(quantizeUnorm8(c.y)) << 8) |
+           (std::uint32_t(quantizeUnorm8(c.z)) << 16) | 0xff000000u;
+}
+
+/// Flat shading: one color per triangle from its world-space face normal (lighting.h).
+inline std::uint32_t flatColor(const ShadingContext& ctx, const Material& material,
+                               const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2) {
+    const glm::vec3 n = glm::cross(p1 - p0, p2 - p0);
+    const float len = glm::length(n);
+    const glm::vec3 unit = (len > 0.0f && std::isfinite(len)) ? n / len : glm::vec3(0.0f);
+    return packColor(shadeFlat(ctx, material, unit));
+}
+
+// ---- back faces ----------------------------------------------------------------------------
+/// det[x, y, w] of a triangle's clip positions: > 0 ⇔ counter-clockwise (front) on screen.
+inline float det3(const float x[3], const float y[3], const float w[3]) {
+    return (x[0] * (y[1] * w[2] - y[2] * w[1]) + x[1] * (y[2] * w[0] - y[0] * w[2])) +
+           x[2] * (y[0] * w[1] - y[1] * w[0]);
+}
+/// adelson1991's stereo back-face test in clip space. For views that are shears of the center
+/// clip position (x_v = x_c + s_x(w − c), y_v = y_c + s_y(w − c)), det[x_v, y_v, w] is linear in
+/// the shear: det_c + s_x·K_x + s_y·K_y with K_x = −c·det[1, y_c, w], K_y = −c·det[x_c, 1, w].
+/// Both methods classify sheared views with this form (multipass per view, unified once per
+/// triangle plus one multiply-add per view), so their decisions agree exactly.
+struct ShearDet {
+    float center = 0, kx = 0, ky = 0;
+};
+inline ShearDet shearDet(const float cx[3], const float cy[3], const float w[3], float convergence) {
+    ShearDet d;
+    d.center = det3(cx, cy, w);
+    const float dx = ((cy[1] * w[2] - cy[2] * w[1]) + (cy[2] * w[0] - cy[0] * w[2])) +
+                     (cy[0] * w[1] - cy[1] * w[0]);
+    const float dy = (cx[0] * (w[2] - w[1]) + cx[1] * (w[0] - w[2])) + cx[2] * (w[1] - w[0]);
+    d.kx = -convergence * dx;
+    d.ky = -convergence * dy;
+    return d;
+}
+inline float shearedDet(const ShearDet& d, float sx, float sy) {
+    return (d.center + sx * d.kx) + sy * d.ky;
+}
+
+// ---- projection and snapping ---------------------------------------------------------------
+/// Window x in 1/256 px of a clip x with q = 1/w. Rounding: nearest, ties to even (lrintf and
+/// cvtps2dq agree).
+inline std::int32_t snapX(float x, float q, float width) {
+    return static_cast<std::int32_t>(std::lrintf(((x * q) * 0.5f + 0.5f) * width * float(kSubpixel)));
+}
+inline std::int32_t snapY(float y, float q, float height) {
+    return snapX(y, q, height);
+}
+inline float windowDepth(float z, float q) {
+    return std::clamp((z * q) * 0.5f + 0.5f, 0.0f, 1.0f);
+}
+
+// ---- homogeneous clipping --------------------------------------------------------------------
+/// A polygon vertex during clipping: clip position and attributes.
+struct ClipVertex {
+    float x, y, z, w;
+    float a[kMaxAttrs];
+};
+
+inline float planeDistance(int plane, float x, float y, float z, float w) {
+    switch (plane) {
+        case 0: return z + w;               // near
+        case 1: return w - z;               // far
+        case 2: return y + kGuardBand * w;  // bottom
+        case 3: return kGuardBand * w - y;  // top
+        case 4: return x + kGuardBand * w;  // left
+        default: return kGuardBand * w - x; // right
+    }
+}
+
+/// t of the intersection on the edge from an inside vertex (distance dIn ≥ 0) to an outside one
+/// (dOut < 0). Always computed from the inside end, so a shared edge clips identically for both
+/// triangles (and for every view that shares the plane).
+inline float clipT(float dIn, float dOut) { return dIn / (dIn - dOut); }
+inline float lerpF(float a, float b, float t) { return a + t * (b - a); }
+
+/// Sutherland–Hodgman against the planes in `planes` (outcode bits 0..5), in plane order.
+/// `poly` holds n vertices; returns the new count (0 when nothing is left). `scratch` must hold
+/// kMaxPolyVerts vertices.
+inline int clipPolygon(ClipVertex* poly, int n, std::uint8_t planes, int attrCount,
+                       ClipVertex* scratch) {
+    ClipVertex* in = poly;
+    ClipVertex* out = scratch;
+    for (int plane = 0; plane < 6 && n > 0; ++plane) {
+        if (!(planes & (1u << plane))) continue;
+        float d[kMaxPolyVerts];
+        for (int i = 0; i < n; ++i) d[i] = planeDistance(plane, in[i].x, in[i].y, in[i].z, in[i].w);
+        int m = 0;
+        for (int i = 0; i < n; ++i) {
+            const int j = i + 1 == n ? 0 : i + 1;
+            const bool inI = d[i] >= 0.0f, inJ = d[j] >= 0.0f;
+            if (inI) out[m++] = in[i];
+            if (inI != inJ) {
+                const ClipVertex& a = inI ? in[i] : in[j];
+                const ClipVertex& b = inI ? in[j] : in[i];
+                const float t = inI ? clipT(d[i], d[j]) : clipT(d[j], d[i]);
+                ClipVertex& v = out[m++];
+                v.x = lerpF(a.x, b.x, t);
+                v.y = lerpF(a.y, b.y, t);
+                v.z = lerpF(a.z, b.z, t);
+                v.w = lerpF(a.w, b.w, t);
+                for (int k = 0; k < attrCount; ++k) v.a[k] = lerpF(a.a[k], b.a[k], t);
+            }
+        }
+        n = m;
+        std::swap(in, out);
+    }
+    if (in != poly) {
+        for (int i = 0; i < n; ++i) poly[i] = in[i];
+    }
+    return n;
+}
+
+// ---- triangle setup and coverage -------------------------------------------------------------
+inline int floorDivSub(std::int64_t v) { return static_cast<int>(v >> kSubpixelBits); }
+inline int ceilDivSub(std::int64_t v) {
+    return static_cast<int>((v + (kSubpixel - 1)) >> kSubpixelBits);
+}
+
+/// The part of a triangle's setup that does not depend on x: snapped y, y extent (pixel rows,
+/// clamped to the band being drawn) and Δy of the three edges. Shared by every view that shares y.
+struct YSetup {
+    std::int32_t y[3];
+    std::int32_t dy[3];  ///< edge i runs from vertex i+1 to vertex i+2: dy[i] = y[i+2] − y[i+1]
+    int rowMin, rowMax;  ///< pixel rows (GL window y, up) whose centers may be covered; inclusive
+};
+
+/// Rows whose pixel centers y + 0.5 lie within [min y, max y], clamped to [rowLo, rowHi].
+inline void setupY(YSetup& s, std::int32_t y0, std::int32_t y1, std::int32_t y2, int rowLo,
+                   int rowHi) {
+    s.y[0] = y0, s.y[1] = y1, s.y[2] = y2;
+    s.dy[0] = y2 - y1, s.dy[1] = y0 - y2, s.dy[2] = y1 - y0;
+    const std::int32_t lo = std::min(y0, std::min(y1, y2)), hi = std::max(y0, std::max(y1, y2));
+    s.rowMin = std::max(rowLo, ceilDivSub(std::int64_t(lo) - kHalfSubpixel));
+    s.rowMax = std::min(rowHi, floorDivSub(std::int64_t(hi) - kHalfSubpixel));
+}
+
+/// Walks the pixels of one triangle (snapped x per view, shared YSetup) whose centers are inside
+/// by the top-left rule, within columns [0, width) and the rows of `ys`. Calls
+/// sink(x, y, l0, l1, l2) with the screen-space barycentrics of the ORIGINAL vertex order, so
+/// that the orientation fix-up for clockwise triangles does not change any float result.
+template <class Sink>
+inline void rasterTriangle(const YSetup& ys, const std::int32_t x[3], int width, Sink& sink) {
+    if (ys.rowMin > ys.rowMax) return;
+    std::int64_t dx[3] = {std::int64_t(x[2]) - x[1], std::int64_t(x[0]) - x[2],
+                          std::int64_t(x[1]) - x[0]};
+    std::int64_t dy[3] = {ys.dy[0], ys.dy[1], ys.dy[2]};
+    // 2 × signed area: edge 2 (v0 → v1) evaluated at v2.
+    std::int64_t area = dx[2] * (std::int64_t(ys.y[2]) - ys.y[0]) - dy[2] * (std::int64_t(x[2]) - x[0]);
+    if (area == 0) return;
+    if (area < 0) {  // clockwise: reverse every edge (E_ba = −E_ab exactly)
+        area = -area;
+        for (int i = 0; i < 3; ++i) dx[i] = -dx[i], dy[i] = -dy[i];
+    }
+    const std::int32_t xlo = std::min(x[0], std::min(x[1], x[2]));
+    const std::int32_t xhi = std::max(x[0], std::max(x[1], x[2]));
+    const int colMin = std::max(0, ceilDivSub(std::int64_t(xlo) - kHalfSubpixel));
+    const int colMax = std::min(width - 1, floorDivSub(std::int64_t(xhi) - kHalfSubpixel));
+    if (colMin > colMax) return;
+    // Edge i starts at vertex a = i+1. Top-left rule with y up and counter-clockwise order: a
+    // left edge runs downward (dy < 0), a top edge is horizontal running left (dx < 0). Inside:
+    // E > 0, or E == 0 on a top-left edge  ⇔  E + bias > 0 with bias 1 on top-left edges.
+    std::int64_t bias[3], rowE[3], stepX[3];
+    const std::int64_t px0 = std::int64_t(colMin) * kSubpixel + kHalfSubpixel;
+    const std::int64_t py0 = std::int64_t(ys.rowMin) * kSubpixel + kHalfSubpixel;
+    for (int i = 0; i < 3; ++i) {
+        const int a = i == 2 ? 0 : i + 1;
+        bias[i] = (dy[i] < 0 || (dy[i] == 0 && dx[i] < 0)) ? 1 : 0;
+        rowE[i] = dx[i] * (py0 - ys.y[a]) - dy[i] * (px0 - x[a]);
+        stepX[i] = -dy[i] * kSubpixel;
+    }
+    const float invArea = 1.0f / static_cast<float>(area);
+    for (int row = ys.rowMin; row <= ys.rowMax; ++row) {
+        std::int64_t e0 = rowE[0], e1 = rowE[1], e2 = rowE[2];
+        for (int col = colMin; col <= colMax; ++col) {
+            if ((e0 + bias[0]) > 0 && (e1 + bias[1]) > 0 && (e2 + bias[2]) > 0) {
+                sink(col, row, static_cast<float>(e0) * invArea, static_cast<float>(e1) * invArea,
+                     static_cast<float>(e2) * invArea);
+            }
+            e0 += stepX[0], e1 += stepX[1], e2 += stepX[2];
+        }
+        for (int i = 0; i < 3; ++i) rowE[i] += dx[i] * kSubpixel;
+    }
+}
+
+// ---- fragments --------------------------------------------------------------------------------
+/// One view's framebuffer: rows stored top first (image.h), addressed with GL window y (up).
+struct Target {
+    std::uint32_t* color = nullptr;
+    float* depth = nullptr;
+    int width = 0, height = 0;
+    std::size_t index(int x, int y) const {
+        return static_cast<std::size_t>(height - 1 - y) * width + x;
+    }
+};
+
+/// The per-triangle fragment inputs (all view-independent for views that share z and w).
+struct FragmentTri {
+    float z[3];                   ///< window depth
+    float q[3];                   ///< 1/w
+    const float* attr[3];         ///< kMaxAttrs-strided attributes
+    std::uint32_t flat = 0;       ///< Flat: the triangle's packed color
+};
+
+struct ShadeInputs {
+    const ShadingContext* ctx = nullptr;
+    const Material* material = nullptr;
+};
+
+/// Depth test (LESS) and shading of one fragment; the screen barycentrics l0..l2 come from
+/// rasterTriangle. Depth is linear in screen space (as GL); attributes perspective-correct.
+template <Shading S>
+struct FragmentSink {
+    Target target;
+    const FragmentTri* tri;
+    ShadeInputs shade;
+
+    void operator()(int x, int y, float l0, float l1, float l2) const {
+        const float z = (l0 * tri->z[0] + l1 * tri->z[1]) + l2 * tri->z[2];
+        const std::size_t i = target.index(x, y);
+        if (!(z < target.depth[i])) return;
+        target.depth[i] = z;
+        if constexpr (S == Shading::Flat) {
+            target.color[i] = tri->flat;
+        } else {
+            const float p0 = l0 * tri->q[0], p1 = l1 * tri->q[1], p2 = l2 * tri->q[2];
+            const float inv = 1.0f / ((p0 + p1) + p2);
+            const float* a0 = tri->attr[0];
+            const float* a1 = tri->attr[1];
+            const float* a2 = tri->attr[2];
+            auto at = [&](int k) { return ((p0 * a0[k] + p1 * a1[k]) + p2 * a2[k]) * inv; };
+            if constexpr (S == Shading::Vertex) {
+                target.color[i] = packColor(glm::vec3(at(0), at(1), at(2)));
+            } else {
+                const glm::vec3 n(at(0), at(1), at(2));
+                const glm::vec3 p(at(3), at(4), at(5));
+                target.color[i] = packColor(shadeBlinnPhong(*shade.ctx, *shade.material, n, p));
+            }
+        }
+    }
+};
+
+}  // namespace mvr::raster::detail

@@ -1,0 +1,338 @@
+// The soft backend's reference rasterizer ("multipass"): coverage (fill rule, watertightness,
+// analytic counts), depth, near-plane clipping, culling, bad input, and the SIMD kernels.
+#include <cmath>
+#include <random>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include "cpu.h"
+#include "frame.h"
+#include "mvr/raster/soft_backend.h"
+#include "pipeline.h"
+#include "test_scenes.h"
+
+namespace mvr::raster {
+namespace {
+
+using detail::kSubpixel;
+
+/// Counts how often each pixel is written (the test hook into the coverage walk).
+struct CountSink {
+    std::vector<int>* counts;
+    int width;
+    void operator()(int x, int y, float, float, float) const { ++(*counts)[std::size_t(y) * width + x]; }
+};
+
+/// Rasterizes a triangle given in window pixels (GL: y up) through the same setup the renderer
+/// uses (snap to 1/256 px, shared y setup, top-left rule) and adds 1 per covered pixel.
+void coverTriangle(glm::vec2 a, glm::vec2 b, glm::vec2 c, int width, int height,
+                   std::vector<int>& counts) {
+    auto snap = [](float v) { return std::int32_t(std::lrintf(v * kSubpixel)); };
+    detail::YSetup ys;
+    detail::setupY(ys, snap(a.y), snap(b.y), snap(c.y), 0, height - 1);
+    const std::int32_t x[3] = {snap(a.x), snap(b.x), snap(c.x)};
+    CountSink sink{&counts, width};
+    detail::rasterTriangle(ys, x, width, sink);
+}
+
+TEST(Coverage, TwoTrianglesSharingAnEdgeCoverEachPixelOnce) {
+    std::mt19937 rng(1234);
+    std::uniform_real_distribution<float> u(-8.0f, 72.0f);
+    const int w = 64, h = 64;
+    int tested = 0;
+    for (int iter = 0; iter < 300; ++iter) {
+        // A quad split along one diagonal, in either winding, with vertices that are sometimes
+        // snapped onto pixel centers / pixel edges to provoke ties.
+        glm::vec2 p[4];
+        for (auto& v : p) {
+            v = {u(rng), u(rng)};
+            if (iter % 3 == 0) v = glm::floor(v) + 0.5f;
+            if (iter % 3 == 1) v = glm::floor(v);
+        }
+        // The triangles must not overlap: p1 and p3 strictly on opposite sides of p0–p2
+        // (decided on the snapped positions, as the rasterizer sees them).
+        auto sn = [](glm::vec2 v) { return glm::i64vec2(std::lrintf(v.x * 256), std::lrintf(v.y * 256)); };
+        auto side = [&](glm::vec2 q) {
+            const auto a = sn(p[0]), b = sn(p[2]), c = sn(q);
+            return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+        };
+        const std::int64_t s1 = side(p[1]), s3 = side(p[3]);
+        if (!((s1 > 0 && s3 < 0) || (s1 < 0 && s3 > 0))) continue;
+        ++tested;
+        std::vector<int> both(w * h, 0), first(w * h, 0);
+        coverTriangle(p[0], p[1], p[2], w, h, both);
+        coverTriangle(p[0], p[2], p[3], w, h, both);
+        for (int i = 0; i < w * h; ++i) ASSERT_LE(both[i], 1) << "iteration " << iter << " pixel " << i;
+        // Reversing the winding must not change coverage.
+        coverTriangle(p[0], p[2], p[1], w, h, first);
+        coverTriangle(p[0], p[3], p[2], w, h, first);
+        EXPECT_EQ(both, first) << "iteration " << iter;
+    }
+    EXPECT_GT(tested, 100);
+}
+
+TEST(Coverage, FanAroundAVertexCoversEachPixelOnce) {
+    // Eight triangles around a pixel center: the shared vertex and every spoke lie on ties.
+    const int w = 32, h = 32;
+    std::vector<int> counts(w * h, 0);
+    const glm::vec2 c(16.5f, 16.5f);
+    for (int i = 0; i < 8; ++i) {
+        const float a0 = float(i) * 0.785398163f, a1 = float(i + 1) * 0.785398163f;
+        coverTriangle(c, c + 12.0f * glm::vec2(std::cos(a0), std::sin(a0)),
+                      c + 12.0f * glm::vec2(std::cos(a1), std::sin(a1)), w, h, counts);
+    }
+    for (int v : counts) ASSERT_LE(v, 1);
+    EXPECT_EQ(counts[16 * w + 16], 1) << "the center pixel is covered by exactly one triangle";
+}
+
+TEST(Coverage, FullScreenQuadCoversEveryPixelExactlyOnce) {
+    for (auto [w, h] : {std::pair{1, 1}, {7, 5}, {64, 48}, {333, 17}}) {
+        std::vector<int> counts(std::size_t(w) * h, 0);
+        coverTriangle({0, 0}, {float(w), 0}, {float(w), float(h)}, w, h, counts);
+        coverTriangle({0, 0}, {float(w), float(h)}, {0, float(h)}, w, h, counts);
+        for (int v : counts) ASSERT_EQ(v, 1) << w << "x" << h;
+    }
+}
+
+TEST(Coverage, MatchesAnalyticPixelCount) {
+    // Right triangle with legs on pixel boundaries: (0,0), (W,0), (0,H). A pixel center
+    // (x+.5, y+.5) is inside iff (x+.5)/W + (y+.5)/H < 1; on the hypotenuse (= 1) it is covered
+    // only if that edge is top-left: the hypotenuse runs from (W,0) to (0,H), up-left, so it is a
+    // right edge and excludes ties. Legs: left leg (x = 0) and bottom leg (y = 0) carry no centers.
+    const int W = 40, H = 24;
+    std::vector<int> counts(W * H, 0);
+    coverTriangle({0, 0}, {float(W), 0}, {0, float(H)}, W, H, counts);
+    long expected = 0;
+    for (int y = 0; y < H; ++y) {
+        for (int x = 0; x < W; ++x) {
+            // Exact in integers: (2x+1)·H + (2y+1)·W < 2·W·H.
+            const long lhs = long(2 * x + 1) * H + long(2 * y + 1) * W;
+            const bool inside = lhs < 2L * W * H;
+            expected += inside;
+            ASSERT_EQ(counts[y * W + x], inside ? 1 : 0) << "pixel " << x << "," << y;
+        }
+    }
+    EXPECT_GT(expected, W * H / 2 - W - H);
+
+    // A generic triangle (no ties): compare with a point-in-triangle test in double.
+    const glm::dvec2 a(3.3, 2.7), b(57.1, 11.9), c(21.7, 45.3);  // multiples of 1/256? no: snapped
+    auto snapd = [](double v) { return std::nearbyint(v * 256.0) / 256.0; };
+    const glm::dvec2 sa(snapd(a.x), snapd(a.y)), sb(snapd(b.x), snapd(b.y)), sc(snapd(c.x), snapd(c.y));
+    std::vector<int> counts2(64 * 64, 0);
+    coverTriangle(glm::vec2(a), glm::vec2(b), glm::vec2(c), 64, 64, counts2);
+    auto edge = [](glm::dvec2 p, glm::dvec2 q, glm::dvec2 r) {
+        return (q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x);
+    };
+    long count = 0, want = 0;
+    for (int y = 0; y < 64; ++y) {
+        for (int x = 0; x < 64; ++x) {
+            const glm::dvec2 pc(x + 0.5, y + 0.5);
+            const bool in = edge(sa, sb, pc) > 0 && edge(sb, sc, pc) > 0 && edge(sc, sa, pc) > 0;
+            want += in;
+            count += counts2[y * 64 + x];
+            EXPECT_EQ(counts2[y * 64 + x], in ? 1 : 0) << x << "," << y;
+        }
+    }
+    EXPECT_EQ(count, want);
+    // Area check: the count is close to the analytic area.
+    const double area = std::abs(edge(sa, sb, sc)) / 2.0;
+    EXPECT_NEAR(double(count), area, area * 0.05);
+}
+
+// ---- whole renders -------------------------------------------------------------------------
+
+TEST(Render, FullScreenQuadCoversEveryPixel) {
+    Scene scene = test::quadScene({-1, -1, 0}, {1, 1, 0});
+    const Rig rig = test::identityRig(1);
+    RenderSettings s;
+    s.width = 37, s.height = 23;
+    s.clearColor = {1, 0, 0};
+    auto backend = makeSoftBackend();
+    auto out = backend->render(scene, rig, s, "multipass");
+    ASSERT_TRUE(out) << out.status().message();
+    ASSERT_EQ(out->color.size(), 1u);
+    for (int y = 0; y < s.height; ++y) {
+        for (int x = 0; x < s.width; ++x) {
+            ASSERT_NE(out->color[0].at(x, y), (Rgba8{255, 0, 0, 255})) << x << "," << y;
+            ASSERT_FLOAT_EQ(out->depth[0].at(x, y), 0.5f);
+            ASSERT_EQ(out->color[0].at(x, y).a, 255);
+        }
+    }
+}
+
+TEST(Render, NearerSurfaceWinsInEitherOrder) {
+    for (bool nearFirst : {true, false}) {
+        Scene scene;
+        scene.lights = defaultLights();
+        Mesh far = test::quadMesh({-1, -1, 0.5f}, {1, 1, 0.5f});
+        Mesh near = test::quadMesh({-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, -0.5f});
+        scene.meshes = nearFirst ? std::vector<Mesh>{near, far} : std::vector<Mesh>{far, near};
+        Instance a, b;
+        a.mesh = 0, b.mesh = 1;
+        a.material.albedo = nearFirst ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+        b.material.albedo = nearFirst ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+        scene.instances = {a, b};
+        RenderSettings s;
+        s.width = 40, s.height = 40;
+        s.shading = Shading::Flat;
+        auto out = makeSoftBackend()->render(scene, test::identityRig(1), s, "multipass");
+        ASSERT_TRUE(out) << out.status().message();
+        const Rgba8 center = out->color[0].at(20, 20), corner = out->color[0].at(2, 2);
+        EXPECT_GT(center.g, 0) << "near (green) quad visible in the middle";
+        EXPECT_EQ(center.r, 0);
+        EXPECT_GT(corner.r, 0) << "far (red) quad visible at the corner";
+        EXPECT_FLOAT_EQ(out->depth[0].at(20, 20), 0.25f);
+        EXPECT_FLOAT_EQ(out->depth[0].at(2, 2), 0.75f);
+    }
+}
+
+TEST(Render, RowZeroIsTheTop) {
+    // A quad over the upper half of NDC (y > 0) must appear in the image's top rows.
+    Scene scene = test::quadScene({-1, 0, 0}, {1, 1, 0});
+    RenderSettings s;
+    s.width = 16, s.height = 16;
+    auto out = makeSoftBackend()->render(scene, test::identityRig(1), s, "multipass");
+    ASSERT_TRUE(out);
+    EXPECT_LT(out->depth[0].at(5, 0), 1.0f);
+    EXPECT_EQ(out->depth[0].at(5, 15), 1.0f);
+    EXPECT_LT(out->depth[0].at(5, 7), 1.0f);
+    EXPECT_EQ(out->depth[0].at(5, 8), 1.0f);
+}
+
+TEST(Render, NearPlaneClipping) {
+    // A ground plane from behind the camera to far in front: it must fill exactly the rows below
+    // the horizon (plus nothing above), with depths in [0, 1] and no wrap-around from behind.
+    Scene scene;
+    scene.lights = defaultLights();
+    Mesh ground;
+    ground.positions = {{-50, -1, 5}, {50, -1, 5}, {50, -1, -60}, {-50, -1, -60}};
+    ground.normals.assign(4, {0, 1, 0});
+    ground.indices = {0, 1, 2, 0, 2, 3};
+    scene.meshes = {ground};
+    scene.instances = {Instance{}};
+    Camera cam;
+    cam.position = {0, 0, 0};
+    cam.target = {0, 0, -1};
+    cam.near = 0.5f, cam.far = 100.0f, cam.aspect = 1.0f, cam.fovYDegrees = 60.0f;
+    auto rig = makeListRig(cam, {View{cam.viewFromWorld(), cam.clipFromView(), {}, {}}});
+    ASSERT_TRUE(rig);
+    RenderSettings s;
+    s.width = 64, s.height = 64;
+    auto out = makeSoftBackend()->render(scene, *rig, s, "multipass");
+    ASSERT_TRUE(out) << out.status().message();
+    const DepthImage& d = out->depth[0];
+    // The plane y = −1 at distance 60 projects to ndc y = −(1/60)/tan(30°) ≈ −0.029: rows below
+    // image row ~33 are covered, rows above 31 are not.
+    for (int x = 0; x < s.width; ++x) {
+        for (int y = 0; y < 31; ++y) ASSERT_EQ(d.at(x, y), 1.0f) << x << "," << y;
+        for (int y = 34; y < s.height; ++y) {
+            ASSERT_LT(d.at(x, y), 1.0f) << x << "," << y;
+            ASSERT_GE(d.at(x, y), 0.0f);
+        }
+    }
+    // Nearer rows (image bottom) have smaller depth.
+    EXPECT_LT(d.at(32, 63), d.at(32, 40));
+}
+
+TEST(Render, TriangleBehindTheCameraDrawsNothing) {
+    Scene scene = test::triangleScene({{-1, -1, 3}, {1, -1, 3}, {0, 1, 3}});
+    Camera cam;
+    cam.position = {0, 0, 0};
+    cam.target = {0, 0, -1};
+    auto rig = makeListRig(cam, {View{cam.viewFromWorld(), cam.clipFromView(), {}, {}}});
+    ASSERT_TRUE(rig);
+    RenderSettings s;
+    s.width = 32, s.height = 32;
+    auto out = makeSoftBackend()->render(scene, *rig, s, "multipass");
+    ASSERT_TRUE(out);
+    for (float v : out->depth[0].depth) ASSERT_EQ(v, 1.0f);
+}
+
+TEST(Render, BackFaceCulling) {
+    // Counter-clockwise (front) and clockwise (back) triangles side by side.
+    Scene scene = test::triangleScene({{-0.9f, -0.5f, 0}, {-0.1f, -0.5f, 0}, {-0.5f, 0.5f, 0},
+                                       {0.1f, -0.5f, 0}, {0.5f, 0.5f, 0}, {0.9f, -0.5f, 0}});
+    RenderSettings s;
+    s.width = 40, s.height = 20;
+    for (bool cull : {false, true}) {
+        s.cullBackFaces = cull;
+        auto out = makeSoftBackend()->render(scene, test::identityRig(1), s, "multipass");
+        ASSERT_TRUE(out);
+        EXPECT_LT(out->depth[0].at(10, 12), 1.0f) << "front face always drawn";
+        EXPECT_EQ(out->depth[0].at(30, 12) < 1.0f, !cull) << "back face drawn iff not culling";
+    }
+}
+
+TEST(Render, BadInputGivesAStatus) {
+    auto backend = makeSoftBackend();
+    Scene scene = test::quadScene({-1, -1, 0}, {1, 1, 0});
+    RenderSettings s;
+    s.width = 0;
+    auto r = backend->render(scene, test::identityRig(1), s, "multipass");
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.status().code(), ErrorCode::Usage);
+    s.width = 16;
+    Rig big = test::identityRig(1);
+    big.views.assign(kMaxViews + 1, big.views[0]);
+    r = backend->render(scene, big, s, "multipass");
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.status().message().find("views"), std::string::npos) << r.status().message();
+    Rig none = test::identityRig(1);
+    none.views.clear();
+    EXPECT_FALSE(backend->render(scene, none, s, "multipass"));
+    EXPECT_EQ(backend->render(scene, test::identityRig(1), s, "nonsense").status().code(),
+              ErrorCode::Usage);
+    Scene empty;
+    EXPECT_FALSE(backend->render(empty, test::identityRig(1), s, "multipass"));
+    Rig nan = test::identityRig(1);
+    nan.views[0].clipFromView[0][0] = std::nanf("");
+    EXPECT_FALSE(backend->render(scene, nan, s, "multipass"));
+}
+
+// ---- SIMD kernels ----------------------------------------------------------------------------
+
+TEST(Kernels, SimdPathsEqualScalar) {
+    std::mt19937 rng(99);
+    std::uniform_real_distribution<float> u(-3.0f, 3.0f);
+    const std::size_t n = 1000 + 13;
+    std::vector<float> x(n), y(n), z(n), w(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        w[i] = i % 17 == 0 ? -u(rng) : std::abs(u(rng)) + (i % 5 == 0 ? 0.0f : 0.01f);
+        x[i] = u(rng) * (i % 7 == 0 ? 100.0f : 1.0f), y[i] = u(rng) * (i % 11 == 0 ? 100.0f : 1.0f);
+        z[i] = u(rng);
+    }
+    struct Out {
+        std::vector<std::uint8_t> cy, cx;
+        std::vector<float> q, zw;
+        std::vector<std::int32_t> sy, sx;
+    };
+    auto run = [&](const detail::Kernels& k) {
+        Out o{std::vector<std::uint8_t>(n), std::vector<std::uint8_t>(n), std::vector<float>(n),
+              std::vector<float>(n), std::vector<std::int32_t>(n), std::vector<std::int32_t>(n)};
+        k.projectYZW(y.data(), z.data(), w.data(), n, 768.0f, o.cy.data(), o.q.data(), o.sy.data(),
+                     o.zw.data());
+        k.projectX(x.data(), w.data(), o.q.data(), n, 1024.0f, o.cx.data(), o.sx.data());
+        return o;
+    };
+    const Out ref = run(detail::scalarKernels());
+    for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
+        if (!k) continue;
+        if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512) continue;
+        if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar) continue;
+        const Out o = run(*k);
+        for (std::size_t i = 0; i < n; ++i) {
+            ASSERT_EQ(o.cy[i], ref.cy[i]) << i;
+            ASSERT_EQ(o.cx[i], ref.cx[i]) << i;
+            if (ref.cy[i] & detail::kClipYZW) continue;  // unprojectable: values unused
+            ASSERT_EQ(o.sy[i], ref.sy[i]) << i;
+            ASSERT_EQ(std::memcmp(&o.q[i], &ref.q[i], 4), 0) << i;
+            ASSERT_EQ(std::memcmp(&o.zw[i], &ref.zw[i], 4), 0) << i;
+            if (ref.cx[i] & detail::kClipX) continue;
+            ASSERT_EQ(o.sx[i], ref.sx[i]) << i;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace mvr::raster
