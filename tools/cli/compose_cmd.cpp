@@ -1,0 +1,125 @@
+// `mvr compose`: existing view images (PNG, JPEG; an MPO or JPS is split into its views) →
+// any output format of the composite module.
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+
+#include "command.h"
+#include "options.h"
+
+#ifdef MVR_HAVE_COMPOSITE
+#include "mvr/composite/compose.h"
+
+namespace mvr::cli {
+namespace {
+
+struct ComposeCommandOptions {
+    std::vector<std::string> inputs;
+    std::string format = std::string(composite::kDefaultAnaglyph);
+    std::string output = "out";
+    bool quiet = false;
+    composite::ComposeOptions compose;
+};
+
+bool isFileName(const std::filesystem::path& p) {
+    std::string ext = p.extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".jps" || ext == ".mpo";
+}
+
+int runCompose(const ComposeCommandOptions& o) {
+    std::vector<Image> views;
+    std::vector<std::string> sources;  // where each view came from, for messages
+    for (const std::string& input : o.inputs) {
+        auto read = composite::readViewFile(input);
+        if (!read) return fail(read.status());
+        const std::size_t count = read->size();
+        for (std::size_t i = 0; i < count; ++i) {
+            sources.push_back(count == 1 ? input : fmt::format("{} (view {} of {})", input, i, count));
+            views.push_back(std::move((*read)[i]));
+        }
+    }
+    for (std::size_t i = 1; i < views.size(); ++i) {
+        if (views[i].width != views[0].width || views[i].height != views[0].height) {
+            return fail(inputError(fmt::format(
+                "views differ in size: {} is {}x{} but {} is {}x{} (expected all views of one size)",
+                sources[i], views[i].width, views[i].height, sources[0], views[0].width,
+                views[0].height)));
+        }
+    }
+    auto info = composite::findFormat(o.format);
+    if (!info) return fail(info.status());
+    const int n = static_cast<int>(views.size());
+    if (n < info->minViews || n > info->maxViews) {
+        const std::string expected =
+            info->minViews == info->maxViews ? fmt::format("exactly {}", info->minViews)
+            : info->maxViews >= composite::kAnyViewCount
+                ? fmt::format("at least {}", info->minViews)
+                : fmt::format("{} to {}", info->minViews, info->maxViews);
+        return fail(usageError(fmt::format("--format {}: {} view{} given (expected {} views)",
+                                           info->name, n, n == 1 ? "" : "s", expected)));
+    }
+
+    const std::filesystem::path out(o.output);
+    std::filesystem::path written;
+    if (isFileName(out)) {
+        if (out.has_parent_path()) {
+            std::error_code ec;
+            std::filesystem::create_directories(out.parent_path(), ec);
+            if (ec)
+                return fail(outputError(fmt::format("cannot create directory '{}': {}",
+                                                    out.parent_path().string(), ec.message())));
+        }
+        if (Status s = composite::writeCompositeFile(o.format, views, o.compose, out); !s)
+            return fail(s);
+        written = out;
+    } else {
+        std::error_code ec;
+        std::filesystem::create_directories(out, ec);
+        if (ec || !std::filesystem::is_directory(out))
+            return fail(outputError(fmt::format("cannot create output directory '{}': {}",
+                                                out.string(),
+                                                ec ? ec.message() : "not a directory")));
+        auto path = composite::writeComposite(o.format, views, o.compose, out);
+        if (!path) return fail(path.status());
+        written = *path;
+    }
+    if (!o.quiet)
+        fmt::print("composed {} view{} of {}x{} as {}\nwrote:\n  {}\n", n, n == 1 ? "" : "s",
+                   views[0].width, views[0].height, info->name, written.string());
+    return 0;
+}
+
+const CommandRegistrar kCompose(20, [](CLI::App& root) -> std::function<int()> {
+    auto o = std::make_shared<ComposeCommandOptions>();
+    CLI::App* app = root.add_subcommand(
+        "compose",
+        "Compose existing view images (left to right; PNG or JPEG, an MPO or .jps file counts as "
+        "its views) into a stereo / multi-view format");
+    app->add_option("views", o->inputs,
+                    "View images, leftmost first (an MPO gives all its images, a .jps its "
+                    "left and right halves)")
+        ->required()
+        ->type_name("VIEW...");
+    app->add_option("-f,--format", o->format, "Output format (list below)")
+        ->check(CLI::IsMember(composite::formatNames()))
+        ->default_val(o->format);
+    app->add_option("-o,--output", o->output,
+                    "A directory (created if missing; gets DIR/<format>.png, "
+                    "DIR/quilt_qsCxRaA.png, DIR/jps.jps or DIR/mpo.mpo) or a file name ending "
+                    "in .png, .jpg, .jpeg, .jps or .mpo (written as is)")
+        ->default_val(o->output);
+    app->add_flag("-q,--quiet", o->quiet, "Print nothing on success");
+    composite::addComposeOptions(app, o->compose, /*withStereoMetadata=*/true);
+    app->footer("Formats:\n" + composite::formatHelp() +
+                "Views are numbered left to right: the first view is the left eye.\n"
+                "Exit codes: 0 ok, 1 usage, 2 unreadable input, 3 unsupported, 4 output.");
+    return [o] { return runCompose(*o); };
+});
+
+}  // namespace
+}  // namespace mvr::cli
+#endif  // MVR_HAVE_COMPOSITE
