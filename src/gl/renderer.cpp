@@ -38,6 +38,17 @@ std::uint64_t hashMesh(const Mesh& m) {
     return h;
 }
 
+void bindVertexArray(GLuint vao, GLuint positions, GLuint normals, GLuint indices) {
+    glVertexArrayVertexBuffer(vao, 0, positions, 0, sizeof(glm::vec3));
+    glVertexArrayVertexBuffer(vao, 1, normals, 0, sizeof(glm::vec3));
+    glVertexArrayElementBuffer(vao, indices);
+    for (GLuint a = 0; a < 2; ++a) {
+        glEnableVertexArrayAttrib(vao, a);
+        glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, 0);
+        glVertexArrayAttribBinding(vao, a, a);
+    }
+}
+
 const char* shadingDefine(Shading s) {
     switch (s) {
     case Shading::Flat: return "SHADING_FLAT";
@@ -76,7 +87,8 @@ Renderer::~Renderer() {
         // hand the names over (the context, if any, frees them with itself).
         for (auto& [k, m] : mMeshes) {
             m.positions.release(); m.normals.release(); m.indices.release();
-            m.faceNormals.release(); m.faceNormalTexture.release(); m.vao.release();
+            m.vao.release(); m.flatPositions.release(); m.flatNormals.release();
+            m.flatIndices.release(); m.flatVao.release();
             m.kalaiahTriangles.release(); m.kalaiahVao.release(); m.kalaiahDummy.release();
         }
         for (auto& [k, p] : mPrograms) p.release();
@@ -287,37 +299,49 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
             g.positions = createBuffer();
             g.normals = createBuffer();
             g.indices = createBuffer();
-            g.faceNormals = createBuffer();
             glNamedBufferStorage(g.positions.get(), src.positions.size() * sizeof(glm::vec3),
                                  src.positions.data(), 0);
             glNamedBufferStorage(g.normals.get(), src.normals.size() * sizeof(glm::vec3),
                                  src.normals.data(), 0);
             glNamedBufferStorage(g.indices.get(), src.indices.size() * sizeof(std::uint32_t),
                                  src.indices.data(), 0);
-            // Model-space face normals, unnormalized cross products: the shader maps them with
-            // the cofactor matrix, which gives the cross product of the world-space edges.
-            std::vector<glm::vec3> faces(src.triangleCount());
-            for (std::size_t t = 0; t < faces.size(); ++t) {
-                const glm::vec3 p0 = src.positions[src.indices[3 * t]];
-                const glm::vec3 p1 = src.positions[src.indices[3 * t + 1]];
-                const glm::vec3 p2 = src.positions[src.indices[3 * t + 2]];
-                faces[t] = glm::cross(p1 - p0, p2 - p0);
-            }
-            glNamedBufferStorage(g.faceNormals.get(),
-                                 std::max<std::size_t>(faces.size(), 1) * sizeof(glm::vec3),
-                                 faces.data(), 0);
-            g.faceNormalTexture = createTexture(GL_TEXTURE_BUFFER);
-            glTextureBuffer(g.faceNormalTexture.get(), GL_RGB32F, g.faceNormals.get());
             g.vao = createVertexArray();
-            const GLuint vao = g.vao.get();
-            glVertexArrayVertexBuffer(vao, 0, g.positions.get(), 0, sizeof(glm::vec3));
-            glVertexArrayVertexBuffer(vao, 1, g.normals.get(), 0, sizeof(glm::vec3));
-            glVertexArrayElementBuffer(vao, g.indices.get());
-            for (GLuint a = 0; a < 2; ++a) {
-                glEnableVertexArrayAttrib(vao, a);
-                glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, 0);
-                glVertexArrayAttribBinding(vao, a, a);
+            bindVertexArray(g.vao.get(), g.positions.get(), g.normals.get(), g.indices.get());
+
+            // Provoking-vertex arrays for flat shading: rotate each triangle (keeping its
+            // winding) so that its last vertex is one no earlier triangle used as provoking
+            // vertex; duplicate a vertex when all three are taken.
+            std::vector<glm::vec3> pos = src.positions;
+            std::vector<glm::vec3> face(pos.size(), glm::vec3(0.0f));
+            std::vector<char> used(pos.size(), 0);
+            std::vector<std::uint32_t> idx(src.indices.size());
+            for (std::size_t t = 0; t < src.triangleCount(); ++t) {
+                std::uint32_t v[3] = {src.indices[3 * t], src.indices[3 * t + 1],
+                                      src.indices[3 * t + 2]};
+                const glm::vec3 n = glm::cross(src.positions[v[1]] - src.positions[v[0]],
+                                               src.positions[v[2]] - src.positions[v[0]]);
+                int pick = !used[v[2]] ? 2 : !used[v[0]] ? 0 : !used[v[1]] ? 1 : -1;
+                if (pick < 0) {
+                    v[2] = static_cast<std::uint32_t>(pos.size());
+                    pos.push_back(src.positions[src.indices[3 * t + 2]]);
+                    face.emplace_back(0.0f);
+                    used.push_back(0);
+                    pick = 2;
+                }
+                const std::uint32_t r[3] = {v[(pick + 1) % 3], v[(pick + 2) % 3], v[pick]};
+                used[r[2]] = 1;
+                face[r[2]] = n;
+                std::copy(r, r + 3, idx.begin() + static_cast<std::ptrdiff_t>(3 * t));
             }
+            g.flatPositions = createBuffer();
+            g.flatNormals = createBuffer();
+            g.flatIndices = createBuffer();
+            glNamedBufferStorage(g.flatPositions.get(), pos.size() * sizeof(glm::vec3), pos.data(), 0);
+            glNamedBufferStorage(g.flatNormals.get(), face.size() * sizeof(glm::vec3), face.data(), 0);
+            glNamedBufferStorage(g.flatIndices.get(), idx.size() * sizeof(std::uint32_t), idx.data(), 0);
+            g.flatVao = createVertexArray();
+            bindVertexArray(g.flatVao.get(), g.flatPositions.get(), g.flatNormals.get(),
+                            g.flatIndices.get());
             if (Status s = checkGlError("uploading a mesh"); !s) return s;
             it = mMeshes.emplace(key, std::move(g)).first;
         }
@@ -417,7 +441,7 @@ Result<GLuint> Renderer::program(const std::string& method, const Frame& f) {
     const bool flat = shading == Shading::Flat;
     if (method == "multipass") {
         def("VS_DIRECT");
-        if (flat) def("FLAT_PRIMID");
+        if (flat) def("FLAT_PROVOKING");
     } else if (method == "gs-layered" || method == "viewport-array" || method == "gs-mrt" ||
                method == "gs-depthmap") {
         def("VS_TO_GS");
@@ -434,12 +458,12 @@ Result<GLuint> Renderer::program(const std::string& method, const Frame& f) {
         d.geometry = true;
     } else if (method == "instanced-layer") {
         def("VS_INSTANCED_LAYER");
-        if (flat) def("FLAT_PRIMID");
+        if (flat) def("FLAT_PROVOKING");
         d.vsExtensions = fmt::format("#extension {} : require\n", mCaps.vertexLayerExtension());
     } else if (method == "multiview") {
         def("VS_MULTIVIEW");
         def("NUM_VIEWS", n);
-        if (flat) def("FLAT_PRIMID");
+        if (flat) def("FLAT_PROVOKING");
         d.vsExtensions = "#extension GL_OVR_multiview : require\n";
     } else if (method == "kalaiah-emulation") {
         def("VS_KALAIAH");
@@ -481,6 +505,7 @@ void Renderer::setCommonState(const RenderSettings& s) {
     glDepthMask(GL_TRUE);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glFrontFace(GL_CCW);
+    glProvokingVertex(GL_LAST_VERTEX_CONVENTION);
     if (s.cullBackFaces) {
         glEnable(GL_CULL_FACE);
         glCullFace(GL_BACK);
@@ -498,8 +523,7 @@ void Renderer::drawScene(const Frame& f, GLuint prog, int instances) {
         const Instance& inst = f.scene->instances[static_cast<std::size_t>(idx)];
         GpuMesh& g = *f.meshes[static_cast<std::size_t>(inst.mesh)];
         setInstanceUniforms(prog, inst);
-        glBindTextureUnit(0, g.faceNormalTexture.get());
-        glBindVertexArray(g.vao.get());
+        glBindVertexArray(f.flatProvoking ? g.flatVao.get() : g.vao.get());
         if (instances > 1) {
             glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, GL_UNSIGNED_INT, nullptr,
                                     instances);
@@ -646,6 +670,8 @@ Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
     f.order.resize(scene.instances.size());
     for (std::size_t i = 0; i < f.order.size(); ++i) f.order[i] = static_cast<int>(i);
 
+    f.flatProvoking = s.shading == Shading::Flat &&
+                      (method == "multipass" || method == "instanced-layer" || method == "multiview");
     Result<GLuint> prog = program(method, f);
     if (!prog) return prog.status();
 

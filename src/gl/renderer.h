@@ -22,10 +22,14 @@ namespace mvr::gl::detail {
 /// One mesh on the GPU. Keyed by a hash of its contents, so a scene object that is rendered
 /// again (bench loops) is not uploaded again, and a changed mesh is.
 struct GpuMesh {
-    Buffer positions, normals, indices, faceNormals;
-    Texture faceNormalTexture;  ///< GL_RGB32F buffer texture over faceNormals
+    Buffer positions, normals, indices;
     VertexArray vao;
     GLsizei indexCount = 0;
+    // Flat shading without a geometry shader, as glShadeModel(GL_FLAT) did it: every
+    // triangle's last (provoking) vertex is its own, carrying the model-space face normal
+    // (edge cross product); the vertex shader shades it and the colour is `flat`.
+    Buffer flatPositions, flatNormals, flatIndices;
+    VertexArray flatVao;
     GLsizei triangleCount = 0;
     Bounds bounds;
     // kalaiah2007 emulation: per-triangle corners + normals (divisor 1) and the dummy array.
@@ -65,6 +69,7 @@ struct Frame {
     int views = 0;
     std::vector<GpuMesh*> meshes;  ///< per scene mesh
     std::vector<int> order;        ///< instance draw order
+    bool flatProvoking = false;    ///< draw the provoking-vertex flat arrays
 };
 
 class Renderer {

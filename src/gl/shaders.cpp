@@ -77,7 +77,7 @@ layout(location = 1) in vec3 aNormal;
 #if !defined(DEPTH_ONLY)
 layout(location = 0) out vec3 oWorld;
 layout(location = 1) out vec3 oNormal;
-#if defined(SHADING_FLAT) && defined(VS_KALAIAH)
+#if defined(SHADING_FLAT) && (defined(VS_KALAIAH) || defined(FLAT_PROVOKING))
 layout(location = 2) flat out vec3 oColor;
 #else
 layout(location = 2) out vec3 oColor;
@@ -110,6 +110,10 @@ void main() {
     vec3 w1 = (uWorldFromModel * vec4(aP1, 1.0)).xyz;
     vec3 w2 = (uWorldFromModel * vec4(aP2, 1.0)).xyz;
     oColor = shadeFlat(normalize(cross(w1 - w0, w2 - w0)));
+#elif defined(SHADING_FLAT) && defined(FLAT_PROVOKING)
+    // Only the provoking vertex's value is used: its "normal" is the face's model-space edge
+    // cross product; the cofactor matrix maps it to the world-space edge cross product.
+    oColor = shadeFlat(normalize(mat3(uCofactor) * n));
 #endif
 #endif
 
@@ -209,7 +213,7 @@ const char* const kFragment = R"glsl(
 #if !defined(DEPTH_ONLY)
 layout(location = 0) in vec3 iWorld;
 layout(location = 1) in vec3 iNormal;
-#if defined(SHADING_FLAT) && !defined(FLAT_PRIMID)
+#if defined(SHADING_FLAT)
 layout(location = 2) flat in vec3 iColor;
 #else
 layout(location = 2) in vec3 iColor;
@@ -221,9 +225,6 @@ layout(binding = 1) uniform sampler2D uDepthMap;
 #ifdef GS_OUT_FLAG
 layout(location = 4) flat in int iFlag;
 layout(location = 1) out vec4 oColor1;
-#endif
-#ifdef FLAT_PRIMID
-layout(binding = 0) uniform samplerBuffer uFaceNormals;  // model-space edge cross products
 #endif
 layout(location = 0) out vec4 oColor0;
 #endif
@@ -256,9 +257,6 @@ void main() {
     vec3 c;
 #if defined(SHADING_PIXEL)
     c = shadeBlinnPhong(iNormal, iWorld);
-#elif defined(SHADING_FLAT) && defined(FLAT_PRIMID)
-    vec3 nModel = texelFetch(uFaceNormals, gl_PrimitiveID).xyz;
-    c = shadeFlat(normalize(mat3(uCofactor) * nModel));
 #else
     c = iColor;
 #endif

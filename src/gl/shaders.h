@@ -5,7 +5,7 @@
 //   shading   SHADING_FLAT | SHADING_VERTEX | SHADING_PIXEL   (DEPTH_ONLY: no colour at all)
 //   vertex    VS_DIRECT (uClipFromWorld[uView]) | VS_TO_GS | VS_INSTANCED_LAYER | VS_MULTIVIEW |
 //             VS_KALAIAH
-//   flat      FLAT_PRIMID (face normal from a buffer texture by gl_PrimitiveID) when no stage
+//   flat      FLAT_PROVOKING (the provoking vertex carries the face normal) when no stage
 //             before the fragment shader sees the whole triangle
 //   geometry  GS_VIEWS n (loop) | GS_INVOCATIONS n, and GS_OUT_LAYER | GS_OUT_VIEWPORT |
 //             GS_OUT_FLAG (sorbier2008 MRT); DEPTHMAP (sorbier2008 §5.2 test)

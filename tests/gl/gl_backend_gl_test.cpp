@@ -155,6 +155,11 @@ struct MethodCase {
     bool cull = false, wire = false;
 };
 
+void PrintTo(const MethodCase& c, std::ostream* os) {
+    *os << c.method << " " << shadingName(c.shading) << " " << c.columns << "x" << c.rows
+        << (c.cull ? " cull" : "") << (c.wire ? " wireframe" : "");
+}
+
 std::string caseName(const testing::TestParamInfo<MethodCase>& i) {
     std::string m = i.param.method;
     for (char& c : m) if (c == '-') c = '_';

@@ -44,9 +44,10 @@
 // Shading: exactly lighting.h (Flat / Vertex / Pixel), with the specular view vector toward
 // rig.centerEye(). Flat shading uses the world-space face normal: computed from the three
 // world-space corners where a geometry shader or the kalaiah vertex shader sees them, and for
-// multipass / instanced-layer / multiview from a per-mesh buffer of model-space face normals
-// (cofactor-transformed, which equals the cross product of the world-space edges) fetched with
-// gl_PrimitiveID.
+// multipass / instanced-layer / multiview the way glShadeModel(GL_FLAT) did it: each
+// triangle's provoking (last) vertex is its own and carries the model-space face normal, which
+// the vertex shader maps with the cofactor matrix (= the cross product of the world-space
+// edges) and shades; the colour is interpolated `flat`.
 #pragma once
 
 #include <memory>
