@@ -64,10 +64,7 @@ public:
     std::vector<std::string> methods() const override { return {"multipass", "unified"}; }
 
     Status supports(const std::string& method) const override {
-        if (method == "multipass") return {};
-        if (method == "unified") {
-            return unsupportedError("soft backend: method 'unified' is not implemented yet");
-        }
+        if (method == "multipass" || method == "unified") return {};
         return usageError(fmt::format("soft backend: unknown method '{}' (expected multipass or unified)",
                                       method));
     }
@@ -111,7 +108,11 @@ public:
         detail::allocateOutputs(out, rig.viewCount(), settings, targets);
         detail::clearTargets(pool, targets, f.bands, settings);
         out.stages.fillMs = clock.lap();
-        detail::renderMultipass(f, targets, out.stages, mScratch[0]);
+        if (method == "multipass") {
+            detail::renderMultipass(f, targets, out.stages, mScratch[0]);
+        } else {
+            detail::renderUnified(f, targets, out.stages, mScratch[1]);
+        }
         return out;
     }
 

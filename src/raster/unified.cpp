@@ -1,0 +1,504 @@
+// src/raster/unified.cpp — kalaiah2007's unified N-view pipeline, with adelson1991's
+// simultaneous algorithms, on the CPU.
+//
+//  1. Vertex stage, once per vertex: the view-independent outputs (world position, lighting
+//     color or normal + position) once; the center clip position once; per view only
+//     x = x_c + s_x(w − c) (and y per row of a grid). Views without a shear (toe-in, parallel,
+//     lists) get their own matrix. Views that share (y, z, w) form a *family* (an off-axis row;
+//     a row of a grid); every y/z/w quantity below is computed once per family.
+//  2. Primitive stage: each triangle is replicated to the views of each family (the view tag is
+//     the view index); trivial reject on near/far/top/bottom once per family, on left/right per
+//     view; back faces by adelson1991's stereo test: det[x, y, w] is linear in the shear, so the
+//     two outermost views of a family classify it for all of them (monotone in floating point as
+//     well), and only a mixed triangle is tested view by view. Triangles are binned into bands.
+//  3. Raster stage, per band: the triangle's y setup (snapped y, row range, Δy of the edges,
+//     depth and 1/w of its vertices, attributes, flat color) once per family, then for each view
+//     of the family only the x terms (snapped x, area sign, column range, edge x terms) and the
+//     pixel walk, while the shared setup is still in registers / L1. Clipping against the y/z
+//     planes is done once per family with the t values shared (adelson1991's Liang–Barsky
+//     observation); only views whose x leaves the guard band clip left/right on their own.
+//  4. Per-view depth and color buffers.
+// The result equals multipass bit for bit (see pipeline.h for why).
+#include <array>
+#include <bit>
+
+#include "methods.h"
+
+namespace mvr::raster::detail {
+
+namespace {
+
+/// Views sharing (y, z, w): an off-axis row (same shear.y), or a single unsheared view.
+struct Family {
+    bool sheared = false;
+    float shearY = 0.0f;
+    float shearXMin = 0.0f, shearXMax = 0.0f;
+    std::vector<int> views;
+    // Per vertex: clip y (z, w: the center's for sheared families, else own), projection.
+    std::vector<float> y, z, w, q, zw;
+    std::vector<std::int32_t> sy;
+    std::vector<std::uint8_t> code;
+};
+
+struct ViewData {
+    int family = 0;
+    float shearX = 0.0f;
+    std::vector<float> x;
+    std::vector<std::int32_t> sx;
+    std::vector<std::uint8_t> code;
+};
+
+struct UnifiedData : MethodScratch {
+    std::vector<Family> families;
+    std::vector<ViewData> views;
+    bool anySheared = false;
+    // Per vertex, view-independent: world position, attributes, center clip position.
+    std::vector<glm::vec3> world;
+    std::vector<float> attr;
+    std::vector<float> cx, cy, cz, cw;
+    std::vector<std::uint8_t> anyClipX;  ///< OR over views of the left/right guard-band bits
+    Bins bins;
+
+    const float* famZ(const Family& f) const { return f.sheared ? cz.data() : f.z.data(); }
+    const float* famW(const Family& f) const { return f.sheared ? cw.data() : f.w.data(); }
+};
+
+void buildFamilies(const Rig& rig, std::size_t vertexCount, UnifiedData& d) {
+    d.families.clear();
+    d.views.resize(std::size_t(rig.viewCount()));
+    d.anySheared = false;
+    for (int v = 0; v < rig.viewCount(); ++v) {
+        const View& view = rig.views[std::size_t(v)];
+        int fam = -1;
+        if (view.clipShear) {
+            d.anySheared = true;
+            for (std::size_t i = 0; i < d.families.size(); ++i) {
+                const Family& f = d.families[i];
+                // Bitwise equality: the family's y must be the very bits each view would compute.
+                if (f.sheared && std::bit_cast<std::uint32_t>(f.shearY) ==
+                                     std::bit_cast<std::uint32_t>(view.clipShear->y)) {
+                    fam = int(i);
+                }
+            }
+        }
+        if (fam < 0) {
+            fam = int(d.families.size());
+            Family f;
+            f.sheared = view.clipShear.has_value();
+            f.shearY = f.sheared ? view.clipShear->y : 0.0f;
+            f.shearXMin = f.shearXMax = f.sheared ? view.clipShear->x : 0.0f;
+            d.families.push_back(std::move(f));
+        }
+        Family& f = d.families[std::size_t(fam)];
+        f.views.push_back(v);
+        ViewData& vd = d.views[std::size_t(v)];
+        vd.family = fam;
+        vd.shearX = view.clipShear ? view.clipShear->x : 0.0f;
+        f.shearXMin = std::min(f.shearXMin, vd.shearX);
+        f.shearXMax = std::max(f.shearXMax, vd.shearX);
+    }
+    const std::size_t n = vertexCount;
+    for (Family& f : d.families) {
+        f.y.resize(n), f.q.resize(n), f.zw.resize(n), f.sy.resize(n), f.code.resize(n);
+        if (!f.sheared) f.z.resize(n), f.w.resize(n);
+    }
+    for (ViewData& vd : d.views) vd.x.resize(n), vd.sx.resize(n), vd.code.resize(n);
+    d.world.resize(n), d.attr.resize(n * kMaxAttrs), d.anyClipX.resize(n);
+    if (d.anySheared) d.cx.resize(n), d.cy.resize(n), d.cz.resize(n), d.cw.resize(n);
+}
+
+void vertexStage(FrameContext& f, UnifiedData& d) {
+    const Shading shading = f.settings.shading;
+    const float width = float(f.settings.width), height = float(f.settings.height);
+    const float conv = f.rig.convergence;
+    for (const DrawItem& item : f.draw.items) {
+        const glm::mat4 centerFromModel = f.centerClip * item.instance->worldFromModel;
+        std::vector<glm::mat4> ownFromModel(d.families.size());
+        for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
+            if (!d.families[fi].sheared) {
+                const View& view = f.rig.views[std::size_t(d.families[fi].views[0])];
+                ownFromModel[fi] = view.clipFromWorld() * item.instance->worldFromModel;
+            }
+        }
+        const std::uint32_t n = std::uint32_t(item.mesh->positions.size());
+        const std::uint32_t chunks = std::max(1u, n / 4096u);
+        f.pool.run(int(chunks), [&](int chunk, int) {
+            const std::uint32_t begin = n * std::uint64_t(chunk) / chunks;
+            const std::uint32_t end = n * std::uint64_t(chunk + 1) / chunks;
+            for (std::uint32_t i = begin; i < end; ++i) {
+                const std::uint32_t g = item.vertexBase + i;
+                const glm::vec3& p = item.mesh->positions[i];
+                // View-independent outputs: once.
+                const glm::vec3 world = glm::vec3(transformPoint(item.instance->worldFromModel, p));
+                d.world[g] = world;
+                if (shading != Shading::Flat) {
+                    vertexAttributes(shading, f.shading, item.instance->material, world,
+                                     transformDir(item.normalFromModel, item.mesh->normals[i]),
+                                     &d.attr[std::size_t(g) * kMaxAttrs]);
+                }
+                // View-specific positions: one shared center transform and a shear per view.
+                if (d.anySheared) {
+                    const glm::vec4 c = transformPoint(centerFromModel, p);
+                    d.cx[g] = c.x, d.cy[g] = c.y, d.cz[g] = c.z, d.cw[g] = c.w;
+                }
+                for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
+                    Family& fam = d.families[fi];
+                    if (fam.sheared) {
+                        fam.y[g] = shearClip(d.cy[g], fam.shearY, d.cw[g], conv);
+                        for (int v : fam.views) {
+                            ViewData& vd = d.views[std::size_t(v)];
+                            vd.x[g] = shearClip(d.cx[g], vd.shearX, d.cw[g], conv);
+                        }
+                    } else {
+                        const glm::vec4 c = transformPoint(ownFromModel[fi], p);
+                        d.views[std::size_t(fam.views[0])].x[g] = c.x;
+                        fam.y[g] = c.y, fam.z[g] = c.z, fam.w[g] = c.w;
+                    }
+                }
+            }
+            const std::uint32_t g = item.vertexBase + begin, count = end - begin;
+            std::fill_n(&d.anyClipX[g], count, std::uint8_t(0));
+            for (Family& fam : d.families) {
+                const float* w = d.famW(fam);
+                f.kernels.projectYZW(&fam.y[g], &d.famZ(fam)[g], &w[g], count, height, &fam.code[g],
+                                     &fam.q[g], &fam.sy[g], &fam.zw[g]);
+                for (int v : fam.views) {
+                    ViewData& vd = d.views[std::size_t(v)];
+                    f.kernels.projectX(&vd.x[g], &w[g], &fam.q[g], count, width, &vd.code[g], &vd.sx[g]);
+                    for (std::uint32_t k = 0; k < count; ++k) d.anyClipX[g + k] |= vd.code[g + k] & kClipX;
+                }
+            }
+        });
+    }
+}
+
+/// Back-face classification of a family's views for one triangle (adelson1991): all culled,
+/// all kept, or mixed (then per view).
+enum class FaceClass { AllBack, AllFront, Mixed };
+
+struct TriangleFaces {
+    ShearDet det;  ///< for sheared families (computed once per triangle)
+    bool haveDet = false;
+};
+
+FaceClass classify(const Family& fam, const ShearDet& det) {
+    const float lo = shearedDet(det, fam.shearXMin, fam.shearY);
+    const float hi = shearedDet(det, fam.shearXMax, fam.shearY);
+    if (lo < 0.0f && hi < 0.0f) return FaceClass::AllBack;
+    if (lo >= 0.0f && hi >= 0.0f) return FaceClass::AllFront;
+    return FaceClass::Mixed;
+}
+
+ShearDet triangleShearDet(const UnifiedData& d, const std::uint32_t v[3], float convergence) {
+    const float cx[3] = {d.cx[v[0]], d.cx[v[1]], d.cx[v[2]]};
+    const float cy[3] = {d.cy[v[0]], d.cy[v[1]], d.cy[v[2]]};
+    const float w[3] = {d.cw[v[0]], d.cw[v[1]], d.cw[v[2]]};
+    return shearDet(cx, cy, w, convergence);
+}
+
+/// det[x, y, w] of an unsheared family's (single) view.
+bool ownViewCulled(const UnifiedData& d, const Family& fam, const std::uint32_t v[3]) {
+    const ViewData& vd = d.views[std::size_t(fam.views[0])];
+    const float x[3] = {vd.x[v[0]], vd.x[v[1]], vd.x[v[2]]};
+    const float y[3] = {fam.y[v[0]], fam.y[v[1]], fam.y[v[2]]};
+    const float w[3] = {fam.w[v[0]], fam.w[v[1]], fam.w[v[2]]};
+    return det3(x, y, w) < 0.0f;
+}
+
+void binStage(FrameContext& f, UnifiedData& d) {
+    Bins& bins = d.bins;
+    bins.reset(f.draw.triangleCount, f.bands.count);
+    const bool cull = f.settings.cullBackFaces;
+    const int height = f.settings.height;
+    f.pool.run(bins.chunkCount, [&](int chunk, int) {
+        const std::uint32_t begin = bins.chunkSize * std::uint32_t(chunk);
+        const std::uint32_t end = std::min(f.draw.triangleCount, begin + bins.chunkSize);
+        std::size_t item = 0;
+        for (std::uint32_t t = begin; t < end; ++t) {
+            while (t >= f.draw.items[item].triangleBase + f.draw.items[item].mesh->triangleCount()) ++item;
+            const DrawItem& it = f.draw.items[item];
+            const std::uint32_t* idx = &it.mesh->indices[std::size_t(t - it.triangleBase) * 3];
+            const std::uint32_t v[3] = {it.vertexBase + idx[0], it.vertexBase + idx[1],
+                                        it.vertexBase + idx[2]};
+            const bool clipX = (d.anyClipX[v[0]] | d.anyClipX[v[1]] | d.anyClipX[v[2]]) != 0;
+            ShearDet det;
+            if (cull && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
+            int rowMin = height, rowMax = -1;
+            for (const Family& fam : d.families) {
+                const std::uint8_t c0 = fam.code[v[0]], c1 = fam.code[v[1]], c2 = fam.code[v[2]];
+                if (c0 & c1 & c2 & kRejectYZW) continue;
+                if (cull && (fam.sheared ? classify(fam, det) == FaceClass::AllBack
+                                         : ownViewCulled(d, fam, v))) {
+                    continue;
+                }
+                if (((c0 | c1 | c2) & kClipYZW) || clipX) {
+                    rowMin = 0, rowMax = height - 1;
+                    break;
+                }
+                int lo, hi;
+                triangleRows(fam.sy[v[0]], fam.sy[v[1]], fam.sy[v[2]], height, lo, hi);
+                rowMin = std::min(rowMin, lo), rowMax = std::max(rowMax, hi);
+            }
+            if (rowMin <= rowMax) bins.add(chunk, t, rowMin, rowMax, f.bands);
+        }
+    });
+}
+
+/// A polygon being clipped against the planes shared by a family: (y, z, w, attributes) once,
+/// x per active view of the family, all interpolated with the same t.
+struct SharedPolygon {
+    int n = 0;
+    float y[kMaxPolyVerts], z[kMaxPolyVerts], w[kMaxPolyVerts];
+    float a[kMaxPolyVerts][kMaxAttrs];
+    float x[kMaxPolyVerts][kMaxViews];
+};
+
+/// Sutherland–Hodgman against the y/z planes in `planes` — the same decisions, t values and
+/// interpolations as clipPolygon() makes for each view on its own.
+void clipShared(SharedPolygon& p, std::uint8_t planes, int attrCount, int viewCount,
+                SharedPolygon& tmp) {
+    SharedPolygon* in = &p;
+    SharedPolygon* out = &tmp;
+    for (int plane = 0; plane < 4 && in->n > 0; ++plane) {
+        if (!(planes & (1u << plane))) continue;
+        float dist[kMaxPolyVerts];
+        for (int i = 0; i < in->n; ++i) dist[i] = planeDistance(plane, 0.0f, in->y[i], in->z[i], in->w[i]);
+        int m = 0;
+        auto copy = [&](int i) {
+            out->y[m] = in->y[i], out->z[m] = in->z[i], out->w[m] = in->w[i];
+            std::copy_n(in->a[i], attrCount, out->a[m]);
+            std::copy_n(in->x[i], viewCount, out->x[m]);
+            ++m;
+        };
+        for (int i = 0; i < in->n; ++i) {
+            const int j = i + 1 == in->n ? 0 : i + 1;
+            const bool inI = dist[i] >= 0.0f, inJ = dist[j] >= 0.0f;
+            if (inI) copy(i);
+            if (inI != inJ) {
+                const int a = inI ? i : j, b = inI ? j : i;
+                const float t = inI ? clipT(dist[i], dist[j]) : clipT(dist[j], dist[i]);
+                out->y[m] = lerpF(in->y[a], in->y[b], t);
+                out->z[m] = lerpF(in->z[a], in->z[b], t);
+                out->w[m] = lerpF(in->w[a], in->w[b], t);
+                for (int k = 0; k < attrCount; ++k) out->a[m][k] = lerpF(in->a[a][k], in->a[b][k], t);
+                for (int k = 0; k < viewCount; ++k) out->x[m][k] = lerpF(in->x[a][k], in->x[b][k], t);
+                ++m;
+            }
+        }
+        out->n = m;
+        std::swap(in, out);
+    }
+    if (in != &p) {
+        p.n = in->n;
+        for (int i = 0; i < in->n; ++i) {
+            p.y[i] = in->y[i], p.z[i] = in->z[i], p.w[i] = in->w[i];
+            std::copy_n(in->a[i], attrCount, p.a[i]);
+            std::copy_n(in->x[i], viewCount, p.x[i]);
+        }
+    }
+}
+
+template <Shading S>
+struct BandContext {
+    FrameContext& f;
+    const UnifiedData& d;
+    int rowLo, rowHi;
+    FragmentTri frag{};
+    std::vector<FragmentSink<S>> sinks;  ///< per view, all pointing at `frag`
+    int attrCount = attributeCount(S);
+};
+
+/// One family's replicas of a triangle that needs clipping against shared planes (or whose
+/// views need left/right clipping).
+template <Shading S>
+void drawFamilyClipped(BandContext<S>& b, const Family& fam, const std::uint32_t v[3],
+                       std::uint8_t famPlanes, const int* active, int activeCount) {
+    const UnifiedData& d = b.d;
+    SharedPolygon poly, tmp;
+    poly.n = 3;
+    const float* z = d.famZ(fam);
+    const float* w = d.famW(fam);
+    for (int j = 0; j < 3; ++j) {
+        poly.y[j] = fam.y[v[j]], poly.z[j] = z[v[j]], poly.w[j] = w[v[j]];
+        std::copy_n(&d.attr[std::size_t(v[j]) * kMaxAttrs], kMaxAttrs, poly.a[j]);
+        for (int k = 0; k < activeCount; ++k) poly.x[j][k] = d.views[std::size_t(active[k])].x[v[j]];
+    }
+    clipShared(poly, famPlanes, b.attrCount, activeCount, tmp);
+    if (poly.n < 3) return;
+    bool projectable = true;
+    for (int i = 0; i < poly.n; ++i) projectable = projectable && poly.w[i] > 0.0f;
+    const float width = float(b.f.settings.width), height = float(b.f.settings.height);
+    // Shared projection of the clipped polygon: 1/w, y, depth.
+    float pq[kMaxPolyVerts], pz[kMaxPolyVerts];
+    std::int32_t py[kMaxPolyVerts];
+    if (projectable) {
+        for (int i = 0; i < poly.n; ++i) {
+            pq[i] = 1.0f / poly.w[i];
+            py[i] = snapY(poly.y[i], pq[i], height);
+            pz[i] = windowDepth(poly.z[i], pq[i]);
+        }
+    }
+    for (int k = 0; k < activeCount; ++k) {
+        const int view = active[k];
+        const ViewData& vd = d.views[std::size_t(view)];
+        const std::uint8_t orX = vd.code[v[0]] | vd.code[v[1]] | vd.code[v[2]];
+        if (orX & kClipX) {
+            // This view leaves the guard band: continue with left/right on its own copy.
+            ClipVertex cv[kMaxPolyVerts];
+            for (int i = 0; i < poly.n; ++i) {
+                cv[i].x = poly.x[i][k], cv[i].y = poly.y[i], cv[i].z = poly.z[i], cv[i].w = poly.w[i];
+                std::copy_n(poly.a[i], kMaxAttrs, cv[i].a);
+            }
+            // drawClippedTriangle clips from a triangle; feed the polygon through the same
+            // clipper (left/right only) and fan.
+            ClipVertex scratch[kMaxPolyVerts];
+            const int n = clipPolygon(cv, poly.n, std::uint8_t(orX & kClipX), b.attrCount, scratch);
+            if (n < 3) continue;
+            std::int32_t px[kMaxPolyVerts], qy[kMaxPolyVerts];
+            float qz[kMaxPolyVerts], qq[kMaxPolyVerts];
+            bool ok = true;
+            for (int i = 0; i < n && ok; ++i) {
+                if (!(cv[i].w > 0.0f)) {
+                    ok = false;
+                    break;
+                }
+                qq[i] = 1.0f / cv[i].w;
+                px[i] = snapX(cv[i].x, qq[i], width);
+                qy[i] = snapY(cv[i].y, qq[i], height);
+                qz[i] = windowDepth(cv[i].z, qq[i]);
+            }
+            if (!ok) continue;
+            for (int t = 1; t + 1 < n; ++t) {
+                const int idx[3] = {0, t, t + 1};
+                YSetup ys;
+                setupY(ys, qy[0], qy[t], qy[t + 1], b.rowLo, b.rowHi);
+                const std::int32_t x[3] = {px[0], px[t], px[t + 1]};
+                for (int j = 0; j < 3; ++j) {
+                    b.frag.z[j] = qz[idx[j]];
+                    b.frag.q[j] = qq[idx[j]];
+                    b.frag.attr[j] = cv[idx[j]].a;
+                }
+                rasterTriangle(ys, x, b.f.settings.width, b.sinks[std::size_t(view)]);
+            }
+            continue;
+        }
+        if (!projectable) continue;
+        std::int32_t px[kMaxPolyVerts];
+        for (int i = 0; i < poly.n; ++i) px[i] = snapX(poly.x[i][k], pq[i], width);
+        for (int t = 1; t + 1 < poly.n; ++t) {
+            const int idx[3] = {0, t, t + 1};
+            YSetup ys;
+            setupY(ys, py[0], py[t], py[t + 1], b.rowLo, b.rowHi);
+            const std::int32_t x[3] = {px[0], px[t], px[t + 1]};
+            for (int j = 0; j < 3; ++j) {
+                b.frag.z[j] = pz[idx[j]];
+                b.frag.q[j] = pq[idx[j]];
+                b.frag.attr[j] = poly.a[idx[j]];
+            }
+            rasterTriangle(ys, x, b.f.settings.width, b.sinks[std::size_t(view)]);
+        }
+    }
+}
+
+template <Shading S>
+void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
+    FrameContext& f = b.f;
+    const UnifiedData& d = b.d;
+    const bool cull = f.settings.cullBackFaces;
+    const int width = f.settings.width;
+    std::size_t item = 0;
+    for (int chunk = 0; chunk < bins.chunkCount; ++chunk) {
+        for (std::uint32_t t : bins.lists[std::size_t(chunk) * f.bands.count + band]) {
+            while (t >= f.draw.items[item].triangleBase + f.draw.items[item].mesh->triangleCount()) {
+                ++item;
+            }
+            const DrawItem& it = f.draw.items[item];
+            const std::uint32_t* idx = &it.mesh->indices[std::size_t(t - it.triangleBase) * 3];
+            const std::uint32_t v[3] = {it.vertexBase + idx[0], it.vertexBase + idx[1],
+                                        it.vertexBase + idx[2]};
+            if constexpr (S == Shading::Flat) {
+                // View-independent: once for every view.
+                b.frag.flat = flatColor(f.shading, it.instance->material, d.world[v[0]],
+                                        d.world[v[1]], d.world[v[2]]);
+            }
+            for (auto& sink : b.sinks) sink.shade.material = &it.instance->material;
+            ShearDet det;
+            if (cull && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
+            for (const Family& fam : d.families) {
+                const std::uint8_t c0 = fam.code[v[0]], c1 = fam.code[v[1]], c2 = fam.code[v[2]];
+                if (c0 & c1 & c2 & kRejectYZW) continue;
+                FaceClass faces = FaceClass::AllFront;
+                if (cull) {
+                    faces = fam.sheared ? classify(fam, det)
+                                        : (ownViewCulled(d, fam, v) ? FaceClass::AllBack : FaceClass::AllFront);
+                    if (faces == FaceClass::AllBack) continue;
+                }
+                // Replicate to the views of the family that survive their own x reject / cull.
+                int active[kMaxViews];
+                int activeCount = 0;
+                bool anyClipX = false;
+                for (int view : fam.views) {
+                    const ViewData& vd = d.views[std::size_t(view)];
+                    const std::uint8_t a0 = vd.code[v[0]], a1 = vd.code[v[1]], a2 = vd.code[v[2]];
+                    if (a0 & a1 & a2 & kRejectX) continue;
+                    if (faces == FaceClass::Mixed && shearedDet(det, vd.shearX, fam.shearY) < 0.0f) continue;
+                    anyClipX = anyClipX || ((a0 | a1 | a2) & kClipX);
+                    active[activeCount++] = view;
+                }
+                if (activeCount == 0) continue;
+                const std::uint8_t famPlanes = (c0 | c1 | c2) & kClipYZW;
+                if (famPlanes || anyClipX) {
+                    drawFamilyClipped(b, fam, v, famPlanes, active, activeCount);
+                    continue;
+                }
+                // Shared setup: y snapping, row range, Δy, depth, 1/w, attributes.
+                YSetup ys;
+                setupY(ys, fam.sy[v[0]], fam.sy[v[1]], fam.sy[v[2]], b.rowLo, b.rowHi);
+                if (ys.rowMin > ys.rowMax) continue;
+                for (int j = 0; j < 3; ++j) {
+                    b.frag.z[j] = fam.zw[v[j]];
+                    b.frag.q[j] = fam.q[v[j]];
+                    b.frag.attr[j] = &d.attr[std::size_t(v[j]) * kMaxAttrs];
+                }
+                // Per view: x only.
+                for (int k = 0; k < activeCount; ++k) {
+                    const ViewData& vd = d.views[std::size_t(active[k])];
+                    const std::int32_t x[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
+                    rasterTriangle(ys, x, width, b.sinks[std::size_t(active[k])]);
+                }
+            }
+        }
+    }
+}
+
+template <Shading S>
+void rasterStage(FrameContext& f, const UnifiedData& d, std::span<const Target> targets) {
+    f.pool.run(f.bands.count, [&](int band, int) {
+        BandContext<S> b{f, d, f.bands.rowBegin(band), f.bands.rowEnd(band) - 1, {}, {}};
+        b.sinks.reserve(targets.size());
+        for (const Target& t : targets) b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr}});
+        rasterBand(b, d.bins, band);
+    });
+}
+
+}  // namespace
+
+void renderUnified(FrameContext& f, std::span<const Target> targets, StageTimes& times,
+                   std::unique_ptr<MethodScratch>& scratch) {
+    if (!dynamic_cast<UnifiedData*>(scratch.get())) scratch = std::make_unique<UnifiedData>();
+    UnifiedData& d = static_cast<UnifiedData&>(*scratch);
+    StageClock clock;
+    buildFamilies(f.rig, f.draw.vertexCount, d);
+    vertexStage(f, d);
+    times.vertexMs += clock.lap();
+    binStage(f, d);
+    times.setupMs += clock.lap();
+    switch (f.settings.shading) {
+        case Shading::Flat: rasterStage<Shading::Flat>(f, d, targets); break;
+        case Shading::Vertex: rasterStage<Shading::Vertex>(f, d, targets); break;
+        case Shading::Pixel: rasterStage<Shading::Pixel>(f, d, targets); break;
+    }
+    times.rasterMs += clock.lap();
+}
+
+}  // namespace mvr::raster::detail

@@ -1,0 +1,307 @@
+// Differential tests: the unified N-view pipeline equals N single-view renders (multipass) BIT
+// FOR BIT, color and depth, over rigs (off-axis rows and grids, toe-in, parallel, lists), view
+// counts 1..9, shading modes, culling, wireframe, models and random triangle soups (crossing the
+// near plane, the screen edges and the guard band); and the SIMD paths equal the scalar path.
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <random>
+
+#include <fmt/core.h>
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include "mvr/raster/soft_backend.h"
+#include "test_scenes.h"
+
+namespace mvr::raster {
+namespace {
+
+std::filesystem::path modelsDir() {
+    const char* dir = std::getenv("MVR_SHARED_DIR");
+    return std::filesystem::path(dir ? dir : "../shared") / "models";
+}
+
+/// First difference between two renders, or "" when identical bit for bit.
+std::string firstDifference(const RenderOutput& a, const RenderOutput& b) {
+    if (a.color.size() != b.color.size() || a.depth.size() != b.depth.size()) return "view counts differ";
+    for (std::size_t v = 0; v < a.color.size(); ++v) {
+        const Image& ca = a.color[v];
+        const Image& cb = b.color[v];
+        if (ca.width != cb.width || ca.height != cb.height) return fmt::format("view {}: sizes differ", v);
+        for (int y = 0; y < ca.height; ++y) {
+            for (int x = 0; x < ca.width; ++x) {
+                if (ca.at(x, y) != cb.at(x, y)) {
+                    const Rgba8 p = ca.at(x, y), q = cb.at(x, y);
+                    return fmt::format("view {} color at ({}, {}): {},{},{} vs {},{},{}", v, x, y, p.r,
+                                       p.g, p.b, q.r, q.g, q.b);
+                }
+                const float da = a.depth[v].at(x, y), db = b.depth[v].at(x, y);
+                if (std::memcmp(&da, &db, sizeof(float)) != 0) {
+                    return fmt::format("view {} depth at ({}, {}): {:.9g} vs {:.9g}", v, x, y, da, db);
+                }
+            }
+        }
+    }
+    return "";
+}
+
+long coveredPixels(const RenderOutput& r) {
+    long n = 0;
+    for (const DepthImage& d : r.depth) {
+        for (float z : d.depth) n += z < 1.0f;
+    }
+    return n;
+}
+
+struct Stats {
+    long renders = 0, covered = 0;
+};
+
+void expectSame(Backend& backend, const Scene& scene, const Rig& rig, const RenderSettings& s,
+                Stats& stats) {
+    auto mp = backend.render(scene, rig, s, "multipass");
+    ASSERT_TRUE(mp) << mp.status().message();
+    auto un = backend.render(scene, rig, s, "unified");
+    ASSERT_TRUE(un) << un.status().message();
+    const std::string diff = firstDifference(*mp, *un);
+    ASSERT_EQ(diff, "") << "rig " << rigKindName(rig.kind) << " " << rig.columns << "x" << rig.rows
+                        << " views " << rig.viewCount() << " shading " << shadingName(s.shading)
+                        << " cull " << s.cullBackFaces << " wireframe " << s.wireframe;
+    ++stats.renders;
+    stats.covered += coveredPixels(*mp);
+}
+
+/// A camera looking at `center` from a random direction at `distance`.
+Camera randomCamera(std::mt19937& rng, glm::vec3 center, float distance, float aspect) {
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    Camera c;
+    glm::vec3 dir = glm::normalize(glm::vec3(u(rng), 0.6f * u(rng), 1.0f + 0.3f * u(rng)));
+    c.target = center + glm::vec3(u(rng), u(rng), u(rng)) * 0.1f * distance;
+    c.position = center + dir * distance;
+    c.fovYDegrees = 35.0f + 25.0f * (u(rng) * 0.5f + 0.5f);
+    c.aspect = aspect;
+    c.near = distance * (0.05f + 0.2f * (u(rng) * 0.5f + 0.5f));
+    c.far = distance * (3.0f + 20.0f * (u(rng) * 0.5f + 0.5f));
+    return c;
+}
+
+/// A random rig of a random kind: off-axis rows (1..9), off-axis grids, toe-in, parallel, lists.
+Rig randomRig(std::mt19937& rng, const Camera& camera, int shape) {
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    RigParams p;
+    const float dist = glm::length(camera.target - camera.position);
+    p.convergence = std::max(camera.near * 1.5f, dist * (0.5f + u(rng)));
+    p.interaxial = p.convergence * (0.01f + 0.08f * u(rng));
+    switch (shape % 5) {
+        case 0: p.kind = RigKind::OffAxis, p.columns = 1 + int(rng() % 9), p.rows = 1; break;
+        case 1: {
+            static const int grids[][2] = {{2, 2}, {3, 2}, {3, 3}, {2, 3}, {1, 3}};
+            const auto& g = grids[rng() % 5];
+            p.kind = RigKind::OffAxis, p.columns = g[0], p.rows = g[1];
+            break;
+        }
+        case 2: p.kind = RigKind::ToeIn, p.columns = 2 + int(rng() % 4), p.rows = 1; break;
+        case 3: p.kind = RigKind::Parallel, p.columns = 2 + int(rng() % 3), p.rows = 1 + int(rng() % 2); break;
+        default: {
+            // A list: shadow-map-like views from random positions, some orthographic.
+            std::vector<View> views;
+            const int n = 1 + int(rng() % 4);
+            for (int i = 0; i < n; ++i) {
+                Camera c = camera;
+                c.position = camera.target + (camera.position - camera.target) *
+                                                 glm::vec3(0.5f + u(rng), 0.5f + u(rng), 0.5f + u(rng));
+                View v;
+                v.viewFromWorld = c.viewFromWorld();
+                if (i % 2 == 1) {
+                    const float r = dist * 0.6f;
+                    v.clipFromView = glm::ortho(-r * c.aspect, r * c.aspect, -r, r, c.near, c.far);
+                } else {
+                    v.clipFromView = c.clipFromView();
+                }
+                views.push_back(v);
+            }
+            return std::move(makeListRig(camera, views)).value();
+        }
+    }
+    auto rig = makeRig(camera, p);
+    EXPECT_TRUE(rig) << rig.status().message();
+    return std::move(rig).value();
+}
+
+RenderSettings randomSettings(std::mt19937& rng, int i) {
+    RenderSettings s;
+    s.width = 48 + int(rng() % 40);
+    s.height = 32 + int(rng() % 30);
+    s.shading = static_cast<Shading>(i % 3);
+    s.cullBackFaces = (i / 3) % 2 == 1;
+    s.clearColor = {0.1f, 0.2f, 0.3f};
+    return s;
+}
+
+TEST(UnifiedEqualsMultipass, Models) {
+    auto backend = makeSoftBackend();
+    std::mt19937 rng(2024);
+    Stats stats;
+    int models = 0;
+    for (const char* name : {"stanford-bunny.obj", "spot.obj", "teapot.obj", "suzanne.obj"}) {
+        const auto path = modelsDir() / name;
+        if (!std::filesystem::exists(path)) continue;
+        auto mesh = loadMesh(path);
+        ASSERT_TRUE(mesh) << mesh.status().message();
+        ++models;
+        const Scene scene = makeGridScene({std::move(mesh).value()}, name[0] == 's' && name[1] == 't' ? 1 : 2);
+        const Bounds b = scene.bounds();
+        for (int i = 0; i < 12; ++i) {
+            SCOPED_TRACE(fmt::format("{} case {}", name, i));
+            RenderSettings s = randomSettings(rng, i);
+            // Mostly outside the model; every fourth case with the camera close enough that the
+            // near plane cuts the model.
+            const float distance = b.radius() * (i % 4 == 3 ? 0.8f : 2.0f + float(rng() % 3));
+            const Camera cam = randomCamera(rng, b.center(), distance, float(s.width) / float(s.height));
+            const Rig rig = randomRig(rng, cam, i + models);
+            expectSame(*backend, scene, rig, s, stats);
+        }
+    }
+    if (models == 0) GTEST_SKIP() << "no models in " << modelsDir();
+    EXPECT_GT(stats.covered, stats.renders * 50) << "the renders must draw something";
+}
+
+/// Random triangles around and behind the camera: crossing the near plane, the far plane, the
+/// screen edges and (huge ones) the guard band.
+Scene randomSoup(std::mt19937& rng, int count) {
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    Mesh m;
+    m.name = "soup";
+    for (int t = 0; t < count; ++t) {
+        const float scale = t % 7 == 0 ? 400.0f : (t % 3 == 0 ? 6.0f : 1.5f);
+        const glm::vec3 c(u(rng) * 4.0f, u(rng) * 3.0f, u(rng) * 8.0f - 2.0f);
+        for (int k = 0; k < 3; ++k) {
+            m.positions.push_back(c + glm::vec3(u(rng), u(rng), u(rng)) * scale);
+            m.normals.push_back(glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(0, 0, 0.01f)));
+            m.indices.push_back(std::uint32_t(m.positions.size() - 1));
+        }
+    }
+    Scene s;
+    s.lights = defaultLights();
+    s.meshes = {std::move(m)};
+    Instance inst;
+    inst.material.albedo = {0.7f, 0.5f, 0.3f};
+    s.instances = {inst};
+    // A second instance of the same soup, moved and rotated, with its own material.
+    Instance second;
+    second.worldFromModel = glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, -0.3f, -1.0f)),
+                                        0.4f, glm::vec3(0.2f, 1.0f, 0.1f));
+    second.material.albedo = {0.2f, 0.6f, 0.9f};
+    second.material.shininess = 8.0f;
+    s.instances.push_back(second);
+    return s;
+}
+
+TEST(UnifiedEqualsMultipass, RandomTriangleSoups) {
+    auto backend = makeSoftBackend();
+    std::mt19937 rng(77);
+    Stats stats;
+    for (int i = 0; i < 60; ++i) {
+        SCOPED_TRACE(fmt::format("soup case {}", i));
+        const Scene scene = randomSoup(rng, 40 + int(rng() % 60));
+        RenderSettings s = randomSettings(rng, i);
+        s.wireframe = i % 10 == 9;
+        Camera cam;
+        cam.position = {0.0f, 0.0f, 3.0f};
+        cam.target = {0.2f, -0.1f, 0.0f};
+        cam.near = 0.3f, cam.far = 30.0f;
+        cam.aspect = float(s.width) / float(s.height);
+        const Rig rig = randomRig(rng, cam, i);
+        expectSame(*backend, scene, rig, s, stats);
+    }
+    EXPECT_GT(stats.covered, stats.renders * 50);
+}
+
+TEST(UnifiedEqualsMultipass, EveryViewCountAndShading) {
+    // The default procedural scene (its ground plane crosses the near plane) on off-axis rows of
+    // 1..9 views and the kalaiah2007 grids, all shading modes, culling on and off.
+    auto backend = makeSoftBackend();
+    const Scene scene = makeDefaultScene();
+    Stats stats;
+    Camera cam;
+    cam.position = {0.5f, 1.5f, 6.0f};
+    cam.target = {0.0f, 0.0f, 0.0f};
+    cam.aspect = 80.0f / 60.0f;
+    for (int views = 1; views <= 9; ++views) {
+        for (int mode = 0; mode < 6; ++mode) {
+            RenderSettings s;
+            s.width = 80, s.height = 60;
+            s.shading = static_cast<Shading>(mode % 3);
+            s.cullBackFaces = mode >= 3;
+            RigParams p;
+            p.columns = views, p.rows = 1, p.interaxial = 0.2f, p.convergence = 6.0f;
+            auto rig = makeRig(cam, p);
+            ASSERT_TRUE(rig);
+            expectSame(*backend, scene, *rig, s, stats);
+        }
+    }
+    for (auto [c, r] : {std::pair{2, 1}, {3, 1}, {2, 2}, {3, 2}, {3, 3}}) {
+        RigParams p;
+        p.columns = c, p.rows = r, p.interaxial = 0.3f, p.convergence = 6.0f;
+        auto rig = makeRig(cam, p);
+        ASSERT_TRUE(rig);
+        RenderSettings s;
+        s.width = 64, s.height = 48;
+        for (int mode = 0; mode < 3; ++mode) {
+            s.shading = static_cast<Shading>(mode);
+            s.cullBackFaces = mode == 1;
+            expectSame(*backend, scene, *rig, s, stats);
+            s.wireframe = true;
+            expectSame(*backend, scene, *rig, s, stats);
+            s.wireframe = false;
+        }
+    }
+    EXPECT_GT(stats.covered, stats.renders * 500);
+}
+
+TEST(UnifiedEqualsMultipass, ScalarPathEqualsSimdPath) {
+    auto scalar = makeSoftBackend(SoftOptions{.threads = 1, .simd = SimdPath::Scalar});
+    auto best = makeSoftBackend(SoftOptions{.threads = 0, .simd = SimdPath::Auto});
+    std::mt19937 rng(5);
+    for (int i = 0; i < 8; ++i) {
+        const Scene scene = randomSoup(rng, 80);
+        RenderSettings s = randomSettings(rng, i);
+        Camera cam;
+        cam.position = {0.0f, 0.0f, 3.0f};
+        cam.near = 0.3f, cam.far = 30.0f;
+        cam.aspect = float(s.width) / float(s.height);
+        const Rig rig = randomRig(rng, cam, i);
+        for (const char* method : {"multipass", "unified"}) {
+            auto a = scalar->render(scene, rig, s, method);
+            auto b = best->render(scene, rig, s, method);
+            ASSERT_TRUE(a && b);
+            EXPECT_EQ(firstDifference(*a, *b), "") << method << " case " << i;
+        }
+    }
+}
+
+TEST(UnifiedEqualsMultipass, ShearFormMatchesTheViewMatrices) {
+    // The shear form both methods use must place points where the views' own matrices do.
+    Camera cam;
+    cam.position = {1.0f, 2.0f, 7.0f};
+    cam.target = {0.0f, 0.5f, 0.0f};
+    RigParams p;
+    p.columns = 3, p.rows = 2, p.interaxial = 0.4f, p.convergence = 6.0f;
+    auto rig = makeRig(cam, p);
+    ASSERT_TRUE(rig);
+    const glm::mat4 center = cam.clipFromView() * cam.viewFromWorld();
+    for (const View& v : rig->views) {
+        ASSERT_TRUE(v.clipShear);
+        for (glm::vec3 world : {glm::vec3(0.0f), glm::vec3(1.0f, -1.0f, 2.0f), glm::vec3(-2.0f, 1.0f, -5.0f)}) {
+            const glm::vec4 c = center * glm::vec4(world, 1.0f);
+            const glm::vec4 m = v.clipFromWorld() * glm::vec4(world, 1.0f);
+            EXPECT_NEAR(c.x + v.clipShear->x * (c.w - rig->convergence), m.x, 1e-4f);
+            EXPECT_NEAR(c.y + v.clipShear->y * (c.w - rig->convergence), m.y, 1e-4f);
+            EXPECT_NEAR(c.w, m.w, 1e-4f);
+        }
+    }
+}
+
+}  // namespace
+}  // namespace mvr::raster
