@@ -1,0 +1,160 @@
+// `mvr compose` end to end: runs the built binary (${MVR_BINARY_DIR}/tools/cli/mvr).
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+
+#include "mvr/composite/compose.h"
+#include "mvr/composite/jpeg.h"
+#include "test_views.h"
+
+namespace mvr::composite {
+namespace {
+using namespace mvr::composite::test;
+
+struct CliRun {
+    int exitCode = -1;
+    std::string output;  // stdout and stderr together
+};
+
+class ComposeCli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        const char* bin = std::getenv("MVR_BINARY_DIR");
+        mvr = std::filesystem::path(bin ? bin : MVR_TEST_BINARY_DIR) / "tools" / "cli" / "mvr";
+        if (!std::filesystem::exists(mvr)) GTEST_SKIP() << mvr << " not built";
+        dir = freshDir(::testing::UnitTest::GetInstance()->current_test_info()->name());
+        ASSERT_TRUE(writePng(dir / "left.png", taggedView(0, 8, 6)));
+        ASSERT_TRUE(writePng(dir / "right.png", taggedView(1, 8, 6)));
+    }
+    void TearDown() override {
+        if (!dir.empty()) std::filesystem::remove_all(dir);
+    }
+    CliRun run(const std::string& args) const {
+        const std::string command = "cd '" + dir.string() + "' && '" + mvr.string() + "' compose " + args + " 2>&1";
+        CliRun r;
+        std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+        if (!pipe) return r;
+        std::array<char, 512> buf;
+        while (fgets(buf.data(), buf.size(), pipe.get())) r.output += buf.data();
+        const int status = pclose(pipe.release());
+        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        return r;
+    }
+    Image readOne(const std::filesystem::path& p) const {
+        Result<std::vector<Image>> views = readViewFile(p);
+        EXPECT_TRUE(views) << views.status().message();
+        return views && !views->empty() ? (*views)[0] : Image();
+    }
+    std::filesystem::path mvr, dir;
+};
+
+TEST_F(ComposeCli, DefaultIsTheDuboisAnaglyphInTheDirectory) {
+    const CliRun r = run("left.png right.png -o out -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(r.output, "");
+    const std::vector<Image> views = {taggedView(0, 8, 6), taggedView(1, 8, 6)};
+    EXPECT_EQ(readOne(dir / "out" / "anaglyph-dubois.png"), *compose("anaglyph-dubois", views));
+}
+
+TEST_F(ComposeCli, FilePathOutputAndOptions) {
+    CliRun r = run("left.png right.png -f sbs --cross-eyed -o pair.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("pair.png"), std::string::npos) << r.output;
+    const Image sbs = readOne(dir / "pair.png");
+    ASSERT_EQ(sbs.width, 16);
+    EXPECT_EQ(sbs.at(0, 0), tag(1, 0, 0));  // cross-eyed: right view first
+    r = run("left.png right.png left.png right.png -f quilt --quilt 2x2 -o q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(std::filesystem::exists(dir / "q" / "quilt_qs2x2a1.3333.png"));
+}
+
+TEST_F(ComposeCli, MpoAndJpsInputsAreSplitIntoViews) {
+    CliRun r = run("left.png right.png -f mpo -o out --baseline 0.065 --convergence 2");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = run("out/mpo.mpo -f jps -o out");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = run("out/jps.jps -f columns -o cols.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const Image cols = readOne(dir / "cols.png");
+    ASSERT_EQ(cols.width, 8);
+    // Column 0 from the left view, column 1 from the right, after two JPEG generations.
+    EXPECT_LE(std::abs(cols.at(0, 2).b - tag(0, 0, 2).b), 12);
+    EXPECT_LE(std::abs(cols.at(1, 2).b - tag(1, 1, 2).b), 12);
+}
+
+TEST_F(ComposeCli, ViewsOfDifferentSizesAreAnInputError) {
+    ASSERT_TRUE(writePng(dir / "small.png", taggedView(1, 4, 6)));
+    const CliRun r = run("left.png small.png -o out");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_EQ(r.output,
+              "error: views differ in size: small.png is 4x6 but left.png is 8x6 (expected all "
+              "views of one size)\n");
+}
+
+TEST_F(ComposeCli, WrongNumberOfViewsIsAUsageError) {
+    const CliRun r = run("left.png right.png left.png -f sbs -o out");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_EQ(r.output, "error: --format sbs: 3 views given (expected exactly 2 views)\n");
+}
+
+TEST_F(ComposeCli, MissingAndTruncatedInputsAreInputErrors) {
+    CliRun r = run("left.png nope.png -o out");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_EQ(r.output, "error: nope.png: file not found\n");
+    Result<std::vector<std::uint8_t>> png = readFileBytes(dir / "right.png");
+    ASSERT_TRUE(png);
+    ASSERT_TRUE(writeFileBytes(dir / "cut.png", std::span(png->data(), png->size() / 2)));
+    r = run("left.png cut.png -o out");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_EQ(r.output.rfind("error: ", 0), 0u) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    Result<std::vector<std::uint8_t>> jpeg = encodeJpeg(taggedView(1, 8, 6), 90);
+    ASSERT_TRUE(jpeg);
+    ASSERT_TRUE(writeFileBytes(dir / "cut.jpg", std::span(jpeg->data(), jpeg->size() - 20)));
+    r = run("left.png cut.jpg -o out");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_EQ(r.output.rfind("error: cut.jpg: ", 0), 0u) << r.output;
+    EXPECT_NE(r.output.find("truncated"), std::string::npos) << r.output;
+    std::ofstream(dir / "garbage.png") << "garbage";
+    r = run("left.png garbage.png -o out");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_EQ(r.output, "error: garbage.png: not a PNG or JPEG file (unrecognised signature)\n");
+}
+
+TEST_F(ComposeCli, UnknownFormatAndBadOptionsAreUsageErrors) {
+    CliRun r = run("left.png right.png -f bogus -o out");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_EQ(r.output.rfind("error: --format: bogus not in {", 0), 0u) << r.output;
+    r = run("left.png right.png -f quilt --quilt 0x3 -o out");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("expected CxR"), std::string::npos) << r.output;
+    r = run("left.png right.png -f hdmi-frame-packing -o out");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("expected 1280x720 or 1920x1080"), std::string::npos) << r.output;
+    r = run("left.png right.png -f mpo -o out.png");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+}
+
+TEST_F(ComposeCli, UnwritableOutputIsAnOutputError) {
+    std::ofstream(dir / "file") << "x";
+    CliRun r = run("left.png right.png -o file/sub");
+    EXPECT_EQ(r.exitCode, 4) << r.output;
+    EXPECT_EQ(r.output.rfind("error: cannot create output directory 'file/sub'", 0), 0u) << r.output;
+}
+
+TEST_F(ComposeCli, HelpListsTheFormats) {
+    const CliRun r = run("--help");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    for (const std::string& f : formatNames()) EXPECT_NE(r.output.find(f), std::string::npos) << f;
+}
+
+}  // namespace
+}  // namespace mvr::composite
