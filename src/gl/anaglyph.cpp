@@ -22,24 +22,27 @@ struct CompositeContext {
     Status status;
 };
 
-// One context for the process's GPU composites, made on first use.
+// One context for the process's GPU composites, made on first use and deliberately never
+// destroyed: at exit no context may be current, and GL calls from static destructors would
+// then have nothing to run on.
 CompositeContext& compositeContext() {
-    static CompositeContext c = [] {
-        CompositeContext cc;
+    static CompositeContext& c = *[] {
+        auto* ccp = new CompositeContext;
+        CompositeContext& cc = *ccp;
         auto ctx = detail::EglContext::create();
         if (!ctx) {
             cc.status = ctx.status();
-            return cc;
+            return ccp;
         }
         cc.context = std::move(ctx).value();
         auto p = detail::buildCompositeProgram();
         if (!p) {
             cc.status = p.status();
-            return cc;
+            return ccp;
         }
         cc.program = std::move(p).value();
         cc.vao = detail::createVertexArray();
-        return cc;
+        return ccp;
     }();
     return c;
 }

@@ -242,6 +242,17 @@ int Renderer::viewLimit(const std::string& m, Shading shading, int width, int he
 }
 
 Status Renderer::checkViews(const std::string& m, int views, const RenderSettings& s) const {
+    // Colour (4 bytes) + depth (4 bytes) per pixel per view on the GPU side, the same again
+    // for the images handed back: refuse what would not fit in memory instead of failing
+    // (or being killed) halfway.
+    constexpr double kBudgetBytes = 4.0 * 1024 * 1024 * 1024;
+    const double bytes = 8.0 * s.width * s.height * views;
+    if (bytes > kBudgetBytes) {
+        return unsupportedError(fmt::format(
+            "gl: {} views of {}x{} need {:.1f} GiB of colour + depth targets (limit {:.0f} GiB)",
+            views, s.width, s.height, bytes / (1024.0 * 1024 * 1024),
+            kBudgetBytes / (1024.0 * 1024 * 1024)));
+    }
     if ((m == "gs-mrt" || m == "gs-depthmap") && views != 2) {
         return usageError(fmt::format(
             "gl: {} renders exactly 2 views (sorbier2008's stereo pair: one MRT attachment per "
