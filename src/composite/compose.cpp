@@ -235,7 +235,9 @@ Status writeCompositeFile(std::string_view format, std::span<const Image> views,
                                           file.string()));
         Result<Image> picture = compose(format, views, options);
         if (!picture) return picture.status();
-        return writeJpeg(file, *picture, options.jpegQuality);
+        Result<std::vector<std::uint8_t>> bytes = encodeJpsPicture(*picture, options.jpegQuality);
+        if (!bytes) return bytes.status();
+        return writeFileBytes(file, *bytes);
     }
     if (ext != ".png" && ext != ".jpg" && ext != ".jpeg")
         return usageError(fmt::format("{}: output '{}' (expected a .png, .jpg or .jpeg file name)",

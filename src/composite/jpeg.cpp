@@ -73,7 +73,9 @@ struct DecodeState {
 
 constexpr long long kMaxPixels = 1LL << 28;  // 16384 × 16384
 
-Result<std::vector<std::uint8_t>> encodeJpegImpl(const Image& image, int quality, bool jfif) {
+// `app3`: payload of an APP3 segment written right after the JFIF header (JPS descriptor).
+Result<std::vector<std::uint8_t>> encodeJpegImpl(const Image& image, int quality, bool jfif,
+                                                 std::span<const std::uint8_t> app3 = {}) {
     const char* who = "mvr::composite::encodeJpeg()";
     if (image.empty() || image.rgba.size() != static_cast<std::size_t>(image.width) * image.height * 4)
         return usageError(fmt::format("{}: empty or inconsistent image {}x{}", who, image.width,
@@ -105,6 +107,8 @@ Result<std::vector<std::uint8_t>> encodeJpegImpl(const Image& image, int quality
     st->cinfo.optimize_coding = TRUE;
     st->cinfo.write_JFIF_header = jfif ? TRUE : FALSE;
     jpeg_start_compress(&st->cinfo, TRUE);
+    if (!app3.empty())
+        jpeg_write_marker(&st->cinfo, JPEG_APP0 + 3, app3.data(), static_cast<unsigned>(app3.size()));
     while (st->cinfo.next_scanline < st->cinfo.image_height) {
         JSAMPROW row = const_cast<JSAMPROW>(image.row(static_cast<int>(st->cinfo.next_scanline)));
         jpeg_write_scanlines(&st->cinfo, &row, 1);
@@ -423,10 +427,20 @@ Result<std::vector<Image>> decodeMpo(std::span<const std::uint8_t> data, const s
 }
 
 // ---- public: JPS -------------------------------------------------------------------------------
+Result<std::vector<std::uint8_t>> encodeJpsPicture(const Image& picture, int quality) {
+    // APP3 "_JPSJPS_" stereoscopic descriptor (VRex JPS, as described by P. Bourke, "Stereo
+    // image file formats"): descriptor length 4, then separation 0, flags 0 (full size; "left
+    // field first" clear = right image on the left), layout 2 = side by side, type 1 = stereo;
+    // no comment.
+    static constexpr std::uint8_t kJpsDescriptor[] = {'_', 'J', 'P', 'S', 'J', 'P', 'S', '_',
+                                                      0, 4, 0, 0, 2, 1, 0, 0};
+    return encodeJpegImpl(picture, quality, true, kJpsDescriptor);
+}
+
 Result<std::vector<std::uint8_t>> encodeJps(const Image& left, const Image& right, int quality) {
     Result<Image> picture = sideBySide(right, left, false);
     if (!picture) return picture.status();
-    return encodeJpegImpl(*picture, quality, true);
+    return encodeJpsPicture(*picture, quality);
 }
 
 Result<std::vector<Image>> splitJps(const Image& picture, const std::string& what) {

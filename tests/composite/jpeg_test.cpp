@@ -174,6 +174,13 @@ TEST(Jps, RightViewOnTheLeftAndRoundTrip) {
     const Image left = smoothView(20, 10, 0), right = smoothView(20, 10, 4);
     Result<std::vector<std::uint8_t>> jps = encodeJps(left, right, 95);
     ASSERT_TRUE(jps);
+    const std::size_t app3 = find(*jps, "_JPSJPS_");
+    ASSERT_NE(app3, std::string::npos);
+    EXPECT_EQ((*jps)[app3 - 4], 0xFF);
+    EXPECT_EQ((*jps)[app3 - 3], 0xE3);
+    // descriptor length 4; separation 0, flags 0 (right image first), side by side, stereo
+    const std::uint8_t descriptor[] = {0, 4, 0, 0, 2, 1};
+    for (int i = 0; i < 6; ++i) EXPECT_EQ((*jps)[app3 + 8 + i], descriptor[i]) << i;
     Result<Image> picture = decodeJpeg(*jps, "mem.jps");
     ASSERT_TRUE(picture);
     ASSERT_EQ(picture->width, 40);
@@ -199,7 +206,7 @@ std::string run(const std::string& command) {
     return out;
 }
 
-TEST(Mpo, ExiftoolReadsTwoImagesAndTheMpTags) {
+TEST(Mpo, ExiftoolReadsTwoImagesAndTheMpTagsAndTheJpsDescriptor) {
     if (std::system("exiftool -ver > /dev/null 2>&1") != 0)
         GTEST_SKIP() << "exiftool not installed (Debian: libimage-exiftool-perl)";
     const auto dir = freshDir("exiftool");
@@ -225,6 +232,11 @@ TEST(Mpo, ExiftoolReadsTwoImagesAndTheMpTags) {
     has("[Doc2]          AxisDistanceX                   : 0.065");
     EXPECT_EQ(out.find("Warning"), std::string::npos) << out;
     EXPECT_EQ(out.find("Error"), std::string::npos) << out;
+    Result<std::filesystem::path> jps = writeComposite("jps", views, o, dir);
+    ASSERT_TRUE(jps);
+    const std::string jpsOut = run("exiftool -a -s '" + jps->string() + "' 2>&1");
+    EXPECT_NE(jpsOut.find("JPSLayout                       : Side By Side"), std::string::npos) << jpsOut;
+    EXPECT_NE(jpsOut.find("JPSType                         : Stereo"), std::string::npos) << jpsOut;
     std::filesystem::remove_all(dir);
 }
 

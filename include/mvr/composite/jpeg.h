@@ -59,6 +59,9 @@ Result<std::vector<Image>> decodeMpo(std::span<const std::uint8_t> data, const s
 /// JPS picture: `left` and `right` side by side with the RIGHT view on the left half (the
 /// cross-eyed order JPS viewers expect). encodeJps() returns the JPEG bytes.
 Result<std::vector<std::uint8_t>> encodeJps(const Image& left, const Image& right, int quality);
+/// Encodes an already composed JPS picture (right | left) with the APP3 "_JPSJPS_" descriptor
+/// (stereo, side by side, right image first).
+Result<std::vector<std::uint8_t>> encodeJpsPicture(const Image& picture, int quality);
 /// Splits a decoded JPS picture (even width) into {left, right}. Errors: Input for odd width.
 Result<std::vector<Image>> splitJps(const Image& picture, const std::string& what);
 
