@@ -148,6 +148,30 @@ TEST(Mpo, TruncatedFilesAreErrors) {
     EXPECT_EQ(last.status().message().rfind("cut.mpo", 0), 0u) << last.status().message();
 }
 
+TEST(Mpo, SurvivesRandomCorruption) {
+    // Seeded byte flips, half of them in the Exif/MPF header area: decoding must return an
+    // image list or an Input error, never crash (run under ASan/UBSan in CI).
+    const std::vector<Image> views = {smoothView(16, 8, 0), smoothView(16, 8, 3)};
+    Result<std::vector<std::uint8_t>> mpo = encodeMpo(views, {});
+    ASSERT_TRUE(mpo);
+    std::uint32_t seed = 12345;
+    const auto next = [&seed] { return seed = seed * 1664525u + 1013904223u; };
+    for (int round = 0; round < 400; ++round) {
+        std::vector<std::uint8_t> d = *mpo;
+        const int flips = 1 + static_cast<int>(next() % 8);
+        for (int f = 0; f < flips; ++f) {
+            const std::size_t span = (round % 2 == 0) ? std::min<std::size_t>(d.size(), 200) : d.size();
+            d[next() % span] = static_cast<std::uint8_t>(next() >> 24);
+        }
+        Result<std::vector<Image>> r = decodeMpo(d, "fuzz.mpo");
+        if (!r) {
+            EXPECT_TRUE(r.status().code() == ErrorCode::Input ||
+                        r.status().code() == ErrorCode::Unsupported)  // e.g. now "CMYK"
+                << r.status().message();
+        }
+    }
+}
+
 TEST(Mpo, PlainJpegIsOneView) {
     Result<std::vector<std::uint8_t>> jpeg = encodeJpeg(smoothView(8, 8, 0), 90);
     ASSERT_TRUE(jpeg);
