@@ -129,7 +129,7 @@ Result<std::unique_ptr<EglContext>> EglContext::create() {
     if (candidates.empty()) {
         return unsupportedError(fmt::format(
             "no EGL display: {} (client extensions: {})", eglErrorName(eglGetError()),
-            clientExt ? clientExt : "none"));
+            clientExt && *clientExt ? clientExt : "none"));
     }
 
     std::string failures;

@@ -1,6 +1,10 @@
 // Differential tests of the gl backend: every method with a per-view depth buffer against
 // gl:multipass, gs-mrt / gs-depthmap measured against it, gl:multipass against soft:multipass,
 // and the error paths. Small sizes (160x120) keep the suite fast on llvmpipe.
+#include <unistd.h>
+
+#include <cstdlib>
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -41,6 +45,31 @@ TEST(GlBackend, UnknownMethodIsUsageError) {
     const Status s = backend().supports("warp-drive");
     EXPECT_EQ(s.code(), ErrorCode::Usage);
     EXPECT_NE(s.message().find("warp-drive"), std::string::npos);
+}
+
+// Without any EGL vendor library (glvnd finds none) the backend must report "no EGL display"
+// as ErrorCode::Unsupported: run this same binary with glvnd pointed at nothing.
+TEST(GlBackend, NoDisplayIsUnsupportedNotACrash) {
+    if (std::getenv("MVR_GL_TEST_EXPECT_NO_EGL")) {
+        const Status s = makeGlBackend()->supports("multipass");
+        if (s) GTEST_SKIP() << "this libEGL ignores __EGL_VENDOR_LIBRARY_FILENAMES";
+        EXPECT_EQ(s.code(), ErrorCode::Unsupported);
+        EXPECT_EQ(s.message().rfind("no EGL display", 0), 0u) << s.message();
+        auto r = composeAnaglyphGpu(Image(2, 2), Image(2, 2));
+        ASSERT_FALSE(r);
+        EXPECT_EQ(r.status().code(), ErrorCode::Unsupported);
+        return;
+    }
+    const std::string cmd =
+        "MVR_GL_TEST_EXPECT_NO_EGL=1 __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json "
+        "/proc/self/exe --gtest_filter=GlBackend.NoDisplayIsUnsupportedNotACrash > /dev/null 2>&1";
+    // /proc/self/exe in the shell is the shell, so name the test binary explicitly.
+    char exe[4096] = {};
+    const ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
+    if (n <= 0) GTEST_SKIP() << "cannot find the test binary";
+    std::string run = cmd;
+    run.replace(run.find("/proc/self/exe"), 14, std::string(exe, static_cast<std::size_t>(n)));
+    EXPECT_EQ(std::system(run.c_str()), 0) << run;
 }
 
 TEST(GlBackend, InfoNamesDriverAndLimits) {
