@@ -11,6 +11,8 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include "mvr/composite/lenticular.h"
+
 namespace mvr::composite {
 
 void addComposeOptions(CLI::App* app, ComposeOptions& options, bool withStereoMetadata) {
@@ -51,6 +53,20 @@ void addComposeOptions(CLI::App* app, ComposeOptions& options, bool withStereoMe
             ->group(group);
     }
     LenticularCalibration& cal = options.lenticular;
+    // Defined before the single lenticular values, so that those given with it override it
+    // (CLI11 runs option callbacks in definition order).
+    app->add_option_function<std::string>(
+           "--lenticular-calibration",
+           [&cal](const std::string& path) {
+               Result<LenticularCalibration> loaded = readLookingGlassCalibration(path);
+               if (!loaded) throw CLI::ValidationError("--lenticular-calibration",
+                                                       loaded.status().message());
+               cal = *loaded;
+           },
+           "lenticular: a Looking Glass visual.json (pitch, slope, center, DPI, screenW/H, "
+           "invView, flipImageX/Y, flipSubp); single --lenticular-* values override it")
+        ->type_name("FILE")
+        ->group(group);
     const auto finite = CLI::Validator(
         [](std::string& text) -> std::string {
             try {

@@ -2,13 +2,162 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <optional>
 
 #include <fmt/core.h>
 
+#include "mvr/composite/jpeg.h"
 #include "mvr/composite/layout.h"
 
 namespace mvr::composite {
+namespace {
+
+std::size_t skipSpace(std::string_view s, std::size_t at) {
+    while (at < s.size() && (s[at] == ' ' || s[at] == '\t' || s[at] == '\n' || s[at] == '\r')) ++at;
+    return at;
+}
+
+// Position just after `"key"` followed by ':' (a JSON key, not a string value), or npos.
+std::size_t findKey(std::string_view json, std::string_view key, std::size_t from,
+                    std::size_t to) {
+    std::string quoted(1, '"');  // (not "\"" + key + "\"": GCC 12 -Wrestrict false positive)
+    quoted.append(key);
+    quoted.push_back('"');
+    for (std::size_t at = json.find(quoted, from); at != std::string_view::npos && at < to;
+         at = json.find(quoted, at + 1)) {
+        const std::size_t colon = skipSpace(json, at + quoted.size());
+        if (colon < json.size() && json[colon] == ':') return colon + 1;
+    }
+    return std::string_view::npos;
+}
+
+// A number (or true / false) at `at`.
+std::optional<double> parseScalar(std::string_view json, std::size_t at) {
+    at = skipSpace(json, at);
+    if (json.substr(at, 4) == "true") return 1.0;
+    if (json.substr(at, 5) == "false") return 0.0;
+    const std::size_t end = json.find_first_of(",}] \t\r\n", at);
+    const std::string text(json.substr(at, end == std::string_view::npos ? json.npos : end - at));
+    if (text.empty()) return std::nullopt;
+    char* stop = nullptr;
+    const double v = std::strtod(text.c_str(), &stop);
+    if (stop != text.c_str() + text.size() || !std::isfinite(v)) return std::nullopt;
+    return v;
+}
+
+// The value of top-level-ish key `key`: {"value": x} or x. nullopt when absent; error text when
+// present but not a number.
+std::optional<double> calibrationValue(std::string_view json, std::string_view key, bool& bad) {
+    std::size_t at = findKey(json, key, 0, json.size());
+    if (at == std::string_view::npos) return std::nullopt;
+    at = skipSpace(json, at);
+    if (at < json.size() && json[at] == '{') {
+        const std::size_t close = json.find('}', at);
+        const std::size_t v = findKey(json, "value", at, close);
+        if (v == std::string_view::npos) {
+            bad = true;
+            return std::nullopt;
+        }
+        at = v;
+    }
+    std::optional<double> value = parseScalar(json, at);
+    if (!value) bad = true;
+    return value;
+}
+
+// Structure check before reading values: one object, balanced braces/brackets outside strings,
+// strings closed. Catches truncated files, whose last number could otherwise be cut short.
+bool wellFormedObject(std::string_view json) {
+    const std::size_t first = skipSpace(json, 0);
+    if (first >= json.size() || json[first] != '{') return false;
+    int depth = 0;
+    bool inString = false;
+    std::size_t end = first;
+    for (std::size_t i = first; i < json.size(); ++i) {
+        const char c = json[i];
+        if (inString) {
+            if (c == '\\') ++i;
+            else if (c == '"') inString = false;
+            continue;
+        }
+        if (c == '"') inString = true;
+        else if (c == '{' || c == '[') ++depth;
+        else if (c == '}' || c == ']') {
+            if (--depth < 0) return false;
+            if (depth == 0) {
+                end = i;
+                break;
+            }
+        }
+    }
+    return depth == 0 && !inString && end > first && skipSpace(json, end + 1) == json.size();
+}
+
+}  // namespace
+
+Result<LenticularCalibration> parseLookingGlassCalibration(std::string_view json,
+                                                           const std::string& what) {
+    if (!wellFormedObject(json))
+        return inputError(fmt::format("{}: not a complete JSON object (truncated or malformed "
+                                      "calibration file)",
+                                      what));
+    LenticularCalibration cal;
+    struct Field {
+        const char* key;
+        bool required;
+        double* number;
+        int* integer;
+        bool* flag;
+    } fields[] = {
+        {"pitch", true, &cal.pitch, nullptr, nullptr},
+        {"slope", true, &cal.slope, nullptr, nullptr},
+        {"center", true, &cal.center, nullptr, nullptr},
+        {"DPI", true, &cal.dpi, nullptr, nullptr},
+        {"screenW", false, nullptr, &cal.screenWidth, nullptr},
+        {"screenH", false, nullptr, &cal.screenHeight, nullptr},
+        {"invView", false, nullptr, nullptr, &cal.invertViews},
+        {"flipImageX", false, nullptr, nullptr, &cal.flipX},
+        {"flipImageY", false, nullptr, nullptr, &cal.flipY},
+        {"flipSubp", false, nullptr, nullptr, &cal.bgr},
+    };
+    for (const Field& f : fields) {
+        bool bad = false;
+        const std::optional<double> v = calibrationValue(json, f.key, bad);
+        if (bad)
+            return inputError(fmt::format("{}: calibration key \"{}\" is not a number", what, f.key));
+        if (!v) {
+            if (f.required)
+                return inputError(fmt::format("{}: calibration key \"{}\" missing (expected a "
+                                              "Looking Glass visual.json with pitch, slope, "
+                                              "center and DPI)",
+                                              what, f.key));
+            continue;
+        }
+        if (f.number) *f.number = *v;
+        if (f.flag) *f.flag = *v != 0.0;
+        if (f.integer) {
+            if (*v < 0 || *v > 16384 || *v != std::floor(*v))
+                return inputError(fmt::format("{}: calibration {} = {} (expected a whole number "
+                                              "of pixels, 0..16384)",
+                                              what, f.key, *v));
+            *f.integer = static_cast<int>(*v);
+        }
+    }
+    if (cal.dpi <= 0 || cal.slope == 0 || cal.pitch <= 0)
+        return inputError(fmt::format("{}: calibration pitch {}, slope {}, DPI {} (expected pitch "
+                                      "> 0, slope != 0, DPI > 0)",
+                                      what, cal.pitch, cal.slope, cal.dpi));
+    return cal;
+}
+
+Result<LenticularCalibration> readLookingGlassCalibration(const std::filesystem::path& path) {
+    Result<std::vector<std::uint8_t>> bytes = readFileBytes(path);
+    if (!bytes) return bytes.status();
+    const std::string_view json(reinterpret_cast<const char*>(bytes->data()), bytes->size());
+    return parseLookingGlassCalibration(json, path.string());
+}
 
 Result<LenticularShaderParams> lenticularShaderParams(const LenticularCalibration& cal,
                                                       int screenWidth, int screenHeight) {

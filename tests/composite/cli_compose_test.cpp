@@ -9,6 +9,7 @@
 
 #include <sys/wait.h>
 
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
 #include "mvr/composite/compose.h"
@@ -148,6 +149,32 @@ TEST_F(ComposeCli, UnwritableOutputIsAnOutputError) {
     CliRun r = run("left.png right.png -o file/sub");
     EXPECT_EQ(r.exitCode, 4) << r.output;
     EXPECT_EQ(r.output.rfind("error: cannot create output directory 'file/sub'", 0), 0u) << r.output;
+}
+
+TEST_F(ComposeCli, LenticularCalibrationFileAndOverrides) {
+    std::ofstream(dir / "visual.json")
+        << R"({"pitch": {"value": 4}, "slope": {"value": 1e12}, "center": {"value": 0},)"
+        << R"( "DPI": {"value": 12}, "screenW": {"value": 12}, "screenH": {"value": 2}})";
+    std::vector<std::string> names;
+    for (int v = 0; v < 9; ++v) {
+        names.push_back(fmt::format("v{}.png", v));
+        ASSERT_TRUE(writePng(dir / names.back(), solid(12, 2, {std::uint8_t(10 + v), std::uint8_t(100 + v), std::uint8_t(200 + v), 255})));
+    }
+    std::string list;
+    for (const std::string& n : names) list += n + " ";
+    CliRun r = run(list + "-f lenticular --lenticular-calibration visual.json -o lent.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const Image out = readOne(dir / "lent.png");
+    ASSERT_EQ(out.width, 12);
+    for (int x = 0; x < 12; ++x) EXPECT_EQ(out.at(x, 0).r, 10 + (3 * x + 1) % 9) << x;
+    // A single value given with the file overrides it, whatever the order on the command line.
+    r = run("--lenticular-invert-views " + list + "-f lenticular --lenticular-calibration visual.json -o inv.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const Image inv = readOne(dir / "inv.png");
+    for (int x = 0; x < 12; ++x) EXPECT_EQ(inv.at(x, 0).r, 10 + 8 - (3 * x + 1) % 9) << x;
+    r = run(list + "-f lenticular --lenticular-calibration missing.json -o x.png");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("missing.json: file not found"), std::string::npos) << r.output;
 }
 
 TEST_F(ComposeCli, HelpListsTheFormats) {

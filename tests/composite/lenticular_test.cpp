@@ -164,6 +164,53 @@ TEST(Lenticular, ScreenSizeResamplesAndFlipsMirrorTheLookup) {
     EXPECT_EQ(flipped->at(0, 0).g, 1);
 }
 
+TEST(Lenticular, ParsesLookingGlassVisualJson) {
+    const std::string json = R"({
+        "configVersion": "3.0", "serial": "LKG-P0000", "pitch": {"value": 52.59267044067383},
+        "slope": {"value": -7.083540916442871}, "center": {"value": 0.8167931437492371},
+        "viewCone": {"value": 40.0}, "invView": {"value": 1.0}, "verticalAngle": {"value": 0.0},
+        "DPI": {"value": 324.0}, "screenW": {"value": 1536.0}, "screenH": {"value": 2048.0},
+        "flipImageX": {"value": 0.0}, "flipImageY": {"value": 0.0}, "flipSubp": {"value": 0.0}
+    })";
+    Result<LenticularCalibration> cal = parseLookingGlassCalibration(json, "visual.json");
+    ASSERT_TRUE(cal) << cal.status().message();
+    EXPECT_DOUBLE_EQ(cal->pitch, 52.59267044067383);
+    EXPECT_DOUBLE_EQ(cal->slope, -7.083540916442871);
+    EXPECT_DOUBLE_EQ(cal->center, 0.8167931437492371);
+    EXPECT_DOUBLE_EQ(cal->dpi, 324.0);
+    EXPECT_EQ(cal->screenWidth, 1536);
+    EXPECT_EQ(cal->screenHeight, 2048);
+    EXPECT_TRUE(cal->invertViews);
+    EXPECT_FALSE(cal->flipX);
+    EXPECT_FALSE(cal->bgr);
+    // Plain numbers work too; optional keys may be missing.
+    Result<LenticularCalibration> plain =
+        parseLookingGlassCalibration(R"({"pitch": 40, "slope": 5.5, "center": 0.1, "DPI": 300, "flipSubp": true})", "x");
+    ASSERT_TRUE(plain) << plain.status().message();
+    EXPECT_EQ(plain->screenWidth, 0);
+    EXPECT_TRUE(plain->bgr);
+}
+
+TEST(Lenticular, CalibrationErrorsNameTheKey) {
+    Result<LenticularCalibration> missing =
+        parseLookingGlassCalibration(R"({"pitch": {"value": 40}, "slope": 5, "DPI": 300})", "v.json");
+    ASSERT_FALSE(missing);
+    EXPECT_EQ(missing.status().code(), ErrorCode::Input);
+    EXPECT_EQ(missing.status().message(),
+              "v.json: calibration key \"center\" missing (expected a Looking Glass visual.json "
+              "with pitch, slope, center and DPI)");
+    Result<LenticularCalibration> notNumber =
+        parseLookingGlassCalibration(R"({"pitch": {"value": "wide"}, "slope": 5, "center": 0, "DPI": 300})", "v.json");
+    ASSERT_FALSE(notNumber);
+    EXPECT_EQ(notNumber.status().message(), "v.json: calibration key \"pitch\" is not a number");
+    EXPECT_FALSE(parseLookingGlassCalibration(R"({"pitch": 1, "slope": 0, "center": 0, "DPI": 300})", "v"));
+    EXPECT_FALSE(parseLookingGlassCalibration(R"({"pitch": 1, "slope": 2, "center": 0, "DPI": 3, "screenW": 10.5})", "v"));
+    const std::string valid = R"({"pitch": {"value": 40}, "slope": {"value": 5}, "center": {"value": 0.1}, "DPI": {"value": 300}})";
+    for (std::size_t n = 0; n < valid.size(); ++n)  // every prefix: an error, no crash
+        EXPECT_FALSE(parseLookingGlassCalibration(valid.substr(0, n), "cut")) << n;
+    EXPECT_EQ(readLookingGlassCalibration("/nonexistent/visual.json").status().code(), ErrorCode::Input);
+}
+
 TEST(Lenticular, RejectsBadCalibration) {
     LenticularCalibration cal;
     cal.dpi = 0;

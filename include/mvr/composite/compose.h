@@ -165,7 +165,8 @@ Result<std::vector<Image>> readViewFile(const std::filesystem::path& path);
 
 /// Adds the composite options to a CLI11 subcommand; they write into `options`, which must
 /// outlive parsing: --swap-eyes, --cross-eyed, --quilt CxR, --jpeg-quality Q,
-/// --base-viewpoint K, --lenticular-pitch/-slope/-center/-dpi, --lenticular-screen WxH,
+/// --base-viewpoint K, --lenticular-calibration visual.json (read while parsing: a bad file is
+/// a usage error, exit 1), --lenticular-pitch/-slope/-center/-dpi, --lenticular-screen WxH,
 /// --lenticular-bgr, --lenticular-invert-views, --lenticular-flip-x, --lenticular-flip-y, and
 /// with `withStereoMetadata` (for `mvr compose`, which has no rig) --baseline M and
 /// --convergence D. Bad values are CLI11 validation errors (usage, exit 1).

@@ -26,7 +26,10 @@
 // quilt, so view_i indexes the quilt the same way the Looking Glass shader does.
 #pragma once
 
+#include <filesystem>
 #include <span>
+#include <string>
+#include <string_view>
 
 #include "mvr/composite/compose.h"
 #include "mvr/core/image.h"
@@ -57,5 +60,16 @@ int lenticularView(const LenticularShaderParams& params, int viewCount, int scre
 /// Interleaves views (2..N, one size) into a screenWidth×screenHeight image (0 = view size).
 /// Errors: Usage (view count/sizes, calibration).
 Result<Image> lenticular(std::span<const Image> views, const LenticularCalibration& calibration);
+
+/// Reads a Looking Glass calibration (the display's visual.json, as HoloPlay Service or the
+/// Looking Glass Bridge exports it): {"pitch": {"value": …}, "slope": …, "center": …, "DPI": …,
+/// "screenW": …, "screenH": …, "invView": …, "flipImageX": …, "flipImageY": …, "flipSubp": …}.
+/// pitch, slope, center and DPI are required; the rest default to LenticularCalibration's
+/// values (screen size 0 = the view size). A key may hold {"value": x} or x directly.
+/// `what` names the source in messages. Errors: ErrorCode::Input naming the key.
+Result<LenticularCalibration> parseLookingGlassCalibration(std::string_view json,
+                                                           const std::string& what);
+/// Reads and parses `path`. Errors: Input (missing, unreadable, malformed).
+Result<LenticularCalibration> readLookingGlassCalibration(const std::filesystem::path& path);
 
 }  // namespace mvr::composite
