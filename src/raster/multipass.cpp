@@ -10,6 +10,7 @@
 // vertex — and its back-face test uses the same linear form of det[x, y, w]. Views without a
 // shear use their own clipFromWorld matrix.
 #include "methods.h"
+#include "wireframe.h"
 
 namespace mvr::raster::detail {
 
@@ -136,13 +137,45 @@ void binStage(FrameContext& f, const View& view, const ViewVertexData& d, Bins& 
             if (culled(f, view, d, tri)) return;
             int rowMin = 0, rowMax = f.settings.height - 1;
             if (!codes.planes()) {
-                triangleRows(d.sy[tri.i[0]], d.sy[tri.i[1]], d.sy[tri.i[2]], f.settings.height,
-                             rowMin, rowMax);
+                (f.settings.wireframe ? wireframeRows : triangleRows)(
+                    d.sy[tri.i[0]], d.sy[tri.i[1]], d.sy[tri.i[2]], f.settings.height, rowMin, rowMax);
                 if (rowMin > rowMax) return;
             }
             bins.add(chunk, t, rowMin, rowMax, f.bands);
         });
     });
+}
+
+/// The three edges of a triangle as lines, this view on its own: near/far clip, projection,
+/// Liang–Barsky against left, right, bottom, top.
+template <class SinkT>
+void drawWireframe(const FrameContext& f, const ViewVertexData& d, const std::uint32_t v[3],
+                   const Target& target, int rowLo, int rowHi, SinkT& sink, FragmentTri& frag) {
+    const int attrCount = attributeCount(f.settings.shading);
+    const float width = float(target.width), height = float(target.height);
+    for (int edge = 0; edge < 3; ++edge) {
+        const std::uint32_t i0 = v[edge], i1 = v[edge == 2 ? 0 : edge + 1];
+        LineEnds e;
+        e.y[0] = d.y[i0], e.z[0] = d.z[i0], e.w[0] = d.w[i0], e.x[0][0] = d.x[i0];
+        e.y[1] = d.y[i1], e.z[1] = d.z[i1], e.w[1] = d.w[i1], e.x[1][0] = d.x[i1];
+        e.a[0] = &d.attr[std::size_t(i0) * kMaxAttrs], e.a[1] = &d.attr[std::size_t(i1) * kMaxAttrs];
+        float attr[2][kMaxAttrs];
+        if (!clipLineNearFar(e, 1, attrCount, attr)) continue;
+        float xw[2], yw[2];
+        for (int j = 0; j < 2; ++j) {
+            const float q = 1.0f / e.w[j];
+            xw[j] = windowCoord(e.x[j][0], q, width);
+            yw[j] = windowCoord(e.y[j], q, height);
+            frag.z[j] = windowDepth(e.z[j], q);
+            frag.q[j] = q;
+            frag.attr[j] = e.a[j];
+        }
+        frag.z[2] = frag.z[1], frag.q[2] = frag.q[1], frag.attr[2] = frag.attr[1];
+        float t0 = 0.0f, t1 = 1.0f;
+        if (!liangBarskyAxis(xw[0], xw[1] - xw[0], 0.0f, width, t0, t1)) continue;
+        if (!liangBarskyAxis(yw[0], yw[1] - yw[0], 0.0f, height, t0, t1)) continue;
+        rasterLine(xw[0], yw[0], xw[1], yw[1], t0, t1, target.width, target.height, rowLo, rowHi, sink);
+    }
 }
 
 template <Shading S>
@@ -153,19 +186,28 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
         FragmentTri frag{};
         FragmentSink<S> sink{target, &frag, {&f.shading, nullptr}};
         std::size_t item = 0;
+        std::uint32_t itemEnd = 0;
+        const DrawItem* it = nullptr;
         for (int chunk = 0; chunk < bins.chunkCount; ++chunk) {
             for (std::uint32_t t : bins.lists[std::size_t(chunk) * f.bands.count + band]) {
-                while (t >= f.draw.items[item].triangleBase + f.draw.items[item].mesh->triangleCount()) {
-                    ++item;
+                if (!it || t >= itemEnd) {
+                    while (t >= f.draw.items[item].triangleBase + f.draw.items[item].mesh->triangleCount()) {
+                        ++item;
+                    }
+                    it = &f.draw.items[item];
+                    itemEnd = it->triangleBase + std::uint32_t(it->mesh->triangleCount());
+                    sink.shade.material = &it->instance->material;
                 }
-                const DrawItem& it = f.draw.items[item];
-                const std::uint32_t* idx = &it.mesh->indices[std::size_t(t - it.triangleBase) * 3];
-                const std::uint32_t v[3] = {it.vertexBase + idx[0], it.vertexBase + idx[1],
-                                            it.vertexBase + idx[2]};
-                sink.shade.material = &it.instance->material;
+                const std::uint32_t* idx = &it->mesh->indices[std::size_t(t - it->triangleBase) * 3];
+                const std::uint32_t v[3] = {it->vertexBase + idx[0], it->vertexBase + idx[1],
+                                            it->vertexBase + idx[2]};
                 if constexpr (S == Shading::Flat) {
-                    frag.flat = flatColor(f.shading, it.instance->material, d.world[v[0]],
+                    frag.flat = flatColor(f.shading, it->instance->material, d.world[v[0]],
                                           d.world[v[1]], d.world[v[2]]);
+                }
+                if (f.settings.wireframe) {
+                    drawWireframe(f, d, v, target, rowLo, rowHi, sink, frag);
+                    continue;
                 }
                 const std::uint8_t planes = triCodes(d, v).planes();
                 if (!planes) {

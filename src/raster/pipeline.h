@@ -264,6 +264,13 @@ inline void setupY(YSetup& s, std::int32_t y0, std::int32_t y1, std::int32_t y2,
 template <class Sink>
 inline void rasterTriangle(const YSetup& ys, const std::int32_t x[3], int width, Sink& sink) {
     if (ys.rowMin > ys.rowMax) return;
+    // Column range first: most triangles of a dense mesh are smaller than a pixel, and many have
+    // no pixel center in their box at all.
+    const std::int32_t xlo = std::min(x[0], std::min(x[1], x[2]));
+    const std::int32_t xhi = std::max(x[0], std::max(x[1], x[2]));
+    const int colMin = std::max(0, ceilDivSub(std::int64_t(xlo) - kHalfSubpixel));
+    const int colMax = std::min(width - 1, floorDivSub(std::int64_t(xhi) - kHalfSubpixel));
+    if (colMin > colMax) return;
     std::int64_t dx[3] = {std::int64_t(x[2]) - x[1], std::int64_t(x[0]) - x[2],
                           std::int64_t(x[1]) - x[0]};
     std::int64_t dy[3] = {ys.dy[0], ys.dy[1], ys.dy[2]};
@@ -274,11 +281,6 @@ inline void rasterTriangle(const YSetup& ys, const std::int32_t x[3], int width,
         area = -area;
         for (int i = 0; i < 3; ++i) dx[i] = -dx[i], dy[i] = -dy[i];
     }
-    const std::int32_t xlo = std::min(x[0], std::min(x[1], x[2]));
-    const std::int32_t xhi = std::max(x[0], std::max(x[1], x[2]));
-    const int colMin = std::max(0, ceilDivSub(std::int64_t(xlo) - kHalfSubpixel));
-    const int colMax = std::min(width - 1, floorDivSub(std::int64_t(xhi) - kHalfSubpixel));
-    if (colMin > colMax) return;
     // Edge i starts at vertex a = i+1. Top-left rule with y up and counter-clockwise order: a
     // left edge runs downward (dy < 0), a top edge is horizontal running left (dx < 0). Inside:
     // E > 0, or E == 0 on a top-left edge  ⇔  E + bias > 0 with bias 1 on top-left edges.
@@ -288,17 +290,43 @@ inline void rasterTriangle(const YSetup& ys, const std::int32_t x[3], int width,
     for (int i = 0; i < 3; ++i) {
         const int a = i == 2 ? 0 : i + 1;
         bias[i] = (dy[i] < 0 || (dy[i] == 0 && dx[i] < 0)) ? 1 : 0;
-        rowE[i] = dx[i] * (py0 - ys.y[a]) - dy[i] * (px0 - x[a]);
+        rowE[i] = dx[i] * (py0 - ys.y[a]) - dy[i] * (px0 - x[a]) + bias[i];
         stepX[i] = -dy[i] * kSubpixel;
     }
     const float invArea = 1.0f / static_cast<float>(area);
+    auto emit = [&](int col, int row, std::int64_t e0, std::int64_t e1, std::int64_t e2) {
+        sink(col, row, static_cast<float>(e0 - bias[0]) * invArea,
+             static_cast<float>(e1 - bias[1]) * invArea, static_cast<float>(e2 - bias[2]) * invArea);
+    };
+    if (colMax - colMin <= 1 && ys.rowMax - ys.rowMin <= 1) {
+        // The common case in dense meshes: at most 2×2 pixel centers. Test them without
+        // branches and visit only the covered ones (far fewer mispredicted branches).
+        std::int64_t e[4][3];
+        for (int i = 0; i < 3; ++i) {
+            e[0][i] = rowE[i];
+            e[1][i] = rowE[i] + stepX[i];
+            e[2][i] = rowE[i] + dx[i] * kSubpixel;
+            e[3][i] = e[2][i] + stepX[i];
+        }
+        const unsigned valid = 1u | (colMax > colMin ? 2u : 0u) | (ys.rowMax > ys.rowMin ? 4u : 0u) |
+                               (colMax > colMin && ys.rowMax > ys.rowMin ? 8u : 0u);
+        unsigned mask = 0;
+        for (int k = 0; k < 4; ++k) {
+            mask |= unsigned(((e[k][0] - 1) | (e[k][1] - 1) | (e[k][2] - 1)) >= 0) << k;
+        }
+        mask &= valid;
+        while (mask) {
+            const int k = __builtin_ctz(mask);
+            mask &= mask - 1;
+            emit(colMin + (k & 1), ys.rowMin + (k >> 1), e[k][0], e[k][1], e[k][2]);
+        }
+        return;
+    }
+    // rowE holds E + bias; the barycentrics use E itself.
     for (int row = ys.rowMin; row <= ys.rowMax; ++row) {
         std::int64_t e0 = rowE[0], e1 = rowE[1], e2 = rowE[2];
         for (int col = colMin; col <= colMax; ++col) {
-            if ((e0 + bias[0]) > 0 && (e1 + bias[1]) > 0 && (e2 + bias[2]) > 0) {
-                sink(col, row, static_cast<float>(e0) * invArea, static_cast<float>(e1) * invArea,
-                     static_cast<float>(e2) * invArea);
-            }
+            if (((e0 - 1) | (e1 - 1) | (e2 - 1)) >= 0) emit(col, row, e0, e1, e2);  // all > 0
             e0 += stepX[0], e1 += stepX[1], e2 += stepX[2];
         }
         for (int i = 0; i < 3; ++i) rowE[i] += dx[i] * kSubpixel;

@@ -23,6 +23,7 @@
 #include <bit>
 
 #include "methods.h"
+#include "wireframe.h"
 
 namespace mvr::raster::detail {
 
@@ -136,20 +137,15 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                                      transformDir(item.normalFromModel, item.mesh->normals[i]),
                                      &d.attr[std::size_t(g) * kMaxAttrs]);
                 }
-                // View-specific positions: one shared center transform and a shear per view.
+                // View-specific positions: one shared center transform (the shears follow
+                // below, per family and view, as plain loops the compiler vectorizes).
                 if (d.anySheared) {
                     const glm::vec4 c = transformPoint(centerFromModel, p);
                     d.cx[g] = c.x, d.cy[g] = c.y, d.cz[g] = c.z, d.cw[g] = c.w;
                 }
                 for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
                     Family& fam = d.families[fi];
-                    if (fam.sheared) {
-                        fam.y[g] = shearClip(d.cy[g], fam.shearY, d.cw[g], conv);
-                        for (int v : fam.views) {
-                            ViewData& vd = d.views[std::size_t(v)];
-                            vd.x[g] = shearClip(d.cx[g], vd.shearX, d.cw[g], conv);
-                        }
-                    } else {
+                    if (!fam.sheared) {
                         const glm::vec4 c = transformPoint(ownFromModel[fi], p);
                         d.views[std::size_t(fam.views[0])].x[g] = c.x;
                         fam.y[g] = c.y, fam.z[g] = c.z, fam.w[g] = c.w;
@@ -157,6 +153,19 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 }
             }
             const std::uint32_t g = item.vertexBase + begin, count = end - begin;
+            for (Family& fam : d.families) {
+                if (!fam.sheared) continue;
+                const float* cx = &d.cx[g];
+                const float* cy = &d.cy[g];
+                const float* cw = &d.cw[g];
+                float* y = &fam.y[g];
+                for (std::uint32_t k = 0; k < count; ++k) y[k] = shearClip(cy[k], fam.shearY, cw[k], conv);
+                for (int v : fam.views) {
+                    ViewData& vd = d.views[std::size_t(v)];
+                    float* x = &vd.x[g];
+                    for (std::uint32_t k = 0; k < count; ++k) x[k] = shearClip(cx[k], vd.shearX, cw[k], conv);
+                }
+            }
             std::fill_n(&d.anyClipX[g], count, std::uint8_t(0));
             for (Family& fam : d.families) {
                 const float* w = d.famW(fam);
@@ -236,7 +245,8 @@ void binStage(FrameContext& f, UnifiedData& d) {
                     break;
                 }
                 int lo, hi;
-                triangleRows(fam.sy[v[0]], fam.sy[v[1]], fam.sy[v[2]], height, lo, hi);
+                (f.settings.wireframe ? wireframeRows : triangleRows)(fam.sy[v[0]], fam.sy[v[1]],
+                                                                      fam.sy[v[2]], height, lo, hi);
                 rowMin = std::min(rowMin, lo), rowMax = std::max(rowMax, hi);
             }
             if (rowMin <= rowMax) bins.add(chunk, t, rowMin, rowMax, f.bands);
@@ -400,6 +410,49 @@ void drawFamilyClipped(BandContext<S>& b, const Family& fam, const std::uint32_t
     }
 }
 
+/// A family's replicas of a triangle's edges: near/far clipping, projection of y/z/w and the
+/// bottom/top Liang–Barsky borders once for the family (adelson1991), x and left/right per view.
+template <Shading S>
+void drawFamilyWireframe(BandContext<S>& b, const Family& fam, const std::uint32_t v[3],
+                         const int* active, int activeCount) {
+    const UnifiedData& d = b.d;
+    const float* z = d.famZ(fam);
+    const float* w = d.famW(fam);
+    const float width = float(b.f.settings.width), height = float(b.f.settings.height);
+    for (int edge = 0; edge < 3; ++edge) {
+        const std::uint32_t i0 = v[edge], i1 = v[edge == 2 ? 0 : edge + 1];
+        LineEnds e;
+        e.y[0] = fam.y[i0], e.z[0] = z[i0], e.w[0] = w[i0];
+        e.y[1] = fam.y[i1], e.z[1] = z[i1], e.w[1] = w[i1];
+        e.a[0] = &d.attr[std::size_t(i0) * kMaxAttrs], e.a[1] = &d.attr[std::size_t(i1) * kMaxAttrs];
+        for (int k = 0; k < activeCount; ++k) {
+            const ViewData& vd = d.views[std::size_t(active[k])];
+            e.x[0][k] = vd.x[i0], e.x[1][k] = vd.x[i1];
+        }
+        float attr[2][kMaxAttrs];
+        if (!clipLineNearFar(e, activeCount, b.attrCount, attr)) continue;
+        float q[2], yw[2];
+        for (int j = 0; j < 2; ++j) {
+            q[j] = 1.0f / e.w[j];
+            yw[j] = windowCoord(e.y[j], q[j], height);
+            b.frag.z[j] = windowDepth(e.z[j], q[j]);
+            b.frag.q[j] = q[j];
+            b.frag.attr[j] = e.a[j];
+        }
+        b.frag.z[2] = b.frag.z[1], b.frag.q[2] = b.frag.q[1], b.frag.attr[2] = b.frag.attr[1];
+        // Bottom/top borders once for every view of the family.
+        float y0 = 0.0f, y1 = 1.0f;
+        if (!liangBarskyAxis(yw[0], yw[1] - yw[0], 0.0f, height, y0, y1)) continue;
+        for (int k = 0; k < activeCount; ++k) {
+            const float x0 = windowCoord(e.x[0][k], q[0], width), x1 = windowCoord(e.x[1][k], q[1], width);
+            float t0 = y0, t1 = y1;
+            if (!liangBarskyAxis(x0, x1 - x0, 0.0f, width, t0, t1)) continue;
+            rasterLine(x0, yw[0], x1, yw[1], t0, t1, b.f.settings.width, b.f.settings.height, b.rowLo,
+                       b.rowHi, b.sinks[std::size_t(active[k])]);
+        }
+    }
+}
+
 template <Shading S>
 void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
     FrameContext& f = b.f;
@@ -407,21 +460,24 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
     const bool cull = f.settings.cullBackFaces;
     const int width = f.settings.width;
     std::size_t item = 0;
+    std::uint32_t itemEnd = 0;
+    const DrawItem* it = nullptr;
     for (int chunk = 0; chunk < bins.chunkCount; ++chunk) {
         for (std::uint32_t t : bins.lists[std::size_t(chunk) * f.bands.count + band]) {
-            while (t >= f.draw.items[item].triangleBase + f.draw.items[item].mesh->triangleCount()) {
-                ++item;
+            if (!it || t >= itemEnd) {
+                while (t >= f.draw.items[item].triangleBase + f.draw.items[item].mesh->triangleCount()) ++item;
+                it = &f.draw.items[item];
+                itemEnd = it->triangleBase + std::uint32_t(it->mesh->triangleCount());
+                for (auto& sink : b.sinks) sink.shade.material = &it->instance->material;
             }
-            const DrawItem& it = f.draw.items[item];
-            const std::uint32_t* idx = &it.mesh->indices[std::size_t(t - it.triangleBase) * 3];
-            const std::uint32_t v[3] = {it.vertexBase + idx[0], it.vertexBase + idx[1],
-                                        it.vertexBase + idx[2]};
+            const std::uint32_t* idx = &it->mesh->indices[std::size_t(t - it->triangleBase) * 3];
+            const std::uint32_t v[3] = {it->vertexBase + idx[0], it->vertexBase + idx[1],
+                                        it->vertexBase + idx[2]};
             if constexpr (S == Shading::Flat) {
                 // View-independent: once for every view.
-                b.frag.flat = flatColor(f.shading, it.instance->material, d.world[v[0]],
+                b.frag.flat = flatColor(f.shading, it->instance->material, d.world[v[0]],
                                         d.world[v[1]], d.world[v[2]]);
             }
-            for (auto& sink : b.sinks) sink.shade.material = &it.instance->material;
             ShearDet det;
             if (cull && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
             for (const Family& fam : d.families) {
@@ -446,6 +502,10 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                     active[activeCount++] = view;
                 }
                 if (activeCount == 0) continue;
+                if (f.settings.wireframe) {
+                    drawFamilyWireframe(b, fam, v, active, activeCount);
+                    continue;
+                }
                 const std::uint8_t famPlanes = (c0 | c1 | c2) & kClipYZW;
                 if (famPlanes || anyClipX) {
                     drawFamilyClipped(b, fam, v, famPlanes, active, activeCount);

@@ -11,6 +11,7 @@
 #include "mvr/raster/soft_backend.h"
 #include "pipeline.h"
 #include "test_scenes.h"
+#include "wireframe.h"
 
 namespace mvr::raster {
 namespace {
@@ -288,6 +289,56 @@ TEST(Render, BadInputGivesAStatus) {
     Rig nan = test::identityRig(1);
     nan.views[0].clipFromView[0][0] = std::nanf("");
     EXPECT_FALSE(backend->render(scene, nan, s, "multipass"));
+}
+
+// ---- wireframe ---------------------------------------------------------------------------------
+
+TEST(Wireframe, StereoLiangBarskyEqualsClippingEachViewOnItsOwn) {
+    // adelson1991: the bottom/top borders depend only on y, which the views share; clipping them
+    // once and then left/right per view must give each view's own 4-border result exactly.
+    std::mt19937 rng(31);
+    std::uniform_real_distribution<float> u(-200.0f, 300.0f);
+    int clipped = 0, rejected = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const float y0 = u(rng), y1 = i % 50 == 0 ? y0 : u(rng);
+        float sy0 = 0.0f, sy1 = 1.0f;
+        const bool yOk = detail::liangBarskyAxis(y0, y1 - y0, 0.0f, 100.0f, sy0, sy1);
+        for (int view = 0; view < 4; ++view) {
+            const float x0 = u(rng), x1 = i % 70 == 0 ? x0 : u(rng);
+            float t0 = 0.0f, t1 = 1.0f;  // this view on its own: left, right, bottom, top
+            const bool own = detail::liangBarskyAxis(x0, x1 - x0, 0.0f, 160.0f, t0, t1) &&
+                             detail::liangBarskyAxis(y0, y1 - y0, 0.0f, 100.0f, t0, t1);
+            float s0 = sy0, s1 = sy1;     // shared bottom/top, then this view's left/right
+            const bool shared = yOk && detail::liangBarskyAxis(x0, x1 - x0, 0.0f, 160.0f, s0, s1);
+            ASSERT_EQ(own, shared) << i;
+            if (own) {
+                ASSERT_EQ(std::memcmp(&t0, &s0, 4), 0) << i;
+                ASSERT_EQ(std::memcmp(&t1, &s1, 4), 0) << i;
+                clipped += t0 > 0.0f || t1 < 1.0f;
+            } else {
+                ++rejected;
+            }
+        }
+    }
+    EXPECT_GT(clipped, 1000);
+    EXPECT_GT(rejected, 1000);
+}
+
+TEST(Wireframe, DrawsTheEdgesOnly) {
+    Scene scene = test::triangleScene({{-0.8f, -0.8f, 0}, {0.8f, -0.8f, 0}, {0.0f, 0.8f, 0}});
+    RenderSettings s;
+    s.width = 100, s.height = 100;
+    s.wireframe = true;
+    auto out = makeSoftBackend()->render(scene, test::identityRig(1), s, "multipass");
+    ASSERT_TRUE(out);
+    long drawn = 0;
+    for (float z : out->depth[0].depth) drawn += z < 1.0f;
+    // Perimeter ≈ 80 + 2·89 px; one pixel per column or row of each edge.
+    EXPECT_GT(drawn, 150);
+    EXPECT_LT(drawn, 300);
+    EXPECT_EQ(out->depth[0].at(50, 50), 1.0f) << "the interior stays empty";
+    // The bottom edge lies on window y = 10 (± rounding): image row 89 or 90.
+    EXPECT_LT(std::min(out->depth[0].at(50, 89), out->depth[0].at(50, 90)), 1.0f) << "the bottom edge";
 }
 
 // ---- SIMD kernels ----------------------------------------------------------------------------
