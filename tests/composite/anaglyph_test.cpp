@@ -153,6 +153,22 @@ TEST(Anaglyph, SwapEyesExchangesTheViews) {
     EXPECT_EQ(out->at(1, 1), (Rgba8{30, 10, 20, 255}));
 }
 
+TEST(Anaglyph, GlslIsColumnMajorAndComplete) {
+    const std::string glsl = anaglyphGlsl(AnaglyphMethod::Dubois);
+    // First column of the left matrix is (0.437, -0.062, -0.048): the red, green and blue
+    // outputs' weights of the left red input.
+    EXPECT_NE(glsl.find("const mat3 kLeft = mat3(0.437000, -0.062000, -0.048000, 0.449000"),
+              std::string::npos)
+        << glsl;
+    EXPECT_NE(glsl.find("const mat3 kRight = mat3(-0.011000, 0.377000, -0.026000, -0.032000"),
+              std::string::npos)
+        << glsl;
+    EXPECT_NE(glsl.find("vec3 mvrAnaglyph(vec3 left, vec3 right)"), std::string::npos);
+    EXPECT_NE(glsl.find("0.04045"), std::string::npos);
+    EXPECT_NE(anaglyphGlsl(AnaglyphMethod::Color).find("mat3(1.000000, 0.000000, 0.000000, 0.000000, 0.000000"),
+              std::string::npos);
+}
+
 TEST(Anaglyph, RejectsViewsOfDifferentSizes) {
     Result<Image> out = anaglyph(solid(2, 2, {}), solid(3, 2, {}), AnaglyphMethod::Dubois);
     ASSERT_FALSE(out);

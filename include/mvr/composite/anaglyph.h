@@ -24,6 +24,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 #include "mvr/core/image.h"
@@ -59,6 +60,13 @@ float linearToSrgb(float linear);
 
 /// One anaglyph pixel (alpha 255) by the formula above.
 Rgba8 anaglyphPixel(const AnaglyphMatrices& m, Rgba8 left, Rgba8 right);
+
+/// GLSL (#version 330+) source of `vec3 mvrAnaglyph(vec3 left, vec3 right)` and its sRGB helpers
+/// for `method`, generated from the same matrices (written column-major, as GLSL's mat3
+/// constructor wants them), so a GPU composite computes exactly the formula above. Inputs are
+/// the 8-bit-encoded values as a texture returns them from an RGBA8 (not sRGB) texture; the
+/// result is written to an RGBA8 target (GL rounds to nearest).
+std::string anaglyphGlsl(AnaglyphMethod method);
 
 /// Whole-image anaglyph. Precondition (checked): same non-empty size. Errors: Usage.
 Result<Image> anaglyph(const Image& left, const Image& right, AnaglyphMethod method);
