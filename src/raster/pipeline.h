@@ -277,9 +277,10 @@ inline void rasterTriangle(const YSetup& ys, const std::int32_t x[3], int width,
     // 2 × signed area: edge 2 (v0 → v1) evaluated at v2.
     std::int64_t area = dx[2] * (std::int64_t(ys.y[2]) - ys.y[0]) - dy[2] * (std::int64_t(x[2]) - x[0]);
     if (area == 0) return;
-    if (area < 0) {  // clockwise: reverse every edge (E_ba = −E_ab exactly)
-        area = -area;
-        for (int i = 0; i < 3; ++i) dx[i] = -dx[i], dy[i] = -dy[i];
+    {  // clockwise: reverse every edge (E_ba = −E_ab exactly); branch-free (area sign is random)
+        const std::int64_t flip = area >> 63;  // 0 or −1
+        area = (area ^ flip) - flip;
+        for (int i = 0; i < 3; ++i) dx[i] = (dx[i] ^ flip) - flip, dy[i] = (dy[i] ^ flip) - flip;
     }
     // Edge i starts at vertex a = i+1. Top-left rule with y up and counter-clockwise order: a
     // left edge runs downward (dy < 0), a top edge is horizontal running left (dx < 0). Inside:
@@ -289,7 +290,7 @@ inline void rasterTriangle(const YSetup& ys, const std::int32_t x[3], int width,
     const std::int64_t py0 = std::int64_t(ys.rowMin) * kSubpixel + kHalfSubpixel;
     for (int i = 0; i < 3; ++i) {
         const int a = i == 2 ? 0 : i + 1;
-        bias[i] = (dy[i] < 0 || (dy[i] == 0 && dx[i] < 0)) ? 1 : 0;
+        bias[i] = std::int64_t((dy[i] < 0) | ((dy[i] == 0) & (dx[i] < 0)));  // no branches
         rowE[i] = dx[i] * (py0 - ys.y[a]) - dy[i] * (px0 - x[a]) + bias[i];
         stepX[i] = -dy[i] * kSubpixel;
     }
@@ -308,8 +309,8 @@ inline void rasterTriangle(const YSetup& ys, const std::int32_t x[3], int width,
             e[2][i] = rowE[i] + dx[i] * kSubpixel;
             e[3][i] = e[2][i] + stepX[i];
         }
-        const unsigned valid = 1u | (colMax > colMin ? 2u : 0u) | (ys.rowMax > ys.rowMin ? 4u : 0u) |
-                               (colMax > colMin && ys.rowMax > ys.rowMin ? 8u : 0u);
+        const unsigned wide = unsigned(colMax > colMin), tall = unsigned(ys.rowMax > ys.rowMin);
+        const unsigned valid = 1u | (wide << 1) | (tall << 2) | ((wide & tall) << 3);
         unsigned mask = 0;
         for (int k = 0; k < 4; ++k) {
             mask |= unsigned(((e[k][0] - 1) | (e[k][1] - 1) | (e[k][2] - 1)) >= 0) << k;
