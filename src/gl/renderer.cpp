@@ -725,6 +725,13 @@ Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
     const auto tRead = Clock::now();
     RenderOutput out;
     out.method = method;
+    if (method == "gs-mrt") {
+        out.note = "sorbier2008 one-pass stereo: depth test off, instances in painter's order "
+                   "(back to front); no per-view depth; hidden faces of concave objects may show";
+    } else if (method == "gs-depthmap") {
+        out.note = "sorbier2008 §5.2: left-eye depth pre-pass, both eyes tested against it; no "
+                   "per-view depth; the right eye may lose surfaces the left eye cannot see";
+    }
     if (method == "gs-mrt" || method == "gs-depthmap") readMrt(out, f);
     else if (tiles) readTiled(out, f, *tiles);
     else readLayered(out, f, true);

@@ -265,7 +265,11 @@ std::vector<MethodCase> exactCases() {
         }
         cases.push_back({m, Shading::Vertex, 5, 1, true, false});
         cases.push_back({m, Shading::Flat, 2, 2, false, true});
+        cases.push_back({m, Shading::Pixel, 1, 1});  // a mono "rig"
     }
+    // kalaiah2007's other view configurations (1x1, 2x1, 3x2 and 2x2 above).
+    cases.push_back({"kalaiah-emulation", Shading::Vertex, 3, 1});
+    cases.push_back({"kalaiah-emulation", Shading::Vertex, 3, 3});
     return cases;
 }
 
@@ -350,6 +354,41 @@ TEST(SorbierStereo, GsMrtIsExactForSortedConvexObjectsWithCulling) {
     const StereoErrors e = measure("gs-mrt", scene, Shading::Pixel, true);
     EXPECT_LE(e.left, kMaxMismatch);
     EXPECT_LE(e.right, kMaxMismatch);
+}
+
+// Flat shading takes two routes to the world-space face normal (the GS's cross product of
+// world-space corners; multipass's provoking vertex with the cofactor-mapped model-space cross
+// product). A mirrored, non-uniformly scaled, rotated instance must give the same colours
+// both ways: cof(M)·(a×b) = (Ma)×(Mb) for any M, so the cofactor route equals lighting.h's
+// world-space cross product sign included, where the inverse transpose alone would flip the
+// sign under a mirror (det < 0).
+TEST(GlBackend, FlatNormalsAgreeUnderMirroredNonUniformTransforms) {
+    MVR_SKIP_WITHOUT_GL();
+    const Scene* suz = suzanneScene();
+    if (!suz) GTEST_SKIP() << "suzanne.obj not found";
+    Scene scene = *suz;
+    glm::mat4 xf = glm::rotate(glm::mat4(1.0f), 0.7f, glm::vec3(0.3f, 1.0f, 0.2f));
+    xf = glm::scale(xf, glm::vec3(-1.3f, 0.8f, 1.1f));
+    scene.instances[0].worldFromModel = xf * scene.instances[0].worldFromModel;
+    const Rig rig = rigFor(scene, 2, 1);
+    for (bool cull : {false, true}) {
+        const RenderSettings s = settings(Shading::Flat, cull);
+        auto ref = backend().render(scene, rig, s, "multipass");
+        auto gs = backend().render(scene, rig, s, "gs-layered");
+        ASSERT_TRUE(ref && gs);
+        for (int v = 0; v < 2; ++v) {
+            const ImageDiff d = compareImages(ref->color[v], gs->color[v], kColorThreshold);
+            EXPECT_LE(d.differingPixels, kMaxMismatch * kW * kH) << "cull " << cull;
+        }
+#ifdef MVR_HAVE_SOFT
+        auto soft = mvr::raster::makeSoftBackend()->render(scene, rig, s, "multipass");
+        ASSERT_TRUE(soft) << soft.status().message();
+        for (int v = 0; v < 2; ++v) {
+            const ImageDiff d = compareImages(ref->color[v], soft->color[v], 2);
+            EXPECT_LE(d.differingPixels, 0.01 * kW * kH) << "gl vs soft, cull " << cull;
+        }
+#endif
+    }
 }
 
 // ---- auto --------------------------------------------------------------------------------------
