@@ -73,9 +73,10 @@ Result<std::pair<int, int>> quiltGridFor(std::span<const Image> views,
                                          const ComposeOptions& options, const char* who) {
     if ((options.quiltColumns == 0) != (options.quiltRows == 0) || options.quiltColumns < 0 ||
         options.quiltRows < 0)
-        return usageError(fmt::format("{}: quilt grid {}x{} (expected both columns and rows >= 1, "
-                                      "or both 0 for automatic)",
-                                      who, options.quiltColumns, options.quiltRows));
+        return usageError(
+            fmt::format("{}: quilt grid {}x{} (expected both columns and rows >= 1, "
+                        "or both 0 for automatic)",
+                        who, options.quiltColumns, options.quiltRows));
     if (options.quiltColumns > 0) return std::pair{options.quiltColumns, options.quiltRows};
     return chooseQuiltLayout(static_cast<int>(views.size()), views[0].width, views[0].height);
 }
@@ -102,9 +103,9 @@ std::string formatHelp() {
     std::string out;
     for (const FormatInfo& f : kFormats) {
         const std::string views = f.minViews == f.maxViews ? fmt::format("{} views", f.minViews)
-                                  : f.maxViews >= kAny     ? fmt::format("{}+ views", f.minViews)
-                                                           : fmt::format("{}-{} views", f.minViews,
-                                                                         f.maxViews);
+                                  : f.maxViews >= kAny
+                                      ? fmt::format("{}+ views", f.minViews)
+                                      : fmt::format("{}-{} views", f.minViews, f.maxViews);
         out += fmt::format("  {:<20} {:<10} {}\n", f.name, views, f.summary);
     }
     return out;
@@ -162,9 +163,10 @@ Result<Image> compose(std::string_view format, std::span<const Image> views,
     const std::string who = fmt::format("mvr::composite::compose(): {}", info->name);
     if (Status s = validateViews(views, info->minViews, info->maxViews, who.c_str()); !s) return s;
     if (info->fileOnly)
-        return unsupportedError(fmt::format("{}: a multi-image file, not one image (write it with "
-                                            "writeComposite(), or `mvr compose -o DIR`)",
-                                            who));
+        return unsupportedError(
+            fmt::format("{}: a multi-image file, not one image (write it with "
+                        "writeComposite(), or `mvr compose -o DIR`)",
+                        who));
     const Ordered o = ordered(views, options.swapEyes);
     const std::span<const Image> v = o.span;
     const std::string_view name = info->name;
@@ -223,16 +225,16 @@ Status writeCompositeFile(std::string_view format, std::span<const Image> views,
     const std::string who = fmt::format("mvr::composite::writeCompositeFile(): {}", info->name);
     if (info->name == "mpo") {
         if (ext != ".mpo")
-            return usageError(fmt::format("{}: output '{}' (expected a .mpo file name)", who,
-                                          file.string()));
+            return usageError(
+                fmt::format("{}: output '{}' (expected a .mpo file name)", who, file.string()));
         Result<std::vector<std::uint8_t>> bytes = encodeMpo(views, options);
         if (!bytes) return bytes.status();
         return writeFileBytes(file, *bytes);
     }
     if (info->name == "jps") {
         if (ext != ".jps" && ext != ".jpg" && ext != ".jpeg")
-            return usageError(fmt::format("{}: output '{}' (expected a .jps file name)", who,
-                                          file.string()));
+            return usageError(
+                fmt::format("{}: output '{}' (expected a .jps file name)", who, file.string()));
         Result<Image> picture = compose(format, views, options);
         if (!picture) return picture.status();
         Result<std::vector<std::uint8_t>> bytes = encodeJpsPicture(*picture, options.jpegQuality);

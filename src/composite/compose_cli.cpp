@@ -8,8 +8,8 @@
 #include <exception>
 #include <string>
 
-#include <CLI/CLI.hpp>
 #include <fmt/core.h>
+#include <CLI/CLI.hpp>
 
 #include "mvr/composite/lenticular.h"
 
@@ -59,8 +59,9 @@ void addComposeOptions(CLI::App* app, ComposeOptions& options, bool withStereoMe
            "--lenticular-calibration",
            [&cal](const std::string& path) {
                Result<LenticularCalibration> loaded = readLookingGlassCalibration(path);
-               if (!loaded) throw CLI::ValidationError("--lenticular-calibration",
-                                                       loaded.status().message());
+               if (!loaded)
+                   throw CLI::ValidationError("--lenticular-calibration",
+                                              loaded.status().message());
                cal = *loaded;
            },
            "lenticular: a Looking Glass visual.json (pitch, slope, center, DPI, screenW/H, "

@@ -77,9 +77,10 @@ constexpr long long kMaxPixels = 1LL << 28;  // 16384 × 16384
 Result<std::vector<std::uint8_t>> encodeJpegImpl(const Image& image, int quality, bool jfif,
                                                  std::span<const std::uint8_t> app3 = {}) {
     const char* who = "mvr::composite::encodeJpeg()";
-    if (image.empty() || image.rgba.size() != static_cast<std::size_t>(image.width) * image.height * 4)
-        return usageError(fmt::format("{}: empty or inconsistent image {}x{}", who, image.width,
-                                      image.height));
+    if (image.empty() ||
+        image.rgba.size() != static_cast<std::size_t>(image.width) * image.height * 4)
+        return usageError(
+            fmt::format("{}: empty or inconsistent image {}x{}", who, image.width, image.height));
     if (quality < 1 || quality > 100)
         return usageError(fmt::format("{}: quality {} (expected 1..100)", who, quality));
     if (image.width > 65500 || image.height > 65500)
@@ -108,7 +109,8 @@ Result<std::vector<std::uint8_t>> encodeJpegImpl(const Image& image, int quality
     st->cinfo.write_JFIF_header = jfif ? TRUE : FALSE;
     jpeg_start_compress(&st->cinfo, TRUE);
     if (!app3.empty())
-        jpeg_write_marker(&st->cinfo, JPEG_APP0 + 3, app3.data(), static_cast<unsigned>(app3.size()));
+        jpeg_write_marker(&st->cinfo, JPEG_APP0 + 3, app3.data(),
+                          static_cast<unsigned>(app3.size()));
     while (st->cinfo.next_scanline < st->cinfo.image_height) {
         JSAMPROW row = const_cast<JSAMPROW>(image.row(static_cast<int>(st->cinfo.next_scanline)));
         jpeg_write_scanlines(&st->cinfo, &row, 1);
@@ -139,7 +141,14 @@ struct Writer {
     }
 };
 
-enum : std::uint16_t { kByte = 1, kShort = 3, kLong = 4, kRational = 5, kUndefined = 7, kSRational = 10 };
+enum : std::uint16_t {
+    kByte = 1,
+    kShort = 3,
+    kLong = 4,
+    kRational = 5,
+    kUndefined = 7,
+    kSRational = 10
+};
 constexpr std::uint32_t kMpfVersion = 0x30313030;  // "0100"
 constexpr std::uint32_t kTypeDisparity = 0x020002;
 constexpr std::uint32_t kFlagRepresentative = 0x20000000;
@@ -196,7 +205,9 @@ void writeAttributeIfd(Writer& w, std::uint32_t at, std::uint32_t individualNum,
 struct Reader {
     std::span<const std::uint8_t> data;
     bool bigEndian = true;
-    bool has(std::size_t at, std::size_t n) const { return at <= data.size() && n <= data.size() - at; }
+    bool has(std::size_t at, std::size_t n) const {
+        return at <= data.size() && n <= data.size() - at;
+    }
     std::uint32_t u16(std::size_t at) const {
         return bigEndian ? (data[at] << 8 | data[at + 1]) : (data[at + 1] << 8 | data[at]);
     }
@@ -237,7 +248,8 @@ Result<std::size_t> findMpfHeader(std::span<const std::uint8_t> d, const std::st
 
 }  // namespace
 
-// ---- public: JPEG ---------------------------------------------------------------------------------
+// ---- public: JPEG
+// ---------------------------------------------------------------------------------
 Result<std::vector<std::uint8_t>> encodeJpeg(const Image& image, int quality) {
     return encodeJpegImpl(image, quality, true);
 }
@@ -257,23 +269,25 @@ Result<Image> decodeJpeg(std::span<const std::uint8_t> data, const std::string& 
     jpeg_mem_src(&st->cinfo, data.data(), static_cast<unsigned long>(data.size()));
     jpeg_read_header(&st->cinfo, TRUE);
     if (st->cinfo.jpeg_color_space == JCS_CMYK || st->cinfo.jpeg_color_space == JCS_YCCK)
-        return unsupportedError(fmt::format("{}: CMYK JPEG (expected RGB/YCbCr or grayscale)", what));
-    const long long pixels =
-        static_cast<long long>(st->cinfo.image_width) * static_cast<long long>(st->cinfo.image_height);
+        return unsupportedError(
+            fmt::format("{}: CMYK JPEG (expected RGB/YCbCr or grayscale)", what));
+    const long long pixels = static_cast<long long>(st->cinfo.image_width) *
+                             static_cast<long long>(st->cinfo.image_height);
     if (pixels <= 0 || pixels > kMaxPixels)
         return inputError(fmt::format("{}: JPEG of {}x{} pixels (expected 1..{} pixels)", what,
                                       st->cinfo.image_width, st->cinfo.image_height, kMaxPixels));
     st->cinfo.out_color_space = JCS_EXT_RGBA;
     jpeg_start_decompress(&st->cinfo);
-    st->image = Image(static_cast<int>(st->cinfo.output_width),
-                      static_cast<int>(st->cinfo.output_height));
+    st->image =
+        Image(static_cast<int>(st->cinfo.output_width), static_cast<int>(st->cinfo.output_height));
     while (st->cinfo.output_scanline < st->cinfo.output_height) {
         JSAMPROW row = st->image.row(static_cast<int>(st->cinfo.output_scanline));
         if (jpeg_read_scanlines(&st->cinfo, &row, 1) != 1) break;
     }
     jpeg_finish_decompress(&st->cinfo);
     if (st->err.warnings > 0)
-        return inputError(fmt::format("{}: corrupt or truncated JPEG data: {}", what, st->err.warning));
+        return inputError(
+            fmt::format("{}: corrupt or truncated JPEG data: {}", what, st->err.warning));
     return std::move(st->image);
 }
 
@@ -289,8 +303,8 @@ Result<std::vector<std::uint8_t>> encodeMpo(std::span<const Image> views,
                                       who, options.baseline, options.convergence));
     const int base = options.baseViewpoint > 0 ? options.baseViewpoint : (n + 1) / 2;
     if (base > n)
-        return usageError(fmt::format("{}: base viewpoint {} of {} views (expected 1..{})", who,
-                                      base, n, n));
+        return usageError(
+            fmt::format("{}: base viewpoint {} of {} views (expected 1..{})", who, base, n, n));
     const double angle = convergenceAngleDegrees(options.baseline, options.convergence);
 
     std::vector<std::vector<std::uint8_t>> jpegs;
@@ -391,7 +405,8 @@ Result<std::vector<MpoImageRange>> mpoImageRanges(std::span<const std::uint8_t> 
     if (numberOfImages == 0 || entryCount != 16 * numberOfImages)
         return bad(fmt::format("NumberOfImages {} does not match {} bytes of MP entries",
                                numberOfImages, entryCount));
-    if (numberOfImages > 4096) return bad(fmt::format("{} images (expected at most 4096)", numberOfImages));
+    if (numberOfImages > 4096)
+        return bad(fmt::format("{} images (expected at most 4096)", numberOfImages));
     if (!r.has(h + entryOffset, entryCount)) return bad("MP entries outside the file");
     std::vector<MpoImageRange> ranges;
     for (std::uint32_t i = 0; i < numberOfImages; ++i) {
@@ -400,7 +415,7 @@ Result<std::vector<MpoImageRange>> mpoImageRanges(std::span<const std::uint8_t> 
         const std::uint32_t size = r.u32(e + 4);
         const std::uint32_t offset = r.u32(e + 8);
         const std::size_t start = i == 0 ? 0 : h + offset;
-        if ((attribute & 0x07000000) != 0) continue;  // not JPEG data
+        if ((attribute & 0x07000000) != 0) continue;           // not JPEG data
         if ((attribute & 0x00FF0000) == 0x00010000) continue;  // large thumbnail (preview)
         if (size == 0 || !r.has(start, size))
             return bad(fmt::format("image {} ({} bytes at {}) lies outside the file of {} bytes",
@@ -433,7 +448,7 @@ Result<std::vector<std::uint8_t>> encodeJpsPicture(const Image& picture, int qua
     // field first" clear = right image on the left), layout 2 = side by side, type 1 = stereo;
     // no comment.
     static constexpr std::uint8_t kJpsDescriptor[] = {'_', 'J', 'P', 'S', 'J', 'P', 'S', '_',
-                                                      0, 4, 0, 0, 2, 1, 0, 0};
+                                                      0,   4,   0,   0,   2,   1,   0,   0};
     return encodeJpegImpl(picture, quality, true, kJpsDescriptor);
 }
 
@@ -445,9 +460,10 @@ Result<std::vector<std::uint8_t>> encodeJps(const Image& left, const Image& righ
 
 Result<std::vector<Image>> splitJps(const Image& picture, const std::string& what) {
     if (picture.empty() || picture.width % 2 != 0)
-        return inputError(fmt::format("{}: JPS picture {}x{} (expected an even width: right and "
-                                      "left views side by side)",
-                                      what, picture.width, picture.height));
+        return inputError(
+            fmt::format("{}: JPS picture {}x{} (expected an even width: right and "
+                        "left views side by side)",
+                        what, picture.width, picture.height));
     const int w = picture.width / 2;
     Image left(w, picture.height), right(w, picture.height);
     for (int y = 0; y < picture.height; ++y) {
@@ -467,7 +483,8 @@ Result<std::vector<std::uint8_t>> readFileBytes(const std::filesystem::path& pat
     if (!std::filesystem::exists(path, ec))
         return inputError(fmt::format("{}: file not found", path.string()));
     if (std::filesystem::is_directory(path, ec))
-        return inputError(fmt::format("{}: is a directory (expected an image file)", path.string()));
+        return inputError(
+            fmt::format("{}: is a directory (expected an image file)", path.string()));
     std::ifstream in(path, std::ios::binary);
     if (!in) return inputError(fmt::format("{}: cannot open for reading", path.string()));
     std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
@@ -479,7 +496,8 @@ Result<std::vector<std::uint8_t>> readFileBytes(const std::filesystem::path& pat
 Status writeFileBytes(const std::filesystem::path& path, std::span<const std::uint8_t> bytes) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     if (!out) return outputError(fmt::format("{}: cannot open for writing", path.string()));
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
     out.close();
     if (!out) return outputError(fmt::format("{}: write failed", path.string()));
     return Status::ok();

@@ -48,9 +48,10 @@ Status validatePair(const Image& a, const Image& b, const char* who) {
         return usageError(fmt::format("{}: view {} is empty (expected a non-empty image)", who,
                                       a.empty() ? 0 : 1));
     if (a.width != b.width || a.height != b.height)
-        return usageError(fmt::format("{}: views differ in size: view 0 is {}x{}, view 1 is "
-                                      "{}x{} (expected one size)",
-                                      who, a.width, a.height, b.width, b.height));
+        return usageError(
+            fmt::format("{}: views differ in size: view 0 is {}x{}, view 1 is "
+                        "{}x{} (expected one size)",
+                        who, a.width, a.height, b.width, b.height));
     return Status::ok();
 }
 
@@ -64,25 +65,25 @@ Status validateViews(std::span<const Image> views, int minViews, int maxViews, c
             expected = fmt::format("at least {}", minViews);
         else
             expected = fmt::format("{} to {}", minViews, maxViews);
-        return usageError(
-            fmt::format("{}: needs {} view{} (got {})", who, expected,
-                        (minViews == 1 && maxViews == 1) ? "" : "s", n));
+        return usageError(fmt::format("{}: needs {} view{} (got {})", who, expected,
+                                      (minViews == 1 && maxViews == 1) ? "" : "s", n));
     }
     for (int i = 0; i < n; ++i) {
         const Image& v = views[static_cast<std::size_t>(i)];
         if (v.empty())
-            return usageError(fmt::format("{}: view {} is empty (expected a non-empty image)",
-                                          who, i));
+            return usageError(
+                fmt::format("{}: view {} is empty (expected a non-empty image)", who, i));
         if (v.rgba.size() != static_cast<std::size_t>(v.width) * v.height * 4)
-            return usageError(fmt::format("{}: view {} holds {} bytes for {}x{} RGBA8 "
-                                          "(expected {})",
-                                          who, i, v.rgba.size(), v.width, v.height,
-                                          static_cast<std::size_t>(v.width) * v.height * 4));
+            return usageError(
+                fmt::format("{}: view {} holds {} bytes for {}x{} RGBA8 "
+                            "(expected {})",
+                            who, i, v.rgba.size(), v.width, v.height,
+                            static_cast<std::size_t>(v.width) * v.height * 4));
         if (v.width != views[0].width || v.height != views[0].height)
-            return usageError(fmt::format("{}: views differ in size: view 0 is {}x{}, view {} "
-                                          "is {}x{} (expected one size)",
-                                          who, views[0].width, views[0].height, i, v.width,
-                                          v.height));
+            return usageError(
+                fmt::format("{}: views differ in size: view 0 is {}x{}, view {} "
+                            "is {}x{} (expected one size)",
+                            who, views[0].width, views[0].height, i, v.width, v.height));
     }
     return Status::ok();
 }
@@ -100,9 +101,10 @@ Result<Image> sideBySide(const Image& first, const Image& second, bool half) {
         return out;
     }
     if (w % 2 != 0)
-        return usageError(fmt::format("{}: view width {} is odd (expected an even width to "
-                                      "squeeze 2:1)",
-                                      who, w));
+        return usageError(
+            fmt::format("{}: view width {} is odd (expected an even width to "
+                        "squeeze 2:1)",
+                        who, w));
     Image out(w, h);
     blitHalfWidth(out, 0, first);
     blitHalfWidth(out, w / 2, second);
@@ -122,9 +124,10 @@ Result<Image> topBottom(const Image& top, const Image& bottom, bool half) {
         return out;
     }
     if (h % 2 != 0)
-        return usageError(fmt::format("{}: view height {} is odd (expected an even height to "
-                                      "squeeze 2:1)",
-                                      who, h));
+        return usageError(
+            fmt::format("{}: view height {} is odd (expected an even height to "
+                        "squeeze 2:1)",
+                        who, h));
     Image out(w, h);
     blitHalfHeight(out, 0, top);
     blitHalfHeight(out, h / 2, bottom);
@@ -147,8 +150,7 @@ Result<Image> interleaveColumns(std::span<const Image> views) {
     Image out(views[0].width, views[0].height);
     for (int y = 0; y < out.height; ++y) {
         std::uint8_t* d = out.row(y);
-        for (int x = 0; x < out.width; ++x)
-            std::memcpy(d + x * 4, views[x % n].row(y) + x * 4, 4);
+        for (int x = 0; x < out.width; ++x) std::memcpy(d + x * 4, views[x % n].row(y) + x * 4, 4);
     }
     return out;
 }
@@ -180,9 +182,10 @@ Result<Image> hdmiFramePacking(const Image& left, const Image& right) {
     if (Status s = validatePair(left, right, who); !s) return s;
     const int gap = hdmiActiveSpaceLines(left.width, left.height);
     if (gap < 0)
-        return usageError(fmt::format("{}: view size {}x{} has no HDMI 1.4a frame packing "
-                                      "(expected 1280x720 or 1920x1080)",
-                                      who, left.width, left.height));
+        return usageError(
+            fmt::format("{}: view size {}x{} has no HDMI 1.4a frame packing "
+                        "(expected 1280x720 or 1920x1080)",
+                        who, left.width, left.height));
     Image out(left.width, 2 * left.height + gap, kBlank);
     for (int y = 0; y < left.height; ++y) {
         copyRow(out, 0, y, left, y);
@@ -195,18 +198,20 @@ Result<Image> quilt(std::span<const Image> views, int columns, int rows) {
     const char* who = "mvr::composite::quilt()";
     if (Status s = validateViews(views, 1, 1 << 20, who); !s) return s;
     if (columns < 1 || rows < 1)
-        return usageError(fmt::format("{}: grid {}x{} (expected columns and rows >= 1)", who,
-                                      columns, rows));
+        return usageError(
+            fmt::format("{}: grid {}x{} (expected columns and rows >= 1)", who, columns, rows));
     const int n = static_cast<int>(views.size());
     if (static_cast<long long>(columns) * rows < n)
-        return usageError(fmt::format("{}: grid {}x{} has {} tiles for {} views (expected at "
-                                      "least one tile per view)",
-                                      who, columns, rows, columns * rows, n));
+        return usageError(
+            fmt::format("{}: grid {}x{} has {} tiles for {} views (expected at "
+                        "least one tile per view)",
+                        who, columns, rows, columns * rows, n));
     const int w = views[0].width, h = views[0].height;
     if (static_cast<long long>(columns) * w > 65536 || static_cast<long long>(rows) * h > 65536)
-        return usageError(fmt::format("{}: quilt of {}x{} tiles of {}x{} is larger than "
-                                      "65536 pixels on a side",
-                                      who, columns, rows, w, h));
+        return usageError(
+            fmt::format("{}: quilt of {}x{} tiles of {}x{} is larger than "
+                        "65536 pixels on a side",
+                        who, columns, rows, w, h));
     Image out(columns * w, rows * h, kBlank);
     for (int i = 0; i < n; ++i) {
         const int tileX = i % columns;

@@ -20,8 +20,7 @@ std::size_t skipSpace(std::string_view s, std::size_t at) {
 }
 
 // Position just after `"key"` followed by ':' (a JSON key, not a string value), or npos.
-std::size_t findKey(std::string_view json, std::string_view key, std::size_t from,
-                    std::size_t to) {
+std::size_t findKey(std::string_view json, std::string_view key, std::size_t from, std::size_t to) {
     std::string quoted(1, '"');  // (not "\"" + key + "\"": GCC 12 -Wrestrict false positive)
     quoted.append(key);
     quoted.push_back('"');
@@ -78,12 +77,16 @@ bool wellFormedObject(std::string_view json) {
     for (std::size_t i = first; i < json.size(); ++i) {
         const char c = json[i];
         if (inString) {
-            if (c == '\\') ++i;
-            else if (c == '"') inString = false;
+            if (c == '\\')
+                ++i;
+            else if (c == '"')
+                inString = false;
             continue;
         }
-        if (c == '"') inString = true;
-        else if (c == '{' || c == '[') ++depth;
+        if (c == '"')
+            inString = true;
+        else if (c == '{' || c == '[')
+            ++depth;
         else if (c == '}' || c == ']') {
             if (--depth < 0) return false;
             if (depth == 0) {
@@ -100,9 +103,10 @@ bool wellFormedObject(std::string_view json) {
 Result<LenticularCalibration> parseLookingGlassCalibration(std::string_view json,
                                                            const std::string& what) {
     if (!wellFormedObject(json))
-        return inputError(fmt::format("{}: not a complete JSON object (truncated or malformed "
-                                      "calibration file)",
-                                      what));
+        return inputError(
+            fmt::format("{}: not a complete JSON object (truncated or malformed "
+                        "calibration file)",
+                        what));
     LenticularCalibration cal;
     struct Field {
         const char* key;
@@ -126,29 +130,33 @@ Result<LenticularCalibration> parseLookingGlassCalibration(std::string_view json
         bool bad = false;
         const std::optional<double> v = calibrationValue(json, f.key, bad);
         if (bad)
-            return inputError(fmt::format("{}: calibration key \"{}\" is not a number", what, f.key));
+            return inputError(
+                fmt::format("{}: calibration key \"{}\" is not a number", what, f.key));
         if (!v) {
             if (f.required)
-                return inputError(fmt::format("{}: calibration key \"{}\" missing (expected a "
-                                              "Looking Glass visual.json with pitch, slope, "
-                                              "center and DPI)",
-                                              what, f.key));
+                return inputError(
+                    fmt::format("{}: calibration key \"{}\" missing (expected a "
+                                "Looking Glass visual.json with pitch, slope, "
+                                "center and DPI)",
+                                what, f.key));
             continue;
         }
         if (f.number) *f.number = *v;
         if (f.flag) *f.flag = *v != 0.0;
         if (f.integer) {
             if (*v < 0 || *v > 16384 || *v != std::floor(*v))
-                return inputError(fmt::format("{}: calibration {} = {} (expected a whole number "
-                                              "of pixels, 0..16384)",
-                                              what, f.key, *v));
+                return inputError(
+                    fmt::format("{}: calibration {} = {} (expected a whole number "
+                                "of pixels, 0..16384)",
+                                what, f.key, *v));
             *f.integer = static_cast<int>(*v);
         }
     }
     if (cal.dpi <= 0 || cal.slope == 0 || cal.pitch <= 0)
-        return inputError(fmt::format("{}: calibration pitch {}, slope {}, DPI {} (expected pitch "
-                                      "> 0, slope != 0, DPI > 0)",
-                                      what, cal.pitch, cal.slope, cal.dpi));
+        return inputError(
+            fmt::format("{}: calibration pitch {}, slope {}, DPI {} (expected pitch "
+                        "> 0, slope != 0, DPI > 0)",
+                        what, cal.pitch, cal.slope, cal.dpi));
     return cal;
 }
 
@@ -164,16 +172,16 @@ Result<LenticularShaderParams> lenticularShaderParams(const LenticularCalibratio
     const char* who = "mvr::composite::lenticular()";
     if (!std::isfinite(cal.pitch) || !std::isfinite(cal.slope) || !std::isfinite(cal.center) ||
         !std::isfinite(cal.dpi))
-        return usageError(fmt::format("{}: calibration has a non-finite value (pitch {}, slope "
-                                      "{}, center {}, dpi {})",
-                                      who, cal.pitch, cal.slope, cal.center, cal.dpi));
-    if (cal.dpi <= 0)
-        return usageError(fmt::format("{}: dpi {} (expected > 0)", who, cal.dpi));
+        return usageError(
+            fmt::format("{}: calibration has a non-finite value (pitch {}, slope "
+                        "{}, center {}, dpi {})",
+                        who, cal.pitch, cal.slope, cal.center, cal.dpi));
+    if (cal.dpi <= 0) return usageError(fmt::format("{}: dpi {} (expected > 0)", who, cal.dpi));
     if (cal.slope == 0)
         return usageError(fmt::format("{}: slope 0 (expected a non-zero lens slope)", who));
     if (cal.pitch <= 0)
-        return usageError(fmt::format("{}: pitch {} (expected > 0 lenticules per inch)", who,
-                                      cal.pitch));
+        return usageError(
+            fmt::format("{}: pitch {} (expected > 0 lenticules per inch)", who, cal.pitch));
     if (screenWidth < 1 || screenHeight < 1 || screenWidth > 16384 || screenHeight > 16384)
         return usageError(fmt::format("{}: screen {}x{} (expected 1..16384 on each side)", who,
                                       screenWidth, screenHeight));

@@ -18,13 +18,18 @@ namespace {
 class AnaglyphGl : public ::testing::Test {
 protected:
     void SetUp() override {
-        mDisplay = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+        mDisplay =
+            eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
         if (mDisplay == EGL_NO_DISPLAY || !eglInitialize(mDisplay, nullptr, nullptr))
             GTEST_SKIP() << "no EGL display: EGL error 0x" << std::hex << eglGetError();
         eglBindAPI(EGL_OPENGL_API);
-        const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+        const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                     4,
+                                     EGL_CONTEXT_MINOR_VERSION,
+                                     5,
                                      EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                     EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+                                     EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                     EGL_NONE};
         mContext = eglCreateContext(mDisplay, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);
         if (mContext == EGL_NO_CONTEXT ||
             !eglMakeCurrent(mDisplay, EGL_NO_SURFACE, EGL_NO_SURFACE, mContext))
@@ -93,14 +98,14 @@ void main() {
     gl_Position = vec4(p, 0.0, 1.0);
 }
 )glsl";
-    const AnaglyphMethod methods[] = {AnaglyphMethod::Color, AnaglyphMethod::HalfColor,
-                                      AnaglyphMethod::Gray, AnaglyphMethod::True,
-                                      AnaglyphMethod::Dubois, AnaglyphMethod::DuboisGreenMagenta,
-                                      AnaglyphMethod::DuboisAmberBlue};
+    const AnaglyphMethod methods[] = {
+        AnaglyphMethod::Color,          AnaglyphMethod::HalfColor,
+        AnaglyphMethod::Gray,           AnaglyphMethod::True,
+        AnaglyphMethod::Dubois,         AnaglyphMethod::DuboisGreenMagenta,
+        AnaglyphMethod::DuboisAmberBlue};
     for (AnaglyphMethod method : methods) {
-        const std::string fragment =
-            "#version 450 core\n" + anaglyphGlsl(method) +
-            R"glsl(layout(binding = 0) uniform sampler2D uLeft;
+        const std::string fragment = "#version 450 core\n" + anaglyphGlsl(method) +
+                                     R"glsl(layout(binding = 0) uniform sampler2D uLeft;
 layout(binding = 1) uniform sampler2D uRight;
 out vec4 oColor;
 void main() {
@@ -126,10 +131,10 @@ void main() {
         ASSERT_EQ(glGetError(), GLenum(GL_NO_ERROR));
         int worst = 0;
         for (int i = 0; i < kW * kH; ++i) {
-            const Rgba8 cpu = anaglyphPixel(
-                anaglyphMatrices(method),
-                {left[i * 4], left[i * 4 + 1], left[i * 4 + 2], left[i * 4 + 3]},
-                {right[i * 4], right[i * 4 + 1], right[i * 4 + 2], right[i * 4 + 3]});
+            const Rgba8 cpu =
+                anaglyphPixel(anaglyphMatrices(method),
+                              {left[i * 4], left[i * 4 + 1], left[i * 4 + 2], left[i * 4 + 3]},
+                              {right[i * 4], right[i * 4 + 1], right[i * 4 + 2], right[i * 4 + 3]});
             worst = std::max({worst, std::abs(cpu.r - gpu[i * 4]), std::abs(cpu.g - gpu[i * 4 + 1]),
                               std::abs(cpu.b - gpu[i * 4 + 2])});
         }

@@ -44,9 +44,12 @@ const double kDuboisAbR[9] = {-0.016, -0.123, -0.017, 0.006, 0.062, -0.017, 0.09
 constexpr double kY[3] = {0.2126, 0.7152, 0.0722};
 
 void expectNear(Rgba8 got, Rgba8 want, int tol, const std::string& where) {
-    EXPECT_LE(std::abs(got.r - want.r), tol) << where << " r " << int(got.r) << " vs " << int(want.r);
-    EXPECT_LE(std::abs(got.g - want.g), tol) << where << " g " << int(got.g) << " vs " << int(want.g);
-    EXPECT_LE(std::abs(got.b - want.b), tol) << where << " b " << int(got.b) << " vs " << int(want.b);
+    EXPECT_LE(std::abs(got.r - want.r), tol)
+        << where << " r " << int(got.r) << " vs " << int(want.r);
+    EXPECT_LE(std::abs(got.g - want.g), tol)
+        << where << " g " << int(got.g) << " vs " << int(want.g);
+    EXPECT_LE(std::abs(got.b - want.b), tol)
+        << where << " b " << int(got.b) << " vs " << int(want.b);
     EXPECT_EQ(got.a, 255) << where;
 }
 
@@ -88,8 +91,10 @@ TEST(Anaglyph, EveryMethodMatchesTheDocumentedFormulaOnEveryPixel) {
     Image left(16, 16), right(16, 16);
     for (int y = 0; y < 16; ++y)
         for (int x = 0; x < 16; ++x) {
-            left.set(x, y, {std::uint8_t(x * 17), std::uint8_t(y * 17), std::uint8_t((x ^ y) * 17), 255});
-            right.set(x, y, {std::uint8_t(255 - y * 17), std::uint8_t(x * 16), std::uint8_t(128), 255});
+            left.set(x, y,
+                     {std::uint8_t(x * 17), std::uint8_t(y * 17), std::uint8_t((x ^ y) * 17), 255});
+            right.set(x, y,
+                      {std::uint8_t(255 - y * 17), std::uint8_t(x * 16), std::uint8_t(128), 255});
         }
     double colorL[9] = {1, 0, 0, 0, 0, 0, 0, 0, 0}, colorR[9] = {0, 0, 0, 0, 1, 0, 0, 0, 1};
     double lumL[9] = {kY[0], kY[1], kY[2], 0, 0, 0, 0, 0, 0};
@@ -120,8 +125,8 @@ TEST(Anaglyph, EveryMethodMatchesTheDocumentedFormulaOnEveryPixel) {
                 const Rgba8 want = reference(c.l, c.r, left.at(x, y), right.at(x, y));
                 // float vs double arithmetic: at most one step of rounding apart.
                 expectNear(out->at(x, y), want, 1, std::string(c.name));
-                EXPECT_EQ(out->at(x, y), anaglyphPixel(anaglyphMatrices(c.method), left.at(x, y),
-                                                       right.at(x, y)));
+                EXPECT_EQ(out->at(x, y),
+                          anaglyphPixel(anaglyphMatrices(c.method), left.at(x, y), right.at(x, y)));
             }
     }
 }
@@ -129,7 +134,8 @@ TEST(Anaglyph, EveryMethodMatchesTheDocumentedFormulaOnEveryPixel) {
 TEST(Anaglyph, KnownDuboisValues) {
     const AnaglyphMatrices& m = anaglyphMatrices(AnaglyphMethod::Dubois);
     // White in both eyes stays white: the rows sum to ~1 (red 1.000, green 0.999, blue 1.000).
-    EXPECT_EQ(anaglyphPixel(m, {255, 255, 255, 255}, {255, 255, 255, 255}), (Rgba8{255, 255, 255, 255}));
+    EXPECT_EQ(anaglyphPixel(m, {255, 255, 255, 255}, {255, 255, 255, 255}),
+              (Rgba8{255, 255, 255, 255}));
     // Black stays black.
     EXPECT_EQ(anaglyphPixel(m, {0, 0, 0, 255}, {0, 0, 0, 255}), (Rgba8{0, 0, 0, 255}));
     // Pure red left, black right: red 0.437 linear, green and blue negative → clamped to 0.
@@ -165,7 +171,8 @@ TEST(Anaglyph, GlslIsColumnMajorAndComplete) {
         << glsl;
     EXPECT_NE(glsl.find("vec3 mvrAnaglyph(vec3 left, vec3 right)"), std::string::npos);
     EXPECT_NE(glsl.find("0.04045"), std::string::npos);
-    EXPECT_NE(anaglyphGlsl(AnaglyphMethod::Color).find("mat3(1.000000, 0.000000, 0.000000, 0.000000, 0.000000"),
+    EXPECT_NE(anaglyphGlsl(AnaglyphMethod::Color)
+                  .find("mat3(1.000000, 0.000000, 0.000000, 0.000000, 0.000000"),
               std::string::npos);
 }
 

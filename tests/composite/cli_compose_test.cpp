@@ -39,7 +39,8 @@ protected:
         if (!dir.empty()) std::filesystem::remove_all(dir);
     }
     CliRun run(const std::string& args) const {
-        const std::string command = "cd '" + dir.string() + "' && '" + mvr.string() + "' compose " + args + " 2>&1";
+        const std::string command =
+            "cd '" + dir.string() + "' && '" + mvr.string() + "' compose " + args + " 2>&1";
         CliRun r;
         std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
         if (!pipe) return r;
@@ -148,7 +149,8 @@ TEST_F(ComposeCli, UnwritableOutputIsAnOutputError) {
     std::ofstream(dir / "file") << "x";
     CliRun r = run("left.png right.png -o file/sub");
     EXPECT_EQ(r.exitCode, 4) << r.output;
-    EXPECT_EQ(r.output.rfind("error: cannot create output directory 'file/sub'", 0), 0u) << r.output;
+    EXPECT_EQ(r.output.rfind("error: cannot create output directory 'file/sub'", 0), 0u)
+        << r.output;
 }
 
 TEST_F(ComposeCli, LenticularCalibrationFileAndOverrides) {
@@ -158,7 +160,9 @@ TEST_F(ComposeCli, LenticularCalibrationFileAndOverrides) {
     std::vector<std::string> names;
     for (int v = 0; v < 9; ++v) {
         names.push_back(fmt::format("v{}.png", v));
-        ASSERT_TRUE(writePng(dir / names.back(), solid(12, 2, {std::uint8_t(10 + v), std::uint8_t(100 + v), std::uint8_t(200 + v), 255})));
+        ASSERT_TRUE(writePng(dir / names.back(), solid(12, 2,
+                                                       {std::uint8_t(10 + v), std::uint8_t(100 + v),
+                                                        std::uint8_t(200 + v), 255})));
     }
     std::string list;
     for (const std::string& n : names) list += n + " ";
@@ -168,7 +172,8 @@ TEST_F(ComposeCli, LenticularCalibrationFileAndOverrides) {
     ASSERT_EQ(out.width, 12);
     for (int x = 0; x < 12; ++x) EXPECT_EQ(out.at(x, 0).r, 10 + (3 * x + 1) % 9) << x;
     // A single value given with the file overrides it, whatever the order on the command line.
-    r = run("--lenticular-invert-views " + list + "-f lenticular --lenticular-calibration visual.json -o inv.png");
+    r = run("--lenticular-invert-views " + list +
+            "-f lenticular --lenticular-calibration visual.json -o inv.png");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const Image inv = readOne(dir / "inv.png");
     for (int x = 0; x < 12; ++x) EXPECT_EQ(inv.at(x, 0).r, 10 + 8 - (3 * x + 1) % 9) << x;

@@ -29,10 +29,11 @@ TEST(Compose, UnknownFormatIsAUsageError) {
     Result<Image> out = compose("anaglyph-purple", taggedViews(2, 2, 2));
     ASSERT_FALSE(out);
     EXPECT_EQ(out.status().code(), ErrorCode::Usage);
-    EXPECT_EQ(out.status().message().rfind("unknown output format 'anaglyph-purple' (expected one of: "
-                                           "anaglyph-dubois, ",
-                                           0),
-              0u)
+    EXPECT_EQ(
+        out.status().message().rfind("unknown output format 'anaglyph-purple' (expected one of: "
+                                     "anaglyph-dubois, ",
+                                     0),
+        0u)
         << out.status().message();
 }
 
@@ -40,8 +41,8 @@ TEST(Compose, EveryImageFormatComposesItsTestViews) {
     for (const FormatInfo& f : formats()) {
         if (f.fileOnly) continue;
         const int n = f.name == "quilt" ? 5 : f.name == "hdmi-frame-packing" ? 2 : f.minViews;
-        const auto views = f.name == "hdmi-frame-packing" ? taggedViews(2, 1280, 720)
-                                                          : taggedViews(n, 8, 6);
+        const auto views =
+            f.name == "hdmi-frame-packing" ? taggedViews(2, 1280, 720) : taggedViews(n, 8, 6);
         Result<Image> out = compose(f.name, views);
         EXPECT_TRUE(out) << f.name << ": " << out.status().message();
     }
@@ -63,8 +64,9 @@ TEST(Compose, FileNames) {
 TEST(Compose, WriteCompositeWritesEveryFormatIntoTheDirectory) {
     const auto dir = freshDir("write_all");
     for (const FormatInfo& f : formats()) {
-        const auto views = f.name == "hdmi-frame-packing" ? taggedViews(2, 1280, 720)
-                                                          : taggedViews(f.minViews == 1 ? 3 : f.minViews, 8, 6);
+        const auto views = f.name == "hdmi-frame-packing"
+                               ? taggedViews(2, 1280, 720)
+                               : taggedViews(f.minViews == 1 ? 3 : f.minViews, 8, 6);
         Result<std::filesystem::path> path = writeComposite(f.name, views, {}, dir);
         ASSERT_TRUE(path) << f.name << ": " << path.status().message();
         EXPECT_EQ(path->parent_path(), dir);
@@ -141,7 +143,8 @@ TEST(Compose, ReadViewFileErrors) {
     Result<std::vector<Image>> cut = readViewFile(dir / "cut.jpg");
     ASSERT_FALSE(cut);
     EXPECT_EQ(cut.status().code(), ErrorCode::Input);
-    EXPECT_NE(cut.status().message().find("truncated"), std::string::npos) << cut.status().message();
+    EXPECT_NE(cut.status().message().find("truncated"), std::string::npos)
+        << cut.status().message();
     std::filesystem::remove_all(dir);
 }
 

@@ -80,7 +80,7 @@ TEST(Mpo, StructureFollowsCipaDc007) {
     const std::size_t mpf = find(d, std::string("MPF\0", 4));
     ASSERT_NE(mpf, std::string::npos);
     EXPECT_EQ(d[mpf - 4], 0xFF);
-    EXPECT_EQ(d[mpf - 3], 0xE2);  // in an APP2 segment
+    EXPECT_EQ(d[mpf - 3], 0xE2);    // in an APP2 segment
     const std::size_t h = mpf + 4;  // MP header
     EXPECT_EQ(std::string(d.begin() + h, d.begin() + h + 4), std::string("MM\0\x2A", 4));
     // MP Index IFD: MPFVersion, NumberOfImages = 2, MPEntry (32 bytes).
@@ -93,8 +93,8 @@ TEST(Mpo, StructureFollowsCipaDc007) {
     EXPECT_EQ(d[ifd + 26] << 8 | d[ifd + 27], 0xB002);
     EXPECT_EQ(be32(d, ifd + 30), 32u);
     const std::size_t entries = h + be32(d, ifd + 34);
-    EXPECT_EQ(be32(d, entries) & 0x00FFFFFFu, 0x020002u);      // multi-frame disparity
-    EXPECT_EQ(be32(d, entries) & 0x20000000u, 0x20000000u);    // representative
+    EXPECT_EQ(be32(d, entries) & 0x00FFFFFFu, 0x020002u);    // multi-frame disparity
+    EXPECT_EQ(be32(d, entries) & 0x20000000u, 0x20000000u);  // representative
     EXPECT_EQ(be32(d, entries + 16) & 0x00FFFFFFu, 0x020002u);
     const std::uint32_t size1 = be32(d, entries + 4), size2 = be32(d, entries + 20);
     EXPECT_EQ(be32(d, entries + 8), 0u);
@@ -116,7 +116,8 @@ TEST(Mpo, StructureFollowsCipaDc007) {
 }
 
 TEST(Mpo, RoundTripKeepsViewOrderAndPixels) {
-    const std::vector<Image> views = {smoothView(32, 24, 0), smoothView(32, 24, 2), smoothView(32, 24, 4)};
+    const std::vector<Image> views = {smoothView(32, 24, 0), smoothView(32, 24, 2),
+                                      smoothView(32, 24, 4)};
     Result<std::vector<std::uint8_t>> mpo = encodeMpo(views, {});
     ASSERT_TRUE(mpo);
     Result<std::vector<Image>> back = decodeMpo(*mpo, "mem");
@@ -160,7 +161,8 @@ TEST(Mpo, SurvivesRandomCorruption) {
         std::vector<std::uint8_t> d = *mpo;
         const int flips = 1 + static_cast<int>(next() % 8);
         for (int f = 0; f < flips; ++f) {
-            const std::size_t span = (round % 2 == 0) ? std::min<std::size_t>(d.size(), 200) : d.size();
+            const std::size_t span =
+                (round % 2 == 0) ? std::min<std::size_t>(d.size(), 200) : d.size();
             d[next() % span] = static_cast<std::uint8_t>(next() >> 24);
         }
         Result<std::vector<Image>> r = decodeMpo(d, "fuzz.mpo");
@@ -259,7 +261,8 @@ TEST(Mpo, ExiftoolReadsTwoImagesAndTheMpTagsAndTheJpsDescriptor) {
     Result<std::filesystem::path> jps = writeComposite("jps", views, o, dir);
     ASSERT_TRUE(jps);
     const std::string jpsOut = run("exiftool -a -s '" + jps->string() + "' 2>&1");
-    EXPECT_NE(jpsOut.find("JPSLayout                       : Side By Side"), std::string::npos) << jpsOut;
+    EXPECT_NE(jpsOut.find("JPSLayout                       : Side By Side"), std::string::npos)
+        << jpsOut;
     EXPECT_NE(jpsOut.find("JPSType                         : Stereo"), std::string::npos) << jpsOut;
     std::filesystem::remove_all(dir);
 }

@@ -35,7 +35,8 @@ TEST(Layout, SideBySideFull) {
     ASSERT_EQ(out.width, 10);
     ASSERT_EQ(out.height, 3);
     for (int y = 0; y < 3; ++y)
-        for (int x = 0; x < 10; ++x) EXPECT_EQ(out.at(x, y), tag(x < 5 ? 0 : 1, x % 5, y)) << x << "," << y;
+        for (int x = 0; x < 10; ++x)
+            EXPECT_EQ(out.at(x, y), tag(x < 5 ? 0 : 1, x % 5, y)) << x << "," << y;
 }
 
 TEST(Layout, SideBySideCrossEyedAndSwapEyes) {
@@ -59,7 +60,8 @@ TEST(Layout, SideBySideHalf) {
     ASSERT_EQ(out.width, 6);
     ASSERT_EQ(out.height, 3);
     for (int y = 0; y < 3; ++y)
-        for (int x = 0; x < 6; ++x) EXPECT_EQ(out.at(x, y), squeezedX(x < 3 ? 0 : 1, x % 3, y)) << x;
+        for (int x = 0; x < 6; ++x)
+            EXPECT_EQ(out.at(x, y), squeezedX(x < 3 ? 0 : 1, x % 3, y)) << x;
     ComposeOptions cross;
     cross.crossEyed = true;
     const Image crossed = composeOk("sbs-half", views, cross);
@@ -127,13 +129,15 @@ TEST(Layout, Checkerboard) {
 
 void checkHdmi(int w, int h, int gap) {
     std::vector<Image> views = {solid(w, h, {255, 0, 0, 255}), solid(w, h, {0, 0, 255, 255})};
-    views[0].set(7, 0, {1, 2, 3, 255});       // markers at known places
+    views[0].set(7, 0, {1, 2, 3, 255});  // markers at known places
     views[1].set(w - 1, h - 1, {4, 5, 6, 255});
     const Image out = composeOk("hdmi-frame-packing", views);
     ASSERT_EQ(out.width, w);
     ASSERT_EQ(out.height, 2 * h + gap);
     for (int y = 0; y < out.height; ++y) {
-        const Rgba8 want = y < h ? Rgba8{255, 0, 0, 255} : y < h + gap ? kBlack : Rgba8{0, 0, 255, 255};
+        const Rgba8 want = y < h         ? Rgba8{255, 0, 0, 255}
+                           : y < h + gap ? kBlack
+                                         : Rgba8{0, 0, 255, 255};
         for (int x = 0; x < w; x += 97) ASSERT_EQ(out.at(x, y), want) << x << "," << y;
         ASSERT_EQ(out.at(w - 2, y), want) << y;
     }
@@ -175,8 +179,8 @@ TEST(Layout, QuiltOf45ViewsLookingGlassDefault5x9) {
     EXPECT_EQ(chooseQuiltLayout(45, 9, 5), (std::pair{5, 9}));
     const Image q = composeOk("quilt", views);
     checkQuilt(q, 45, 5, 9, 9, 5);
-    EXPECT_EQ(q.at(0, q.height - 1), tag(0, 0, 4));           // bottom left: view 0
-    EXPECT_EQ(q.at(q.width - 1, 0), tag(44, 8, 0));           // top right: view 44
+    EXPECT_EQ(q.at(0, q.height - 1), tag(0, 0, 4));  // bottom left: view 0
+    EXPECT_EQ(q.at(q.width - 1, 0), tag(44, 8, 0));  // top right: view 44
     Result<std::string> name = compositeFileName("quilt", views);
     ASSERT_TRUE(name);
     EXPECT_EQ(*name, "quilt_qs5x9a1.8.png");
@@ -217,7 +221,7 @@ TEST(Layout, QuiltRejectsTooSmallGrid) {
 }
 
 TEST(Layout, QuiltLayoutChoice) {
-    EXPECT_EQ(chooseQuiltLayout(48, 3, 4), (std::pair{8, 6}));   // Looking Glass Portrait
+    EXPECT_EQ(chooseQuiltLayout(48, 3, 4), (std::pair{8, 6}));  // Looking Glass Portrait
     EXPECT_EQ(chooseQuiltLayout(45, 16, 9), (std::pair{5, 9}));
     EXPECT_EQ(chooseQuiltLayout(1, 10, 10), (std::pair{1, 1}));
     EXPECT_EQ(chooseQuiltLayout(4, 10, 10), (std::pair{2, 2}));
@@ -235,7 +239,8 @@ TEST(Layout, ViewCountAndSizeErrors) {
     EXPECT_EQ(three.status().message(), "mvr::composite::compose(): sbs: needs 2 views (got 3)");
     Result<Image> one = compose("columns", taggedViews(1, 2, 2));
     ASSERT_FALSE(one);
-    EXPECT_EQ(one.status().message(), "mvr::composite::compose(): columns: needs at least 2 views (got 1)");
+    EXPECT_EQ(one.status().message(),
+              "mvr::composite::compose(): columns: needs at least 2 views (got 1)");
     std::vector<Image> mixed = taggedViews(3, 4, 4);
     mixed[2] = taggedView(2, 4, 5);
     Result<Image> sizes = compose("rows", mixed);

@@ -27,7 +27,8 @@ LenticularCalibration verticalPanel() {
 std::vector<Image> solidViews(int n, int w, int h) {
     std::vector<Image> views;
     for (int v = 0; v < n; ++v)
-        views.push_back(solid(w, h, {std::uint8_t(10 + v), std::uint8_t(100 + v), std::uint8_t(200 + v), 255}));
+        views.push_back(
+            solid(w, h, {std::uint8_t(10 + v), std::uint8_t(100 + v), std::uint8_t(200 + v), 255}));
     return views;
 }
 
@@ -117,7 +118,9 @@ TEST(Lenticular, EveryChannelComesFromItsViewAtThatPixel) {
         Image img(w, h);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x)
-                img.set(x, y, {std::uint8_t(v * 50 + x), std::uint8_t(v * 50 + y), std::uint8_t(v * 50 + 1), 255});
+                img.set(x, y,
+                        {std::uint8_t(v * 50 + x), std::uint8_t(v * 50 + y),
+                         std::uint8_t(v * 50 + 1), 255});
         views.push_back(std::move(img));
     }
     LenticularCalibration cal;
@@ -184,31 +187,35 @@ TEST(Lenticular, ParsesLookingGlassVisualJson) {
     EXPECT_FALSE(cal->flipX);
     EXPECT_FALSE(cal->bgr);
     // Plain numbers work too; optional keys may be missing.
-    Result<LenticularCalibration> plain =
-        parseLookingGlassCalibration(R"({"pitch": 40, "slope": 5.5, "center": 0.1, "DPI": 300, "flipSubp": true})", "x");
+    Result<LenticularCalibration> plain = parseLookingGlassCalibration(
+        R"({"pitch": 40, "slope": 5.5, "center": 0.1, "DPI": 300, "flipSubp": true})", "x");
     ASSERT_TRUE(plain) << plain.status().message();
     EXPECT_EQ(plain->screenWidth, 0);
     EXPECT_TRUE(plain->bgr);
 }
 
 TEST(Lenticular, CalibrationErrorsNameTheKey) {
-    Result<LenticularCalibration> missing =
-        parseLookingGlassCalibration(R"({"pitch": {"value": 40}, "slope": 5, "DPI": 300})", "v.json");
+    Result<LenticularCalibration> missing = parseLookingGlassCalibration(
+        R"({"pitch": {"value": 40}, "slope": 5, "DPI": 300})", "v.json");
     ASSERT_FALSE(missing);
     EXPECT_EQ(missing.status().code(), ErrorCode::Input);
     EXPECT_EQ(missing.status().message(),
               "v.json: calibration key \"center\" missing (expected a Looking Glass visual.json "
               "with pitch, slope, center and DPI)");
-    Result<LenticularCalibration> notNumber =
-        parseLookingGlassCalibration(R"({"pitch": {"value": "wide"}, "slope": 5, "center": 0, "DPI": 300})", "v.json");
+    Result<LenticularCalibration> notNumber = parseLookingGlassCalibration(
+        R"({"pitch": {"value": "wide"}, "slope": 5, "center": 0, "DPI": 300})", "v.json");
     ASSERT_FALSE(notNumber);
     EXPECT_EQ(notNumber.status().message(), "v.json: calibration key \"pitch\" is not a number");
-    EXPECT_FALSE(parseLookingGlassCalibration(R"({"pitch": 1, "slope": 0, "center": 0, "DPI": 300})", "v"));
-    EXPECT_FALSE(parseLookingGlassCalibration(R"({"pitch": 1, "slope": 2, "center": 0, "DPI": 3, "screenW": 10.5})", "v"));
-    const std::string valid = R"({"pitch": {"value": 40}, "slope": {"value": 5}, "center": {"value": 0.1}, "DPI": {"value": 300}})";
+    EXPECT_FALSE(
+        parseLookingGlassCalibration(R"({"pitch": 1, "slope": 0, "center": 0, "DPI": 300})", "v"));
+    EXPECT_FALSE(parseLookingGlassCalibration(
+        R"({"pitch": 1, "slope": 2, "center": 0, "DPI": 3, "screenW": 10.5})", "v"));
+    const std::string valid =
+        R"({"pitch": {"value": 40}, "slope": {"value": 5}, "center": {"value": 0.1}, "DPI": {"value": 300}})";
     for (std::size_t n = 0; n < valid.size(); ++n)  // every prefix: an error, no crash
         EXPECT_FALSE(parseLookingGlassCalibration(valid.substr(0, n), "cut")) << n;
-    EXPECT_EQ(readLookingGlassCalibration("/nonexistent/visual.json").status().code(), ErrorCode::Input);
+    EXPECT_EQ(readLookingGlassCalibration("/nonexistent/visual.json").status().code(),
+              ErrorCode::Input);
 }
 
 TEST(Lenticular, RejectsBadCalibration) {

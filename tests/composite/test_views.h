@@ -39,10 +39,10 @@ inline Image smoothView(int w, int h, int seed) {
     Image img(w, h);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-            img.set(x, y, {static_cast<std::uint8_t>(40 + (x * 150) / w + seed * 10),
-                           static_cast<std::uint8_t>(60 + (y * 120) / h),
-                           static_cast<std::uint8_t>(200 - seed * 30 - (x + y) * 50 / (w + h)),
-                           255});
+            img.set(x, y,
+                    {static_cast<std::uint8_t>(40 + (x * 150) / w + seed * 10),
+                     static_cast<std::uint8_t>(60 + (y * 120) / h),
+                     static_cast<std::uint8_t>(200 - seed * 30 - (x + y) * 50 / (w + h)), 255});
     return img;
 }
 
@@ -60,7 +60,8 @@ inline int maxRgbDelta(const Image& a, const Image& b) {
 
 /// A fresh empty directory under the system temp folder for one test.
 inline std::filesystem::path freshDir(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() / ("mvr_composite_test_" + std::to_string(::getpid()) + "_" + name);
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("mvr_composite_test_" + std::to_string(::getpid()) + "_" + name);
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir;

@@ -38,27 +38,29 @@ int runCompose(const ComposeCommandOptions& o) {
         if (!read) return fail(read.status());
         const std::size_t count = read->size();
         for (std::size_t i = 0; i < count; ++i) {
-            sources.push_back(count == 1 ? input : fmt::format("{} (view {} of {})", input, i, count));
+            sources.push_back(count == 1 ? input
+                                         : fmt::format("{} (view {} of {})", input, i, count));
             views.push_back(std::move((*read)[i]));
         }
     }
     for (std::size_t i = 1; i < views.size(); ++i) {
         if (views[i].width != views[0].width || views[i].height != views[0].height) {
-            return fail(inputError(fmt::format(
-                "views differ in size: {} is {}x{} but {} is {}x{} (expected all views of one size)",
-                sources[i], views[i].width, views[i].height, sources[0], views[0].width,
-                views[0].height)));
+            return fail(
+                inputError(fmt::format("views differ in size: {} is {}x{} but {} is {}x{} "
+                                       "(expected all views of one size)",
+                                       sources[i], views[i].width, views[i].height, sources[0],
+                                       views[0].width, views[0].height)));
         }
     }
     auto info = composite::findFormat(o.format);
     if (!info) return fail(info.status());
     const int n = static_cast<int>(views.size());
     if (n < info->minViews || n > info->maxViews) {
-        const std::string expected =
-            info->minViews == info->maxViews ? fmt::format("exactly {}", info->minViews)
-            : info->maxViews >= composite::kAnyViewCount
-                ? fmt::format("at least {}", info->minViews)
-                : fmt::format("{} to {}", info->minViews, info->maxViews);
+        const std::string expected = info->minViews == info->maxViews
+                                         ? fmt::format("exactly {}", info->minViews)
+                                     : info->maxViews >= composite::kAnyViewCount
+                                         ? fmt::format("at least {}", info->minViews)
+                                         : fmt::format("{} to {}", info->minViews, info->maxViews);
         return fail(usageError(fmt::format("--format {}: {} view{} given (expected {} views)",
                                            info->name, n, n == 1 ? "" : "s", expected)));
     }
@@ -80,9 +82,9 @@ int runCompose(const ComposeCommandOptions& o) {
         std::error_code ec;
         std::filesystem::create_directories(out, ec);
         if (ec || !std::filesystem::is_directory(out))
-            return fail(outputError(fmt::format("cannot create output directory '{}': {}",
-                                                out.string(),
-                                                ec ? ec.message() : "not a directory")));
+            return fail(
+                outputError(fmt::format("cannot create output directory '{}': {}", out.string(),
+                                        ec ? ec.message() : "not a directory")));
         auto path = composite::writeComposite(o.format, views, o.compose, out);
         if (!path) return fail(path.status());
         written = *path;

@@ -33,11 +33,11 @@
 namespace mvr::composite {
 
 enum class AnaglyphMethod {
-    Color,      ///< red-cyan, left red channel + right green/blue
-    HalfColor,  ///< red-cyan, left luminance in red (less retinal rivalry)
-    Gray,       ///< red-cyan, luminance only
-    True,       ///< red-blue, luminance (the classic "true anaglyph")
-    Dubois,     ///< red-cyan, Dubois least squares
+    Color,               ///< red-cyan, left red channel + right green/blue
+    HalfColor,           ///< red-cyan, left luminance in red (less retinal rivalry)
+    Gray,                ///< red-cyan, luminance only
+    True,                ///< red-blue, luminance (the classic "true anaglyph")
+    Dubois,              ///< red-cyan, Dubois least squares
     DuboisGreenMagenta,  ///< green (left) - magenta (right), Dubois least squares
     DuboisAmberBlue,     ///< amber (left) - blue (right), Dubois least squares (ColorCode 3-D)
 };

@@ -50,16 +50,16 @@ namespace mvr::composite {
 /// The defaults are the published example values of a Looking Glass Portrait; a real panel
 /// needs its own calibration.
 struct LenticularCalibration {
-    double pitch = 52.59267;     ///< lenticules per inch, measured horizontally on the panel
-    double slope = -7.08354;     ///< lens slant: panel rows per lenticule column shift (signed)
-    double center = 0.81679;     ///< phase offset of the lens grid, in lenticules (0..1)
-    double dpi = 324.0;          ///< panel pixels per inch
-    int screenWidth = 0;         ///< output width in panel pixels; 0 = the view width
-    int screenHeight = 0;        ///< output height in panel pixels; 0 = the view height
-    bool bgr = false;            ///< sub-pixel order B,G,R instead of R,G,B (LG "flipSubp")
-    bool invertViews = false;    ///< view order runs the other way under the lens (LG "invView")
-    bool flipX = false;          ///< panel mirrored horizontally (LG "flipImageX")
-    bool flipY = false;          ///< panel mirrored vertically (LG "flipImageY")
+    double pitch = 52.59267;   ///< lenticules per inch, measured horizontally on the panel
+    double slope = -7.08354;   ///< lens slant: panel rows per lenticule column shift (signed)
+    double center = 0.81679;   ///< phase offset of the lens grid, in lenticules (0..1)
+    double dpi = 324.0;        ///< panel pixels per inch
+    int screenWidth = 0;       ///< output width in panel pixels; 0 = the view width
+    int screenHeight = 0;      ///< output height in panel pixels; 0 = the view height
+    bool bgr = false;          ///< sub-pixel order B,G,R instead of R,G,B (LG "flipSubp")
+    bool invertViews = false;  ///< view order runs the other way under the lens (LG "invView")
+    bool flipX = false;        ///< panel mirrored horizontally (LG "flipImageX")
+    bool flipY = false;        ///< panel mirrored vertically (LG "flipImageY")
 };
 
 /// Options of every format; each format reads only the ones it documents.
@@ -91,9 +91,9 @@ struct ComposeOptions {
 /// One output format and what it needs.
 struct FormatInfo {
     std::string_view name;
-    int minViews;            ///< fewest views the format accepts
-    int maxViews;            ///< most views (kAnyViewCount = no limit)
-    bool fileOnly;           ///< true for mpo (a file, not one image); compose() refuses it
+    int minViews;                ///< fewest views the format accepts
+    int maxViews;                ///< most views (kAnyViewCount = no limit)
+    bool fileOnly;               ///< true for mpo (a file, not one image); compose() refuses it
     std::string_view extension;  ///< of the file writeComposite() writes: ".png", ".jps", ".mpo"
     std::string_view summary;    ///< one line for --help
 };

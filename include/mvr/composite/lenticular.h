@@ -43,7 +43,7 @@ struct LenticularShaderParams {
     double tilt = 0;    ///< lens phase change per unit of v
     double subp = 0;    ///< one sub-pixel in u
     double center = 0;
-    int ri = 0, bi = 2; ///< which sub-pixel sample feeds red / blue
+    int ri = 0, bi = 2;  ///< which sub-pixel sample feeds red / blue
     bool invertViews = false;
 };
 
