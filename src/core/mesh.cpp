@@ -9,6 +9,8 @@
 #include <fmt/core.h>
 #include <meshoptimizer.h>
 
+#include "ply.h"
+
 namespace mvr {
 
 Bounds Mesh::bounds() const {
@@ -152,6 +154,24 @@ Result<Mesh> loadMesh(const std::filesystem::path& path) {
         if (!probe) return inputError(what + ": cannot open for reading");
     }
     if (std::filesystem::file_size(path, ec) == 0) return inputError(what + ": file is empty");
+
+    // PLY goes through mvr's own reader (assimp's hangs on truncated PLY headers: ply.cpp).
+    {
+        std::ifstream in(path, std::ios::binary);
+        char head[8] = {};
+        in.read(head, sizeof head);
+        if (detail::looksLikePly(std::string(head, static_cast<std::size_t>(in.gcount())))) {
+            in.clear();
+            in.seekg(0);
+            const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            auto mesh = detail::loadPly(data, what);
+            if (!mesh) return mesh.status();
+            mesh->name = path.filename().string();
+            if (Status s = validateMesh(*mesh, what); !s) return s;
+            optimizeMeshLocality(*mesh);
+            return mesh;
+        }
+    }
 
     Assimp::Importer importer;
     // Drop points and lines; keep only triangles (after triangulating polygons).
