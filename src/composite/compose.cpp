@@ -106,7 +106,7 @@ std::string formatHelp() {
                                   : f.maxViews >= kAny
                                       ? fmt::format("{}+ views", f.minViews)
                                       : fmt::format("{}-{} views", f.minViews, f.maxViews);
-        out += fmt::format("  {:<20} {:<10} {}\n", f.name, views, f.summary);
+        out += fmt::format("  {:<20} {:<12} {}\n", f.name, views, f.summary);
     }
     return out;
 }

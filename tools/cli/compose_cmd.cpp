@@ -105,7 +105,7 @@ const CommandRegistrar kCompose(20, [](CLI::App& root) -> std::function<int()> {
                     "View images, leftmost first (an MPO gives all its images, a .jps its "
                     "left and right halves)")
         ->required()
-        ->type_name("VIEW...");
+        ->type_name("VIEW");
     app->add_option("-f,--format", o->format, "Output format (list below)")
         ->check(CLI::IsMember(composite::formatNames()))
         ->default_val(o->format);

@@ -47,8 +47,9 @@ namespace mvr::composite {
 
 /// Calibration of a slanted-lenticular autostereoscopic panel, in the units of the Looking
 /// Glass calibration file (visual.json); see lenticular.h for the formula that uses them.
-/// The defaults are the published example values of a Looking Glass Portrait; a real panel
-/// needs its own calibration.
+/// pitch, slope, center and dpi default to the example values of a Looking Glass Portrait
+/// published with its shaders; a real panel needs its own calibration (its visual.json, see
+/// readLookingGlassCalibration() in lenticular.h).
 struct LenticularCalibration {
     double pitch = 52.59267;   ///< lenticules per inch, measured horizontally on the panel
     double slope = -7.08354;   ///< lens slant: panel rows per lenticule column shift (signed)
