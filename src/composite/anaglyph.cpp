@@ -76,7 +76,22 @@ Rgba8 mix(const AnaglyphMatrices& m, const Tables& tab, Rgba8 left, Rgba8 right)
     return {encode8(tab, o[0]), encode8(tab, o[1]), encode8(tab, o[2]), 255};
 }
 
+constexpr std::string_view kNames[] = {
+    "anaglyph-color",  "anaglyph-half-color", "anaglyph-gray",      "anaglyph-true",
+    "anaglyph-dubois", "anaglyph-dubois-gm",  "anaglyph-dubois-ab",
+};
+
 }  // namespace
+
+std::optional<AnaglyphMethod> anaglyphMethod(std::string_view format) {
+    for (int i = 0; i < 7; ++i)
+        if (kNames[i] == format) return static_cast<AnaglyphMethod>(i);
+    return std::nullopt;
+}
+
+std::string_view anaglyphFormatName(AnaglyphMethod method) {
+    return kNames[static_cast<int>(method)];
+}
 
 const AnaglyphMatrices& anaglyphMatrices(AnaglyphMethod method) {
     return kMatrices[static_cast<int>(method)];

@@ -171,17 +171,8 @@ Result<Image> compose(std::string_view format, std::span<const Image> views,
     const std::span<const Image> v = o.span;
     const std::string_view name = info->name;
 
-    static constexpr std::pair<std::string_view, AnaglyphMethod> kAnaglyphs[] = {
-        {"anaglyph-color", AnaglyphMethod::Color},
-        {"anaglyph-half-color", AnaglyphMethod::HalfColor},
-        {"anaglyph-gray", AnaglyphMethod::Gray},
-        {"anaglyph-true", AnaglyphMethod::True},
-        {"anaglyph-dubois", AnaglyphMethod::Dubois},
-        {"anaglyph-dubois-gm", AnaglyphMethod::DuboisGreenMagenta},
-        {"anaglyph-dubois-ab", AnaglyphMethod::DuboisAmberBlue},
-    };
-    for (const auto& [n, method] : kAnaglyphs)
-        if (n == name) return anaglyph(v[0], v[1], method);
+    if (const std::optional<AnaglyphMethod> method = anaglyphMethod(name))
+        return anaglyph(v[0], v[1], *method);
 
     if (name == "sbs" || name == "sbs-half") {
         const bool rightFirst = options.crossEyed;

@@ -176,6 +176,15 @@ TEST(Anaglyph, GlslIsColumnMajorAndComplete) {
               std::string::npos);
 }
 
+TEST(Anaglyph, FormatNamesMapToMethods) {
+    for (int i = 0; i < 7; ++i) {
+        const auto method = static_cast<AnaglyphMethod>(i);
+        EXPECT_EQ(anaglyphMethod(anaglyphFormatName(method)), method);
+    }
+    EXPECT_EQ(anaglyphMethod("anaglyph-dubois"), AnaglyphMethod::Dubois);
+    EXPECT_FALSE(anaglyphMethod("sbs"));
+}
+
 TEST(Anaglyph, RejectsViewsOfDifferentSizes) {
     Result<Image> out = anaglyph(solid(2, 2, {}), solid(3, 2, {}), AnaglyphMethod::Dubois);
     ASSERT_FALSE(out);

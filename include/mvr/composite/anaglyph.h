@@ -24,6 +24,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -47,6 +48,12 @@ struct AnaglyphMatrices {
     std::array<float, 9> left;
     std::array<float, 9> right;
 };
+
+/// The method of an anaglyph format name ("anaglyph-dubois" → Dubois, …); nullopt for any
+/// other name.
+std::optional<AnaglyphMethod> anaglyphMethod(std::string_view format);
+/// The format name of `method` ("anaglyph-dubois", …).
+std::string_view anaglyphFormatName(AnaglyphMethod method);
 
 /// Matrices of `method`. Never fails.
 const AnaglyphMatrices& anaglyphMatrices(AnaglyphMethod method);
