@@ -18,6 +18,7 @@ namespace mvr::gl::test {
 namespace {
 
 constexpr int kW = 160, kH = 120;
+constexpr int kColorThreshold = 2;  // see MatchesMultipass for the tolerances
 
 RenderSettings settings(Shading shading, bool cull = false, bool wire = false) {
     RenderSettings s;
@@ -109,20 +110,34 @@ TEST(GlBackend, StereoOnlyMethodsRefuseOtherViewCounts) {
 TEST(GlBackend, ViewLimitsAreReportedNotCrashed) {
     MVR_SKIP_WITHOUT_GL();
     const Scene& scene = defaultScene();
-    const Rig rig = rigFor(scene, 8, 8);  // 64 views
+    const Rig rig = rigFor(scene, 8, 8);  // 64 views = kMaxViews
     ASSERT_EQ(rig.viewCount(), 64);
     RenderSettings s = settings(Shading::Pixel);
     s.width = 32;
     s.height = 24;
-    for (const char* m : {"gs-invocations", "viewport-array", "gs-layered"}) {
+    auto ref = backend().render(scene, rig, s, "multipass");
+    ASSERT_TRUE(ref) << ref.status().message();
+    for (const char* m : {"gs-invocations", "viewport-array", "gs-layered", "instanced-layer",
+                          "kalaiah-emulation"}) {
         auto r = backend().render(scene, rig, s, m);
         if (r) {
-            EXPECT_EQ(r->color.size(), 64u) << m;
+            ASSERT_EQ(r->color.size(), 64u) << m;
+            for (int v = 0; v < 64; ++v) {
+                EXPECT_LE(compareImages(ref->color[v], r->color[v], kColorThreshold).differingPixels,
+                          2) << m << " view " << v;
+            }
             continue;
         }
+        // A driver limit, named (llvmpipe: 32 invocations, 16 viewports, 1024 GS components).
         EXPECT_EQ(r.status().code(), ErrorCode::Unsupported) << m << ": " << r.status().message();
         EXPECT_NE(r.status().message().find("GL_MAX_"), std::string::npos) << r.status().message();
     }
+    // Beyond kMaxViews the rig itself cannot be built; a hand-made one is refused.
+    Rig tooMany = rig;
+    tooMany.views.push_back(tooMany.views.back());
+    auto r = backend().render(scene, tooMany, s, "multipass");
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.status().code(), ErrorCode::Usage);
 }
 
 TEST(GlBackend, BadInputIsAStatus) {
@@ -172,6 +187,13 @@ TEST(GlBackend, RowZeroIsTop) {
                 if (img.at(x, y).r > 200) (y < kH / 2 ? top : bottom)++;
         EXPECT_GT(top, 100) << method;
         EXPECT_EQ(bottom, 0) << method;
+        if (!r->depth.empty()) {
+            // Nothing drawn: the clear value 1. The triangle (z = 0 world, 3 units away):
+            // window depth strictly inside (0, 1).
+            EXPECT_EQ(r->depth[0].at(0, kH - 1), 1.0f) << method;
+            EXPECT_GT(r->depth[0].at(kW / 2, kH / 4), 0.0f) << method;
+            EXPECT_LT(r->depth[0].at(kW / 2, kH / 4), 1.0f) << method;
+        }
     }
 }
 
@@ -207,7 +229,6 @@ class MatchesMultipass : public testing::TestWithParam<MethodCase> {};
 // 1/255. So: channels within 2/255 everywhere but for at most 0.2 % of the pixels (edge
 // pixels), and depth within 1e-6 but for at most 0.2 % of the pixels. (Measured on llvmpipe:
 // 0 pixels for filled triangles, 1-2 pixels in wireframe.)
-constexpr int kColorThreshold = 2;
 constexpr double kMaxMismatch = 0.002;
 
 TEST_P(MatchesMultipass, PerViewColorAndDepth) {
