@@ -257,6 +257,64 @@ inline void setupY(YSetup& s, std::int32_t y0, std::int32_t y1, std::int32_t y2,
     s.rowMax = std::min(rowHi, floorDivSub(std::int64_t(hi) - kHalfSubpixel));
 }
 
+/// Edge setup shared by both coverage paths, in integer type T (int32 when the coordinates are
+/// relative to a nearby pixel center, int64 otherwise). Edge i runs from vertex i+1 to i+2;
+/// returns 2 × area (> 0) after reversing clockwise triangles (E_ba = −E_ab exactly), or 0.
+/// Top-left rule with y up and counter-clockwise order: a left edge runs downward (dy < 0), a
+/// top edge is horizontal running left (dx < 0); inside ⇔ E > 0, or E == 0 on a top-left edge
+/// ⇔ E + bias > 0 with bias 1 on top-left edges.
+template <class T>
+inline T edgeSetup(const T xr[3], const T yr[3], const std::int32_t sharedDy[3], T dx[3], T dy[3],
+                   T bias[3]) {
+    dx[0] = xr[2] - xr[1], dx[1] = xr[0] - xr[2], dx[2] = xr[1] - xr[0];
+    dy[0] = sharedDy[0], dy[1] = sharedDy[1], dy[2] = sharedDy[2];  // from YSetup: once per family
+    T area = dx[2] * (yr[2] - yr[0]) - dy[2] * (xr[2] - xr[0]);
+    const T flip = area < 0 ? T(-1) : T(0);  // the area's sign is random: keep it branch-free
+    area = (area ^ flip) - flip;
+    for (int i = 0; i < 3; ++i) {
+        dx[i] = (dx[i] ^ flip) - flip, dy[i] = (dy[i] ^ flip) - flip;
+        bias[i] = T((dy[i] < 0) | ((dy[i] == 0) & (dx[i] < 0)));
+    }
+    return area;
+}
+
+/// Coverage of a triangle whose box holds at most 2×2 pixel centers — most triangles of a
+/// dense mesh. Coordinates relative to the first pixel center fit int32 (the box is < 3 px), the
+/// four centers are tested without branches and only covered ones are visited.
+template <class Sink>
+inline void rasterSmallTriangle(const YSetup& ys, const std::int32_t x[3], int colMin, int colMax,
+                                Sink& sink) {
+    const std::int32_t px0 = colMin * kSubpixel + kHalfSubpixel;
+    const std::int32_t py0 = ys.rowMin * kSubpixel + kHalfSubpixel;
+    const std::int32_t xr[3] = {x[0] - px0, x[1] - px0, x[2] - px0};
+    const std::int32_t yr[3] = {ys.y[0] - py0, ys.y[1] - py0, ys.y[2] - py0};
+    std::int32_t dx[3], dy[3], bias[3];
+    const std::int32_t area = edgeSetup(xr, yr, ys.dy, dx, dy, bias);
+    if (area == 0) return;
+    std::int32_t e[4][3];
+    for (int i = 0; i < 3; ++i) {
+        const int a = i == 2 ? 0 : i + 1;
+        e[0][i] = dy[i] * xr[a] - dx[i] * yr[a] + bias[i];  // E + bias at the first center
+        e[1][i] = e[0][i] - dy[i] * kSubpixel;
+        e[2][i] = e[0][i] + dx[i] * kSubpixel;
+        e[3][i] = e[2][i] - dy[i] * kSubpixel;
+    }
+    const unsigned wide = unsigned(colMax > colMin), tall = unsigned(ys.rowMax > ys.rowMin);
+    unsigned mask = 1u | (wide << 1) | (tall << 2) | ((wide & tall) << 3);
+    for (int k = 0; k < 4; ++k) {
+        mask &= ~(unsigned(((e[k][0] - 1) | (e[k][1] - 1) | (e[k][2] - 1)) < 0) << k);
+    }
+    if (!mask) return;
+    const float invArea = 1.0f / static_cast<float>(area);
+    while (mask) {
+        const int k = __builtin_ctz(mask);
+        mask &= mask - 1;
+        sink(colMin + (k & 1), ys.rowMin + (k >> 1), static_cast<float>(e[k][0] - bias[0]) * invArea,
+             static_cast<float>(e[k][1] - bias[1]) * invArea,
+             static_cast<float>(e[k][2] - bias[2]) * invArea);
+    }
+}
+
 /// Walks the pixels of one triangle (snapped x per view, shared YSetup) whose centers are inside
 /// by the top-left rule, within columns [0, width) and the rows of `ys`. Calls
 /// sink(x, y, l0, l1, l2) with the screen-space barycentrics of the ORIGINAL vertex order, so
@@ -271,27 +329,19 @@ inline void rasterTriangle(const YSetup& ys, const std::int32_t x[3], int width,
     const int colMin = std::max(0, ceilDivSub(std::int64_t(xlo) - kHalfSubpixel));
     const int colMax = std::min(width - 1, floorDivSub(std::int64_t(xhi) - kHalfSubpixel));
     if (colMin > colMax) return;
-    std::int64_t dx[3] = {std::int64_t(x[2]) - x[1], std::int64_t(x[0]) - x[2],
-                          std::int64_t(x[1]) - x[0]};
-    std::int64_t dy[3] = {ys.dy[0], ys.dy[1], ys.dy[2]};
-    // 2 × signed area: edge 2 (v0 → v1) evaluated at v2.
-    std::int64_t area = dx[2] * (std::int64_t(ys.y[2]) - ys.y[0]) - dy[2] * (std::int64_t(x[2]) - x[0]);
-    if (area == 0) return;
-    {  // clockwise: reverse every edge (E_ba = −E_ab exactly); branch-free (area sign is random)
-        const std::int64_t flip = area >> 63;  // 0 or −1
-        area = (area ^ flip) - flip;
-        for (int i = 0; i < 3; ++i) dx[i] = (dx[i] ^ flip) - flip, dy[i] = (dy[i] ^ flip) - flip;
+    if (colMax - colMin <= 1 && ys.rowMax - ys.rowMin <= 1) {
+        rasterSmallTriangle(ys, x, colMin, colMax, sink);
+        return;
     }
-    // Edge i starts at vertex a = i+1. Top-left rule with y up and counter-clockwise order: a
-    // left edge runs downward (dy < 0), a top edge is horizontal running left (dx < 0). Inside:
-    // E > 0, or E == 0 on a top-left edge  ⇔  E + bias > 0 with bias 1 on top-left edges.
-    std::int64_t bias[3], rowE[3], stepX[3];
+    const std::int64_t xr[3] = {x[0], x[1], x[2]}, yr[3] = {ys.y[0], ys.y[1], ys.y[2]};
+    std::int64_t dx[3], dy[3], bias[3], rowE[3], stepX[3];
+    const std::int64_t area = edgeSetup(xr, yr, ys.dy, dx, dy, bias);
+    if (area == 0) return;
     const std::int64_t px0 = std::int64_t(colMin) * kSubpixel + kHalfSubpixel;
     const std::int64_t py0 = std::int64_t(ys.rowMin) * kSubpixel + kHalfSubpixel;
     for (int i = 0; i < 3; ++i) {
         const int a = i == 2 ? 0 : i + 1;
-        bias[i] = std::int64_t((dy[i] < 0) | ((dy[i] == 0) & (dx[i] < 0)));  // no branches
-        rowE[i] = dx[i] * (py0 - ys.y[a]) - dy[i] * (px0 - x[a]) + bias[i];
+        rowE[i] = dx[i] * (py0 - yr[a]) - dy[i] * (px0 - xr[a]) + bias[i];
         stepX[i] = -dy[i] * kSubpixel;
     }
     const float invArea = 1.0f / static_cast<float>(area);
@@ -299,30 +349,6 @@ inline void rasterTriangle(const YSetup& ys, const std::int32_t x[3], int width,
         sink(col, row, static_cast<float>(e0 - bias[0]) * invArea,
              static_cast<float>(e1 - bias[1]) * invArea, static_cast<float>(e2 - bias[2]) * invArea);
     };
-    if (colMax - colMin <= 1 && ys.rowMax - ys.rowMin <= 1) {
-        // The common case in dense meshes: at most 2×2 pixel centers. Test them without
-        // branches and visit only the covered ones (far fewer mispredicted branches).
-        std::int64_t e[4][3];
-        for (int i = 0; i < 3; ++i) {
-            e[0][i] = rowE[i];
-            e[1][i] = rowE[i] + stepX[i];
-            e[2][i] = rowE[i] + dx[i] * kSubpixel;
-            e[3][i] = e[2][i] + stepX[i];
-        }
-        const unsigned wide = unsigned(colMax > colMin), tall = unsigned(ys.rowMax > ys.rowMin);
-        const unsigned valid = 1u | (wide << 1) | (tall << 2) | ((wide & tall) << 3);
-        unsigned mask = 0;
-        for (int k = 0; k < 4; ++k) {
-            mask |= unsigned(((e[k][0] - 1) | (e[k][1] - 1) | (e[k][2] - 1)) >= 0) << k;
-        }
-        mask &= valid;
-        while (mask) {
-            const int k = __builtin_ctz(mask);
-            mask &= mask - 1;
-            emit(colMin + (k & 1), ys.rowMin + (k >> 1), e[k][0], e[k][1], e[k][2]);
-        }
-        return;
-    }
     // rowE holds E + bias; the barycentrics use E itself.
     for (int row = ys.rowMin; row <= ys.rowMax; ++row) {
         std::int64_t e0 = rowE[0], e1 = rowE[1], e2 = rowE[2];
