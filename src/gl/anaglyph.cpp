@@ -2,6 +2,7 @@
 // additive blending, colour mask red + full-screen quad of the left image, colour mask
 // green/blue + full-screen quad of the right image.
 #include <cstring>
+#include <map>
 #include <mutex>
 
 #include <fmt/format.h>
@@ -18,6 +19,7 @@ namespace {
 struct CompositeContext {
     std::unique_ptr<detail::EglContext> context;
     detail::Program program;
+    std::map<std::string, detail::Program> mixPrograms;  ///< by GLSL source
     detail::VertexArray vao;
     Status status;
 };
@@ -60,7 +62,9 @@ detail::Texture upload(const Image& img) {
 
 }  // namespace
 
-Result<Image> composeAnaglyphGpu(const Image& left, const Image& right) {
+namespace {
+
+Status validatePair(const Image& left, const Image& right) {
     if (left.empty() || right.empty()) {
         return usageError("mvr::gl::composeAnaglyphGpu(): empty input image");
     }
@@ -74,9 +78,16 @@ Result<Image> composeAnaglyphGpu(const Image& left, const Image& right) {
         return usageError("mvr::gl::composeAnaglyphGpu(): pixel buffer size does not match "
                           "width x height x 4");
     }
-    static std::mutex mutex;
-    std::lock_guard lock(mutex);
-    CompositeContext& c = compositeContext();
+    return Status::ok();
+}
+
+std::mutex& compositeMutex() {
+    static std::mutex m;
+    return m;
+}
+
+// Makes the composite context current and checks the size against the driver.
+Status prepare(CompositeContext& c, const Image& left) {
     if (!c.status) return c.status;
     if (Status s = c.context->makeCurrent(); !s) return s;
     GLint maxSize = 0;
@@ -86,6 +97,24 @@ Result<Image> composeAnaglyphGpu(const Image& left, const Image& right) {
             "mvr::gl::composeAnaglyphGpu(): {}x{} exceeds GL_MAX_TEXTURE_SIZE = {}", left.width,
             left.height, maxSize));
     }
+    return Status::ok();
+}
+
+Image readTarget(GLuint target, int w, int h) {
+    Image out(w, h);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(target, 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(out.rgba.size()),
+                      out.rgba.data());
+    return out;
+}
+
+}  // namespace
+
+Result<Image> composeAnaglyphGpu(const Image& left, const Image& right) {
+    if (Status s = validatePair(left, right); !s) return s;
+    std::lock_guard lock(compositeMutex());
+    CompositeContext& c = compositeContext();
+    if (Status s = prepare(c, left); !s) return s;
 
     detail::Texture texLeft = upload(left), texRight = upload(right);
     detail::Texture target = detail::createTexture(GL_TEXTURE_2D);
@@ -112,11 +141,47 @@ Result<Image> composeAnaglyphGpu(const Image& left, const Image& right) {
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDisable(GL_BLEND);
 
-    Image out(left.width, left.height);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glGetTextureImage(target.get(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                      static_cast<GLsizei>(out.rgba.size()), out.rgba.data());
+    Image out = readTarget(target.get(), left.width, left.height);
     glBindTextureUnit(0, 0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    if (Status s = detail::checkGlError("composeAnaglyphGpu"); !s) return s;
+    return out;
+}
+
+Result<Image> composeAnaglyphGpu(const Image& left, const Image& right,
+                                 const std::string& glslMix) {
+    if (Status s = validatePair(left, right); !s) return s;
+    std::lock_guard lock(compositeMutex());
+    CompositeContext& c = compositeContext();
+    if (Status s = prepare(c, left); !s) return s;
+    auto it = c.mixPrograms.find(glslMix);
+    if (it == c.mixPrograms.end()) {
+        auto p = detail::buildMixProgram(glslMix);
+        if (!p) {
+            return usageError("mvr::gl::composeAnaglyphGpu(): the mix GLSL does not build: " +
+                              p.status().message());
+        }
+        it = c.mixPrograms.emplace(glslMix, std::move(p).value()).first;
+    }
+    detail::Texture texLeft = upload(left), texRight = upload(right);
+    detail::Texture target = detail::createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(target.get(), 1, GL_RGBA8, left.width, left.height);
+    detail::Framebuffer fbo = detail::createFramebuffer();
+    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, target.get(), 0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo.get());
+    glViewport(0, 0, left.width, left.height);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glUseProgram(it->second.get());
+    glBindVertexArray(c.vao.get());
+    glBindTextureUnit(0, texLeft.get());
+    glBindTextureUnit(1, texRight.get());
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    Image out = readTarget(target.get(), left.width, left.height);
+    glBindTextureUnit(0, 0);
+    glBindTextureUnit(1, 0);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
     if (Status s = detail::checkGlError("composeAnaglyphGpu"); !s) return s;
     return out;

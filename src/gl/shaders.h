@@ -31,4 +31,8 @@ Result<Program> buildProgram(const ProgramDesc& desc);
 /// Full-screen-quad program for the anaglyph composite (texelFetch of binding 0).
 Result<Program> buildCompositeProgram();
 
+/// One-pass two-view mix: `glslMix` defines vec3 mvrAnaglyph(vec3 left, vec3 right); the
+/// program reads binding 0 (left) and 1 (right) by texelFetch.
+Result<Program> buildMixProgram(const std::string& glslMix);
+
 }  // namespace mvr::gl::detail

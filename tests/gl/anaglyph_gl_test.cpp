@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include "gl_test_util.h"
+#ifdef MVR_HAVE_COMPOSITE
+#include "mvr/composite/anaglyph.h"
+#endif
 
 namespace mvr::gl::test {
 namespace {
@@ -42,6 +45,40 @@ TEST(AnaglyphGpu, RejectsMismatchedSizes) {
     ASSERT_FALSE(e);
     EXPECT_EQ(e.status().code(), ErrorCode::Usage);
 }
+
+TEST(AnaglyphGpu, BrokenMixGlslIsAUsageErrorWithTheLog) {
+    auto r = composeAnaglyphGpu(Image(4, 4), Image(4, 4), "vec3 mvrAnaglyph(vec3 l) { oops }");
+    if (!r && r.status().code() == ErrorCode::Unsupported) GTEST_SKIP() << r.status().message();
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.status().code(), ErrorCode::Usage);
+    EXPECT_NE(r.status().message().find("does not compile"), std::string::npos)
+        << r.status().message();
+}
+
+#ifdef MVR_HAVE_COMPOSITE
+// Every anaglyph of the composite module, composed on the GPU from the same formula
+// (composite::anaglyphGlsl), against the CPU composite. Tolerance: 1/255 per channel — the
+// GPU's pow() (exp2/log2 approximations in llvmpipe) and the CPU's table-driven sRGB curve
+// can round an output to the neighbouring 8-bit value; nothing more.
+TEST(AnaglyphGpu, EveryCompositeAnaglyphMatchesTheCpuWithin1) {
+    const Image left = randomImage(64, 48, 3), right = randomImage(64, 48, 4);
+    using composite::AnaglyphMethod;
+    for (AnaglyphMethod m : {AnaglyphMethod::Color, AnaglyphMethod::HalfColor, AnaglyphMethod::Gray,
+                             AnaglyphMethod::True, AnaglyphMethod::Dubois,
+                             AnaglyphMethod::DuboisGreenMagenta, AnaglyphMethod::DuboisAmberBlue}) {
+        auto gpu = composeAnaglyphGpu(left, right, composite::anaglyphGlsl(m));
+        if (!gpu && gpu.status().code() == ErrorCode::Unsupported) GTEST_SKIP() << gpu.status().message();
+        ASSERT_TRUE(gpu) << gpu.status().message();
+        auto cpu = composite::anaglyph(left, right, m);
+        ASSERT_TRUE(cpu) << cpu.status().message();
+        const ImageDiff d = compareImages(*gpu, *cpu, 1);
+        std::printf("[ measured ] %s: GPU vs CPU max delta %d, %ld pixels off by 1\n",
+                    std::string(composite::anaglyphFormatName(m)).c_str(), d.maxDelta,
+                    static_cast<long>(compareImages(*gpu, *cpu, 0).differingPixels));
+        EXPECT_LE(d.maxDelta, 1) << composite::anaglyphFormatName(m);
+    }
+}
+#endif
 
 }  // namespace
 }  // namespace mvr::gl::test

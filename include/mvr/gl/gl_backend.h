@@ -87,4 +87,14 @@ std::optional<GlFrameStats> lastFrameStats(const mvr::Backend& backend);
 /// can be made. GL requires: 4.5 core (direct state access).
 Result<Image> composeAnaglyphGpu(const Image& left, const Image& right);
 
+/// Any two-view per-pixel mix on the GPU in one full-screen-quad pass: `glslMix` is GLSL
+/// (#version 450 core compatible) defining `vec3 mvrAnaglyph(vec3 left, vec3 right)`, called
+/// with the RGBA8 texels as [0, 1] floats; its result (clamped, rounded to nearest) is the
+/// output colour, alpha 255. mvr::composite::anaglyphGlsl(method) gives every anaglyph
+/// method of the composite module in that form, so the GPU and CPU composites share one
+/// formula. Errors: Usage (sizes, as above; a shader that does not compile, with its log);
+/// Unsupported when no GL context can be made. GL requires: 4.5 core.
+Result<Image> composeAnaglyphGpu(const Image& left, const Image& right,
+                                 const std::string& glslMix);
+
 }  // namespace mvr::gl
