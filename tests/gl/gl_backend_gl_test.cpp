@@ -48,6 +48,17 @@ TEST(GlBackend, UnknownMethodIsUsageError) {
     EXPECT_NE(s.message().find("warp-drive"), std::string::npos);
 }
 
+// Runs one test of this binary in a child process with extra environment variables; the
+// child's exit status (0 = passed or skipped).
+int runChild(const std::string& env, const std::string& test) {
+    char exe[4096] = {};
+    const ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
+    if (n <= 0) return -1;
+    const std::string cmd = env + " '" + std::string(exe, static_cast<std::size_t>(n)) +
+                            "' --gtest_filter=" + test + " > /dev/null 2>&1";
+    return std::system(cmd.c_str());
+}
+
 // Without any EGL vendor library (glvnd finds none) the backend must report "no EGL display"
 // as ErrorCode::Unsupported: run this same binary with glvnd pointed at nothing.
 TEST(GlBackend, NoDisplayIsUnsupportedNotACrash) {
@@ -61,16 +72,38 @@ TEST(GlBackend, NoDisplayIsUnsupportedNotACrash) {
         EXPECT_EQ(r.status().code(), ErrorCode::Unsupported);
         return;
     }
-    const std::string cmd =
-        "MVR_GL_TEST_EXPECT_NO_EGL=1 __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json "
-        "/proc/self/exe --gtest_filter=GlBackend.NoDisplayIsUnsupportedNotACrash > /dev/null 2>&1";
-    // /proc/self/exe in the shell is the shell, so name the test binary explicitly.
-    char exe[4096] = {};
-    const ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
-    if (n <= 0) GTEST_SKIP() << "cannot find the test binary";
-    std::string run = cmd;
-    run.replace(run.find("/proc/self/exe"), 14, std::string(exe, static_cast<std::size_t>(n)));
-    EXPECT_EQ(std::system(run.c_str()), 0) << run;
+    EXPECT_EQ(runChild("MVR_GL_TEST_EXPECT_NO_EGL=1 __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json",
+                       "GlBackend.NoDisplayIsUnsupportedNotACrash"), 0);
+}
+
+// MVR_EGL_PLATFORM picks the platform: "device" (Mesa offers its software device too) must
+// render like the default; a bad value is a Usage error naming the choices.
+TEST(GlBackend, ForcedPlatforms) {
+    if (const char* p = std::getenv("MVR_GL_TEST_PLATFORM")) {
+        auto b = makeGlBackend();
+        const Status s = b->supports("multipass");
+        if (std::string(p) == "bogus") {
+            EXPECT_EQ(s.code(), ErrorCode::Usage);
+            EXPECT_NE(s.message().find("expected device, surfaceless or default"),
+                      std::string::npos) << s.message();
+            return;
+        }
+        if (!s) GTEST_SKIP() << s.message();
+        std::string all;
+        for (const auto& l : b->info()) all += l + "\n";
+        EXPECT_NE(all.find(std::string("EGL platform: ") + p), std::string::npos) << all;
+        const Scene& scene = defaultScene();
+        auto r = b->render(scene, rigFor(scene, 2, 1), RenderSettings{.width = 64, .height = 48},
+                           "gs-layered");
+        EXPECT_TRUE(r) << r.status().message();
+        return;
+    }
+    MVR_SKIP_WITHOUT_GL();
+    EXPECT_EQ(runChild("MVR_GL_TEST_PLATFORM=bogus MVR_EGL_PLATFORM=bogus", "GlBackend.ForcedPlatforms"), 0);
+    EXPECT_EQ(runChild("MVR_GL_TEST_PLATFORM=surfaceless MVR_EGL_PLATFORM=surfaceless",
+                       "GlBackend.ForcedPlatforms"), 0);
+    EXPECT_EQ(runChild("MVR_GL_TEST_PLATFORM=device MVR_EGL_PLATFORM=device",
+                       "GlBackend.ForcedPlatforms"), 0);
 }
 
 TEST(GlBackend, InfoNamesDriverAndLimits) {
