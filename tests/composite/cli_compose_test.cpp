@@ -78,6 +78,19 @@ TEST_F(ComposeCli, FilePathOutputAndOptions) {
     EXPECT_TRUE(std::filesystem::exists(dir / "q" / "quilt_qs2x2a1.3333.png"));
 }
 
+TEST_F(ComposeCli, FormatFollowsAnMpoOrJpsFileName) {
+    CliRun r = run("left.png right.png -o pair.mpo -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    Result<std::vector<Image>> mpo = readViewFile(dir / "pair.mpo");
+    ASSERT_TRUE(mpo) << mpo.status().message();
+    EXPECT_EQ(mpo->size(), 2u);
+    r = run("left.png right.png -o pair.jps -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(readViewFile(dir / "pair.jps")->size(), 2u);
+    r = run("left.png right.png -f sbs -o pair2.mpo");  // an explicit format must fit the name
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+}
+
 TEST_F(ComposeCli, MpoAndJpsInputsAreSplitIntoViews) {
     CliRun r = run("left.png right.png -f mpo -o out --baseline 0.065 --convergence 2");
     ASSERT_EQ(r.exitCode, 0) << r.output;

@@ -1,5 +1,6 @@
 // `mvr compose`: existing view images (PNG, JPEG; an MPO or JPS is split into its views) →
 // any output format of the composite module.
+#include <cctype>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -21,16 +22,28 @@ struct ComposeCommandOptions {
     std::string format = std::string(composite::kDefaultAnaglyph);
     std::string output = "out";
     bool quiet = false;
+    bool formatGiven = false;  ///< --format on the command line (else inferred from -o .mpo/.jps)
     composite::ComposeOptions compose;
 };
 
-bool isFileName(const std::filesystem::path& p) {
+std::string lowerExtension(const std::filesystem::path& p) {
     std::string ext = p.extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+bool isFileName(const std::filesystem::path& p) {
+    const std::string ext = lowerExtension(p);
     return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".jps" || ext == ".mpo";
 }
 
-int runCompose(const ComposeCommandOptions& o) {
+int runCompose(ComposeCommandOptions o) {
+    // `-o pair.mpo` / `-o pair.jps` without --format: the file name says what to write.
+    if (!o.formatGiven) {
+        const std::string ext = lowerExtension(o.output);
+        if (ext == ".mpo") o.format = "mpo";
+        if (ext == ".jps") o.format = "jps";
+    }
     std::vector<Image> views;
     std::vector<std::string> sources;  // where each view came from, for messages
     for (const std::string& input : o.inputs) {
@@ -106,7 +119,9 @@ const CommandRegistrar kCompose(20, [](CLI::App& root) -> std::function<int()> {
                     "left and right halves)")
         ->required()
         ->type_name("VIEW");
-    app->add_option("-f,--format", o->format, "Output format (list below)")
+    app->add_option("-f,--format", o->format,
+                    "Output format (list below); default: mpo / jps for an -o file name ending "
+                    "in .mpo / .jps, else the Dubois red-cyan anaglyph")
         ->check(CLI::IsMember(composite::formatNames()))
         ->default_val(o->format);
     app->add_option("-o,--output", o->output,
@@ -119,7 +134,11 @@ const CommandRegistrar kCompose(20, [](CLI::App& root) -> std::function<int()> {
     app->footer("Formats:\n" + composite::formatHelp() +
                 "Views are numbered left to right: the first view is the left eye.\n"
                 "Exit codes: 0 ok, 1 usage, 2 unreadable input, 3 unsupported, 4 output.");
-    return [o] { return runCompose(*o); };
+    CLI::Option* format = app->get_option("--format");
+    return [o, format] {
+        o->formatGiven = format->count() > 0;
+        return runCompose(*o);
+    };
 });
 
 }  // namespace
