@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs what mvr needs on Debian 12 (idempotent: installs only what is missing).
+# Run as root, or with sudo available. Every dependency of the build, the tests and the
+# benchmarks is listed here and nowhere else.
+set -euo pipefail
+
+packages=(
+    # toolchain
+    build-essential cmake pkg-config git
+    # libraries
+    libglm-dev libfmt-dev libcli11-dev nlohmann-json3-dev
+    libpng-dev libjpeg-dev libstb-dev
+    libassimp-dev libmeshoptimizer-dev
+    libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev
+    # tests and benchmarks
+    googletest libgtest-dev libbenchmark-dev
+    xvfb xauth libimage-exiftool-perl gnuplot-nox
+)
+
+missing=()
+for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+    sudo=""
+    [[ $(id -u) -eq 0 ]] || sudo="sudo"
+    echo "setup: installing ${missing[*]}"
+    export DEBIAN_FRONTEND=noninteractive
+    $sudo apt-get update -qq
+    $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+    echo "setup: all ${#packages[@]} packages present"
+fi

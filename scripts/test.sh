@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Quick start (b): install what is missing, build, run the whole test suite.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh
+scripts/build.sh
+export MVR_SHARED_DIR="${MVR_SHARED_DIR:-$(cd .. && pwd)/shared}"
+cd build
+ctest --output-on-failure --timeout 900 -j"$(nproc)" "$@"
