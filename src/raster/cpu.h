@@ -11,6 +11,7 @@
 #include <string>
 
 #include "mvr/raster/soft_backend.h"
+#include "pipeline.h"
 
 namespace mvr::raster::detail {
 
@@ -28,9 +29,15 @@ using ProjectYZWFn = void (*)(const float* y, const float* z, const float* w, st
 using ProjectXFn = void (*)(const float* x, const float* w, const float* q, std::size_t n,
                             float width, std::uint8_t* code, std::int32_t* sx);
 
+/// x setup of one triangle for n views (snapped window x of its vertices per view, the shared
+/// y setup with a non-empty row range): fills `out` for views 0..n-1 (see ViewsSetup).
+using SetupViewsFn = void (*)(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
+                              const std::int32_t* x2, int n, int width, ViewsSetup& out);
+
 struct Kernels {
     ProjectYZWFn projectYZW;
     ProjectXFn projectX;
+    SetupViewsFn setupViews;
 };
 
 /// The kernel table of a path (resolved first, so always a valid table).

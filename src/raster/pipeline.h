@@ -360,6 +360,35 @@ inline void rasterTriangle(const YSetup& ys, const std::int32_t x[3], int width,
     }
 }
 
+// ---- one triangle, many views -----------------------------------------------------------------
+/// The x-dependent setup of one triangle for up to kMaxViews views of a family, computed side by
+/// side (SIMD across views: the views run the same instructions on different x), consumed at
+/// once from L1 by the caller. Per view k: mask[k] < 0: the view needs the general walk
+/// (rasterTriangle); 0: no pixel center covered; else bit j = column j&1, row j>>1 of the 2×2
+/// centers from (colMin, ys.rowMin) covered, with E + bias of edge i there = e[i] + (j&1 ? sx[i]
+/// : 0) + (j&2 ? sy[i] : 0), and 2 × area in area[k]. The same integers rasterSmallTriangle uses.
+struct ViewsSetup {
+    std::int32_t mask[kMaxViews], colMin[kMaxViews], area[kMaxViews];
+    std::int32_t e[3][kMaxViews], sx[3][kMaxViews], sy[3][kMaxViews], bias[3][kMaxViews];
+};
+
+/// Emits view k's covered 2×2 centers from a ViewsSetup (mask[k] > 0).
+template <class Sink>
+inline void emitSmall(const ViewsSetup& s, int k, int rowMin, Sink& sink) {
+    unsigned mask = unsigned(s.mask[k]);
+    const float invArea = 1.0f / static_cast<float>(s.area[k]);
+    while (mask) {
+        const int j = __builtin_ctz(mask);
+        mask &= mask - 1;
+        float l[3];
+        for (int i = 0; i < 3; ++i) {
+            const std::int32_t e = s.e[i][k] + (j & 1 ? s.sx[i][k] : 0) + (j & 2 ? s.sy[i][k] : 0) - s.bias[i][k];
+            l[i] = static_cast<float>(e) * invArea;
+        }
+        sink(s.colMin[k] + (j & 1), rowMin + (j >> 1), l[0], l[1], l[2]);
+    }
+}
+
 // ---- fragments --------------------------------------------------------------------------------
 /// One view's framebuffer: rows stored top first (image.h), addressed with GL window y (up).
 struct Target {

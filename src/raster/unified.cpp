@@ -316,6 +316,7 @@ struct BandContext {
     FragmentTri frag{};
     std::vector<FragmentSink<S>> sinks;  ///< per view, all pointing at `frag`
     int attrCount = attributeCount(S);
+    ViewsSetup views;                    ///< the current triangle's per-view x setup (L1)
 };
 
 /// One family's replicas of a triangle that needs clipping against shared planes (or whose
@@ -520,11 +521,29 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                     b.frag.q[j] = fam.q[v[j]];
                     b.frag.attr[j] = &d.attr[std::size_t(v[j]) * kMaxAttrs];
                 }
-                // Per view: x only.
+                // Per view: x only — the views' x setup side by side (SIMD across views), then
+                // each view's pixels while that setup is in L1.
+                std::int32_t x[3][kMaxViews];
                 for (int k = 0; k < activeCount; ++k) {
                     const ViewData& vd = d.views[std::size_t(active[k])];
-                    const std::int32_t x[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
-                    rasterTriangle(ys, x, width, b.sinks[std::size_t(active[k])]);
+                    x[0][k] = vd.sx[v[0]], x[1][k] = vd.sx[v[1]], x[2][k] = vd.sx[v[2]];
+                }
+                if (activeCount == 1) {
+                    const std::int32_t one[3] = {x[0][0], x[1][0], x[2][0]};
+                    rasterTriangle(ys, one, width, b.sinks[std::size_t(active[0])]);
+                    continue;
+                }
+                f.kernels.setupViews(ys, x[0], x[1], x[2], activeCount, width, b.views);
+                for (int k = 0; k < activeCount; ++k) {
+                    const std::int32_t m = b.views.mask[k];
+                    if (m == 0) continue;
+                    auto& sink = b.sinks[std::size_t(active[k])];
+                    if (m > 0) {
+                        emitSmall(b.views, k, ys.rowMin, sink);
+                    } else {
+                        const std::int32_t xk[3] = {x[0][k], x[1][k], x[2][k]};
+                        rasterTriangle(ys, xk, width, sink);
+                    }
                 }
             }
         }

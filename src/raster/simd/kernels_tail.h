@@ -23,4 +23,53 @@ inline void projectXTail(const float* x, const float* w, const float* q, std::si
     }
 }
 
+/// Views [begin, n) of setupViews, one at a time: the reference for the SIMD versions (and the
+/// same integer operations as rasterSmallTriangle).
+inline void setupViewsTail(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
+                           const std::int32_t* x2, int begin, int n, int width, ViewsSetup& o) {
+    const bool tall = ys.rowMax > ys.rowMin;
+    const bool rowsSmall = ys.rowMax - ys.rowMin <= 1;
+    const std::int32_t py0 = ys.rowMin * kSubpixel + kHalfSubpixel;
+    const std::int32_t yr[3] = {ys.y[0] - py0, ys.y[1] - py0, ys.y[2] - py0};
+    for (int k = begin; k < n; ++k) {
+        const std::int32_t x[3] = {x0[k], x1[k], x2[k]};
+        const std::int32_t xlo = std::min(x[0], std::min(x[1], x[2]));
+        const std::int32_t xhi = std::max(x[0], std::max(x[1], x[2]));
+        const int colMin = std::max(0, ceilDivSub(std::int64_t(xlo) - kHalfSubpixel));
+        const int colMax = std::min(width - 1, floorDivSub(std::int64_t(xhi) - kHalfSubpixel));
+        o.colMin[k] = colMin;
+        if (colMin > colMax) {
+            o.mask[k] = 0;
+            continue;
+        }
+        if (!rowsSmall || colMax - colMin > 1) {
+            o.mask[k] = -1;
+            continue;
+        }
+        const std::int32_t px0 = colMin * kSubpixel + kHalfSubpixel;
+        const std::int32_t xr[3] = {x[0] - px0, x[1] - px0, x[2] - px0};
+        std::int32_t dx[3], dy[3], bias[3];
+        const std::int32_t area = edgeSetup(xr, yr, ys.dy, dx, dy, bias);
+        o.area[k] = area;
+        unsigned mask = 0;
+        for (int i = 0; i < 3; ++i) {
+            const int a = i == 2 ? 0 : i + 1;
+            o.e[i][k] = dy[i] * xr[a] - dx[i] * yr[a] + bias[i];
+            o.sx[i][k] = -dy[i] * kSubpixel;
+            o.sy[i][k] = dx[i] * kSubpixel;
+            o.bias[i][k] = bias[i];
+        }
+        for (int j = 0; j < 4; ++j) {
+            std::int32_t any = 0;
+            for (int i = 0; i < 3; ++i) {
+                any |= o.e[i][k] - 1 + (j & 1 ? o.sx[i][k] : 0) + (j & 2 ? o.sy[i][k] : 0);
+            }
+            mask |= unsigned(any >= 0) << j;
+        }
+        const unsigned wide = unsigned(colMax > colMin);
+        mask &= 1u | (wide << 1) | (unsigned(tall) << 2) | ((wide & unsigned(tall)) << 3);
+        o.mask[k] = area == 0 ? 0 : std::int32_t(mask);
+    }
+}
+
 }  // namespace mvr::raster::detail
