@@ -1,0 +1,204 @@
+// `mvr render` and `mvr info` end to end: outputs, the stereo geometry of real renders, and one
+// clear error line with the right exit code for every kind of bad input.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+
+#include "mvr/core/image.h"
+
+namespace mvr {
+namespace {
+
+std::filesystem::path mvrBinary() {
+    const char* bin = std::getenv("MVR_BINARY_DIR");
+    return std::filesystem::path(bin ? bin : MVR_TEST_BINARY_DIR) / "tools" / "cli" / "mvr";
+}
+
+std::filesystem::path sharedModels() {
+    const char* dir = std::getenv("MVR_SHARED_DIR");
+    return std::filesystem::path(dir ? dir : MVR_TEST_SHARED_DIR) / "models";
+}
+
+struct Run {
+    int exitCode = -1;
+    std::string out, err;
+};
+
+class Cli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        mDir = std::filesystem::temp_directory_path() /
+               fmt::format("mvr-cli-test-{}-{}", ::getpid(), ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        std::filesystem::create_directories(mDir);
+    }
+    void TearDown() override { std::filesystem::remove_all(mDir); }
+
+    Run run(const std::string& args) const {
+        const auto outFile = mDir / "stdout.txt", errFile = mDir / "stderr.txt";
+        const std::string cmd = fmt::format("cd '{}' && '{}' {} >'{}' 2>'{}' </dev/null", mDir.string(),
+                                            mvrBinary().string(), args, outFile.string(), errFile.string());
+        const int status = std::system(cmd.c_str());
+        Run r;
+        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+        auto slurp = [](const std::filesystem::path& p) {
+            std::ifstream in(p);
+            std::stringstream ss;
+            ss << in.rdbuf();
+            return ss.str();
+        };
+        r.out = slurp(outFile);
+        r.err = slurp(errFile);
+        return r;
+    }
+
+    /// Expects exactly one line on stderr, starting "error: " and containing `needle`.
+    void expectError(const std::string& args, int code, const std::string& needle) const {
+        const Run r = run(args);
+        EXPECT_EQ(r.exitCode, code) << args << "\n" << r.err;
+        EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << args << ": " << r.err;
+        const std::string firstLine = r.err.substr(0, r.err.find('\n'));
+        EXPECT_NE(firstLine.find(needle), std::string::npos) << args << ": " << r.err;
+        EXPECT_LE(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;  // the error (+ a usage hint)
+    }
+
+    std::filesystem::path write(const std::string& name, const std::string& bytes) const {
+        std::ofstream(mDir / name, std::ios::binary) << bytes;
+        return mDir / name;
+    }
+
+    std::filesystem::path mDir;
+};
+
+TEST_F(Cli, HelpDocumentsTheContract) {
+    const Run r = run("render --help");
+    EXPECT_EQ(r.exitCode, 0);
+    for (const char* opt : {"--grid", "--views", "--view-grid", "--rig", "--interaxial", "--separation",
+                            "--convergence", "--fov", "--size", "--shading", "--backend", "--method", "-o"}) {
+        EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
+    }
+    EXPECT_EQ(run("--help").exitCode, 0);
+    const Run info = run("info");
+    EXPECT_EQ(info.exitCode, 0);
+    EXPECT_NE(info.out.find("backend soft"), std::string::npos);
+    EXPECT_NE(info.out.find("multipass"), std::string::npos);
+}
+
+TEST_F(Cli, DefaultSceneWritesViewsAndAnaglyph) {
+    const Run r = run("render --size 160x120 -o out");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const char* f : {"view-0.png", "view-1.png", "anaglyph.png"}) {
+        auto img = readPng(mDir / "out" / f);
+        ASSERT_TRUE(img) << f << ": " << img.status().message();
+        EXPECT_EQ(img->width, 160);
+        EXPECT_EQ(img->height, 120);
+    }
+    EXPECT_NE(r.out.find("out/anaglyph.png"), std::string::npos);  // says where it wrote them
+    auto left = readPng(mDir / "out/view-0.png");
+    auto right = readPng(mDir / "out/view-1.png");
+    EXPECT_GT(compareImages(*left, *right).differingPixels, 100);  // two different eyes
+}
+
+TEST_F(Cli, ViewGridNamesViewsInOrder) {
+    const Run r = run("render --size 64x48 --view-grid 3x2 -o grid");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (int v = 0; v < 6; ++v) EXPECT_TRUE(std::filesystem::exists(mDir / fmt::format("grid/view-{}.png", v)));
+    EXPECT_FALSE(std::filesystem::exists(mDir / "grid/view-6.png"));
+    EXPECT_FALSE(std::filesystem::exists(mDir / "grid/anaglyph.png"));  // only for a pair
+}
+
+/// Covered pixels' bounds and horizontal centroid (background = the corner pixel's color).
+struct Coverage {
+    int top = 1 << 30, bottom = -1;
+    double centroidX = 0;
+    long count = 0;
+};
+Coverage coverage(const Image& img) {
+    const Rgba8 bg = img.at(0, 0);
+    Coverage c;
+    double sx = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x)
+            if (!(img.at(x, y) == bg)) {
+                c.top = std::min(c.top, y);
+                c.bottom = std::max(c.bottom, y);
+                sx += x;
+                ++c.count;
+            }
+    c.centroidX = c.count ? sx / c.count : 0;
+    return c;
+}
+
+// The bunny, behind the convergence plane: both eyes see it with the same vertical extent (off-axis:
+// no vertical parallax) and the right eye sees it further right (positive parallax).
+TEST_F(Cli, BunnyEyesOffsetHorizontallyOnly) {
+    const auto bunny = sharedModels() / "stanford-bunny.obj";
+    if (!std::filesystem::exists(bunny)) GTEST_SKIP() << "no " << bunny;
+    const Run r = run(fmt::format("render '{}' --size 200x150 --separation 0.05 --convergence 0.1 -o bunny", bunny.string()));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto left = readPng(mDir / "bunny/view-0.png");
+    auto right = readPng(mDir / "bunny/view-1.png");
+    ASSERT_TRUE(left && right);
+    const Coverage l = coverage(*left), rc = coverage(*right);
+    ASSERT_GT(l.count, 2000);
+    EXPECT_EQ(l.top, rc.top);
+    EXPECT_EQ(l.bottom, rc.bottom);
+    EXPECT_NEAR(double(l.count), double(rc.count), 0.05 * l.count);
+    EXPECT_GT(rc.centroidX - l.centroidX, 2.0);  // behind the screen: right image shifted right
+    // Toe-in, for comparison, gives vertical parallax somewhere (keystone), so extents may differ;
+    // with convergence in front of the bunny, parallel eyes shift it the other way: negative parallax.
+    const Run p = run(fmt::format("render '{}' --size 200x150 --rig parallel --separation 0.05 -o par", bunny.string()));
+    ASSERT_EQ(p.exitCode, 0) << p.err;
+    const Coverage pl = coverage(*readPng(mDir / "par/view-0.png")), pr = coverage(*readPng(mDir / "par/view-1.png"));
+    EXPECT_LT(pr.centroidX - pl.centroidX, -2.0);  // parallel rig: everything in front of the screen
+}
+
+TEST_F(Cli, BadNumbersAreUsageErrors) {
+    expectError("render --views 0", 1, "view count");
+    expectError("render --views 65", 1, "view count");
+    expectError("render --view-grid 3by3", 1, "--view-grid");
+    expectError("render --size 0x10", 1, "--size");
+    expectError("render --size -5x5", 1, "--size");
+    expectError("render --size 99999x10", 1, "--size");
+    expectError("render --size big", 1, "--size");
+    expectError("render --interaxial nan", 1, "--interaxial");
+    expectError("render --separation inf", 1, "--separation");
+    expectError("render --convergence -1", 1, "--convergence");
+    expectError("render --convergence 0", 1, "--convergence");
+    expectError("render --fov 180", 1, "--fov");
+    expectError("render --fov nan", 1, "--fov");
+    expectError("render --grid 0 x.obj", 1, "--grid");
+    expectError("render --views abc", 1, "--views");
+}
+
+TEST_F(Cli, UnknownNamesAreUsageErrors) {
+    expectError("render --backend vulkan", 1, "unknown backend 'vulkan'");
+    expectError("render --method teleport", 1, "teleport");
+    expectError("render --rig fisheye", 1, "unknown rig 'fisheye'");
+    expectError("render --shading toon", 1, "unknown shading 'toon'");
+    expectError("frobnicate", 1, "frobnicate");
+}
+
+TEST_F(Cli, BadModelFilesAreInputErrors) {
+    expectError("render nowhere.obj", 2, "file not found");
+    expectError(fmt::format("render '{}'", write("empty.obj", "").string()), 2, "empty");
+    expectError(fmt::format("render '{}'", write("lines.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n").string()), 2, "no triangles");
+    expectError(fmt::format("render '{}'", write("flat.obj", "v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\n").string()), 2, "degenerate");
+    expectError(fmt::format("render '{}'", write("cut.ply", "ply\nformat ascii 1.0\nelement vertex 3\nprop").string()), 2, "PLY");
+    expectError(fmt::format("render '{}'", write("junk.gltf", "{\"asset\": {").string()), 2, "junk.gltf");
+    expectError(fmt::format("render '{}'", mDir.string()), 2, "not a regular file");
+}
+
+TEST_F(Cli, UnwritableOutputIsAnOutputError) {
+    write("file", "x");
+    expectError("render --size 8x8 -o file/sub", 4, "output directory");
+}
+
+}  // namespace
+}  // namespace mvr

@@ -1,0 +1,91 @@
+// Images: PNG round trips through libpng, depth PNGs, comparison, and bad files.
+#include "mvr/core/image.h"
+
+#include <fstream>
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+namespace mvr {
+namespace {
+
+std::filesystem::path tempPath(const std::string& name) {
+    return std::filesystem::temp_directory_path() / fmt::format("mvr-image-test-{}-{}", ::getpid(), name);
+}
+
+Image gradient(int w, int h) {
+    Image img(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            img.set(x, y, {std::uint8_t(x * 7), std::uint8_t(y * 13), std::uint8_t(x ^ y), std::uint8_t(255 - x)});
+    return img;
+}
+
+TEST(Image, PngRoundTripIsExactAndRowZeroIsTop) {
+    const Image img = gradient(37, 19);
+    const auto path = tempPath("rt.png");
+    ASSERT_TRUE(writePng(path, img));
+    auto back = readPng(path);
+    ASSERT_TRUE(back) << back.status().message();
+    EXPECT_EQ(*back, img);
+    EXPECT_EQ(back->at(3, 0), img.at(3, 0));  // top row first in the file as in memory
+    std::filesystem::remove(path);
+}
+
+TEST(Image, DepthPngIsSixteenBitGray) {
+    DepthImage d(4, 2);
+    d.depth = {0.0f, 0.5f, 1.0f, 0.25f, 1.0f, 1.0f, 0.75f, std::nanf("")};
+    const auto path = tempPath("depth.png");
+    ASSERT_TRUE(writeDepthPng(path, d));
+    auto back = readPng(path);  // converted to RGBA8 on read
+    ASSERT_TRUE(back);
+    EXPECT_EQ(back->at(0, 0).r, 0);
+    EXPECT_EQ(back->at(2, 0).r, 255);
+    EXPECT_EQ(back->at(3, 1).r, 255);  // NaN → far
+    EXPECT_GT(back->at(1, 0).r, 100);
+    std::filesystem::remove(path);
+}
+
+TEST(Image, CompareReportsWorstPixel) {
+    Image a(8, 8, {10, 20, 30, 255});
+    Image b = a;
+    EXPECT_EQ(compareImages(a, b).maxDelta, 0);
+    b.set(5, 6, {10, 29, 30, 255});
+    b.set(1, 1, {11, 20, 30, 255});
+    const ImageDiff d = compareImages(a, b, 1);
+    EXPECT_EQ(d.maxDelta, 9);
+    EXPECT_EQ(d.worstX, 5);
+    EXPECT_EQ(d.worstY, 6);
+    EXPECT_EQ(d.differingPixels, 1);  // the 1-off pixel is within the threshold
+    EXPECT_EQ(compareImages(a, Image(4, 4)).maxDelta, 256);
+}
+
+TEST(Image, BadPngFilesGiveClearErrors) {
+    EXPECT_NE(readPng(tempPath("missing.png")).status().message().find("file not found"), std::string::npos);
+    const auto garbage = tempPath("garbage.png");
+    std::ofstream(garbage) << "this is not a png";
+    auto r = readPng(garbage);
+    EXPECT_EQ(r.status().code(), ErrorCode::Input);
+    EXPECT_NE(r.status().message().find("not a readable PNG"), std::string::npos);
+    // Every truncated prefix of a real PNG fails cleanly.
+    const auto good = tempPath("good.png");
+    ASSERT_TRUE(writePng(good, gradient(16, 16)));
+    std::ifstream in(good, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    for (std::size_t n = 0; n < bytes.size(); n += 3) {
+        std::ofstream(garbage, std::ios::binary | std::ios::trunc) << bytes.substr(0, n);
+        EXPECT_FALSE(readPng(garbage)) << "prefix " << n;
+    }
+    std::filesystem::remove(garbage);
+    std::filesystem::remove(good);
+}
+
+TEST(Image, WritePngToABadPathFails) {
+    auto s = writePng("/nonexistent-dir/x.png", Image(2, 2));
+    EXPECT_EQ(s.code(), ErrorCode::Output);
+    EXPECT_FALSE(writePng(tempPath("empty.png"), Image()));
+}
+
+}  // namespace
+}  // namespace mvr
