@@ -187,6 +187,15 @@ TEST(GlBackend, BadInputIsAStatus) {
     ASSERT_FALSE(r2);
     EXPECT_EQ(r2.status().code(), ErrorCode::Input);
 
+    // Too big to hold: refused before anything is allocated.
+    RenderSettings huge = settings(Shading::Flat);
+    huge.width = 16384;
+    huge.height = 16384;
+    auto r4 = backend().render(scene, rigFor(scene, 3, 1), huge, "gs-layered");
+    ASSERT_FALSE(r4);
+    EXPECT_EQ(r4.status().code(), ErrorCode::Unsupported);
+    EXPECT_NE(r4.status().message().find("GiB"), std::string::npos) << r4.status().message();
+
     Rig noViews = rigFor(scene, 2, 1);
     noViews.views.clear();
     auto r3 = backend().render(scene, noViews, settings(Shading::Flat), "multipass");
