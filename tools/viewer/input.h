@@ -1,0 +1,59 @@
+// tools/viewer/input.h — what a key press or a scripted step does in `mvr view`.
+//
+// Keys and --script tokens map to the same actions, so a script replays exactly what a person
+// would type. Script syntax: tokens separated by commas, applied one per frame in order:
+//   a single character     that key ("m", "+", "[", "?"; see keyHelp())
+//   left right up down     arrow keys (orbit by 10°);  pgup pgdn: zoom;  esc: quit
+//   f1 f12                 help, screenshot
+//   (empty)                a frame with no input (",," or a trailing ",")
+//   at:X:Y                 put the mouse at window pixel (X, Y) (row 0 at the top)
+//   drag:DX:DY             a left-button drag by (DX, DY) window pixels (orbit)
+//   pan:DX:DY              a right-button drag (pan)
+//   wheel:N                N wheel steps (positive: zoom in)
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mvr/core/status.h"
+
+namespace mvr::viewer {
+
+enum class Action {
+    None,
+    NextMethod, PrevMethod,          // m M
+    NextFormat, PrevFormat,          // f F
+    SeparationUp, SeparationDown,    // + -
+    ConvergenceFar, ConvergenceNear, // ] [
+    ConvergeAtCursor,                // c
+    SwapEyes,                        // s
+    Wireframe,                       // w
+    NextShading,                     // l
+    Screenshot,                      // p, F12
+    ToggleHud,                       // h
+    ToggleHelp,                      // ?, F1
+    ResetView,                       // r
+    OrbitLeft, OrbitRight, OrbitUp, OrbitDown,  // arrows
+    ZoomIn, ZoomOut,                 // PgUp PgDn (also the wheel)
+    Quit,                            // q, Esc
+};
+
+/// The action of a printable key (its character as typed), or Action::None.
+Action actionForChar(char32_t ch);
+
+/// One scripted step.
+struct ScriptStep {
+    enum class Kind { Action, MouseAt, Drag, Pan, Wheel } kind = Kind::Action;
+    Action action = Action::None;
+    float x = 0.0f, y = 0.0f;  ///< MouseAt: position; Drag/Pan: delta; Wheel: steps in x
+};
+
+/// Parses a --script string. Errors (ErrorCode::Usage): an unknown token, naming it and its
+/// position ("--script: token 3 'zz' is not a key or command (expected …)").
+Result<std::vector<ScriptStep>> parseScript(std::string_view script);
+
+/// The key list for --help and the window's help overlay, one key per line.
+const std::vector<std::string>& keyHelp();
+
+}  // namespace mvr::viewer

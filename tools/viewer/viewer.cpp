@@ -1,0 +1,934 @@
+#include "viewer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <fmt/core.h>
+#include <fmt/format.h>
+
+#include "input.h"
+#include "mvr/composite/compose.h"
+#include "overlay.h"
+#include "render_worker.h"
+#include "view_state.h"
+
+namespace mvr::viewer {
+
+const std::vector<std::string>& viewerFormats() {
+    static const std::vector<std::string> kFormats = {
+        "anaglyph-dubois", "anaglyph-color", "anaglyph-half-color", "anaglyph-gray",
+        "anaglyph-true",   "anaglyph-dubois-gm", "anaglyph-dubois-ab", "sbs",
+        "sbs-half",        "tb",               "tb-half",             "rows",
+        "columns",         "checkerboard",     "quad-buffer"};
+    return kFormats;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr std::string_view kQuadBuffer = "quad-buffer";
+constexpr std::string_view kQuadBufferFallback = "anaglyph-dubois";
+
+double msSince(Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+// ---- geometry of the output formats ---------------------------------------------------------
+
+/// The size of one view for a window framebuffer of `fb` pixels showing `format`.
+glm::ivec2 viewSizeFor(std::string_view format, glm::ivec2 fb) {
+    glm::ivec2 v = fb;
+    if (format == "sbs") v.x = fb.x / 2;
+    if (format == "tb") v.y = fb.y / 2;
+    if (format == "sbs-half") v.x = fb.x & ~1;  // compose() squeezes pairs of columns
+    if (format == "tb-half") v.y = fb.y & ~1;
+    return glm::max(v, glm::ivec2(2));
+}
+
+/// The size of the composed frame of `format` for views of `view` pixels.
+glm::ivec2 frameSizeFor(std::string_view format, glm::ivec2 view) {
+    if (format == "sbs") return {view.x * 2, view.y};
+    if (format == "tb") return {view.x, view.y * 2};
+    return view;
+}
+
+/// A position in the composed frame → the position in one view that it shows (the mouse's
+/// position "on the screen", before any eye offset).
+glm::vec2 viewPxFromFrame(std::string_view format, glm::vec2 p, glm::ivec2 view) {
+    if (format == "sbs") return {std::fmod(p.x, float(view.x)), p.y};
+    if (format == "tb") return {p.x, std::fmod(p.y, float(view.y))};
+    if (format == "sbs-half") return {std::fmod(p.x, view.x * 0.5f) * 2.0f, p.y};
+    if (format == "tb-half") return {p.x, std::fmod(p.y, view.y * 0.5f) * 2.0f};
+    return p;
+}
+
+// ---- presenting images in the window (OpenGL 3.3 core) ---------------------------------------
+
+const char* const kPresentVs = R"(#version 330 core
+void main() {
+    // One triangle covering the viewport.
+    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+
+// Pixel (x, y) of the window shows texel (x − offset.x, fbHeight − 1 − y − offset.y): the image
+// is uploaded row 0 first (its TOP row, image.h) and drawn 1:1 with its top-left corner at
+// `offset` from the window's top-left; outside it, black.
+const char* const kPresentFs = R"(#version 330 core
+uniform sampler2D uImage;
+uniform ivec2 uOffset;
+uniform int uFbHeight;
+out vec4 oColor;
+void main() {
+    ivec2 p = ivec2(int(gl_FragCoord.x), uFbHeight - 1 - int(gl_FragCoord.y)) - uOffset;
+    ivec2 size = textureSize(uImage, 0);
+    if (any(lessThan(p, ivec2(0))) || any(greaterThanEqual(p, size))) {
+        oColor = vec4(0.0, 0.0, 0.0, 1.0);
+    } else {
+        oColor = vec4(texelFetch(uImage, p, 0).rgb, 1.0);
+    }
+}
+)";
+
+class Presenter {
+public:
+    Presenter() = default;
+    Presenter(const Presenter&) = delete;
+    Presenter& operator=(const Presenter&) = delete;
+    ~Presenter() {
+        if (mProgram) glDeleteProgram(mProgram);
+        if (mVao) glDeleteVertexArrays(1, &mVao);
+        glDeleteTextures(2, mTextures);
+    }
+
+    Status init() {
+        GLuint vs = 0, fs = 0;
+        if (Status s = compile(GL_VERTEX_SHADER, kPresentVs, vs); !s) return s;
+        if (Status s = compile(GL_FRAGMENT_SHADER, kPresentFs, fs); !s) return s;
+        mProgram = glCreateProgram();
+        glAttachShader(mProgram, vs);
+        glAttachShader(mProgram, fs);
+        glLinkProgram(mProgram);
+        glDeleteShader(vs);
+        glDeleteShader(fs);
+        GLint ok = 0;
+        glGetProgramiv(mProgram, GL_LINK_STATUS, &ok);
+        if (!ok) return internalError("mvr view: present shader does not link: " + programLog());
+        mOffsetLoc = glGetUniformLocation(mProgram, "uOffset");
+        mFbHeightLoc = glGetUniformLocation(mProgram, "uFbHeight");
+        glGenVertexArrays(1, &mVao);
+        glGenTextures(2, mTextures);
+        for (GLuint t : mTextures) {
+            glBindTexture(GL_TEXTURE_2D, t);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        }
+        return Status::ok();
+    }
+
+    /// Uploads `image` (RGBA8, row 0 at the top) into texture `slot` (0, or 1 for the right eye).
+    void upload(int slot, const Image& image) {
+        glBindTexture(GL_TEXTURE_2D, mTextures[slot]);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        if (mSizes[slot] != glm::ivec2(image.width, image.height)) {
+            glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA,
+                         GL_UNSIGNED_BYTE, image.rgba.data());
+            mSizes[slot] = {image.width, image.height};
+        } else {
+            glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, image.width, image.height, GL_RGBA,
+                            GL_UNSIGNED_BYTE, image.rgba.data());
+        }
+    }
+
+    /// The top-left corner of texture `slot` in a framebuffer of `fb` (centred).
+    glm::ivec2 offset(int slot, glm::ivec2 fb) const { return (fb - mSizes[slot]) / 2; }
+
+    /// Draws texture `slot` 1:1, centred, into `drawBuffer` (GL_BACK, GL_BACK_LEFT, …).
+    void draw(int slot, glm::ivec2 fb, GLenum drawBuffer) {
+        glDrawBuffer(drawBuffer);
+        glViewport(0, 0, fb.x, fb.y);
+        glDisable(GL_DEPTH_TEST);
+        glDisable(GL_BLEND);
+        glUseProgram(mProgram);
+        const glm::ivec2 o = offset(slot, fb);
+        glUniform2i(mOffsetLoc, o.x, o.y);
+        glUniform1i(mFbHeightLoc, fb.y);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, mTextures[slot]);
+        glBindVertexArray(mVao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+
+    /// Reads `readBuffer` of the window back as an image (row 0 at the top, alpha 255).
+    static Image readBack(glm::ivec2 fb, GLenum readBuffer) {
+        Image image(fb.x, fb.y);
+        std::vector<std::uint8_t> rows(std::size_t(fb.x) * fb.y * 4);
+        glReadBuffer(readBuffer);
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glReadPixels(0, 0, fb.x, fb.y, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+        for (int y = 0; y < fb.y; ++y) {
+            const std::uint8_t* src = rows.data() + std::size_t(fb.y - 1 - y) * fb.x * 4;
+            std::copy(src, src + std::size_t(fb.x) * 4, image.row(y));
+        }
+        for (std::size_t i = 3; i < image.rgba.size(); i += 4) image.rgba[i] = 255;
+        return image;
+    }
+
+private:
+    static Status compile(GLenum stage, const char* source, GLuint& out) {
+        out = glCreateShader(stage);
+        glShaderSource(out, 1, &source, nullptr);
+        glCompileShader(out);
+        GLint ok = 0;
+        glGetShaderiv(out, GL_COMPILE_STATUS, &ok);
+        if (ok) return Status::ok();
+        char log[2048] = {};
+        glGetShaderInfoLog(out, sizeof log, nullptr, log);
+        glDeleteShader(out);
+        return internalError(fmt::format("mvr view: present shader does not compile: {}", log));
+    }
+    std::string programLog() const {
+        char log[2048] = {};
+        glGetProgramInfoLog(mProgram, sizeof log, nullptr, log);
+        return log;
+    }
+
+    GLuint mProgram = 0, mVao = 0;
+    GLuint mTextures[2] = {0, 0};
+    glm::ivec2 mSizes[2] = {glm::ivec2(0), glm::ivec2(0)};
+    GLint mOffsetLoc = -1, mFbHeightLoc = -1;
+};
+
+// ---- GLFW errors -------------------------------------------------------------------------------
+
+std::string& lastGlfwError() {
+    static std::string error;
+    return error;
+}
+
+void onGlfwError(int code, const char* description) {
+    lastGlfwError() = fmt::format("{} (GLFW error 0x{:x})", description ? description : "?", code);
+}
+
+// ---- the viewer --------------------------------------------------------------------------------
+
+struct MethodRef {
+    std::string backend;
+    std::string method;
+    std::string label() const { return backend + ":" + method; }
+};
+
+class Viewer {
+public:
+    Viewer(const ViewerOptions& options, cli::Prepared prepared, std::vector<ScriptStep> script)
+        : mOptions(options),
+          mPrepared(std::move(prepared)),
+          mScript(std::move(script)),
+          mSettings(mPrepared.settings),
+          mStereo(StereoCamera::fromRig(mPrepared.rig, mPrepared.scene.bounds().radius())),
+          mInitialStereo(mStereo),
+          mSwapEyes(options.swapEyes),
+          mShowHud(!options.noHud) {}
+
+    int run();
+
+private:
+    // Setup and teardown.
+    Status createBackends();
+    Status chooseInitialMethod();
+    Status openWindow(glm::ivec2 size);
+    void shutdown();
+
+    // Per frame.
+    Status renderFrame();
+    Status composeAndPresent();
+    void present();
+    Status writeScreenshot(const std::filesystem::path& path);
+    std::filesystem::path nextScreenshotPath();
+
+    // Input.
+    void apply(Action action);
+    void applyStep(const ScriptStep& step);
+    void cycleMethod(int direction);
+    void cycleFormat(int direction);
+    void say(std::string message);
+    void drag(glm::vec2 delta, bool panning);
+
+    std::string formatName() const { return viewerFormats()[mFormatIndex]; }
+    bool quadBuffer() const { return formatName() == kQuadBuffer; }
+    const MethodRef& method() const { return mMethods[mMethodIndex]; }
+    void drawOverlays(std::vector<Image>& views);
+    std::vector<std::string> hudLines() const;
+
+    const ViewerOptions& mOptions;
+    cli::Prepared mPrepared;
+    std::vector<ScriptStep> mScript;
+    std::size_t mScriptNext = 0;
+
+    RenderWorker mWorker;
+    std::map<std::string, std::unique_ptr<Backend>> mBackends;  // touched on mWorker only
+    std::vector<MethodRef> mMethods;
+    std::size_t mMethodIndex = 0;
+    std::size_t mFormatIndex = 0;
+
+    RenderSettings mSettings;
+    StereoCamera mStereo;
+    StereoCamera mInitialStereo;
+    bool mSwapEyes = false;
+    bool mShowHud = true;
+    bool mShowHelp = false;
+
+    GLFWwindow* mWindow = nullptr;
+    bool mStereoWindow = false;
+    std::unique_ptr<Presenter> mPresenter;
+    glm::ivec2 mFb{0};
+
+    // The last rendered frame.
+    std::optional<Rig> mRig;
+    RenderOutput mOutput;
+    std::optional<ParallaxRange> mParallax;
+    CursorPlacement mCursor;
+    bool mCursorShown = false;
+    double mRenderMs = 0.0, mFrameMs = 0.0;
+    bool mNeedRender = true;
+
+    // Mouse.
+    glm::dvec2 mMouse{0.0};  ///< window coordinates, row 0 at the top
+    bool mMouseInside = false;
+    bool mOrbiting = false, mPanning = false;
+    glm::dvec2 mDragFrom{0.0};
+
+    std::string mMessage;
+    Clock::time_point mMessageUntil{};
+    bool mScreenshotRequested = false;
+    int mScreenshotCount = 0;
+    bool mQuit = false;
+    long mFrames = 0;
+};
+
+Status Viewer::createBackends() {
+    return mWorker.call([this]() -> Status {
+        for (const std::string& name : {std::string("gl"), std::string("soft")}) {
+            auto backend = cli::makeBackend(name);
+            if (!backend) continue;  // not built into this mvr
+            for (const std::string& m : (*backend)->methods()) mMethods.push_back({name, m});
+            mBackends[name] = std::move(backend).value();
+        }
+        if (mMethods.empty()) return unsupportedError("mvr view: no rendering backend in this mvr");
+        return Status::ok();
+    });
+}
+
+Status Viewer::chooseInitialMethod() {
+    auto find = [this](const std::string& backend, const std::string& m) -> std::optional<std::size_t> {
+        for (std::size_t i = 0; i < mMethods.size(); ++i) {
+            if (mMethods[i].backend == backend && mMethods[i].method == m) return i;
+        }
+        return std::nullopt;
+    };
+    auto supported = [this](const MethodRef& ref) {
+        return mWorker.call([this, ref] { return mBackends.at(ref.backend)->supports(ref.method); });
+    };
+    if (!mBackends.count(mOptions.backend)) {
+        auto made = cli::makeBackend(mOptions.backend);  // for its error message
+        if (!made) return made.status();
+        return unsupportedError(fmt::format("backend '{}' is not available", mOptions.backend));
+    }
+    std::optional<std::size_t> index = find(mOptions.backend, mOptions.method);
+    if (!index) {
+        return usageError(fmt::format("--method '{}' is not a method of the {} backend (see `mvr "
+                                      "info`)",
+                                      mOptions.method, mOptions.backend));
+    }
+    Status s = supported(mMethods[*index]);
+    if (!s && !mOptions.backendGiven && s.code() == ErrorCode::Unsupported &&
+        mBackends.count("soft")) {
+        // The default backend (gl) has no context here: show the soft backend instead.
+        fmt::print(stderr, "mvr view: gl backend unavailable ({}); using soft\n", s.message());
+        index = find("soft", mOptions.method == "unified" ? "unified" : "multipass");
+        if (!index) index = find("soft", "multipass");
+        s = supported(mMethods[*index]);
+    }
+    if (!s) return s;
+    mMethodIndex = *index;
+    return Status::ok();
+}
+
+Status Viewer::openWindow(glm::ivec2 size) {
+    glfwSetErrorCallback(onGlfwError);
+    if (!glfwInit()) {
+        return unsupportedError(fmt::format(
+            "mvr view: cannot open a window: {} (the viewer needs a display: set DISPLAY, or run "
+            "it under xvfb-run)",
+            lastGlfwError().empty() ? "glfwInit() failed" : lastGlfwError()));
+    }
+    auto hints = [](bool stereo) {
+        glfwDefaultWindowHints();
+        glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+        glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+        glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+        glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+        glfwWindowHint(GLFW_DEPTH_BITS, 0);
+        glfwWindowHint(GLFW_STEREO, stereo ? GLFW_TRUE : GLFW_FALSE);
+    };
+    const std::string title = fmt::format("mvr view — {}", mPrepared.sceneName);
+    // Quad-buffer stereo needs a stereo visual, which only some drivers give (NVIDIA Quadro,
+    // AMD FirePro with stereo enabled): ask for one first, fall back to a mono window.
+    hints(true);
+    mWindow = glfwCreateWindow(size.x, size.y, title.c_str(), nullptr, nullptr);
+    mStereoWindow = mWindow != nullptr;
+    if (!mWindow) {
+        hints(false);
+        mWindow = glfwCreateWindow(size.x, size.y, title.c_str(), nullptr, nullptr);
+    }
+    if (!mWindow) {
+        return unsupportedError(fmt::format("mvr view: cannot create an OpenGL 3.3 core window: {}",
+                                            lastGlfwError()));
+    }
+    glfwMakeContextCurrent(mWindow);
+    if (epoxy_gl_version() < 33) {
+        return unsupportedError(fmt::format("mvr view: the window's OpenGL is {}.{} (expected 3.3 core)",
+                                            epoxy_gl_version() / 10, epoxy_gl_version() % 10));
+    }
+    glfwSwapInterval(mOptions.frames > 0 ? 0 : 1);
+    mPresenter = std::make_unique<Presenter>();
+    if (Status s = mPresenter->init(); !s) return s;
+
+    glfwSetWindowUserPointer(mWindow, this);
+    glfwSetCharCallback(mWindow, [](GLFWwindow* w, unsigned int ch) {
+        auto* self = static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+        self->apply(actionForChar(char32_t(ch)));
+    });
+    glfwSetKeyCallback(mWindow, [](GLFWwindow* w, int key, int, int action, int) {
+        if (action == GLFW_RELEASE) return;
+        auto* self = static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+        switch (key) {
+            case GLFW_KEY_LEFT: self->apply(Action::OrbitLeft); break;
+            case GLFW_KEY_RIGHT: self->apply(Action::OrbitRight); break;
+            case GLFW_KEY_UP: self->apply(Action::OrbitUp); break;
+            case GLFW_KEY_DOWN: self->apply(Action::OrbitDown); break;
+            case GLFW_KEY_PAGE_UP: self->apply(Action::ZoomIn); break;
+            case GLFW_KEY_PAGE_DOWN: self->apply(Action::ZoomOut); break;
+            case GLFW_KEY_ESCAPE: self->apply(Action::Quit); break;
+            case GLFW_KEY_F1: self->apply(Action::ToggleHelp); break;
+            case GLFW_KEY_F12: self->apply(Action::Screenshot); break;
+            default: break;
+        }
+    });
+    glfwSetCursorPosCallback(mWindow, [](GLFWwindow* w, double x, double y) {
+        auto* self = static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+        const glm::dvec2 p(x, y);
+        if (self->mOrbiting || self->mPanning) {
+            self->drag(glm::vec2(p - self->mDragFrom), self->mPanning);
+            self->mDragFrom = p;
+        }
+        self->mMouse = p;
+        self->mMouseInside = true;
+    });
+    glfwSetCursorEnterCallback(mWindow, [](GLFWwindow* w, int entered) {
+        static_cast<Viewer*>(glfwGetWindowUserPointer(w))->mMouseInside = entered != 0;
+    });
+    glfwSetMouseButtonCallback(mWindow, [](GLFWwindow* w, int button, int action, int mods) {
+        auto* self = static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+        double x = 0, y = 0;
+        glfwGetCursorPos(w, &x, &y);
+        self->mDragFrom = {x, y};
+        const bool down = action == GLFW_PRESS;
+        if (button == GLFW_MOUSE_BUTTON_LEFT && !(mods & GLFW_MOD_SHIFT)) {
+            self->mOrbiting = down;
+        } else if (button == GLFW_MOUSE_BUTTON_LEFT || button == GLFW_MOUSE_BUTTON_RIGHT ||
+                   button == GLFW_MOUSE_BUTTON_MIDDLE) {
+            self->mPanning = down;
+            if (!down) self->mOrbiting = false;
+        }
+    });
+    glfwSetScrollCallback(mWindow, [](GLFWwindow* w, double, double dy) {
+        auto* self = static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+        self->mStereo.zoom(std::pow(0.9f, float(dy)));
+        self->mNeedRender = true;
+    });
+    // The 3D cursor replaces the system one over the window (nvidia-gtc2010: "can not use the HW
+    // cursor" in stereo: it would sit at screen depth, in front of or inside the surface).
+    if (mShowHud) glfwSetInputMode(mWindow, GLFW_CURSOR, GLFW_CURSOR_HIDDEN);
+    return Status::ok();
+}
+
+void Viewer::shutdown() {
+    mWorker.call([this] { mBackends.clear(); });  // GL objects die with their EGL context's thread
+    if (mWindow) {
+        glfwMakeContextCurrent(mWindow);
+        mPresenter.reset();
+        glfwDestroyWindow(mWindow);
+        mWindow = nullptr;
+    }
+    glfwTerminate();
+}
+
+void Viewer::say(std::string message) {
+    if (!mOptions.quiet) fmt::print("mvr view: {}\n", message);
+    std::fflush(stdout);
+    mMessage = std::move(message);
+    mMessageUntil = Clock::now() + std::chrono::seconds(4);
+}
+
+void Viewer::drag(glm::vec2 delta, bool panning) {
+    if (panning) {
+        int w = 1, h = 1;
+        glfwGetWindowSize(mWindow, &w, &h);
+        mStereo.pan(-delta.x / float(std::max(h, 1)), delta.y / float(std::max(h, 1)));
+    } else {
+        mStereo.orbit(-delta.x * 0.006f, delta.y * 0.006f);
+    }
+    mNeedRender = true;
+}
+
+void Viewer::cycleMethod(int direction) {
+    const std::size_t n = mMethods.size();
+    std::vector<std::string> skipped;
+    std::size_t index = mMethodIndex;
+    for (std::size_t tries = 0; tries + 1 < n; ++tries) {
+        index = (index + n + std::size_t(direction + int(n))) % n;
+        const MethodRef ref = mMethods[index];
+        Status s = mWorker.call([this, ref] { return mBackends.at(ref.backend)->supports(ref.method); });
+        if (s) {
+            mMethodIndex = index;
+            mNeedRender = true;
+            say(fmt::format("method {}{}", ref.label(),
+                            skipped.empty() ? "" : " (skipped, unsupported here: " +
+                                                       fmt::format("{}", fmt::join(skipped, ", ")) + ")"));
+            return;
+        }
+        skipped.push_back(ref.label());
+    }
+    say(fmt::format("method {}: no other method is supported here", method().label()));
+}
+
+void Viewer::cycleFormat(int direction) {
+    const std::size_t n = viewerFormats().size();
+    mFormatIndex = (mFormatIndex + n + std::size_t(direction + int(n))) % n;
+    if (quadBuffer() && !mStereoWindow) {
+        say("quad-buffer: the driver gives no stereo visual (GLFW_STEREO); skipped");
+        mFormatIndex = (mFormatIndex + n + std::size_t(direction + int(n))) % n;
+    }
+    say(fmt::format("output {}", formatName()));
+}
+
+void Viewer::apply(Action action) {
+    switch (action) {
+        case Action::None: return;
+        case Action::NextMethod: cycleMethod(+1); return;
+        case Action::PrevMethod: cycleMethod(-1); return;
+        case Action::NextFormat: cycleFormat(+1); return;
+        case Action::PrevFormat: cycleFormat(-1); return;
+        case Action::SeparationUp:
+        case Action::SeparationDown: {
+            const float step = action == Action::SeparationUp ? 0.0025f : -0.0025f;
+            mStereo.setSeparation(mStereo.separation() + step);
+            mNeedRender = true;
+            say(fmt::format("separation {:.2f}% of screen width", 100.0 * mStereo.separation()));
+            return;
+        }
+        case Action::ConvergenceFar:
+        case Action::ConvergenceNear:
+            mStereo.setConvergence(mStereo.convergence *
+                                   (action == Action::ConvergenceFar ? 1.1f : 1.0f / 1.1f));
+            mNeedRender = true;
+            say(fmt::format("convergence {:.4g}", mStereo.convergence));
+            return;
+        case Action::ConvergeAtCursor:
+            if (mCursorShown && mCursor.onSurface) {
+                mStereo.setConvergence(mCursor.distance);
+                mNeedRender = true;
+                say(fmt::format("convergence {:.4g} (the surface under the cursor)",
+                                mStereo.convergence));
+            } else {
+                say("converge at cursor: no surface under the cursor");
+            }
+            return;
+        case Action::SwapEyes:
+            mSwapEyes = !mSwapEyes;
+            say(mSwapEyes ? "eyes swapped" : "eyes not swapped");
+            return;
+        case Action::Wireframe:
+            mSettings.wireframe = !mSettings.wireframe;
+            mNeedRender = true;
+            say(mSettings.wireframe ? "wireframe on" : "wireframe off");
+            return;
+        case Action::NextShading:
+            mSettings.shading = mSettings.shading == Shading::Flat     ? Shading::Vertex
+                                : mSettings.shading == Shading::Vertex ? Shading::Pixel
+                                                                       : Shading::Flat;
+            mNeedRender = true;
+            say(fmt::format("{} shading", shadingName(mSettings.shading)));
+            return;
+        case Action::Screenshot: mScreenshotRequested = true; return;
+        case Action::ToggleHud:
+            mShowHud = !mShowHud;
+            glfwSetInputMode(mWindow, GLFW_CURSOR, mShowHud ? GLFW_CURSOR_HIDDEN : GLFW_CURSOR_NORMAL);
+            return;
+        case Action::ToggleHelp: mShowHelp = !mShowHelp; return;
+        case Action::ResetView: {
+            const float aspect = mStereo.camera.aspect;
+            mStereo = mInitialStereo;
+            mStereo.setAspect(aspect);
+            mNeedRender = true;
+            say("view reset");
+            return;
+        }
+        case Action::OrbitLeft: mStereo.orbit(glm::radians(-10.0f), 0.0f); break;
+        case Action::OrbitRight: mStereo.orbit(glm::radians(10.0f), 0.0f); break;
+        case Action::OrbitUp: mStereo.orbit(0.0f, glm::radians(10.0f)); break;
+        case Action::OrbitDown: mStereo.orbit(0.0f, glm::radians(-10.0f)); break;
+        case Action::ZoomIn: mStereo.zoom(1.0f / 1.15f); break;
+        case Action::ZoomOut: mStereo.zoom(1.15f); break;
+        case Action::Quit: mQuit = true; return;
+    }
+    mNeedRender = true;  // orbit / zoom
+}
+
+void Viewer::applyStep(const ScriptStep& step) {
+    switch (step.kind) {
+        case ScriptStep::Kind::Action: apply(step.action); break;
+        case ScriptStep::Kind::MouseAt:
+            mMouse = {step.x, step.y};
+            mMouseInside = true;
+            break;
+        case ScriptStep::Kind::Drag: drag({step.x, step.y}, false); break;
+        case ScriptStep::Kind::Pan: drag({step.x, step.y}, true); break;
+        case ScriptStep::Kind::Wheel:
+            mStereo.zoom(std::pow(0.9f, step.x));
+            mNeedRender = true;
+            break;
+    }
+}
+
+Status Viewer::renderFrame() {
+    auto rig = mStereo.rig();
+    if (!rig) return rig.status();
+    const MethodRef ref = method();
+    const auto start = Clock::now();
+    Result<RenderOutput> out = mWorker.call([&]() {
+        return mBackends.at(ref.backend)->render(mPrepared.scene, *rig, mSettings, ref.method);
+    });
+    mRenderMs = msSince(start);
+    if (!out) return out.status();
+    if (out->color.size() != 2) {
+        return internalError(fmt::format("{} returned {} images for 2 views", ref.label(),
+                                         out->color.size()));
+    }
+    mOutput = std::move(out).value();
+    mRig = std::move(rig).value();
+    mParallax.reset();
+    if (!mOutput.depth.empty()) mParallax = frameParallaxRange(*mRig, mOutput.depth[0]);
+    mNeedRender = false;
+    return Status::ok();
+}
+
+std::vector<std::string> Viewer::hudLines() const {
+    std::vector<std::string> lines;
+    const MethodRef& ref = method();
+    std::string methodText = ref.label();
+    if (!mOutput.method.empty() && mOutput.method != ref.method) methodText += " -> " + mOutput.method;
+    lines.push_back(fmt::format("{:.1f} fps ({:.0f} ms, render {:.0f})  {}  {}{}",
+                                mFrameMs > 0 ? 1000.0 / mFrameMs : 0.0, mFrameMs, mRenderMs,
+                                methodText, formatName(), mSwapEyes ? " (eyes swapped)" : ""));
+    lines.push_back(fmt::format("separation {:.2f}%  convergence {:.4g}  interaxial {:.4g}  {}{}",
+                                100.0 * mStereo.separation(), mStereo.convergence,
+                                mStereo.interaxial, shadingName(mSettings.shading),
+                                mSettings.wireframe ? " wireframe" : ""));
+    if (mParallax) {
+        lines.push_back(fmt::format("parallax {:+.2f}% .. {:+.2f}% of screen width: {}",
+                                    100.0 * mParallax->minParallax, 100.0 * mParallax->maxParallax,
+                                    mParallax->comfortable ? "comfortable" : "UNCOMFORTABLE"));
+    } else {
+        lines.push_back(mOutput.depth.empty()
+                            ? fmt::format("parallax: n/a ({} gives no depth image)", ref.method)
+                            : std::string("parallax: n/a (nothing drawn)"));
+    }
+    if (mCursorShown) {
+        lines.push_back(mCursor.onSurface
+                            ? fmt::format("cursor: distance {:.4g}, parallax {:+.2f}%",
+                                          mCursor.distance, 100.0 * mCursor.parallax)
+                            : std::string("cursor: no surface (at screen depth)"));
+    }
+    if (mShowHelp) {
+        lines.push_back("");
+        for (const std::string& k : keyHelp()) lines.push_back(k);
+    } else {
+        lines.push_back("? help");
+    }
+    return lines;
+}
+
+void Viewer::drawOverlays(std::vector<Image>& views) {
+    const int width = views[0].width, height = views[0].height;
+    // The HUD: the same pixels in both eyes = zero parallax = on the screen plane.
+    const int scale = height >= 600 ? 2 : 1;
+    const Rgba8 text{240, 240, 240, 255};
+    std::string block;
+    for (const std::string& line : hudLines()) block += line + "\n";
+    const glm::ivec2 size = textSize(block, scale);
+    const int margin = 4 * scale;
+    for (Image& view : views) {
+        darkenRect(view, 0, 0, size.x + 2 * margin, size.y + 2 * margin, 0.35f);
+        drawText(view, margin, margin, block, text, scale);
+    }
+    if (!mMessage.empty() && Clock::now() < mMessageUntil) {
+        const glm::ivec2 m = textSize(mMessage, scale);
+        for (Image& view : views) {
+            darkenRect(view, 0, height - m.y - 2 * margin, m.x + 2 * margin, height, 0.35f);
+            drawText(view, margin, height - m.y - margin, mMessage, text, scale);
+        }
+    }
+    // The 3D cursor: each eye gets it where its 3D point projects in that eye.
+    if (mCursorShown) {
+        const int arm = std::max(8, std::min(width, height) / 40);
+        for (int v = 0; v < 2; ++v) {
+            drawCrosshair(views[std::size_t(v)], mCursor.viewPx[v], arm, text);
+        }
+    }
+}
+
+Status Viewer::composeAndPresent() {
+    const std::string format = quadBuffer() ? std::string(kQuadBufferFallback) : formatName();
+    const glm::ivec2 view(mSettings.width, mSettings.height);
+    // The mouse, in one view's pixels ("on the screen"), for the 3D cursor.
+    mCursorShown = false;
+    if (mShowHud && mMouseInside && mRig) {
+        int ww = 1, wh = 1;
+        glfwGetWindowSize(mWindow, &ww, &wh);
+        const glm::vec2 fbPx = glm::vec2(mMouse) * glm::vec2(mFb) / glm::vec2(std::max(ww, 1), std::max(wh, 1));
+        const glm::ivec2 frame = quadBuffer() ? view : frameSizeFor(format, view);
+        const glm::vec2 framePx = fbPx - glm::vec2((mFb - frame) / 2);
+        if (framePx.x >= 0 && framePx.y >= 0 && framePx.x < frame.x && framePx.y < frame.y) {
+            const DepthImage none;
+            mCursor = placeCursor(*mRig, mOutput.depth.empty() ? none : mOutput.depth[0],
+                                  viewPxFromFrame(quadBuffer() ? "" : format, framePx, view),
+                                  view.x, view.y);
+            mCursorShown = true;
+        }
+    }
+    std::vector<Image> views = mOutput.color;
+    if (mShowHud) drawOverlays(views);
+
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    if (quadBuffer()) {
+        mPresenter->upload(0, views[mSwapEyes ? 1 : 0]);
+        mPresenter->upload(1, views[mSwapEyes ? 0 : 1]);
+    } else {
+        composite::ComposeOptions options;
+        options.swapEyes = mSwapEyes;
+        auto frame = composite::compose(format, views, options);
+        if (!frame) return frame.status();
+        mPresenter->upload(0, *frame);
+    }
+    present();
+    return Status::ok();
+}
+
+void Viewer::present() {
+    glDrawBuffer(mStereoWindow ? GL_BACK_LEFT : GL_BACK);
+    glClear(GL_COLOR_BUFFER_BIT);
+    if (mStereoWindow) {
+        glDrawBuffer(GL_BACK_RIGHT);
+        glClear(GL_COLOR_BUFFER_BIT);
+    }
+    if (quadBuffer()) {
+        mPresenter->draw(0, mFb, GL_BACK_LEFT);
+        mPresenter->draw(1, mFb, GL_BACK_RIGHT);
+    } else {
+        mPresenter->draw(0, mFb, GL_BACK);  // both back buffers of a stereo window
+    }
+}
+
+Status Viewer::writeScreenshot(const std::filesystem::path& path) {
+    Image image;
+    if (quadBuffer()) {
+        const std::vector<Image> eyes = {Presenter::readBack(mFb, GL_BACK_LEFT),
+                                         Presenter::readBack(mFb, GL_BACK_RIGHT)};
+        auto sbs = composite::compose("sbs", eyes);
+        if (!sbs) return sbs.status();
+        image = std::move(sbs).value();
+    } else {
+        image = Presenter::readBack(mFb, mStereoWindow ? GL_BACK_LEFT : GL_BACK);
+    }
+    if (Status s = writePng(path, image); !s) return s;
+    say(fmt::format("wrote {} ({}x{}{})", path.string(), image.width, image.height,
+                    quadBuffer() ? ", left | right back buffers" : ""));
+    return Status::ok();
+}
+
+std::filesystem::path Viewer::nextScreenshotPath() {
+    ++mScreenshotCount;
+    if (mOptions.screenshot.empty()) return fmt::format("mvr-view-{}.png", mScreenshotCount);
+    const std::filesystem::path base(mOptions.screenshot);
+    std::filesystem::path p = base.parent_path() /
+                              fmt::format("{}-{}{}", base.stem().string(), mScreenshotCount,
+                                          base.extension().string());
+    return p;
+}
+
+int Viewer::run() {
+    if (Status s = createBackends(); !s) return cli::fail(s);
+    if (Status s = chooseInitialMethod(); !s) {
+        shutdown();
+        return cli::fail(s);
+    }
+    const auto formats = viewerFormats();
+    mFormatIndex = std::size_t(std::find(formats.begin(), formats.end(), mOptions.format) - formats.begin());
+    if (mFormatIndex >= formats.size()) mFormatIndex = 0;
+
+    const glm::ivec2 viewSize(mSettings.width, mSettings.height);
+    const glm::ivec2 windowSize = frameSizeFor(quadBuffer() ? "" : formatName(), viewSize);
+    if (Status s = openWindow(windowSize); !s) {
+        shutdown();
+        return cli::fail(s);
+    }
+    if (quadBuffer() && !mStereoWindow) {
+        fmt::print(stderr, "mvr view: quad-buffer: the driver gives no stereo visual (GLFW_STEREO); "
+                           "showing {} instead\n", kQuadBufferFallback);
+        mFormatIndex = std::size_t(std::find(formats.begin(), formats.end(), kQuadBufferFallback) -
+                                   formats.begin());
+    }
+    if (mOptions.frames > 0 && std::size_t(mOptions.frames) < mScript.size()) {
+        fmt::print(stderr, "mvr view: --frames {} ends before the script's {} steps\n",
+                   mOptions.frames, mScript.size());
+    }
+    if (!mOptions.quiet) {
+        fmt::print("mvr view: {} ({} triangles), {}, {}, window {}x{}{}\n", mPrepared.sceneName,
+                   mPrepared.scene.triangleCount(), method().label(), formatName(), windowSize.x,
+                   windowSize.y, mStereoWindow ? ", stereo visual (quad-buffer available)" : "");
+        std::fflush(stdout);
+    }
+
+    int exit = 0;
+    const bool scripted = mOptions.frames > 0;
+    while (!mQuit && !glfwWindowShouldClose(mWindow)) {
+        const bool stepping = mScriptNext < mScript.size();
+        if (scripted || stepping) {
+            glfwPollEvents();
+        } else {
+            // Interactive and idle: wait for input (the HUD still refreshes twice a second).
+            glfwWaitEventsTimeout(mNeedRender ? 0.0 : 0.5);
+        }
+        if (stepping) applyStep(mScript[mScriptNext++]);
+        if (mQuit) break;
+
+        glfwGetFramebufferSize(mWindow, &mFb.x, &mFb.y);
+        if (mFb.x < 2 || mFb.y < 2) continue;  // minimised
+        const glm::ivec2 view = viewSizeFor(quadBuffer() ? "" : formatName(), mFb);
+        if (view != glm::ivec2(mSettings.width, mSettings.height)) {
+            mSettings.width = view.x;
+            mSettings.height = view.y;
+            mStereo.setAspect(float(view.x) / float(view.y));
+            mNeedRender = true;
+        }
+        const auto start = Clock::now();
+        if (mNeedRender || scripted || !mRig) {
+            if (Status s = renderFrame(); !s) {
+                if (!mRig) {  // nothing to show at all
+                    exit = cli::fail(s);
+                    break;
+                }
+                say(fmt::format("{}: {}", method().label(), s.message()));
+                mNeedRender = false;
+            }
+        }
+        if (Status s = composeAndPresent(); !s) {
+            exit = cli::fail(s);
+            break;
+        }
+        if (mNeedRender || scripted) mFrameMs = msSince(start);
+        if (mScreenshotRequested) {
+            mScreenshotRequested = false;
+            if (Status s = writeScreenshot(nextScreenshotPath()); !s) say(s.message());
+        }
+        glfwSwapBuffers(mWindow);
+        ++mFrames;
+        if (scripted && mFrames >= mOptions.frames) break;
+    }
+    if (exit == 0 && !mOptions.screenshot.empty() && mRig) {
+        // The last frame, drawn again into the back buffer and read back: what the window shows.
+        present();
+        if (Status s = writeScreenshot(mOptions.screenshot); !s) exit = cli::fail(s);
+    }
+    if (exit == 0 && !mOptions.quiet) {
+        fmt::print("mvr view: {} frames; last: {}, {}, {}x{} per view, separation {:.2f}%, "
+                   "convergence {:.4g}\n",
+                   mFrames, method().label(), formatName(), mSettings.width, mSettings.height,
+                   100.0 * mStereo.separation(), mStereo.convergence);
+    }
+    shutdown();
+    return exit;
+}
+
+}  // namespace
+
+int runViewer(const ViewerOptions& options) {
+    auto script = parseScript(options.script);
+    if (!script) return cli::fail(script.status());
+    if (options.frames < 0) {
+        return cli::fail(usageError(fmt::format("--frames {} is out of range (expected >= 0)", options.frames)));
+    }
+    auto prepared = options.scene.prepare();
+    if (!prepared) return cli::fail(prepared.status());
+    if (prepared->rig.viewCount() != 2) {
+        return cli::fail(usageError(fmt::format(
+            "mvr view shows a stereo pair: {} views requested (expected --views 2)",
+            prepared->rig.viewCount())));
+    }
+    Viewer viewer(options, std::move(prepared).value(), std::move(script).value());
+    return viewer.run();
+}
+
+std::function<int()> addViewCommand(CLI::App& root) {
+    auto o = std::make_shared<ViewerOptions>();
+    o->scene.size = "960x540";
+    CLI::App* app = root.add_subcommand(
+        "view", "Interactive stereo viewer: orbit, pan and zoom a scene or model files in a window, "
+                "switch the method and the output format live, with a HUD and a 3D cursor");
+    o->scene.addTo(app);
+    auto* backend = app->add_option("--backend", o->backend,
+                                    "Backend: gl (OpenGL through EGL; falls back to soft when it has no "
+                                    "context, unless given) or soft (CPU)")
+                        ->default_val(o->backend);
+    app->add_option("--method", o->method, "Method of the backend (see `mvr info`); m/M cycle them")
+        ->default_val(o->method);
+    app->add_option("--format", o->format, "Output format; f/F cycle them")
+        ->default_val(o->format)
+        ->check(CLI::IsMember(viewerFormats()));
+    app->add_flag("--swap-eyes", o->swapEyes, "Exchange the left and right views");
+    app->add_option("--frames", o->frames, "Render N frames and exit (0: until the window closes)")
+        ->default_val(o->frames);
+    app->add_option("--screenshot", o->screenshot,
+                    "Write the last frame (what the window shows) to FILE (PNG); p saves FILE-1.png, …");
+    app->add_option("--script", o->script,
+                    "Comma-separated keys applied one per frame, e.g. \"m,m,+\"; also left, right, up, "
+                    "down, pgup, pgdn, esc, f1, f12, at:X:Y (mouse), drag:DX:DY, pan:DX:DY, wheel:N");
+    app->add_flag("--no-hud", o->noHud, "Hide the HUD and the 3D cursor");
+    app->add_flag("-q,--quiet", o->quiet, "Print nothing but errors");
+    std::string keys = "Keys:\n";
+    for (const std::string& k : keyHelp()) keys += "  " + k + "\n";
+    keys += "The view size follows the window (--size sets the first one); side-by-side shows two "
+            "half-width views, top-bottom two half-height views.";
+    app->footer(keys);
+    return [o, backend] {
+        o->backendGiven = backend->count() > 0;
+        return runViewer(*o);
+    };
+}
+
+}  // namespace mvr::viewer

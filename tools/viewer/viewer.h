@@ -1,0 +1,54 @@
+// tools/viewer/viewer.h — `mvr view`: the interactive stereo viewer (library mvr_viewer).
+//
+// A GLFW window (OpenGL 3.3 core, GLX under X11) shows a stereo pair of the scene:
+//  1. the pair is rendered through the mvr::Backend interface — every gl method (in the gl
+//     backend's own EGL context, on a worker thread, see render_worker.h) and the soft backend;
+//  2. the HUD (at screen depth) and the 3D cursor (at the depth of the surface under the mouse)
+//     are drawn into each eye's image (overlay.h, view_state.h);
+//  3. the output format is composed on the CPU by mvr::composite::compose(), so the window
+//     shows exactly what `mvr render --format F` writes; quad-buffer stereo instead puts the
+//     eyes into GL_BACK_LEFT / GL_BACK_RIGHT when the driver gives a stereo visual;
+//  4. the frame is uploaded as a texture and drawn 1:1 (texelFetch, no filtering).
+// The view size follows the window: one view is the window (anaglyphs, interleaves, half
+// formats, quad-buffer), half of it (sbs: width, tb: height).
+//
+// Errors: no display or no GL context → "error: mvr view: …" and exit 3 (Unsupported); bad
+// options → exit 1; unreadable models → exit 2; an unwritable screenshot → exit 4.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "options.h"
+
+namespace mvr::viewer {
+
+struct ViewerOptions {
+    cli::SceneOptions scene;
+    std::string backend = "gl";
+    std::string method = "multipass";
+    bool backendGiven = false;  ///< --backend was on the command line (no fallback to soft)
+    std::string format = "anaglyph-dubois";
+    bool swapEyes = false;
+    int frames = 0;               ///< > 0: render this many frames, then exit
+    std::string screenshot;       ///< write the last frame here (PNG)
+    std::string script;           ///< --script KEYS (see input.h)
+    bool noHud = false;           ///< hide HUD and cursor (for comparisons with `mvr render`)
+    bool quiet = false;
+};
+
+/// The output formats `f` cycles through, in order: the seven anaglyphs, sbs, sbs-half, tb,
+/// tb-half, rows, columns, checkerboard, quad-buffer.
+const std::vector<std::string>& viewerFormats();
+
+/// Adds the `view` subcommand to `root`; returns the function that runs it after parsing.
+std::function<int()> addViewCommand(CLI::App& root);
+
+/// Runs the viewer until the window is closed, `q` is pressed, or `frames` frames were drawn.
+/// Returns the process exit code (0, or the code of the error printed on stderr).
+int runViewer(const ViewerOptions& options);
+
+}  // namespace mvr::viewer
