@@ -146,7 +146,9 @@ std::vector<std::string> Renderer::info() {
         if (m == "auto") continue;
         Status s = supports(m);
         if (!s) {
-            lines.push_back(fmt::format("method {}: unsupported: {}", m, s.message()));
+            std::string why = s.message();
+            if (why.rfind(m + ": ", 0) == 0) why.erase(0, m.size() + 2);
+            lines.push_back(fmt::format("method {}: unsupported: {}", m, why));
             continue;
         }
         const int lf = viewLimit(m, Shading::Flat, 1024, 768);
