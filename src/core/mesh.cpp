@@ -174,8 +174,8 @@ Result<Mesh> loadMesh(const std::filesystem::path& path) {
     }
 
     Assimp::Importer importer;
-    // Drop points and lines; keep only triangles (after triangulating polygons).
-    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    // Points and lines are split into meshes of their own (SortByPType) and skipped below, so a
+    // file with no faces reports "has no triangles" rather than assimp's "No meshes remaining".
     const aiScene* scene = importer.ReadFile(
         path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                            aiProcess_SortByPType | aiProcess_ValidateDataStructure |

@@ -26,7 +26,7 @@ std::filesystem::path sharedModels() {
     return std::filesystem::path(dir ? dir : MVR_TEST_SHARED_DIR) / "models";
 }
 
-struct Run {
+struct CliRun {
     int exitCode = -1;
     std::string out, err;
 };
@@ -40,12 +40,12 @@ protected:
     }
     void TearDown() override { std::filesystem::remove_all(mDir); }
 
-    Run run(const std::string& args) const {
+    CliRun run(const std::string& args) const {
         const auto outFile = mDir / "stdout.txt", errFile = mDir / "stderr.txt";
         const std::string cmd = fmt::format("cd '{}' && '{}' {} >'{}' 2>'{}' </dev/null", mDir.string(),
                                             mvrBinary().string(), args, outFile.string(), errFile.string());
         const int status = std::system(cmd.c_str());
-        Run r;
+        CliRun r;
         r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
         auto slurp = [](const std::filesystem::path& p) {
             std::ifstream in(p);
@@ -60,7 +60,7 @@ protected:
 
     /// Expects exactly one line on stderr, starting "error: " and containing `needle`.
     void expectError(const std::string& args, int code, const std::string& needle) const {
-        const Run r = run(args);
+        const CliRun r = run(args);
         EXPECT_EQ(r.exitCode, code) << args << "\n" << r.err;
         EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << args << ": " << r.err;
         const std::string firstLine = r.err.substr(0, r.err.find('\n'));
@@ -77,21 +77,21 @@ protected:
 };
 
 TEST_F(Cli, HelpDocumentsTheContract) {
-    const Run r = run("render --help");
+    const CliRun r = run("render --help");
     EXPECT_EQ(r.exitCode, 0);
     for (const char* opt : {"--grid", "--views", "--view-grid", "--rig", "--interaxial", "--separation",
                             "--convergence", "--fov", "--size", "--shading", "--backend", "--method", "-o"}) {
         EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
     }
     EXPECT_EQ(run("--help").exitCode, 0);
-    const Run info = run("info");
+    const CliRun info = run("info");
     EXPECT_EQ(info.exitCode, 0);
     EXPECT_NE(info.out.find("backend soft"), std::string::npos);
     EXPECT_NE(info.out.find("multipass"), std::string::npos);
 }
 
 TEST_F(Cli, DefaultSceneWritesViewsAndAnaglyph) {
-    const Run r = run("render --size 160x120 -o out");
+    const CliRun r = run("render --size 160x120 -o out");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     for (const char* f : {"view-0.png", "view-1.png", "anaglyph.png"}) {
         auto img = readPng(mDir / "out" / f);
@@ -106,7 +106,7 @@ TEST_F(Cli, DefaultSceneWritesViewsAndAnaglyph) {
 }
 
 TEST_F(Cli, ViewGridNamesViewsInOrder) {
-    const Run r = run("render --size 64x48 --view-grid 3x2 -o grid");
+    const CliRun r = run("render --size 64x48 --view-grid 3x2 -o grid");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     for (int v = 0; v < 6; ++v) EXPECT_TRUE(std::filesystem::exists(mDir / fmt::format("grid/view-{}.png", v)));
     EXPECT_FALSE(std::filesystem::exists(mDir / "grid/view-6.png"));
@@ -140,7 +140,7 @@ Coverage coverage(const Image& img) {
 TEST_F(Cli, BunnyEyesOffsetHorizontallyOnly) {
     const auto bunny = sharedModels() / "stanford-bunny.obj";
     if (!std::filesystem::exists(bunny)) GTEST_SKIP() << "no " << bunny;
-    const Run r = run(fmt::format("render '{}' --size 200x150 --separation 0.05 --convergence 0.1 -o bunny", bunny.string()));
+    const CliRun r = run(fmt::format("render '{}' --size 200x150 --separation 0.05 --convergence 0.1 -o bunny", bunny.string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     auto left = readPng(mDir / "bunny/view-0.png");
     auto right = readPng(mDir / "bunny/view-1.png");
@@ -153,7 +153,7 @@ TEST_F(Cli, BunnyEyesOffsetHorizontallyOnly) {
     EXPECT_GT(rc.centroidX - l.centroidX, 2.0);  // behind the screen: right image shifted right
     // Toe-in, for comparison, gives vertical parallax somewhere (keystone), so extents may differ;
     // with convergence in front of the bunny, parallel eyes shift it the other way: negative parallax.
-    const Run p = run(fmt::format("render '{}' --size 200x150 --rig parallel --separation 0.05 -o par", bunny.string()));
+    const CliRun p = run(fmt::format("render '{}' --size 200x150 --rig parallel --separation 0.05 -o par", bunny.string()));
     ASSERT_EQ(p.exitCode, 0) << p.err;
     const Coverage pl = coverage(*readPng(mDir / "par/view-0.png")), pr = coverage(*readPng(mDir / "par/view-1.png"));
     EXPECT_LT(pr.centroidX - pl.centroidX, -2.0);  // parallel rig: everything in front of the screen

@@ -29,6 +29,19 @@ int main(int argc, char** argv) {
         auto subs = app.get_subcommands({});
         if (subs.size() > before) commands.emplace_back(subs.back(), std::move(run));
     }
+    if (argc > 1 && argv[1][0] != '-') {
+        const std::string name = argv[1];
+        std::string known;
+        bool found = false;
+        for (auto& [sub, run] : commands) {
+            found = found || sub->get_name() == name;
+            known += (known.empty() ? "" : ", ") + sub->get_name();
+        }
+        if (!found) {
+            fmt::print(stderr, "error: unknown command '{}' (expected one of {})\n", name, known);
+            return 1;
+        }
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
