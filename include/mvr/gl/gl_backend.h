@@ -11,6 +11,9 @@
 // (a GPU; devices with EGL_MESA_device_software are skipped), then Mesa's surfaceless platform
 // (EGL_MESA_platform_surfaceless: llvmpipe on machines without a GPU), then the default
 // display. The environment variable MVR_EGL_PLATFORM=device|surfaceless|default forces one.
+// Each backend owns its context and makes it current on the calling thread at every call; use
+// one backend from one thread at a time (a context current on another thread cannot be made
+// current: that is an Internal "eglMakeCurrent: EGL_BAD_ACCESS" error, not a crash).
 // When none gives an OpenGL 4.5 core context every GL call returns ErrorCode::Unsupported with
 // "no EGL display: EGL_…" or "…: OpenGL 4.5 core context not available: EGL_…".
 //
