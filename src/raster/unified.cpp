@@ -533,18 +533,20 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                 }
                 // Per view: x only — the views' x setup side by side (SIMD across views), then
                 // each view's pixels while that setup is in L1.
+                if (activeCount < kMinSimdViews) {
+                    // Too few lanes to pay for the vector setup: one view at a time (same result).
+                    for (int k = 0; k < activeCount; ++k) {
+                        const ViewData& vd = d.views[std::size_t(active[k])];
+                        const std::int32_t xk[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
+                        FragmentSink<S> sink = b.sinks[std::size_t(active[k])];  // in registers
+                        rasterTriangle(ys, xk, width, sink);
+                    }
+                    continue;
+                }
                 std::int32_t x[3][kMaxViews];
                 for (int k = 0; k < activeCount; ++k) {
                     const ViewData& vd = d.views[std::size_t(active[k])];
                     x[0][k] = vd.sx[v[0]], x[1][k] = vd.sx[v[1]], x[2][k] = vd.sx[v[2]];
-                }
-                if (activeCount < kMinSimdViews) {
-                    // Too few lanes to pay for the vector setup: one view at a time (same result).
-                    for (int k = 0; k < activeCount; ++k) {
-                        const std::int32_t xk[3] = {x[0][k], x[1][k], x[2][k]};
-                        rasterTriangle(ys, xk, width, b.sinks[std::size_t(active[k])]);
-                    }
-                    continue;
                 }
                 f.kernels.setupViews(ys, x[0], x[1], x[2], activeCount, width, b.views);
                 for (int k = 0; k < activeCount; ++k) {
@@ -554,7 +556,8 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                     if (m > 0) {
                         emitSmall(b.views, k, ys.rowMin, sink);
                     } else {
-                        const std::int32_t xk[3] = {x[0][k], x[1][k], x[2][k]};
+                        const ViewData& vd = d.views[std::size_t(active[k])];
+                        const std::int32_t xk[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
                         rasterTriangle(ys, xk, width, sink);
                     }
                 }
