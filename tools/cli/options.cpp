@@ -40,6 +40,8 @@ Result<std::pair<int, int>> parseSize(const std::string& text, const char* what)
     return std::pair<int, int>{int(w), int(h)};
 }
 
+std::string defaultMethod(const std::string& backend) { return backend == "gl" ? "auto" : "unified"; }
+
 std::vector<std::string> backendNames() {
     std::vector<std::string> names;
 #ifdef MVR_HAVE_RASTER

@@ -52,6 +52,8 @@ Result<std::pair<int, int>> parseSize(const std::string& text, const char* what)
 /// Creates a backend by name ("soft", "gl"). Errors: Usage for an unknown name, Unsupported
 /// for one not built into this binary.
 Result<std::unique_ptr<Backend>> makeBackend(const std::string& name);
+/// The method `mvr render` uses when none is given: "unified" for soft, "auto" for gl.
+std::string defaultMethod(const std::string& backend);
 /// Names of the backends built into this binary.
 std::vector<std::string> backendNames();
 
