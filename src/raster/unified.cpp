@@ -326,7 +326,7 @@ struct BandContext {
     FragmentTri frag{};
     std::vector<FragmentSink<S>> sinks;  ///< per view, all pointing at `frag`
     int attrCount = attributeCount(S);
-    ViewsSetup views;                    ///< the current triangle's per-view x setup (L1)
+    ViewsSetup views{};                  ///< the current triangle's per-view x setup (L1)
 };
 
 /// One family's replicas of a triangle that needs clipping against shared planes (or whose
