@@ -21,14 +21,18 @@ struct ViewVertexData : MethodScratch {
     std::vector<std::int32_t> sx, sy;       // snapped window position
     std::vector<float> zw, q;               // window depth, 1/w
     std::vector<std::uint8_t> codeYZW, codeX;  // outcodes
-    std::vector<float> attr;                // kMaxAttrs per vertex
+    std::vector<float> attr;                // attrStride floats per vertex
+    std::size_t attrStride = 0;             // attributeCount(shading): only what is interpolated
     std::vector<glm::vec3> world;           // world positions (Flat's face normal)
     Bins bins;
 
-    void resize(std::size_t n) {
+    void resize(std::size_t n, Shading shading) {
         for (auto* v : {&x, &y, &z, &w, &cx, &cy, &zw, &q}) v->resize(n);
-        sx.resize(n), sy.resize(n), codeYZW.resize(n), codeX.resize(n), attr.resize(n * kMaxAttrs), world.resize(n);
+        attrStride = std::size_t(attributeCount(shading));
+        sx.resize(n), sy.resize(n), codeYZW.resize(n), codeX.resize(n), attr.resize(n * attrStride);
+        world.resize(shading == Shading::Flat ? n : 0);
     }
+    const float* attrOf(std::uint32_t v) const { return attr.data() + v * attrStride; }
 };
 
 /// Outcodes of a triangle: AND (trivial reject) and OR (clip planes) over its vertices.
@@ -64,11 +68,12 @@ void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
                 }
                 d.x[g] = x, d.y[g] = y, d.z[g] = c.z, d.w[g] = c.w;
                 const glm::vec3 world = glm::vec3(transformPoint(item.instance->worldFromModel, p));
-                d.world[g] = world;
-                if (shading != Shading::Flat) {
+                if (shading == Shading::Flat) {
+                    d.world[g] = world;
+                } else {
                     vertexAttributes(shading, f.shading, item.instance->material, world,
                                      transformDir(item.normalFromModel, item.mesh->normals[i]),
-                                     &d.attr[std::size_t(g) * kMaxAttrs]);
+                                     d.attr.data() + g * d.attrStride);
                 }
             }
             const std::uint32_t g = item.vertexBase + begin, count = end - begin;
@@ -158,7 +163,7 @@ void drawWireframe(const FrameContext& f, const ViewVertexData& d, const std::ui
         LineEnds e;
         e.y[0] = d.y[i0], e.z[0] = d.z[i0], e.w[0] = d.w[i0], e.x[0][0] = d.x[i0];
         e.y[1] = d.y[i1], e.z[1] = d.z[i1], e.w[1] = d.w[i1], e.x[1][0] = d.x[i1];
-        e.a[0] = &d.attr[std::size_t(i0) * kMaxAttrs], e.a[1] = &d.attr[std::size_t(i1) * kMaxAttrs];
+        e.a[0] = d.attrOf(i0), e.a[1] = d.attrOf(i1);
         float attr[2][kMaxAttrs];
         if (!clipLineNearFar(e, 1, attrCount, attr)) continue;
         float xw[2], yw[2];
@@ -217,7 +222,7 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
                     for (int j = 0; j < 3; ++j) {
                         frag.z[j] = d.zw[v[j]];
                         frag.q[j] = d.q[v[j]];
-                        frag.attr[j] = &d.attr[std::size_t(v[j]) * kMaxAttrs];
+                        frag.attr[j] = d.attrOf(v[j]);
                     }
                     rasterTriangle(ys, x, target.width, sink);
                 } else {
@@ -225,7 +230,7 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
                     for (int j = 0; j < 3; ++j) {
                         ClipVertex& cv = poly[j];
                         cv.x = d.x[v[j]], cv.y = d.y[v[j]], cv.z = d.z[v[j]], cv.w = d.w[v[j]];
-                        std::copy_n(&d.attr[std::size_t(v[j]) * kMaxAttrs], kMaxAttrs, cv.a);
+                        std::copy_n(d.attrOf(v[j]), attrCount, cv.a);
                     }
                     drawClippedTriangle(poly, planes, attrCount, target, rowLo, rowHi,
                                         sink, frag);
@@ -241,7 +246,7 @@ void renderMultipass(FrameContext& f, std::span<const Target> targets, StageTime
                      std::unique_ptr<MethodScratch>& scratch) {
     if (!dynamic_cast<ViewVertexData*>(scratch.get())) scratch = std::make_unique<ViewVertexData>();
     ViewVertexData& d = static_cast<ViewVertexData&>(*scratch);
-    d.resize(f.draw.vertexCount);
+    d.resize(f.draw.vertexCount, f.settings.shading);
     Bins& bins = d.bins;
     for (int v = 0; v < f.rig.viewCount(); ++v) {
         const View& view = f.rig.views[std::size_t(v)];

@@ -65,16 +65,18 @@ struct UnifiedData : MethodScratch {
     bool anySheared = false;
     // Per vertex, view-independent: world position, attributes, center clip position.
     std::vector<glm::vec3> world;
-    std::vector<float> attr;
+    std::vector<float> attr;          ///< attrStride floats per vertex
+    std::size_t attrStride = 0;       ///< attributeCount(shading): only what is interpolated
     std::vector<float> cx, cy, cz, cw;
     std::vector<std::uint8_t> anyClipX;  ///< OR over views of the left/right guard-band bits
     Bins bins;
 
+    const float* attrOf(std::uint32_t v) const { return attr.data() + v * attrStride; }
     const float* famZ(const Family& f) const { return f.sheared ? cz.data() : f.z.data(); }
     const float* famW(const Family& f) const { return f.sheared ? cw.data() : f.w.data(); }
 };
 
-void buildFamilies(const Rig& rig, std::size_t vertexCount, UnifiedData& d) {
+void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, UnifiedData& d) {
     d.families.clear();
     d.views.resize(std::size_t(rig.viewCount()));
     d.anySheared = false;
@@ -114,7 +116,8 @@ void buildFamilies(const Rig& rig, std::size_t vertexCount, UnifiedData& d) {
         if (!f.sheared) f.z.resize(n), f.w.resize(n);
     }
     for (ViewData& vd : d.views) vd.x.resize(n), vd.sx.resize(n), vd.code.resize(n);
-    d.world.resize(n), d.attr.resize(n * kMaxAttrs), d.anyClipX.resize(n);
+    d.attrStride = std::size_t(attributeCount(shading));
+    d.world.resize(shading == Shading::Flat ? n : 0), d.attr.resize(n * d.attrStride), d.anyClipX.resize(n);
     if (d.anySheared) d.cx.resize(n), d.cy.resize(n), d.cz.resize(n), d.cw.resize(n);
 }
 
@@ -141,11 +144,12 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 const glm::vec3& p = item.mesh->positions[i];
                 // View-independent outputs: once.
                 const glm::vec3 world = glm::vec3(transformPoint(item.instance->worldFromModel, p));
-                d.world[g] = world;
-                if (shading != Shading::Flat) {
+                if (shading == Shading::Flat) {
+                    d.world[g] = world;
+                } else {
                     vertexAttributes(shading, f.shading, item.instance->material, world,
                                      transformDir(item.normalFromModel, item.mesh->normals[i]),
-                                     &d.attr[std::size_t(g) * kMaxAttrs]);
+                                     d.attr.data() + g * d.attrStride);
                 }
                 // View-specific positions: one shared center transform (the shears follow
                 // below, per family and view, as plain loops the compiler vectorizes).
@@ -341,7 +345,7 @@ void drawFamilyClipped(BandContext<S>& b, const Family& fam, const std::uint32_t
     const float* w = d.famW(fam);
     for (int j = 0; j < 3; ++j) {
         poly.y[j] = fam.y[v[j]], poly.z[j] = z[v[j]], poly.w[j] = w[v[j]];
-        std::copy_n(&d.attr[std::size_t(v[j]) * kMaxAttrs], kMaxAttrs, poly.a[j]);
+        std::copy_n(d.attrOf(v[j]), b.attrCount, poly.a[j]);
         for (int k = 0; k < activeCount; ++k) poly.x[j][k] = d.views[std::size_t(active[k])].x[v[j]];
     }
     clipShared(poly, famPlanes, b.attrCount, activeCount, tmp);
@@ -368,7 +372,7 @@ void drawFamilyClipped(BandContext<S>& b, const Family& fam, const std::uint32_t
             ClipVertex cv[kMaxPolyVerts];
             for (int i = 0; i < poly.n; ++i) {
                 cv[i].x = poly.x[i][k], cv[i].y = poly.y[i], cv[i].z = poly.z[i], cv[i].w = poly.w[i];
-                std::copy_n(poly.a[i], kMaxAttrs, cv[i].a);
+                std::copy_n(poly.a[i], b.attrCount, cv[i].a);
             }
             // drawClippedTriangle clips from a triangle; feed the polygon through the same
             // clipper (left/right only) and fan.
@@ -435,7 +439,7 @@ void drawFamilyWireframe(BandContext<S>& b, const Family& fam, const std::uint32
         LineEnds e;
         e.y[0] = fam.y[i0], e.z[0] = z[i0], e.w[0] = w[i0];
         e.y[1] = fam.y[i1], e.z[1] = z[i1], e.w[1] = w[i1];
-        e.a[0] = &d.attr[std::size_t(i0) * kMaxAttrs], e.a[1] = &d.attr[std::size_t(i1) * kMaxAttrs];
+        e.a[0] = d.attrOf(i0), e.a[1] = d.attrOf(i1);
         for (int k = 0; k < activeCount; ++k) {
             const ViewData& vd = d.views[std::size_t(active[k])];
             e.x[0][k] = vd.x[i0], e.x[1][k] = vd.x[i1];
@@ -529,7 +533,7 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                 for (int j = 0; j < 3; ++j) {
                     b.frag.z[j] = fam.zw[v[j]];
                     b.frag.q[j] = fam.q[v[j]];
-                    b.frag.attr[j] = &d.attr[std::size_t(v[j]) * kMaxAttrs];
+                    b.frag.attr[j] = d.attrOf(v[j]);
                 }
                 // Per view: x only — the views' x setup side by side (SIMD across views), then
                 // each view's pixels while that setup is in L1.
@@ -583,7 +587,7 @@ void renderUnified(FrameContext& f, std::span<const Target> targets, StageTimes&
     if (!dynamic_cast<UnifiedData*>(scratch.get())) scratch = std::make_unique<UnifiedData>();
     UnifiedData& d = static_cast<UnifiedData&>(*scratch);
     StageClock clock;
-    buildFamilies(f.rig, f.draw.vertexCount, d);
+    buildFamilies(f.rig, f.settings.shading, f.draw.vertexCount, d);
     vertexStage(f, d);
     times.vertexMs += clock.lap();
     binStage(f, d);
