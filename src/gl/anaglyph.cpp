@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "composite_context.h"
 #include "egl_context.h"
 #include "gl_objects.h"
 #include "mvr/gl/gl_backend.h"
@@ -16,38 +17,9 @@ namespace mvr::gl {
 
 namespace {
 
-struct CompositeContext {
-    std::unique_ptr<detail::EglContext> context;
-    detail::Program program;
-    std::map<std::string, detail::Program> mixPrograms;  ///< by GLSL source
-    detail::VertexArray vao;
-    Status status;
-};
-
-// One context for the process's GPU composites, made on first use and deliberately never
-// destroyed: at exit no context may be current, and GL calls from static destructors would
-// then have nothing to run on.
-CompositeContext& compositeContext() {
-    static CompositeContext& c = *[] {
-        auto* ccp = new CompositeContext;
-        CompositeContext& cc = *ccp;
-        auto ctx = detail::EglContext::create();
-        if (!ctx) {
-            cc.status = ctx.status();
-            return ccp;
-        }
-        cc.context = std::move(ctx).value();
-        auto p = detail::buildCompositeProgram();
-        if (!p) {
-            cc.status = p.status();
-            return ccp;
-        }
-        cc.program = std::move(p).value();
-        cc.vao = detail::createVertexArray();
-        return ccp;
-    }();
-    return c;
-}
+using detail::CompositeContext;
+using detail::compositeContext;
+using detail::compositeMutex;
 
 detail::Texture upload(const Image& img) {
     detail::Texture t = detail::createTexture(GL_TEXTURE_2D);
@@ -81,11 +53,6 @@ Status validatePair(const Image& left, const Image& right) {
     return Status::ok();
 }
 
-std::mutex& compositeMutex() {
-    static std::mutex m;
-    return m;
-}
-
 // Makes the composite context current and checks the size against the driver.
 Status prepare(CompositeContext& c, const Image& left) {
     if (!c.status) return c.status;
@@ -113,6 +80,7 @@ Image readTarget(GLuint target, int w, int h) {
 Result<Image> composeAnaglyphGpu(const Image& left, const Image& right) {
     if (Status s = validatePair(left, right); !s) return s;
     std::lock_guard lock(compositeMutex());
+    detail::CompositeScope scope;  // the composite context is current only during the call
     CompositeContext& c = compositeContext();
     if (Status s = prepare(c, left); !s) return s;
 
@@ -152,6 +120,7 @@ Result<Image> composeAnaglyphGpu(const Image& left, const Image& right,
                                  const std::string& glslMix) {
     if (Status s = validatePair(left, right); !s) return s;
     std::lock_guard lock(compositeMutex());
+    detail::CompositeScope scope;  // the composite context is current only during the call
     CompositeContext& c = compositeContext();
     if (Status s = prepare(c, left); !s) return s;
     auto it = c.mixPrograms.find(glslMix);

@@ -382,4 +382,13 @@ Result<Program> buildMixProgram(const std::string& glslMix) {
     return link({&vs.value(), &fs.value()});
 }
 
+Result<Program> buildFullScreenProgram(const std::string& fragmentSource) {
+    const std::string head = "#version 450 core\n";
+    auto vs = compile(GL_VERTEX_SHADER, head + kCompositeVertex);
+    if (!vs) return vs.status();
+    auto fs = compile(GL_FRAGMENT_SHADER, head + fragmentSource);
+    if (!fs) return fs.status();
+    return link({&vs.value(), &fs.value()});
+}
+
 }  // namespace mvr::gl::detail

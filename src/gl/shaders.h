@@ -35,4 +35,8 @@ Result<Program> buildCompositeProgram();
 /// program reads binding 0 (left) and 1 (right) by texelFetch.
 Result<Program> buildMixProgram(const std::string& glslMix);
 
+/// Full-screen-quad program with the fragment shader `fragmentSource` (without #version;
+/// "#version 450 core" is prepended). Errors: Internal with the compile or link log.
+Result<Program> buildFullScreenProgram(const std::string& fragmentSource);
+
 }  // namespace mvr::gl::detail

@@ -1,0 +1,49 @@
+// mvr/gl/composite_gpu.h — every image format of the composite module, composed on the GPU.
+//
+// composeGpu(format, views, options) gives the same image as mvr::composite::compose() with the
+// same arguments (compose.h, layout.h, lenticular.h, anaglyph.h are the specification):
+//   - the views go up once as one RGBA8UI 2D-array texture (view i in layer i; reversed for
+//     swapEyes, as compose() reverses the order), one full-screen pass of a fragment shader
+//     per format family writes an RGBA8UI target, which is read back (row 0 = top, as Image);
+//   - pixel-moving formats (sbs, sbs-half, tb, tb-half, rows, columns, checkerboard,
+//     hdmi-frame-packing, quilt) work on the 8-bit integers: copies, and the -half formats'
+//     (a + b + 1) / 2 pair average, so they are bit-exact;
+//   - lenticular evaluates lenticular.h's formula in double precision (GLSL `precise double`,
+//     no fused multiply-add), the same operations in the same order as lenticularView(): on
+//     IEEE-double hardware (llvmpipe, every desktop GPU with fp64) it picks the same view for
+//     every sub-pixel, i.e. bit-exact;
+//   - anaglyphs run composite::anaglyphGlsl(method) (sRGB decode, 3×3 mixes, encode) in float:
+//     within 1/255 per channel of the CPU's table-driven curve.
+// Outputs larger than the driver's render-target size are drawn in tiles.
+//
+// Errors: exactly the checks of compose() (unknown format, view count, empty or differently
+// sized views, odd width / height for the -half formats, non-HDMI size, quilt grid, lenticular
+// calibration), as ErrorCode::Usage with the same texts, prefixed "mvr::gl::composeGpu(): FMT"
+// where compose() says "mvr::composite::compose(): FMT". "mpo" and "jps" are JPEG files, not
+// GPU images: ErrorCode::Unsupported naming composite::compose() / writeComposite(). No GL
+// context, a view larger than GL_MAX_TEXTURE_SIZE or more views than
+// GL_MAX_ARRAY_TEXTURE_LAYERS: Unsupported. GL requires 4.5 core (+ fp64, core since 4.0).
+//
+// Threads: any thread may call it; calls are serialised on one process-wide composite context
+// (the one composeAnaglyphGpu() uses), which is current only during the call: the context
+// that was current on the calling thread before is current again afterwards.
+#pragma once
+
+#include <span>
+#include <string>
+
+#include "mvr/composite/compose.h"
+#include "mvr/core/image.h"
+#include "mvr/core/status.h"
+
+namespace mvr::gl {
+
+/// The image of `format` for `views` (left to right, one size), composed on the GPU. See above.
+Result<Image> composeGpu(const std::string& format, std::span<const Image> views,
+                         const composite::ComposeOptions& options = {});
+
+/// True for the formats composeGpu() composes: every format of composite::formats() except
+/// the JPEG files (jps, mpo).
+bool composeGpuSupports(const std::string& format);
+
+}  // namespace mvr::gl

@@ -1,0 +1,389 @@
+// Every image format of the composite module on the GPU (composite_gpu.h): the views as one
+// RGBA8UI array texture, one full-screen pass per format family into an RGBA8UI target
+// (tiled when the output is larger than a render target may be), read back.
+#include "mvr/gl/composite_gpu.h"
+
+#include <algorithm>
+#include <cstring>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "composite_context.h"
+#include "egl_context.h"
+#include "gl_objects.h"
+#include "mvr/composite/anaglyph.h"
+#include "mvr/composite/layout.h"
+#include "mvr/composite/lenticular.h"
+#include "shaders.h"
+
+namespace mvr::gl {
+namespace {
+
+// Pixel-moving layouts of the LAYOUT family (uMode).
+enum LayoutMode : int {
+    kSbs = 0,
+    kSbsHalf = 1,
+    kTb = 2,
+    kTbHalf = 3,
+    kRows = 4,
+    kColumns = 5,
+    kCheckerboard = 6,
+    kHdmi = 7,
+    kQuilt = 8,
+};
+
+// One source for every family; a family is a #define. Pixel p is the output pixel with row 0 at
+// the TOP: image row 0 is uploaded to texture row 0 and the target is read back without a flip.
+const char* const kFragment = R"glsl(
+layout(binding = 0) uniform usampler2DArray uViews;
+layout(location = 0) out uvec4 oColor;
+layout(location = 0) uniform ivec2 uOrigin;     // this tile's first output pixel
+layout(location = 1) uniform int uMode;         // LAYOUT: LayoutMode
+layout(location = 2) uniform int uViewCount;
+layout(location = 3) uniform ivec2 uViewSize;
+layout(location = 4) uniform int uFirst;        // layer of the left / top / first view
+layout(location = 5) uniform int uSecond;       // layer of the right / bottom / second view
+layout(location = 6) uniform ivec2 uGrid;       // quilt columns, rows
+layout(location = 7) uniform int uGap;          // HDMI active-space lines
+layout(location = 8) uniform dvec4 uLens;       // lenticular pitchU, tilt, subp, center
+layout(location = 9) uniform ivec2 uScreen;     // lenticular output size
+layout(location = 10) uniform ivec4 uLensFlags; // ri, bi, invertViews, 0
+layout(location = 11) uniform ivec2 uFlip;      // lenticular flipX, flipY
+
+const uvec4 kBlank = uvec4(0u, 0u, 0u, 255u);
+
+uvec4 fetch(int layer, ivec2 p) { return texelFetch(uViews, ivec3(p, layer), 0); }
+// layout.h's 2:1 squeeze: (a + b + 1) / 2 per 8-bit channel, rounding half up.
+uvec4 average(uvec4 a, uvec4 b) { return (a + b + 1u) / 2u; }
+
+#ifdef FAMILY_LAYOUT
+uvec4 composite(ivec2 p) {
+    const int W = uViewSize.x, H = uViewSize.y;
+    switch (uMode) {
+    case 0:  // sbs: first | second, 2W x H
+        return p.x < W ? fetch(uFirst, p) : fetch(uSecond, ivec2(p.x - W, p.y));
+    case 1: {  // sbs-half: W x H, each view squeezed to W/2 columns
+        const int halfSize = W / 2;
+        const int layer = p.x < halfSize ? uFirst : uSecond;
+        const int sx = p.x < halfSize ? p.x : p.x - halfSize;
+        return average(fetch(layer, ivec2(2 * sx, p.y)), fetch(layer, ivec2(2 * sx + 1, p.y)));
+    }
+    case 2:  // tb: top over bottom, W x 2H
+        return p.y < H ? fetch(uFirst, p) : fetch(uSecond, ivec2(p.x, p.y - H));
+    case 3: {  // tb-half: W x H, each view squeezed to H/2 rows
+        const int halfSize = H / 2;
+        const int layer = p.y < halfSize ? uFirst : uSecond;
+        const int sy = p.y < halfSize ? p.y : p.y - halfSize;
+        return average(fetch(layer, ivec2(p.x, 2 * sy)), fetch(layer, ivec2(p.x, 2 * sy + 1)));
+    }
+    case 4:  // rows: row y from view y mod N
+        return fetch(p.y % uViewCount, p);
+    case 5:  // columns: column x from view x mod N
+        return fetch(p.x % uViewCount, p);
+    case 6:  // checkerboard: (x + y) even from the first view
+        return ((p.x + p.y) & 1) == 0 ? fetch(uFirst, p) : fetch(uSecond, p);
+    case 7:  // HDMI frame packing: left, uGap blank lines, right
+        if (p.y < H) return fetch(uFirst, p);
+        if (p.y < H + uGap) return kBlank;
+        return fetch(uSecond, ivec2(p.x, p.y - H - uGap));
+    default: {  // quilt: view i in tile column i mod C, tile row i / C from the BOTTOM
+        const int tx = p.x / W, tyFromTop = p.y / H;
+        const int i = (uGrid.y - 1 - tyFromTop) * uGrid.x + tx;
+        if (i >= uViewCount) return kBlank;
+        return fetch(i, ivec2(p.x - tx * W, p.y - tyFromTop * H));
+    }
+    }
+}
+#endif
+
+#ifdef FAMILY_ANAGLYPH
+// mvrAnaglyph() comes from composite::anaglyphGlsl(method), prepended to this source.
+uvec4 composite(ivec2 p) {
+    const vec3 l = vec3(fetch(uFirst, p).rgb) / 255.0;
+    const vec3 r = vec3(fetch(uSecond, p).rgb) / 255.0;
+    const vec3 o = clamp(mvrAnaglyph(l, r), 0.0, 1.0);
+    return uvec4(uvec3(o * 255.0 + 0.5), 255u);  // round to nearest, as the CPU encodes
+}
+#endif
+
+#ifdef FAMILY_LENTICULAR
+// composite::lenticularView(), operation for operation in double precision; `precise` keeps
+// the compiler from fusing multiply-adds, so the result is the CPU's bit for bit.
+int lenticularView(int px, int py, int subpixel) {
+    precise double u = (double(px) + 0.5LF) / double(uScreen.x);
+    precise double v = 1.0LF - (double(py) + 0.5LF) / double(uScreen.y);
+    precise double z = (u + double(subpixel) * uLens.z + v * uLens.y) * uLens.x - uLens.w;
+    z = z - floor(z);
+    if (uLensFlags.z != 0) z = 1.0LF - z;
+    precise double scaled = z * double(uViewCount);
+    return clamp(int(floor(scaled)), 0, uViewCount - 1);
+}
+
+uvec4 composite(ivec2 p) {
+    const int vw = uViewSize.x, vh = uViewSize.y;
+    // Nearest view pixel: min(v - 1, floor((p + 0.5) * v / screen)), in exact integers.
+    const int vx0 = min(vw - 1, ((2 * p.x + 1) * vw) / (2 * uScreen.x));
+    const int vy0 = min(vh - 1, ((2 * p.y + 1) * vh) / (2 * uScreen.y));
+    const ivec2 s = ivec2(uFlip.x != 0 ? vw - 1 - vx0 : vx0, uFlip.y != 0 ? vh - 1 - vy0 : vy0);
+    const int viewR = lenticularView(p.x, p.y, uLensFlags.x);
+    const int viewG = lenticularView(p.x, p.y, 1);
+    const int viewB = lenticularView(p.x, p.y, uLensFlags.y);
+    return uvec4(fetch(viewR, s).r, fetch(viewG, s).g, fetch(viewB, s).b, 255u);
+}
+#endif
+
+void main() {
+    oColor = composite(ivec2(gl_FragCoord.xy) + uOrigin);
+}
+)glsl";
+
+// What one composite draws: the family's fragment source, the output size and the uniforms.
+struct Plan {
+    std::string source;  ///< fragment shader (defines + kFragment)
+    int width = 0, height = 0;
+    int mode = 0, first = 0, second = 1, gap = 0, gridColumns = 1, gridRows = 1;
+    bool lenticular = false;
+    composite::LenticularShaderParams lens;
+    bool flipX = false, flipY = false;
+};
+
+constexpr long long kMaxOutputSide = 65536;  // as composite::quilt()
+
+// compose()'s checks and the plan of `name` for `views` (already validated for count/size).
+Result<Plan> makePlan(std::string_view name, std::span<const Image> views,
+                      const composite::ComposeOptions& options, const std::string& who) {
+    const int n = static_cast<int>(views.size());
+    const int w = views[0].width, h = views[0].height;
+    Plan plan;
+    plan.width = w;
+    plan.height = h;
+    const std::string layout = "#define FAMILY_LAYOUT 1\n" + std::string(kFragment);
+
+    if (const std::optional<composite::AnaglyphMethod> method = composite::anaglyphMethod(name)) {
+        plan.source = "#define FAMILY_ANAGLYPH 1\n" + composite::anaglyphGlsl(*method) + "\n" +
+                      kFragment;
+        return plan;
+    }
+    plan.source = layout;
+    if (name == "sbs" || name == "sbs-half") {
+        if (options.crossEyed) std::swap(plan.first, plan.second);
+        if (name == "sbs") {
+            plan.mode = kSbs;
+            plan.width = 2 * w;
+        } else {
+            if (w % 2 != 0)
+                return usageError(fmt::format(
+                    "{}: view width {} is odd (expected an even width to squeeze 2:1)", who, w));
+            plan.mode = kSbsHalf;
+        }
+        return plan;
+    }
+    if (name == "tb" || name == "tb-half") {
+        if (name == "tb") {
+            plan.mode = kTb;
+            plan.height = 2 * h;
+        } else {
+            if (h % 2 != 0)
+                return usageError(fmt::format(
+                    "{}: view height {} is odd (expected an even height to squeeze 2:1)", who, h));
+            plan.mode = kTbHalf;
+        }
+        return plan;
+    }
+    if (name == "rows") {
+        plan.mode = kRows;
+        return plan;
+    }
+    if (name == "columns") {
+        plan.mode = kColumns;
+        return plan;
+    }
+    if (name == "checkerboard") {
+        plan.mode = kCheckerboard;
+        return plan;
+    }
+    if (name == "hdmi-frame-packing") {
+        plan.gap = composite::hdmiActiveSpaceLines(w, h);
+        if (plan.gap < 0)
+            return usageError(fmt::format(
+                "{}: view size {}x{} has no HDMI 1.4a frame packing (expected 1280x720 or "
+                "1920x1080)",
+                who, w, h));
+        plan.mode = kHdmi;
+        plan.height = 2 * h + plan.gap;
+        return plan;
+    }
+    if (name == "quilt") {
+        // compose()'s quiltGridFor() and quilt()'s checks.
+        const int c = options.quiltColumns, r = options.quiltRows;
+        if ((c == 0) != (r == 0) || c < 0 || r < 0)
+            return usageError(
+                fmt::format("{}: quilt grid {}x{} (expected both columns and rows >= 1, or both "
+                            "0 for automatic)",
+                            who, c, r));
+        const auto [columns, rows] = c > 0 ? std::pair{c, r} : composite::chooseQuiltLayout(n, w, h);
+        if (static_cast<long long>(columns) * rows < n)
+            return usageError(fmt::format(
+                "{}: grid {}x{} has {} tiles for {} views (expected at least one tile per view)",
+                who, columns, rows, static_cast<long long>(columns) * rows, n));
+        if (static_cast<long long>(columns) * w > kMaxOutputSide ||
+            static_cast<long long>(rows) * h > kMaxOutputSide)
+            return usageError(fmt::format(
+                "{}: quilt of {}x{} tiles of {}x{} is larger than 65536 pixels on a side", who,
+                columns, rows, w, h));
+        plan.mode = kQuilt;
+        plan.gridColumns = columns;
+        plan.gridRows = rows;
+        plan.width = columns * w;
+        plan.height = rows * h;
+        return plan;
+    }
+    if (name == "lenticular") {
+        const composite::LenticularCalibration& cal = options.lenticular;
+        plan.width = cal.screenWidth > 0 ? cal.screenWidth : w;
+        plan.height = cal.screenHeight > 0 ? cal.screenHeight : h;
+        Result<composite::LenticularShaderParams> params =
+            composite::lenticularShaderParams(cal, plan.width, plan.height);
+        if (!params) return params.status();
+        plan.lens = *params;
+        plan.lenticular = true;
+        plan.flipX = cal.flipX;
+        plan.flipY = cal.flipY;
+        plan.source = "#define FAMILY_LENTICULAR 1\n" + std::string(kFragment);
+        return plan;
+    }
+    return internalError(fmt::format("{}: format without a GPU implementation", who));
+}
+
+// The GL part: the composite context is current. Every GL object lives inside this function.
+Result<Image> draw(detail::CompositeContext& c, const Plan& plan, std::span<const Image> views,
+                   bool reverse) {
+    const int n = static_cast<int>(views.size());
+    const int w = views[0].width, h = views[0].height;
+    GLint maxSize = 0, maxLayers = 0, maxRenderbuffer = 0;
+    GLint maxViewport[2] = {0, 0};
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxRenderbuffer);
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, maxViewport);
+    if (w > maxSize || h > maxSize)
+        return unsupportedError(fmt::format(
+            "mvr::gl::composeGpu(): views of {}x{} exceed GL_MAX_TEXTURE_SIZE = {}", w, h, maxSize));
+    if (n > maxLayers)
+        return unsupportedError(
+            fmt::format("mvr::gl::composeGpu(): {} views exceed GL_MAX_ARRAY_TEXTURE_LAYERS = {}",
+                        n, maxLayers));
+
+    auto it = c.programs.find(plan.source);
+    if (it == c.programs.end()) {
+        auto p = detail::buildFullScreenProgram(plan.source);
+        if (!p) return p.status();
+        it = c.programs.emplace(plan.source, std::move(p).value()).first;
+    }
+    const GLuint program = it->second.get();
+
+    // The views: layer i = views[i], or views[n - 1 - i] for swapEyes (compose()'s reversal).
+    detail::Texture array = detail::createTexture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(array.get(), 1, GL_RGBA8UI, w, h, n);
+    // An integer texture with a LINEAR filter (the default MAG_FILTER) is incomplete and
+    // texelFetch would read zeros.
+    glTextureParameteri(array.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(array.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    for (int i = 0; i < n; ++i) {
+        const Image& v = views[static_cast<std::size_t>(reverse ? n - 1 - i : i)];
+        glTextureSubImage3D(array.get(), 0, 0, 0, i, w, h, 1, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,
+                            v.rgba.data());
+    }
+    if (Status s = detail::checkGlError("mvr::gl::composeGpu(): uploading the views"); !s) return s;
+
+    glProgramUniform1i(program, 1, plan.mode);
+    glProgramUniform1i(program, 2, n);
+    glProgramUniform2i(program, 3, w, h);
+    glProgramUniform1i(program, 4, plan.first);
+    glProgramUniform1i(program, 5, plan.second);
+    glProgramUniform2i(program, 6, plan.gridColumns, plan.gridRows);
+    glProgramUniform1i(program, 7, plan.gap);
+    if (plan.lenticular) {
+        glProgramUniform4d(program, 8, plan.lens.pitchU, plan.lens.tilt, plan.lens.subp,
+                           plan.lens.center);
+        glProgramUniform2i(program, 9, plan.width, plan.height);
+        glProgramUniform4i(program, 10, plan.lens.ri, plan.lens.bi, plan.lens.invertViews ? 1 : 0,
+                           0);
+        glProgramUniform2i(program, 11, plan.flipX ? 1 : 0, plan.flipY ? 1 : 0);
+    }
+
+    // The target: one tile, reused; outputs larger than it are drawn tile by tile.
+    const int tileLimit =
+        std::max(1, std::min({maxSize, maxRenderbuffer, maxViewport[0], maxViewport[1], 4096}));
+    const int tileW = std::min(plan.width, tileLimit), tileH = std::min(plan.height, tileLimit);
+    detail::Texture target = detail::createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(target.get(), 1, GL_RGBA8UI, tileW, tileH);
+    detail::Framebuffer fbo = detail::createFramebuffer();
+    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, target.get(), 0);
+    if (glCheckNamedFramebufferStatus(fbo.get(), GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        return internalError("mvr::gl::composeGpu(): the RGBA8UI target is not framebuffer complete");
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glDisable(GL_SCISSOR_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glUseProgram(program);
+    glBindVertexArray(c.vao.get());
+    glBindTextureUnit(0, array.get());
+
+    Image out(plan.width, plan.height);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glPixelStorei(GL_PACK_ROW_LENGTH, plan.width);
+    for (int oy = 0; oy < plan.height; oy += tileH) {
+        for (int ox = 0; ox < plan.width; ox += tileW) {
+            const int tw = std::min(tileW, plan.width - ox), th = std::min(tileH, plan.height - oy);
+            glViewport(0, 0, tw, th);
+            glProgramUniform2i(program, 0, ox, oy);
+            glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+            glReadPixels(0, 0, tw, th, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,
+                         out.rgba.data() + (static_cast<std::size_t>(oy) * plan.width + ox) * 4);
+        }
+    }
+    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+    glBindTextureUnit(0, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (Status s = detail::checkGlError("mvr::gl::composeGpu()"); !s) return s;
+    return out;
+}
+
+}  // namespace
+
+bool composeGpuSupports(const std::string& format) {
+    Result<composite::FormatInfo> info = composite::findFormat(format);
+    return info && !info->fileOnly && info->name != "jps";
+}
+
+Result<Image> composeGpu(const std::string& format, std::span<const Image> views,
+                         const composite::ComposeOptions& options) {
+    // compose()'s checks, in compose()'s order.
+    Result<composite::FormatInfo> info = composite::findFormat(format);
+    if (!info) return info.status();
+    const std::string who = fmt::format("mvr::gl::composeGpu(): {}", info->name);
+    if (Status s = composite::validateViews(views, info->minViews, info->maxViews, who.c_str()); !s)
+        return s;
+    if (info->fileOnly || info->name == "jps")
+        return unsupportedError(fmt::format(
+            "{}: a JPEG file, composed on the CPU only (mvr::composite::compose() / "
+            "writeComposite())",
+            who));
+    Result<Plan> plan = makePlan(info->name, views, options, who);
+    if (!plan) return plan.status();
+
+    std::lock_guard lock(detail::compositeMutex());
+    detail::CompositeScope scope;  // before the context is made; outlives every GL object
+    detail::CompositeContext& c = detail::compositeContext();
+    if (!c.status) return c.status;
+    if (Status s = c.context->makeCurrent(); !s) return s;
+    return draw(c, *plan, views, options.swapEyes);
+}
+
+}  // namespace mvr::gl
