@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <mutex>
+#include <new>
 
 #include <fmt/core.h>
 
@@ -73,7 +74,8 @@ public:
         return {fmt::format("CPU: {}", detail::cpuModelName()),
                 fmt::format("SIMD path: {} (best on this CPU and build: {})", simdPathName(mSimd),
                             simdPathName(bestSimdPath())),
-                fmt::format("worker threads: {} (pinned to cores)", threadCount()),
+                fmt::format("worker threads: {} ({})", threadCount(),
+                            !mPool ? "pinned to cores when started" : mPool->pinned() ? "pinned to cores" : "not pinned: the OS refused"),
                 "fixed point: 8 sub-pixel bits, top-left fill rule, guard band ±64 NDC"};
     }
 
@@ -89,6 +91,28 @@ public:
             }
         }
 
+        // Color + depth per view (8 bytes a pixel): refuse what cannot reasonably be allocated
+        // instead of dying in the allocator.
+        const double frameBytes = double(settings.width) * settings.height * 8.0 * rig.viewCount();
+        if (frameBytes > kMaxFramebufferBytes) {
+            return usageError(fmt::format(
+                "soft backend: {} views of {}x{} need {:.1f} GiB of color and depth images (limit {:.0f} GiB)",
+                rig.viewCount(), settings.width, settings.height, frameBytes / 1073741824.0,
+                kMaxFramebufferBytes / 1073741824.0));
+        }
+        try {
+            return renderChecked(scene, rig, settings, method);
+        } catch (const std::bad_alloc&) {
+            return internalError(fmt::format("soft backend: out of memory rendering {} views of {}x{}",
+                                             rig.viewCount(), settings.width, settings.height));
+        }
+    }
+
+private:
+    static constexpr double kMaxFramebufferBytes = 8.0 * 1073741824.0;
+
+    Result<RenderOutput> renderChecked(const Scene& scene, const Rig& rig, const RenderSettings& settings,
+                                       const std::string& method) {
         std::lock_guard lock(mMutex);  // one render at a time per backend (shared pool, scratch)
         detail::ThreadPool& pool = this->pool();
         RenderOutput out;
@@ -116,7 +140,6 @@ public:
         return out;
     }
 
-private:
     int threadCount() const {
         return mOptions.threads > 0 ? mOptions.threads : detail::availableCpus();
     }

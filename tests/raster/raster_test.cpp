@@ -286,6 +286,12 @@ TEST(Render, BadInputGivesAStatus) {
               ErrorCode::Usage);
     Scene empty;
     EXPECT_FALSE(backend->render(empty, test::identityRig(1), s, "multipass"));
+    // Framebuffers beyond any reasonable memory: a Status, not std::bad_alloc.
+    RenderSettings huge;
+    huge.width = 16384, huge.height = 16384;
+    r = backend->render(scene, test::identityRig(8), huge, "unified");
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.status().message().find("GiB"), std::string::npos) << r.status().message();
     Rig nan = test::identityRig(1);
     nan.views[0].clipFromView[0][0] = std::nanf("");
     EXPECT_FALSE(backend->render(scene, nan, s, "multipass"));
