@@ -104,22 +104,24 @@ Result<std::vector<ScriptStep>> parseScript(std::string_view script) {
     return steps;
 }
 
-const std::vector<std::string>& keyHelp() {
-    static const std::vector<std::string> kHelp = {
-        "mouse     left drag: orbit, right (or shift+left) drag: pan, wheel: zoom",
-        "m / M     next / previous method (gl methods, then soft)",
-        "f / F     next / previous output format",
-        "+ / -     separation up / down (0.25% of screen width)",
-        "] / [     convergence farther / nearer (x1.1)",
-        "c         converge at the surface under the cursor",
-        "s         swap eyes",
-        "w         wireframe on / off",
-        "l         shading: flat, vertex, pixel",
-        "arrows    orbit by 10 degrees;  PgUp / PgDn: zoom",
-        "r         reset the view",
-        "p, F12    screenshot",
-        "h         HUD on / off;  ?, F1: this help",
-        "q, Esc    quit",
+const std::vector<KeyHelp>& keyHelp() {
+    static const std::vector<KeyHelp> kHelp = {
+        {"mouse", "left drag: orbit, right (or shift+left) drag: pan, wheel: zoom"},
+        {"m / M", "next / previous method (gl methods, then soft)"},
+        {"f / F", "next / previous output format"},
+        {"+ / -", "separation up / down (0.25% of screen width)"},
+        {"] / [", "convergence farther / nearer (x1.1)"},
+        {"c", "converge at the surface under the cursor"},
+        {"s", "swap eyes"},
+        {"w", "wireframe on / off"},
+        {"l", "shading: flat, vertex, pixel"},
+        {"arrows", "orbit by 10 degrees"},
+        {"PgUp / PgDn", "zoom in / out"},
+        {"r", "reset the view"},
+        {"p, F12", "screenshot"},
+        {"h", "HUD and 3D cursor on / off"},
+        {"?, F1", "this help"},
+        {"q, Esc", "quit"},
     };
     return kHelp;
 }

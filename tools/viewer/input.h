@@ -53,7 +53,13 @@ struct ScriptStep {
 /// position ("--script: token 3 'zz' is not a key or command (expected …)").
 Result<std::vector<ScriptStep>> parseScript(std::string_view script);
 
-/// The key list for --help and the window's help overlay, one key per line.
-const std::vector<std::string>& keyHelp();
+/// One line of the key list: the keys and what they do.
+struct KeyHelp {
+    std::string keys;
+    std::string what;
+};
+
+/// The key list for --help and the window's help overlay.
+const std::vector<KeyHelp>& keyHelp();
 
 }  // namespace mvr::viewer

@@ -664,12 +664,7 @@ std::vector<std::string> Viewer::hudLines() const {
                                           mCursor.distance, 100.0 * mCursor.parallax)
                             : std::string("cursor: no surface (at screen depth)"));
     }
-    if (mShowHelp) {
-        lines.push_back("");
-        for (const std::string& k : keyHelp()) lines.push_back(k);
-    } else {
-        lines.push_back("? help");
-    }
+    lines.push_back(mShowHelp ? "" : "? help");
     return lines;
 }
 
@@ -680,11 +675,24 @@ void Viewer::drawOverlays(std::vector<Image>& views) {
     const Rgba8 text{240, 240, 240, 255};
     std::string block;
     for (const std::string& line : hudLines()) block += line + "\n";
-    const glm::ivec2 size = textSize(block, scale);
+    // The key help (?) below the status lines, in two aligned columns.
+    std::string keys, what;
+    if (mShowHelp) {
+        for (const KeyHelp& k : keyHelp()) {
+            keys += k.keys + "\n";
+            what += k.what + "\n";
+        }
+    }
     const int margin = 4 * scale;
+    const glm::ivec2 status = textSize(block, scale);
+    const int keysWidth = textSize(keys, scale).x + 3 * margin;
+    const glm::ivec2 help(keysWidth + textSize(what, scale).x, textSize(keys, scale).y);
+    const glm::ivec2 size(std::max(status.x, help.x), status.y + help.y);
     for (Image& view : views) {
         darkenRect(view, 0, 0, size.x + 2 * margin, size.y + 2 * margin, 0.35f);
         drawText(view, margin, margin, block, text, scale);
+        drawText(view, margin, margin + status.y, keys, text, scale);
+        drawText(view, margin + keysWidth, margin + status.y, what, text, scale);
     }
     if (!mMessage.empty() && Clock::now() < mMessageUntil) {
         const glm::ivec2 m = textSize(mMessage, scale);
@@ -920,8 +928,8 @@ std::function<int()> addViewCommand(CLI::App& root) {
                     "down, pgup, pgdn, esc, f1, f12, at:X:Y (mouse), drag:DX:DY, pan:DX:DY, wheel:N");
     app->add_flag("--no-hud", o->noHud, "Hide the HUD and the 3D cursor");
     app->add_flag("-q,--quiet", o->quiet, "Print nothing but errors");
-    std::string keys = "Keys:\n";
-    for (const std::string& k : keyHelp()) keys += "  " + k + "\n";
+    std::string keys = "Keys (also shown in the window by ? or F1):\n";
+    for (const KeyHelp& k : keyHelp()) keys += fmt::format("  {:<12} {}\n", k.keys, k.what);
     keys += "The view size follows the window (--size sets the first one); side-by-side shows two "
             "half-width views, top-bottom two half-height views.";
     app->footer(keys);

@@ -1,0 +1,198 @@
+// Unit tests of the viewer's window-free parts: the stereo camera state, the 3D cursor, the HUD
+// overlay and the --script parser.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "input.h"
+#include "overlay.h"
+#include "view_state.h"
+
+namespace mvr::viewer {
+namespace {
+
+Rig testRig(float aspect = 4.0f / 3.0f) {
+    Camera camera;
+    camera.position = {0.3f, 0.2f, 4.0f};
+    camera.target = {0.0f, 0.1f, 0.0f};
+    camera.aspect = aspect;
+    camera.near = 0.5f;
+    camera.far = 20.0f;
+    RigParams params;
+    params.interaxial = 0.12f;
+    params.convergence = 4.0f;
+    Result<Rig> rig = makeRig(camera, params);
+    EXPECT_TRUE(rig) << rig.status().message();
+    return *rig;
+}
+
+/// Window depth of eye distance w for a perspective near/far (inverse of
+/// distanceFromWindowDepth()).
+float windowDepth(float w, float near, float far) {
+    const float ndcZ = (far + near) / (far - near) - 2.0f * far * near / ((far - near) * w);
+    return ndcZ * 0.5f + 0.5f;
+}
+
+TEST(StereoCamera, UnmovedCameraGivesTheRigItCameFrom) {
+    // Frame 0 of `mvr view` must be `mvr render`'s image: the same rig, bit for bit.
+    const Rig rig = testRig();
+    Result<Rig> again = StereoCamera::fromRig(rig, 1.0f).rig();
+    ASSERT_TRUE(again);
+    ASSERT_EQ(again->viewCount(), 2);
+    for (int v = 0; v < 2; ++v) {
+        EXPECT_EQ(again->views[v].viewFromWorld, rig.views[v].viewFromWorld) << v;
+        EXPECT_EQ(again->views[v].clipFromView, rig.views[v].clipFromView) << v;
+    }
+}
+
+TEST(StereoCamera, SeparationIsKeptWhenConvergenceAspectOrZoomChange) {
+    StereoCamera s = StereoCamera::fromRig(testRig(), 1.0f);
+    s.setSeparation(0.03f);
+    EXPECT_NEAR(s.separation(), 0.03f, 1e-6f);
+    s.setConvergence(6.0f);
+    EXPECT_FLOAT_EQ(s.convergence, 6.0f);
+    EXPECT_NEAR(s.separation(), 0.03f, 1e-6f);
+    s.setAspect(2.0f);
+    EXPECT_NEAR(s.separation(), 0.03f, 1e-6f);
+    const float ratio = s.convergence / s.distance();
+    s.zoom(0.5f);
+    EXPECT_NEAR(s.separation(), 0.03f, 1e-6f);
+    EXPECT_NEAR(s.convergence / s.distance(), ratio, 1e-5f);  // the screen stays in the scene
+    EXPECT_GT(s.convergence, s.camera.near);
+    s.setSeparation(1.0f);
+    EXPECT_NEAR(s.separation(), 0.25f, 1e-6f);  // clamped
+}
+
+TEST(StereoCamera, OrbitKeepsDistanceAndClampsPitch) {
+    StereoCamera s = StereoCamera::fromRig(testRig(), 1.0f);
+    const float d = s.distance();
+    s.orbit(0.7f, 0.3f);
+    EXPECT_NEAR(s.distance(), d, 1e-4f * d);
+    s.orbit(0.0f, 10.0f);  // far past the pole
+    const glm::vec3 dir = glm::normalize(s.camera.position - s.camera.target);
+    EXPECT_NEAR(std::asin(dir.y), glm::radians(89.0f), 1e-3f);
+    EXPECT_TRUE(s.rig());
+}
+
+TEST(Cursor, SitsOnAPlaneWithThatPlanesParallax) {
+    const Rig rig = testRig();
+    const int width = 160, height = 120;
+    for (float w : {2.0f, 4.0f, 9.0f}) {
+        DepthImage depth(width, height, windowDepth(w, rig.camera.near, rig.camera.far));
+        const CursorPlacement c = placeCursor(rig, depth, {70.5f, 40.5f}, width, height);
+        ASSERT_TRUE(c.onSurface) << w;
+        EXPECT_NEAR(c.distance, w, 1e-3f * w);
+        // nvidia-gtc2010: parallax = separation · (1 − convergence / w); zero at convergence.
+        EXPECT_NEAR(c.parallax, rig.separation() * (1.0f - rig.convergence / w), 1e-5f) << w;
+        EXPECT_NEAR((c.viewPx[1].x - c.viewPx[0].x) / width, c.parallax, 1e-5f);
+        EXPECT_NEAR(c.viewPx[0].y, 40.5f, 1e-3f);  // off-axis: no vertical parallax
+        EXPECT_NEAR(c.viewPx[1].y, 40.5f, 1e-3f);
+        EXPECT_NEAR((c.viewPx[0].x + c.viewPx[1].x) * 0.5f, 70.5f, 1e-3f);  // centred on the mouse
+    }
+}
+
+TEST(Cursor, FollowsATiltedSurfaceFromTheLeftEye) {
+    // Depth that varies across the image: the fixed-point search must land on the distance the
+    // left eye sees at the cursor point's own left-eye position.
+    const Rig rig = testRig();
+    const int width = 200, height = 100;
+    DepthImage depth(width, height);
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const float w = 3.0f + 2.0f * float(x) / float(width);
+            depth.depth[std::size_t(y) * width + x] = windowDepth(w, rig.camera.near, rig.camera.far);
+        }
+    }
+    const CursorPlacement c = placeCursor(rig, depth, {100.5f, 50.5f}, width, height);
+    ASSERT_TRUE(c.onSurface);
+    const int x0 = int(std::floor(c.viewPx[0].x));
+    const float seen = distanceFromWindowDepth(depth.at(x0, 50), rig.camera.near, rig.camera.far);
+    EXPECT_NEAR(c.distance, seen, 2.0f / width * 2.0f);  // within a pixel's step of the ramp
+}
+
+TEST(Cursor, BackgroundOrNoDepthIsAtScreenDepth) {
+    const Rig rig = testRig();
+    for (const DepthImage& depth : {DepthImage(), DepthImage(64, 48, 1.0f)}) {
+        const CursorPlacement c = placeCursor(rig, depth, {10.0f, 20.0f}, 64, 48);
+        EXPECT_FALSE(c.onSurface);
+        EXPECT_FLOAT_EQ(c.distance, rig.convergence);
+        EXPECT_NEAR(c.parallax, 0.0f, 1e-6f);
+        EXPECT_NEAR(c.viewPx[0].x, 10.0f, 1e-3f);
+        EXPECT_NEAR(c.viewPx[1].x, 10.0f, 1e-3f);
+    }
+}
+
+TEST(ParallaxRange, FromDepthImage) {
+    const Rig rig = testRig();
+    DepthImage depth(4, 1, 1.0f);
+    EXPECT_FALSE(frameParallaxRange(rig, depth));
+    depth.depth[1] = windowDepth(2.5f, rig.camera.near, rig.camera.far);
+    depth.depth[2] = windowDepth(8.0f, rig.camera.near, rig.camera.far);
+    const auto r = frameParallaxRange(rig, depth);
+    ASSERT_TRUE(r);
+    EXPECT_NEAR(r->minParallax, rig.separation() * (1.0f - 4.0f / 2.5f), 1e-5f);
+    EXPECT_NEAR(r->maxParallax, rig.separation() * (1.0f - 4.0f / 8.0f), 1e-5f);
+    EXPECT_TRUE(r->comfortable);
+}
+
+TEST(Overlay, HudTextIsTheSameInBothEyes) {
+    // Zero parallax: drawn at the same pixels over two different eyes' images.
+    Image left(120, 40, {10, 20, 30, 255}), right(120, 40, {200, 100, 50, 255});
+    const Rgba8 ink{240, 240, 240, 255};
+    for (Image* eye : {&left, &right}) drawText(*eye, 3, 4, "fps 12.5\nsep 2%", ink, 1);
+    int inked = 0;
+    for (int y = 0; y < 40; ++y) {
+        for (int x = 0; x < 120; ++x) {
+            EXPECT_EQ(left.at(x, y) == ink, right.at(x, y) == ink) << x << "," << y;
+            inked += left.at(x, y) == ink;
+        }
+    }
+    EXPECT_GT(inked, 40);
+    const glm::ivec2 size = textSize("fps 12.5\nsep 2%", 2);
+    EXPECT_GT(size.x, 0);
+    EXPECT_GT(size.y, 12);
+    // Clipped at the borders, never outside the image.
+    drawText(left, 115, 35, "clipped", ink, 3);
+    drawText(left, -20, -5, "clipped", ink, 3);
+}
+
+TEST(Overlay, CrosshairCentredOnItsPixel) {
+    Image image(40, 40);
+    drawCrosshair(image, {20.5f, 10.5f}, 8, {255, 255, 255, 255});
+    EXPECT_EQ(image.at(20, 10), (Rgba8{255, 255, 255, 255}));  // centre dot
+    EXPECT_EQ(image.at(20, 10 - 7), (Rgba8{255, 255, 255, 255}));  // upper arm
+    EXPECT_EQ(image.at(20 + 7, 10), (Rgba8{255, 255, 255, 255}));  // right arm
+    EXPECT_EQ(image.at(30, 30), (Rgba8{0, 0, 0, 255}));
+    drawCrosshair(image, {-3.0f, 45.0f}, 8, {255, 255, 255, 255});  // off the image: clipped
+}
+
+TEST(Script, ParsesKeysNamesAndMouseSteps) {
+    auto steps = parseScript("m,m,+, left ,,at:12:34.5,drag:-5:3,wheel:2,q");
+    ASSERT_TRUE(steps) << steps.status().message();
+    ASSERT_EQ(steps->size(), 9u);
+    EXPECT_EQ((*steps)[0].action, Action::NextMethod);
+    EXPECT_EQ((*steps)[2].action, Action::SeparationUp);
+    EXPECT_EQ((*steps)[3].action, Action::OrbitLeft);
+    EXPECT_EQ((*steps)[4].action, Action::None);
+    EXPECT_EQ((*steps)[5].kind, ScriptStep::Kind::MouseAt);
+    EXPECT_FLOAT_EQ((*steps)[5].y, 34.5f);
+    EXPECT_EQ((*steps)[6].kind, ScriptStep::Kind::Drag);
+    EXPECT_FLOAT_EQ((*steps)[6].x, -5.0f);
+    EXPECT_EQ((*steps)[7].kind, ScriptStep::Kind::Wheel);
+    EXPECT_EQ((*steps)[8].action, Action::Quit);
+    EXPECT_TRUE(parseScript("")->empty());
+    EXPECT_EQ(parseScript("-,[,]")->at(0).action, Action::SeparationDown);
+}
+
+TEST(Script, UnknownTokenIsAUsageError) {
+    auto steps = parseScript("m,zz,+");
+    ASSERT_FALSE(steps);
+    EXPECT_EQ(steps.status().code(), ErrorCode::Usage);
+    EXPECT_NE(steps.status().message().find("token 2 'zz'"), std::string::npos)
+        << steps.status().message();
+    EXPECT_FALSE(parseScript("at:1"));
+    EXPECT_FALSE(parseScript("wheel:x"));
+}
+
+}  // namespace
+}  // namespace mvr::viewer
