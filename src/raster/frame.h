@@ -102,14 +102,15 @@ struct FrameContext {
     const Kernels& kernels;
 };
 
-/// The rasterization stage of a single triangle whose clip positions needed clipping: clip
-/// (planes from the outcodes), project, and draw the fan for one view. Used by multipass for
-/// every clipped triangle and by unified for views whose x needs guard-band clipping.
+/// The rasterization stage of a polygon (a triangle, or what the shared planes left of one) whose
+/// clip positions need clipping: clip against `planes`, project, and draw the fan for one view.
+/// Used by multipass for every clipped triangle and by unified for views whose x needs
+/// guard-band clipping after the family's shared planes.
 template <class SinkT>
-void drawClippedTriangle(ClipVertex* poly, std::uint8_t planes, int attrCount, const Target& target,
-                         int rowLo, int rowHi, SinkT& sink, FragmentTri& frag) {
+void drawClippedPolygon(ClipVertex* poly, int count, std::uint8_t planes, int attrCount,
+                        const Target& target, int rowLo, int rowHi, SinkT& sink, FragmentTri& frag) {
     ClipVertex scratch[kMaxPolyVerts];
-    const int n = clipPolygon(poly, 3, planes, attrCount, scratch);
+    const int n = clipPolygon(poly, count, planes, attrCount, scratch);
     if (n < 3) return;
     std::int32_t px[kMaxPolyVerts], py[kMaxPolyVerts];
     float pz[kMaxPolyVerts], pq[kMaxPolyVerts];

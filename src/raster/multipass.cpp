@@ -232,8 +232,7 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
                         cv.x = d.x[v[j]], cv.y = d.y[v[j]], cv.z = d.z[v[j]], cv.w = d.w[v[j]];
                         std::copy_n(d.attrOf(v[j]), attrCount, cv.a);
                     }
-                    drawClippedTriangle(poly, planes, attrCount, target, rowLo, rowHi,
-                                        sink, frag);
+                    drawClippedPolygon(poly, 3, planes, attrCount, target, rowLo, rowHi, sink, frag);
                 }
             }
         }

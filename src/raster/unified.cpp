@@ -374,37 +374,9 @@ void drawFamilyClipped(BandContext<S>& b, const Family& fam, const std::uint32_t
                 cv[i].x = poly.x[i][k], cv[i].y = poly.y[i], cv[i].z = poly.z[i], cv[i].w = poly.w[i];
                 std::copy_n(poly.a[i], b.attrCount, cv[i].a);
             }
-            // drawClippedTriangle clips from a triangle; feed the polygon through the same
-            // clipper (left/right only) and fan.
-            ClipVertex scratch[kMaxPolyVerts];
-            const int n = clipPolygon(cv, poly.n, std::uint8_t(orX & kClipX), b.attrCount, scratch);
-            if (n < 3) continue;
-            std::int32_t px[kMaxPolyVerts], qy[kMaxPolyVerts];
-            float qz[kMaxPolyVerts], qq[kMaxPolyVerts];
-            bool ok = true;
-            for (int i = 0; i < n && ok; ++i) {
-                if (!(cv[i].w > 0.0f)) {
-                    ok = false;
-                    break;
-                }
-                qq[i] = 1.0f / cv[i].w;
-                px[i] = snapX(cv[i].x, qq[i], width);
-                qy[i] = snapY(cv[i].y, qq[i], height);
-                qz[i] = windowDepth(cv[i].z, qq[i]);
-            }
-            if (!ok) continue;
-            for (int t = 1; t + 1 < n; ++t) {
-                const int idx[3] = {0, t, t + 1};
-                YSetup ys;
-                setupY(ys, qy[0], qy[t], qy[t + 1], b.rowLo, b.rowHi);
-                const std::int32_t x[3] = {px[0], px[t], px[t + 1]};
-                for (int j = 0; j < 3; ++j) {
-                    b.frag.z[j] = qz[idx[j]];
-                    b.frag.q[j] = qq[idx[j]];
-                    b.frag.attr[j] = cv[idx[j]].a;
-                }
-                rasterTriangle(ys, x, b.f.settings.width, b.sinks[std::size_t(view)]);
-            }
+            drawClippedPolygon(cv, poly.n, std::uint8_t(orX & kClipX), b.attrCount,
+                               b.sinks[std::size_t(view)].target, b.rowLo,
+                               b.rowHi, b.sinks[std::size_t(view)], b.frag);
             continue;
         }
         if (!projectable) continue;
