@@ -12,8 +12,9 @@
 //     two outermost views of a family classify it for all of them (monotone in floating point as
 //     well), and only a mixed triangle is tested view by view. Triangles are binned into bands.
 //  3. Raster stage, per band: the triangle's y setup (snapped y, row range, Δy of the edges,
-//     depth and 1/w of its vertices, attributes, flat color) once per family, then for each view
-//     of the family only the x terms (snapped x, area sign, column range, edge x terms) and the
+//     depth and 1/w of its vertices, attributes, flat color) once per family, then for the views
+//     of the family only the x terms (snapped x, area sign, column range, edge x terms) —
+//     computed side by side, one view per SIMD lane (Kernels::setupViews) — and each view's
 //     pixel walk, while the shared setup is still in registers / L1. Clipping against the y/z
 //     planes is done once per family with the t values shared (adelson1991's Liang–Barsky
 //     observation); only views whose x leaves the guard band clip left/right on their own.
