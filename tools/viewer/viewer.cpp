@@ -302,12 +302,16 @@ private:
     std::optional<ParallaxRange> mParallax;
     CursorPlacement mCursor;
     bool mCursorShown = false;
-    double mRenderMs = 0.0, mFrameMs = 0.0;
+    double mRenderMs = 0.0, mComposeMs = 0.0, mFrameMs = 0.0;
+    struct Timing {
+        double frameMs = 0, renderMs = 0, composeMs = 0;
+    } mShownTiming;  ///< the last completed frame's, for the HUD
     bool mNeedRender = true;
 
     // Mouse.
     glm::dvec2 mMouse{0.0};  ///< window coordinates, row 0 at the top
     bool mMouseInside = false;
+    bool mMouseScripted = false;  ///< a script step placed the mouse: ignore the real pointer
     bool mOrbiting = false, mPanning = false;
     glm::dvec2 mDragFrom{0.0};
 
@@ -436,10 +440,6 @@ Status Viewer::openWindow(glm::ivec2 size) {
             self->mDragFrom = p;
         }
         self->mMouse = p;
-        self->mMouseInside = true;
-    });
-    glfwSetCursorEnterCallback(mWindow, [](GLFWwindow* w, int entered) {
-        static_cast<Viewer*>(glfwGetWindowUserPointer(w))->mMouseInside = entered != 0;
     });
     glfwSetMouseButtonCallback(mWindow, [](GLFWwindow* w, int button, int action, int mods) {
         auto* self = static_cast<Viewer*>(glfwGetWindowUserPointer(w));
@@ -605,6 +605,7 @@ void Viewer::applyStep(const ScriptStep& step) {
         case ScriptStep::Kind::MouseAt:
             mMouse = {step.x, step.y};
             mMouseInside = true;
+            mMouseScripted = true;
             break;
         case ScriptStep::Kind::Drag: drag({step.x, step.y}, false); break;
         case ScriptStep::Kind::Pan: drag({step.x, step.y}, true); break;
@@ -642,8 +643,10 @@ std::vector<std::string> Viewer::hudLines() const {
     const MethodRef& ref = method();
     std::string methodText = ref.label();
     if (!mOutput.method.empty() && mOutput.method != ref.method) methodText += " -> " + mOutput.method;
-    lines.push_back(fmt::format("{:.1f} fps ({:.0f} ms, render {:.0f})  {}  {}{}",
-                                mFrameMs > 0 ? 1000.0 / mFrameMs : 0.0, mFrameMs, mRenderMs,
+    const Timing& t = mShownTiming;
+    lines.push_back(fmt::format("{:.1f} fps ({:.0f} ms: render {:.0f}, compose {:.0f})  {}  {}{}",
+                                t.frameMs > 0 ? 1000.0 / t.frameMs : 0.0, t.frameMs, t.renderMs,
+                                t.composeMs,
                                 methodText, formatName(), mSwapEyes ? " (eyes swapped)" : ""));
     lines.push_back(fmt::format("separation {:.2f}%  convergence {:.4g}  interaxial {:.4g}  {}{}",
                                 100.0 * mStereo.separation(), mStereo.convergence,
@@ -715,9 +718,15 @@ Status Viewer::composeAndPresent() {
     const glm::ivec2 view(mSettings.width, mSettings.height);
     // The mouse, in one view's pixels ("on the screen"), for the 3D cursor.
     mCursorShown = false;
+    int ww = 1, wh = 1;
+    glfwGetWindowSize(mWindow, &ww, &wh);
+    if (!mMouseScripted) {
+        // The pointer, polled: enter/move events do not come for a pointer that was already
+        // over the window when it opened.
+        glfwGetCursorPos(mWindow, &mMouse.x, &mMouse.y);
+        mMouseInside = mMouse.x >= 0 && mMouse.y >= 0 && mMouse.x < ww && mMouse.y < wh;
+    }
     if (mShowHud && mMouseInside && mRig) {
-        int ww = 1, wh = 1;
-        glfwGetWindowSize(mWindow, &ww, &wh);
         const glm::vec2 fbPx = glm::vec2(mMouse) * glm::vec2(mFb) / glm::vec2(std::max(ww, 1), std::max(wh, 1));
         const glm::ivec2 frame = quadBuffer() ? view : frameSizeFor(format, view);
         const glm::vec2 framePx = fbPx - glm::vec2((mFb - frame) / 2);
@@ -729,6 +738,7 @@ Status Viewer::composeAndPresent() {
             mCursorShown = true;
         }
     }
+    const auto start = Clock::now();
     std::vector<Image> views = mOutput.color;
     if (mShowHud) drawOverlays(views);
 
@@ -743,6 +753,7 @@ Status Viewer::composeAndPresent() {
         if (!frame) return frame.status();
         mPresenter->upload(0, *frame);
     }
+    mComposeMs = msSince(start);  // HUD + cursor + format + upload
     present();
     return Status::ok();
 }
@@ -845,7 +856,8 @@ int Viewer::run() {
             mNeedRender = true;
         }
         const auto start = Clock::now();
-        if (mNeedRender || scripted || !mRig) {
+        const bool rendered = mNeedRender || scripted || !mRig;
+        if (rendered) {
             if (Status s = renderFrame(); !s) {
                 if (!mRig) {  // nothing to show at all
                     exit = cli::fail(s);
@@ -859,7 +871,10 @@ int Viewer::run() {
             exit = cli::fail(s);
             break;
         }
-        if (mNeedRender || scripted) mFrameMs = msSince(start);
+        if (rendered) {
+            mFrameMs = msSince(start);
+            mShownTiming = {mFrameMs, mRenderMs, mComposeMs};
+        }
         if (mScreenshotRequested) {
             mScreenshotRequested = false;
             if (Status s = writeScreenshot(nextScreenshotPath()); !s) say(s.message());
