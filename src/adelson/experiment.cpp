@@ -70,11 +70,12 @@ std::shared_ptr<PolygonSet> makePolygons(std::size_t count, int edges, int w, in
     return set;
 }
 
-ExperimentCase fillCase(const std::string& algorithm, const std::string& name, bool gouraud,
-                        std::shared_ptr<PolygonSet> set) {
+ExperimentCase fillCase(const std::string& algorithm, const std::string& name, const std::string& label,
+                        bool gouraud, std::shared_ptr<PolygonSet> set) {
     ExperimentCase c;
     c.algorithm = algorithm;
     c.caseName = name;
+    c.label = label;
     if (gouraud) {
         c.paperI = "4.5% - 37.5%", c.paperII = "9% - 75%", c.paperIII = "1.1 - 1.75";
     } else {
@@ -135,6 +136,7 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
         ExperimentCase c;
         c.algorithm = "Perspective projection";
         c.caseName = num(n) + " points";
+        c.label = "projection";
         c.paperI = "33%", c.paperII = "67%", c.paperIII = "1.67";
         c.opsNote = "additions + multiplications per point (2+4 per eye vs 3+5)";
         c.separate = [st](OpCounts* ops) {
@@ -164,19 +166,21 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
             return std::pair{30.0 * std::cos(a), 30.0 * std::sin(a)};
         }, 10 + edges);
         cases.push_back(fillCase("Flat shaded polygon (scan-line fill)",
-                                 num(np) + " " + num(edges) + "-edge polygons, 60 px across", false, set));
+                                 num(np) + " " + num(edges) + "-edge polygons, 60 px across",
+                                 "flat fill " + num(edges) + "-gon", false, set));
     }
     struct GShape {
         const char* name;
+        const char* label;
         int edges;
         double wpx, hpx;
     };
     // The paper's examples: a flat wide triangle (22 edge / 211 interior pixels), a tower
     // (58 edge / 105 interior) and the two-pixel-wide best case; plus a 32-edge polygon.
-    for (const GShape& g : {GShape{"wide flat triangles (~40x11 px)", 3, 40.0, 11.0},
-                            GShape{"tower quads (~4x29 px)", 4, 4.0, 29.0},
-                            GShape{"two-pixel-wide quads (2x40 px)", 4, 2.0, 40.0},
-                            GShape{"32-edge polygons, 60 px across", 32, 60.0, 60.0}}) {
+    for (const GShape& g : {GShape{"wide flat triangles (~40x11 px)", "Gouraud wide", 3, 40.0, 11.0},
+                            GShape{"tower quads (~4x29 px)", "Gouraud tower", 4, 4.0, 29.0},
+                            GShape{"two-pixel-wide quads (2x40 px)", "Gouraud 2 px wide", 4, 2.0, 40.0},
+                            GShape{"32-edge polygons, 60 px across", "Gouraud 32-gon", 32, 60.0, 60.0}}) {
         auto set = makePolygons(np, g.edges, w, h, [g](int k, int n) {
             if (n == 3) {
                 const double xs[3] = {-0.5, 0.5, 0.1}, ys[3] = {0.5, 0.5, -0.5};
@@ -189,7 +193,7 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
             const double a = 2.0 * 3.14159265358979 * (k + 0.25) / n;
             return std::pair{0.5 * g.wpx * std::cos(a), 0.5 * g.hpx * std::sin(a)};
         }, 100 + g.edges);
-        cases.push_back(fillCase("Gouraud shaded polygon", num(np) + " " + g.name, true, set));
+        cases.push_back(fillCase("Gouraud shaded polygon", num(np) + " " + g.name, g.label, true, set));
     }
 
     // ---- Liang–Barsky line clipping ----
@@ -214,6 +218,7 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
         ExperimentCase c;
         c.algorithm = "Liang-Barsky line clipping";
         c.caseName = num(n) + " random segments (both eyes), ~50% crossing the window";
+        c.label = "LB line clip";
         c.paperI = "25%", c.paperII = "50%", c.paperIII = "1.5";
         c.opsNote = "border tests (t = q/p, compares), Δx/Δy, clipped end points";
         c.separate = [st](OpCounts* ops) {
@@ -274,6 +279,7 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
         ExperimentCase c;
         c.algorithm = "Liang-Barsky polygon clipping";
         c.caseName = num(n) + " random 3- to 6-gons (both eyes)";
+        c.label = "LB polygon clip";
         c.paperI = "<1%", c.paperII = "<1%", c.paperIII = "1";
         c.opsNote = "per edge: entering/leaving borders, t values, their order, output vertices";
         c.separate = [st](OpCounts* ops) {
@@ -332,6 +338,7 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
         ExperimentCase c;
         c.algorithm = "Back-face removal";
         c.caseName = num(n) + " random polygon planes";
+        c.label = "back-face";
         c.paperI = "33%", c.paperII = "67%", c.paperIII = "1.67";
         c.opsNote = "2 x (3 mul + 3 add + 1 cmp) vs at most 4 mul + 4 add + 3 cmp";
         c.separate = [st](OpCounts* ops) {
@@ -350,7 +357,21 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
             detail = "identical classification (" + num(split) + " planes back-facing for one eye only)";
             return {};
         };
+        ExperimentCase b = c;  // the same classification without the paper's branches
+        b.caseName += ", branch-free simultaneous test";
+        b.label = "back-face branch-free";
+        b.opsNote = "2 x (3 mul + 3 add + 1 cmp) vs 4 mul + 4 add + 2 cmp, no branches";
+        b.simultaneous = [st](OpCounts* ops) { backFacesStereoBranchFree(st->right, st->viewer, st->e, st->s, ops); };
+        b.check = [st, sep = b.separate, sim = b.simultaneous](std::string& detail) -> std::string {
+            sep(nullptr), sim(nullptr);
+            for (std::size_t i = 0; i < st->s.size(); ++i) {
+                if (std::uint8_t(st->l[i] | (st->r[i] << 1)) != st->s[i]) return "plane " + num(i) + " classified differently";
+            }
+            detail = "identical classification";
+            return {};
+        };
         cases.push_back(std::move(c));
+        cases.push_back(std::move(b));
     }
 
     // ---- BSP tree + one z-buffer vs two BSP passes ----
@@ -372,6 +393,7 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
         c.caseName = "village, " + num(buildings) + (buildings == 1 ? " building: " : " buildings: ") +
                      num(st->input) + " polygons (" + num(st->tree.polygons.size()) + " after BSP splits)";
         c.paperI = "17%", c.paperII = "33%", c.paperIII = "1.33";
+        c.label = "BSP+z vs 2 BSP, " + num(st->input) + " polys";
         c.opsNote = "traversal, projection, fills (z-buffer: z interpolation and tests)";
         c.separate = [st](OpCounts* ops) {
             renderBspMono(st->tree, -1, st->cam, st->l1, ops);
@@ -416,6 +438,7 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
             c.caseName = "village, " + num(st->polys.size()) + " polygons, " + num(w) + "x" + num(h) +
                          (gouraud ? ", Gouraud" : ", flat");
             c.paperI = gouraud ? "17% (with Gouraud)" : "12%";
+            c.label = gouraud ? "scan-line HSR Gouraud" : "scan-line HSR flat";
             c.paperII = gouraud ? "-" : "24%";
             c.paperIII = gouraud ? "-" : "1.24";
             c.opsNote = "projection, y-sorted edge list, active edges, x order, nearest span, span fill";
@@ -437,6 +460,7 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
         c.caseName = "village, " + num(st->polys.size()) + " polygons, " + num(w) + "x" + num(h) +
                      ": lighting, projection, scan-line HSR, Gouraud";
         c.paperI = "18.8%", c.paperII = "37.6%", c.paperIII = "1.38";
+        c.label = "village renderer";
         c.opsNote = "Lambert vertex lighting (per program run) + the scan-line renderer";
         c.separate = [st](OpCounts* ops) {
             renderVillageMono(st->polys, -1, st->cam, st->l1, ops);

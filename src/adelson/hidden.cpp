@@ -75,14 +75,14 @@ int buildNode(BspTree& tree, std::vector<Polygon3> polys) {
     const PlaneEq plane = planeOf(polys[0]);
     std::vector<Polygon3> front, back;
     for (std::size_t i = 1; i < polys.size(); ++i) {
-        Polygon3 f, b;
-        splitPolygon(polys[i], plane, f, b);
-        const bool coplanar = !f.v.empty() && !b.v.empty() && f.v.size() == polys[i].v.size() &&
-                              b.v.size() == polys[i].v.size();
+        bool coplanar = true;
+        for (const Vec3& v : polys[i].v) coplanar = coplanar && std::abs(side(plane, v)) <= kPlaneEps;
         if (coplanar) {  // on the plane: draw with the front side
             front.push_back(std::move(polys[i]));
             continue;
         }
+        Polygon3 f, b;
+        splitPolygon(polys[i], plane, f, b);
         if (!f.v.empty()) front.push_back(std::move(f));
         if (!b.v.empty()) back.push_back(std::move(b));
     }
@@ -167,14 +167,11 @@ void bspZ(const BspTree& tree, int node, const Vec3& eyePos, const StereoCamera&
     bspZ(tree, eyeInFront ? nd.back : nd.front, eyePos, cam, left, right, n, s);
     const Polygon3& p = tree.polygons[nd.polygon];
     projectPixelsStereo(p, cam, s.xl, s.xr, s.y, s.z, n);
-    const std::uint32_t color = idColor(p.id);
-    const double* xr[1] = {s.xr.data()};
-    Frame* fr[1] = {&right};
-    scanFill<On, 1, Mode::Flat>(xr, s.y.data(), s.y.size(), nullptr, color, fr, n);  // painter's
-    const double* xl[1] = {s.xl.data()};
+    // One edge table for both eyes: the left eye z-buffered, the right eye painted in order.
+    const double* xs[2] = {s.xl.data(), s.xr.data()};
     const double* zs[1] = {s.z.data()};
-    Frame* fl[1] = {&left};
-    scanFill<On, 1, Mode::FlatZ>(xl, s.y.data(), s.y.size(), zs, color, fl, n);  // z-buffer
+    Frame* frames[2] = {&left, &right};
+    scanFill<On, 2, Mode::ZLeftFlatRight>(xs, s.y.data(), s.y.size(), zs, idColor(p.id), frames, n);
     bspZ(tree, eyeInFront ? nd.front : nd.back, eyePos, cam, left, right, n, s);
 }
 

@@ -351,4 +351,19 @@ void backFacesStereo(std::span<const PlaneEq> planes, const Vec3& v, double e,
     });
 }
 
+void backFacesStereoBranchFree(std::span<const PlaneEq> planes, const Vec3& v, double e,
+                               std::span<std::uint8_t> out, OpCounts* ops) {
+    dispatch(ops, [&]<bool On>() {
+        Count<On> n;
+        for (std::size_t i = 0; i < planes.size(); ++i) {
+            const PlaneEq& p = planes[i];
+            const double s = p.a * v.x + p.b * v.y + p.c * v.z + p.d;
+            const double sl = s + p.a * e;
+            out[i] = std::uint8_t((sl < 0.0 ? 1 : 0) | (s < 0.0 ? 2 : 0));
+            n.mul(4), n.add(4), n.cmp(2);
+        }
+        n.flush(ops);
+    });
+}
+
 }  // namespace mvr::adelson

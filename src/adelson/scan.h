@@ -15,10 +15,13 @@
 
 namespace mvr::adelson::detail {
 
-enum class Mode { Flat, Gouraud, FlatZ };
+/// Flat: one color. Gouraud: colors interpolated. FlatZ: one color, z-buffered.
+/// ZLeftFlatRight (K = 2): adelson1991's BSP compromise — eye 0 (left) z-buffered, eye 1 (right)
+/// painted in order; z along the edges is shared, the right eye ignores it.
+enum class Mode { Flat, Gouraud, FlatZ, ZLeftFlatRight };
 
 template <Mode M>
-constexpr int kAttrs = M == Mode::Gouraud ? 3 : (M == Mode::FlatZ ? 1 : 0);
+constexpr int kAttrs = M == Mode::Gouraud ? 3 : (M == Mode::Flat ? 0 : 1);
 
 struct EdgeY {
     int ys = 0, ye = 0;       ///< first scan-line, one past the last
@@ -153,6 +156,12 @@ void scanFill(const double* const* xs, const double* y, std::size_t count, const
                 if constexpr (M == Mode::Flat) {
                     std::fill(row + pa, row + pb, color);
                 } else {
+                    if constexpr (M == Mode::ZLeftFlatRight) {
+                        if (v == 1) {  // the right eye: painter's order
+                            std::fill(row + pa, row + pb, color);
+                            continue;
+                        }
+                    }
                     const double w = xb - xa;
                     const double start = (double(pa) + 0.5) - xa;
                     n.add(2);

@@ -13,6 +13,7 @@
 
 #include "command.h"
 #include "options.h"
+#include "bench_papers.h"
 
 #ifdef MVR_HAVE_RASTER
 #include "mvr/raster/soft_backend.h"
@@ -264,7 +265,11 @@ const CommandRegistrar kBench(30, [](CLI::App& root) -> std::function<int()> {
     app->add_option("--threads", o->threads, "soft: worker threads (0 = one per core)")->default_val(o->threads);
     app->add_option("--simd", o->simd, "soft: SIMD path auto | scalar | avx2 | avx512")->default_val(o->simd);
     app->add_flag("--json", o->json, "Print JSON: {machine, scene, results: [...]}");
-    return [o] { return runBench(*o); };
+    auto papers = addPaperBenches(app);  // bench sorbier | kalaiah | adelson (bench_papers.cpp)
+    return [o, papers] {
+        if (auto rc = papers()) return *rc;
+        return runBench(*o);
+    };
 });
 
 }  // namespace

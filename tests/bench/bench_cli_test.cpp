@@ -1,0 +1,252 @@
+// `mvr bench` and its paper subcommands end to end on tiny scenes (64x48, one small model,
+// one frame): they run, --json parses with nlohmann_json and has the documented fields,
+// --csv has a header and rows, --plot writes a PNG/SVG through gnuplot, bad options give one
+// `error:` line and exit code 1 (usage) or 2 (input).
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path mvrBinary() {
+    const char* bin = std::getenv("MVR_BINARY_DIR");
+    return fs::path(bin ? bin : MVR_TEST_BINARY_DIR) / "tools" / "cli" / "mvr";
+}
+
+std::string model(const char* name) {
+    const char* dir = std::getenv("MVR_SHARED_DIR");
+    return (fs::path(dir ? dir : MVR_TEST_SHARED_DIR) / "models" / name).string();
+}
+
+struct CliRun {
+    int exitCode = -1;
+    std::string out, err;
+};
+
+class BenchCli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        mDir = fs::temp_directory_path() /
+               fmt::format("mvr-bench-test-{}-{}", ::getpid(), ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(mDir);
+    }
+    void TearDown() override { fs::remove_all(mDir); }
+
+    CliRun run(const std::string& args) const {
+        const fs::path out = mDir / "stdout.txt", err = mDir / "stderr.txt";
+        const std::string cmd = fmt::format("cd '{}' && '{}' {} >'{}' 2>'{}' </dev/null", mDir.string(),
+                                            mvrBinary().string(), args, out.string(), err.string());
+        const int status = std::system(cmd.c_str());
+        CliRun r;
+        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+        auto slurp = [](const fs::path& p) {
+            std::ifstream in(p);
+            std::stringstream ss;
+            ss << in.rdbuf();
+            return ss.str();
+        };
+        r.out = slurp(out), r.err = slurp(err);
+        return r;
+    }
+
+    nlohmann::json runJson(const std::string& args) const {
+        const CliRun r = run(args);
+        EXPECT_EQ(r.exitCode, 0) << args << "\n" << r.err;
+        EXPECT_TRUE(nlohmann::json::accept(r.out)) << args << "\n" << r.out;
+        if (!nlohmann::json::accept(r.out)) return {};
+        return nlohmann::json::parse(r.out);
+    }
+
+    void expectError(const std::string& args, int code, const std::string& needle) const {
+        const CliRun r = run(args);
+        EXPECT_EQ(r.exitCode, code) << args << "\n" << r.err;
+        EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << args << ": " << r.err;
+        EXPECT_NE(r.err.substr(0, r.err.find('\n')).find(needle), std::string::npos) << args << ": " << r.err;
+        EXPECT_LE(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;
+        EXPECT_TRUE(r.out.empty()) << r.out;
+    }
+
+    static bool haveGnuplot() { return std::system("gnuplot --version >/dev/null 2>&1") == 0; }
+
+    fs::path mDir;
+};
+
+void expectMachine(const nlohmann::json& j) {
+    ASSERT_TRUE(j.contains("machine"));
+    EXPECT_TRUE(j["machine"]["cpu"].is_string());
+    EXPECT_TRUE(j["machine"]["simd"].is_string());
+    EXPECT_GE(j["machine"]["threads"].get<int>(), 1);
+    EXPECT_TRUE(j["machine"]["gl_renderer"].is_string());
+}
+
+/// Every result either rendered (fps > 0, wall_ms stats) or says why not.
+void expectRenderResults(const nlohmann::json& j) {
+    ASSERT_TRUE(j["results"].is_array());
+    ASSERT_FALSE(j["results"].empty());
+    for (const auto& r : j["results"]) {
+        EXPECT_TRUE(r["backend"].is_string());
+        EXPECT_TRUE(r["method"].is_string());
+        EXPECT_GT(r["triangles"].get<long>(), 0);
+        if (r.contains("error")) continue;
+        EXPECT_GT(r["fps"].get<double>(), 0.0);
+        EXPECT_GT(r["speedup_vs_multipass"].get<double>(), 0.0);
+        for (const char* k : {"median", "min", "max", "q1", "q3"}) EXPECT_GT(r["wall_ms"][k].get<double>(), 0.0) << k;
+        EXPECT_LE(r["wall_ms"]["min"].get<double>(), r["wall_ms"]["median"].get<double>());
+        EXPECT_LE(r["wall_ms"]["median"].get<double>(), r["wall_ms"]["max"].get<double>());
+        if (r["method"] == "multipass") EXPECT_DOUBLE_EQ(r["speedup_vs_multipass"].get<double>(), 1.0);
+    }
+    EXPECT_TRUE(j["skipped"].is_array());
+}
+
+TEST_F(BenchCli, SorbierJsonEveryDefaultMethod) {
+    const nlohmann::json j = runJson(fmt::format("bench sorbier '{}' --sizes 64x48 --copies 1 --frames 1 --warmup 0 "
+                                                 "--shadings flat --json", model("suzanne.obj")));
+    EXPECT_EQ(j["bench"], "sorbier2008");
+    expectMachine(j);
+    expectRenderResults(j);
+    bool sawUnified = false;
+    for (const auto& r : j["results"]) {
+        EXPECT_EQ(r["views"], 2);
+        EXPECT_EQ(r["width"], 64);
+        EXPECT_EQ(r["height"], 48);
+        EXPECT_EQ(r["shading"], "flat");
+        sawUnified = sawUnified || (r["backend"] == "soft" && r["method"] == "unified" && !r.contains("error"));
+    }
+    EXPECT_TRUE(sawUnified);
+}
+
+TEST_F(BenchCli, SorbierTableAddsTheMultipassBaseline) {
+    const CliRun r = run(fmt::format("bench sorbier '{}' --sizes 64x48 --copies 1,2 --frames 1 --warmup 0 "
+                                  "--methods soft:unified", model("suzanne.obj")));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.out.rfind("machine: ", 0), 0u) << r.out;
+    EXPECT_NE(r.out.find("| flat | soft:multipass |"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("| pixel | soft:unified |"), std::string::npos) << r.out;
+    EXPECT_TRUE(r.err.empty()) << r.err;  // no progress bar when stderr is not a terminal
+}
+
+TEST_F(BenchCli, SorbierCsvAndProgressLines) {
+    const CliRun r = run(fmt::format("bench sorbier '{}' --sizes 64x48 --copies 1 --frames 1 --warmup 0 "
+                                  "--methods soft:unified --shadings vertex --csv --progress", model("suzanne.obj")));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::istringstream in(r.out);
+    std::string line;
+    std::vector<std::string> lines;
+    while (std::getline(in, line)) lines.push_back(line);
+    ASSERT_EQ(lines.size(), 4u) << r.out;  // # machine, header, multipass, unified
+    EXPECT_EQ(lines[0].rfind("# machine: ", 0), 0u);
+    EXPECT_EQ(lines[1].rfind("bench,backend,method,", 0), 0u);
+    EXPECT_EQ(lines[2].rfind("sorbier2008,soft,multipass,", 0), 0u);
+    EXPECT_NE(r.err.find("[2/2]"), std::string::npos) << r.err;
+}
+
+TEST_F(BenchCli, KalaiahJsonViewsShareTheBuffer) {
+    const nlohmann::json j = runJson(fmt::format("bench kalaiah '{}' '{}@2' --sizes 64x48 --configs 1x1,2x1,2x2 "
+                                                 "--frames 1 --warmup 0 --methods soft:unified,gl:kalaiah-emulation --json",
+                                                 model("suzanne.obj"), model("suzanne.obj")));
+    EXPECT_EQ(j["bench"], "kalaiah2007");
+    expectMachine(j);
+    expectRenderResults(j);
+    int seen = 0;
+    for (const auto& r : j["results"]) {
+        const int views = r["views"];
+        if (views == 2) {
+            EXPECT_EQ(r["width"], 32);
+            EXPECT_EQ(r["height"], 48);
+        }
+        if (views == 4) {
+            EXPECT_EQ(r["width"], 32);
+            EXPECT_EQ(r["height"], 24);
+        }
+        seen += r["backend"] == "soft";
+    }
+    EXPECT_EQ(seen, 2 * 3 * 2);  // soft:multipass + soft:unified, 3 configs, 2 models
+}
+
+TEST_F(BenchCli, AdelsonJsonEveryRowAgrees) {
+    const nlohmann::json j = runJson("bench adelson --tiny --frames 1 --warmup 0 --min-batch-ms 0 --json");
+    EXPECT_EQ(j["bench"], "adelson1991");
+    expectMachine(j);
+    ASSERT_TRUE(j["results"].is_array());
+    std::set<std::string> algorithms;
+    for (const auto& r : j["results"]) {
+        algorithms.insert(r["algorithm"].get<std::string>());
+        EXPECT_TRUE(r["results_agree"].get<bool>()) << r["algorithm"] << ": " << r["check"];
+        EXPECT_GT(r["ops_separate"]["total"].get<long>(), 0);
+        for (const char* k : {"I", "II", "III"}) {
+            EXPECT_TRUE(r["savings_ops"][k].is_number()) << k;
+            EXPECT_TRUE(r["savings_time"][k].is_number()) << k;
+        }
+        EXPECT_GT(r["ms_separate"]["median"].get<double>(), 0.0);
+    }
+    EXPECT_EQ(algorithms.size(), 9u);  // every row of adelson1991 Table 1
+}
+
+TEST_F(BenchCli, AdelsonCsvOnly) {
+    const CliRun r = run("bench adelson --tiny --frames 1 --warmup 0 --min-batch-ms 0 --only clipping --csv");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 4) << r.out;  // machine, header, line, polygon
+    EXPECT_NE(r.out.find("\"Liang-Barsky line clipping\""), std::string::npos);
+}
+
+TEST_F(BenchCli, Plots) {
+    if (!haveGnuplot()) GTEST_SKIP() << "gnuplot is not installed";
+    CliRun r = run(fmt::format("bench sorbier '{}' --sizes 64x48 --copies 1,2 --frames 1 --warmup 0 --methods soft:unified "
+                            "--plot s.png", model("suzanne.obj")));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::ifstream png(mDir / "s.png", std::ios::binary);
+    char magic[8] = {};
+    png.read(magic, 8);
+    EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+    r = run("bench adelson --tiny --frames 1 --warmup 0 --min-batch-ms 0 --only projection --plot a.svg");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::ifstream svg(mDir / "a.svg");
+    std::stringstream ss;
+    ss << svg.rdbuf();
+    EXPECT_NE(ss.str().find("<svg"), std::string::npos);
+    r = run(fmt::format("bench kalaiah '{}' --sizes 64x48 --configs 1x1,2x1 --frames 1 --warmup 0 --methods soft:unified "
+                        "--plot k.png", model("suzanne.obj")));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(fs::file_size(mDir / "k.png") > 1000);
+}
+
+TEST_F(BenchCli, PlainBenchKeepsItsJsonContract) {
+    const nlohmann::json j = runJson(fmt::format("bench '{}' --size 64x48 --frames 1 --warmup 0 --json", model("suzanne.obj")));
+    for (const char* k : {"machine", "scene", "results"}) EXPECT_TRUE(j.contains(k)) << k;
+    for (const auto& r : j["results"]) {
+        for (const char* k : {"backend", "method", "views", "triangles", "median_ms", "min_ms", "speedup_vs_first"}) {
+            EXPECT_TRUE(r.contains(k)) << k;
+        }
+    }
+}
+
+TEST_F(BenchCli, BadOptions) {
+    const std::string m = "'" + model("suzanne.obj") + "'";
+    expectError("bench sorbier " + m + " --methods soft:bogus", 1, "unknown method 'bogus'");
+    expectError("bench sorbier " + m + " --methods nope:multipass", 1, "unknown backend 'nope'");
+    expectError("bench sorbier " + m + " --methods unified", 1, "BACKEND:METHOD");
+    expectError("bench sorbier " + m + " --sizes 0x48", 1, "--sizes '0x48'");
+    expectError("bench sorbier " + m + " --copies 0", 1, "--copies 0");
+    expectError("bench sorbier " + m + " --shadings glossy", 1, "glossy");
+    expectError("bench sorbier " + m + " --frames 0", 1, "--frames 0");
+    expectError("bench sorbier " + m + " --plot out.gif", 1, "--plot 'out.gif'");
+    expectError("bench sorbier /nonexistent/model.obj --sizes 64x48", 2, "/nonexistent/model.obj");
+    expectError("bench kalaiah " + m + " --configs 9", 1, "--configs entry '9'");
+    expectError("bench kalaiah " + m + " --configs 9x9", 1, "out of range");
+    expectError("bench kalaiah " + m + " --sizes 2x2 --configs 3x1", 1, "too small");
+    expectError("bench adelson --only nothing-like-this", 1, "--only");
+    expectError("bench adelson --min-batch-ms -1", 1, "--min-batch-ms");
+}
+
+}  // namespace
