@@ -13,6 +13,10 @@
 #ifdef MVR_HAVE_COMPOSITE
 #include "mvr/composite/compose.h"
 #endif
+#if defined(MVR_HAVE_GL) && defined(MVR_GL_HAVE_COMPOSITE_GPU)
+#include "mvr/gl/composite_gpu.h"
+#define MVR_RENDER_GPU_COMPOSITES 1
+#endif
 
 namespace mvr::cli {
 namespace {
@@ -80,13 +84,32 @@ int runRender(const RenderOptions& o) {
     compose.convergence = p.rig.convergence;
     if (p.rig.viewCount() == 2) {
         // The red-cyan anaglyph every stereo render gets: Dubois' least-squares red-cyan.
+#ifdef MVR_RENDER_GPU_COMPOSITES
+        auto anaglyph = o.backend == "gl" ? gl::composeGpu("anaglyph-dubois", out.color, compose)
+                                          : composite::compose("anaglyph-dubois", out.color, compose);
+#else
         auto anaglyph = composite::compose("anaglyph-dubois", out.color, compose);
+#endif
         if (!anaglyph) return fail(anaglyph.status());
         const auto path = dir / "anaglyph.png";
         if (Status s = writePng(path, *anaglyph); !s) return fail(s);
         written.push_back(path.string());
     }
     for (const std::string& format : o.formats) {
+#ifdef MVR_RENDER_GPU_COMPOSITES
+        // --backend gl: image formats are composed on the GPU (same pixels as the CPU, anaglyphs
+        // within 1/255; src/gl/README.md), under the CPU's file name. jps / mpo stay CPU files.
+        if (o.backend == "gl" && gl::composeGpuSupports(format)) {
+            auto name = composite::compositeFileName(format, out.color, compose);
+            if (!name) return fail(name.status());
+            auto image = gl::composeGpu(format, out.color, compose);
+            if (!image) return fail(image.status());
+            const auto path = dir / *name;
+            if (Status s = writePng(path, *image); !s) return fail(s);
+            written.push_back(path.string());
+            continue;
+        }
+#endif
         auto path = composite::writeComposite(format, out.color, compose, dir);
         if (!path) return fail(path.status());
         written.push_back(path->string());
