@@ -158,9 +158,10 @@ protected:
     }
 
     /// Runs `mvr ARGS` in `dir`, on the test's display (or none with display = false).
-    CliRun run(const std::string& args, bool display = true) const {
-        const std::string env = display ? fmt::format("DISPLAY='{}'", sXvfb ? sXvfb->display() : "")
-                                        : std::string("-u DISPLAY");
+    CliRun run(const std::string& args, bool display = true, const std::string& extraEnv = "") const {
+        const std::string env = (display ? fmt::format("DISPLAY='{}'", sXvfb ? sXvfb->display() : "")
+                                         : std::string("-u DISPLAY")) +
+                                " " + extraEnv;
         const std::string command = fmt::format("cd '{}' && env {} '{}' {} 2>&1", dir.string(), env,
                                                 mvr.string(), args);
         CliRun r;
@@ -296,6 +297,19 @@ TEST_F(ViewCli, HudIsAtScreenDepthInBothEyes) {
         }
     }
     EXPECT_GT(inked, 100) << "no HUD text found";
+}
+
+TEST_F(ViewCli, WithoutEglTheDefaultBackendFallsBackToSoft) {
+    // libglvnd pointed at no EGL vendor: the gl backend has no context (the window, GLX, does).
+    needDisplay();
+    const std::string noEgl = "__EGL_VENDOR_LIBRARY_DIRS=/nonexistent";
+    CliRun r = run("view --size 160x120 --frames 1", true, noEgl);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("gl backend unavailable (no EGL display"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("last: soft:unified"), std::string::npos) << r.output;
+    r = run("view --size 160x120 --frames 1 --backend gl", true, noEgl);
+    EXPECT_EQ(r.exitCode, 3) << r.output;
+    EXPECT_NE(r.output.find("error: no EGL display"), std::string::npos) << r.output;
 }
 
 TEST_F(ViewCli, QuadBufferWithoutStereoVisualFallsBack) {

@@ -351,18 +351,25 @@ Status Viewer::chooseInitialMethod() {
         if (!made) return made.status();
         return unsupportedError(fmt::format("backend '{}' is not available", mOptions.backend));
     }
-    std::optional<std::size_t> index = find(mOptions.backend, mOptions.method);
+    // Default method: the backend's fastest exact one (cli::defaultMethod), except gl's "auto",
+    // which measures every method again for each new window size; the viewer starts on
+    // multipass and `m` reaches auto.
+    const std::string wanted = !mOptions.method.empty() ? mOptions.method
+                               : mOptions.backend == "gl" ? std::string("multipass")
+                                                          : cli::defaultMethod(mOptions.backend);
+    std::optional<std::size_t> index = find(mOptions.backend, wanted);
     if (!index) {
         return usageError(fmt::format("--method '{}' is not a method of the {} backend (see `mvr "
                                       "info`)",
-                                      mOptions.method, mOptions.backend));
+                                      wanted, mOptions.backend));
     }
     Status s = supported(mMethods[*index]);
     if (!s && !mOptions.backendGiven && s.code() == ErrorCode::Unsupported &&
         mBackends.count("soft")) {
         // The default backend (gl) has no context here: show the soft backend instead.
         fmt::print(stderr, "mvr view: gl backend unavailable ({}); using soft\n", s.message());
-        index = find("soft", mOptions.method == "unified" ? "unified" : "multipass");
+        index = find("soft", mOptions.method == "multipass" ? std::string("multipass")
+                                                            : cli::defaultMethod("soft"));
         if (!index) index = find("soft", "multipass");
         s = supported(mMethods[*index]);
     }
@@ -889,9 +896,9 @@ int Viewer::run() {
         if (Status s = writeScreenshot(mOptions.screenshot); !s) exit = cli::fail(s);
     }
     if (exit == 0 && !mOptions.quiet) {
-        fmt::print("mvr view: {} frames; last: {}, {}, {}x{} per view, separation {:.2f}%, "
+        fmt::print("mvr view: {} frame{}; last: {}, {}, {}x{} per view, separation {:.2f}%, "
                    "convergence {:.4g}\n",
-                   mFrames, method().label(), formatName(), mSettings.width, mSettings.height,
+                   mFrames, mFrames == 1 ? "" : "s", method().label(), formatName(), mSettings.width, mSettings.height,
                    100.0 * mStereo.separation(), mStereo.convergence);
     }
     shutdown();
@@ -928,8 +935,9 @@ std::function<int()> addViewCommand(CLI::App& root) {
                                     "Backend: gl (OpenGL through EGL; falls back to soft when it has no "
                                     "context, unless given) or soft (CPU)")
                         ->default_val(o->backend);
-    app->add_option("--method", o->method, "Method of the backend (see `mvr info`); m/M cycle them")
-        ->default_val(o->method);
+    app->add_option("--method", o->method,
+                    "Method of the backend (see `mvr info`; default: gl multipass, soft unified); "
+                    "m/M cycle them");
     app->add_option("--format", o->format, "Output format; f/F cycle them")
         ->default_val(o->format)
         ->check(CLI::IsMember(viewerFormats()));

@@ -29,7 +29,7 @@ namespace mvr::viewer {
 struct ViewerOptions {
     cli::SceneOptions scene;
     std::string backend = "gl";
-    std::string method = "multipass";
+    std::string method;  ///< empty: gl multipass, soft cli::defaultMethod("soft") (unified)
     bool backendGiven = false;  ///< --backend was on the command line (no fallback to soft)
     std::string format = "anaglyph-dubois";
     bool swapEyes = false;
