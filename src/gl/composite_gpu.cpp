@@ -1,5 +1,5 @@
 // Every image format of the composite module on the GPU (composite_gpu.h): the views as one
-// RGBA8UI array texture, one full-screen pass per format family into an RGBA8UI target
+// RGBA8 array texture, one full-screen pass per format family into an RGBA8 target
 // (tiled when the output is larger than a render target may be), read back.
 #include "mvr/gl/composite_gpu.h"
 
@@ -36,8 +36,8 @@ enum LayoutMode : int {
 // One source for every family; a family is a #define. Pixel p is the output pixel with row 0 at
 // the TOP: image row 0 is uploaded to texture row 0 and the target is read back without a flip.
 const char* const kFragment = R"glsl(
-layout(binding = 0) uniform usampler2DArray uViews;
-layout(location = 0) out uvec4 oColor;
+layout(binding = 0) uniform sampler2DArray uViews;
+layout(location = 0) out vec4 oColor;
 layout(location = 0) uniform ivec2 uOrigin;     // this tile's first output pixel
 layout(location = 1) uniform int uMode;         // LAYOUT: LayoutMode
 layout(location = 2) uniform int uViewCount;
@@ -53,7 +53,10 @@ layout(location = 11) uniform ivec2 uFlip;      // lenticular flipX, flipY
 
 const uvec4 kBlank = uvec4(0u, 0u, 0u, 255u);
 
-uvec4 fetch(int layer, ivec2 p) { return texelFetch(uViews, ivec3(p, layer), 0); }
+// The 8-bit values, exactly: an RGBA8 texel reads as c / 255, and round() undoes that.
+uvec4 fetch(int layer, ivec2 p) {
+    return uvec4(round(texelFetch(uViews, ivec3(p, layer), 0) * 255.0));
+}
 // layout.h's 2:1 squeeze: (a + b + 1) / 2 per 8-bit channel, rounding half up.
 uvec4 average(uvec4 a, uvec4 b) { return (a + b + 1u) / 2u; }
 
@@ -134,7 +137,8 @@ uvec4 composite(ivec2 p) {
 #endif
 
 void main() {
-    oColor = composite(ivec2(gl_FragCoord.xy) + uOrigin);
+    // k / 255 goes back to exactly k in the RGBA8 target (UNORM conversion rounds to nearest).
+    oColor = vec4(composite(ivec2(gl_FragCoord.xy) + uOrigin)) / 255.0;
 }
 )glsl";
 
@@ -285,16 +289,14 @@ Result<Image> draw(detail::CompositeContext& c, const Plan& plan, std::span<cons
 
     // The views: layer i = views[i], or views[n - 1 - i] for swapEyes (compose()'s reversal).
     detail::Texture array = detail::createTexture(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(array.get(), 1, GL_RGBA8UI, w, h, n);
-    // An integer texture with a LINEAR filter (the default MAG_FILTER) is incomplete and
-    // texelFetch would read zeros.
+    glTextureStorage3D(array.get(), 1, GL_RGBA8, w, h, n);
     glTextureParameteri(array.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(array.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
     for (int i = 0; i < n; ++i) {
         const Image& v = views[static_cast<std::size_t>(reverse ? n - 1 - i : i)];
-        glTextureSubImage3D(array.get(), 0, 0, 0, i, w, h, 1, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,
+        glTextureSubImage3D(array.get(), 0, 0, 0, i, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
                             v.rgba.data());
     }
     if (Status s = detail::checkGlError("mvr::gl::composeGpu(): uploading the views"); !s) return s;
@@ -320,11 +322,11 @@ Result<Image> draw(detail::CompositeContext& c, const Plan& plan, std::span<cons
         std::max(1, std::min({maxSize, maxRenderbuffer, maxViewport[0], maxViewport[1], 4096}));
     const int tileW = std::min(plan.width, tileLimit), tileH = std::min(plan.height, tileLimit);
     detail::Texture target = detail::createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(target.get(), 1, GL_RGBA8UI, tileW, tileH);
+    glTextureStorage2D(target.get(), 1, GL_RGBA8, tileW, tileH);
     detail::Framebuffer fbo = detail::createFramebuffer();
     glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, target.get(), 0);
     if (glCheckNamedFramebufferStatus(fbo.get(), GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        return internalError("mvr::gl::composeGpu(): the RGBA8UI target is not framebuffer complete");
+        return internalError("mvr::gl::composeGpu(): the RGBA8 target is not framebuffer complete");
     glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
@@ -344,7 +346,7 @@ Result<Image> draw(detail::CompositeContext& c, const Plan& plan, std::span<cons
             glViewport(0, 0, tw, th);
             glProgramUniform2i(program, 0, ox, oy);
             glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
-            glReadPixels(0, 0, tw, th, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,
+            glReadPixels(0, 0, tw, th, GL_RGBA, GL_UNSIGNED_BYTE,
                          out.rgba.data() + (static_cast<std::size_t>(oy) * plan.width + ox) * 4);
         }
     }

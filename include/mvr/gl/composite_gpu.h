@@ -2,9 +2,10 @@
 //
 // composeGpu(format, views, options) gives the same image as mvr::composite::compose() with the
 // same arguments (compose.h, layout.h, lenticular.h, anaglyph.h are the specification):
-//   - the views go up once as one RGBA8UI 2D-array texture (view i in layer i; reversed for
+//   - the views go up once as one RGBA8 2D-array texture (view i in layer i; reversed for
 //     swapEyes, as compose() reverses the order), one full-screen pass of a fragment shader
-//     per format family writes an RGBA8UI target, which is read back (row 0 = top, as Image);
+//     per format family writes an RGBA8 target, which is read back (row 0 = top, as Image);
+//     the shader works on the exact 8-bit values (round(texel · 255) in, k / 255 out);
 //   - pixel-moving formats (sbs, sbs-half, tb, tb-half, rows, columns, checkerboard,
 //     hdmi-frame-packing, quilt) work on the 8-bit integers: copies, and the -half formats'
 //     (a + b + 1) / 2 pair average, so they are bit-exact;
