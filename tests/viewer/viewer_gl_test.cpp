@@ -299,6 +299,18 @@ TEST_F(ViewCli, HudIsAtScreenDepthInBothEyes) {
     EXPECT_GT(inked, 100) << "no HUD text found";
 }
 
+TEST_F(ViewCli, ViewSizeFollowsTheWindow) {
+    // Resized to 300x100 in side-by-side: two 150x100 views, separation kept.
+    needDisplay();
+    const CliRun r = run("view --size 160x120 --format sbs --frames 3 --script size:300:100 "
+                         "--screenshot resized.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("150x100 per view, separation 3.02%"), std::string::npos) << r.output;
+    const Image shot = read(dir / "resized.png");
+    EXPECT_EQ(shot.width, 300);
+    EXPECT_EQ(shot.height, 100);
+}
+
 TEST_F(ViewCli, WithoutEglTheDefaultBackendFallsBackToSoft) {
     // libglvnd pointed at no EGL vendor: the gl backend has no context (the window, GLX, does).
     needDisplay();

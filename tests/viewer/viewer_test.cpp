@@ -192,6 +192,10 @@ TEST(Script, UnknownTokenIsAUsageError) {
         << steps.status().message();
     EXPECT_FALSE(parseScript("at:1"));
     EXPECT_FALSE(parseScript("wheel:x"));
+    EXPECT_FALSE(parseScript("size:0:10"));
+    auto resize = parseScript("size:300:100");
+    ASSERT_TRUE(resize);
+    EXPECT_EQ(resize->at(0).kind, ScriptStep::Kind::Resize);
 }
 
 }  // namespace

@@ -91,11 +91,14 @@ Result<std::vector<ScriptStep>> parseScript(std::string_view script) {
             step.kind = ScriptStep::Kind::Pan;
         } else if (token.substr(0, 6) == "wheel:" && parseFloat(token.substr(6), step.x)) {
             step.kind = ScriptStep::Kind::Wheel;
+        } else if (parsePair(token, "size:", step.x, step.y) && step.x >= 1 && step.y >= 1 &&
+                   step.x <= 16384 && step.y <= 16384) {
+            step.kind = ScriptStep::Kind::Resize;
         } else {
             return usageError(fmt::format(
                 "--script: token {} '{}' is not a key or command (expected a key such as m, f, "
                 "+, -, [, ], s, w, p; left, right, up, down, pgup, pgdn, esc, f1, f12; at:X:Y, "
-                "drag:DX:DY, pan:DX:DY or wheel:N)",
+                "drag:DX:DY, pan:DX:DY, wheel:N or size:W:H)",
                 index, token));
         }
         steps.push_back(step);

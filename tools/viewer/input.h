@@ -10,6 +10,7 @@
 //   drag:DX:DY             a left-button drag by (DX, DY) window pixels (orbit)
 //   pan:DX:DY              a right-button drag (pan)
 //   wheel:N                N wheel steps (positive: zoom in)
+//   size:W:H               resize the window to W×H (screen coordinates)
 #pragma once
 
 #include <string>
@@ -44,9 +45,9 @@ Action actionForChar(char32_t ch);
 
 /// One scripted step.
 struct ScriptStep {
-    enum class Kind { Action, MouseAt, Drag, Pan, Wheel } kind = Kind::Action;
+    enum class Kind { Action, MouseAt, Drag, Pan, Wheel, Resize } kind = Kind::Action;
     Action action = Action::None;
-    float x = 0.0f, y = 0.0f;  ///< MouseAt: position; Drag/Pan: delta; Wheel: steps in x
+    float x = 0.0f, y = 0.0f;  ///< MouseAt: position; Drag/Pan: delta; Wheel: steps in x; Resize: size
 };
 
 /// Parses a --script string. Errors (ErrorCode::Usage): an unknown token, naming it and its

@@ -620,6 +620,10 @@ void Viewer::applyStep(const ScriptStep& step) {
             mStereo.zoom(std::pow(0.9f, step.x));
             mNeedRender = true;
             break;
+        case ScriptStep::Kind::Resize:
+            glfwSetWindowSize(mWindow, int(step.x), int(step.y));
+            glfwPollEvents();
+            break;
     }
 }
 
@@ -948,7 +952,7 @@ std::function<int()> addViewCommand(CLI::App& root) {
                     "Write the last frame (what the window shows) to FILE (PNG); p saves FILE-1.png, …");
     app->add_option("--script", o->script,
                     "Comma-separated keys applied one per frame, e.g. \"m,m,+\"; also left, right, up, "
-                    "down, pgup, pgdn, esc, f1, f12, at:X:Y (mouse), drag:DX:DY, pan:DX:DY, wheel:N");
+                    "down, pgup, pgdn, esc, f1, f12, at:X:Y (mouse), drag:DX:DY, pan:DX:DY, wheel:N, size:W:H");
     app->add_flag("--no-hud", o->noHud, "Hide the HUD and the 3D cursor");
     app->add_flag("-q,--quiet", o->quiet, "Print nothing but errors");
     std::string keys = "Keys (also shown in the window by ? or F1):\n";
