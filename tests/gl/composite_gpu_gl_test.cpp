@@ -12,11 +12,17 @@
 #include <thread>
 #include <vector>
 
+#include <epoxy/egl.h>
 #include <gtest/gtest.h>
 
 #include "mvr/composite/compose.h"
 #include "mvr/core/image.h"
+#include "mvr/core/render.h"
+#include "mvr/core/rig.h"
+#include "mvr/core/scene.h"
 #include "mvr/gl/composite_gpu.h"
+#include "mvr/gl/gl_backend.h"
+#include "gl_test_util.h"
 
 namespace mvr::gl::test {
 namespace {
@@ -274,6 +280,29 @@ TEST(ComposeGpu, WorksFromAnotherThreadAndLeavesNoContextCurrent) {
     EXPECT_EQ(diff(*here, *there).maxDelta, 0);
     Result<Image> again = composeGpu("anaglyph-color", views, {});
     ASSERT_TRUE(again) << again.status().message();
+    EXPECT_EQ(eglGetCurrentContext(), EGL_NO_CONTEXT);  // nothing was current before
+}
+
+TEST(ComposeGpu, GivesBackTheCallersCurrentContext) {
+    // A gl backend's render leaves its own context current on this thread; a composite in
+    // between must not take it away.
+    std::unique_ptr<mvr::Backend> backend = makeGlBackend();
+    if (Status s = backend->supports("multipass"); !s) GTEST_SKIP() << s.message();
+    const Scene& scene = defaultScene();
+    const Rig rig = rigFor(scene, 2, 1);
+    RenderSettings settings;
+    settings.width = 32;
+    settings.height = 24;
+    auto first = backend->render(scene, rig, settings, "multipass");
+    ASSERT_TRUE(first) << first.status().message();
+    const EGLContext before = eglGetCurrentContext();
+    ASSERT_NE(before, EGL_NO_CONTEXT);
+    Result<Image> c = composeGpu("sbs", first->color, {});
+    ASSERT_TRUE(c) << c.status().message();
+    EXPECT_EQ(eglGetCurrentContext(), before);
+    auto second = backend->render(scene, rig, settings, "multipass");
+    ASSERT_TRUE(second) << second.status().message();
+    EXPECT_EQ(diff(first->color[0], second->color[0]).maxDelta, 0);
 }
 
 }  // namespace
