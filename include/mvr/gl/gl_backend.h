@@ -82,6 +82,8 @@ struct GlFrameStats {
 /// The stats of `backend`'s last render(), when it is a gl backend that has rendered.
 std::optional<GlFrameStats> lastFrameStats(const mvr::Backend& backend);
 
+/// (Every image format of the composite module on the GPU: mvr/gl/composite_gpu.h.)
+///
 /// Red-cyan anaglyph composed on the GPU as sorbier2008 §4.3 does it: depth test off,
 /// additive blending, colour mask red → full-screen quad textured with `left`, colour mask
 /// green+blue → full-screen quad textured with `right`. Result: R from left, G and B from
