@@ -54,6 +54,7 @@ struct CommonOptions {
     bool csv = false;
     bool progress = false;
     std::string plot;
+    std::string saveJson;  ///< also write the JSON here (tables still on stdout)
 };
 
 void addCommon(CLI::App* app, CommonOptions& o, const char* framesHelp) {
@@ -64,6 +65,7 @@ void addCommon(CLI::App* app, CommonOptions& o, const char* framesHelp) {
     app->add_flag("--csv", o.csv, "Print CSV (one row per measurement) instead of tables")->excludes(json);
     app->add_flag("--progress", o.progress, "Progress lines on stderr even when it is not a terminal");
     app->add_option("--plot", o.plot, "Also draw FILE.png or FILE.svg with gnuplot");
+    app->add_option("--save-json", o.saveJson, "Also write the JSON to FILE");
 }
 
 Status checkCommon(const CommonOptions& o) {
@@ -126,6 +128,12 @@ Stats statsOf(std::vector<double> v) {
     return s;
 }
 
+double threadCpuMs() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
+
 double processCpuMs() {
     timespec ts{};
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
@@ -179,6 +187,16 @@ Machine describeMachine(int threads, bool wantGl) {
 }
 
 #ifdef MVR_PAPERS_HAVE_JSON
+/// Prints the JSON (--json) and/or writes it to --save-json FILE.
+Status emitJson(const nlohmann::json& j, const CommonOptions& o) {
+    if (o.json) fmt::print("{}\n", j.dump(2));
+    if (!o.saveJson.empty()) {
+        std::ofstream out(o.saveJson);
+        out << j.dump(2) << "\n";
+        if (!out) return outputError(fmt::format("--save-json: cannot write '{}'", o.saveJson));
+    }
+    return {};
+}
 nlohmann::json machineJson(const Machine& m) {
     return {{"cpu", m.cpu}, {"cores", m.cores}, {"simd", m.simd}, {"threads", m.threads},
             {"gl_renderer", m.glRenderer}, {"date", m.date}};
@@ -427,7 +445,8 @@ void fillSpeedups(std::vector<RenderRow>& rows, std::size_t first) {
 int printRenderRows(const char* bench, const Machine& machine, const std::vector<RenderRow>& rows,
                     const std::vector<std::pair<std::string, std::string>>& skipped, const CommonOptions& o,
                     const std::function<void()>& printTables) {
-    if (o.json) {
+    const CommonOptions& ocommon = o;
+    if (o.json || !o.saveJson.empty()) {
 #ifdef MVR_PAPERS_HAVE_JSON
         nlohmann::json j;
         j["bench"] = bench;
@@ -454,10 +473,13 @@ int printRenderRows(const char* bench, const Machine& machine, const std::vector
         }
         j["skipped"] = nlohmann::json::array();
         for (const auto& [m, why] : skipped) j["skipped"].push_back({{"method", m}, {"reason", why}});
-        fmt::print("{}\n", j.dump(2));
+        if (Status st = emitJson(j, ocommon); !st) return fail(st);
 #else
         return fail(unsupportedError("--json needs nlohmann-json, which this mvr was built without"));
 #endif
+    }
+    if (o.json) {
+        // printed above
     } else if (o.csv) {
         fmt::print("# {}\n", machine.line());
         fmt::print("bench,backend,method,model,copies,triangles,shading,views,config,width,height,frames,"
@@ -507,7 +529,9 @@ std::string plotRenderScript(const std::string& title, const std::vector<std::st
     s += fmt::format("set multiplot layout {},{} title {}\n", rowsN, cols, gpQuote(title));
     s += fmt::format("set xlabel {}\nset ylabel 'fps (median; bars: min-max)'\nset logscale y\nset grid\n", gpQuote(xlabel));
     if (logx) s += "set logscale x\n";
-    s += "set key outside right top vertical font ',8'\nset pointsize 0.8\n";
+    if (xlabel == "triangles") s += "set format x '%.0s%c'\n";  // 100k, 200k, …
+    if (xlabel == "views") s += "set xtics (1, 2, 3, 4, 6, 9)\n";
+    s += "set key inside top right font ',7' samplen 2 spacing 0.9 opaque box\nset pointsize 0.7\n";
     int index = 0;
     for (std::size_t p = 0; p < panels.size(); ++p) {
         s += fmt::format("set title {}\nplot ", gpQuote(panels[p]));
@@ -836,7 +860,8 @@ struct AdelsonOptions {
 struct AdelsonRow {
     std::string algorithm, caseName, label, paperI, paperII, paperIII, opsNote, check, checkDetail;
     adelson::OpCounts opsSep, opsSim;
-    Stats sepMs, simMs;  ///< per call of both eyes
+    Stats sepMs, simMs;      ///< thread CPU time per call of both eyes
+    Stats sepWall, simWall;  ///< wall time per call
     int reps = 1;
     adelson::Savings byOps, byTime, byInterp;
     bool hasInterp = false;
@@ -875,16 +900,22 @@ int runAdelson(const AdelsonOptions& o) {
         c.separate(nullptr);
         const double once = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
         r.reps = once > 0 ? std::clamp(int(std::ceil(o.minBatchMs / once)), 1, 1000000) : 1;
-        std::vector<double> sep, sim;
+        // Each batch is timed by this thread's CPU time (the algorithms are single-threaded: time
+        // spent descheduled by other processes does not count) and by wall time.
+        std::vector<double> sep, sim, sepWall, simWall;
         for (int b = 0; b < o.common.frames; ++b) {
             for (int which = 0; which < 2; ++which) {  // alternate which goes first
                 const bool doSep = (which == 0) == (b % 2 == 0);
+                const double c0 = threadCpuMs();
                 const auto s0 = Clock::now();
                 for (int k = 0; k < r.reps; ++k) doSep ? c.separate(nullptr) : c.simultaneous(nullptr);
-                const double ms = std::chrono::duration<double, std::milli>(Clock::now() - s0).count() / r.reps;
-                (doSep ? sep : sim).push_back(ms);
+                const double wall = std::chrono::duration<double, std::milli>(Clock::now() - s0).count() / r.reps;
+                const double cpu = (threadCpuMs() - c0) / r.reps;
+                (doSep ? sep : sim).push_back(cpu);
+                (doSep ? sepWall : simWall).push_back(wall);
             }
         }
+        r.sepWall = statsOf(sepWall), r.simWall = statsOf(simWall);
         r.sepMs = statsOf(sep), r.simMs = statsOf(sim);
         r.byOps = adelson::savingsFrom(double(r.opsSep.total()), double(r.opsSim.total()));
         r.byTime = adelson::savingsFrom(r.sepMs.median, r.simMs.median);
@@ -900,7 +931,8 @@ int runAdelson(const AdelsonOptions& o) {
     for (const AdelsonRow& r : rows) allAgree = allAgree && r.check.empty();
 
     auto pct = [](double v) { return fmt::format("{:.1f}%", v * 100.0); };
-    if (o.common.json) {
+    const CommonOptions& ocommon = o.common;
+    if (o.common.json || !o.common.saveJson.empty()) {
 #ifdef MVR_PAPERS_HAVE_JSON
         nlohmann::json j;
         j["bench"] = "adelson1991";
@@ -918,6 +950,7 @@ int runAdelson(const AdelsonOptions& o) {
             nlohmann::json e = {{"algorithm", r.algorithm}, {"case", r.caseName},
                                 {"ops_separate", ops(r.opsSep)}, {"ops_simultaneous", ops(r.opsSim)},
                                 {"ms_separate", statsJson(r.sepMs)}, {"ms_simultaneous", statsJson(r.simMs)},
+                                {"wall_ms_separate", statsJson(r.sepWall)}, {"wall_ms_simultaneous", statsJson(r.simWall)},
                                 {"reps_per_batch", r.reps},
                                 {"savings_ops", sav(r.byOps)}, {"savings_time", sav(r.byTime)},
                                 {"paper", {{"I", r.paperI}, {"II", r.paperII}, {"III", r.paperIII}}},
@@ -925,10 +958,13 @@ int runAdelson(const AdelsonOptions& o) {
             if (r.hasInterp) e["savings_interpolations"] = sav(r.byInterp);
             j["results"].push_back(e);
         }
-        fmt::print("{}\n", j.dump(2));
+        if (Status st = emitJson(j, ocommon); !st) return fail(st);
 #else
         return fail(unsupportedError("--json needs nlohmann-json, which this mvr was built without"));
 #endif
+    }
+    if (o.common.json) {
+        // printed above
     } else if (o.common.csv) {
         fmt::print("# {}\n", machine.line());
         fmt::print("algorithm,case,ops_separate,ops_simultaneous,ops_I,ops_II,ops_III,interp_I,ms_separate,"
@@ -948,8 +984,8 @@ int runAdelson(const AdelsonOptions& o) {
         fmt::print("\nadelson1991 Table 1 — savings of the simultaneous (both eyes at once) algorithm over the "
                    "single-eye algorithm run for each eye, mvr's own implementations of both; I = 1 − sim/sep, "
                    "II = 1 − (sim − sep/2)/(sep/2), III = sep/sim; ops = additions + multiplications + comparisons "
-                   "(counted in the code); time = median of {} batches ({} warm-up), ms per stereo pair "
-                   "[min–max]\n\n",
+                   "(counted in the code); time = thread CPU time, median of {} batches ({} warm-up), ms per "
+                   "stereo pair [min–max]\n\n",
                    o.common.frames, o.common.warmup);
         fmt::print("| algorithm | workload | ops I | ops II | ops III | time sep ms | time sim ms | time I | time II | time III | paper I / II / III | same result |\n");
         fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
