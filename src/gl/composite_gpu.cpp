@@ -4,7 +4,7 @@
 #include "mvr/gl/composite_gpu.h"
 
 #include <algorithm>
-#include <cstring>
+#include <utility>
 #include <optional>
 
 #include <fmt/format.h>
