@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 
 #include "input.h"
+#include "mvr/composite/anaglyph.h"
 #include "mvr/composite/compose.h"
 #include "overlay.h"
 #include "render_worker.h"
@@ -103,6 +104,28 @@ void main() {
 }
 )";
 
+// The GPU composite of the anaglyphs: the two eyes as two textures mixed per pixel by
+// composite::anaglyphGlsl(method), the same formula as the CPU composite (within 1/255: GPU pow
+// vs the CPU's sRGB tables; see src/composite/README.md).
+const char* const kAnaglyphFsHead = R"(#version 330 core
+uniform sampler2D uImage;
+uniform sampler2D uRight;
+uniform ivec2 uOffset;
+uniform int uFbHeight;
+out vec4 oColor;
+)";
+const char* const kAnaglyphFsMain = R"(
+void main() {
+    ivec2 p = ivec2(int(gl_FragCoord.x), uFbHeight - 1 - int(gl_FragCoord.y)) - uOffset;
+    ivec2 size = textureSize(uImage, 0);
+    if (any(lessThan(p, ivec2(0))) || any(greaterThanEqual(p, size))) {
+        oColor = vec4(0.0, 0.0, 0.0, 1.0);
+    } else {
+        oColor = vec4(mvrAnaglyph(texelFetch(uImage, p, 0).rgb, texelFetch(uRight, p, 0).rgb), 1.0);
+    }
+}
+)";
+
 class Presenter {
 public:
     Presenter() = default;
@@ -110,23 +133,15 @@ public:
     Presenter& operator=(const Presenter&) = delete;
     ~Presenter() {
         if (mProgram) glDeleteProgram(mProgram);
+        for (auto& [method, program] : mAnaglyphPrograms) {
+            if (program.id) glDeleteProgram(program.id);
+        }
         if (mVao) glDeleteVertexArrays(1, &mVao);
         glDeleteTextures(2, mTextures);
     }
 
     Status init() {
-        GLuint vs = 0, fs = 0;
-        if (Status s = compile(GL_VERTEX_SHADER, kPresentVs, vs); !s) return s;
-        if (Status s = compile(GL_FRAGMENT_SHADER, kPresentFs, fs); !s) return s;
-        mProgram = glCreateProgram();
-        glAttachShader(mProgram, vs);
-        glAttachShader(mProgram, fs);
-        glLinkProgram(mProgram);
-        glDeleteShader(vs);
-        glDeleteShader(fs);
-        GLint ok = 0;
-        glGetProgramiv(mProgram, GL_LINK_STATUS, &ok);
-        if (!ok) return internalError("mvr view: present shader does not link: " + programLog());
+        if (Status s = link(kPresentFs, mProgram); !s) return s;
         mOffsetLoc = glGetUniformLocation(mProgram, "uOffset");
         mFbHeightLoc = glGetUniformLocation(mProgram, "uFbHeight");
         glGenVertexArrays(1, &mVao);
@@ -158,18 +173,29 @@ public:
 
     /// Draws texture `slot` 1:1, centred, into `drawBuffer` (GL_BACK, GL_BACK_LEFT, …).
     void draw(int slot, glm::ivec2 fb, GLenum drawBuffer) {
-        glDrawBuffer(drawBuffer);
-        glViewport(0, 0, fb.x, fb.y);
-        glDisable(GL_DEPTH_TEST);
-        glDisable(GL_BLEND);
-        glUseProgram(mProgram);
-        const glm::ivec2 o = offset(slot, fb);
-        glUniform2i(mOffsetLoc, o.x, o.y);
-        glUniform1i(mFbHeightLoc, fb.y);
-        glActiveTexture(GL_TEXTURE0);
-        glBindTexture(GL_TEXTURE_2D, mTextures[slot]);
-        glBindVertexArray(mVao);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
+        drawWith(mProgram, mOffsetLoc, mFbHeightLoc, slot, fb, drawBuffer);
+    }
+
+    /// Draws the anaglyph `method` of texture 0 (left eye) and 1 (right eye), 1:1, centred.
+    /// Errors: the mix shader does not compile (then the caller composes on the CPU).
+    Status drawAnaglyph(composite::AnaglyphMethod method, glm::ivec2 fb, GLenum drawBuffer) {
+        auto it = mAnaglyphPrograms.find(method);
+        if (it == mAnaglyphPrograms.end()) {
+            MixProgram program;
+            const std::string fs =
+                kAnaglyphFsHead + composite::anaglyphGlsl(method) + kAnaglyphFsMain;
+            if (Status s = link(fs.c_str(), program.id); !s) return s;
+            program.offsetLoc = glGetUniformLocation(program.id, "uOffset");
+            program.fbHeightLoc = glGetUniformLocation(program.id, "uFbHeight");
+            glUseProgram(program.id);
+            glUniform1i(glGetUniformLocation(program.id, "uImage"), 0);
+            glUniform1i(glGetUniformLocation(program.id, "uRight"), 1);
+            it = mAnaglyphPrograms.emplace(method, program).first;
+        }
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D, mTextures[1]);
+        drawWith(it->second.id, it->second.offsetLoc, it->second.fbHeightLoc, 0, fb, drawBuffer);
+        return Status::ok();
     }
 
     /// Reads `readBuffer` of the window back as an image (row 0 at the top, alpha 255).
@@ -188,6 +214,51 @@ public:
     }
 
 private:
+    struct MixProgram {
+        GLuint id = 0;
+        GLint offsetLoc = -1, fbHeightLoc = -1;
+    };
+
+    void drawWith(GLuint program, GLint offsetLoc, GLint fbHeightLoc, int slot, glm::ivec2 fb,
+                  GLenum drawBuffer) {
+        glDrawBuffer(drawBuffer);
+        glViewport(0, 0, fb.x, fb.y);
+        glDisable(GL_DEPTH_TEST);
+        glDisable(GL_BLEND);
+        glUseProgram(program);
+        const glm::ivec2 o = offset(slot, fb);
+        glUniform2i(offsetLoc, o.x, o.y);
+        glUniform1i(fbHeightLoc, fb.y);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, mTextures[slot]);
+        glBindVertexArray(mVao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+
+    /// Links the full-screen-triangle vertex shader with fragment shader `fsSource`.
+    static Status link(const char* fsSource, GLuint& out) {
+        GLuint vs = 0, fs = 0;
+        if (Status s = compile(GL_VERTEX_SHADER, kPresentVs, vs); !s) return s;
+        if (Status s = compile(GL_FRAGMENT_SHADER, fsSource, fs); !s) {
+            glDeleteShader(vs);
+            return s;
+        }
+        out = glCreateProgram();
+        glAttachShader(out, vs);
+        glAttachShader(out, fs);
+        glLinkProgram(out);
+        glDeleteShader(vs);
+        glDeleteShader(fs);
+        GLint ok = 0;
+        glGetProgramiv(out, GL_LINK_STATUS, &ok);
+        if (ok) return Status::ok();
+        char log[2048] = {};
+        glGetProgramInfoLog(out, sizeof log, nullptr, log);
+        glDeleteProgram(out);
+        out = 0;
+        return internalError(fmt::format("mvr view: present shader does not link: {}", log));
+    }
+
     static Status compile(GLenum stage, const char* source, GLuint& out) {
         out = glCreateShader(stage);
         glShaderSource(out, 1, &source, nullptr);
@@ -200,13 +271,8 @@ private:
         glDeleteShader(out);
         return internalError(fmt::format("mvr view: present shader does not compile: {}", log));
     }
-    std::string programLog() const {
-        char log[2048] = {};
-        glGetProgramInfoLog(mProgram, sizeof log, nullptr, log);
-        return log;
-    }
-
     GLuint mProgram = 0, mVao = 0;
+    std::map<composite::AnaglyphMethod, MixProgram> mAnaglyphPrograms;
     GLuint mTextures[2] = {0, 0};
     glm::ivec2 mSizes[2] = {glm::ivec2(0), glm::ivec2(0)};
     GLint mOffsetLoc = -1, mFbHeightLoc = -1;
@@ -293,6 +359,9 @@ private:
 
     GLFWwindow* mWindow = nullptr;
     bool mStereoWindow = false;
+    /// The anaglyph being mixed on the GPU this frame (textures 0 and 1 hold the eyes); nullopt:
+    /// texture 0 holds the composed frame (or the left eye for quad-buffer).
+    std::optional<composite::AnaglyphMethod> mGpuAnaglyph;
     std::unique_ptr<Presenter> mPresenter;
     glm::ivec2 mFb{0};
 
@@ -317,6 +386,7 @@ private:
 
     std::string mMessage;
     Clock::time_point mMessageUntil{};
+    bool mGpuAnaglyphFailed = false;
     bool mScreenshotRequested = false;
     int mScreenshotCount = 0;
     bool mQuit = false;
@@ -754,9 +824,12 @@ Status Viewer::composeAndPresent() {
     if (mShowHud) drawOverlays(views);
 
     glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-    if (quadBuffer()) {
+    mGpuAnaglyph.reset();
+    const std::optional<composite::AnaglyphMethod> anaglyph = composite::anaglyphMethod(format);
+    if (quadBuffer() || (anaglyph && mOptions.compose == "gpu" && !mGpuAnaglyphFailed)) {
         mPresenter->upload(0, views[mSwapEyes ? 1 : 0]);
         mPresenter->upload(1, views[mSwapEyes ? 0 : 1]);
+        if (!quadBuffer()) mGpuAnaglyph = anaglyph;
     } else {
         composite::ComposeOptions options;
         options.swapEyes = mSwapEyes;
@@ -779,6 +852,13 @@ void Viewer::present() {
     if (quadBuffer()) {
         mPresenter->draw(0, mFb, GL_BACK_LEFT);
         mPresenter->draw(1, mFb, GL_BACK_RIGHT);
+    } else if (mGpuAnaglyph) {
+        if (Status s = mPresenter->drawAnaglyph(*mGpuAnaglyph, mFb, GL_BACK); !s) {
+            // Never expected (the GLSL is generated and tested), but then the CPU composes.
+            mGpuAnaglyphFailed = true;
+            say(s.message() + "; composing anaglyphs on the CPU");
+            mNeedRender = true;
+        }
     } else {
         mPresenter->draw(0, mFb, GL_BACK);  // both back buffers of a stereo window
     }
@@ -946,6 +1026,11 @@ std::function<int()> addViewCommand(CLI::App& root) {
         ->default_val(o->format)
         ->check(CLI::IsMember(viewerFormats()));
     app->add_flag("--swap-eyes", o->swapEyes, "Exchange the left and right views");
+    app->add_option("--compose", o->compose,
+                    "Where anaglyphs are mixed: gpu (composite::anaglyphGlsl in the window) or cpu "
+                    "(composite::compose, as mvr render); other formats are composed on the CPU")
+        ->default_val(o->compose)
+        ->check(CLI::IsMember({"gpu", "cpu"}));
     app->add_option("--frames", o->frames, "Render N frames and exit (0: until the window closes)")
         ->default_val(o->frames);
     app->add_option("--screenshot", o->screenshot,

@@ -6,8 +6,10 @@
 //  2. the HUD (at screen depth) and the 3D cursor (at the depth of the surface under the mouse)
 //     are drawn into each eye's image (overlay.h, view_state.h);
 //  3. the output format is composed on the CPU by mvr::composite::compose(), so the window
-//     shows exactly what `mvr render --format F` writes; quad-buffer stereo instead puts the
-//     eyes into GL_BACK_LEFT / GL_BACK_RIGHT when the driver gives a stereo visual;
+//     shows exactly what `mvr render --format F` writes — except anaglyphs, which by default are
+//     mixed on the GPU by the same formula (composite::anaglyphGlsl(), within 1/255 of the CPU);
+//     quad-buffer stereo instead puts the eyes into GL_BACK_LEFT / GL_BACK_RIGHT when the
+//     driver gives a stereo visual;
 //  4. the frame is uploaded as a texture and drawn 1:1 (texelFetch, no filtering).
 // The view size follows the window: one view is the window (anaglyphs, interleaves, half
 // formats, quad-buffer), half of it (sbs: width, tb: height).
@@ -33,6 +35,7 @@ struct ViewerOptions {
     bool backendGiven = false;  ///< --backend was on the command line (no fallback to soft)
     std::string format = "anaglyph-dubois";
     bool swapEyes = false;
+    std::string compose = "gpu";  ///< anaglyphs mixed on the GPU ("gpu") or the CPU ("cpu")
     int frames = 0;               ///< > 0: render this many frames, then exit
     std::string screenshot;       ///< write the last frame here (PNG)
     std::string script;           ///< --script KEYS (see input.h)
