@@ -18,6 +18,14 @@ struct CompositeContext {
     Program program;                        ///< sorbier2008 colour-mask quad (texelFetch)
     std::map<std::string, Program> mixPrograms;  ///< composeAnaglyphGpu(glslMix), by GLSL source
     std::map<std::string, Program> programs;     ///< composeGpu(), by fragment source
+    /// composeGpu()'s textures, kept for the next call of the same size.
+    struct Storage {
+        Texture views;  ///< RGBA8 2D array, one layer per view
+        int viewsW = 0, viewsH = 0, viewsN = 0;
+        Texture target;  ///< RGBA8 tile
+        Framebuffer fbo;
+        int targetW = 0, targetH = 0;
+    } storage;
     VertexArray vao;
     Status status;  ///< why the context or its base program could not be made
 };

@@ -288,18 +288,31 @@ Result<Image> draw(detail::CompositeContext& c, const Plan& plan, std::span<cons
     const GLuint program = it->second.get();
 
     // The views: layer i = views[i], or views[n - 1 - i] for swapEyes (compose()'s reversal).
-    detail::Texture array = detail::createTexture(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(array.get(), 1, GL_RGBA8, w, h, n);
-    glTextureParameteri(array.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(array.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    // The storage is kept for the next call of the same size (mvr render composes several
+    // formats from one set of views; fresh storage costs the driver an allocation each time).
+    detail::CompositeContext::Storage& cache = c.storage;
+    if (!cache.views || cache.viewsW != w || cache.viewsH != h || cache.viewsN != n) {
+        cache.views.reset();
+        cache.views = detail::createTexture(GL_TEXTURE_2D_ARRAY);
+        glTextureStorage3D(cache.views.get(), 1, GL_RGBA8, w, h, n);
+        glTextureParameteri(cache.views.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(cache.views.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        cache.viewsW = w;
+        cache.viewsH = h;
+        cache.viewsN = n;
+    }
+    const GLuint array = cache.views.get();
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
     for (int i = 0; i < n; ++i) {
         const Image& v = views[static_cast<std::size_t>(reverse ? n - 1 - i : i)];
-        glTextureSubImage3D(array.get(), 0, 0, 0, i, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+        glTextureSubImage3D(array, 0, 0, 0, i, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
                             v.rgba.data());
     }
-    if (Status s = detail::checkGlError("mvr::gl::composeGpu(): uploading the views"); !s) return s;
+    if (Status s = detail::checkGlError("mvr::gl::composeGpu(): uploading the views"); !s) {
+        cache = {};
+        return s;
+    }
 
     glProgramUniform1i(program, 1, plan.mode);
     glProgramUniform1i(program, 2, n);
@@ -321,13 +334,22 @@ Result<Image> draw(detail::CompositeContext& c, const Plan& plan, std::span<cons
     const int tileLimit =
         std::max(1, std::min({maxSize, maxRenderbuffer, maxViewport[0], maxViewport[1], 4096}));
     const int tileW = std::min(plan.width, tileLimit), tileH = std::min(plan.height, tileLimit);
-    detail::Texture target = detail::createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(target.get(), 1, GL_RGBA8, tileW, tileH);
-    detail::Framebuffer fbo = detail::createFramebuffer();
-    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, target.get(), 0);
-    if (glCheckNamedFramebufferStatus(fbo.get(), GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    if (!cache.target || cache.targetW != tileW || cache.targetH != tileH) {
+        cache.fbo.reset();
+        cache.target.reset();
+        cache.target = detail::createTexture(GL_TEXTURE_2D);
+        glTextureStorage2D(cache.target.get(), 1, GL_RGBA8, tileW, tileH);
+        cache.fbo = detail::createFramebuffer();
+        glNamedFramebufferTexture(cache.fbo.get(), GL_COLOR_ATTACHMENT0, cache.target.get(), 0);
+        cache.targetW = tileW;
+        cache.targetH = tileH;
+    }
+    if (glCheckNamedFramebufferStatus(cache.fbo.get(), GL_DRAW_FRAMEBUFFER) !=
+        GL_FRAMEBUFFER_COMPLETE) {
+        cache = {};
         return internalError("mvr::gl::composeGpu(): the RGBA8 target is not framebuffer complete");
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, cache.fbo.get());
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
@@ -335,7 +357,7 @@ Result<Image> draw(detail::CompositeContext& c, const Plan& plan, std::span<cons
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glUseProgram(program);
     glBindVertexArray(c.vao.get());
-    glBindTextureUnit(0, array.get());
+    glBindTextureUnit(0, array);
 
     Image out(plan.width, plan.height);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -353,7 +375,10 @@ Result<Image> draw(detail::CompositeContext& c, const Plan& plan, std::span<cons
     glPixelStorei(GL_PACK_ROW_LENGTH, 0);
     glBindTextureUnit(0, 0);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    if (Status s = detail::checkGlError("mvr::gl::composeGpu()"); !s) return s;
+    if (Status s = detail::checkGlError("mvr::gl::composeGpu()"); !s) {
+        cache = {};  // e.g. out of memory: make everything afresh next time
+        return s;
+    }
     return out;
 }
 

@@ -15,7 +15,9 @@
 //     every sub-pixel, i.e. bit-exact;
 //   - anaglyphs run composite::anaglyphGlsl(method) (sRGB decode, 3×3 mixes, encode) in float:
 //     within 1/255 per channel of the CPU's table-driven curve.
-// Outputs larger than the driver's render-target size are drawn in tiles.
+// Outputs larger than 4096 pixels (or the driver's render-target size) on a side are drawn in
+// tiles. The view array texture and the target tile are kept for the next call of the same
+// size (freed when a call of another size replaces them).
 //
 // Errors: exactly the checks of compose() (unknown format, view count, empty or differently
 // sized views, odd width / height for the -half formats, non-HDMI size, quilt grid, lenticular
