@@ -221,6 +221,20 @@ TEST_F(BenchCli, Plots) {
     EXPECT_TRUE(fs::file_size(mDir / "k.png") > 1000);
 }
 
+TEST_F(BenchCli, PlotWithoutGnuplotIsOneClearError) {
+    // Checked before anything is measured; exit code 3 (unsupported here).
+    const fs::path err = mDir / "err.txt";
+    const std::string cmd = fmt::format("cd '{}' && PATH=/nonexistent '{}' bench adelson --tiny --frames 1 --plot x.png "
+                                        ">/dev/null 2>'{}'", mDir.string(), mvrBinary().string(), err.string());
+    const int status = std::system(cmd.c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 3);
+    std::ifstream in(err);
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line.rfind("error: --plot: gnuplot is not installed", 0), 0u) << line;
+    EXPECT_FALSE(fs::exists(mDir / "x.png"));
+}
+
 TEST_F(BenchCli, PlainBenchKeepsItsJsonContract) {
     const nlohmann::json j = runJson(fmt::format("bench '{}' --size 64x48 --frames 1 --warmup 0 --json", model("suzanne.obj")));
     for (const char* k : {"machine", "scene", "results"}) EXPECT_TRUE(j.contains(k)) << k;
