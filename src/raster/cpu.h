@@ -34,10 +34,19 @@ using ProjectXFn = void (*)(const float* x, const float* w, const float* q, std:
 using SetupViewsFn = void (*)(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
                               const std::int32_t* x2, int n, int width, ViewsSetup& out);
 
+/// Vertex lighting (Shading::Vertex) of n vertices: world position transformPoint(worldFromModel,
+/// p), normal transformDir(normalFromModel, normal), color shadeBlinnPhong(ctx, material, normal,
+/// world) — 3 floats per vertex into `color`. SIMD paths: the same float operations in the same
+/// order as lighting.h (glm's scalar code), std::pow per lane, so bit for bit the scalar result.
+using ShadeVerticesFn = void (*)(const glm::vec3* positions, const glm::vec3* normals, std::size_t n,
+                                 const glm::mat4& worldFromModel, const glm::mat3& normalFromModel,
+                                 const ShadingContext& ctx, const Material& material, float* color);
+
 struct Kernels {
     ProjectYZWFn projectYZW;
     ProjectXFn projectX;
     SetupViewsFn setupViews;
+    ShadeVerticesFn shadeVertices;
 };
 
 /// The kernel table of a path (resolved first, so always a valid table).

@@ -67,6 +67,7 @@ void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
                     y = shearClip(c.y, shear.y, c.w, conv);
                 }
                 d.x[g] = x, d.y[g] = y, d.z[g] = c.z, d.w[g] = c.w;
+                if (shading == Shading::Vertex) continue;  // lit below, a chunk at a time
                 const glm::vec3 world = glm::vec3(transformPoint(item.instance->worldFromModel, p));
                 if (shading == Shading::Flat) {
                     d.world[g] = world;
@@ -77,6 +78,11 @@ void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
                 }
             }
             const std::uint32_t g = item.vertexBase + begin, count = end - begin;
+            if (shading == Shading::Vertex) {
+                f.kernels.shadeVertices(&item.mesh->positions[begin], &item.mesh->normals[begin], count,
+                                        item.instance->worldFromModel, item.normalFromModel, f.shading,
+                                        item.instance->material, d.attr.data() + g * d.attrStride);
+            }
             f.kernels.projectYZW(&d.y[g], &d.z[g], &d.w[g], count, height, &d.codeYZW[g], &d.q[g],
                                  &d.sy[g], &d.zw[g]);
             f.kernels.projectX(&d.x[g], &d.w[g], &d.q[g], count, width, &d.codeX[g], &d.sx[g]);

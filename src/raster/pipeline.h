@@ -315,6 +315,15 @@ inline void rasterSmallTriangle(const YSetup& ys, const std::int32_t x[3], int c
     }
 }
 
+/// True when no pixel-center column of [0, width) lies within the triangle's snapped x extent —
+/// the same column range rasterTriangle() computes, so such a triangle draws nothing in that view.
+inline bool noColumns(std::int32_t x0, std::int32_t x1, std::int32_t x2, int width) {
+    const std::int32_t xlo = std::min(x0, std::min(x1, x2)), xhi = std::max(x0, std::max(x1, x2));
+    const int colMin = std::max(0, ceilDivSub(std::int64_t(xlo) - kHalfSubpixel));
+    const int colMax = std::min(width - 1, floorDivSub(std::int64_t(xhi) - kHalfSubpixel));
+    return colMin > colMax;
+}
+
 /// Walks the pixels of one triangle (snapped x per view, shared YSetup) whose centers are inside
 /// by the top-left rule, within columns [0, width) and the rows of `ys`. Calls
 /// sink(x, y, l0, l1, l2) with the screen-space barycentrics of the ORIGINAL vertex order, so

@@ -144,11 +144,11 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 const std::uint32_t g = item.vertexBase + i;
                 const glm::vec3& p = item.mesh->positions[i];
                 // View-independent outputs: once.
-                const glm::vec3 world = glm::vec3(transformPoint(item.instance->worldFromModel, p));
                 if (shading == Shading::Flat) {
-                    d.world[g] = world;
-                } else {
-                    vertexAttributes(shading, f.shading, item.instance->material, world,
+                    d.world[g] = glm::vec3(transformPoint(item.instance->worldFromModel, p));
+                } else if (shading == Shading::Pixel) {  // Vertex: lit below, a chunk at a time
+                    vertexAttributes(shading, f.shading, item.instance->material,
+                                     glm::vec3(transformPoint(item.instance->worldFromModel, p)),
                                      transformDir(item.normalFromModel, item.mesh->normals[i]),
                                      d.attr.data() + g * d.attrStride);
                 }
@@ -168,6 +168,11 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 }
             }
             const std::uint32_t g = item.vertexBase + begin, count = end - begin;
+            if (shading == Shading::Vertex) {
+                f.kernels.shadeVertices(&item.mesh->positions[begin], &item.mesh->normals[begin], count,
+                                        item.instance->worldFromModel, item.normalFromModel, f.shading,
+                                        item.instance->material, d.attr.data() + g * d.attrStride);
+            }
             for (Family& fam : d.families) {
                 if (!fam.sheared) continue;
                 const float* cx = &d.cx[g];
@@ -262,6 +267,7 @@ void binStage(FrameContext& f, UnifiedData& d) {
                 int lo, hi;
                 (f.settings.wireframe ? wireframeRows : triangleRows)(fam.sy[v[0]], fam.sy[v[1]],
                                                                       fam.sy[v[2]], height, lo, hi);
+                if (lo > hi) continue;
                 rowMin = std::min(rowMin, lo), rowMax = std::max(rowMax, hi);
             }
             if (rowMin <= rowMax) bins.add(chunk, t, rowMin, rowMax, f.bands);
@@ -477,7 +483,11 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                                         : (ownViewCulled(d, fam, v) ? FaceClass::AllBack : FaceClass::AllFront);
                     if (faces == FaceClass::AllBack) continue;
                 }
-                // Replicate to the views of the family that survive their own x reject / cull.
+                // Replicate to the views of the family that survive their own x reject / cull
+                // and, for a triangle that needs no clipping in that view, have a pixel-center
+                // column in its x extent (otherwise rasterTriangle would draw nothing).
+                const std::uint8_t famPlanes = (c0 | c1 | c2) & kClipYZW;
+                const bool testColumns = !famPlanes && !f.settings.wireframe;
                 int active[kMaxViews];
                 int activeCount = 0;
                 bool anyClipX = false;
@@ -485,8 +495,12 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                     const ViewData& vd = d.views[std::size_t(view)];
                     const std::uint8_t a0 = vd.code[v[0]], a1 = vd.code[v[1]], a2 = vd.code[v[2]];
                     if (a0 & a1 & a2 & kRejectX) continue;
+                    const bool viewClipX = ((a0 | a1 | a2) & kClipX) != 0;
+                    if (testColumns && !viewClipX && noColumns(vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]], width)) {
+                        continue;
+                    }
                     if (faces == FaceClass::Mixed && shearedDet(det, vd.shearX, fam.shearY) < 0.0f) continue;
-                    anyClipX = anyClipX || ((a0 | a1 | a2) & kClipX);
+                    anyClipX = anyClipX || viewClipX;
                     active[activeCount++] = view;
                 }
                 if (activeCount == 0) continue;
@@ -494,7 +508,6 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                     drawFamilyWireframe(b, fam, v, active, activeCount);
                     continue;
                 }
-                const std::uint8_t famPlanes = (c0 | c1 | c2) & kClipYZW;
                 if (famPlanes || anyClipX) {
                     drawFamilyClipped(b, fam, v, famPlanes, active, activeCount);
                     continue;
@@ -557,6 +570,12 @@ void rasterStage(FrameContext& f, const UnifiedData& d, std::span<const Target> 
 
 void renderUnified(FrameContext& f, std::span<const Target> targets, StageTimes& times,
                    std::unique_ptr<MethodScratch>& scratch) {
+    if (f.rig.viewCount() == 1) {
+        // One view: nothing to share, and the family / replication bookkeeping cost ~25 % —
+        // the single-view pipeline is this case's unified pipeline (same pixels by construction).
+        renderMultipass(f, targets, times, scratch);
+        return;
+    }
     if (!dynamic_cast<UnifiedData*>(scratch.get())) scratch = std::make_unique<UnifiedData>();
     UnifiedData& d = static_cast<UnifiedData&>(*scratch);
     StageClock clock;

@@ -160,7 +160,7 @@ void setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1
 }  // namespace
 
 const Kernels* avx2Kernels() {
-    static const Kernels k{&projectYZW, &projectX, &setupViews};
+    static const Kernels k{&projectYZW, &projectX, &setupViews, &shadeVerticesTail};
     return &k;
 }
 

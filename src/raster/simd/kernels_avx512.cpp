@@ -139,16 +139,106 @@ void setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1
         mask = _mm512_maskz_mov_epi32(_mm512_cmpneq_epi32_mask(area, zero), mask);
         mask = _mm512_mask_mov_epi32(mask, __mmask16(~small & ~empty), _mm512_set1_epi32(-1));
         mask = _mm512_maskz_mov_epi32(__mmask16(~empty), mask);
-        _mm512_mask_storeu_epi32(o.mask + k, live, mask);
-        _mm512_mask_storeu_epi32(o.colMin + k, live, colMin);
-        _mm512_mask_storeu_epi32(o.area + k, live, area);
+        // Whole-register stores (the arrays hold kMaxViews, a multiple of 16; lanes ≥ n are
+        // never read): a masked store does not forward to the caller's scalar loads right after.
+        static_assert(kMaxViews % 16 == 0);
+        _mm512_storeu_si512(o.mask + k, mask);
+        _mm512_storeu_si512(o.colMin + k, colMin);
+        _mm512_storeu_si512(o.area + k, area);
     }
+}
+
+/// glm's scalar semantics, lane by lane: max(x, y) = x < y ? y : x; min(x, y) = y < x ? y : x.
+inline __m512 glmMax(__m512 x, __m512 y) { return _mm512_mask_mov_ps(x, _mm512_cmp_ps_mask(x, y, _CMP_LT_OQ), y); }
+inline __m512 glmMin(__m512 x, __m512 y) { return _mm512_mask_mov_ps(x, _mm512_cmp_ps_mask(y, x, _CMP_LT_OQ), y); }
+inline __m512 dot3(__m512 ax, __m512 ay, __m512 az, __m512 bx, __m512 by, __m512 bz) {
+    return _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(ax, bx), _mm512_mul_ps(ay, by)), _mm512_mul_ps(az, bz));
+}
+/// glm::normalize: v * (1 / sqrt(dot(v, v))).
+inline void normalize3(__m512& x, __m512& y, __m512& z) {
+    const __m512 s = _mm512_div_ps(_mm512_set1_ps(1.0f), _mm512_sqrt_ps(dot3(x, y, z, x, y, z)));
+    x = _mm512_mul_ps(x, s), y = _mm512_mul_ps(y, s), z = _mm512_mul_ps(z, s);
+}
+
+/// shadeVerticesTail with 16 vertices per register: transformPoint / transformDir / lighting.h's
+/// shadeBlinnPhong in their operation order; std::pow per lane where n·l > 0.
+void shadeVertices(const glm::vec3* positions, const glm::vec3* normals, std::size_t n,
+                   const glm::mat4& W, const glm::mat3& N, const ShadingContext& ctx,
+                   const Material& m, float* color) {
+    const __m512i idx3 = _mm512_mullo_epi32(_mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
+                                            _mm512_set1_epi32(3));
+    const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f);
+    const glm::vec3 ambient = ctx.ambient * m.albedo;
+    std::size_t i = 0;
+    for (; i + 16 <= n; i += 16) {
+        const float* p = &positions[i].x;
+        const float* q = &normals[i].x;
+        const __m512 px = _mm512_i32gather_ps(idx3, p, 4), py = _mm512_i32gather_ps(idx3, p + 1, 4),
+                     pz = _mm512_i32gather_ps(idx3, p + 2, 4);
+        __m512 nx = _mm512_i32gather_ps(idx3, q, 4), ny = _mm512_i32gather_ps(idx3, q + 1, 4),
+               nz = _mm512_i32gather_ps(idx3, q + 2, 4);
+        __m512 wp[3], nn[3];
+        for (int r = 0; r < 3; ++r) {
+            wp[r] = _mm512_add_ps(
+                _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_set1_ps(W[0][r]), px),
+                                            _mm512_mul_ps(_mm512_set1_ps(W[1][r]), py)),
+                              _mm512_mul_ps(_mm512_set1_ps(W[2][r]), pz)),
+                _mm512_set1_ps(W[3][r]));
+            nn[r] = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_set1_ps(N[0][r]), nx),
+                                                _mm512_mul_ps(_mm512_set1_ps(N[1][r]), ny)),
+                                  _mm512_mul_ps(_mm512_set1_ps(N[2][r]), nz));
+        }
+        nx = nn[0], ny = nn[1], nz = nn[2];
+        normalize3(nx, ny, nz);
+        __m512 vx = _mm512_sub_ps(_mm512_set1_ps(ctx.centerEye.x), wp[0]);
+        __m512 vy = _mm512_sub_ps(_mm512_set1_ps(ctx.centerEye.y), wp[1]);
+        __m512 vz = _mm512_sub_ps(_mm512_set1_ps(ctx.centerEye.z), wp[2]);
+        normalize3(vx, vy, vz);
+        __m512 cr = _mm512_set1_ps(ambient.x), cg = _mm512_set1_ps(ambient.y), cb = _mm512_set1_ps(ambient.z);
+        for (const DirectionalLight& l : ctx.lights) {
+            const __m512 lx = _mm512_set1_ps(l.towardLight.x), ly = _mm512_set1_ps(l.towardLight.y),
+                         lz = _mm512_set1_ps(l.towardLight.z);
+            const __m512 nl = dot3(nx, ny, nz, lx, ly, lz);
+            const __mmask16 lit = _mm512_cmp_ps_mask(nl, zero, _CMP_GT_OQ);
+            if (!lit) continue;
+            __m512 hx = _mm512_add_ps(lx, vx), hy = _mm512_add_ps(ly, vy), hz = _mm512_add_ps(lz, vz);
+            normalize3(hx, hy, hz);
+            const __m512 nh = dot3(nx, ny, nz, hx, hy, hz);
+            // std::max(dot, 0) = dot < 0 ? 0 : dot.
+            const __m512 base = _mm512_mask_mov_ps(nh, _mm512_cmp_ps_mask(nh, zero, _CMP_LT_OQ), zero);
+            alignas(64) float b[16], pw[16];
+            _mm512_store_ps(b, base);
+            for (unsigned k = lit; k; k &= k - 1) {
+                const int j = __builtin_ctz(k);
+                pw[j] = m.specular * std::pow(b[j], m.shininess);
+            }
+            const __m512 spec = _mm512_maskz_load_ps(lit, pw);
+            cr = _mm512_mask_add_ps(cr, lit, cr,
+                                    _mm512_mul_ps(_mm512_add_ps(_mm512_mul_ps(nl, _mm512_set1_ps(m.albedo.x)), spec),
+                                                  _mm512_set1_ps(l.color.x)));
+            cg = _mm512_mask_add_ps(cg, lit, cg,
+                                    _mm512_mul_ps(_mm512_add_ps(_mm512_mul_ps(nl, _mm512_set1_ps(m.albedo.y)), spec),
+                                                  _mm512_set1_ps(l.color.y)));
+            cb = _mm512_mask_add_ps(cb, lit, cb,
+                                    _mm512_mul_ps(_mm512_add_ps(_mm512_mul_ps(nl, _mm512_set1_ps(m.albedo.z)), spec),
+                                                  _mm512_set1_ps(l.color.z)));
+        }
+        // glm::clamp(c, 0, 1) = min(max(c, 0), 1).
+        cr = glmMin(glmMax(cr, zero), one);
+        cg = glmMin(glmMax(cg, zero), one);
+        cb = glmMin(glmMax(cb, zero), one);
+        float* o = color + 3 * i;
+        _mm512_i32scatter_ps(o, idx3, cr, 4);
+        _mm512_i32scatter_ps(o + 1, idx3, cg, 4);
+        _mm512_i32scatter_ps(o + 2, idx3, cb, 4);
+    }
+    shadeVerticesTail(positions + i, normals + i, n - i, W, N, ctx, m, color + 3 * i);
 }
 
 }  // namespace
 
 const Kernels* avx512Kernels() {
-    static const Kernels k{&projectYZW, &projectX, &setupViews};
+    static const Kernels k{&projectYZW, &projectX, &setupViews, &shadeVertices};
     return &k;
 }
 

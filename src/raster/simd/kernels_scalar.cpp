@@ -10,7 +10,8 @@ const Kernels& scalarKernels() {
                            [](const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
                               const std::int32_t* x2, int n, int width, ViewsSetup& out) {
                                setupViewsTail(ys, x0, x1, x2, 0, n, width, out);
-                           }};
+                           },
+                           &shadeVerticesTail};
     return k;
 }
 

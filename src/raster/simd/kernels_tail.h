@@ -23,6 +23,17 @@ inline void projectXTail(const float* x, const float* w, const float* q, std::si
     }
 }
 
+/// Vertex lighting, one vertex at a time: the reference (pipeline.h's vertexAttributes).
+inline void shadeVerticesTail(const glm::vec3* positions, const glm::vec3* normals, std::size_t n,
+                              const glm::mat4& worldFromModel, const glm::mat3& normalFromModel,
+                              const ShadingContext& ctx, const Material& material, float* color) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec3 world = glm::vec3(transformPoint(worldFromModel, positions[i]));
+        vertexAttributes(Shading::Vertex, ctx, material, world, transformDir(normalFromModel, normals[i]),
+                         color + 3 * i);
+    }
+}
+
 /// Views [begin, n) of setupViews, one at a time: the reference for the SIMD versions (and the
 /// same integer operations as rasterSmallTriangle).
 inline void setupViewsTail(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
