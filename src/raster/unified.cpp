@@ -50,6 +50,10 @@ struct Family {
     std::vector<float> y, z, w, q, zw;
     std::vector<std::int32_t> sy;
     std::vector<std::uint8_t> code;
+    /// Snapped window x of every view of the family, interleaved per vertex
+    /// (sxv[vertex · views.size() + k]): the raster stage's x setup loads a triangle's x for all
+    /// the family's views as three contiguous rows, without a per-view gather.
+    std::vector<std::int32_t> sxv;
 };
 
 struct ViewData {
@@ -114,6 +118,7 @@ void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, Uni
     const std::size_t n = vertexCount;
     for (Family& f : d.families) {
         f.y.resize(n), f.q.resize(n), f.zw.resize(n), f.sy.resize(n), f.code.resize(n);
+        f.sxv.resize(n * f.views.size());
         if (!f.sheared) f.z.resize(n), f.w.resize(n);
     }
     for (ViewData& vd : d.views) vd.x.resize(n), vd.sx.resize(n), vd.code.resize(n);
@@ -191,10 +196,13 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 const float* w = d.famW(fam);
                 f.kernels.projectYZW(&fam.y[g], &d.famZ(fam)[g], &w[g], count, height, &fam.code[g],
                                      &fam.q[g], &fam.sy[g], &fam.zw[g]);
-                for (int v : fam.views) {
-                    ViewData& vd = d.views[std::size_t(v)];
+                const std::size_t nv = fam.views.size();
+                for (std::size_t lane = 0; lane < nv; ++lane) {
+                    ViewData& vd = d.views[std::size_t(fam.views[lane])];
                     f.kernels.projectX(&vd.x[g], &w[g], &fam.q[g], count, width, &vd.code[g], &vd.sx[g]);
                     for (std::uint32_t k = 0; k < count; ++k) d.anyClipX[g + k] |= vd.code[g + k] & kClipX;
+                    std::int32_t* sxv = &fam.sxv[std::size_t(g) * nv + lane];
+                    for (std::uint32_t k = 0; k < count; ++k) sxv[k * nv] = vd.sx[g + k];
                 }
             }
         });
@@ -447,6 +455,55 @@ void drawFamilyWireframe(BandContext<S>& b, const Family& fam, const std::uint32
     }
 }
 
+/// A family's replicas of a triangle that needs no clipping in any view: the shared y setup
+/// once, then every view's x setup side by side straight from the family's interleaved snapped x
+/// (a view whose x lies outside the viewport gets an empty column range there, so no per-view
+/// reject is needed), and each covered view's pixels. Back faces of a mixed family are skipped
+/// view by view. The same values rasterTriangle() computes, view by view.
+template <Shading S>
+void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t v[3], FaceClass faces,
+                      const ShearDet& det) {
+    const UnifiedData& d = b.d;
+    const int width = b.f.settings.width;
+    YSetup ys;
+    setupY(ys, fam.sy[v[0]], fam.sy[v[1]], fam.sy[v[2]], b.rowLo, b.rowHi);
+    if (ys.rowMin > ys.rowMax) return;
+    for (int j = 0; j < 3; ++j) {
+        b.frag.z[j] = fam.zw[v[j]];
+        b.frag.q[j] = fam.q[v[j]];
+        b.frag.attr[j] = d.attrOf(v[j]);
+    }
+    const int nv = int(fam.views.size());
+    const std::int32_t* x0 = &fam.sxv[std::size_t(v[0]) * std::size_t(nv)];
+    const std::int32_t* x1 = &fam.sxv[std::size_t(v[1]) * std::size_t(nv)];
+    const std::int32_t* x2 = &fam.sxv[std::size_t(v[2]) * std::size_t(nv)];
+    auto culled = [&](int k) {
+        return faces == FaceClass::Mixed &&
+               shearedDet(det, d.views[std::size_t(fam.views[std::size_t(k)])].shearX, fam.shearY) < 0.0f;
+    };
+    if (nv < kMinSimdViews) {
+        for (int k = 0; k < nv; ++k) {
+            if (culled(k)) continue;
+            const std::int32_t xk[3] = {x0[k], x1[k], x2[k]};
+            FragmentSink<S> sink = b.sinks[std::size_t(fam.views[std::size_t(k)])];  // in registers
+            rasterTriangle(ys, xk, width, sink);
+        }
+        return;
+    }
+    b.f.kernels.setupViews(ys, x0, x1, x2, nv, width, b.views);
+    for (int k = 0; k < nv; ++k) {
+        const std::int32_t m = b.views.mask[k];
+        if (m == 0 || culled(k)) continue;
+        auto& sink = b.sinks[std::size_t(fam.views[std::size_t(k)])];
+        if (m > 0) {
+            emitSmall(b.views, k, ys.rowMin, sink);
+        } else {
+            const std::int32_t xk[3] = {x0[k], x1[k], x2[k]};
+            rasterTriangle(ys, xk, width, sink);
+        }
+    }
+}
+
 template <Shading S>
 void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
     FrameContext& f = b.f;
@@ -483,10 +540,15 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                                         : (ownViewCulled(d, fam, v) ? FaceClass::AllBack : FaceClass::AllFront);
                     if (faces == FaceClass::AllBack) continue;
                 }
+                const std::uint8_t famPlanes = (c0 | c1 | c2) & kClipYZW;
+                if (!famPlanes && !f.settings.wireframe &&
+                    !(d.anyClipX[v[0]] | d.anyClipX[v[1]] | d.anyClipX[v[2]])) {
+                    drawFamilyInside(b, fam, v, faces, det);
+                    continue;
+                }
                 // Replicate to the views of the family that survive their own x reject / cull
                 // and, for a triangle that needs no clipping in that view, have a pixel-center
                 // column in its x extent (otherwise rasterTriangle would draw nothing).
-                const std::uint8_t famPlanes = (c0 | c1 | c2) & kClipYZW;
                 const bool testColumns = !famPlanes && !f.settings.wireframe;
                 int active[kMaxViews];
                 int activeCount = 0;
