@@ -30,8 +30,9 @@ using ProjectXFn = void (*)(const float* x, const float* w, const float* q, std:
                             float width, std::uint8_t* code, std::int32_t* sx);
 
 /// x setup of one triangle for n views (snapped window x of its vertices per view, the shared
-/// y setup with a non-empty row range): fills `out` for views 0..n-1 (see ViewsSetup).
-using SetupViewsFn = void (*)(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
+/// y setup with a non-empty row range): fills `out` for views 0..n-1 (see ViewsSetup) and returns
+/// the views whose mask is not 0 (bit k: view k), so that the caller visits only those.
+using SetupViewsFn = std::uint64_t (*)(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
                               const std::int32_t* x2, int n, int width, ViewsSetup& out);
 
 /// Vertex lighting (Shading::Vertex) of n vertices: world position transformPoint(worldFromModel,

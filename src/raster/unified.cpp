@@ -251,8 +251,12 @@ void binStage(FrameContext& f, UnifiedData& d) {
         const std::uint32_t begin = bins.chunkSize * std::uint32_t(chunk);
         const std::uint32_t end = std::min(f.draw.triangleCount, begin + bins.chunkSize);
         std::size_t item = 0;
+        std::uint32_t itemEnd = 0;  // the current item's triangle range ends here
         for (std::uint32_t t = begin; t < end; ++t) {
-            while (t >= f.draw.items[item].triangleBase + f.draw.items[item].mesh->triangleCount()) ++item;
+            if (t >= itemEnd) {
+                while (t >= f.draw.items[item].triangleBase + f.draw.items[item].mesh->triangleCount()) ++item;
+                itemEnd = f.draw.items[item].triangleBase + std::uint32_t(f.draw.items[item].mesh->triangleCount());
+            }
             const DrawItem& it = f.draw.items[item];
             const std::uint32_t* idx = &it.mesh->indices[std::size_t(t - it.triangleBase) * 3];
             const std::uint32_t v[3] = {it.vertexBase + idx[0], it.vertexBase + idx[1],
@@ -490,11 +494,12 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
         }
         return;
     }
-    b.f.kernels.setupViews(ys, x0, x1, x2, nv, width, b.views);
-    for (int k = 0; k < nv; ++k) {
+    for (std::uint64_t lanes = b.f.kernels.setupViews(ys, x0, x1, x2, nv, width, b.views); lanes;
+         lanes &= lanes - 1) {
+        const int k = std::countr_zero(lanes);
         const std::int32_t m = b.views.mask[k];
-        if (m == 0 || culled(k)) continue;
-        auto& sink = b.sinks[std::size_t(fam.views[std::size_t(k)])];
+        if (culled(k)) continue;
+        FragmentSink<S> sink = b.sinks[std::size_t(fam.views[std::size_t(k)])];  // in registers
         if (m > 0) {
             emitSmall(b.views, k, ys.rowMin, sink);
         } else {

@@ -454,12 +454,16 @@ TEST(Kernels, SetupViewsSimdEqualsScalar) {
             for (int i = 0; i < 3; ++i) x[i][k] = cx + k * 37 + (big ? jitter(rng) * 20 : jitter(rng) / 2);
         }
         detail::ViewsSetup ref, got;
-        detail::scalarKernels().setupViews(ys, x[0], x[1], x[2], n, 1024, ref);
+        const std::uint64_t refLanes = detail::scalarKernels().setupViews(ys, x[0], x[1], x[2], n, 1024, ref);
+        for (int v = 0; v < n; ++v) {
+            ASSERT_EQ((refLanes >> v) & 1u, std::uint64_t(ref.mask[v] != 0)) << iter << " view " << v;
+        }
+        if (n < 64) ASSERT_EQ(refLanes >> n, 0u) << "no lanes past n";
         for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
             if (!k) continue;
             if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512) continue;
             if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar) continue;
-            k->setupViews(ys, x[0], x[1], x[2], n, 1024, got);
+            ASSERT_EQ(k->setupViews(ys, x[0], x[1], x[2], n, 1024, got), refLanes) << iter;
             for (int v = 0; v < n; ++v) {
                 ASSERT_EQ(got.mask[v], ref.mask[v]) << iter << " view " << v;
                 if (ref.mask[v] == 0) continue;

@@ -79,7 +79,7 @@ void projectX(const float* x, const float* w, const float* q, std::size_t n, flo
 
 
 /// setupViews with 8 views per register (the scalar reference: setupViewsTail).
-void setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1, const std::int32_t* x2,
+std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1, const std::int32_t* x2,
                 int n, int width, ViewsSetup& o) {
     const bool tall = ys.rowMax > ys.rowMin;
     const bool rowsSmall = ys.rowMax - ys.rowMin <= 1;
@@ -93,6 +93,7 @@ void setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1
     const __m256i yr20 = _mm256_set1_epi32(yrs[2] - yrs[0]);
     // Lanes past n load 0 (masked) and store into the kMaxViews-sized outputs unread.
     const __m256i laneIndex = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    std::uint64_t lanes = 0;
     for (int k = 0; k < n; k += 8) {
         const __m256i live = _mm256_cmpgt_epi32(_mm256_set1_epi32(n - k), laneIndex);
         const __m256i X0 = _mm256_maskload_epi32(x0 + k, live);
@@ -154,7 +155,11 @@ void setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.mask + k), mask);
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.colMin + k), colMin);
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.area + k), area);
+        const unsigned nonzero = ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(mask, zero)))) & 0xffu;
+        const unsigned liveBits = n - k >= 8 ? 0xffu : (1u << (n - k)) - 1u;
+        lanes |= std::uint64_t(nonzero & liveBits) << k;
     }
+    return lanes;
 }
 
 }  // namespace

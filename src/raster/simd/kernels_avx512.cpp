@@ -71,7 +71,7 @@ void projectX(const float* x, const float* w, const float* q, std::size_t n, flo
 
 
 /// setupViews with 16 views per register (the scalar reference: setupViewsTail).
-void setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1, const std::int32_t* x2,
+std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1, const std::int32_t* x2,
                 int n, int width, ViewsSetup& o) {
     const bool tall = ys.rowMax > ys.rowMin;
     const bool rowsSmall = ys.rowMax - ys.rowMin <= 1;
@@ -83,6 +83,7 @@ void setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1
     const __m512i dyShared[3] = {_mm512_set1_epi32(ys.dy[0]), _mm512_set1_epi32(ys.dy[1]),
                                  _mm512_set1_epi32(ys.dy[2])};
     const __m512i yr20 = _mm512_set1_epi32(yrs[2] - yrs[0]);
+    std::uint64_t lanes = 0;
     for (int k = 0; k < n; k += 16) {
         const __mmask16 live = n - k >= 16 ? __mmask16(0xffff) : __mmask16((1u << (n - k)) - 1u);
         const __m512i X0 = _mm512_maskz_loadu_epi32(live, x0 + k);
@@ -145,7 +146,9 @@ void setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1
         _mm512_storeu_si512(o.mask + k, mask);
         _mm512_storeu_si512(o.colMin + k, colMin);
         _mm512_storeu_si512(o.area + k, area);
+        lanes |= std::uint64_t(_mm512_test_epi32_mask(mask, mask) & live) << k;
     }
+    return lanes;
 }
 
 /// glm's scalar semantics, lane by lane: max(x, y) = x < y ? y : x; min(x, y) = y < x ? y : x.

@@ -9,7 +9,7 @@ const Kernels& scalarKernels() {
     static const Kernels k{&projectYZWTail, &projectXTail,
                            [](const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
                               const std::int32_t* x2, int n, int width, ViewsSetup& out) {
-                               setupViewsTail(ys, x0, x1, x2, 0, n, width, out);
+                               return setupViewsTail(ys, x0, x1, x2, 0, n, width, out);
                            },
                            &shadeVerticesTail};
     return k;

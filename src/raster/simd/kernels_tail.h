@@ -36,8 +36,9 @@ inline void shadeVerticesTail(const glm::vec3* positions, const glm::vec3* norma
 
 /// Views [begin, n) of setupViews, one at a time: the reference for the SIMD versions (and the
 /// same integer operations as rasterSmallTriangle).
-inline void setupViewsTail(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
-                           const std::int32_t* x2, int begin, int n, int width, ViewsSetup& o) {
+inline std::uint64_t setupViewsTail(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
+                                    const std::int32_t* x2, int begin, int n, int width, ViewsSetup& o) {
+    std::uint64_t lanes = 0;
     const bool tall = ys.rowMax > ys.rowMin;
     const bool rowsSmall = ys.rowMax - ys.rowMin <= 1;
     const std::int32_t py0 = ys.rowMin * kSubpixel + kHalfSubpixel;
@@ -55,6 +56,7 @@ inline void setupViewsTail(const YSetup& ys, const std::int32_t* x0, const std::
         }
         if (!rowsSmall || colMax - colMin > 1) {
             o.mask[k] = -1;
+            lanes |= std::uint64_t(1) << k;
             continue;
         }
         const std::int32_t px0 = colMin * kSubpixel + kHalfSubpixel;
@@ -80,7 +82,9 @@ inline void setupViewsTail(const YSetup& ys, const std::int32_t* x0, const std::
         const unsigned wide = unsigned(colMax > colMin);
         mask &= 1u | (wide << 1) | (unsigned(tall) << 2) | ((wide & unsigned(tall)) << 3);
         o.mask[k] = area == 0 ? 0 : std::int32_t(mask);
+        lanes |= std::uint64_t(o.mask[k] != 0) << k;
     }
+    return lanes;
 }
 
 }  // namespace mvr::raster::detail
