@@ -2,6 +2,7 @@
 // per-instance matrices, the band (screen tile) layout, triangle bins, and timing.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <span>
@@ -58,6 +59,27 @@ struct Bins {
         for (int b = b0; b <= b1; ++b) lists[std::size_t(chunk) * layout.count + b].push_back(t);
     }
 };
+
+/// Runs fn(item, begin, end) on chunks of about 4096 vertices of every draw item, all items in ONE
+/// parallel pass (one fork/join per vertex stage rather than one per instance).
+template <class Fn>
+void forVertexChunks(const DrawList& draw, ThreadPool& pool, Fn&& fn) {
+    std::vector<std::uint32_t> firstTask(draw.items.size() + 1, 0);
+    for (std::size_t i = 0; i < draw.items.size(); ++i) {
+        const std::uint32_t n = std::uint32_t(draw.items[i].mesh->positions.size());
+        firstTask[i + 1] = firstTask[i] + std::max(1u, n / 4096u);
+    }
+    pool.run(int(firstTask.back()), [&](int task, int) {
+        const std::size_t i = std::size_t(
+            std::upper_bound(firstTask.begin(), firstTask.end(), std::uint32_t(task)) - firstTask.begin() - 1);
+        const DrawItem& item = draw.items[i];
+        const std::uint32_t n = std::uint32_t(item.mesh->positions.size());
+        const std::uint32_t chunks = firstTask[i + 1] - firstTask[i];
+        const std::uint32_t chunk = std::uint32_t(task) - firstTask[i];
+        fn(item, std::uint32_t(n * std::uint64_t(chunk) / chunks),
+           std::uint32_t(n * std::uint64_t(chunk + 1) / chunks));
+    });
+}
 
 /// Outputs sized for the views, plus Targets pointing into them.
 void allocateOutputs(RenderOutput& out, int views, const RenderSettings& settings,

@@ -49,13 +49,8 @@ void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
     const glm::vec2 shear = sheared ? *view.clipShear : glm::vec2(0.0f);
     const float conv = f.rig.convergence;
     const glm::mat4 viewClip = sheared ? f.centerClip : view.clipFromWorld();
-    for (const DrawItem& item : f.draw.items) {
-        const glm::mat4 clipFromModel = viewClip * item.instance->worldFromModel;
-        const std::uint32_t n = std::uint32_t(item.mesh->positions.size());
-        const std::uint32_t chunks = std::max(1u, n / 4096u);
-        f.pool.run(int(chunks), [&](int chunk, int) {
-            const std::uint32_t begin = n * std::uint64_t(chunk) / chunks;
-            const std::uint32_t end = n * std::uint64_t(chunk + 1) / chunks;
+    forVertexChunks(f.draw, f.pool, [&](const DrawItem& item, std::uint32_t begin, std::uint32_t end) {
+            const glm::mat4 clipFromModel = viewClip * item.instance->worldFromModel;
             for (std::uint32_t i = begin; i < end; ++i) {
                 const std::uint32_t g = item.vertexBase + i;
                 const glm::vec3& p = item.mesh->positions[i];
@@ -86,8 +81,7 @@ void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
             f.kernels.projectYZW(&d.y[g], &d.z[g], &d.w[g], count, height, &d.codeYZW[g], &d.q[g],
                                  &d.sy[g], &d.zw[g]);
             f.kernels.projectX(&d.x[g], &d.w[g], &d.q[g], count, width, &d.codeX[g], &d.sx[g]);
-        });
-    }
+    });
 }
 
 struct TriangleRef {

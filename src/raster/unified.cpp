@@ -131,20 +131,15 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
     const Shading shading = f.settings.shading;
     const float width = float(f.settings.width), height = float(f.settings.height);
     const float conv = f.rig.convergence;
-    for (const DrawItem& item : f.draw.items) {
-        const glm::mat4 centerFromModel = f.centerClip * item.instance->worldFromModel;
-        std::vector<glm::mat4> ownFromModel(d.families.size());
-        for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
-            if (!d.families[fi].sheared) {
-                const View& view = f.rig.views[std::size_t(d.families[fi].views[0])];
-                ownFromModel[fi] = view.clipFromWorld() * item.instance->worldFromModel;
+    forVertexChunks(f.draw, f.pool, [&](const DrawItem& item, std::uint32_t begin, std::uint32_t end) {
+            const glm::mat4 centerFromModel = f.centerClip * item.instance->worldFromModel;
+            std::array<glm::mat4, kMaxViews> ownFromModel;
+            for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
+                if (!d.families[fi].sheared) {
+                    const View& view = f.rig.views[std::size_t(d.families[fi].views[0])];
+                    ownFromModel[fi] = view.clipFromWorld() * item.instance->worldFromModel;
+                }
             }
-        }
-        const std::uint32_t n = std::uint32_t(item.mesh->positions.size());
-        const std::uint32_t chunks = std::max(1u, n / 4096u);
-        f.pool.run(int(chunks), [&](int chunk, int) {
-            const std::uint32_t begin = n * std::uint64_t(chunk) / chunks;
-            const std::uint32_t end = n * std::uint64_t(chunk + 1) / chunks;
             for (std::uint32_t i = begin; i < end; ++i) {
                 const std::uint32_t g = item.vertexBase + i;
                 const glm::vec3& p = item.mesh->positions[i];
@@ -205,8 +200,7 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                     for (std::uint32_t k = 0; k < count; ++k) sxv[k * nv] = vd.sx[g + k];
                 }
             }
-        });
-    }
+    });
 }
 
 /// Back-face classification of a family's views for one triangle (adelson1991): all culled,
@@ -277,8 +271,11 @@ void binStage(FrameContext& f, UnifiedData& d) {
                     break;
                 }
                 int lo, hi;
-                (f.settings.wireframe ? wireframeRows : triangleRows)(fam.sy[v[0]], fam.sy[v[1]],
-                                                                      fam.sy[v[2]], height, lo, hi);
+                if (f.settings.wireframe) {
+                    wireframeRows(fam.sy[v[0]], fam.sy[v[1]], fam.sy[v[2]], height, lo, hi);
+                } else {
+                    triangleRows(fam.sy[v[0]], fam.sy[v[1]], fam.sy[v[2]], height, lo, hi);  // inlined
+                }
                 if (lo > hi) continue;
                 rowMin = std::min(rowMin, lo), rowMax = std::max(rowMax, hi);
             }
