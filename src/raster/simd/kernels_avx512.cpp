@@ -71,8 +71,84 @@ void projectX(const float* x, const float* w, const float* q, std::size_t n, flo
 
 
 /// setupViews with 16 views per register (the scalar reference: setupViewsTail).
+/// setupViews for at most 8 views: the same operations on 256-bit registers (AVX-512VL masks) —
+/// half the work of a 16-lane pass for stereo pairs and rows of a 3×3 grid.
+std::uint64_t setupViews8(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
+                          const std::int32_t* x2, int n, int width, ViewsSetup& o) {
+    const bool tall = ys.rowMax > ys.rowMin;
+    const bool rowsSmall = ys.rowMax - ys.rowMin <= 1;
+    const std::int32_t py0 = ys.rowMin * kSubpixel + kHalfSubpixel;
+    const std::int32_t yrs[3] = {ys.y[0] - py0, ys.y[1] - py0, ys.y[2] - py0};
+    const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
+    const __m256i half = _mm256_set1_epi32(kHalfSubpixel);
+    const __m256i yr[3] = {_mm256_set1_epi32(yrs[0]), _mm256_set1_epi32(yrs[1]), _mm256_set1_epi32(yrs[2])};
+    const __m256i dyShared[3] = {_mm256_set1_epi32(ys.dy[0]), _mm256_set1_epi32(ys.dy[1]),
+                                 _mm256_set1_epi32(ys.dy[2])};
+    const __m256i yr20 = _mm256_set1_epi32(yrs[2] - yrs[0]);
+    const __mmask8 live = __mmask8((1u << n) - 1u);
+    const __m256i X0 = _mm256_maskz_loadu_epi32(live, x0);
+    const __m256i X1 = _mm256_maskz_loadu_epi32(live, x1);
+    const __m256i X2 = _mm256_maskz_loadu_epi32(live, x2);
+    const __m256i xlo = _mm256_min_epi32(X0, _mm256_min_epi32(X1, X2));
+    const __m256i xhi = _mm256_max_epi32(X0, _mm256_max_epi32(X1, X2));
+    const __m256i colMin = _mm256_max_epi32(
+        zero, _mm256_srai_epi32(_mm256_add_epi32(_mm256_sub_epi32(xlo, half), _mm256_set1_epi32(kSubpixel - 1)),
+                                kSubpixelBits));
+    const __m256i colMax = _mm256_min_epi32(_mm256_set1_epi32(width - 1),
+                                            _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
+    const __mmask8 empty = _mm256_cmpgt_epi32_mask(colMin, colMax);
+    const __m256i cols = _mm256_sub_epi32(colMax, colMin);
+    const __mmask8 small = rowsSmall ? __mmask8(_mm256_cmple_epi32_mask(cols, one) & ~empty) : __mmask8(0);
+    const __m256i px0 = _mm256_add_epi32(_mm256_slli_epi32(colMin, kSubpixelBits), half);
+    const __m256i xr[3] = {_mm256_sub_epi32(X0, px0), _mm256_sub_epi32(X1, px0), _mm256_sub_epi32(X2, px0)};
+    __m256i dx[3] = {_mm256_sub_epi32(xr[2], xr[1]), _mm256_sub_epi32(xr[0], xr[2]),
+                     _mm256_sub_epi32(xr[1], xr[0])};
+    __m256i area = _mm256_sub_epi32(_mm256_mullo_epi32(dx[2], yr20),
+                                    _mm256_mullo_epi32(dyShared[2], _mm256_sub_epi32(xr[2], xr[0])));
+    const __m256i flip = _mm256_srai_epi32(area, 31);
+    area = _mm256_sub_epi32(_mm256_xor_si256(area, flip), flip);
+    __m256i any[4] = {zero, zero, zero, zero};
+    for (int i = 0; i < 3; ++i) {
+        const int a = i == 2 ? 0 : i + 1;
+        dx[i] = _mm256_sub_epi32(_mm256_xor_si256(dx[i], flip), flip);
+        const __m256i dy = _mm256_sub_epi32(_mm256_xor_si256(dyShared[i], flip), flip);
+        const __mmask8 tl = _mm256_cmplt_epi32_mask(dy, zero) |
+                            (_mm256_cmpeq_epi32_mask(dy, zero) & _mm256_cmplt_epi32_mask(dx[i], zero));
+        const __m256i bias = _mm256_maskz_mov_epi32(tl, one);
+        const __m256i e = _mm256_add_epi32(
+            _mm256_sub_epi32(_mm256_mullo_epi32(dy, xr[a]), _mm256_mullo_epi32(dx[i], yr[a])), bias);
+        const __m256i sx = _mm256_slli_epi32(_mm256_sub_epi32(zero, dy), kSubpixelBits);
+        const __m256i sy = _mm256_slli_epi32(dx[i], kSubpixelBits);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.e[i]), e);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.sx[i]), sx);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.sy[i]), sy);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.bias[i]), bias);
+        const __m256i em1 = _mm256_sub_epi32(e, one);
+        any[0] = _mm256_or_si256(any[0], em1);
+        any[1] = _mm256_or_si256(any[1], _mm256_add_epi32(em1, sx));
+        any[2] = _mm256_or_si256(any[2], _mm256_add_epi32(em1, sy));
+        any[3] = _mm256_or_si256(any[3], _mm256_add_epi32(_mm256_add_epi32(em1, sx), sy));
+    }
+    const __mmask8 wide = _mm256_cmpgt_epi32_mask(colMax, colMin);
+    __m256i mask = zero;
+    for (int j = 0; j < 4; ++j) {
+        const __mmask8 valid = j == 0 ? __mmask8(0xff) : j == 1 ? wide : j == 2 ? __mmask8(tall ? 0xff : 0)
+                                                                         : __mmask8(tall ? wide : 0);
+        const __mmask8 in = _mm256_cmpge_epi32_mask(any[j], zero) & valid;
+        mask = _mm256_mask_or_epi32(mask, in, mask, _mm256_set1_epi32(1 << j));
+    }
+    mask = _mm256_maskz_mov_epi32(_mm256_cmpneq_epi32_mask(area, zero), mask);
+    mask = _mm256_mask_mov_epi32(mask, __mmask8(~small & ~empty), _mm256_set1_epi32(-1));
+    mask = _mm256_maskz_mov_epi32(__mmask8(~empty), mask);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.mask), mask);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.colMin), colMin);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.area), area);
+    return std::uint64_t(_mm256_test_epi32_mask(mask, mask) & live);
+}
+
 std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1, const std::int32_t* x2,
                 int n, int width, ViewsSetup& o) {
+    if (n <= 8) return setupViews8(ys, x0, x1, x2, n, width, o);
     const bool tall = ys.rowMax > ys.rowMin;
     const bool rowsSmall = ys.rowMax - ys.rowMin <= 1;
     const std::int32_t py0 = ys.rowMin * kSubpixel + kHalfSubpixel;
