@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "command.h"
+#include "mvr/core/platform.h"
 #include "options.h"
 #include "bench_papers.h"
 
@@ -58,17 +59,6 @@ double processCpuMs() {
     return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
 }
 
-std::string cpuModel() {
-    std::ifstream in("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(in, line)) {
-        if (line.rfind("model name", 0) == 0) {
-            const auto colon = line.find(':');
-            if (colon != std::string::npos) return line.substr(line.find_first_not_of(' ', colon + 1));
-        }
-    }
-    return "unknown CPU";
-}
 
 Result<std::unique_ptr<Backend>> makeBenchBackend(const std::string& name, const BenchOptions& o) {
 #ifdef MVR_HAVE_RASTER
@@ -198,7 +188,7 @@ int runBench(const BenchOptions& o) {
     if (o.json) {
 #ifdef MVR_BENCH_HAVE_JSON
         nlohmann::json j;
-        j["machine"] = {{"cpu", cpuModel()},
+        j["machine"] = {{"cpu", cpuModelName()},
                         {"cores", int(std::max(1u, std::thread::hardware_concurrency()))},
                         {"simd", simdPath},
                         {"threads", threads},
@@ -228,7 +218,7 @@ int runBench(const BenchOptions& o) {
 #endif
     }
     fmt::print("machine: {} | {} hardware threads | soft SIMD path: {} | soft worker threads: {}\n",
-               cpuModel(), std::max(1u, std::thread::hardware_concurrency()), simdPath, threads);
+               cpuModelName(), std::max(1u, std::thread::hardware_concurrency()), simdPath, threads);
     for (const std::string& line : backendInfo) fmt::print("  {}\n", line);
     fmt::print("scene: {} ({} triangles) | {} rig {}x{} = {} views | {}x{} | {} shading{}{} | {} frames after {} warm-up\n",
                p.sceneName, triangles, rigKindName(p.rig.kind), p.rig.columns, p.rig.rows, views,

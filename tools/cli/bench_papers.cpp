@@ -7,6 +7,8 @@
 // gnuplot.
 #include "bench_papers.h"
 
+#include "mvr/core/platform.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -154,14 +156,7 @@ struct Machine {
 
 Machine describeMachine(int threads, bool wantGl) {
     Machine m;
-    std::ifstream in("/proc/cpuinfo");
-    for (std::string line; std::getline(in, line);) {
-        if (line.rfind("model name", 0) == 0) {
-            const auto colon = line.find(':');
-            if (colon != std::string::npos) m.cpu = line.substr(line.find_first_not_of(' ', colon + 1));
-            break;
-        }
-    }
+    m.cpu = cpuModelName();
     m.cores = int(std::max(1u, std::thread::hardware_concurrency()));
     m.threads = threads > 0 ? threads : m.cores;
 #ifdef MVR_HAVE_RASTER
