@@ -458,7 +458,9 @@ TEST(Kernels, SetupViewsSimdEqualsScalar) {
         for (int v = 0; v < n; ++v) {
             ASSERT_EQ((refLanes >> v) & 1u, std::uint64_t(ref.mask[v] != 0)) << iter << " view " << v;
         }
-        if (n < 64) ASSERT_EQ(refLanes >> n, 0u) << "no lanes past n";
+        if (n < 64) {
+            ASSERT_EQ(refLanes >> n, 0u) << "no lanes past n";
+        }
         for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
             if (!k) continue;
             if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512) continue;
