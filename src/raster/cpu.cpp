@@ -4,18 +4,6 @@
 
 namespace mvr::raster::detail {
 
-std::string cpuModelName() {
-    std::ifstream in("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(in, line)) {
-        if (line.rfind("model name", 0) == 0) {
-            const auto colon = line.find(':');
-            if (colon != std::string::npos) return line.substr(line.find_first_not_of(' ', colon + 1));
-        }
-    }
-    return "unknown CPU";
-}
-
 SimdPath bestSupportedSimd() {
 #if defined(__x86_64__) || defined(__i386__)
     __builtin_cpu_init();

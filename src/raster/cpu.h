@@ -15,7 +15,6 @@
 
 namespace mvr::raster::detail {
 
-std::string cpuModelName();
 SimdPath bestSupportedSimd();
 /// Auto → best; a path this CPU/build lacks → best available.
 SimdPath resolveSimd(SimdPath requested);

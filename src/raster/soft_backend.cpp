@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 
 #include "cpu.h"
+#include "mvr/core/platform.h"
 #include "methods.h"
 
 namespace mvr::raster {
@@ -71,7 +72,7 @@ public:
     }
 
     std::vector<std::string> info() const override {
-        return {fmt::format("CPU: {}", detail::cpuModelName()),
+        return {fmt::format("CPU: {}", mvr::cpuModelName()),
                 fmt::format("SIMD path: {} (best on this CPU and build: {})", simdPathName(mSimd),
                             simdPathName(bestSimdPath())),
                 fmt::format("worker threads: {} ({})", threadCount(),
