@@ -425,6 +425,16 @@ struct RenderRow {
     double speedup = 0, cpuSpeedup = 0;  ///< multipass of the same backend / this
 };
 
+/// The row of one measured job: what every render bench records; the caller adds its own columns.
+RenderRow measuredRow(const Job& job, const Measured& m, std::size_t triangles) {
+    RenderRow r;
+    r.backend = job.backend, r.method = job.method, r.ran = m.ran;
+    r.triangles = triangles;
+    r.error = m.error;
+    r.wall = statsOf(m.wallMs), r.cpu = statsOf(m.cpuMs);
+    return r;
+}
+
 void fillSpeedups(std::vector<RenderRow>& rows, std::size_t first) {
     for (std::size_t i = first; i < rows.size(); ++i) {
         for (std::size_t k = first; k < rows.size(); ++k) {
@@ -592,15 +602,11 @@ int runSorbier(const SorbierOptions& o) {
                 std::vector<Measured> m = measure(jobs, p, o.common, progress, label);
                 const std::size_t first = rows.size();
                 for (std::size_t j = 0; j < jobs.size(); ++j) {
-                    RenderRow r;
-                    r.backend = jobs[j].backend, r.method = jobs[j].method, r.ran = m[j].ran;
+                    RenderRow r = measuredRow(jobs[j], m[j], p.scene.triangleCount());
                     r.shading = shadingName(shadings[si]);
                     r.model = fs::path(*model).filename().string();
                     r.copies = copies, r.views = 2, r.width = w, r.height = h;
                     r.config = "2x1";
-                    r.triangles = p.scene.triangleCount();
-                    r.error = m[j].error;
-                    r.wall = statsOf(m[j].wallMs), r.cpu = statsOf(m[j].cpuMs);
                     rows.push_back(r);
                 }
                 fillSpeedups(rows, first);
@@ -769,14 +775,10 @@ int runKalaiah(const KalaiahOptions& o) {
                 std::vector<Measured> m = measure(jobs, p, o.common, progress, fmt::format("{} {}x{}", ms.name, c, r));
                 const std::size_t first = rows.size();
                 for (std::size_t j = 0; j < jobs.size(); ++j) {
-                    RenderRow row;
-                    row.backend = jobs[j].backend, row.method = jobs[j].method, row.ran = m[j].ran;
+                    RenderRow row = measuredRow(jobs[j], m[j], p.scene.triangleCount());
                     row.shading = o.shading, row.model = ms.name, row.copies = ms.copies;
                     row.views = c * r, row.config = fmt::format("{}x{}", c, r);
                     row.width = w / c, row.height = h / r, row.bufferW = w, row.bufferH = h;
-                    row.triangles = p.scene.triangleCount();
-                    row.error = m[j].error;
-                    row.wall = statsOf(m[j].wallMs), row.cpu = statsOf(m[j].cpuMs);
                     rows.push_back(row);
                 }
                 fillSpeedups(rows, first);
