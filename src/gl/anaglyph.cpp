@@ -67,6 +67,24 @@ Status prepare(CompositeContext& c, const Image& left) {
     return Status::ok();
 }
 
+/// An RGBA8 texture of the composite's size behind a framebuffer, bound for drawing over its
+/// whole area with depth test and culling off: the target of both anaglyph passes.
+struct OutputTarget {
+    detail::Texture texture;
+    detail::Framebuffer fbo;
+};
+
+OutputTarget bindOutputTarget(int w, int h) {
+    OutputTarget t{detail::createTexture(GL_TEXTURE_2D), detail::createFramebuffer()};
+    glTextureStorage2D(t.texture.get(), 1, GL_RGBA8, w, h);
+    glNamedFramebufferTexture(t.fbo.get(), GL_COLOR_ATTACHMENT0, t.texture.get(), 0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t.fbo.get());
+    glViewport(0, 0, w, h);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    return t;
+}
+
 Image readTarget(GLuint target, int w, int h) {
     Image out(w, h);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -85,14 +103,7 @@ Result<Image> composeAnaglyphGpu(const Image& left, const Image& right) {
     if (Status s = prepare(c, left); !s) return s;
 
     detail::Texture texLeft = upload(left), texRight = upload(right);
-    detail::Texture target = detail::createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(target.get(), 1, GL_RGBA8, left.width, left.height);
-    detail::Framebuffer fbo = detail::createFramebuffer();
-    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, target.get(), 0);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo.get());
-    glViewport(0, 0, left.width, left.height);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
+    const OutputTarget out = bindOutputTarget(left.width, left.height);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
@@ -109,11 +120,11 @@ Result<Image> composeAnaglyphGpu(const Image& left, const Image& right) {
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDisable(GL_BLEND);
 
-    Image out = readTarget(target.get(), left.width, left.height);
+    Image image = readTarget(out.texture.get(), left.width, left.height);
     glBindTextureUnit(0, 0);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
     if (Status s = detail::checkGlError("composeAnaglyphGpu"); !s) return s;
-    return out;
+    return image;
 }
 
 Result<Image> composeAnaglyphGpu(const Image& left, const Image& right,
@@ -133,14 +144,7 @@ Result<Image> composeAnaglyphGpu(const Image& left, const Image& right,
         it = c.mixPrograms.emplace(glslMix, std::move(p).value()).first;
     }
     detail::Texture texLeft = upload(left), texRight = upload(right);
-    detail::Texture target = detail::createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(target.get(), 1, GL_RGBA8, left.width, left.height);
-    detail::Framebuffer fbo = detail::createFramebuffer();
-    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, target.get(), 0);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo.get());
-    glViewport(0, 0, left.width, left.height);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
+    const OutputTarget out = bindOutputTarget(left.width, left.height);
     glDisable(GL_BLEND);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glUseProgram(it->second.get());
@@ -148,12 +152,12 @@ Result<Image> composeAnaglyphGpu(const Image& left, const Image& right,
     glBindTextureUnit(0, texLeft.get());
     glBindTextureUnit(1, texRight.get());
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
-    Image out = readTarget(target.get(), left.width, left.height);
+    Image image = readTarget(out.texture.get(), left.width, left.height);
     glBindTextureUnit(0, 0);
     glBindTextureUnit(1, 0);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
     if (Status s = detail::checkGlError("composeAnaglyphGpu"); !s) return s;
-    return out;
+    return image;
 }
 
 }  // namespace mvr::gl
