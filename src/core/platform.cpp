@@ -2,6 +2,10 @@
 
 #include <fstream>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 namespace mvr {
 
 std::string cpuModelName() {
@@ -14,6 +18,19 @@ std::string cpuModelName() {
         }
     }
     return "unknown CPU";
+}
+
+bool retainFreedMemory() {
+#if defined(__GLIBC__)
+    // Both settings are needed: without the trim threshold a freed block at the top of the heap
+    // is returned to the kernel and faulted back in; without the mmap threshold glibc serves big
+    // blocks with mmap and unmaps them on free. 32 MiB is the largest threshold glibc accepts.
+    const bool trim = mallopt(M_TRIM_THRESHOLD, 1 << 30) == 1;
+    const bool mmap = mallopt(M_MMAP_THRESHOLD, 32 << 20) == 1;
+    return trim && mmap;
+#else
+    return false;
+#endif
 }
 
 }  // namespace mvr
