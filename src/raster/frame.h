@@ -12,6 +12,7 @@
 
 #include "mvr/core/render.h"
 #include "cpu.h"
+#include "lanes.h"
 #include "pipeline.h"
 #include "thread_pool.h"
 
@@ -33,14 +34,41 @@ struct DrawList {
 
 DrawList makeDrawList(const Scene& scene);
 
+struct TriangleRef {
+    std::uint32_t i[3];
+    const DrawItem* item;
+};
+
+/// Iterates the triangles [begin, end) of the frame with their global vertex indices.
+template <class Fn>
+void forTriangles(const DrawList& draw, std::uint32_t begin, std::uint32_t end, Fn&& fn) {
+    for (const DrawItem& item : draw.items) {
+        const std::uint32_t tBegin = std::max(begin, item.triangleBase);
+        const std::uint32_t tEnd =
+            std::min(end, item.triangleBase + std::uint32_t(item.mesh->triangleCount()));
+        const std::uint32_t* idx = item.mesh->indices.data();
+        for (std::uint32_t t = tBegin; t < tEnd; ++t) {
+            const std::uint32_t local = (t - item.triangleBase) * 3;
+            fn(t, TriangleRef{{item.vertexBase + idx[local], item.vertexBase + idx[local + 1],
+                               item.vertexBase + idx[local + 2]},
+                              &item});
+        }
+    }
+}
+
 /// The rig's center clip transform, from which sheared views derive (rig.h: View::clipShear).
 glm::mat4 centerClipFromWorld(const Rig& rig);
 
 /// Screen tiles: horizontal bands of rows (GL window y, up) spanning every view.
 struct BandLayout {
     int count = 1, rows = 1, height = 1;
+    /// ceil(2^40 / rows): bandOf() without a division (binning calls it twice per triangle).
+    std::uint64_t rowsReciprocal = std::uint64_t(1) << 40;
     int rowBegin(int band) const { return band * rows; }
     int rowEnd(int band) const { return std::min(height, (band + 1) * rows); }
+    /// row / rows for 0 <= row < 2^20, exactly: row · rowsReciprocal / 2^40 = row / rows + δ with
+    /// 0 <= δ < row / 2^40 < 1 / rows (row · rows < 2^40), too little to reach the next integer.
+    int bandOf(int row) const { return int((std::uint64_t(row) * rowsReciprocal) >> 40); }
 };
 BandLayout makeBands(int height, int threads);
 
@@ -54,8 +82,8 @@ struct Bins {
     void reset(std::uint32_t triangleCount, int bands);
     /// Appends triangle t to every band overlapping pixel rows [rowMin, rowMax].
     void add(int chunk, std::uint32_t t, int rowMin, int rowMax, const BandLayout& layout) {
-        const int b0 = std::max(0, rowMin / layout.rows);
-        const int b1 = std::min(layout.count - 1, rowMax / layout.rows);
+        const int b0 = layout.bandOf(std::max(0, rowMin));
+        const int b1 = std::min(layout.count - 1, layout.bandOf(std::max(0, rowMax)));
         for (int b = b0; b <= b1; ++b) lists[std::size_t(chunk) * layout.count + b].push_back(t);
     }
 };
@@ -122,6 +150,7 @@ struct FrameContext {
     BandLayout bands;
     glm::mat4 centerClip;
     const Kernels& kernels;
+    SetupLanesFn setupLanes = &setupLanesScalar;
 };
 
 /// The rasterization stage of a polygon (a triangle, or what the shared planes left of one) whose

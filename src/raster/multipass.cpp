@@ -84,28 +84,6 @@ void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
     });
 }
 
-struct TriangleRef {
-    std::uint32_t i[3];
-    const DrawItem* item;
-};
-
-/// Iterates the triangles [begin, end) of the frame with their global vertex indices.
-template <class Fn>
-void forTriangles(const DrawList& draw, std::uint32_t begin, std::uint32_t end, Fn&& fn) {
-    for (const DrawItem& item : draw.items) {
-        const std::uint32_t tBegin = std::max(begin, item.triangleBase);
-        const std::uint32_t tEnd =
-            std::min(end, item.triangleBase + std::uint32_t(item.mesh->triangleCount()));
-        const std::uint32_t* idx = item.mesh->indices.data();
-        for (std::uint32_t t = tBegin; t < tEnd; ++t) {
-            const std::uint32_t local = (t - item.triangleBase) * 3;
-            fn(t, TriangleRef{{item.vertexBase + idx[local], item.vertexBase + idx[local + 1],
-                               item.vertexBase + idx[local + 2]},
-                              &item});
-        }
-    }
-}
-
 TriCodes triCodes(const ViewVertexData& d, const std::uint32_t v[3]) {
     const std::uint8_t* y = d.codeYZW.data();
     const std::uint8_t* x = d.codeX.data();

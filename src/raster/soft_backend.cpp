@@ -128,7 +128,8 @@ private:
                                detail::makeDrawList(scene),
                                detail::makeBands(settings.height, pool.size()),
                                detail::centerClipFromWorld(rig),
-                               detail::kernels(mSimd)};
+                               detail::kernels(mSimd),
+                               detail::setupLanesKernel(mSimd)};
         std::vector<detail::Target> targets;
         detail::allocateOutputs(out, rig.viewCount(), settings, targets);
         detail::clearTargets(pool, targets, f.bands, settings);

@@ -244,23 +244,16 @@ void binStage(FrameContext& f, UnifiedData& d) {
     f.pool.run(bins.chunkCount, [&](int chunk, int) {
         const std::uint32_t begin = bins.chunkSize * std::uint32_t(chunk);
         const std::uint32_t end = std::min(f.draw.triangleCount, begin + bins.chunkSize);
-        std::size_t item = 0;
-        std::uint32_t itemEnd = 0;  // the current item's triangle range ends here
-        for (std::uint32_t t = begin; t < end; ++t) {
-            if (t >= itemEnd) {
-                while (t >= f.draw.items[item].triangleBase + f.draw.items[item].mesh->triangleCount()) ++item;
-                itemEnd = f.draw.items[item].triangleBase + std::uint32_t(f.draw.items[item].mesh->triangleCount());
-            }
-            const DrawItem& it = f.draw.items[item];
-            const std::uint32_t* idx = &it.mesh->indices[std::size_t(t - it.triangleBase) * 3];
-            const std::uint32_t v[3] = {it.vertexBase + idx[0], it.vertexBase + idx[1],
-                                        it.vertexBase + idx[2]};
-            const bool clipX = (d.anyClipX[v[0]] | d.anyClipX[v[1]] | d.anyClipX[v[2]]) != 0;
+        const std::uint8_t* anyClipX = d.anyClipX.data();
+        forTriangles(f.draw, begin, end, [&](std::uint32_t t, const TriangleRef& tri) {
+            const std::uint32_t* v = tri.i;
+            const bool clipX = (anyClipX[v[0]] | anyClipX[v[1]] | anyClipX[v[2]]) != 0;
             ShearDet det;
             if (cull && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
             int rowMin = height, rowMax = -1;
             for (const Family& fam : d.families) {
-                const std::uint8_t c0 = fam.code[v[0]], c1 = fam.code[v[1]], c2 = fam.code[v[2]];
+                const std::uint8_t* code = fam.code.data();
+                const std::uint8_t c0 = code[v[0]], c1 = code[v[1]], c2 = code[v[2]];
                 if (c0 & c1 & c2 & kRejectYZW) continue;
                 if (cull && (fam.sheared ? classify(fam, det) == FaceClass::AllBack
                                          : ownViewCulled(d, fam, v))) {
@@ -270,17 +263,18 @@ void binStage(FrameContext& f, UnifiedData& d) {
                     rowMin = 0, rowMax = height - 1;
                     break;
                 }
+                const std::int32_t* sy = fam.sy.data();
                 int lo, hi;
                 if (f.settings.wireframe) {
-                    wireframeRows(fam.sy[v[0]], fam.sy[v[1]], fam.sy[v[2]], height, lo, hi);
+                    wireframeRows(sy[v[0]], sy[v[1]], sy[v[2]], height, lo, hi);
                 } else {
-                    triangleRows(fam.sy[v[0]], fam.sy[v[1]], fam.sy[v[2]], height, lo, hi);  // inlined
+                    triangleRows(sy[v[0]], sy[v[1]], sy[v[2]], height, lo, hi);  // inlined
                 }
                 if (lo > hi) continue;
                 rowMin = std::min(rowMin, lo), rowMax = std::max(rowMax, hi);
             }
             if (rowMin <= rowMax) bins.add(chunk, t, rowMin, rowMax, f.bands);
-        }
+        });
     });
 }
 
@@ -347,7 +341,35 @@ struct BandContext {
     std::vector<FragmentSink<S>> sinks;  ///< per view, all pointing at `frag`
     int attrCount = attributeCount(S);
     ViewsSetup views{};                  ///< the current triangle's per-view x setup (L1)
+    // Queued (triangle, view) lanes of small-family triangles that need no clipping, set up
+    // together by FrameContext::setupLanes (lanes.h); slots hold each queued triangle's shared
+    // y setup and fragment inputs.
+    TriangleLanes lanes{};
+    int laneCount = 0, slotCount = 0;
+    std::uint8_t laneSlot[kLaneCount], laneView[kLaneCount];
+    YSetup slotYs[kLaneCount];
+    FragmentTri slotFrag[kLaneCount];
 };
+
+/// Sets up the queued lanes in one pass and draws them: lane order is submission order, so each
+/// view receives its triangles in the same order as without the queue.
+template <Shading S>
+void flushLanes(BandContext<S>& b) {
+    if (b.laneCount == 0) return;
+    const int width = b.f.settings.width;
+    for (std::uint32_t bits = b.f.setupLanes(b.lanes, b.laneCount, width); bits; bits &= bits - 1) {
+        const int k = std::countr_zero(bits);
+        FragmentSink<S> sink = b.sinks[b.laneView[k]];  // in registers
+        sink.tri = &b.slotFrag[b.laneSlot[k]];
+        if (b.lanes.out.mask[k] > 0) {
+            emitSmall(b.lanes.out, k, b.lanes.rowMin[k], sink);
+        } else {
+            const std::int32_t xk[3] = {b.lanes.x[0][k], b.lanes.x[1][k], b.lanes.x[2][k]};
+            rasterTriangle(b.slotYs[b.laneSlot[k]], xk, width, sink);
+        }
+    }
+    b.laneCount = b.slotCount = 0;
+}
 
 /// One family's replicas of a triangle that needs clipping against shared planes (or whose
 /// views need left/right clipping).
@@ -482,6 +504,24 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
         return faces == FaceClass::Mixed &&
                shearedDet(det, d.views[std::size_t(fam.views[std::size_t(k)])].shearX, fam.shearY) < 0.0f;
     };
+    if (nv <= kLaneCount / 2) {
+        // Queue the views' lanes: y setup once (ys), x per view.
+        if (b.laneCount + nv > kLaneCount) flushLanes(b);
+        const int slot = b.slotCount++;
+        b.slotYs[slot] = ys;
+        b.slotFrag[slot] = b.frag;
+        for (int k = 0; k < nv; ++k) {
+            if (culled(k)) continue;
+            const int lane = b.laneCount++;
+            b.lanes.x[0][lane] = x0[k], b.lanes.x[1][lane] = x1[k], b.lanes.x[2][lane] = x2[k];
+            b.lanes.y[0][lane] = ys.y[0], b.lanes.y[1][lane] = ys.y[1], b.lanes.y[2][lane] = ys.y[2];
+            b.lanes.rowMin[lane] = ys.rowMin, b.lanes.rowMax[lane] = ys.rowMax;
+            b.laneSlot[lane] = std::uint8_t(slot);
+            b.laneView[lane] = std::uint8_t(fam.views[std::size_t(k)]);
+        }
+        return;
+    }
+    flushLanes(b);
     if (nv < kMinSimdViews) {
         for (int k = 0; k < nv; ++k) {
             if (culled(k)) continue;
@@ -521,6 +561,7 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                 while (t >= f.draw.items[item].triangleBase + f.draw.items[item].mesh->triangleCount()) ++item;
                 it = &f.draw.items[item];
                 itemEnd = it->triangleBase + std::uint32_t(it->mesh->triangleCount());
+                flushLanes(b);  // the queued triangles shade with the previous material
                 for (auto& sink : b.sinks) sink.shade.material = &it->instance->material;
             }
             const std::uint32_t* idx = &it->mesh->indices[std::size_t(t - it->triangleBase) * 3];
@@ -548,6 +589,7 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                     drawFamilyInside(b, fam, v, faces, det);
                     continue;
                 }
+                flushLanes(b);  // the paths below draw at once: keep submission order per view
                 // Replicate to the views of the family that survive their own x reject / cull
                 // and, for a triangle that needs no clipping in that view, have a pixel-center
                 // column in its x extent (otherwise rasterTriangle would draw nothing).
@@ -627,6 +669,7 @@ void rasterStage(FrameContext& f, const UnifiedData& d, std::span<const Target> 
         b.sinks.reserve(targets.size());
         for (const Target& t : targets) b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr}});
         rasterBand(b, d.bins, band);
+        flushLanes(b);
     });
 }
 
