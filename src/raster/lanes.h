@@ -34,6 +34,52 @@ using SetupLanesFn = std::uint32_t (*)(TriangleLanes& l, int n, int width);
 SetupLanesFn setupLanesKernel(SimdPath path);
 
 std::uint32_t setupLanesScalar(TriangleLanes& l, int n, int width);
+
+/// A band's queue of (triangle, view) lanes waiting for setupLanes, in submission order. Slots
+/// hold what a queued triangle shares between its views: the y setup and the fragment inputs.
+/// A caller that draws anything without the queue flushes it first, so every view keeps
+/// receiving its triangles in submission order (depth ties resolve as without the queue).
+template <Shading S>
+struct LaneQueue {
+    TriangleLanes lanes{};
+    int laneCount = 0, slotCount = 0;
+    std::uint8_t laneSlot[kLaneCount], laneView[kLaneCount];
+    YSetup slotYs[kLaneCount];
+    FragmentTri slotFrag[kLaneCount];
+
+    /// Flush first unless `views` more lanes fit.
+    bool needsFlush(int views) const { return laneCount + views > kLaneCount; }
+    int addTriangle(const YSetup& ys, const FragmentTri& frag) {
+        slotYs[slotCount] = ys;
+        slotFrag[slotCount] = frag;
+        return slotCount++;
+    }
+    void addLane(int slot, int view, std::int32_t x0, std::int32_t x1, std::int32_t x2) {
+        const int k = laneCount++;
+        const YSetup& ys = slotYs[slot];
+        lanes.x[0][k] = x0, lanes.x[1][k] = x1, lanes.x[2][k] = x2;
+        lanes.y[0][k] = ys.y[0], lanes.y[1][k] = ys.y[1], lanes.y[2][k] = ys.y[2];
+        lanes.rowMin[k] = ys.rowMin, lanes.rowMax[k] = ys.rowMax;
+        laneSlot[k] = std::uint8_t(slot), laneView[k] = std::uint8_t(view);
+    }
+    /// Sets the queued lanes up in one pass and draws them; sinkFor(view) gives the view's sink.
+    template <class SinkFor>
+    void flush(SetupLanesFn setup, int width, SinkFor&& sinkFor) {
+        if (laneCount == 0) return;
+        for (std::uint32_t bits = setup(lanes, laneCount, width); bits; bits &= bits - 1) {
+            const int k = __builtin_ctz(bits);
+            FragmentSink<S> sink = sinkFor(laneView[k]);  // in registers
+            sink.tri = &slotFrag[laneSlot[k]];
+            if (lanes.out.mask[k] > 0) {
+                emitSmall(lanes.out, k, lanes.rowMin[k], sink);
+            } else {
+                const std::int32_t xk[3] = {lanes.x[0][k], lanes.x[1][k], lanes.x[2][k]};
+                rasterTriangle(slotYs[laneSlot[k]], xk, width, sink);
+            }
+        }
+        laneCount = slotCount = 0;
+    }
+};
 SetupLanesFn setupLanesAvx2();    ///< nullptr when not built
 SetupLanesFn setupLanesAvx512();  ///< nullptr when not built
 

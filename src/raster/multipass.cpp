@@ -168,6 +168,10 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
         const int rowLo = f.bands.rowBegin(band), rowHi = f.bands.rowEnd(band) - 1;
         FragmentTri frag{};
         FragmentSink<S> sink{target, &frag, {&f.shading, nullptr}};
+        // Small triangles wait in a queue and are set up 16 at a time (lanes.h), as in unified;
+        // everything drawn directly flushes the queue first (submission order).
+        LaneQueue<S> queue;
+        auto flush = [&] { queue.flush(f.setupLanes, target.width, [&](int) { return sink; }); };
         std::size_t item = 0;
         std::uint32_t itemEnd = 0;
         const DrawItem* it = nullptr;
@@ -179,6 +183,7 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
                     }
                     it = &f.draw.items[item];
                     itemEnd = it->triangleBase + std::uint32_t(it->mesh->triangleCount());
+                    flush();  // the queued triangles shade with the previous material
                     sink.shade.material = &it->instance->material;
                 }
                 const std::uint32_t* idx = &it->mesh->indices[std::size_t(t - it->triangleBase) * 3];
@@ -189,6 +194,7 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
                                           d.world[v[1]], d.world[v[2]]);
                 }
                 if (f.settings.wireframe) {
+                    flush();
                     drawWireframe(f, d, v, target, rowLo, rowHi, sink, frag);
                     continue;
                 }
@@ -196,14 +202,16 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
                 if (!planes) {
                     YSetup ys;
                     setupY(ys, d.sy[v[0]], d.sy[v[1]], d.sy[v[2]], rowLo, rowHi);
-                    const std::int32_t x[3] = {d.sx[v[0]], d.sx[v[1]], d.sx[v[2]]};
+                    if (ys.rowMin > ys.rowMax) continue;  // (rasterTriangle would draw nothing)
                     for (int j = 0; j < 3; ++j) {
                         frag.z[j] = d.zw[v[j]];
                         frag.q[j] = d.q[v[j]];
                         frag.attr[j] = d.attrOf(v[j]);
                     }
-                    rasterTriangle(ys, x, target.width, sink);
+                    if (queue.needsFlush(1)) flush();
+                    queue.addLane(queue.addTriangle(ys, frag), 0, d.sx[v[0]], d.sx[v[1]], d.sx[v[2]]);
                 } else {
+                    flush();
                     ClipVertex poly[kMaxPolyVerts];
                     for (int j = 0; j < 3; ++j) {
                         ClipVertex& cv = poly[j];
@@ -214,6 +222,7 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
                 }
             }
         }
+        flush();
     });
 }
 

@@ -341,34 +341,12 @@ struct BandContext {
     std::vector<FragmentSink<S>> sinks;  ///< per view, all pointing at `frag`
     int attrCount = attributeCount(S);
     ViewsSetup views{};                  ///< the current triangle's per-view x setup (L1)
-    // Queued (triangle, view) lanes of small-family triangles that need no clipping, set up
-    // together by FrameContext::setupLanes (lanes.h); slots hold each queued triangle's shared
-    // y setup and fragment inputs.
-    TriangleLanes lanes{};
-    int laneCount = 0, slotCount = 0;
-    std::uint8_t laneSlot[kLaneCount], laneView[kLaneCount];
-    YSetup slotYs[kLaneCount];
-    FragmentTri slotFrag[kLaneCount];
+    LaneQueue<S> queue;  ///< small families' (triangle, view) lanes waiting for setupLanes
 };
 
-/// Sets up the queued lanes in one pass and draws them: lane order is submission order, so each
-/// view receives its triangles in the same order as without the queue.
 template <Shading S>
 void flushLanes(BandContext<S>& b) {
-    if (b.laneCount == 0) return;
-    const int width = b.f.settings.width;
-    for (std::uint32_t bits = b.f.setupLanes(b.lanes, b.laneCount, width); bits; bits &= bits - 1) {
-        const int k = std::countr_zero(bits);
-        FragmentSink<S> sink = b.sinks[b.laneView[k]];  // in registers
-        sink.tri = &b.slotFrag[b.laneSlot[k]];
-        if (b.lanes.out.mask[k] > 0) {
-            emitSmall(b.lanes.out, k, b.lanes.rowMin[k], sink);
-        } else {
-            const std::int32_t xk[3] = {b.lanes.x[0][k], b.lanes.x[1][k], b.lanes.x[2][k]};
-            rasterTriangle(b.slotYs[b.laneSlot[k]], xk, width, sink);
-        }
-    }
-    b.laneCount = b.slotCount = 0;
+    b.queue.flush(b.f.setupLanes, b.f.settings.width, [&](int view) { return b.sinks[std::size_t(view)]; });
 }
 
 /// One family's replicas of a triangle that needs clipping against shared planes (or whose
@@ -506,18 +484,10 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
     };
     if (nv <= kLaneCount / 2) {
         // Queue the views' lanes: y setup once (ys), x per view.
-        if (b.laneCount + nv > kLaneCount) flushLanes(b);
-        const int slot = b.slotCount++;
-        b.slotYs[slot] = ys;
-        b.slotFrag[slot] = b.frag;
+        if (b.queue.needsFlush(nv)) flushLanes(b);
+        const int slot = b.queue.addTriangle(ys, b.frag);
         for (int k = 0; k < nv; ++k) {
-            if (culled(k)) continue;
-            const int lane = b.laneCount++;
-            b.lanes.x[0][lane] = x0[k], b.lanes.x[1][lane] = x1[k], b.lanes.x[2][lane] = x2[k];
-            b.lanes.y[0][lane] = ys.y[0], b.lanes.y[1][lane] = ys.y[1], b.lanes.y[2][lane] = ys.y[2];
-            b.lanes.rowMin[lane] = ys.rowMin, b.lanes.rowMax[lane] = ys.rowMax;
-            b.laneSlot[lane] = std::uint8_t(slot);
-            b.laneView[lane] = std::uint8_t(fam.views[std::size_t(k)]);
+            if (!culled(k)) b.queue.addLane(slot, fam.views[std::size_t(k)], x0[k], x1[k], x2[k]);
         }
         return;
     }
