@@ -37,16 +37,28 @@ using SetupViewsFn = std::uint64_t (*)(const YSetup& ys, const std::int32_t* x0,
 /// Vertex lighting (Shading::Vertex) of n vertices: world position transformPoint(worldFromModel,
 /// p), normal transformDir(normalFromModel, normal), color shadeBlinnPhong(ctx, material, normal,
 /// world) — 3 floats per vertex into `color`. SIMD paths: the same float operations in the same
-/// order as lighting.h (glm's scalar code), std::pow per lane, so bit for bit the scalar result.
+/// order as lighting.h (glm's scalar code, specularPow vectorized), so bit for bit the scalar
+/// result.
 using ShadeVerticesFn = void (*)(const glm::vec3* positions, const glm::vec3* normals, std::size_t n,
                                  const glm::mat4& worldFromModel, const glm::mat3& normalFromModel,
                                  const ShadingContext& ctx, const Material& material, float* color);
+
+/// transformPoint(m, positions[i]) for n vertices, stored split: x[i], y[i], z[i], w[i] (e.g. the
+/// center clip positions of the vertex stage). Bit for bit pipeline.h's transformPoint.
+using TransformPointsFn = void (*)(const glm::vec3* positions, std::size_t n, const glm::mat4& m, float* x,
+                                   float* y, float* z, float* w);
+
+/// out[i] = specularPow(x[i], s) (lighting.h) for n values: the kernels' vectorized pow on its
+/// own, for the tests (shadeVertices inlines the same code).
+using SpecularPowFn = void (*)(const float* x, std::size_t n, float s, float* out);
 
 struct Kernels {
     ProjectYZWFn projectYZW;
     ProjectXFn projectX;
     SetupViewsFn setupViews;
     ShadeVerticesFn shadeVertices;
+    TransformPointsFn transformPoints;
+    SpecularPowFn specularPow;
 };
 
 /// The kernel table of a path (resolved first, so always a valid table).

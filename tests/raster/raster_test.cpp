@@ -1,6 +1,8 @@
 // The soft backend's reference rasterizer ("multipass"): coverage (fill rule, watertightness,
 // analytic counts), depth, near-plane clipping, culling, bad input, and the SIMD kernels.
+#include <bit>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -411,7 +413,7 @@ TEST(Kernels, ShadeVerticesSimdEqualsScalar) {
                                        glm::vec3(1.5f, 0.7f, 1.1f));
     const glm::mat3 normalFrom = glm::transpose(glm::inverse(glm::mat3(world)));
     for (int lightCount = 1; lightCount <= 3; ++lightCount) {
-        for (float shininess : {1.0f, 32.0f, 77.5f}) {
+        for (float shininess : {1.0f, 32.0f, 77.5f, 0.5f, 1000.0f, 0.0f}) {
             ShadingContext ctx{std::span<const DirectionalLight>(lights, std::size_t(lightCount)),
                                glm::vec3(0.12f), glm::vec3(0.0f, 0.0f, 3.0f)};
             Material m{{0.8f, 0.6f, 0.4f}, 0.25f, shininess};
@@ -428,6 +430,70 @@ TEST(Kernels, ShadeVerticesSimdEqualsScalar) {
                     if (std::isnan(ref[i]) && std::isnan(got[i])) continue;  // payloads may differ
                     ASSERT_EQ(std::memcmp(&got[i], &ref[i], 4), 0)
                         << "vertex " << i / 3 << " lights " << lightCount << " shininess " << shininess;
+                }
+            }
+        }
+    }
+}
+
+TEST(Kernels, SpecularPowSimdEqualsScalar) {
+    // lighting.h's specularPow vectorized: a dense sweep of x (every 331st float bit pattern in
+    // [0, 1.01], so zero, denormals, x = 1 and a little above), plus special values, bit for bit.
+    std::vector<float> x;
+    for (std::uint32_t b = 0; b <= std::bit_cast<std::uint32_t>(1.01f); b += 331) x.push_back(std::bit_cast<float>(b));
+    for (float v : {0.0f, -0.0f, 1.0f, 0x1p-149f, 0x1p-126f, 0x1.fffffep-127f, 0.70710677f, 0.70710683f,
+                    1.4142135f, 2.0f, 1e30f, std::numeric_limits<float>::infinity(),
+                    std::numeric_limits<float>::quiet_NaN()}) {
+        x.push_back(v);
+    }
+    std::vector<float> ref(x.size()), got(x.size());
+    for (float s : {1.0f, 32.0f, 77.5f, 1000.0f, 0.5f, 0.0f, 3e4f}) {
+        detail::scalarKernels().specularPow(x.data(), x.size(), s, ref.data());
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(ref[i]), std::bit_cast<std::uint32_t>(specularPow(x[i], s)));
+        }
+        for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
+            if (!k) continue;
+            if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512) continue;
+            if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar) continue;
+            std::fill(got.begin(), got.end(), -1.0f);
+            k->specularPow(x.data(), x.size(), s, got.data());
+            for (std::size_t i = 0; i < x.size(); ++i) {
+                if (std::isnan(ref[i]) && std::isnan(got[i])) continue;  // payloads may differ
+                ASSERT_EQ(std::bit_cast<std::uint32_t>(got[i]), std::bit_cast<std::uint32_t>(ref[i]))
+                    << "x " << x[i] << " s " << s;
+            }
+        }
+    }
+}
+
+TEST(Kernels, TransformPointsSimdEqualsScalar) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-50.0f, 50.0f);
+    const std::size_t n = 1000 + 7;
+    std::vector<glm::vec3> pos(n);
+    for (auto& p : pos) p = {u(rng), u(rng), u(rng)};
+    const glm::mat4 m = glm::perspective(0.9f, 1.3f, 0.1f, 100.0f) *
+                        glm::lookAt(glm::vec3(3.0f, 2.0f, 9.0f), glm::vec3(0.1f, 0.2f, -0.3f), glm::vec3(0, 1, 0)) *
+                        glm::rotate(glm::mat4(1.0f), 0.4f, glm::vec3(0.3f, 1.0f, 0.1f));
+    std::vector<float> ref(4 * n), got(4 * n);
+    detail::scalarKernels().transformPoints(pos.data(), n, m, &ref[0], &ref[n], &ref[2 * n], &ref[3 * n]);
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec4 c = detail::transformPoint(m, pos[i]);
+        for (int r = 0; r < 4; ++r) ASSERT_EQ(std::bit_cast<std::uint32_t>(ref[r * n + i]), std::bit_cast<std::uint32_t>(c[r]));
+    }
+    for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
+        if (!k) continue;
+        if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512) continue;
+        if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar) continue;
+        for (std::size_t count : {n, std::size_t(5), std::size_t(16), std::size_t(17)}) {
+            std::fill(got.begin(), got.end(), -1.0f);
+            k->transformPoints(pos.data(), count, m, &got[0], &got[n], &got[2 * n], &got[3 * n]);
+            for (std::size_t i = 0; i < n; ++i) {
+                for (int r = 0; r < 4; ++r) {
+                    const float want = i < count ? ref[r * n + i] : -1.0f;
+                    ASSERT_EQ(std::bit_cast<std::uint32_t>(got[r * n + i]), std::bit_cast<std::uint32_t>(want))
+                        << "vertex " << i << " of " << count;
                 }
             }
         }

@@ -162,10 +162,149 @@ std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::in
     return lanes;
 }
 
+/// glm's scalar semantics, lane by lane: max(x, y) = x < y ? y : x; min(x, y) = y < x ? y : x.
+inline __m256 glmMax(__m256 x, __m256 y) { return _mm256_blendv_ps(x, y, _mm256_cmp_ps(x, y, _CMP_LT_OQ)); }
+inline __m256 glmMin(__m256 x, __m256 y) { return _mm256_blendv_ps(x, y, _mm256_cmp_ps(y, x, _CMP_LT_OQ)); }
+inline __m256 dot3(__m256 ax, __m256 ay, __m256 az, __m256 bx, __m256 by, __m256 bz) {
+    return _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(ax, bx), _mm256_mul_ps(ay, by)), _mm256_mul_ps(az, bz));
+}
+/// glm::normalize: v * (1 / sqrt(dot(v, v))).
+inline void normalize3(__m256& x, __m256& y, __m256& z) {
+    const __m256 s = _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_sqrt_ps(dot3(x, y, z, x, y, z)));
+    x = _mm256_mul_ps(x, s), y = _mm256_mul_ps(y, s), z = _mm256_mul_ps(z, s);
+}
+
+/// lighting.h's specularPow, 8 lanes: the same float / integer operations in the same order.
+inline __m256 specularPow8(__m256 x, float s) {
+    using namespace pow_detail;
+    const __m256 tiny = _mm256_cmp_ps(x, _mm256_set1_ps(0x1p-126f), _CMP_LT_OQ);
+    const __m256 xs = _mm256_blendv_ps(x, _mm256_mul_ps(x, _mm256_set1_ps(0x1p23f)), tiny);
+    const __m256i t = _mm256_sub_epi32(_mm256_castps_si256(xs), _mm256_set1_epi32(kSqrtHalfBits));
+    const __m256i e = _mm256_sub_epi32(_mm256_srai_epi32(t, 23),
+                                       _mm256_and_si256(_mm256_castps_si256(tiny), _mm256_set1_epi32(23)));
+    const __m256 f = _mm256_sub_ps(
+        _mm256_castsi256_ps(_mm256_add_epi32(_mm256_and_si256(t, _mm256_set1_epi32(0x007fffff)),
+                                             _mm256_set1_epi32(kSqrtHalfBits))),
+        _mm256_set1_ps(1.0f));
+    __m256 p = _mm256_set1_ps(kLog2[8]);
+    for (int k = 7; k >= 0; --k) p = _mm256_add_ps(_mm256_mul_ps(p, f), _mm256_set1_ps(kLog2[k]));
+    const __m256 l = _mm256_add_ps(_mm256_cvtepi32_ps(e), _mm256_mul_ps(f, p));
+    __m256 y = _mm256_mul_ps(_mm256_set1_ps(s), l);
+    y = _mm256_max_ps(y, _mm256_set1_ps(-kYMax));  // y > −Y ? y : −Y (NaN → −Y), as the scalar code
+    y = _mm256_min_ps(y, _mm256_set1_ps(kYMax));   // y < Y ? y : Y
+    const __m256 rnd = _mm256_set1_ps(kRound);
+    const __m256 nf = _mm256_sub_ps(_mm256_add_ps(y, rnd), rnd);
+    const __m256 r = _mm256_sub_ps(y, nf);
+    __m256 q = _mm256_set1_ps(kExp2[5]);
+    for (int k = 4; k >= 0; --k) q = _mm256_add_ps(_mm256_mul_ps(q, r), _mm256_set1_ps(kExp2[k]));
+    const __m256 m = _mm256_add_ps(_mm256_set1_ps(1.0f), _mm256_mul_ps(r, q));
+    const __m256i n = _mm256_cvttps_epi32(nf);  // nf is an integer: exact
+    const __m256i a = _mm256_srai_epi32(n, 1), b = _mm256_sub_epi32(n, a);
+    const __m256i bias = _mm256_set1_epi32(127);
+    __m256 res = _mm256_mul_ps(_mm256_mul_ps(m, _mm256_castsi256_ps(_mm256_slli_epi32(_mm256_add_epi32(a, bias), 23))),
+                               _mm256_castsi256_ps(_mm256_slli_epi32(_mm256_add_epi32(b, bias), 23)));
+    res = _mm256_blendv_ps(res, _mm256_set1_ps(powOfZero(s)), _mm256_cmp_ps(x, _mm256_setzero_ps(), _CMP_EQ_OQ));
+    return _mm256_add_ps(res, _mm256_sub_ps(x, x));
+}
+
+/// shadeVerticesTail with 8 vertices per register (the AVX-512 kernel's operations on 8 lanes).
+void shadeVertices(const glm::vec3* positions, const glm::vec3* normals, std::size_t n,
+                   const glm::mat4& W, const glm::mat3& N, const ShadingContext& ctx,
+                   const Material& m, float* color) {
+    const __m256i idx3 = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
+    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+    const glm::vec3 ambient = ctx.ambient * m.albedo;
+    const __m256 specular = _mm256_set1_ps(m.specular);
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        const float* p = &positions[i].x;
+        const float* q = &normals[i].x;
+        const __m256 px = _mm256_i32gather_ps(p, idx3, 4), py = _mm256_i32gather_ps(p + 1, idx3, 4),
+                     pz = _mm256_i32gather_ps(p + 2, idx3, 4);
+        __m256 nx = _mm256_i32gather_ps(q, idx3, 4), ny = _mm256_i32gather_ps(q + 1, idx3, 4),
+               nz = _mm256_i32gather_ps(q + 2, idx3, 4);
+        __m256 wp[3], nn[3];
+        for (int r = 0; r < 3; ++r) {
+            wp[r] = _mm256_add_ps(
+                _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(W[0][r]), px),
+                                            _mm256_mul_ps(_mm256_set1_ps(W[1][r]), py)),
+                              _mm256_mul_ps(_mm256_set1_ps(W[2][r]), pz)),
+                _mm256_set1_ps(W[3][r]));
+            nn[r] = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(N[0][r]), nx),
+                                                _mm256_mul_ps(_mm256_set1_ps(N[1][r]), ny)),
+                                  _mm256_mul_ps(_mm256_set1_ps(N[2][r]), nz));
+        }
+        nx = nn[0], ny = nn[1], nz = nn[2];
+        normalize3(nx, ny, nz);
+        __m256 vx = _mm256_sub_ps(_mm256_set1_ps(ctx.centerEye.x), wp[0]);
+        __m256 vy = _mm256_sub_ps(_mm256_set1_ps(ctx.centerEye.y), wp[1]);
+        __m256 vz = _mm256_sub_ps(_mm256_set1_ps(ctx.centerEye.z), wp[2]);
+        normalize3(vx, vy, vz);
+        __m256 cr = _mm256_set1_ps(ambient.x), cg = _mm256_set1_ps(ambient.y), cb = _mm256_set1_ps(ambient.z);
+        for (const DirectionalLight& l : ctx.lights) {
+            const __m256 lx = _mm256_set1_ps(l.towardLight.x), ly = _mm256_set1_ps(l.towardLight.y),
+                         lz = _mm256_set1_ps(l.towardLight.z);
+            const __m256 nl = dot3(nx, ny, nz, lx, ly, lz);
+            const __m256 lit = _mm256_cmp_ps(nl, zero, _CMP_GT_OQ);
+            if (_mm256_movemask_ps(lit) == 0) continue;
+            __m256 hx = _mm256_add_ps(lx, vx), hy = _mm256_add_ps(ly, vy), hz = _mm256_add_ps(lz, vz);
+            normalize3(hx, hy, hz);
+            const __m256 nh = dot3(nx, ny, nz, hx, hy, hz);
+            const __m256 base = _mm256_blendv_ps(nh, zero, _mm256_cmp_ps(nh, zero, _CMP_LT_OQ));
+            const __m256 spec = _mm256_mul_ps(specular, specularPow8(base, m.shininess));
+            const __m256 ar = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(nl, _mm256_set1_ps(m.albedo.x)), spec),
+                                            _mm256_set1_ps(l.color.x));
+            const __m256 ag = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(nl, _mm256_set1_ps(m.albedo.y)), spec),
+                                            _mm256_set1_ps(l.color.y));
+            const __m256 ab = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(nl, _mm256_set1_ps(m.albedo.z)), spec),
+                                            _mm256_set1_ps(l.color.z));
+            cr = _mm256_blendv_ps(cr, _mm256_add_ps(cr, ar), lit);
+            cg = _mm256_blendv_ps(cg, _mm256_add_ps(cg, ag), lit);
+            cb = _mm256_blendv_ps(cb, _mm256_add_ps(cb, ab), lit);
+        }
+        cr = glmMin(glmMax(cr, zero), one);
+        cg = glmMin(glmMax(cg, zero), one);
+        cb = glmMin(glmMax(cb, zero), one);
+        alignas(32) float t[3][8];
+        _mm256_store_ps(t[0], cr), _mm256_store_ps(t[1], cg), _mm256_store_ps(t[2], cb);
+        float* o = color + 3 * i;
+        for (int k = 0; k < 8; ++k) o[3 * k] = t[0][k], o[3 * k + 1] = t[1][k], o[3 * k + 2] = t[2][k];
+    }
+    shadeVerticesTail(positions + i, normals + i, n - i, W, N, ctx, m, color + 3 * i);
+}
+
+/// transformPointsTail with 8 vertices per register.
+void transformPoints(const glm::vec3* positions, std::size_t n, const glm::mat4& M, float* x, float* y,
+                     float* z, float* w) {
+    const __m256i idx3 = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
+    float* out[4] = {x, y, z, w};
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        const float* p = &positions[i].x;
+        const __m256 px = _mm256_i32gather_ps(p, idx3, 4), py = _mm256_i32gather_ps(p + 1, idx3, 4),
+                     pz = _mm256_i32gather_ps(p + 2, idx3, 4);
+        for (int r = 0; r < 4; ++r) {
+            const __m256 v = _mm256_add_ps(
+                _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(M[0][r]), px),
+                                            _mm256_mul_ps(_mm256_set1_ps(M[1][r]), py)),
+                              _mm256_mul_ps(_mm256_set1_ps(M[2][r]), pz)),
+                _mm256_set1_ps(M[3][r]));
+            _mm256_storeu_ps(out[r] + i, v);
+        }
+    }
+    transformPointsTail(positions + i, n - i, M, x + i, y + i, z + i, w + i);
+}
+
+void specularPowN(const float* x, std::size_t n, float s, float* out) {
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) _mm256_storeu_ps(out + i, specularPow8(_mm256_loadu_ps(x + i), s));
+    specularPowTail(x + i, n - i, s, out + i);
+}
+
 }  // namespace
 
 const Kernels* avx2Kernels() {
-    static const Kernels k{&projectYZW, &projectX, &setupViews, &shadeVerticesTail};
+    static const Kernels k{&projectYZW, &projectX, &setupViews, &shadeVertices, &transformPoints, &specularPowN};
     return &k;
 }
 

@@ -34,6 +34,19 @@ inline void shadeVerticesTail(const glm::vec3* positions, const glm::vec3* norma
     }
 }
 
+inline void specularPowTail(const float* x, std::size_t n, float s, float* out) {
+    for (std::size_t i = 0; i < n; ++i) out[i] = specularPow(x[i], s);
+}
+
+/// Clip (or any) positions of n vertices, transformPoint(m, p) split into x, y, z, w arrays.
+inline void transformPointsTail(const glm::vec3* positions, std::size_t n, const glm::mat4& m, float* x,
+                                float* y, float* z, float* w) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec4 c = transformPoint(m, positions[i]);
+        x[i] = c.x, y[i] = c.y, z[i] = c.z, w[i] = c.w;
+    }
+}
+
 /// Views [begin, n) of setupViews, one at a time: the reference for the SIMD versions (and the
 /// same integer operations as rasterSmallTriangle).
 inline std::uint64_t setupViewsTail(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
