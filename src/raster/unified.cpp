@@ -73,7 +73,10 @@ struct UnifiedData : MethodScratch {
     std::vector<float> attr;          ///< attrStride floats per vertex
     std::size_t attrStride = 0;       ///< attributeCount(shading): only what is interpolated
     std::vector<float> cx, cy, cz, cw;
-    std::vector<std::uint8_t> anyClipX;  ///< OR over views of the left/right guard-band bits
+    /// OR over all views of the left/right guard-band bits; the vertex stage also ORs it into
+    /// every family's code (bits kClipX are free there), so the bin and raster stages read one
+    /// byte per vertex for both questions.
+    std::vector<std::uint8_t> anyClipX;
     Bins bins;
 
     const float* attrOf(std::uint32_t v) const { return attr.data() + v * attrStride; }
@@ -200,6 +203,9 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                     for (std::uint32_t k = 0; k < count; ++k) sxv[k * nv] = vd.sx[g + k];
                 }
             }
+            for (Family& fam : d.families) {
+                for (std::uint32_t k = 0; k < count; ++k) fam.code[g + k] |= d.anyClipX[g + k];
+            }
     });
 }
 
@@ -244,10 +250,8 @@ void binStage(FrameContext& f, UnifiedData& d) {
     f.pool.run(bins.chunkCount, [&](int chunk, int) {
         const std::uint32_t begin = bins.chunkSize * std::uint32_t(chunk);
         const std::uint32_t end = std::min(f.draw.triangleCount, begin + bins.chunkSize);
-        const std::uint8_t* anyClipX = d.anyClipX.data();
         forTriangles(f.draw, begin, end, [&](std::uint32_t t, const TriangleRef& tri) {
             const std::uint32_t* v = tri.i;
-            const bool clipX = (anyClipX[v[0]] | anyClipX[v[1]] | anyClipX[v[2]]) != 0;
             ShearDet det;
             if (cull && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
             int rowMin = height, rowMax = -1;
@@ -259,7 +263,7 @@ void binStage(FrameContext& f, UnifiedData& d) {
                                          : ownViewCulled(d, fam, v))) {
                     continue;
                 }
-                if (((c0 | c1 | c2) & kClipYZW) || clipX) {
+                if ((c0 | c1 | c2) & (kClipYZW | kClipX)) {  // kClipX: any view's, see anyClipX
                     rowMin = 0, rowMax = height - 1;
                     break;
                 }
@@ -554,8 +558,7 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                     if (faces == FaceClass::AllBack) continue;
                 }
                 const std::uint8_t famPlanes = (c0 | c1 | c2) & kClipYZW;
-                if (!famPlanes && !f.settings.wireframe &&
-                    !(d.anyClipX[v[0]] | d.anyClipX[v[1]] | d.anyClipX[v[2]])) {
+                if (!famPlanes && !f.settings.wireframe && !((c0 | c1 | c2) & kClipX)) {
                     drawFamilyInside(b, fam, v, faces, det);
                     continue;
                 }
