@@ -51,28 +51,33 @@ void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
     const glm::mat4 viewClip = sheared ? f.centerClip : view.clipFromWorld();
     forVertexChunks(f.draw, f.pool, [&](const DrawItem& item, std::uint32_t begin, std::uint32_t end) {
             const glm::mat4 clipFromModel = viewClip * item.instance->worldFromModel;
-            for (std::uint32_t i = begin; i < end; ++i) {
-                const std::uint32_t g = item.vertexBase + i;
+            const std::uint32_t g = item.vertexBase + begin, count = end - begin;
+            // Clip positions (SIMD kernel); a sheared view keeps the center's x, y for the
+            // back-face test and shears them.
+            f.kernels.transformPoints(&item.mesh->positions[begin], count, clipFromModel,
+                                      sheared ? &d.cx[g] : &d.x[g], sheared ? &d.cy[g] : &d.y[g], &d.z[g],
+                                      &d.w[g]);
+            if (sheared) {
+                const float* cx = &d.cx[g];
+                const float* cy = &d.cy[g];
+                const float* cw = &d.w[g];
+                float* x = &d.x[g];
+                float* y = &d.y[g];
+                for (std::uint32_t k = 0; k < count; ++k) x[k] = shearClip(cx[k], shear.x, cw[k], conv);
+                for (std::uint32_t k = 0; k < count; ++k) y[k] = shearClip(cy[k], shear.y, cw[k], conv);
+            }
+            for (std::uint32_t i = begin; i < end && shading != Shading::Vertex; ++i) {  // Vertex: below
+                const std::uint32_t gi = item.vertexBase + i;
                 const glm::vec3& p = item.mesh->positions[i];
-                const glm::vec4 c = transformPoint(clipFromModel, p);
-                float x = c.x, y = c.y;
-                if (sheared) {
-                    d.cx[g] = c.x, d.cy[g] = c.y;
-                    x = shearClip(c.x, shear.x, c.w, conv);
-                    y = shearClip(c.y, shear.y, c.w, conv);
-                }
-                d.x[g] = x, d.y[g] = y, d.z[g] = c.z, d.w[g] = c.w;
-                if (shading == Shading::Vertex) continue;  // lit below, a chunk at a time
                 const glm::vec3 world = glm::vec3(transformPoint(item.instance->worldFromModel, p));
                 if (shading == Shading::Flat) {
-                    d.world[g] = world;
+                    d.world[gi] = world;
                 } else {
                     vertexAttributes(shading, f.shading, item.instance->material, world,
                                      transformDir(item.normalFromModel, item.mesh->normals[i]),
-                                     d.attr.data() + g * d.attrStride);
+                                     d.attr.data() + gi * d.attrStride);
                 }
             }
-            const std::uint32_t g = item.vertexBase + begin, count = end - begin;
             if (shading == Shading::Vertex) {
                 f.kernels.shadeVertices(&item.mesh->positions[begin], &item.mesh->normals[begin], count,
                                         item.instance->worldFromModel, item.normalFromModel, f.shading,

@@ -143,34 +143,33 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                     ownFromModel[fi] = view.clipFromWorld() * item.instance->worldFromModel;
                 }
             }
-            for (std::uint32_t i = begin; i < end; ++i) {
-                const std::uint32_t g = item.vertexBase + i;
+            const std::uint32_t g = item.vertexBase + begin, count = end - begin;
+            // View-independent outputs, once (Vertex: lit below, a chunk at a time).
+            for (std::uint32_t i = begin; i < end && shading != Shading::Vertex; ++i) {
+                const std::uint32_t gi = item.vertexBase + i;
                 const glm::vec3& p = item.mesh->positions[i];
-                // View-independent outputs: once.
                 if (shading == Shading::Flat) {
-                    d.world[g] = glm::vec3(transformPoint(item.instance->worldFromModel, p));
-                } else if (shading == Shading::Pixel) {  // Vertex: lit below, a chunk at a time
+                    d.world[gi] = glm::vec3(transformPoint(item.instance->worldFromModel, p));
+                } else {
                     vertexAttributes(shading, f.shading, item.instance->material,
                                      glm::vec3(transformPoint(item.instance->worldFromModel, p)),
                                      transformDir(item.normalFromModel, item.mesh->normals[i]),
-                                     d.attr.data() + g * d.attrStride);
-                }
-                // View-specific positions: one shared center transform (the shears follow
-                // below, per family and view, as plain loops the compiler vectorizes).
-                if (d.anySheared) {
-                    const glm::vec4 c = transformPoint(centerFromModel, p);
-                    d.cx[g] = c.x, d.cy[g] = c.y, d.cz[g] = c.z, d.cw[g] = c.w;
-                }
-                for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
-                    Family& fam = d.families[fi];
-                    if (!fam.sheared) {
-                        const glm::vec4 c = transformPoint(ownFromModel[fi], p);
-                        d.views[std::size_t(fam.views[0])].x[g] = c.x;
-                        fam.y[g] = c.y, fam.z[g] = c.z, fam.w[g] = c.w;
-                    }
+                                     d.attr.data() + gi * d.attrStride);
                 }
             }
-            const std::uint32_t g = item.vertexBase + begin, count = end - begin;
+            // View-specific positions: one shared center transform (the shears follow below, per
+            // family and view); views without a shear transform with their own matrix.
+            const glm::vec3* positions = &item.mesh->positions[begin];
+            if (d.anySheared) {
+                f.kernels.transformPoints(positions, count, centerFromModel, &d.cx[g], &d.cy[g], &d.cz[g],
+                                          &d.cw[g]);
+            }
+            for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
+                Family& fam = d.families[fi];
+                if (fam.sheared) continue;
+                f.kernels.transformPoints(positions, count, ownFromModel[fi], &d.views[std::size_t(fam.views[0])].x[g],
+                                          &fam.y[g], &fam.z[g], &fam.w[g]);
+            }
             if (shading == Shading::Vertex) {
                 f.kernels.shadeVertices(&item.mesh->positions[begin], &item.mesh->normals[begin], count,
                                         item.instance->worldFromModel, item.normalFromModel, f.shading,
