@@ -469,31 +469,46 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
                       const ShearDet& det) {
     const UnifiedData& d = b.d;
     const int width = b.f.settings.width;
+    // Raw pointers, loaded once: the stores below (queue, fragment inputs) could alias the
+    // vectors' internals as far as the compiler knows, which made it reload them every time.
+    const std::int32_t* sy = fam.sy.data();
+    const float* zw = fam.zw.data();
+    const float* q = fam.q.data();
+    const float* attr = d.attr.data();
+    const std::size_t stride = d.attrStride;
     YSetup ys;
-    setupY(ys, fam.sy[v[0]], fam.sy[v[1]], fam.sy[v[2]], b.rowLo, b.rowHi);
+    setupY(ys, sy[v[0]], sy[v[1]], sy[v[2]], b.rowLo, b.rowHi);
     if (ys.rowMin > ys.rowMax) return;
-    for (int j = 0; j < 3; ++j) {
-        b.frag.z[j] = fam.zw[v[j]];
-        b.frag.q[j] = fam.q[v[j]];
-        b.frag.attr[j] = d.attrOf(v[j]);
-    }
     const int nv = int(fam.views.size());
-    const std::int32_t* x0 = &fam.sxv[std::size_t(v[0]) * std::size_t(nv)];
-    const std::int32_t* x1 = &fam.sxv[std::size_t(v[1]) * std::size_t(nv)];
-    const std::int32_t* x2 = &fam.sxv[std::size_t(v[2]) * std::size_t(nv)];
+    const std::int32_t* x0 = fam.sxv.data() + std::size_t(v[0]) * std::size_t(nv);
+    const std::int32_t* x1 = fam.sxv.data() + std::size_t(v[1]) * std::size_t(nv);
+    const std::int32_t* x2 = fam.sxv.data() + std::size_t(v[2]) * std::size_t(nv);
+    const int* views = fam.views.data();
     auto culled = [&](int k) {
         return faces == FaceClass::Mixed &&
-               shearedDet(det, d.views[std::size_t(fam.views[std::size_t(k)])].shearX, fam.shearY) < 0.0f;
+               shearedDet(det, d.views[std::size_t(views[k])].shearX, fam.shearY) < 0.0f;
+    };
+    auto fill = [&](FragmentTri& frag) {
+        for (int j = 0; j < 3; ++j) {
+            frag.z[j] = zw[v[j]];
+            frag.q[j] = q[v[j]];
+            frag.attr[j] = attr + v[j] * stride;
+        }
     };
     if (nv <= kLaneCount / 2) {
-        // Queue the views' lanes: y setup once (ys), x per view.
+        // Queue the views' lanes: y setup and fragment inputs once (the slot), x per view.
         if (b.queue.needsFlush(nv)) flushLanes(b);
-        const int slot = b.queue.addTriangle(ys, b.frag);
+        const int slot = b.queue.slotCount++;
+        b.queue.slotYs[slot] = ys;
+        FragmentTri& frag = b.queue.slotFrag[slot];
+        fill(frag);
+        frag.flat = b.frag.flat;
         for (int k = 0; k < nv; ++k) {
-            if (!culled(k)) b.queue.addLane(slot, fam.views[std::size_t(k)], x0[k], x1[k], x2[k]);
+            if (!culled(k)) b.queue.addLane(slot, views[k], x0[k], x1[k], x2[k]);
         }
         return;
     }
+    fill(b.frag);
     flushLanes(b);
     if (nv < kMinSimdViews) {
         for (int k = 0; k < nv; ++k) {
