@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 
 #include "mvr/raster/soft_backend.h"
 #include "pipeline.h"
@@ -17,12 +18,16 @@
 namespace mvr::raster::detail {
 
 inline constexpr int kLaneCount = 16;
+/// Lanes of one triangle are appended 8 at a time (fixed-size copies; views past the family's
+/// count are overwritten by the next triangle or never read): the arrays have room for that.
+inline constexpr int kLaneBlock = 8;
+inline constexpr int kLaneRoom = kLaneCount + kLaneBlock;
 
 struct TriangleLanes {
-    alignas(64) std::int32_t x[3][kLaneCount];  ///< snapped window x of the lane's view
-    alignas(64) std::int32_t y[3][kLaneCount];  ///< snapped window y (the triangle's, shared)
-    alignas(64) std::int32_t rowMin[kLaneCount];  ///< YSetup rows, clamped to the band, not empty
-    alignas(64) std::int32_t rowMax[kLaneCount];
+    alignas(64) std::int32_t x[3][kLaneRoom];  ///< snapped window x of the lane's view
+    alignas(64) std::int32_t y[3][kLaneRoom];  ///< snapped window y (the triangle's, shared)
+    alignas(64) std::int32_t rowMin[kLaneRoom];  ///< YSetup rows, clamped to the band, not empty
+    alignas(64) std::int32_t rowMax[kLaneRoom];
     ViewsSetup out;  ///< lane k's results in column k, as setupViews writes view k's
 };
 
@@ -43,7 +48,7 @@ template <Shading S>
 struct LaneQueue {
     TriangleLanes lanes{};
     int laneCount = 0, slotCount = 0;
-    std::uint8_t laneSlot[kLaneCount], laneView[kLaneCount];
+    std::uint8_t laneSlot[kLaneRoom], laneView[kLaneRoom];
     YSetup slotYs[kLaneCount];
     FragmentTri slotFrag[kLaneCount];
 
@@ -61,6 +66,24 @@ struct LaneQueue {
         lanes.y[0][k] = ys.y[0], lanes.y[1][k] = ys.y[1], lanes.y[2][k] = ys.y[2];
         lanes.rowMin[k] = ys.rowMin, lanes.rowMax[k] = ys.rowMax;
         laneSlot[k] = std::uint8_t(slot), laneView[k] = std::uint8_t(view);
+    }
+    /// The lanes of n <= kLaneBlock views at once (x of view k: x0[k], x1[k], x2[k]; view
+    /// indices views[k]): block copies and broadcasts instead of n addLane() calls. All of x0,
+    /// x1, x2 and views must be readable for kLaneBlock entries.
+    void addLanes(int slot, int n, const std::uint8_t* views, const std::int32_t* x0, const std::int32_t* x1,
+                  const std::int32_t* x2) {
+        const int k = laneCount;
+        const YSetup& ys = slotYs[slot];
+        std::memcpy(&lanes.x[0][k], x0, sizeof(std::int32_t) * kLaneBlock);
+        std::memcpy(&lanes.x[1][k], x1, sizeof(std::int32_t) * kLaneBlock);
+        std::memcpy(&lanes.x[2][k], x2, sizeof(std::int32_t) * kLaneBlock);
+        for (int j = 0; j < kLaneBlock; ++j) {
+            lanes.y[0][k + j] = ys.y[0], lanes.y[1][k + j] = ys.y[1], lanes.y[2][k + j] = ys.y[2];
+            lanes.rowMin[k + j] = ys.rowMin, lanes.rowMax[k + j] = ys.rowMax;
+            laneSlot[k + j] = std::uint8_t(slot);
+        }
+        std::memcpy(&laneView[k], views, kLaneBlock);
+        laneCount += n;
     }
     /// Sets the queued lanes up in one pass and draws them; sinkFor(view) gives the view's sink.
     template <class SinkFor>

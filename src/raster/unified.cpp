@@ -46,6 +46,7 @@ struct Family {
     float shearY = 0.0f;
     float shearXMin = 0.0f, shearXMax = 0.0f;
     std::vector<int> views;
+    std::uint8_t views8[kLaneBlock] = {};  ///< views as bytes, padded (LaneQueue::addLanes)
     // Per vertex: clip y (z, w: the center's for sheared families, else own), projection.
     std::vector<float> y, z, w, q, zw;
     std::vector<std::int32_t> sy;
@@ -120,8 +121,11 @@ void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, Uni
     }
     const std::size_t n = vertexCount;
     for (Family& f : d.families) {
+        for (std::size_t k = 0; k < f.views.size() && k < std::size_t(kLaneBlock); ++k) {
+            f.views8[k] = std::uint8_t(f.views[k]);
+        }
         f.y.resize(n), f.q.resize(n), f.zw.resize(n), f.sy.resize(n), f.code.resize(n);
-        f.sxv.resize(n * f.views.size());
+        f.sxv.resize(n * f.views.size() + kLaneBlock);  // + padding: addLanes reads 8 at a time
         if (!f.sheared) f.z.resize(n), f.w.resize(n);
     }
     for (ViewData& vd : d.views) vd.x.resize(n), vd.sx.resize(n), vd.code.resize(n);
@@ -503,8 +507,12 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
         FragmentTri& frag = b.queue.slotFrag[slot];
         fill(frag);
         frag.flat = b.frag.flat;
-        for (int k = 0; k < nv; ++k) {
-            if (!culled(k)) b.queue.addLane(slot, views[k], x0[k], x1[k], x2[k]);
+        if (faces != FaceClass::Mixed) {
+            b.queue.addLanes(slot, nv, fam.views8, x0, x1, x2);
+        } else {
+            for (int k = 0; k < nv; ++k) {
+                if (!culled(k)) b.queue.addLane(slot, views[k], x0[k], x1[k], x2[k]);
+            }
         }
         return;
     }
