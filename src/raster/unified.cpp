@@ -82,6 +82,13 @@ struct UnifiedData : MethodScratch {
 
     const float* attrOf(std::uint32_t v) const { return attr.data() + v * attrStride; }
     const float* famZ(const Family& f) const { return f.sheared ? cz.data() : f.z.data(); }
+    /// 1/w and window depth: functions of (z, w) only, so every sheared family (every row of a
+    /// grid) shares one array — the fragment inputs of a triangle are the same for all its rows.
+    std::vector<float> cq, czw;
+    const float* famQ(const Family& f) const { return f.sheared ? cq.data() : f.q.data(); }
+    const float* famZW(const Family& f) const { return f.sheared ? czw.data() : f.zw.data(); }
+    float* famQ(Family& f) { return f.sheared ? cq.data() : f.q.data(); }
+    float* famZW(Family& f) { return f.sheared ? czw.data() : f.zw.data(); }
     const float* famW(const Family& f) const { return f.sheared ? cw.data() : f.w.data(); }
 };
 
@@ -124,14 +131,15 @@ void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, Uni
         for (std::size_t k = 0; k < f.views.size() && k < std::size_t(kLaneBlock); ++k) {
             f.views8[k] = std::uint8_t(f.views[k]);
         }
-        f.y.resize(n), f.q.resize(n), f.zw.resize(n), f.sy.resize(n), f.code.resize(n);
+        f.y.resize(n), f.sy.resize(n), f.code.resize(n);
+        if (!f.sheared) f.q.resize(n), f.zw.resize(n);
         f.sxv.resize(n * f.views.size() + kLaneBlock);  // + padding: addLanes reads 8 at a time
         if (!f.sheared) f.z.resize(n), f.w.resize(n);
     }
     for (ViewData& vd : d.views) vd.x.resize(n), vd.sx.resize(n), vd.code.resize(n);
     d.attrStride = std::size_t(attributeCount(shading));
     d.world.resize(shading == Shading::Flat ? n : 0), d.attr.resize(n * d.attrStride), d.anyClipX.resize(n);
-    if (d.anySheared) d.cx.resize(n), d.cy.resize(n), d.cz.resize(n), d.cw.resize(n);
+    if (d.anySheared) d.cx.resize(n), d.cy.resize(n), d.cz.resize(n), d.cw.resize(n), d.cq.resize(n), d.czw.resize(n);
 }
 
 void vertexStage(FrameContext& f, UnifiedData& d) {
@@ -196,11 +204,11 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
             for (Family& fam : d.families) {
                 const float* w = d.famW(fam);
                 f.kernels.projectYZW(&fam.y[g], &d.famZ(fam)[g], &w[g], count, height, &fam.code[g],
-                                     &fam.q[g], &fam.sy[g], &fam.zw[g]);
+                                     d.famQ(fam) + g, &fam.sy[g], d.famZW(fam) + g);
                 const std::size_t nv = fam.views.size();
                 for (std::size_t lane = 0; lane < nv; ++lane) {
                     ViewData& vd = d.views[std::size_t(fam.views[lane])];
-                    f.kernels.projectX(&vd.x[g], &w[g], &fam.q[g], count, width, &vd.code[g], &vd.sx[g]);
+                    f.kernels.projectX(&vd.x[g], &w[g], d.famQ(fam) + g, count, width, &vd.code[g], &vd.sx[g]);
                     for (std::uint32_t k = 0; k < count; ++k) d.anyClipX[g + k] |= vd.code[g + k] & kClipX;
                     std::int32_t* sxv = &fam.sxv[std::size_t(g) * nv + lane];
                     for (std::uint32_t k = 0; k < count; ++k) sxv[k * nv] = vd.sx[g + k];
@@ -476,8 +484,8 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
     // Raw pointers, loaded once: the stores below (queue, fragment inputs) could alias the
     // vectors' internals as far as the compiler knows, which made it reload them every time.
     const std::int32_t* sy = fam.sy.data();
-    const float* zw = fam.zw.data();
-    const float* q = fam.q.data();
+    const float* zw = d.famZW(fam);
+    const float* q = d.famQ(fam);
     const float* attr = d.attr.data();
     const std::size_t stride = d.attrStride;
     YSetup ys;
@@ -618,8 +626,8 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                 setupY(ys, fam.sy[v[0]], fam.sy[v[1]], fam.sy[v[2]], b.rowLo, b.rowHi);
                 if (ys.rowMin > ys.rowMax) continue;
                 for (int j = 0; j < 3; ++j) {
-                    b.frag.z[j] = fam.zw[v[j]];
-                    b.frag.q[j] = fam.q[v[j]];
+                    b.frag.z[j] = d.famZW(fam)[v[j]];
+                    b.frag.q[j] = d.famQ(fam)[v[j]];
                     b.frag.attr[j] = d.attrOf(v[j]);
                 }
                 // Per view: x only — the views' x setup side by side (SIMD across views), then
