@@ -43,34 +43,26 @@ void Bins::reset(std::uint32_t triangleCount, int bands) {
     for (auto& l : lists) l.clear();
 }
 
-void allocateOutputs(RenderOutput& out, int views, const RenderSettings& s,
+void allocateOutputs(ThreadPool& pool, RenderOutput& out, int views, const RenderSettings& s,
                      std::vector<Target>& targets) {
     out.color.resize(views);
     out.depth.resize(views);
     targets.resize(views);
-    for (int v = 0; v < views; ++v) {
-        Image& c = out.color[v];
-        c.width = s.width, c.height = s.height;
-        c.rgba.resize(std::size_t(s.width) * s.height * 4);
-        DepthImage& d = out.depth[v];
-        d.width = s.width, d.height = s.height;
-        d.depth.resize(std::size_t(s.width) * s.height);
-        targets[v] = Target{reinterpret_cast<std::uint32_t*>(c.rgba.data()), d.depth.data(), s.width,
-                            s.height};
-    }
-}
-
-void clearTargets(ThreadPool& pool, std::span<const Target> targets, const BandLayout& bands,
-                  const RenderSettings& s) {
     const std::uint32_t clear = packColor(s.clearColor);
-    pool.run(bands.count, [&](int band, int) {
-        for (const Target& t : targets) {
-            // Band rows are GL rows; image rows run top down.
-            const std::size_t first = t.index(0, bands.rowEnd(band) - 1);
-            const std::size_t count = std::size_t(bands.rowEnd(band) - bands.rowBegin(band)) * t.width;
-            std::fill_n(t.color + first, count, clear);
-            std::fill_n(t.depth + first, count, 1.0f);
-        }
+    const std::size_t n = std::size_t(s.width) * s.height;
+    // One task per view: the buffers are allocated, and cleared, by the workers side by side
+    // (a new vector is zero-filled: depth is constructed at its clear value in that one pass;
+    // color is zero-filled, then filled with the clear color while it is still in cache).
+    pool.run(views, [&](int v, int) {
+        Image& c = out.color[std::size_t(v)];
+        c.width = s.width, c.height = s.height;
+        c.rgba.resize(n * 4);
+        auto* color = reinterpret_cast<std::uint32_t*>(c.rgba.data());
+        std::fill_n(color, n, clear);
+        DepthImage& d = out.depth[std::size_t(v)];
+        d.width = s.width, d.height = s.height;
+        d.depth.assign(n, 1.0f);
+        targets[std::size_t(v)] = Target{color, d.depth.data(), s.width, s.height};
     });
 }
 

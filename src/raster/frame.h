@@ -109,12 +109,10 @@ void forVertexChunks(const DrawList& draw, ThreadPool& pool, Fn&& fn) {
     });
 }
 
-/// Outputs sized for the views, plus Targets pointing into them.
-void allocateOutputs(RenderOutput& out, int views, const RenderSettings& settings,
+/// Outputs sized for the views and cleared (clear color with alpha 255, depth 1), plus Targets
+/// pointing into them; the views' buffers are allocated and cleared on the pool's workers.
+void allocateOutputs(ThreadPool& pool, RenderOutput& out, int views, const RenderSettings& settings,
                      std::vector<Target>& targets);
-/// Fills every target with the clear color (alpha 255) and depth 1, band by band in parallel.
-void clearTargets(ThreadPool& pool, std::span<const Target> targets, const BandLayout& bands,
-                  const RenderSettings& settings);
 
 /// Pixel rows [rowMin, rowMax] a triangle with snapped window y may cover (whole screen rows).
 inline void triangleRows(std::int32_t y0, std::int32_t y1, std::int32_t y2, int height,

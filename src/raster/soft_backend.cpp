@@ -131,8 +131,7 @@ private:
                                detail::kernels(mSimd),
                                detail::setupLanesKernel(mSimd)};
         std::vector<detail::Target> targets;
-        detail::allocateOutputs(out, rig.viewCount(), settings, targets);
-        detail::clearTargets(pool, targets, f.bands, settings);
+        detail::allocateOutputs(pool, out, rig.viewCount(), settings, targets);
         out.stages.fillMs = clock.lap();
         if (method == "multipass") {
             detail::renderMultipass(f, targets, out.stages, mScratch[0]);
