@@ -125,8 +125,11 @@ void binStage(FrameContext& f, const View& view, const ViewVertexData& d, Bins& 
             if (culled(f, view, d, tri)) return;
             int rowMin = 0, rowMax = f.settings.height - 1;
             if (!codes.planes()) {
-                (f.settings.wireframe ? wireframeRows : triangleRows)(
-                    d.sy[tri.i[0]], d.sy[tri.i[1]], d.sy[tri.i[2]], f.settings.height, rowMin, rowMax);
+                if (f.settings.wireframe) {
+                    wireframeRows(d.sy[tri.i[0]], d.sy[tri.i[1]], d.sy[tri.i[2]], f.settings.height, rowMin, rowMax);
+                } else {  // a direct call, so that it is inlined (not through a function pointer)
+                    triangleRows(d.sy[tri.i[0]], d.sy[tri.i[1]], d.sy[tri.i[2]], f.settings.height, rowMin, rowMax);
+                }
                 if (rowMin > rowMax) return;
             }
             bins.add(chunk, t, rowMin, rowMax, f.bands);
