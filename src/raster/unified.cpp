@@ -550,119 +550,158 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
     }
 }
 
-/// One triangle (global vertex indices v), every family: reject, cull, then the inside fast
-/// path (the lane queue), wireframe, or clipping. b.frag.flat is already set for Flat shading.
+/// One family's replicas of one triangle (global vertex indices v): reject, cull, then the
+/// inside fast path (the lane queue), wireframe, or clipping. b.frag.flat is already set for
+/// Flat shading; det is the triangle's ShearDet when culling sheared views.
 template <Shading S>
-void drawTriangle(BandContext<S>& b, const std::uint32_t v[3]) {
+void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_t v[3], const ShearDet& det) {
     FrameContext& f = b.f;
     const UnifiedData& d = b.d;
     const bool cull = f.settings.cullBackFaces;
     const int width = f.settings.width;
-        ShearDet det;
-        if (cull && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
-        for (const Family& fam : d.families) {
-            const std::uint8_t c0 = fam.code[v[0]], c1 = fam.code[v[1]], c2 = fam.code[v[2]];
-            if (c0 & c1 & c2 & kRejectYZW) continue;
-            FaceClass faces = FaceClass::AllFront;
-            if (cull) {
-                faces = fam.sheared ? classify(fam, det)
-                                    : (ownViewCulled(d, fam, v) ? FaceClass::AllBack : FaceClass::AllFront);
-                if (faces == FaceClass::AllBack) continue;
-            }
-            const std::uint8_t famPlanes = (c0 | c1 | c2) & kClipYZW;
-            if (!famPlanes && !f.settings.wireframe && !((c0 | c1 | c2) & kClipX)) {
-                drawFamilyInside(b, fam, v, faces, det);
-                continue;
-            }
-            flushLanes(b);  // the paths below draw at once: keep submission order per view
-            // Replicate to the views of the family that survive their own x reject / cull
-            // and, for a triangle that needs no clipping in that view, have a pixel-center
-            // column in its x extent (otherwise rasterTriangle would draw nothing).
-            const bool testColumns = !famPlanes && !f.settings.wireframe;
-            int active[kMaxViews];
-            int activeCount = 0;
-            bool anyClipX = false;
-            for (int view : fam.views) {
-                const ViewData& vd = d.views[std::size_t(view)];
-                const std::uint8_t a0 = vd.code[v[0]], a1 = vd.code[v[1]], a2 = vd.code[v[2]];
-                if (a0 & a1 & a2 & kRejectX) continue;
-                const bool viewClipX = ((a0 | a1 | a2) & kClipX) != 0;
-                if (testColumns && !viewClipX && noColumns(vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]], width)) {
-                    continue;
-                }
-                if (faces == FaceClass::Mixed && shearedDet(det, vd.shearX, fam.shearY) < 0.0f) continue;
-                anyClipX = anyClipX || viewClipX;
-                active[activeCount++] = view;
-            }
-            if (activeCount == 0) continue;
-            if (f.settings.wireframe) {
-                drawFamilyWireframe(b, fam, v, active, activeCount);
-                continue;
-            }
-            if (famPlanes || anyClipX) {
-                drawFamilyClipped(b, fam, v, famPlanes, active, activeCount);
-                continue;
-            }
-            // Shared setup: y snapping, row range, Δy, depth, 1/w, attributes.
-            YSetup ys;
-            setupY(ys, fam.sy[v[0]], fam.sy[v[1]], fam.sy[v[2]], b.rowLo, b.rowHi);
-            if (ys.rowMin > ys.rowMax) continue;
-            for (int j = 0; j < 3; ++j) {
-                b.frag.z[j] = d.famZW(fam)[v[j]];
-                b.frag.q[j] = d.famQ(fam)[v[j]];
-                b.frag.attr[j] = d.attrOf(v[j]);
-            }
-            // Per view: x only — the views' x setup side by side (SIMD across views), then
-            // each view's pixels while that setup is in L1.
-            if (activeCount < kMinSimdViews) {
-                // Too few lanes to pay for the vector setup: one view at a time (same result).
-                for (int k = 0; k < activeCount; ++k) {
-                    const ViewData& vd = d.views[std::size_t(active[k])];
-                    const std::int32_t xk[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
-                    FragmentSink<S> sink = b.sinks[std::size_t(active[k])];  // in registers
-                    rasterTriangle(ys, xk, width, sink);
-                }
-                continue;
-            }
-            std::int32_t x[3][kMaxViews];
-            for (int k = 0; k < activeCount; ++k) {
-                const ViewData& vd = d.views[std::size_t(active[k])];
-                x[0][k] = vd.sx[v[0]], x[1][k] = vd.sx[v[1]], x[2][k] = vd.sx[v[2]];
-            }
-            f.kernels.setupViews(ys, x[0], x[1], x[2], activeCount, width, b.views);
-            for (int k = 0; k < activeCount; ++k) {
-                const std::int32_t m = b.views.mask[k];
-                if (m == 0) continue;
-                auto& sink = b.sinks[std::size_t(active[k])];
-                if (m > 0) {
-                    emitSmall(b.views, k, ys.rowMin, sink);
-                } else {
-                    const ViewData& vd = d.views[std::size_t(active[k])];
-                    const std::int32_t xk[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
-                    rasterTriangle(ys, xk, width, sink);
-                }
-            }
+    const std::uint8_t c0 = fam.code[v[0]], c1 = fam.code[v[1]], c2 = fam.code[v[2]];
+    if (c0 & c1 & c2 & kRejectYZW) return;
+    FaceClass faces = FaceClass::AllFront;
+    if (cull) {
+        faces = fam.sheared ? classify(fam, det)
+                            : (ownViewCulled(d, fam, v) ? FaceClass::AllBack : FaceClass::AllFront);
+        if (faces == FaceClass::AllBack) return;
+    }
+    const std::uint8_t famPlanes = (c0 | c1 | c2) & kClipYZW;
+    if (!famPlanes && !f.settings.wireframe && !((c0 | c1 | c2) & kClipX)) {
+        drawFamilyInside(b, fam, v, faces, det);
+        return;
+    }
+    flushLanes(b);  // the paths below draw at once: keep submission order per view
+    // Replicate to the views of the family that survive their own x reject / cull
+    // and, for a triangle that needs no clipping in that view, have a pixel-center
+    // column in its x extent (otherwise rasterTriangle would draw nothing).
+    const bool testColumns = !famPlanes && !f.settings.wireframe;
+    int active[kMaxViews];
+    int activeCount = 0;
+    bool anyClipX = false;
+    for (int view : fam.views) {
+        const ViewData& vd = d.views[std::size_t(view)];
+        const std::uint8_t a0 = vd.code[v[0]], a1 = vd.code[v[1]], a2 = vd.code[v[2]];
+        if (a0 & a1 & a2 & kRejectX) continue;
+        const bool viewClipX = ((a0 | a1 | a2) & kClipX) != 0;
+        if (testColumns && !viewClipX && noColumns(vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]], width)) {
+            continue;
         }
+        if (faces == FaceClass::Mixed && shearedDet(det, vd.shearX, fam.shearY) < 0.0f) continue;
+        anyClipX = anyClipX || viewClipX;
+        active[activeCount++] = view;
+    }
+    if (activeCount == 0) return;
+    if (f.settings.wireframe) {
+        drawFamilyWireframe(b, fam, v, active, activeCount);
+        return;
+    }
+    if (famPlanes || anyClipX) {
+        drawFamilyClipped(b, fam, v, famPlanes, active, activeCount);
+        return;
+    }
+    // Shared setup: y snapping, row range, Δy, depth, 1/w, attributes.
+    YSetup ys;
+    setupY(ys, fam.sy[v[0]], fam.sy[v[1]], fam.sy[v[2]], b.rowLo, b.rowHi);
+    if (ys.rowMin > ys.rowMax) return;
+    for (int j = 0; j < 3; ++j) {
+        b.frag.z[j] = d.famZW(fam)[v[j]];
+        b.frag.q[j] = d.famQ(fam)[v[j]];
+        b.frag.attr[j] = d.attrOf(v[j]);
+    }
+    // Per view: x only — the views' x setup side by side (SIMD across views), then
+    // each view's pixels while that setup is in L1.
+    if (activeCount < kMinSimdViews) {
+        // Too few lanes to pay for the vector setup: one view at a time (same result).
+        for (int k = 0; k < activeCount; ++k) {
+            const ViewData& vd = d.views[std::size_t(active[k])];
+            const std::int32_t xk[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
+            FragmentSink<S> sink = b.sinks[std::size_t(active[k])];  // in registers
+            rasterTriangle(ys, xk, width, sink);
+        }
+        return;
+    }
+    std::int32_t x[3][kMaxViews];
+    for (int k = 0; k < activeCount; ++k) {
+        const ViewData& vd = d.views[std::size_t(active[k])];
+        x[0][k] = vd.sx[v[0]], x[1][k] = vd.sx[v[1]], x[2][k] = vd.sx[v[2]];
+    }
+    f.kernels.setupViews(ys, x[0], x[1], x[2], activeCount, width, b.views);
+    for (int k = 0; k < activeCount; ++k) {
+        const std::int32_t m = b.views.mask[k];
+        if (m == 0) continue;
+        auto& sink = b.sinks[std::size_t(active[k])];
+        if (m > 0) {
+            emitSmall(b.views, k, ys.rowMin, sink);
+        } else {
+            const ViewData& vd = d.views[std::size_t(active[k])];
+            const std::int32_t xk[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
+            rasterTriangle(ys, xk, width, sink);
+        }
+    }
+}
+
+/// One triangle, every family.
+template <Shading S>
+void drawTriangle(BandContext<S>& b, const std::uint32_t v[3]) {
+    ShearDet det;
+    if (b.f.settings.cullBackFaces && b.d.anySheared) det = triangleShearDet(b.d, v, b.f.rig.convergence);
+    for (const Family& fam : b.d.families) drawTriangleFamily(b, fam, v, det);
 }
 
 template <Shading S>
 void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
     FrameContext& f = b.f;
     const UnifiedData& d = b.d;
-    // One sheared family of at most kLaneBlock views (a stereo pair, an off-axis row), no
-    // culling, filled: drawTriangle's inside path inlined here, from pointers loaded once per
-    // band; triangles that need clipping take drawTriangle.
-    const Family& fam0 = d.families[0];
-    const bool oneRow = d.families.size() == 1 && fam0.sheared && fam0.views.size() <= std::size_t(kLaneBlock) &&
-                        !f.settings.cullBackFaces && !f.settings.wireframe;
-    const std::uint8_t* code = fam0.code.data();
-    const std::int32_t* sy = fam0.sy.data();
-    const std::int32_t* sxv = fam0.sxv.data();
-    const float* zw = d.famZW(fam0);
-    const float* q = d.famQ(fam0);
+    // Sheared families (a stereo pair or off-axis row: one; a grid: one per row) of at most
+    // kLaneBlock views each, no culling, filled: the inside path of drawTriangleFamily inlined
+    // here, from pointers loaded once per band; replicas that need clipping take
+    // drawTriangleFamily. 1/w, depth and attributes are the same for every sheared family.
+    struct Row {
+        const Family* fam;
+        const std::uint8_t* code;
+        const std::int32_t* sy;
+        const std::int32_t* sxv;
+        int nv;
+    };
+    constexpr int kMaxFastRows = 8;
+    Row rows[kMaxFastRows] = {};
+    int rowCount = 0;
+    bool fast = !f.settings.cullBackFaces && !f.settings.wireframe && d.families.size() <= std::size_t(kMaxFastRows);
+    for (const Family& fam : d.families) {
+        fast = fast && fam.sheared && fam.views.size() <= std::size_t(kLaneBlock);
+        if (fast) rows[rowCount++] = Row{&fam, fam.code.data(), fam.sy.data(), fam.sxv.data(), int(fam.views.size())};
+    }
+    const float* zw = d.czw.data();
+    const float* q = d.cq.data();
     const float* attr = d.attr.data();
     const std::size_t stride = d.attrStride;
-    const int nv = int(fam0.views.size());
+    const Row row0 = rows[0];
+    auto queueRow = [&](const Row& row, const std::uint32_t v[3]) __attribute__((always_inline)) {
+        const std::uint8_t c0 = row.code[v[0]], c1 = row.code[v[1]], c2 = row.code[v[2]];
+        if (c0 & c1 & c2 & kRejectYZW) return;
+        if ((c0 | c1 | c2) & (kClipYZW | kClipX)) {
+            drawTriangleFamily(b, *row.fam, v, ShearDet{});
+            return;
+        }
+        YSetup ys;
+        setupY(ys, row.sy[v[0]], row.sy[v[1]], row.sy[v[2]], b.rowLo, b.rowHi);
+        if (ys.rowMin > ys.rowMax) return;
+        if (b.queue.needsFlush(row.nv)) flushLanes(b);
+        const int slot = b.queue.slotCount++;
+        b.queue.slotYs[slot] = ys;
+        FragmentTri& frag = b.queue.slotFrag[slot];
+        for (int j = 0; j < 3; ++j) {
+            frag.z[j] = zw[v[j]];
+            frag.q[j] = q[v[j]];
+            frag.attr[j] = attr + v[j] * stride;
+        }
+        frag.flat = b.frag.flat;
+        const std::size_t nv = std::size_t(row.nv);
+        b.queue.addLanes(slot, row.nv, row.fam->views8, row.sxv + v[0] * nv, row.sxv + v[1] * nv,
+                         row.sxv + v[2] * nv);
+    };
     std::size_t item = 0;
     std::uint32_t itemEnd = 0;
     const DrawItem* it = nullptr;
@@ -683,31 +722,15 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                 b.frag.flat = flatColor(f.shading, it->instance->material, d.world[v[0]],
                                         d.world[v[1]], d.world[v[2]]);
             }
-            if (!oneRow) {
+            if (!fast) {
                 drawTriangle(b, v);
                 continue;
             }
-            const std::uint8_t c0 = code[v[0]], c1 = code[v[1]], c2 = code[v[2]];
-            if (c0 & c1 & c2 & kRejectYZW) continue;
-            if ((c0 | c1 | c2) & (kClipYZW | kClipX)) {
-                drawTriangle(b, v);
-                continue;
+            if (rowCount == 1) {
+                queueRow(row0, v);  // a stereo pair / an off-axis row: row0 stays in registers
+            } else {
+                for (int r = 0; r < rowCount; ++r) queueRow(rows[r], v);
             }
-            YSetup ys;
-            setupY(ys, sy[v[0]], sy[v[1]], sy[v[2]], b.rowLo, b.rowHi);
-            if (ys.rowMin > ys.rowMax) continue;
-            if (b.queue.needsFlush(nv)) flushLanes(b);
-            const int slot = b.queue.slotCount++;
-            b.queue.slotYs[slot] = ys;
-            FragmentTri& frag = b.queue.slotFrag[slot];
-            for (int j = 0; j < 3; ++j) {
-                frag.z[j] = zw[v[j]];
-                frag.q[j] = q[v[j]];
-                frag.attr[j] = attr + v[j] * stride;
-            }
-            frag.flat = b.frag.flat;
-            b.queue.addLanes(slot, nv, fam0.views8, sxv + std::size_t(v[0]) * std::size_t(nv),
-                             sxv + std::size_t(v[1]) * std::size_t(nv), sxv + std::size_t(v[2]) * std::size_t(nv));
         }
     }
 }
