@@ -55,14 +55,25 @@ struct Family {
     /// (sxv[vertex · views.size() + k]): the raster stage's x setup loads a triangle's x for all
     /// the family's views as three contiguous rows, without a per-view gather.
     std::vector<std::int32_t> sxv;
+    /// Another family with the same views' x (the rows of a grid share their columns' x):
+    /// its sxv is this family's, and this family's is not filled. −1: none.
+    int sxvTwin = -1;
+    const std::int32_t* sxvData = nullptr;  ///< sxv, or the twin's
 };
 
+/// One view's clip x, snapped window x and left/right outcodes per vertex. Sheared views with the
+/// same shear.x (the views of one column of a grid) have the same x bit for bit: the later ones
+/// point at the first one's arrays (`twin`) instead of computing them again.
 struct ViewData {
     int family = 0;
     float shearX = 0.0f;
-    std::vector<float> x;
-    std::vector<std::int32_t> sx;
-    std::vector<std::uint8_t> code;
+    int twin = -1;
+    std::vector<float> xStore;
+    std::vector<std::int32_t> sxStore;
+    std::vector<std::uint8_t> codeStore;
+    float* x = nullptr;
+    std::int32_t* sx = nullptr;
+    std::uint8_t* code = nullptr;
 };
 
 struct UnifiedData : MethodScratch {
@@ -126,6 +137,32 @@ void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, Uni
         f.shearXMin = std::min(f.shearXMin, vd.shearX);
         f.shearXMax = std::max(f.shearXMax, vd.shearX);
     }
+    // Column twins: a sheared view whose shear.x has the bits of an earlier sheared view's.
+    for (std::size_t v = 0; v < d.views.size(); ++v) {
+        ViewData& vd = d.views[v];
+        vd.twin = -1;
+        if (!rig.views[v].clipShear) continue;
+        for (std::size_t u = 0; u < v && vd.twin < 0; ++u) {
+            if (rig.views[u].clipShear && d.views[u].twin < 0 &&
+                std::bit_cast<std::uint32_t>(d.views[u].shearX) == std::bit_cast<std::uint32_t>(vd.shearX)) {
+                vd.twin = int(u);
+            }
+        }
+    }
+    // Family twins: the same number of views, each the twin of the other family's view in
+    // the same position (a grid's rows).
+    for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
+        Family& f = d.families[fi];
+        f.sxvTwin = -1;
+        for (std::size_t fj = 0; fj < fi && f.sxvTwin < 0 && f.sheared; ++fj) {
+            const Family& g = d.families[fj];
+            bool same = g.sheared && g.sxvTwin < 0 && g.views.size() == f.views.size();
+            for (std::size_t k = 0; same && k < f.views.size(); ++k) {
+                same = d.views[std::size_t(f.views[k])].twin == g.views[k];
+            }
+            if (same) f.sxvTwin = int(fj);
+        }
+    }
     const std::size_t n = vertexCount;
     for (Family& f : d.families) {
         for (std::size_t k = 0; k < f.views.size() && k < std::size_t(kLaneBlock); ++k) {
@@ -133,10 +170,23 @@ void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, Uni
         }
         f.y.resize(n), f.sy.resize(n), f.code.resize(n);
         if (!f.sheared) f.q.resize(n), f.zw.resize(n);
-        f.sxv.resize(n * f.views.size() + kLaneBlock);  // + padding: addLanes reads 8 at a time
+        // + padding: addLanes reads 8 at a time
+        f.sxv.resize(f.sxvTwin < 0 ? n * f.views.size() + kLaneBlock : 0);
         if (!f.sheared) f.z.resize(n), f.w.resize(n);
     }
-    for (ViewData& vd : d.views) vd.x.resize(n), vd.sx.resize(n), vd.code.resize(n);
+    for (Family& f : d.families) {
+        f.sxvData = f.sxvTwin < 0 ? f.sxv.data() : d.families[std::size_t(f.sxvTwin)].sxv.data();
+    }
+    for (ViewData& vd : d.views) {
+        const std::size_t own = vd.twin < 0 ? n : 0;
+        vd.xStore.resize(own), vd.sxStore.resize(own), vd.codeStore.resize(own);
+    }
+    for (ViewData& vd : d.views) {
+        const ViewData& src = vd.twin < 0 ? vd : d.views[std::size_t(vd.twin)];
+        vd.x = const_cast<float*>(src.xStore.data());
+        vd.sx = const_cast<std::int32_t*>(src.sxStore.data());
+        vd.code = const_cast<std::uint8_t*>(src.codeStore.data());
+    }
     d.attrStride = std::size_t(attributeCount(shading));
     d.world.resize(shading == Shading::Flat ? n : 0), d.attr.resize(n * d.attrStride), d.anyClipX.resize(n);
     if (d.anySheared) d.cx.resize(n), d.cy.resize(n), d.cz.resize(n), d.cw.resize(n), d.cq.resize(n), d.czw.resize(n);
@@ -196,22 +246,29 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 for (std::uint32_t k = 0; k < count; ++k) y[k] = shearClip(cy[k], fam.shearY, cw[k], conv);
                 for (int v : fam.views) {
                     ViewData& vd = d.views[std::size_t(v)];
+                    if (vd.twin >= 0) continue;  // its column's first view computes x
                     float* x = &vd.x[g];
                     for (std::uint32_t k = 0; k < count; ++k) x[k] = shearClip(cx[k], vd.shearX, cw[k], conv);
                 }
             }
             std::fill_n(&d.anyClipX[g], count, std::uint8_t(0));
             for (Family& fam : d.families) {
-                const float* w = d.famW(fam);
-                f.kernels.projectYZW(&fam.y[g], &d.famZ(fam)[g], &w[g], count, height, &fam.code[g],
+                f.kernels.projectYZW(&fam.y[g], &d.famZ(fam)[g], &d.famW(fam)[g], count, height, &fam.code[g],
                                      d.famQ(fam) + g, &fam.sy[g], d.famZW(fam) + g);
+            }
+            for (ViewData& vd : d.views) {
+                if (vd.twin >= 0) continue;  // the same x, code and sx as its twin, computed there
+                const Family& fam = d.families[std::size_t(vd.family)];
+                f.kernels.projectX(&vd.x[g], &d.famW(fam)[g], d.famQ(fam) + g, count, width, &vd.code[g], &vd.sx[g]);
+                for (std::uint32_t k = 0; k < count; ++k) d.anyClipX[g + k] |= vd.code[g + k] & kClipX;
+            }
+            for (Family& fam : d.families) {
+                if (fam.sxvTwin >= 0) continue;  // its twin's sxv is the same
                 const std::size_t nv = fam.views.size();
                 for (std::size_t lane = 0; lane < nv; ++lane) {
-                    ViewData& vd = d.views[std::size_t(fam.views[lane])];
-                    f.kernels.projectX(&vd.x[g], &w[g], d.famQ(fam) + g, count, width, &vd.code[g], &vd.sx[g]);
-                    for (std::uint32_t k = 0; k < count; ++k) d.anyClipX[g + k] |= vd.code[g + k] & kClipX;
+                    const std::int32_t* sx = &d.views[std::size_t(fam.views[lane])].sx[g];
                     std::int32_t* sxv = &fam.sxv[std::size_t(g) * nv + lane];
-                    for (std::uint32_t k = 0; k < count; ++k) sxv[k * nv] = vd.sx[g + k];
+                    for (std::uint32_t k = 0; k < count; ++k) sxv[k * nv] = sx[k];
                 }
             }
             for (Family& fam : d.families) {
@@ -492,9 +549,9 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
     setupY(ys, sy[v[0]], sy[v[1]], sy[v[2]], b.rowLo, b.rowHi);
     if (ys.rowMin > ys.rowMax) return;
     const int nv = int(fam.views.size());
-    const std::int32_t* x0 = fam.sxv.data() + std::size_t(v[0]) * std::size_t(nv);
-    const std::int32_t* x1 = fam.sxv.data() + std::size_t(v[1]) * std::size_t(nv);
-    const std::int32_t* x2 = fam.sxv.data() + std::size_t(v[2]) * std::size_t(nv);
+    const std::int32_t* x0 = fam.sxvData + std::size_t(v[0]) * std::size_t(nv);
+    const std::int32_t* x1 = fam.sxvData + std::size_t(v[1]) * std::size_t(nv);
+    const std::int32_t* x2 = fam.sxvData + std::size_t(v[2]) * std::size_t(nv);
     const int* views = fam.views.data();
     auto culled = [&](int k) {
         return faces == FaceClass::Mixed &&
@@ -671,7 +728,7 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
     bool fast = !f.settings.cullBackFaces && !f.settings.wireframe && d.families.size() <= std::size_t(kMaxFastRows);
     for (const Family& fam : d.families) {
         fast = fast && fam.sheared && fam.views.size() <= std::size_t(kLaneBlock);
-        if (fast) rows[rowCount++] = Row{&fam, fam.code.data(), fam.sy.data(), fam.sxv.data(), int(fam.views.size())};
+        if (fast) rows[rowCount++] = Row{&fam, fam.code.data(), fam.sy.data(), fam.sxvData, int(fam.views.size())};
     }
     const float* zw = d.czw.data();
     const float* q = d.cq.data();
