@@ -583,15 +583,7 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
     }
     fill(b.frag);
     flushLanes(b);
-    if (nv < kMinSimdViews) {
-        for (int k = 0; k < nv; ++k) {
-            if (culled(k)) continue;
-            const std::int32_t xk[3] = {x0[k], x1[k], x2[k]};
-            FragmentSink<S> sink = b.sinks[std::size_t(fam.views[std::size_t(k)])];  // in registers
-            rasterTriangle(ys, xk, width, sink);
-        }
-        return;
-    }
+    // More views than a queue block: one setupViews pass over the family's views.
     for (std::uint64_t lanes = b.f.kernels.setupViews(ys, x0, x1, x2, nv, width, b.views); lanes;
          lanes &= lanes - 1) {
         const int k = std::countr_zero(lanes);
