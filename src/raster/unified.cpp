@@ -528,6 +528,25 @@ void drawFamilyWireframe(BandContext<S>& b, const Family& fam, const std::uint32
     }
 }
 
+/// Queues a triangle's slot (its y setup and fragment inputs, shared by its views' lanes),
+/// flushing first unless `views` more lanes fit; the caller adds the lanes. zw, q: the family's
+/// window depth and 1/w per vertex; attr, stride: the vertex attributes.
+template <Shading S>
+inline int queueSlot(BandContext<S>& b, const YSetup& ys, const std::uint32_t v[3], int views, const float* zw,
+                     const float* q, const float* attr, std::size_t stride) {
+    if (b.queue.needsFlush(views)) flushLanes(b);
+    const int slot = b.queue.slotCount++;
+    b.queue.slotYs[slot] = ys;
+    FragmentTri& frag = b.queue.slotFrag[slot];
+    for (int j = 0; j < 3; ++j) {
+        frag.z[j] = zw[v[j]];
+        frag.q[j] = q[v[j]];
+        frag.attr[j] = attr + v[j] * stride;
+    }
+    frag.flat = b.frag.flat;
+    return slot;
+}
+
 /// A family's replicas of a triangle that needs no clipping in any view: the shared y setup
 /// once, then every view's x setup side by side straight from the family's interleaved snapped x
 /// (a view whose x lies outside the viewport gets an empty column range there, so no per-view
@@ -566,12 +585,7 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
     };
     if (nv <= kLaneCount / 2) {
         // Queue the views' lanes: y setup and fragment inputs once (the slot), x per view.
-        if (b.queue.needsFlush(nv)) flushLanes(b);
-        const int slot = b.queue.slotCount++;
-        b.queue.slotYs[slot] = ys;
-        FragmentTri& frag = b.queue.slotFrag[slot];
-        fill(frag);
-        frag.flat = b.frag.flat;
+        const int slot = queueSlot(b, ys, v, nv, zw, q, attr, stride);
         if (faces != FaceClass::Mixed) {
             b.queue.addLanes(slot, nv, fam.views8, x0, x1, x2);
         } else {
@@ -737,16 +751,7 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
         YSetup ys;
         setupY(ys, row.sy[v[0]], row.sy[v[1]], row.sy[v[2]], b.rowLo, b.rowHi);
         if (ys.rowMin > ys.rowMax) return;
-        if (b.queue.needsFlush(row.nv)) flushLanes(b);
-        const int slot = b.queue.slotCount++;
-        b.queue.slotYs[slot] = ys;
-        FragmentTri& frag = b.queue.slotFrag[slot];
-        for (int j = 0; j < 3; ++j) {
-            frag.z[j] = zw[v[j]];
-            frag.q[j] = q[v[j]];
-            frag.attr[j] = attr + v[j] * stride;
-        }
-        frag.flat = b.frag.flat;
+        const int slot = queueSlot(b, ys, v, row.nv, zw, q, attr, stride);
         const std::size_t nv = std::size_t(row.nv);
         b.queue.addLanes(slot, row.nv, row.fam->views8, row.sxv + v[0] * nv, row.sxv + v[1] * nv,
                          row.sxv + v[2] * nv);
