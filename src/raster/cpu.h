@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <string>
 
+#include "lanes.h"
 #include "mvr/raster/soft_backend.h"
 #include "pipeline.h"
 
@@ -59,6 +60,7 @@ struct Kernels {
     ShadeVerticesFn shadeVertices;
     TransformPointsFn transformPoints;
     SpecularPowFn specularPow;
+    SetupLanesFn setupLanes;  ///< lanes.h: (triangle, view) pairs side by side
 };
 
 /// The kernel table of a path (resolved first, so always a valid table).

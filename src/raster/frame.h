@@ -12,7 +12,6 @@
 
 #include "mvr/core/render.h"
 #include "cpu.h"
-#include "lanes.h"
 #include "pipeline.h"
 #include "thread_pool.h"
 
@@ -148,7 +147,6 @@ struct FrameContext {
     BandLayout bands;
     glm::mat4 centerClip;
     const Kernels& kernels;
-    SetupLanesFn setupLanes = &setupLanesScalar;
 };
 
 /// The rasterization stage of a polygon (a triangle, or what the shared planes left of one) whose

@@ -12,7 +12,6 @@
 #include <cstdint>
 #include <cstring>
 
-#include "mvr/raster/soft_backend.h"
 #include "pipeline.h"
 
 namespace mvr::raster::detail {
@@ -32,13 +31,10 @@ struct TriangleLanes {
 };
 
 /// Lanes [0, n) of `l` (n <= kLaneCount): fills l.out like setupViews fills a view (mask, colMin,
-/// area, e, sx, sy, bias) and returns the lanes whose mask is not 0 (bit k: lane k).
+/// area, e, sx, sy, bias) and returns the lanes whose mask is not 0 (bit k: lane k). A kernel of
+/// cpu.h's table (Kernels::setupLanes): scalar, AVX2 and AVX-512 bit for bit the same, the SIMD
+/// ones sharing their setupViews' code.
 using SetupLanesFn = std::uint32_t (*)(TriangleLanes& l, int n, int width);
-
-/// The kernel of a SIMD path (scalar, AVX2, AVX-512; resolved like kernels()).
-SetupLanesFn setupLanesKernel(SimdPath path);
-
-std::uint32_t setupLanesScalar(TriangleLanes& l, int n, int width);
 
 /// A band's queue of (triangle, view) lanes waiting for setupLanes, in submission order. Slots
 /// hold what a queued triangle shares between its views: the y setup and the fragment inputs.
@@ -103,7 +99,5 @@ struct LaneQueue {
         laneCount = slotCount = 0;
     }
 };
-SetupLanesFn setupLanesAvx2();    ///< nullptr when not built
-SetupLanesFn setupLanesAvx512();  ///< nullptr when not built
 
 }  // namespace mvr::raster::detail

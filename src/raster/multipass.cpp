@@ -179,7 +179,7 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
         // Small triangles wait in a queue and are set up 16 at a time (lanes.h), as in unified;
         // everything drawn directly flushes the queue first (submission order).
         LaneQueue<S> queue;
-        auto flush = [&] { queue.flush(f.setupLanes, target.width, [&](int) { return sink; }); };
+        auto flush = [&] { queue.flush(f.kernels.setupLanes, target.width, [&](int) { return sink; }); };
         std::size_t item = 0;
         std::uint32_t itemEnd = 0;
         const DrawItem* it = nullptr;

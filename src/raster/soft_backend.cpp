@@ -128,8 +128,7 @@ private:
                                detail::makeDrawList(scene),
                                detail::makeBands(settings.height, pool.size()),
                                detail::centerClipFromWorld(rig),
-                               detail::kernels(mSimd),
-                               detail::setupLanesKernel(mSimd)};
+                               detail::kernels(mSimd)};
         std::vector<detail::Target> targets;
         detail::allocateOutputs(pool, out, rig.viewCount(), settings, targets);
         out.stages.fillMs = clock.lap();

@@ -62,7 +62,7 @@ TEST(Lanes, EachLaneEqualsSetupViewsOfItsTriangle) {
     int small = 0, general = 0, empty = 0;
     for (int iter = 0; iter < 2000; ++iter) {
         LaneCase c = randomLanes(rng, iter % 4 == 0);
-        const std::uint32_t lanes = detail::setupLanesScalar(c.lanes, c.n, 1024);
+        const std::uint32_t lanes = detail::scalarKernels().setupLanes(c.lanes, c.n, 1024);
         for (int k = 0; k < c.n; ++k) {
             detail::ViewsSetup ref;
             const std::int32_t x0 = c.lanes.x[0][k], x1 = c.lanes.x[1][k], x2 = c.lanes.x[2][k];
@@ -87,10 +87,11 @@ TEST(Lanes, SimdPathsEqualScalar) {
     for (int iter = 0; iter < 3000; ++iter) {
         const LaneCase c = randomLanes(rng, iter % 4 == 0);
         detail::TriangleLanes ref = c.lanes;
-        const std::uint32_t refLanes = detail::setupLanesScalar(ref, c.n, 1024);
-        for (auto [fn, path] : {std::pair{detail::setupLanesAvx2(), SimdPath::Avx2},
-                                std::pair{detail::setupLanesAvx512(), SimdPath::Avx512}}) {
-            if (!fn) continue;
+        const std::uint32_t refLanes = detail::scalarKernels().setupLanes(ref, c.n, 1024);
+        for (auto [table, path] : {std::pair{detail::avx2Kernels(), SimdPath::Avx2},
+                                   std::pair{detail::avx512Kernels(), SimdPath::Avx512}}) {
+            if (!table) continue;
+            const detail::SetupLanesFn fn = table->setupLanes;
             if (path == SimdPath::Avx512 && best != SimdPath::Avx512) continue;
             if (path == SimdPath::Avx2 && best == SimdPath::Scalar) continue;
             detail::TriangleLanes got = c.lanes;

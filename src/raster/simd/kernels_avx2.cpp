@@ -1,5 +1,7 @@
 // AVX2 kernels (compiled with -mavx2 -mfma; no FMA is formed: -ffp-contract=off). Same operations
 // and order as the scalar loops in kernels_tail.h.
+#include <algorithm>
+
 #include <immintrin.h>
 
 #include "../cpu.h"
@@ -78,88 +80,115 @@ void projectX(const float* x, const float* w, const float* q, std::size_t n, flo
 }
 
 
-/// setupViews with 8 views per register (the scalar reference: setupViewsTail).
-std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1, const std::int32_t* x2,
-                int n, int width, ViewsSetup& o) {
-    const bool tall = ys.rowMax > ys.rowMin;
-    const bool rowsSmall = ys.rowMax - ys.rowMin <= 1;
-    const std::int32_t py0 = ys.rowMin * kSubpixel + kHalfSubpixel;
-    const std::int32_t yrs[3] = {ys.y[0] - py0, ys.y[1] - py0, ys.y[2] - py0};
+inline __m256i loadLanes(const std::int32_t* p, __m256i live) {
+    return _mm256_maskload_epi32(reinterpret_cast<const int*>(p), live);
+}
+inline void store(std::int32_t* p, __m256i v) { _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), v); }
+inline __m256i cmple(__m256i a, __m256i b) {  // a <= b as all-ones lanes
+    return _mm256_xor_si256(_mm256_cmpgt_epi32(a, b), _mm256_set1_epi32(-1));
+}
+
+/// The coverage setup of 8 lanes — setupViewsTail's integer operations — from each lane's snapped
+/// x of the three vertices, snapped y and row range (broadcast by setupViews: one triangle's
+/// views; loaded per lane by setupLanes: (triangle, view) pairs). `live`: all-ones lanes. Writes
+/// columns [k, k + 8) of `o` and returns the live lanes whose mask is not 0, as bits from k.
+inline std::uint64_t setupCore(__m256i X0, __m256i X1, __m256i X2, const __m256i Y[3], __m256i rowMin,
+                               __m256i rowMax, __m256i live, int width, ViewsSetup& o, int k) {
     const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1), ones = _mm256_set1_epi32(-1);
     const __m256i half = _mm256_set1_epi32(kHalfSubpixel);
-    const __m256i yr[3] = {_mm256_set1_epi32(yrs[0]), _mm256_set1_epi32(yrs[1]), _mm256_set1_epi32(yrs[2])};
-    const __m256i dyShared[3] = {_mm256_set1_epi32(ys.dy[0]), _mm256_set1_epi32(ys.dy[1]),
-                                 _mm256_set1_epi32(ys.dy[2])};
-    const __m256i yr20 = _mm256_set1_epi32(yrs[2] - yrs[0]);
-    // Lanes past n load 0 (masked) and store into the kMaxViews-sized outputs unread.
-    const __m256i laneIndex = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i tall = _mm256_cmpgt_epi32(rowMax, rowMin);
+    const __m256i rowsSmall = cmple(_mm256_sub_epi32(rowMax, rowMin), one);
+    const __m256i py0 = _mm256_add_epi32(_mm256_slli_epi32(rowMin, kSubpixelBits), half);
+    const __m256i yr[3] = {_mm256_sub_epi32(Y[0], py0), _mm256_sub_epi32(Y[1], py0), _mm256_sub_epi32(Y[2], py0)};
+    const __m256i dyShared[3] = {_mm256_sub_epi32(Y[2], Y[1]), _mm256_sub_epi32(Y[0], Y[2]),
+                                 _mm256_sub_epi32(Y[1], Y[0])};
+    const __m256i yr20 = _mm256_sub_epi32(yr[2], yr[0]);
+    const __m256i xlo = _mm256_min_epi32(X0, _mm256_min_epi32(X1, X2));
+    const __m256i xhi = _mm256_max_epi32(X0, _mm256_max_epi32(X1, X2));
+    const __m256i colMin = _mm256_max_epi32(
+        zero, _mm256_srai_epi32(_mm256_add_epi32(_mm256_sub_epi32(xlo, half), _mm256_set1_epi32(kSubpixel - 1)),
+                                kSubpixelBits));
+    const __m256i colMax = _mm256_min_epi32(_mm256_set1_epi32(width - 1),
+                                            _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
+    const __m256i empty = _mm256_cmpgt_epi32(colMin, colMax);
+    const __m256i cols = _mm256_sub_epi32(colMax, colMin);
+    const __m256i small = _mm256_andnot_si256(empty, _mm256_and_si256(rowsSmall, cmple(cols, one)));
+    const __m256i px0 = _mm256_add_epi32(_mm256_slli_epi32(colMin, kSubpixelBits), half);
+    const __m256i xr[3] = {_mm256_sub_epi32(X0, px0), _mm256_sub_epi32(X1, px0), _mm256_sub_epi32(X2, px0)};
+    __m256i dx[3] = {_mm256_sub_epi32(xr[2], xr[1]), _mm256_sub_epi32(xr[0], xr[2]),
+                     _mm256_sub_epi32(xr[1], xr[0])};
+    __m256i area = _mm256_sub_epi32(_mm256_mullo_epi32(dx[2], yr20),
+                                    _mm256_mullo_epi32(dyShared[2], _mm256_sub_epi32(xr[2], xr[0])));
+    const __m256i flip = _mm256_srai_epi32(area, 31);
+    area = _mm256_sub_epi32(_mm256_xor_si256(area, flip), flip);
+    __m256i any[4] = {zero, zero, zero, zero};
+    for (int i = 0; i < 3; ++i) {
+        const int a = i == 2 ? 0 : i + 1;
+        dx[i] = _mm256_sub_epi32(_mm256_xor_si256(dx[i], flip), flip);
+        const __m256i dy = _mm256_sub_epi32(_mm256_xor_si256(dyShared[i], flip), flip);
+        const __m256i tl = _mm256_or_si256(_mm256_cmpgt_epi32(zero, dy),
+                                           _mm256_and_si256(_mm256_cmpeq_epi32(dy, zero), _mm256_cmpgt_epi32(zero, dx[i])));
+        const __m256i bias = _mm256_and_si256(tl, one);
+        const __m256i e = _mm256_add_epi32(
+            _mm256_sub_epi32(_mm256_mullo_epi32(dy, xr[a]), _mm256_mullo_epi32(dx[i], yr[a])), bias);
+        const __m256i sx = _mm256_slli_epi32(_mm256_sub_epi32(zero, dy), kSubpixelBits);
+        const __m256i sy = _mm256_slli_epi32(dx[i], kSubpixelBits);
+        store(o.e[i] + k, e);
+        store(o.sx[i] + k, sx);
+        store(o.sy[i] + k, sy);
+        store(o.bias[i] + k, bias);
+        const __m256i em1 = _mm256_sub_epi32(e, one);
+        any[0] = _mm256_or_si256(any[0], em1);
+        any[1] = _mm256_or_si256(any[1], _mm256_add_epi32(em1, sx));
+        any[2] = _mm256_or_si256(any[2], _mm256_add_epi32(em1, sy));
+        any[3] = _mm256_or_si256(any[3], _mm256_add_epi32(_mm256_add_epi32(em1, sx), sy));
+    }
+    const __m256i wide = _mm256_cmpgt_epi32(colMax, colMin);
+    const __m256i valid[4] = {ones, wide, tall, _mm256_and_si256(tall, wide)};
+    __m256i mask = zero;
+    for (int j = 0; j < 4; ++j) {
+        const __m256i in = _mm256_andnot_si256(_mm256_cmpgt_epi32(zero, any[j]), valid[j]);  // any >= 0
+        mask = _mm256_or_si256(mask, _mm256_and_si256(in, _mm256_set1_epi32(1 << j)));
+    }
+    mask = _mm256_andnot_si256(_mm256_cmpeq_epi32(area, zero), mask);
+    mask = _mm256_blendv_epi8(ones, mask, _mm256_or_si256(small, empty));  // general walk: −1
+    mask = _mm256_andnot_si256(empty, mask);
+    store(o.mask + k, mask);
+    store(o.colMin + k, colMin);
+    store(o.area + k, area);
+    const __m256i nonzero = _mm256_andnot_si256(_mm256_cmpeq_epi32(mask, zero), live);
+    return std::uint64_t(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(nonzero)))) << k;
+}
+
+/// Lanes [k, k + 8) live below n, as all-ones lanes.
+inline __m256i liveLanes(int n, int k) {
+    return _mm256_cmpgt_epi32(_mm256_set1_epi32(n - k), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+}
+
+/// setupViews, 8 views per pass (the scalar reference: setupViewsTail).
+std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1, const std::int32_t* x2,
+                         int n, int width, ViewsSetup& o) {
+    const __m256i Y[3] = {_mm256_set1_epi32(ys.y[0]), _mm256_set1_epi32(ys.y[1]), _mm256_set1_epi32(ys.y[2])};
+    const __m256i rowMin = _mm256_set1_epi32(ys.rowMin), rowMax = _mm256_set1_epi32(ys.rowMax);
     std::uint64_t lanes = 0;
     for (int k = 0; k < n; k += 8) {
-        const __m256i live = _mm256_cmpgt_epi32(_mm256_set1_epi32(n - k), laneIndex);
-        const __m256i X0 = _mm256_maskload_epi32(x0 + k, live);
-        const __m256i X1 = _mm256_maskload_epi32(x1 + k, live);
-        const __m256i X2 = _mm256_maskload_epi32(x2 + k, live);
-        const __m256i xlo = _mm256_min_epi32(X0, _mm256_min_epi32(X1, X2));
-        const __m256i xhi = _mm256_max_epi32(X0, _mm256_max_epi32(X1, X2));
-        const __m256i colMin = _mm256_max_epi32(
-            zero, _mm256_srai_epi32(_mm256_add_epi32(_mm256_sub_epi32(xlo, half), _mm256_set1_epi32(kSubpixel - 1)),
-                                    kSubpixelBits));
-        const __m256i colMax = _mm256_min_epi32(_mm256_set1_epi32(width - 1),
-                                                _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
-        const __m256i empty = _mm256_cmpgt_epi32(colMin, colMax);
-        const __m256i cols = _mm256_sub_epi32(colMax, colMin);
-        const __m256i small = rowsSmall ? _mm256_andnot_si256(_mm256_or_si256(_mm256_cmpgt_epi32(cols, one), empty), ones)
-                                        : zero;
-        const __m256i px0 = _mm256_add_epi32(_mm256_slli_epi32(colMin, kSubpixelBits), half);
-        const __m256i xr[3] = {_mm256_sub_epi32(X0, px0), _mm256_sub_epi32(X1, px0), _mm256_sub_epi32(X2, px0)};
-        __m256i dx[3] = {_mm256_sub_epi32(xr[2], xr[1]), _mm256_sub_epi32(xr[0], xr[2]),
-                         _mm256_sub_epi32(xr[1], xr[0])};
-        __m256i area = _mm256_sub_epi32(_mm256_mullo_epi32(dx[2], yr20),
-                                        _mm256_mullo_epi32(dyShared[2], _mm256_sub_epi32(xr[2], xr[0])));
-        const __m256i flip = _mm256_srai_epi32(area, 31);
-        area = _mm256_sub_epi32(_mm256_xor_si256(area, flip), flip);
-        __m256i any[4] = {zero, zero, zero, zero};
-        for (int i = 0; i < 3; ++i) {
-            const int a = i == 2 ? 0 : i + 1;
-            dx[i] = _mm256_sub_epi32(_mm256_xor_si256(dx[i], flip), flip);
-            const __m256i dy = _mm256_sub_epi32(_mm256_xor_si256(dyShared[i], flip), flip);
-            const __m256i tl = _mm256_or_si256(
-                _mm256_cmpgt_epi32(zero, dy), _mm256_and_si256(_mm256_cmpeq_epi32(dy, zero), _mm256_cmpgt_epi32(zero, dx[i])));
-            const __m256i bias = _mm256_and_si256(tl, one);
-            const __m256i e = _mm256_add_epi32(
-                _mm256_sub_epi32(_mm256_mullo_epi32(dy, xr[a]), _mm256_mullo_epi32(dx[i], yr[a])), bias);
-            const __m256i sx = _mm256_slli_epi32(_mm256_sub_epi32(zero, dy), kSubpixelBits);
-            const __m256i sy = _mm256_slli_epi32(dx[i], kSubpixelBits);
-            _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.e[i] + k), e);
-            _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.sx[i] + k), sx);
-            _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.sy[i] + k), sy);
-            _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.bias[i] + k), bias);
-            const __m256i em1 = _mm256_sub_epi32(e, one);
-            any[0] = _mm256_or_si256(any[0], em1);
-            any[1] = _mm256_or_si256(any[1], _mm256_add_epi32(em1, sx));
-            any[2] = _mm256_or_si256(any[2], _mm256_add_epi32(em1, sy));
-            any[3] = _mm256_or_si256(any[3], _mm256_add_epi32(_mm256_add_epi32(em1, sx), sy));
-        }
-        const __m256i wide = _mm256_cmpgt_epi32(colMax, colMin);
-        const __m256i tallV = tall ? ones : zero;
-        const __m256i valid[4] = {ones, wide, tallV, _mm256_and_si256(wide, tallV)};
-        __m256i mask = zero;
-        for (int j = 0; j < 4; ++j) {
-            const __m256i in = _mm256_and_si256(_mm256_cmpgt_epi32(any[j], ones), valid[j]);  // any >= 0
-            mask = _mm256_or_si256(mask, _mm256_and_si256(in, _mm256_set1_epi32(1 << j)));
-        }
-        mask = _mm256_andnot_si256(_mm256_cmpeq_epi32(area, zero), mask);
-        const __m256i general = _mm256_andnot_si256(_mm256_or_si256(small, empty), ones);
-        mask = _mm256_blendv_epi8(mask, ones, general);
-        mask = _mm256_andnot_si256(empty, mask);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.mask + k), mask);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.colMin + k), colMin);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.area + k), area);
-        const unsigned nonzero = ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(mask, zero)))) & 0xffu;
-        const unsigned liveBits = n - k >= 8 ? 0xffu : (1u << (n - k)) - 1u;
-        lanes |= std::uint64_t(nonzero & liveBits) << k;
+        const __m256i live = liveLanes(n, k);
+        lanes |= setupCore(loadLanes(x0 + k, live), loadLanes(x1 + k, live), loadLanes(x2 + k, live), Y, rowMin,
+                           rowMax, live, width, o, k);
     }
     return lanes;
+}
+
+/// setupLanes: two passes of 8 lanes.
+std::uint32_t setupLanes(TriangleLanes& l, int n, int width) {
+    std::uint64_t lanes = 0;
+    for (int k = 0; k < n; k += 8) {
+        const __m256i live = liveLanes(n, k);
+        const __m256i Y[3] = {loadLanes(l.y[0] + k, live), loadLanes(l.y[1] + k, live), loadLanes(l.y[2] + k, live)};
+        lanes |= setupCore(loadLanes(l.x[0] + k, live), loadLanes(l.x[1] + k, live), loadLanes(l.x[2] + k, live), Y,
+                           loadLanes(l.rowMin + k, live), loadLanes(l.rowMax + k, live), live, width, l.out, k);
+    }
+    return std::uint32_t(lanes);
 }
 
 /// glm's scalar semantics, lane by lane: max(x, y) = x < y ? y : x; min(x, y) = y < x ? y : x.
@@ -304,7 +333,8 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 }  // namespace
 
 const Kernels* avx2Kernels() {
-    static const Kernels k{&projectYZW, &projectX, &setupViews, &shadeVertices, &transformPoints, &specularPowN};
+    static const Kernels k{&projectYZW, &projectX, &setupViews, &shadeVertices, &transformPoints, &specularPowN,
+                           &setupLanes};
     return &k;
 }
 

@@ -70,161 +70,103 @@ void projectX(const float* x, const float* w, const float* q, std::size_t n, flo
 }
 
 
-/// setupViews with 16 views per register (the scalar reference: setupViewsTail).
-/// setupViews for at most 8 views: the same operations on 256-bit registers (AVX-512VL masks) —
-/// half the work of a 16-lane pass for stereo pairs and rows of a 3×3 grid.
-std::uint64_t setupViews8(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
-                          const std::int32_t* x2, int n, int width, ViewsSetup& o) {
-    const bool tall = ys.rowMax > ys.rowMin;
-    const bool rowsSmall = ys.rowMax - ys.rowMin <= 1;
-    const std::int32_t py0 = ys.rowMin * kSubpixel + kHalfSubpixel;
-    const std::int32_t yrs[3] = {ys.y[0] - py0, ys.y[1] - py0, ys.y[2] - py0};
-    const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
-    const __m256i half = _mm256_set1_epi32(kHalfSubpixel);
-    const __m256i yr[3] = {_mm256_set1_epi32(yrs[0]), _mm256_set1_epi32(yrs[1]), _mm256_set1_epi32(yrs[2])};
-    const __m256i dyShared[3] = {_mm256_set1_epi32(ys.dy[0]), _mm256_set1_epi32(ys.dy[1]),
-                                 _mm256_set1_epi32(ys.dy[2])};
-    const __m256i yr20 = _mm256_set1_epi32(yrs[2] - yrs[0]);
-    const __mmask8 live = __mmask8((1u << n) - 1u);
-    const __m256i X0 = _mm256_maskz_loadu_epi32(live, x0);
-    const __m256i X1 = _mm256_maskz_loadu_epi32(live, x1);
-    const __m256i X2 = _mm256_maskz_loadu_epi32(live, x2);
-    const __m256i xlo = _mm256_min_epi32(X0, _mm256_min_epi32(X1, X2));
-    const __m256i xhi = _mm256_max_epi32(X0, _mm256_max_epi32(X1, X2));
-    const __m256i colMin = _mm256_max_epi32(
-        zero, _mm256_srai_epi32(_mm256_add_epi32(_mm256_sub_epi32(xlo, half), _mm256_set1_epi32(kSubpixel - 1)),
-                                kSubpixelBits));
-    const __m256i colMax = _mm256_min_epi32(_mm256_set1_epi32(width - 1),
-                                            _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
-    const __mmask8 empty = _mm256_cmpgt_epi32_mask(colMin, colMax);
-    const __m256i cols = _mm256_sub_epi32(colMax, colMin);
-    const __mmask8 small = rowsSmall ? __mmask8(_mm256_cmple_epi32_mask(cols, one) & ~empty) : __mmask8(0);
-    const __m256i px0 = _mm256_add_epi32(_mm256_slli_epi32(colMin, kSubpixelBits), half);
-    const __m256i xr[3] = {_mm256_sub_epi32(X0, px0), _mm256_sub_epi32(X1, px0), _mm256_sub_epi32(X2, px0)};
-    __m256i dx[3] = {_mm256_sub_epi32(xr[2], xr[1]), _mm256_sub_epi32(xr[0], xr[2]),
-                     _mm256_sub_epi32(xr[1], xr[0])};
-    __m256i area = _mm256_sub_epi32(_mm256_mullo_epi32(dx[2], yr20),
-                                    _mm256_mullo_epi32(dyShared[2], _mm256_sub_epi32(xr[2], xr[0])));
-    const __m256i flip = _mm256_srai_epi32(area, 31);
-    area = _mm256_sub_epi32(_mm256_xor_si256(area, flip), flip);
-    __m256i any[4] = {zero, zero, zero, zero};
-    for (int i = 0; i < 3; ++i) {
-        const int a = i == 2 ? 0 : i + 1;
-        dx[i] = _mm256_sub_epi32(_mm256_xor_si256(dx[i], flip), flip);
-        const __m256i dy = _mm256_sub_epi32(_mm256_xor_si256(dyShared[i], flip), flip);
-        const __mmask8 tl = _mm256_cmplt_epi32_mask(dy, zero) |
-                            (_mm256_cmpeq_epi32_mask(dy, zero) & _mm256_cmplt_epi32_mask(dx[i], zero));
-        const __m256i bias = _mm256_maskz_mov_epi32(tl, one);
-        const __m256i e = _mm256_add_epi32(
-            _mm256_sub_epi32(_mm256_mullo_epi32(dy, xr[a]), _mm256_mullo_epi32(dx[i], yr[a])), bias);
-        const __m256i sx = _mm256_slli_epi32(_mm256_sub_epi32(zero, dy), kSubpixelBits);
-        const __m256i sy = _mm256_slli_epi32(dx[i], kSubpixelBits);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.e[i]), e);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.sx[i]), sx);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.sy[i]), sy);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.bias[i]), bias);
-        const __m256i em1 = _mm256_sub_epi32(e, one);
-        any[0] = _mm256_or_si256(any[0], em1);
-        any[1] = _mm256_or_si256(any[1], _mm256_add_epi32(em1, sx));
-        any[2] = _mm256_or_si256(any[2], _mm256_add_epi32(em1, sy));
-        any[3] = _mm256_or_si256(any[3], _mm256_add_epi32(_mm256_add_epi32(em1, sx), sy));
-    }
-    const __mmask8 wide = _mm256_cmpgt_epi32_mask(colMax, colMin);
-    __m256i mask = zero;
-    for (int j = 0; j < 4; ++j) {
-        const __mmask8 valid = j == 0 ? __mmask8(0xff) : j == 1 ? wide : j == 2 ? __mmask8(tall ? 0xff : 0)
-                                                                         : __mmask8(tall ? wide : 0);
-        const __mmask8 in = _mm256_cmpge_epi32_mask(any[j], zero) & valid;
-        mask = _mm256_mask_or_epi32(mask, in, mask, _mm256_set1_epi32(1 << j));
-    }
-    mask = _mm256_maskz_mov_epi32(_mm256_cmpneq_epi32_mask(area, zero), mask);
-    mask = _mm256_mask_mov_epi32(mask, __mmask8(~small & ~empty), _mm256_set1_epi32(-1));
-    mask = _mm256_maskz_mov_epi32(__mmask8(~empty), mask);
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.mask), mask);
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.colMin), colMin);
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(o.area), area);
-    return std::uint64_t(_mm256_test_epi32_mask(mask, mask) & live);
-}
-
-std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1, const std::int32_t* x2,
-                int n, int width, ViewsSetup& o) {
-    if (n <= 8) return setupViews8(ys, x0, x1, x2, n, width, o);
-    const bool tall = ys.rowMax > ys.rowMin;
-    const bool rowsSmall = ys.rowMax - ys.rowMin <= 1;
-    const std::int32_t py0 = ys.rowMin * kSubpixel + kHalfSubpixel;
-    const std::int32_t yrs[3] = {ys.y[0] - py0, ys.y[1] - py0, ys.y[2] - py0};
+/// The coverage setup of 16 lanes — setupViewsTail's integer operations — from each lane's snapped
+/// x of the three vertices, snapped y and row range (broadcast by setupViews: one triangle's
+/// views; loaded per lane by setupLanes: (triangle, view) pairs). Writes columns [k, k + 16) of
+/// `o` (whole registers: lanes past the live ones are never read) and returns the live lanes
+/// whose mask is not 0.
+inline std::uint32_t setupCore(__m512i X0, __m512i X1, __m512i X2, const __m512i Y[3], __m512i rowMin,
+                               __m512i rowMax, __mmask16 live, int width, ViewsSetup& o, int k) {
     const __m512i zero = _mm512_setzero_si512(), one = _mm512_set1_epi32(1);
     const __m512i half = _mm512_set1_epi32(kHalfSubpixel);
-    const __m512i yr[3] = {_mm512_set1_epi32(yrs[0]), _mm512_set1_epi32(yrs[1]), _mm512_set1_epi32(yrs[2])};
-    const __m512i dyShared[3] = {_mm512_set1_epi32(ys.dy[0]), _mm512_set1_epi32(ys.dy[1]),
-                                 _mm512_set1_epi32(ys.dy[2])};
-    const __m512i yr20 = _mm512_set1_epi32(yrs[2] - yrs[0]);
+    const __mmask16 tall = _mm512_cmpgt_epi32_mask(rowMax, rowMin);
+    const __mmask16 rowsSmall = _mm512_cmple_epi32_mask(_mm512_sub_epi32(rowMax, rowMin), one);
+    const __m512i py0 = _mm512_add_epi32(_mm512_slli_epi32(rowMin, kSubpixelBits), half);
+    const __m512i yr[3] = {_mm512_sub_epi32(Y[0], py0), _mm512_sub_epi32(Y[1], py0), _mm512_sub_epi32(Y[2], py0)};
+    // setupY's Δy: dy[0] = y2 − y1, dy[1] = y0 − y2, dy[2] = y1 − y0.
+    const __m512i dyShared[3] = {_mm512_sub_epi32(Y[2], Y[1]), _mm512_sub_epi32(Y[0], Y[2]),
+                                 _mm512_sub_epi32(Y[1], Y[0])};
+    const __m512i yr20 = _mm512_sub_epi32(yr[2], yr[0]);
+    const __m512i xlo = _mm512_min_epi32(X0, _mm512_min_epi32(X1, X2));
+    const __m512i xhi = _mm512_max_epi32(X0, _mm512_max_epi32(X1, X2));
+    const __m512i colMin = _mm512_max_epi32(
+        zero, _mm512_srai_epi32(_mm512_add_epi32(_mm512_sub_epi32(xlo, half), _mm512_set1_epi32(kSubpixel - 1)),
+                                kSubpixelBits));
+    const __m512i colMax = _mm512_min_epi32(_mm512_set1_epi32(width - 1),
+                                            _mm512_srai_epi32(_mm512_sub_epi32(xhi, half), kSubpixelBits));
+    const __mmask16 empty = _mm512_cmpgt_epi32_mask(colMin, colMax);
+    const __m512i cols = _mm512_sub_epi32(colMax, colMin);
+    const __mmask16 small = __mmask16(rowsSmall & _mm512_cmple_epi32_mask(cols, one) & ~empty);
+    const __m512i px0 = _mm512_add_epi32(_mm512_slli_epi32(colMin, kSubpixelBits), half);
+    const __m512i xr[3] = {_mm512_sub_epi32(X0, px0), _mm512_sub_epi32(X1, px0), _mm512_sub_epi32(X2, px0)};
+    __m512i dx[3] = {_mm512_sub_epi32(xr[2], xr[1]), _mm512_sub_epi32(xr[0], xr[2]),
+                     _mm512_sub_epi32(xr[1], xr[0])};
+    __m512i area = _mm512_sub_epi32(_mm512_mullo_epi32(dx[2], yr20),
+                                    _mm512_mullo_epi32(dyShared[2], _mm512_sub_epi32(xr[2], xr[0])));
+    const __m512i flip = _mm512_srai_epi32(area, 31);
+    area = _mm512_sub_epi32(_mm512_xor_si512(area, flip), flip);
+    __m512i any[4] = {zero, zero, zero, zero};
+    for (int i = 0; i < 3; ++i) {
+        const int a = i == 2 ? 0 : i + 1;
+        dx[i] = _mm512_sub_epi32(_mm512_xor_si512(dx[i], flip), flip);
+        const __m512i dy = _mm512_sub_epi32(_mm512_xor_si512(dyShared[i], flip), flip);
+        const __mmask16 tl = _mm512_cmplt_epi32_mask(dy, zero) |
+                             (_mm512_cmpeq_epi32_mask(dy, zero) & _mm512_cmplt_epi32_mask(dx[i], zero));
+        const __m512i bias = _mm512_maskz_mov_epi32(tl, one);
+        const __m512i e = _mm512_add_epi32(
+            _mm512_sub_epi32(_mm512_mullo_epi32(dy, xr[a]), _mm512_mullo_epi32(dx[i], yr[a])), bias);
+        const __m512i sx = _mm512_slli_epi32(_mm512_sub_epi32(zero, dy), kSubpixelBits);
+        const __m512i sy = _mm512_slli_epi32(dx[i], kSubpixelBits);
+        _mm512_storeu_si512(o.e[i] + k, e);
+        _mm512_storeu_si512(o.sx[i] + k, sx);
+        _mm512_storeu_si512(o.sy[i] + k, sy);
+        _mm512_storeu_si512(o.bias[i] + k, bias);
+        const __m512i em1 = _mm512_sub_epi32(e, one);
+        any[0] = _mm512_or_si512(any[0], em1);
+        any[1] = _mm512_or_si512(any[1], _mm512_add_epi32(em1, sx));
+        any[2] = _mm512_or_si512(any[2], _mm512_add_epi32(em1, sy));
+        any[3] = _mm512_or_si512(any[3], _mm512_add_epi32(_mm512_add_epi32(em1, sx), sy));
+    }
+    const __mmask16 wide = _mm512_cmpgt_epi32_mask(colMax, colMin);
+    __m512i mask = zero;
+    for (int j = 0; j < 4; ++j) {
+        const __mmask16 valid = j == 0 ? __mmask16(0xffff) : j == 1 ? wide : j == 2 ? tall : __mmask16(tall & wide);
+        const __mmask16 in = _mm512_cmpge_epi32_mask(any[j], zero) & valid;
+        mask = _mm512_mask_or_epi32(mask, in, mask, _mm512_set1_epi32(1 << j));
+    }
+    mask = _mm512_maskz_mov_epi32(_mm512_cmpneq_epi32_mask(area, zero), mask);
+    mask = _mm512_mask_mov_epi32(mask, __mmask16(~small & ~empty), _mm512_set1_epi32(-1));
+    mask = _mm512_maskz_mov_epi32(__mmask16(~empty), mask);
+    _mm512_storeu_si512(o.mask + k, mask);
+    _mm512_storeu_si512(o.colMin + k, colMin);
+    _mm512_storeu_si512(o.area + k, area);
+    return std::uint32_t(_mm512_test_epi32_mask(mask, mask) & live);
+}
+
+/// setupViews, 16 views per pass (the scalar reference: setupViewsTail).
+std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1, const std::int32_t* x2,
+                         int n, int width, ViewsSetup& o) {
+    static_assert(kMaxViews % 16 == 0);
+    const __m512i Y[3] = {_mm512_set1_epi32(ys.y[0]), _mm512_set1_epi32(ys.y[1]), _mm512_set1_epi32(ys.y[2])};
+    const __m512i rowMin = _mm512_set1_epi32(ys.rowMin), rowMax = _mm512_set1_epi32(ys.rowMax);
     std::uint64_t lanes = 0;
     for (int k = 0; k < n; k += 16) {
         const __mmask16 live = n - k >= 16 ? __mmask16(0xffff) : __mmask16((1u << (n - k)) - 1u);
-        const __m512i X0 = _mm512_maskz_loadu_epi32(live, x0 + k);
-        const __m512i X1 = _mm512_maskz_loadu_epi32(live, x1 + k);
-        const __m512i X2 = _mm512_maskz_loadu_epi32(live, x2 + k);
-        const __m512i xlo = _mm512_min_epi32(X0, _mm512_min_epi32(X1, X2));
-        const __m512i xhi = _mm512_max_epi32(X0, _mm512_max_epi32(X1, X2));
-        const __m512i colMin = _mm512_max_epi32(
-            zero, _mm512_srai_epi32(_mm512_add_epi32(_mm512_sub_epi32(xlo, half), _mm512_set1_epi32(kSubpixel - 1)),
-                                    kSubpixelBits));
-        const __m512i colMax = _mm512_min_epi32(_mm512_set1_epi32(width - 1),
-                                                _mm512_srai_epi32(_mm512_sub_epi32(xhi, half), kSubpixelBits));
-        const __mmask16 empty = _mm512_cmpgt_epi32_mask(colMin, colMax);
-        const __m512i cols = _mm512_sub_epi32(colMax, colMin);
-        const __mmask16 small = rowsSmall ? __mmask16(_mm512_cmple_epi32_mask(cols, one) & ~empty) : __mmask16(0);
-        const __m512i px0 = _mm512_add_epi32(_mm512_slli_epi32(colMin, kSubpixelBits), half);
-        const __m512i xr[3] = {_mm512_sub_epi32(X0, px0), _mm512_sub_epi32(X1, px0), _mm512_sub_epi32(X2, px0)};
-        __m512i dx[3] = {_mm512_sub_epi32(xr[2], xr[1]), _mm512_sub_epi32(xr[0], xr[2]),
-                         _mm512_sub_epi32(xr[1], xr[0])};
-        __m512i area = _mm512_sub_epi32(_mm512_mullo_epi32(dx[2], yr20),
-                                        _mm512_mullo_epi32(dyShared[2], _mm512_sub_epi32(xr[2], xr[0])));
-        const __m512i flip = _mm512_srai_epi32(area, 31);
-        area = _mm512_sub_epi32(_mm512_xor_si512(area, flip), flip);
-        __m512i any[4] = {zero, zero, zero, zero};
-        for (int i = 0; i < 3; ++i) {
-            const int a = i == 2 ? 0 : i + 1;
-            dx[i] = _mm512_sub_epi32(_mm512_xor_si512(dx[i], flip), flip);
-            const __m512i dy = _mm512_sub_epi32(_mm512_xor_si512(dyShared[i], flip), flip);
-            const __mmask16 tl = _mm512_cmplt_epi32_mask(dy, zero) |
-                                 (_mm512_cmpeq_epi32_mask(dy, zero) & _mm512_cmplt_epi32_mask(dx[i], zero));
-            const __m512i bias = _mm512_maskz_mov_epi32(tl, one);
-            const __m512i e = _mm512_add_epi32(
-                _mm512_sub_epi32(_mm512_mullo_epi32(dy, xr[a]), _mm512_mullo_epi32(dx[i], yr[a])), bias);
-            const __m512i sx = _mm512_slli_epi32(_mm512_sub_epi32(zero, dy), kSubpixelBits);
-            const __m512i sy = _mm512_slli_epi32(dx[i], kSubpixelBits);
-            _mm512_storeu_si512(o.e[i] + k, e);
-            _mm512_storeu_si512(o.sx[i] + k, sx);
-            _mm512_storeu_si512(o.sy[i] + k, sy);
-            _mm512_storeu_si512(o.bias[i] + k, bias);
-            const __m512i em1 = _mm512_sub_epi32(e, one);
-            any[0] = _mm512_or_si512(any[0], em1);
-            any[1] = _mm512_or_si512(any[1], _mm512_add_epi32(em1, sx));
-            any[2] = _mm512_or_si512(any[2], _mm512_add_epi32(em1, sy));
-            any[3] = _mm512_or_si512(any[3], _mm512_add_epi32(_mm512_add_epi32(em1, sx), sy));
-        }
-        const __mmask16 wide = _mm512_cmpgt_epi32_mask(colMax, colMin);
-        __m512i mask = zero;
-        for (int j = 0; j < 4; ++j) {
-            __mmask16 valid = j == 0 ? __mmask16(0xffff) : j == 1 ? wide : j == 2 ? __mmask16(tall ? 0xffff : 0)
-                                                                          : __mmask16(tall ? wide : 0);
-            const __mmask16 in = _mm512_cmpge_epi32_mask(any[j], zero) & valid;
-            mask = _mm512_mask_or_epi32(mask, in, mask, _mm512_set1_epi32(1 << j));
-        }
-        mask = _mm512_maskz_mov_epi32(_mm512_cmpneq_epi32_mask(area, zero), mask);
-        mask = _mm512_mask_mov_epi32(mask, __mmask16(~small & ~empty), _mm512_set1_epi32(-1));
-        mask = _mm512_maskz_mov_epi32(__mmask16(~empty), mask);
-        // Whole-register stores (the arrays hold kMaxViews, a multiple of 16; lanes ≥ n are
-        // never read): a masked store does not forward to the caller's scalar loads right after.
-        static_assert(kMaxViews % 16 == 0);
-        _mm512_storeu_si512(o.mask + k, mask);
-        _mm512_storeu_si512(o.colMin + k, colMin);
-        _mm512_storeu_si512(o.area + k, area);
-        lanes |= std::uint64_t(_mm512_test_epi32_mask(mask, mask) & live) << k;
+        lanes |= std::uint64_t(setupCore(_mm512_maskz_loadu_epi32(live, x0 + k), _mm512_maskz_loadu_epi32(live, x1 + k),
+                                         _mm512_maskz_loadu_epi32(live, x2 + k), Y, rowMin, rowMax, live, width, o, k))
+                 << k;
     }
     return lanes;
+}
+
+/// setupLanes: all 16 lanes in one pass.
+std::uint32_t setupLanes(TriangleLanes& l, int n, int width) {
+    const __mmask16 live = n >= kLaneCount ? __mmask16(0xffff) : __mmask16((1u << n) - 1u);
+    const __m512i Y[3] = {_mm512_maskz_loadu_epi32(live, l.y[0]), _mm512_maskz_loadu_epi32(live, l.y[1]),
+                          _mm512_maskz_loadu_epi32(live, l.y[2])};
+    return setupCore(_mm512_maskz_loadu_epi32(live, l.x[0]), _mm512_maskz_loadu_epi32(live, l.x[1]),
+                     _mm512_maskz_loadu_epi32(live, l.x[2]), Y, _mm512_maskz_loadu_epi32(live, l.rowMin),
+                     _mm512_maskz_loadu_epi32(live, l.rowMax), live, width, l.out, 0);
 }
 
 /// glm's scalar semantics, lane by lane: max(x, y) = x < y ? y : x; min(x, y) = y < x ? y : x.
@@ -415,7 +357,8 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 }  // namespace
 
 const Kernels* avx512Kernels() {
-    static const Kernels k{&projectYZW, &projectX, &setupViews, &shadeVertices, &transformPoints, &specularPowN};
+    static const Kernels k{&projectYZW, &projectX, &setupViews, &shadeVertices, &transformPoints, &specularPowN,
+                           &setupLanes};
     return &k;
 }
 

@@ -11,7 +11,7 @@ const Kernels& scalarKernels() {
                               const std::int32_t* x2, int n, int width, ViewsSetup& out) {
                                return setupViewsTail(ys, x0, x1, x2, 0, n, width, out);
                            },
-                           &shadeVerticesTail, &transformPointsTail, &specularPowTail};
+                           &shadeVerticesTail, &transformPointsTail, &specularPowTail, &setupLanesTail};
     return k;
 }
 

@@ -1,6 +1,7 @@
 // Scalar loops of the projection kernels: the scalar path, and the tails of the SIMD paths.
 #pragma once
 
+#include "../lanes.h"
 #include "../pipeline.h"
 
 namespace mvr::raster::detail {
@@ -96,6 +97,18 @@ inline std::uint64_t setupViewsTail(const YSetup& ys, const std::int32_t* x0, co
         mask &= 1u | (wide << 1) | (unsigned(tall) << 2) | ((wide & unsigned(tall)) << 3);
         o.mask[k] = area == 0 ? 0 : std::int32_t(mask);
         lanes |= std::uint64_t(o.mask[k] != 0) << k;
+    }
+    return lanes;
+}
+
+/// setupLanes, lane by lane through setupViewsTail: the reference of the SIMD paths.
+inline std::uint32_t setupLanesTail(TriangleLanes& l, int n, int width) {
+    std::uint32_t lanes = 0;
+    for (int k = 0; k < n; ++k) {
+        YSetup ys;
+        setupY(ys, l.y[0][k], l.y[1][k], l.y[2][k], l.rowMin[k], l.rowMax[k]);
+        ys.rowMin = l.rowMin[k], ys.rowMax = l.rowMax[k];
+        lanes |= std::uint32_t(setupViewsTail(ys, l.x[0], l.x[1], l.x[2], k, k + 1, width, l.out));
     }
     return lanes;
 }
