@@ -87,6 +87,29 @@ struct Bins {
     }
 };
 
+/// The triangles of one band in submission order (its lists chunk by chunk), with their global
+/// vertex indices: onItem(item) first whenever the draw item changes (material, instance), then
+/// fn(v) for the triangle.
+template <class OnItem, class Fn>
+void forBandTriangles(const DrawList& draw, const Bins& bins, int band, int bandCount, OnItem&& onItem, Fn&& fn) {
+    std::size_t item = 0;
+    std::uint32_t itemEnd = 0;
+    const DrawItem* it = nullptr;
+    for (int chunk = 0; chunk < bins.chunkCount; ++chunk) {
+        for (std::uint32_t t : bins.lists[std::size_t(chunk) * bandCount + band]) {
+            if (!it || t >= itemEnd) {
+                while (t >= draw.items[item].triangleBase + draw.items[item].mesh->triangleCount()) ++item;
+                it = &draw.items[item];
+                itemEnd = it->triangleBase + std::uint32_t(it->mesh->triangleCount());
+                onItem(*it);
+            }
+            const std::uint32_t* idx = &it->mesh->indices[std::size_t(t - it->triangleBase) * 3];
+            const std::uint32_t v[3] = {it->vertexBase + idx[0], it->vertexBase + idx[1], it->vertexBase + idx[2]};
+            fn(v);
+        }
+    }
+}
+
 /// Runs fn(item, begin, end) on chunks of about 4096 vertices of every draw item, all items in ONE
 /// parallel pass (one fork/join per vertex stage rather than one per instance).
 template <class Fn>

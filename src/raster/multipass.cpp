@@ -180,56 +180,43 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
         // everything drawn directly flushes the queue first (submission order).
         LaneQueue<S> queue;
         auto flush = [&] { queue.flush(f.kernels.setupLanes, target.width, [&](int) { return sink; }); };
-        std::size_t item = 0;
-        std::uint32_t itemEnd = 0;
-        const DrawItem* it = nullptr;
-        for (int chunk = 0; chunk < bins.chunkCount; ++chunk) {
-            for (std::uint32_t t : bins.lists[std::size_t(chunk) * f.bands.count + band]) {
-                if (!it || t >= itemEnd) {
-                    while (t >= f.draw.items[item].triangleBase + f.draw.items[item].mesh->triangleCount()) {
-                        ++item;
-                    }
-                    it = &f.draw.items[item];
-                    itemEnd = it->triangleBase + std::uint32_t(it->mesh->triangleCount());
-                    flush();  // the queued triangles shade with the previous material
-                    sink.shade.material = &it->instance->material;
-                }
-                const std::uint32_t* idx = &it->mesh->indices[std::size_t(t - it->triangleBase) * 3];
-                const std::uint32_t v[3] = {it->vertexBase + idx[0], it->vertexBase + idx[1],
-                                            it->vertexBase + idx[2]};
-                if constexpr (S == Shading::Flat) {
-                    frag.flat = flatColor(f.shading, it->instance->material, d.world[v[0]],
-                                          d.world[v[1]], d.world[v[2]]);
-                }
-                if (f.settings.wireframe) {
-                    flush();
-                    drawWireframe(f, d, v, target, rowLo, rowHi, sink, frag);
-                    continue;
-                }
-                const std::uint8_t planes = triCodes(d, v).planes();
-                if (!planes) {
-                    YSetup ys;
-                    setupY(ys, d.sy[v[0]], d.sy[v[1]], d.sy[v[2]], rowLo, rowHi);
-                    if (ys.rowMin > ys.rowMax) continue;  // (rasterTriangle would draw nothing)
-                    for (int j = 0; j < 3; ++j) {
-                        frag.z[j] = d.zw[v[j]];
-                        frag.q[j] = d.q[v[j]];
-                        frag.attr[j] = d.attrOf(v[j]);
-                    }
-                    if (queue.needsFlush(1)) flush();
-                    queue.addLane(queue.addTriangle(ys, frag), 0, d.sx[v[0]], d.sx[v[1]], d.sx[v[2]]);
-                } else {
-                    flush();
-                    ClipVertex poly[kMaxPolyVerts];
-                    for (int j = 0; j < 3; ++j) {
-                        ClipVertex& cv = poly[j];
-                        cv.x = d.x[v[j]], cv.y = d.y[v[j]], cv.z = d.z[v[j]], cv.w = d.w[v[j]];
-                        std::copy_n(d.attrOf(v[j]), attrCount, cv.a);
-                    }
-                    drawClippedPolygon(poly, 3, planes, attrCount, target, rowLo, rowHi, sink, frag);
-                }
+        const Material* material = nullptr;
+        auto onItem = [&](const DrawItem& it) {
+            flush();  // the queued triangles shade with the previous material
+            sink.shade.material = material = &it.instance->material;
+        };
+        forBandTriangles(f.draw, bins, band, f.bands.count, onItem, [&](const std::uint32_t v[3]) {
+            if constexpr (S == Shading::Flat) {
+                frag.flat = flatColor(f.shading, *material, d.world[v[0]], d.world[v[1]], d.world[v[2]]);
             }
-        }
+            if (f.settings.wireframe) {
+                flush();
+                drawWireframe(f, d, v, target, rowLo, rowHi, sink, frag);
+                return;
+            }
+            const std::uint8_t planes = triCodes(d, v).planes();
+            if (!planes) {
+                YSetup ys;
+                setupY(ys, d.sy[v[0]], d.sy[v[1]], d.sy[v[2]], rowLo, rowHi);
+                if (ys.rowMin > ys.rowMax) return;  // (rasterTriangle would draw nothing)
+                for (int j = 0; j < 3; ++j) {
+                    frag.z[j] = d.zw[v[j]];
+                    frag.q[j] = d.q[v[j]];
+                    frag.attr[j] = d.attrOf(v[j]);
+                }
+                if (queue.needsFlush(1)) flush();
+                queue.addLane(queue.addTriangle(ys, frag), 0, d.sx[v[0]], d.sx[v[1]], d.sx[v[2]]);
+            } else {
+                flush();
+                ClipVertex poly[kMaxPolyVerts];
+                for (int j = 0; j < 3; ++j) {
+                    ClipVertex& cv = poly[j];
+                    cv.x = d.x[v[j]], cv.y = d.y[v[j]], cv.z = d.z[v[j]], cv.w = d.w[v[j]];
+                    std::copy_n(d.attrOf(v[j]), attrCount, cv.a);
+                }
+                drawClippedPolygon(poly, 3, planes, attrCount, target, rowLo, rowHi, sink, frag);
+            }
+        });
         flush();
     });
 }

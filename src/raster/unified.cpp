@@ -756,37 +756,27 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
         b.queue.addLanes(slot, row.nv, row.fam->views8, row.sxv + v[0] * nv, row.sxv + v[1] * nv,
                          row.sxv + v[2] * nv);
     };
-    std::size_t item = 0;
-    std::uint32_t itemEnd = 0;
-    const DrawItem* it = nullptr;
-    for (int chunk = 0; chunk < bins.chunkCount; ++chunk) {
-        for (std::uint32_t t : bins.lists[std::size_t(chunk) * f.bands.count + band]) {
-            if (!it || t >= itemEnd) {
-                while (t >= f.draw.items[item].triangleBase + f.draw.items[item].mesh->triangleCount()) ++item;
-                it = &f.draw.items[item];
-                itemEnd = it->triangleBase + std::uint32_t(it->mesh->triangleCount());
-                flushLanes(b);  // the queued triangles shade with the previous material
-                for (auto& sink : b.sinks) sink.shade.material = &it->instance->material;
-            }
-            const std::uint32_t* idx = &it->mesh->indices[std::size_t(t - it->triangleBase) * 3];
-            const std::uint32_t v[3] = {it->vertexBase + idx[0], it->vertexBase + idx[1],
-                                        it->vertexBase + idx[2]};
-            if constexpr (S == Shading::Flat) {
-                // View-independent: once for every view.
-                b.frag.flat = flatColor(f.shading, it->instance->material, d.world[v[0]],
-                                        d.world[v[1]], d.world[v[2]]);
-            }
-            if (!fast) {
-                drawTriangle(b, v);
-                continue;
-            }
-            if (rowCount == 1) {
-                queueRow(row0, v);  // a stereo pair / an off-axis row: row0 stays in registers
-            } else {
-                for (int r = 0; r < rowCount; ++r) queueRow(rows[r], v);
-            }
+    const Material* material = nullptr;
+    auto onItem = [&](const DrawItem& it) {
+        flushLanes(b);  // the queued triangles shade with the previous material
+        material = &it.instance->material;
+        for (auto& sink : b.sinks) sink.shade.material = material;
+    };
+    forBandTriangles(f.draw, bins, band, f.bands.count, onItem, [&](const std::uint32_t v[3]) {
+        if constexpr (S == Shading::Flat) {
+            // View-independent: once for every view.
+            b.frag.flat = flatColor(f.shading, *material, d.world[v[0]], d.world[v[1]], d.world[v[2]]);
         }
-    }
+        if (!fast) {
+            drawTriangle(b, v);
+            return;
+        }
+        if (rowCount == 1) {
+            queueRow(row0, v);  // a stereo pair / an off-axis row: row0 stays in registers
+        } else {
+            for (int r = 0; r < rowCount; ++r) queueRow(rows[r], v);
+        }
+    });
 }
 
 template <Shading S>

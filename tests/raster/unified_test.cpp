@@ -218,16 +218,22 @@ TEST(UnifiedEqualsMultipass, RandomTriangleSoups) {
     EXPECT_GT(stats.covered, stats.renders * 50);
 }
 
+/// The camera the default scene's tests look through (its ground plane crosses the near plane).
+Camera defaultSceneCamera(float aspect) {
+    Camera cam;
+    cam.position = {0.5f, 1.5f, 6.0f};
+    cam.target = {0.0f, 0.0f, 0.0f};
+    cam.aspect = aspect;
+    return cam;
+}
+
 TEST(UnifiedEqualsMultipass, EveryViewCountAndShading) {
     // The default procedural scene (its ground plane crosses the near plane) on off-axis rows of
     // 1..9 views and the kalaiah2007 grids, all shading modes, culling on and off.
     auto backend = makeSoftBackend();
     const Scene scene = makeDefaultScene();
     Stats stats;
-    Camera cam;
-    cam.position = {0.5f, 1.5f, 6.0f};
-    cam.target = {0.0f, 0.0f, 0.0f};
-    cam.aspect = 80.0f / 60.0f;
+    const Camera cam = defaultSceneCamera(80.0f / 60.0f);
     for (int views = 1; views <= 9; ++views) {
         for (int mode = 0; mode < 6; ++mode) {
             RenderSettings s;
@@ -267,10 +273,7 @@ TEST(UnifiedEqualsMultipass, GridViewsInAnyOrder) {
     auto backend = makeSoftBackend();
     const Scene scene = makeDefaultScene();
     Stats stats;
-    Camera cam;
-    cam.position = {0.5f, 1.5f, 6.0f};
-    cam.target = {0.0f, 0.0f, 0.0f};
-    cam.aspect = 64.0f / 48.0f;
+    const Camera cam = defaultSceneCamera(64.0f / 48.0f);
     RigParams p;
     p.columns = 3, p.rows = 2, p.interaxial = 0.3f, p.convergence = 6.0f;
     auto grid = makeRig(cam, p);
