@@ -144,6 +144,8 @@ Scene makeDefaultScene() {
     Scene s;
     s.meshes = {makeGroundPlane(16), makeSphere(48, 24), makeTorus(1.0f, 0.3f, 48, 24), makeBox()};
     s.lights = defaultLights();
+    s.background = glm::vec3(0.06f, 0.07f, 0.1f);
+    s.viewpoint = SceneViewpoint{{0.0f, 1.2f, 6.0f}, {0.0f, -0.2f, 0.0f}};
     auto add = [&](int mesh, glm::mat4 xf, glm::vec3 albedo) {
         s.instances.push_back({mesh, xf, Material{albedo, 0.35f, 48.0f}});
     };

@@ -10,6 +10,7 @@ class GlBackend final : public mvr::Backend {
 public:
     std::string name() const override { return "gl"; }
     std::vector<std::string> methods() const override { return detail::methodNames(); }
+    std::string defaultMethod() const override { return "auto"; }
     Status supports(const std::string& method) const override {
         return mRenderer.supports(method);
     }
@@ -20,7 +21,17 @@ public:
     }
     std::vector<std::string> info() const override { return mRenderer.info(); }
 
-    const std::optional<GlFrameStats>& stats() const { return mRenderer.lastStats(); }
+    std::optional<RenderStats> lastStats() const override {
+        const auto& gl = mRenderer.lastStats();
+        if (!gl) return std::nullopt;
+        RenderStats s;
+        s.method = gl->method;
+        s.gpuMs = gl->gpuMs;
+        s.drawWallMs = gl->drawWallMs;
+        s.readbackWallMs = gl->readbackWallMs;
+        s.totalWallMs = gl->totalWallMs;
+        return s;
+    }
 
 private:
     // Lazily creates its context from const queries (supports(), info()).
@@ -34,8 +45,9 @@ std::unique_ptr<mvr::Backend> makeGlBackend() { return std::make_unique<GlBacken
 const std::vector<std::string>& glMethodNames() { return detail::methodNames(); }
 
 std::optional<GlFrameStats> lastFrameStats(const mvr::Backend& backend) {
-    if (const auto* gl = dynamic_cast<const GlBackend*>(&backend)) return gl->stats();
-    return std::nullopt;
+    const auto s = backend.lastStats();
+    if (!s) return std::nullopt;
+    return GlFrameStats{s->method, s->gpuMs, s->drawWallMs, s->readbackWallMs, s->totalWallMs};
 }
 
 }  // namespace mvr::gl

@@ -660,12 +660,7 @@ void Renderer::readMrt(RenderOutput& out, const Frame& f) {
 Result<RenderOutput> Renderer::render(const Scene& scene, const Rig& rig, const RenderSettings& s,
                                       const std::string& method) {
     if (Status st = supports(method); !st) return st;
-    if (Status st = validateSettings(s); !st) return st;
-    if (Status st = validateScene(scene); !st) return st;
-    if (rig.viewCount() < 1 || rig.viewCount() > kMaxViews) {
-        return usageError(fmt::format("gl: the rig has {} views (expected 1..{})",
-                                      rig.viewCount(), kMaxViews));
-    }
+    if (Status st = validateRequest(scene, rig, s); !st) return st;
     if (method == "auto") return renderAuto(scene, rig, s);
     return renderOnce(scene, rig, s, method);
 }

@@ -1,5 +1,6 @@
 #include "mvr/raster/soft_backend.h"
 
+#include <chrono>
 #include <cmath>
 #include <mutex>
 #include <new>
@@ -26,36 +27,6 @@ SimdPath bestSimdPath() { return detail::bestSupportedSimd(); }
 
 namespace {
 
-bool finiteMatrix(const glm::mat4& m) {
-    for (int c = 0; c < 4; ++c) {
-        for (int r = 0; r < 4; ++r) {
-            if (!std::isfinite(m[c][r])) return false;
-        }
-    }
-    return true;
-}
-
-Status validateRig(const Rig& rig) {
-    if (rig.viewCount() < 1 || rig.viewCount() > kMaxViews) {
-        return usageError(fmt::format("soft backend: rig has {} views (expected 1..{})",
-                                      rig.viewCount(), kMaxViews));
-    }
-    if (!std::isfinite(rig.convergence)) {
-        return usageError("soft backend: rig convergence is not finite");
-    }
-    for (int v = 0; v < rig.viewCount(); ++v) {
-        const View& view = rig.views[std::size_t(v)];
-        if (!finiteMatrix(view.clipFromWorld()) ||
-            (view.clipShear && !(std::isfinite(view.clipShear->x) && std::isfinite(view.clipShear->y)))) {
-            return usageError(fmt::format("soft backend: view {} has a non-finite matrix or shear", v));
-        }
-    }
-    if (!finiteMatrix(rig.camera.clipFromView() * rig.camera.viewFromWorld())) {
-        return usageError("soft backend: the rig's center camera has a non-finite matrix");
-    }
-    return {};
-}
-
 class SoftBackend final : public Backend {
 public:
     explicit SoftBackend(const SoftOptions& options) : mOptions(options) {
@@ -64,6 +35,11 @@ public:
 
     std::string name() const override { return "soft"; }
     std::vector<std::string> methods() const override { return {"multipass", "unified"}; }
+    std::string defaultMethod() const override { return "unified"; }
+    std::optional<RenderStats> lastStats() const override {
+        std::lock_guard lock(mStatsMutex);
+        return mStats;
+    }
 
     Status supports(const std::string& method) const override {
         if (method == "multipass" || method == "unified") return {};
@@ -83,24 +59,7 @@ public:
     Result<RenderOutput> render(const Scene& scene, const Rig& rig, const RenderSettings& settings,
                                 const std::string& method) override {
         if (Status s = supports(method); !s) return s;
-        if (Status s = validateSettings(settings); !s) return s;
-        if (Status s = validateScene(scene); !s) return s;
-        if (Status s = validateRig(rig); !s) return s;
-        for (const Instance& inst : scene.instances) {
-            if (!finiteMatrix(inst.worldFromModel)) {
-                return usageError("soft backend: an instance has a non-finite transform");
-            }
-        }
-
-        // Color + depth per view (8 bytes a pixel): refuse what cannot reasonably be allocated
-        // instead of dying in the allocator.
-        const double frameBytes = double(settings.width) * settings.height * 8.0 * rig.viewCount();
-        if (frameBytes > kMaxFramebufferBytes) {
-            return usageError(fmt::format(
-                "soft backend: {} views of {}x{} need {:.1f} GiB of color and depth images (limit {:.0f} GiB)",
-                rig.viewCount(), settings.width, settings.height, frameBytes / 1073741824.0,
-                kMaxFramebufferBytes / 1073741824.0));
-        }
+        if (Status s = validateRequest(scene, rig, settings); !s) return s;
         try {
             return renderChecked(scene, rig, settings, method);
         } catch (const std::bad_alloc&) {
@@ -110,11 +69,10 @@ public:
     }
 
 private:
-    static constexpr double kMaxFramebufferBytes = 8.0 * 1073741824.0;
-
     Result<RenderOutput> renderChecked(const Scene& scene, const Rig& rig, const RenderSettings& settings,
                                        const std::string& method) {
         std::lock_guard lock(mMutex);  // one render at a time per backend (shared pool, scratch)
+        const auto start = std::chrono::steady_clock::now();
         detail::ThreadPool& pool = this->pool();
         RenderOutput out;
         out.method = method;
@@ -137,6 +95,14 @@ private:
         } else {
             detail::renderUnified(f, targets, out.stages, mScratch[1]);
         }
+        RenderStats stats;
+        stats.method = method;
+        stats.stages = out.stages;
+        stats.totalWallMs = std::chrono::duration<double, std::milli>(
+                                std::chrono::steady_clock::now() - start).count();
+        stats.drawWallMs = stats.totalWallMs;
+        std::lock_guard statsLock(mStatsMutex);
+        mStats = stats;
         return out;
     }
 
@@ -151,6 +117,8 @@ private:
     SoftOptions mOptions;
     SimdPath mSimd = SimdPath::Scalar;
     std::mutex mMutex;
+    mutable std::mutex mStatsMutex;
+    std::optional<RenderStats> mStats;
     std::unique_ptr<detail::ThreadPool> mPool;
     std::unique_ptr<detail::MethodScratch> mScratch[2];
 };

@@ -16,9 +16,7 @@
 #include "options.h"
 #include "bench_papers.h"
 
-#ifdef MVR_HAVE_RASTER
 #include "mvr/raster/soft_backend.h"
-#endif
 #if __has_include(<nlohmann/json.hpp>)
 #include <nlohmann/json.hpp>
 #define MVR_BENCH_HAVE_JSON 1
@@ -61,19 +59,11 @@ double processCpuMs() {
 
 
 Result<std::unique_ptr<Backend>> makeBenchBackend(const std::string& name, const BenchOptions& o) {
-#ifdef MVR_HAVE_RASTER
-    if (name == "soft") {
-        raster::SoftOptions so;
-        so.threads = o.threads;
-        if (o.simd == "auto") so.simd = raster::SimdPath::Auto;
-        else if (o.simd == "scalar") so.simd = raster::SimdPath::Scalar;
-        else if (o.simd == "avx2") so.simd = raster::SimdPath::Avx2;
-        else if (o.simd == "avx512") so.simd = raster::SimdPath::Avx512;
-        else return usageError(fmt::format("--simd '{}' is not a SIMD path (expected auto, scalar, avx2 or avx512)", o.simd));
-        return raster::makeSoftBackend(so);
+    auto made = makeBackend(name, BackendOptions{.threads = o.threads, .simd = o.simd});
+    if (!made && made.status().message().find("SIMD") != std::string::npos) {
+        return usageError(fmt::format("--simd '{}' is not a SIMD path (expected auto, scalar, avx2 or avx512)", o.simd));
     }
-#endif
-    return makeBackend(name);
+    return made;
 }
 
 int runBench(const BenchOptions& o) {
@@ -126,10 +116,8 @@ int runBench(const BenchOptions& o) {
     // The machine line.
     std::string simdPath = "-";
     int threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-#ifdef MVR_HAVE_RASTER
     simdPath = raster::simdPathName(raster::bestSimdPath());
     if (o.simd != "auto") simdPath = o.simd;
-#endif
     std::vector<std::string> backendInfo;
     for (std::size_t i = 0; i < backends.size(); ++i) {
         for (const std::string& line : backends[i]->info()) backendInfo.push_back(backendNamesSeen[i] + ": " + line);

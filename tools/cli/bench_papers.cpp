@@ -29,9 +29,7 @@
 #include "mvr/adelson/adelson.h"
 #include "options.h"
 
-#ifdef MVR_HAVE_RASTER
 #include "mvr/raster/soft_backend.h"
-#endif
 #if __has_include(<nlohmann/json.hpp>)
 #include <nlohmann/json.hpp>
 #define MVR_PAPERS_HAVE_JSON 1
@@ -159,9 +157,7 @@ Machine describeMachine(int threads, bool wantGl) {
     m.cpu = cpuModelName();
     m.cores = int(std::max(1u, std::thread::hardware_concurrency()));
     m.threads = threads > 0 ? threads : m.cores;
-#ifdef MVR_HAVE_RASTER
     m.simd = raster::simdPathName(raster::bestSimdPath());
-#endif
     if (wantGl) {
         auto gl = makeBackend("gl");
         if (gl) {
@@ -295,17 +291,7 @@ struct Backends {
     Result<Backend*> get(const std::string& name) {
         auto it = byName.find(name);
         if (it != byName.end()) return it->second.get();
-        Result<std::unique_ptr<Backend>> made = unsupportedError("");
-#ifdef MVR_HAVE_RASTER
-        if (name == "soft") {
-            raster::SoftOptions so;
-            so.threads = threads;
-            made = raster::makeSoftBackend(so);
-        } else
-#endif
-        {
-            made = makeBackend(name);
-        }
+        auto made = makeBackend(name, BackendOptions{.threads = threads});
         if (!made) return made.status();
         Backend* raw = made->get();
         byName[name] = std::move(made).value();

@@ -11,7 +11,6 @@
 #include "command.h"
 #include "options.h"
 
-#ifdef MVR_HAVE_COMPOSITE
 #include "mvr/composite/compose.h"
 
 namespace mvr::cli {
@@ -143,4 +142,3 @@ const CommandRegistrar kCompose(20, [](CLI::App& root) -> std::function<int()> {
 
 }  // namespace
 }  // namespace mvr::cli
-#endif  // MVR_HAVE_COMPOSITE

@@ -6,12 +6,7 @@
 
 #include <fmt/core.h>
 
-#ifdef MVR_HAVE_RASTER
-#include "mvr/raster/soft_backend.h"
-#endif
-#ifdef MVR_HAVE_GL
-#include "mvr/gl/gl_backend.h"
-#endif
+#include "mvr/core/framing.h"
 
 namespace mvr::cli {
 
@@ -38,32 +33,6 @@ Result<std::pair<int, int>> parseSize(const std::string& text, const char* what)
         return usageError(fmt::format("{} '{}' is out of range (expected 1..16384 each)", what, text));
     }
     return std::pair<int, int>{int(w), int(h)};
-}
-
-std::string defaultMethod(const std::string& backend) { return backend == "gl" ? "auto" : "unified"; }
-
-std::vector<std::string> backendNames() {
-    std::vector<std::string> names;
-#ifdef MVR_HAVE_RASTER
-    names.push_back("soft");
-#endif
-#ifdef MVR_HAVE_GL
-    names.push_back("gl");
-#endif
-    return names;
-}
-
-Result<std::unique_ptr<Backend>> makeBackend(const std::string& name) {
-#ifdef MVR_HAVE_RASTER
-    if (name == "soft") return raster::makeSoftBackend();
-#endif
-#ifdef MVR_HAVE_GL
-    if (name == "gl") return gl::makeGlBackend();
-#endif
-    if (name == "soft" || name == "gl") {
-        return unsupportedError(fmt::format("backend '{}' is not built into this mvr", name));
-    }
-    return usageError(fmt::format("unknown backend '{}' (expected soft or gl)", name));
 }
 
 void SceneOptions::addTo(CLI::App* app, bool withModels) {
@@ -105,10 +74,9 @@ Result<Prepared> SceneOptions::prepare() const {
     out.settings.shading = *sh;
     out.settings.cullBackFaces = cullBackFaces;
     out.settings.wireframe = wireframe;
-    out.settings.clearColor = models.empty() ? glm::vec3(0.06f, 0.07f, 0.1f) : glm::vec3(0.08f);
     auto kind = parseRigKind(rig);
     if (!kind) return kind.status();
-    RigParams params;
+    FramingParams params;
     params.kind = *kind;
     if (!viewGrid.empty()) {
         static const std::regex kGrid(R"(\s*(\d{1,3})\s*[xX]\s*(\d{1,3})\s*)");
@@ -161,37 +129,15 @@ Result<Prepared> SceneOptions::prepare() const {
     }
     if (Status s = validateScene(out.scene); !s) return s;
 
-    // The camera: looking at the scene from the front (+Z), far enough to frame its bounding sphere.
-    const Bounds bounds = out.scene.bounds();
-    const glm::vec3 center = bounds.center();
-    const float radius = std::max(bounds.radius(), 1e-4f);
-    Camera camera;
-    camera.fovYDegrees = static_cast<float>(fov);
-    camera.aspect = float(out.settings.width) / float(out.settings.height);
-    const float halfFov = glm::radians(camera.fovYDegrees) * 0.5f;
-    const float halfFovX = std::atan(std::tan(halfFov) * camera.aspect);
-    const float fitDistance = radius / std::sin(std::min(halfFov, halfFovX));
-    if (models.empty()) {
-        camera.position = glm::vec3(0.0f, 1.2f, 6.0f);
-        camera.target = glm::vec3(0.0f, -0.2f, 0.0f);
-    } else {
-        camera.target = center;
-        camera.position = center + glm::vec3(0.0f, 0.0f, fitDistance * 1.05f);
-    }
-    const float distance = glm::length(camera.position - camera.target);
-    camera.near = std::max(distance - radius * 2.5f, distance * 0.02f);
-    camera.far = distance + radius * 3.0f;
-    params.convergence = convergence ? static_cast<float>(*convergence) : distance;
-    if (params.convergence <= camera.near) camera.near = params.convergence * 0.5f;
-    if (separation) {
-        params.interaxial = interaxialFromSeparation(camera, static_cast<float>(*separation), params.convergence);
-    } else {
-        params.interaxial = interaxial ? static_cast<float>(*interaxial) : params.convergence / 30.0f;
-    }
-    auto madeRig = makeRig(camera, params);
-    if (!madeRig) return madeRig.status();
-    out.rig = std::move(madeRig).value();
-    if (Status s = validateSettings(out.settings); !s) return s;
+    // The camera, near/far, convergence and spacing: the library's framing (framing.h).
+    params.fovYDegrees = static_cast<float>(fov);
+    if (interaxial) params.interaxial = static_cast<float>(*interaxial);
+    if (separation) params.separation = static_cast<float>(*separation);
+    if (convergence) params.convergence = static_cast<float>(*convergence);
+    auto framed = frameScene(out.scene, params, out.settings);
+    if (!framed) return framed.status();
+    out.rig = std::move(framed->rig);
+    out.settings = framed->settings;
     return out;
 }
 

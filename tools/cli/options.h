@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "mvr/backends.h"
 #include "mvr/core/render.h"
 #include "mvr/core/rig.h"
 #include "mvr/core/scene.h"
@@ -48,14 +49,6 @@ struct SceneOptions {
 
 /// Parses "WxH" (both 1..16384). Errors: ErrorCode::Usage.
 Result<std::pair<int, int>> parseSize(const std::string& text, const char* what);
-
-/// Creates a backend by name ("soft", "gl"). Errors: Usage for an unknown name, Unsupported
-/// for one not built into this binary.
-Result<std::unique_ptr<Backend>> makeBackend(const std::string& name);
-/// The method `mvr render` uses when none is given: "unified" for soft, "auto" for gl.
-std::string defaultMethod(const std::string& backend);
-/// Names of the backends built into this binary.
-std::vector<std::string> backendNames();
 
 /// Prints "error: <message>" on stderr and returns the exit code of its category.
 int fail(const Status& status);

@@ -10,13 +10,8 @@
 #include "command.h"
 #include "options.h"
 
-#ifdef MVR_HAVE_COMPOSITE
+#include "mvr/backends.h"
 #include "mvr/composite/compose.h"
-#endif
-#if defined(MVR_HAVE_GL) && defined(MVR_GL_HAVE_COMPOSITE_GPU)
-#include "mvr/gl/composite_gpu.h"
-#define MVR_RENDER_GPU_COMPOSITES 1
-#endif
 
 namespace mvr::cli {
 namespace {
@@ -24,14 +19,12 @@ namespace {
 struct RenderOptions {
     SceneOptions scene;
     std::string backend = "soft";
-    std::string method;  ///< empty: the backend's fastest exact method
+    std::string method;  ///< empty: the backend's default (its fastest exact method)
     std::string outDir = "out";
     std::vector<std::string> formats;
     bool depth = false;
     bool quiet = false;
-#ifdef MVR_HAVE_COMPOSITE
     composite::ComposeOptions compose;
-#endif
 };
 
 /// Eye-space distance w of a window depth d in [0, 1) for a perspective near/far.
@@ -45,7 +38,7 @@ int runRender(const RenderOptions& o) {
     if (!prepared) return fail(prepared.status());
     auto backend = makeBackend(o.backend);
     if (!backend) return fail(backend.status());
-    const std::string method = o.method.empty() ? defaultMethod(o.backend) : o.method;
+    const std::string method = o.method.empty() ? (*backend)->defaultMethod() : o.method;
     if (Status s = (*backend)->supports(method); !s) return fail(s);
     const Prepared& p = *prepared;
 
@@ -78,45 +71,37 @@ int runRender(const RenderOptions& o) {
             written.push_back(dpath.string());
         }
     }
-#ifdef MVR_HAVE_COMPOSITE
     composite::ComposeOptions compose = o.compose;
     compose.baseline = p.rig.interaxial;
     compose.convergence = p.rig.convergence;
     if (p.rig.viewCount() == 2) {
-        // The red-cyan anaglyph every stereo render gets: Dubois' least-squares red-cyan.
-#ifdef MVR_RENDER_GPU_COMPOSITES
-        auto anaglyph = o.backend == "gl" ? gl::composeGpu("anaglyph-dubois", out.color, compose)
-                                          : composite::compose("anaglyph-dubois", out.color, compose);
-#else
-        auto anaglyph = composite::compose("anaglyph-dubois", out.color, compose);
-#endif
+        // The red-cyan anaglyph every stereo render gets: Dubois' least-squares red-cyan,
+        // composed where the backend composes (a GPU backend on its GPU).
+        auto anaglyph = composeFor(**backend, "anaglyph-dubois", out.color, compose);
         if (!anaglyph) return fail(anaglyph.status());
         const auto path = dir / "anaglyph.png";
         if (Status s = writePng(path, *anaglyph); !s) return fail(s);
         written.push_back(path.string());
     }
     for (const std::string& format : o.formats) {
-#ifdef MVR_RENDER_GPU_COMPOSITES
-        // --backend gl: image formats are composed on the GPU (same pixels as the CPU, anaglyphs
-        // within 1/255; src/gl/README.md), under the CPU's file name. jps / mpo stay CPU files.
-        if (o.backend == "gl" && gl::composeGpuSupports(format)) {
+        auto info = composite::findFormat(format);
+        if (!info) return fail(info.status());
+        if (info->extension == ".png") {
+            // Image formats: composed where the backend composes (same pixels as the CPU,
+            // anaglyphs within 1/255; src/gl/README.md), under the CPU's file name.
             auto name = composite::compositeFileName(format, out.color, compose);
             if (!name) return fail(name.status());
-            auto image = gl::composeGpu(format, out.color, compose);
+            auto image = composeFor(**backend, format, out.color, compose);
             if (!image) return fail(image.status());
             const auto path = dir / *name;
             if (Status s = writePng(path, *image); !s) return fail(s);
             written.push_back(path.string());
             continue;
         }
-#endif
         auto path = composite::writeComposite(format, out.color, compose, dir);
         if (!path) return fail(path.status());
         written.push_back(path->string());
     }
-#else
-    if (!o.formats.empty()) return fail(unsupportedError("--format: output formats are not built into this mvr"));
-#endif
     if (!o.quiet) {
         fmt::print("rendered {} ({} triangles) from {} view{} at {}x{}, {} shading, {}:{}{} in {:.1f} ms\n",
                    p.sceneName, p.scene.triangleCount(), p.rig.viewCount(), p.rig.viewCount() == 1 ? "" : "s",
@@ -161,11 +146,9 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
     app->add_option("-o,--output", o->outDir, "Output directory")->default_val(o->outDir);
     app->add_flag("--depth", o->depth, "Also write depth-0.png ... (16-bit, near = black)");
     app->add_flag("-q,--quiet", o->quiet, "Print nothing on success");
-#ifdef MVR_HAVE_COMPOSITE
     app->add_option("--format", o->formats, "Also write composites: DIR/<format>.png (.mpo, .jps); repeatable")
         ->check(CLI::IsMember(composite::formatNames()));
     composite::addComposeOptions(app, o->compose);
-#endif
     return [o] { return runRender(*o); };
 });
 

@@ -396,7 +396,7 @@ private:
 Status Viewer::createBackends() {
     return mWorker.call([this]() -> Status {
         for (const std::string& name : {std::string("gl"), std::string("soft")}) {
-            auto backend = cli::makeBackend(name);
+            auto backend = mvr::makeBackend(name);
             if (!backend) continue;  // not built into this mvr
             for (const std::string& m : (*backend)->methods()) mMethods.push_back({name, m});
             mBackends[name] = std::move(backend).value();
@@ -417,7 +417,7 @@ Status Viewer::chooseInitialMethod() {
         return mWorker.call([this, ref] { return mBackends.at(ref.backend)->supports(ref.method); });
     };
     if (!mBackends.count(mOptions.backend)) {
-        auto made = cli::makeBackend(mOptions.backend);  // for its error message
+        auto made = mvr::makeBackend(mOptions.backend);  // for its error message
         if (!made) return made.status();
         return unsupportedError(fmt::format("backend '{}' is not available", mOptions.backend));
     }
@@ -426,7 +426,7 @@ Status Viewer::chooseInitialMethod() {
     // multipass and `m` reaches auto.
     const std::string wanted = !mOptions.method.empty() ? mOptions.method
                                : mOptions.backend == "gl" ? std::string("multipass")
-                                                          : cli::defaultMethod(mOptions.backend);
+                                                          : mBackends.at(mOptions.backend)->defaultMethod();
     std::optional<std::size_t> index = find(mOptions.backend, wanted);
     if (!index) {
         return usageError(fmt::format("--method '{}' is not a method of the {} backend (see `mvr "
@@ -439,7 +439,7 @@ Status Viewer::chooseInitialMethod() {
         // The default backend (gl) has no context here: show the soft backend instead.
         fmt::print(stderr, "mvr view: gl backend unavailable ({}); using soft\n", s.message());
         index = find("soft", mOptions.method == "multipass" ? std::string("multipass")
-                                                            : cli::defaultMethod("soft"));
+                                                            : mBackends.at("soft")->defaultMethod());
         if (!index) index = find("soft", "multipass");
         s = supported(mMethods[*index]);
     }

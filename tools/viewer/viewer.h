@@ -31,7 +31,7 @@ namespace mvr::viewer {
 struct ViewerOptions {
     cli::SceneOptions scene;
     std::string backend = "gl";
-    std::string method;  ///< empty: gl multipass, soft cli::defaultMethod("soft") (unified)
+    std::string method;  ///< empty: gl multipass, otherwise the backend's defaultMethod()
     bool backendGiven = false;  ///< --backend was on the command line (no fallback to soft)
     std::string format = "anaglyph-dubois";
     bool swapEyes = false;

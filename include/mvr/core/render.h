@@ -7,6 +7,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,17 @@ struct StageTimes {
     double vertexMs = 0, setupMs = 0, rasterMs = 0, fillMs = 0;
 };
 
+/// Timings of a backend's last successful render() (Backend::lastStats()). Fields a backend
+/// does not measure stay at their defaults: stages zero, gpuMs negative.
+struct RenderStats {
+    std::string method;          ///< the method that ran (for "auto": the one it picked)
+    StageTimes stages;           ///< soft: per pipeline stage
+    double gpuMs = -1.0;         ///< GPU timer of the draws (gl: GL_TIME_ELAPSED); <0 if none
+    double drawWallMs = 0.0;     ///< wall time from the first draw to the finished frame
+    double readbackWallMs = 0.0; ///< wall time of handing the views' images back
+    double totalWallMs = 0.0;    ///< the whole render() call
+};
+
 /// What one render produces: a color and a depth image per view, in rig view order.
 struct RenderOutput {
     std::vector<Image> color;
@@ -51,6 +63,8 @@ public:
     virtual std::string name() const = 0;
     /// Every method this backend knows, supported here or not.
     virtual std::vector<std::string> methods() const = 0;
+    /// The method used when none is asked for (its fastest exact one).
+    virtual std::string defaultMethod() const = 0;
     /// ok, or why `method` cannot run (unknown: Usage; not on this driver/build: Unsupported).
     virtual Status supports(const std::string& method) const = 0;
     /// Renders the scene from every view of the rig.
@@ -59,7 +73,22 @@ public:
                                         const std::string& method) = 0;
     /// Lines for `mvr info` (limits, driver strings).
     virtual std::vector<std::string> info() const { return {}; }
+    /// Timings of the last successful render(); nullopt before the first.
+    virtual std::optional<RenderStats> lastStats() const = 0;
 };
+
+/// Color + depth bytes a request of `views` views of width×height needs (8 bytes a pixel).
+double framebufferBytes(int views, int width, int height);
+/// The most any backend allocates for one request's color and depth images.
+inline constexpr double kMaxFramebufferBytes = 8.0 * 1024 * 1024 * 1024;
+
+/// The one validation of a render request, called by every backend's render() and by the
+/// tools before rendering, so that the same request gets the same message and error code
+/// whatever the backend: settings (validateSettings), scene (validateScene, finite instance
+/// transforms), rig (1..kMaxViews views, finite matrices, shears and convergence) and the
+/// memory the images need (Unsupported above kMaxFramebufferBytes). Backends add only their
+/// own driver limits after it. Errors name the value ("view 3 has a non-finite matrix").
+Status validateRequest(const Scene& scene, const Rig& rig, const RenderSettings& settings);
 
 /// Validates settings (size within 1..16384, finite clear color). Errors: ErrorCode::Usage.
 Status validateSettings(const RenderSettings& settings);

@@ -4,6 +4,7 @@
 // unit direction TOWARD the light. See lighting.h for the shading model every backend uses.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -31,11 +32,19 @@ struct DirectionalLight {
 
 inline constexpr int kMaxLights = 4;
 
+/// Where a scene is meant to be seen from, when it says so (the default scene does).
+struct SceneViewpoint {
+    glm::vec3 position{0.0f, 0.0f, 5.0f};
+    glm::vec3 target{0.0f};
+};
+
 struct Scene {
     std::vector<Mesh> meshes;
     std::vector<Instance> instances;
     std::vector<DirectionalLight> lights;  ///< at most kMaxLights
     glm::vec3 ambient{0.12f};
+    glm::vec3 background{0.08f};              ///< clear colour, linear [0, 1]
+    std::optional<SceneViewpoint> viewpoint;  ///< absent: framing fits the bounds (framing.h)
 
     std::size_t triangleCount() const;  ///< over all instances
     Bounds bounds() const;              ///< world-space bounds of all instances

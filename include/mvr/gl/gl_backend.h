@@ -79,7 +79,8 @@ struct GlFrameStats {
     double totalWallMs = 0.0;     ///< the whole render() call
 };
 
-/// The stats of `backend`'s last render(), when it is a gl backend that has rendered.
+/// `backend.lastStats()` in the gl backend's terms (kept for callers of the gl API; every
+/// backend reports through Backend::lastStats()).
 std::optional<GlFrameStats> lastFrameStats(const mvr::Backend& backend);
 
 /// (Every image format of the composite module on the GPU: mvr/gl/composite_gpu.h.)

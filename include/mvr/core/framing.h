@@ -1,0 +1,49 @@
+// mvr/core/framing.h — how `mvr render` frames a scene: the centre camera, its near and far
+// planes, the convergence and the default spacing of the views. A library user who frames a
+// scene here and renders it gets exactly the images the command line writes.
+//
+// The camera: the scene's own viewpoint (Scene::viewpoint) where it has one; otherwise on the
+// +Z side of the bounds' centre, looking at it, at 1.05 × the distance at which the bounding
+// sphere fits the narrower of the two fields of view. near = max(d − 2.5 r, 0.02 d), far =
+// d + 3 r (d = distance to the target, r = bounding radius). The convergence plane defaults to
+// the target's distance; the interaxial to convergence / 30 (or from a separation, nvidia-gtc2010).
+#pragma once
+
+#include <optional>
+
+#include <glm/glm.hpp>
+
+#include "mvr/core/render.h"
+#include "mvr/core/rig.h"
+#include "mvr/core/scene.h"
+#include "mvr/core/status.h"
+
+namespace mvr {
+
+struct FramingParams {
+    RigKind kind = RigKind::OffAxis;
+    int columns = 2;                    ///< views per row
+    int rows = 1;                       ///< rows of views
+    float fovYDegrees = 45.0f;          ///< vertical field of view, (0, 180)
+    std::optional<float> interaxial;    ///< world units, >= 0; default convergence / 30
+    std::optional<float> separation;    ///< fraction of the screen width; excludes interaxial
+    std::optional<float> convergence;   ///< world units, > 0; default: distance to the target
+    std::optional<glm::vec3> clearColor;///< default: Scene::background
+};
+
+/// A rig and settings ready for Backend::render().
+struct RenderRequest {
+    Rig rig;
+    RenderSettings settings;
+};
+
+/// The centre camera for `scene` seen at `aspect` (width / height of one view).
+Camera frameCamera(const Scene& scene, float fovYDegrees, float aspect);
+
+/// Frames `scene` for views of `settings`' size (its clear colour is replaced by
+/// params.clearColor or the scene's background). Errors: Usage naming the parameter (fov,
+/// interaxial, separation, convergence, views) and its range; validateRequest()'s errors.
+Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params,
+                                 RenderSettings settings = {});
+
+}  // namespace mvr

@@ -1,0 +1,83 @@
+#include "mvr/core/framing.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/core.h>
+
+namespace mvr {
+
+Camera frameCamera(const Scene& scene, float fovYDegrees, float aspect) {
+    const Bounds bounds = scene.bounds();
+    const glm::vec3 center = bounds.center();
+    const float radius = std::max(bounds.radius(), 1e-4f);
+    Camera camera;
+    camera.fovYDegrees = fovYDegrees;
+    camera.aspect = aspect;
+    const float halfFov = glm::radians(camera.fovYDegrees) * 0.5f;
+    const float halfFovX = std::atan(std::tan(halfFov) * camera.aspect);
+    const float fitDistance = radius / std::sin(std::min(halfFov, halfFovX));
+    if (scene.viewpoint) {
+        camera.position = scene.viewpoint->position;
+        camera.target = scene.viewpoint->target;
+    } else {
+        camera.target = center;
+        camera.position = center + glm::vec3(0.0f, 0.0f, fitDistance * 1.05f);
+    }
+    const float distance = glm::length(camera.position - camera.target);
+    camera.near = std::max(distance - radius * 2.5f, distance * 0.02f);
+    camera.far = distance + radius * 3.0f;
+    return camera;
+}
+
+Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params,
+                                 RenderSettings settings) {
+    if (!std::isfinite(params.fovYDegrees) || params.fovYDegrees <= 0.0f ||
+        params.fovYDegrees >= 180.0f) {
+        return usageError(fmt::format("fov {} is out of range (expected 0 < fov < 180 degrees)",
+                                      params.fovYDegrees));
+    }
+    if (params.columns < 1 || params.rows < 1 || params.columns * params.rows > kMaxViews) {
+        return usageError(fmt::format("{}x{} views is out of range (expected 1..{} views)",
+                                      params.columns, params.rows, kMaxViews));
+    }
+    for (const auto& [name, value] : {std::pair{"interaxial", params.interaxial},
+                                      std::pair{"separation", params.separation},
+                                      std::pair{"convergence", params.convergence}}) {
+        if (value && (!std::isfinite(*value) || *value < 0.0f)) {
+            return usageError(
+                fmt::format("{} {} is out of range (expected a finite value >= 0)", name, *value));
+        }
+    }
+    if (params.convergence && *params.convergence <= 0.0f) {
+        return usageError("convergence 0 is out of range (expected a distance > 0)");
+    }
+    if (params.interaxial && params.separation) {
+        return usageError("interaxial and separation both given (expected one of them)");
+    }
+    if (Status s = validateSettings(settings); !s) return s;
+    if (Status s = validateScene(scene); !s) return s;
+
+    settings.clearColor = params.clearColor.value_or(scene.background);
+    Camera camera = frameCamera(scene, params.fovYDegrees,
+                                float(settings.width) / float(settings.height));
+    const float distance = glm::length(camera.position - camera.target);
+    RigParams rig;
+    rig.kind = params.kind;
+    rig.columns = params.columns;
+    rig.rows = params.rows;
+    rig.convergence = params.convergence.value_or(distance);
+    if (rig.convergence <= camera.near) camera.near = rig.convergence * 0.5f;
+    if (params.separation) {
+        rig.interaxial = interaxialFromSeparation(camera, *params.separation, rig.convergence);
+    } else {
+        rig.interaxial = params.interaxial.value_or(rig.convergence / 30.0f);
+    }
+    auto made = makeRig(camera, rig);
+    if (!made) return made.status();
+    RenderRequest out{std::move(made).value(), settings};
+    if (Status s = validateRequest(scene, out.rig, out.settings); !s) return s;
+    return out;
+}
+
+}  // namespace mvr
