@@ -1,0 +1,153 @@
+// Scene framing in the library (mvr/core/framing.h): a library user who frames a scene with
+// frameScene() and renders it gets exactly the images `mvr render` writes, and the framing's
+// geometry is what its documentation says (computed here independently).
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+
+#include "mvr/backends.h"
+#include "mvr/core/framing.h"
+
+namespace mvr {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path mvrBinary() {
+    const char* bin = std::getenv("MVR_BINARY_DIR");
+    return fs::path(bin ? bin : MVR_TEST_BINARY_DIR) / "tools" / "cli" / "mvr";
+}
+
+fs::path sharedModel(const char* name) {
+    const char* dir = std::getenv("MVR_SHARED_DIR");
+    return fs::path(dir ? dir : MVR_TEST_SHARED_DIR) / "models" / name;
+}
+
+/// Runs `mvr render ARGS -o DIR -q` and returns its exit code.
+int mvrRender(const std::string& args, const fs::path& dir) {
+    const std::string cmd = fmt::format("'{}' render {} -q -o '{}' </dev/null", mvrBinary().string(),
+                                        args, dir.string());
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+}
+
+class Framing : public ::testing::Test {
+protected:
+    void SetUp() override {
+        mDir = fs::temp_directory_path() /
+               fmt::format("mvr-framing-test-{}-{}", ::getpid(),
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(mDir);
+    }
+    void TearDown() override { fs::remove_all(mDir); }
+    fs::path mDir;
+};
+
+void expectSameAsCli(const Scene& scene, const FramingParams& params, RenderSettings settings,
+                     const std::string& cliArgs, const fs::path& dir) {
+    auto request = frameScene(scene, params, settings);
+    ASSERT_TRUE(request) << request.status().message();
+    auto soft = makeBackend("soft");
+    ASSERT_TRUE(soft);
+    auto out = (*soft)->render(scene, request->rig, request->settings, (*soft)->defaultMethod());
+    ASSERT_TRUE(out) << out.status().message();
+    ASSERT_EQ(mvrRender(cliArgs, dir), 0) << cliArgs;
+    ASSERT_EQ(int(out->color.size()), request->rig.viewCount());
+    for (int v = 0; v < request->rig.viewCount(); ++v) {
+        auto cli = readPng(dir / fmt::format("view-{}.png", v));
+        ASSERT_TRUE(cli) << cli.status().message();
+        EXPECT_TRUE(*cli == out->color[std::size_t(v)]) << "view " << v << " of `mvr render "
+                                                        << cliArgs << "` differs from the API's";
+    }
+}
+
+TEST_F(Framing, TheApiRendersWhatTheCliWritesForTheDefaultScene) {
+    expectSameAsCli(makeDefaultScene(), FramingParams{}, RenderSettings{.width = 96, .height = 72},
+                    "--size 96x72", mDir);
+}
+
+TEST_F(Framing, TheApiRendersWhatTheCliWritesForAModelGridAndOptions) {
+    auto mesh = loadMesh(sharedModel("suzanne.obj"));
+    ASSERT_TRUE(mesh) << mesh.status().message();
+    const Scene scene = makeGridScene({*mesh}, 3);
+    FramingParams p;
+    p.columns = 3;
+    p.rows = 2;
+    p.fovYDegrees = 50.0f;
+    p.separation = 0.02f;
+    expectSameAsCli(scene, p,
+                    RenderSettings{.width = 64, .height = 48, .shading = Shading::Pixel},
+                    fmt::format("'{}' --grid 3 --view-grid 3x2 --fov 50 --separation 0.02 "
+                                "--size 64x48 --shading pixel",
+                                sharedModel("suzanne.obj").string()),
+                    mDir);
+}
+
+TEST(FramingGeometry, FitsTheBoundingSphereFromPlusZ) {
+    Mesh m;
+    m.positions = {{-1, -1, -1}, {3, -1, -1}, {-1, 1, 1}};  // bounds centre (1, 0, 0)
+    m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+    m.indices = {0, 1, 2};
+    Scene s;
+    s.meshes = {m};
+    s.instances = {Instance{}};
+    const float fov = 40.0f, aspect = 0.5f;  // portrait: the horizontal fov is the narrower
+    const Camera c = frameCamera(s, fov, aspect);
+    const float r = std::sqrt(4.0f + 1.0f + 1.0f);  // half the box diagonal (4, 2, 2)
+    const float halfX = std::atan(std::tan(fov * 3.14159265f / 360.0f) * aspect);
+    const float d = 1.05f * r / std::sin(halfX);
+    EXPECT_NEAR(c.target.x, 1.0f, 1e-5f);
+    EXPECT_NEAR(c.position.x, 1.0f, 1e-5f);
+    EXPECT_NEAR(c.position.z, d, 1e-3f);
+    EXPECT_NEAR(c.near, std::max(d - 2.5f * r, 0.02f * d), 1e-3f);
+    EXPECT_NEAR(c.far, d + 3.0f * r, 1e-3f);
+
+    FramingParams params;
+    params.fovYDegrees = fov;
+    auto req = frameScene(s, params, RenderSettings{.width = 50, .height = 100});
+    ASSERT_TRUE(req) << req.status().message();
+    EXPECT_NEAR(req->rig.convergence, d, 1e-3f);                 // the target's distance
+    EXPECT_NEAR(req->rig.interaxial, d / 30.0f, 1e-4f);          // convergence / 30
+    EXPECT_EQ(req->settings.clearColor, s.background);
+}
+
+TEST(FramingGeometry, TheSceneViewpointWins) {
+    const Scene s = makeDefaultScene();
+    ASSERT_TRUE(s.viewpoint);
+    const Camera c = frameCamera(s, 45.0f, 4.0f / 3.0f);
+    EXPECT_EQ(c.position, s.viewpoint->position);
+    EXPECT_EQ(c.target, s.viewpoint->target);
+}
+
+TEST(FramingGeometry, BadParametersAreUsageErrorsNamingThem) {
+    const Scene s = makeDefaultScene();
+    auto expectBad = [&](FramingParams p, const char* name) {
+        auto r = frameScene(s, p);
+        ASSERT_FALSE(r) << name;
+        EXPECT_EQ(r.status().code(), ErrorCode::Usage) << name;
+        EXPECT_NE(r.status().message().find(name), std::string::npos) << r.status().message();
+    };
+    auto with = [](auto set) {
+        FramingParams p;
+        set(p);
+        return p;
+    };
+    expectBad(with([](FramingParams& p) { p.fovYDegrees = 180.0f; }), "fov");
+    expectBad(with([](FramingParams& p) { p.fovYDegrees = std::nanf(""); }), "fov");
+    expectBad(with([](FramingParams& p) { p.interaxial = -1.0f; }), "interaxial");
+    expectBad(with([](FramingParams& p) { p.separation = INFINITY; }), "separation");
+    expectBad(with([](FramingParams& p) { p.convergence = 0.0f; }), "convergence");
+    expectBad(with([](FramingParams& p) { p.interaxial = 0.1f, p.separation = 0.02f; }),
+              "separation");
+    expectBad(with([](FramingParams& p) { p.columns = 9, p.rows = 8; }), "views");
+    EXPECT_FALSE(frameScene(Scene{}, FramingParams{}));
+}
+
+}  // namespace
+}  // namespace mvr
