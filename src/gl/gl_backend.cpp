@@ -10,7 +10,7 @@ class GlBackend final : public mvr::Backend {
 public:
     std::string name() const override { return "gl"; }
     std::vector<std::string> methods() const override { return detail::methodNames(); }
-    std::string defaultMethod() const override { return "auto"; }
+    std::string defaultMethod() const override { return detail::defaultMethod().name; }
     Status supports(const std::string& method) const override {
         return mRenderer.supports(method);
     }

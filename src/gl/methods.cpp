@@ -1,5 +1,6 @@
-// src/gl/methods.cpp — the draw paths of the gl backend's methods. Each binds its target,
-// clears it, and draws every instance of the frame; renderOnce() times and reads back.
+// src/gl/methods.cpp — the draw paths of the gl backend's methods (named by the rows of
+// method_table.cpp). Each binds its target, clears it, and draws every instance of the frame;
+// renderOnce() times and reads back.
 #include <algorithm>
 
 #include <fmt/format.h>
@@ -29,7 +30,7 @@ Status Renderer::drawMultipass(const Frame& f, GLuint prog) {
         glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, mLayered.color.get(), 0, v);
         glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, mLayered.depth.get(), 0, v);
         if (v == 0) {
-            if (Status s = checkFramebuffer(fbo, "multipass"); !s) return s;
+            if (Status s = checkFramebuffer(fbo, f.method->name); !s) return s;
         }
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         glProgramUniform1i(prog, 0, v);
@@ -79,7 +80,8 @@ Status Renderer::drawMultiview(const Frame& f, GLuint prog) {
 
 // viewport-array: one tiled target, the geometry shader picks gl_ViewportIndex = view; each
 // viewport is scissored to its tile so that no view draws into its neighbour.
-Status Renderer::drawViewportArray(const Frame& f, GLuint prog, const TileLayout& t) {
+Status Renderer::drawViewportArray(const Frame& f, GLuint prog) {
+    const TileLayout& t = *f.tiles;
     ensureTiled(t.columns * t.width, t.rows * t.height);
     if (Status s = checkFramebuffer(mTiled.fbo.get(), "tiled target"); !s) return s;
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mTiled.fbo.get());
@@ -98,11 +100,21 @@ Status Renderer::drawViewportArray(const Frame& f, GLuint prog, const TileLayout
     return Status::ok();
 }
 
+// kalaiah-emulation: the per-triangle arrays of every mesh (before the timed draw).
+Status Renderer::prepareKalaiah(const Frame& f) {
+    for (std::size_t i = 0; i < f.scene->meshes.size(); ++i) {
+        if (Status st = ensureKalaiahBuffers(*f.meshes[i], f.scene->meshes[i], f.views); !st)
+            return st;
+    }
+    return Status::ok();
+}
+
 // kalaiah2007 §4: per triangle, V dummy triangles whose vertices are (corner, view); the
 // triangle's corners and normals are per-instance attributes (one instance = one triangle,
 // the batched form of the paper's per-triangle glDrawArrays), the viewport transform into the
 // view's partition is done in the vertex shader, per-view clipping by 4 clip distances.
-Status Renderer::drawKalaiah(const Frame& f, GLuint prog, const TileLayout& t) {
+Status Renderer::drawKalaiah(const Frame& f, GLuint prog) {
+    const TileLayout& t = *f.tiles;
     ensureTiled(t.columns * t.width, t.rows * t.height);
     if (Status s = checkFramebuffer(mTiled.fbo.get(), "partitioned target"); !s) return s;
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mTiled.fbo.get());
@@ -125,7 +137,10 @@ Status Renderer::drawKalaiah(const Frame& f, GLuint prog, const TileLayout& t) {
 // order by the distance of their bounds' centre from the centre eye). With `depthMap`
 // (§5.2): first the left eye's depth into a depth texture, then every fragment is tested
 // against it in the fragment shader.
-Status Renderer::drawGsMrt(const Frame& f, GLuint prog, bool depthMap) {
+Status Renderer::drawGsMrt(const Frame& f, GLuint prog) { return drawSorbier(f, prog, false); }
+Status Renderer::drawGsDepthMap(const Frame& f, GLuint prog) { return drawSorbier(f, prog, true); }
+
+Status Renderer::drawSorbier(const Frame& f, GLuint prog, bool depthMap) {
     const int w = f.settings->width, h = f.settings->height;
     ensureMrt(w, h);
     Frame sorted = f;
@@ -140,7 +155,7 @@ Status Renderer::drawGsMrt(const Frame& f, GLuint prog, bool depthMap) {
                      [&](int a, int b) { return dist[static_cast<std::size_t>(a)] >
                                                 dist[static_cast<std::size_t>(b)]; });
     if (depthMap) {
-        Result<GLuint> pre = program("depth-prepass", f);
+        Result<GLuint> pre = program(depthPrepassName(), depthPrepassProgram());
         if (!pre) return pre.status();
         if (Status s = checkFramebuffer(mMrt.depthFbo.get(), "depth map"); !s) return s;
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mMrt.depthFbo.get());

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -49,37 +50,7 @@ void bindVertexArray(GLuint vao, GLuint positions, GLuint normals, GLuint indice
     }
 }
 
-const char* shadingDefine(Shading s) {
-    switch (s) {
-    case Shading::Flat: return "SHADING_FLAT";
-    case Shading::Vertex: return "SHADING_VERTEX";
-    case Shading::Pixel: return "SHADING_PIXEL";
-    }
-    return "SHADING_VERTEX";
-}
-
-// Components a GS emits per vertex: gl_Position, the layer/viewport/flag, the varyings.
-int gsComponentsPerVertex(Shading s, bool depthMap) {
-    const int varyings = s == Shading::Pixel ? 6 : 3;
-    return 4 + 1 + varyings + (depthMap ? 4 : 0);
-}
-
-bool isGsLoop(const std::string& m) {
-    return m == "gs-layered" || m == "viewport-array" || m == "gs-mrt" || m == "gs-depthmap";
-}
-bool isLayered(const std::string& m) {
-    return m == "multipass" || m == "gs-layered" || m == "gs-invocations" ||
-           m == "instanced-layer" || m == "multiview";
-}
-
 }  // namespace
-
-const std::vector<std::string>& methodNames() {
-    static const std::vector<std::string> kNames = {
-        "multipass",       "gs-mrt",         "gs-depthmap", "gs-layered",        "gs-invocations",
-        "instanced-layer", "viewport-array", "multiview",   "kalaiah-emulation", "auto"};
-    return kNames;
-}
 
 Renderer::~Renderer() {
     if (!mContext || !mContext->makeCurrent()) {
@@ -142,58 +113,36 @@ std::vector<std::string> Renderer::info() {
     lines.push_back(fmt::format("EGL platform: {} (EGL {} {})", mContext->platform(),
                                 mContext->eglVersion(), mContext->eglVendor()));
     for (std::string& l : mCaps.describe()) lines.push_back(std::move(l));
-    for (const std::string& m : methodNames()) {
-        if (m == "auto") continue;
-        Status s = supports(m);
-        if (!s) {
-            std::string why = s.message();
-            if (why.rfind(m + ": ", 0) == 0) why.erase(0, m.size() + 2);
-            lines.push_back(fmt::format("method {}: unsupported: {}", m, why));
+    for (const GlMethod& m : glMethods()) {
+        if (m.measuresExact) continue;
+        if (const std::string why = m.missing ? m.missing(mCaps) : ""; !why.empty()) {
+            lines.push_back(fmt::format("method {}: unsupported: {}", m.name, why));
             continue;
         }
         const int lf = viewLimit(m, Shading::Flat, 1024, 768);
         const int lp = viewLimit(m, Shading::Pixel, 1024, 768);
-        lines.push_back(lf == lp ? fmt::format("method {}: supported, up to {} views", m, lf)
+        lines.push_back(lf == lp ? fmt::format("method {}: supported, up to {} views", m.name, lf)
                                  : fmt::format("method {}: supported, up to {} views (flat/vertex), "
-                                               "{} (pixel) at 1024x768", m, lf, lp));
+                                               "{} (pixel) at 1024x768", m.name, lf, lp));
     }
     return lines;
 }
 
 Status Renderer::supports(const std::string& method) {
-    if (std::find(methodNames().begin(), methodNames().end(), method) == methodNames().end()) {
+    const GlMethod* m = findMethod(method);
+    if (!m) {
         return usageError(fmt::format("gl: unknown method '{}' (expected one of: {})", method,
                                       fmt::join(methodNames(), ", ")));
     }
-    if (Status s = ensureContext(); !s) return s;
-    const std::string driver = fmt::format("{} ({})", mCaps.renderer, mCaps.version);
-    if (method == "instanced-layer" && !mCaps.vertexLayer()) {
-        return unsupportedError(fmt::format(
-            "instanced-layer: needs GL_ARB_shader_viewport_layer_array or "
-            "GL_AMD_vertex_shader_layer (gl_Layer from the vertex shader); {} has neither",
-            driver));
-    }
-    if (method == "multiview" && !mCaps.has("GL_OVR_multiview")) {
-        return unsupportedError(fmt::format(
-            "multiview: GL_OVR_multiview is not supported by {}", driver));
-    }
-    if ((method == "gs-mrt" || method == "gs-depthmap") && mCaps.maxDrawBuffers < 2) {
-        return unsupportedError(fmt::format("{}: needs 2 draw buffers, GL_MAX_DRAW_BUFFERS = {}",
-                                            method, mCaps.maxDrawBuffers));
-    }
-    if (method == "viewport-array" && mCaps.maxViewports < 2) {
-        return unsupportedError(fmt::format("viewport-array: GL_MAX_VIEWPORTS = {}",
-                                            mCaps.maxViewports));
-    }
-    if (method == "kalaiah-emulation" && mCaps.maxClipDistances < 4) {
-        return unsupportedError(fmt::format("kalaiah-emulation: needs 4 clip distances, "
-                                            "GL_MAX_CLIP_DISTANCES = {}", mCaps.maxClipDistances));
-    }
-    return Status::ok();
+    return supportsMethod(*m);
 }
 
-Result<TileLayout> Renderer::tileLayout(const Rig& rig, int width, int height,
-                                        int maxViewports) const {
+Status Renderer::supportsMethod(const GlMethod& method) {
+    if (Status s = ensureContext(); !s) return s;
+    return driverSupport(method, mCaps);
+}
+
+Result<TileLayout> Renderer::tileLayout(const Rig& rig, int width, int height) const {
     const int n = rig.viewCount();
     const int maxW = std::min(mCaps.maxTextureSize, mCaps.maxViewportDims[0]);
     const int maxH = std::min(mCaps.maxTextureSize, mCaps.maxViewportDims[1]);
@@ -214,36 +163,14 @@ Result<TileLayout> Renderer::tileLayout(const Rig& rig, int width, int height,
             "{} views of {}x{} do not fit in one target of at most {}x{} "
             "(GL_MAX_TEXTURE_SIZE / GL_MAX_VIEWPORT_DIMS)", n, width, height, maxW, maxH));
     }
-    (void)maxViewports;
     return t;
 }
 
-int Renderer::viewLimit(const std::string& m, Shading shading, int width, int height) const {
-    int limit = kMaxViews;
-    if (m == "gs-mrt" || m == "gs-depthmap") return 2;
-    if (isLayered(m)) limit = std::min({limit, mCaps.maxArrayLayers, mCaps.maxFramebufferLayers});
-    if (isGsLoop(m) || m == "gs-invocations") {
-        const int comps = gsComponentsPerVertex(shading, m == "gs-depthmap");
-        if (m == "gs-invocations") {
-            limit = std::min(limit, mCaps.maxGsInvocations);
-            if (3 * comps > mCaps.maxGsTotalOutputComponents) limit = 0;
-        } else {
-            limit = std::min({limit, mCaps.maxGsOutputVertices / 3,
-                              mCaps.maxGsTotalOutputComponents / (3 * comps)});
-        }
-    }
-    if (m == "viewport-array") limit = std::min(limit, mCaps.maxViewports);
-    if (m == "multiview") limit = std::min(limit, mCaps.maxViewsOvr);
-    if (m == "viewport-array" || m == "kalaiah-emulation") {
-        const int maxW = std::min(mCaps.maxTextureSize, mCaps.maxViewportDims[0]);
-        const int maxH = std::min(mCaps.maxTextureSize, mCaps.maxViewportDims[1]);
-        const long tiles = static_cast<long>(maxW / std::max(width, 1)) * (maxH / std::max(height, 1));
-        limit = static_cast<int>(std::min<long>(limit, tiles));
-    }
-    return std::max(limit, 0);
+int Renderer::viewLimit(const GlMethod& m, Shading shading, int width, int height) const {
+    return detail::viewLimit(m, mCaps, shading, width, height);
 }
 
-Status Renderer::checkViews(const std::string& m, int views, const RenderSettings& s) const {
+Status Renderer::checkViews(const GlMethod& m, int views, const RenderSettings& s) const {
     // Colour (4 bytes) + depth (4 bytes) per pixel per view on the GPU side, the same again
     // for the images handed back: refuse what would not fit in memory instead of failing
     // (or being killed) halfway.
@@ -255,37 +182,7 @@ Status Renderer::checkViews(const std::string& m, int views, const RenderSetting
             views, s.width, s.height, bytes / (1024.0 * 1024 * 1024),
             kBudgetBytes / (1024.0 * 1024 * 1024)));
     }
-    if ((m == "gs-mrt" || m == "gs-depthmap") && views != 2) {
-        return usageError(fmt::format(
-            "gl: {} renders exactly 2 views (sorbier2008's stereo pair: one MRT attachment per "
-            "eye); the rig has {}", m, views));
-    }
-    const int limit = viewLimit(m, s.shading, s.width, s.height);
-    if (views <= limit) return Status::ok();
-    std::string why;
-    const int comps = gsComponentsPerVertex(s.shading, m == "gs-depthmap");
-    if (isLayered(m) && views > std::min(mCaps.maxArrayLayers, mCaps.maxFramebufferLayers)) {
-        why = fmt::format("GL_MAX_ARRAY_TEXTURE_LAYERS = {}, GL_MAX_FRAMEBUFFER_LAYERS = {}",
-                          mCaps.maxArrayLayers, mCaps.maxFramebufferLayers);
-    } else if (m == "gs-invocations") {
-        why = fmt::format("GL_MAX_GEOMETRY_SHADER_INVOCATIONS = {}", mCaps.maxGsInvocations);
-    } else if (m == "viewport-array" && views > mCaps.maxViewports) {
-        why = fmt::format("GL_MAX_VIEWPORTS = {}", mCaps.maxViewports);
-    } else if (isGsLoop(m)) {
-        why = fmt::format("the geometry shader emits 3 vertices x {} components per view: "
-                          "GL_MAX_GEOMETRY_OUTPUT_VERTICES = {}, "
-                          "GL_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS = {}",
-                          comps, mCaps.maxGsOutputVertices, mCaps.maxGsTotalOutputComponents);
-    } else if (m == "multiview") {
-        why = fmt::format("GL_MAX_VIEWS_OVR = {}", mCaps.maxViewsOvr);
-    } else if (views > kMaxViews) {
-        why = fmt::format("mvr::kMaxViews = {}", kMaxViews);
-    } else {
-        why = fmt::format("the views' tiles must fit GL_MAX_TEXTURE_SIZE = {}",
-                          mCaps.maxTextureSize);
-    }
-    return unsupportedError(fmt::format("gl: {}: {} views exceed its limit of {} here ({})", m,
-                                        views, limit, why));
+    return checkMethodViews(m, mCaps, views, s);
 }
 
 Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& sceneKey) {
@@ -409,7 +306,8 @@ Status Renderer::ensureKalaiahBuffers(GpuMesh& g, const Mesh& src, int views) {
     return checkGlError("uploading the kalaiah2007 arrays");
 }
 
-void Renderer::uploadFrameBlock(const Frame& f, const TileLayout* tiles) {
+void Renderer::uploadFrameBlock(const Frame& f) {
+    const TileLayout* tiles = f.tiles ? &*f.tiles : nullptr;
     FrameBlock b{};
     for (int v = 0; v < f.views; ++v) {
         b.clipFromWorld[v] = f.rig->views[static_cast<std::size_t>(v)].clipFromWorld();
@@ -425,68 +323,25 @@ void Renderer::uploadFrameBlock(const Frame& f, const TileLayout* tiles) {
         }
     }
     const auto& lights = f.scene->lights;
-    for (std::size_t i = 0; i < lights.size() && i < 4; ++i) {
+    for (std::size_t i = 0; i < lights.size() && i < kMaxLights; ++i) {
         b.lightDir[i] = glm::vec4(lights[i].towardLight, 0.0f);
         b.lightColor[i] = glm::vec4(lights[i].color, 0.0f);
     }
     b.ambient = glm::vec4(f.scene->ambient, 0.0f);
     b.centerEye = glm::vec4(f.rig->centerEye(), 1.0f);
-    b.counts = {static_cast<int>(std::min<std::size_t>(lights.size(), 4)), f.views,
+    b.counts = {static_cast<int>(std::min<std::size_t>(lights.size(), kMaxLights)), f.views,
                 f.settings->width, f.settings->height};
     glNamedBufferSubData(mFrameUbo.get(), 0, sizeof(FrameBlock), &b);
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, mFrameUbo.get());
 }
 
-Result<GLuint> Renderer::program(const std::string& method, const Frame& f) {
-    const int n = f.views;
-    ProgramDesc d;
-    std::string& defs = d.defines;
-    auto def = [&](const std::string& name, int value = 1) {
-        defs += fmt::format("#define {} {}\n", name, value);
-    };
-    const Shading shading = f.settings->shading;
-    if (method == "depth-prepass") {
-        def("DEPTH_ONLY");
-        def("VS_DIRECT");
-    } else {
-        def(shadingDefine(shading));
-    }
-    const bool flat = shading == Shading::Flat;
-    if (method == "multipass") {
-        def("VS_DIRECT");
-        if (flat) def("FLAT_PROVOKING");
-    } else if (method == "gs-layered" || method == "viewport-array" || method == "gs-mrt" ||
-               method == "gs-depthmap") {
-        def("VS_TO_GS");
-        def("GS_VIEWS", n);
-        def("GS_MAX_VERTICES", 3 * n);
-        def(method == "gs-layered" ? "GS_OUT_LAYER"
-            : method == "viewport-array" ? "GS_OUT_VIEWPORT" : "GS_OUT_FLAG");
-        if (method == "gs-depthmap") def("DEPTHMAP");
-        d.geometry = true;
-    } else if (method == "gs-invocations") {
-        def("VS_TO_GS");
-        def("GS_INVOCATIONS", n);
-        def("GS_OUT_LAYER");
-        d.geometry = true;
-    } else if (method == "instanced-layer") {
-        def("VS_INSTANCED_LAYER");
-        if (flat) def("FLAT_PROVOKING");
-        d.vsExtensions = fmt::format("#extension {} : require\n", mCaps.vertexLayerExtension());
-    } else if (method == "multiview") {
-        def("VS_MULTIVIEW");
-        def("NUM_VIEWS", n);
-        if (flat) def("FLAT_PROVOKING");
-        d.vsExtensions = "#extension GL_OVR_multiview : require\n";
-    } else if (method == "kalaiah-emulation") {
-        def("VS_KALAIAH");
-    }
-    const std::string key = d.vsExtensions + defs + (d.geometry ? "GS" : "");
+Result<GLuint> Renderer::program(const std::string& label, const ProgramDesc& d) {
+    const std::string key = d.vsExtensions + d.defines + (d.geometry ? "GS" : "");
     if (auto it = mPrograms.find(key); it != mPrograms.end()) return it->second.get();
     if (auto it = mProgramErrors.find(key); it != mProgramErrors.end()) return it->second;
     auto p = buildProgram(d);
     if (!p) {
-        Status s(p.status().code(), fmt::format("gl: {}: {}", method, p.status().message()));
+        Status s(p.status().code(), fmt::format("gl: {}: {}", label, p.status().message()));
         mProgramErrors.emplace(key, s);
         return s;
     }
@@ -633,7 +488,8 @@ void Renderer::readLayered(RenderOutput& out, const Frame& f, bool depth) {
     }
 }
 
-void Renderer::readTiled(RenderOutput& out, const Frame& f, const TileLayout& t) {
+void Renderer::readTiled(RenderOutput& out, const Frame& f) {
+    const TileLayout& t = *f.tiles;
     out.color.resize(static_cast<std::size_t>(f.views));
     out.depth.resize(static_cast<std::size_t>(f.views));
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -660,16 +516,18 @@ void Renderer::readMrt(RenderOutput& out, const Frame& f) {
 Result<RenderOutput> Renderer::render(const Scene& scene, const Rig& rig, const RenderSettings& s,
                                       const std::string& method) {
     if (Status st = supports(method); !st) return st;
+    const GlMethod& m = *findMethod(method);  // the one look-up of the name
     if (Status st = validateRequest(scene, rig, s); !st) return st;
-    if (method == "auto") return renderAuto(scene, rig, s);
-    return renderOnce(scene, rig, s, method);
+    if (m.measuresExact) return renderAuto(scene, rig, s);
+    return renderOnce(scene, rig, s, m);
 }
 
 Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
-                                          const RenderSettings& s, const std::string& method) {
+                                          const RenderSettings& s, const GlMethod& method) {
     const auto t0 = Clock::now();
     if (Status st = checkViews(method, rig.viewCount(), s); !st) return st;
     Frame f;
+    f.method = &method;
     f.scene = &scene;
     f.rig = &rig;
     f.settings = &s;
@@ -678,65 +536,50 @@ Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
     f.order.resize(scene.instances.size());
     for (std::size_t i = 0; i < f.order.size(); ++i) f.order[i] = static_cast<int>(i);
 
-    f.flatProvoking = s.shading == Shading::Flat &&
-                      (method == "multipass" || method == "instanced-layer" || method == "multiview");
-    Result<GLuint> prog = program(method, f);
+    f.flatProvoking = s.shading == Shading::Flat && method.flatProvoking;
+    Result<GLuint> prog =
+        program(method.name, methodProgram(method, mCaps, s.shading, f.views));
     if (!prog) return prog.status();
 
-    std::optional<TileLayout> tiles;
-    if (method == "viewport-array" || method == "kalaiah-emulation") {
-        auto t = tileLayout(rig, s.width, s.height,
-                            method == "viewport-array" ? mCaps.maxViewports : kMaxViews);
+    if (method.target == TargetKind::Tiled) {
+        auto t = tileLayout(rig, s.width, s.height);
         if (!t) return t.status();
-        tiles = *t;
+        f.tiles = *t;
     }
-    if (method == "kalaiah-emulation") {
-        for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
-            if (Status st = ensureKalaiahBuffers(*f.meshes[i], scene.meshes[i], f.views); !st)
-                return st;
-        }
+    if (method.prepare) {
+        if (Status st = (this->*method.prepare)(f); !st) return st;
     }
-    uploadFrameBlock(f, tiles ? &*tiles : nullptr);
+    uploadFrameBlock(f);
     setCommonState(s);
     glUseProgram(*prog);
     if (Status st = checkGlError("setting up the frame"); !st) return st;
 
     const auto tDraw = Clock::now();
     if (mTimer) glBeginQuery(GL_TIME_ELAPSED, mTimer.get());
-    Status drawn;
-    if (method == "multipass") drawn = drawMultipass(f, *prog);
-    else if (method == "gs-layered" || method == "gs-invocations") drawn = drawLayeredGs(f, *prog);
-    else if (method == "instanced-layer") drawn = drawInstancedLayer(f, *prog);
-    else if (method == "multiview") drawn = drawMultiview(f, *prog);
-    else if (method == "viewport-array") drawn = drawViewportArray(f, *prog, *tiles);
-    else if (method == "kalaiah-emulation") drawn = drawKalaiah(f, *prog, *tiles);
-    else if (method == "gs-mrt") drawn = drawGsMrt(f, *prog, false);
-    else if (method == "gs-depthmap") drawn = drawGsMrt(f, *prog, true);
-    else drawn = internalError("gl: no draw path for " + method);
+    const Status drawn = method.draw
+                             ? (this->*method.draw)(f, *prog)
+                             : internalError(fmt::format("gl: no draw path for {}", method.name));
     if (mTimer) glEndQuery(GL_TIME_ELAPSED);
     glFinish();
     const double drawMs = msSince(tDraw);
     if (!drawn) return drawn;
-    if (Status st = checkGlError(fmt::format("drawing with {}", method).c_str()); !st) return st;
+    if (Status st = checkGlError(fmt::format("drawing with {}", method.name).c_str()); !st)
+        return st;
 
     const auto tRead = Clock::now();
     RenderOutput out;
-    out.method = method;
-    if (method == "gs-mrt") {
-        out.note = "sorbier2008 one-pass stereo: depth test off, instances in painter's order "
-                   "(back to front); no per-view depth; hidden faces of concave objects may show";
-    } else if (method == "gs-depthmap") {
-        out.note = "sorbier2008 §5.2: left-eye depth pre-pass, both eyes tested against it; no "
-                   "per-view depth; the right eye may lose surfaces the left eye cannot see";
+    out.method = method.name;
+    if (method.artifact) out.note = method.artifact;
+    switch (method.target) {
+    case TargetKind::Mrt: readMrt(out, f); break;
+    case TargetKind::Tiled: readTiled(out, f); break;
+    case TargetKind::Layered: readLayered(out, f, true); break;
     }
-    if (method == "gs-mrt" || method == "gs-depthmap") readMrt(out, f);
-    else if (tiles) readTiled(out, f, *tiles);
-    else readLayered(out, f, true);
     if (Status st = checkGlError("reading back"); !st) return st;
     const double readMs = msSince(tRead);
 
     GlFrameStats stats;
-    stats.method = method;
+    stats.method = method.name;
     stats.gpuMs = -1.0;
     if (mTimer) {
         GLuint64 ns = 0;
@@ -752,8 +595,8 @@ Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
 
 Result<RenderOutput> Renderer::renderAuto(const Scene& scene, const Rig& rig,
                                           const RenderSettings& s) {
-    // Only methods that give every view its own depth buffer (identical images): gs-mrt and
-    // gs-depthmap trade correctness for speed (sorbier2008's painter's order), so auto never
+    // Only the exact rows, which give every view its own depth buffer (identical images): the
+    // artifact rows (sorbier2008's painter's order) trade correctness for speed, so auto never
     // picks them.
     Frame probe;
     std::uint64_t sceneKey = 0;
@@ -762,19 +605,20 @@ Result<RenderOutput> Renderer::renderAuto(const Scene& scene, const Rig& rig,
                                         rig.viewCount(), shadingName(s.shading),
                                         s.cullBackFaces, s.wireframe);
     if (auto it = mAutoChoices.find(key); it != mAutoChoices.end()) {
-        auto r = renderOnce(scene, rig, s, it->second.method);
+        auto r = renderOnce(scene, rig, s, *it->second.method);
         if (!r) return r;
-        r->method = it->second.method;
+        r->method = it->second.method->name;
         r->note = it->second.note;
         return r;
     }
-    std::vector<std::pair<double, std::string>> times;
+    std::vector<std::pair<double, const GlMethod*>> times;
     std::vector<std::string> skipped;
-    for (const std::string& m : methodNames()) {
-        if (m == "auto" || m == "gs-mrt" || m == "gs-depthmap") continue;
-        if (Status st = supports(m); !st) { skipped.push_back(m + " (unsupported)"); continue; }
+    for (const GlMethod& m : glMethods()) {
+        if (!m.exact()) continue;
+        const std::string name = m.name;
+        if (Status st = supportsMethod(m); !st) { skipped.push_back(name + " (unsupported)"); continue; }
         if (Status st = checkViews(m, rig.viewCount(), s); !st) {
-            skipped.push_back(m + " (view limit)");
+            skipped.push_back(name + " (view limit)");
             continue;
         }
         // One warm-up (compiles, allocates), then the best of two timed renders.
@@ -782,29 +626,33 @@ Result<RenderOutput> Renderer::renderAuto(const Scene& scene, const Rig& rig,
         bool failed = false;
         for (int run = 0; run < 3 && !failed; ++run) {
             auto r = renderOnce(scene, rig, s, m);
-            if (!r) { skipped.push_back(m + " (" + r.status().message() + ")"); failed = true; break; }
+            if (!r) { skipped.push_back(name + " (" + r.status().message() + ")"); failed = true; break; }
             if (run > 0) ms = std::min(ms, mLastStats->totalWallMs);
         }
         if (failed) continue;
-        times.emplace_back(ms, m);
+        times.emplace_back(ms, &m);
     }
     if (times.empty()) return unsupportedError("gl: auto: no method can render this here: " +
                                        fmt::format("{}", fmt::join(skipped, ", ")));
-    std::sort(times.begin(), times.end());
+    // Fastest first; equal times by name.
+    std::sort(times.begin(), times.end(), [](const auto& a, const auto& b) {
+        return a.first != b.first ? a.first < b.first
+                                  : std::string_view(a.second->name) < b.second->name;
+    });
     std::vector<std::string> parts;
-    for (auto& [ms, m] : times) parts.push_back(fmt::format("{} {:.2f} ms", m, ms));
+    for (auto& [ms, m] : times) parts.push_back(fmt::format("{} {:.2f} ms", m->name, ms));
     AutoChoice c;
     c.method = times.front().second;
+    const std::string excluded = autoExclusions();
     c.note = fmt::format("auto picked {}: fastest of the exact (per-view depth) methods measured "
-                         "on {} for {} views at {}x{} ({}); gs-mrt/gs-depthmap excluded "
-                         "(painter's-order artifacts){}",
-                         c.method, mCaps.renderer, rig.viewCount(), s.width, s.height,
-                         fmt::join(parts, ", "),
+                         "on {} for {} views at {}x{} ({}){}{}",
+                         c.method->name, mCaps.renderer, rig.viewCount(), s.width, s.height,
+                         fmt::join(parts, ", "), excluded.empty() ? "" : "; " + excluded,
                          skipped.empty() ? "" : fmt::format("; skipped: {}", fmt::join(skipped, ", ")));
     mAutoChoices[key] = c;
-    auto r = renderOnce(scene, rig, s, c.method);  // the returned images and stats are its
+    auto r = renderOnce(scene, rig, s, *c.method);  // the returned images and stats are its
     if (!r) return r;
-    r->method = c.method;
+    r->method = c.method->name;
     r->note = c.note;
     return r;
 }

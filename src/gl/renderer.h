@@ -2,10 +2,13 @@
 // targets, programs and the per-method draw paths (methods.cpp).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -13,7 +16,10 @@
 #include "caps.h"
 #include "egl_context.h"
 #include "gl_objects.h"
+#include "method_table.h"
 #include "mvr/core/render.h"
+#include "mvr/core/rig.h"
+#include "mvr/core/scene.h"
 #include "mvr/gl/gl_backend.h"
 #include "shaders.h"
 
@@ -40,16 +46,29 @@ struct GpuMesh {
     std::uint64_t lastUse = 0;
 };
 
-/// The std140 "Frame" uniform block of shaders.cpp.
+/// The std140 "Frame" uniform block of shaders.cpp (its MAX_VIEWS / MAX_LIGHTS are these).
 struct FrameBlock {
-    glm::mat4 clipFromWorld[64];
-    glm::vec4 tile[64];
-    glm::vec4 lightDir[4];
-    glm::vec4 lightColor[4];
+    glm::mat4 clipFromWorld[kMaxViews];
+    glm::vec4 tile[kMaxViews];
+    glm::vec4 lightDir[kMaxLights];
+    glm::vec4 lightColor[kMaxLights];
     glm::vec4 ambient;
     glm::vec4 centerEye;
     glm::ivec4 counts;
 };
+// std140: mat4 arrays have a 64-byte stride, vec4 / ivec4 arrays and members 16 bytes, no padding.
+static_assert(std::extent_v<decltype(FrameBlock::clipFromWorld)> == kMaxViews);
+static_assert(std::extent_v<decltype(FrameBlock::tile)> == kMaxViews);
+static_assert(std::extent_v<decltype(FrameBlock::lightDir)> == kMaxLights);
+static_assert(std::extent_v<decltype(FrameBlock::lightColor)> == kMaxLights);
+static_assert(sizeof(glm::mat4) == 64 && sizeof(glm::vec4) == 16 && sizeof(glm::ivec4) == 16);
+static_assert(offsetof(FrameBlock, tile) == 64 * kMaxViews);
+static_assert(offsetof(FrameBlock, lightDir) == 80 * kMaxViews);
+static_assert(offsetof(FrameBlock, lightColor) == 80 * kMaxViews + 16 * kMaxLights);
+static_assert(offsetof(FrameBlock, ambient) == 80 * kMaxViews + 32 * kMaxLights);
+static_assert(offsetof(FrameBlock, centerEye) == 80 * kMaxViews + 32 * kMaxLights + 16);
+static_assert(offsetof(FrameBlock, counts) == 80 * kMaxViews + 32 * kMaxLights + 32);
+static_assert(sizeof(FrameBlock) == 80 * kMaxViews + 32 * kMaxLights + 48);
 
 /// Where each view lies in a tiled (partitioned / side-by-side) target.
 struct TileLayout {
@@ -63,6 +82,7 @@ struct TileLayout {
 
 /// Per-call inputs shared by the draw paths.
 struct Frame {
+    const GlMethod* method = nullptr;
     const Scene* scene = nullptr;
     const Rig* rig = nullptr;
     const RenderSettings* settings = nullptr;
@@ -70,6 +90,7 @@ struct Frame {
     std::vector<GpuMesh*> meshes;  ///< per scene mesh
     std::vector<int> order;        ///< instance draw order
     bool flatProvoking = false;    ///< draw the provoking-vertex flat arrays
+    std::optional<TileLayout> tiles;  ///< where the views lie in a TargetKind::Tiled target
 };
 
 class Renderer {
@@ -85,9 +106,10 @@ public:
     /// Can this driver run `method` at all? (Usage for an unknown name.)
     Status supports(const std::string& method);
     /// The largest view count `method` allows here for this shading and view size (0: none).
-    int viewLimit(const std::string& method, Shading shading, int width, int height) const;
-    /// Checks `views` against the method's limits, naming the limit that is exceeded.
-    Status checkViews(const std::string& method, int views, const RenderSettings& s) const;
+    int viewLimit(const GlMethod& method, Shading shading, int width, int height) const;
+    /// Checks `views` against the target budget and the method's limits, naming the limit
+    /// that is exceeded.
+    Status checkViews(const GlMethod& method, int views, const RenderSettings& s) const;
 
     Result<RenderOutput> render(const Scene& scene, const Rig& rig, const RenderSettings& s,
                                 const std::string& method);
@@ -95,26 +117,35 @@ public:
     const std::optional<GlFrameStats>& lastStats() const { return mLastStats; }
 
 private:
+    // The table's rows name the draw paths below.
+    friend const std::vector<GlMethod>& glMethods();
+
+    Status supportsMethod(const GlMethod& method);
     Result<RenderOutput> renderOnce(const Scene& scene, const Rig& rig, const RenderSettings& s,
-                                    const std::string& method);
+                                    const GlMethod& method);
     Result<RenderOutput> renderAuto(const Scene& scene, const Rig& rig, const RenderSettings& s);
 
     Status prepareScene(const Scene& scene, Frame& frame, std::uint64_t& sceneKey);
-    void uploadFrameBlock(const Frame& frame, const TileLayout* tiles);
-    Result<GLuint> program(const std::string& method, const Frame& frame);
+    void uploadFrameBlock(const Frame& frame);
+    /// The program of `desc`, built once; build errors say "gl: LABEL: …".
+    Result<GLuint> program(const std::string& label, const ProgramDesc& desc);
     void setInstanceUniforms(GLuint program, const Instance& instance);
     void setCommonState(const RenderSettings& s);
     Status ensureKalaiahBuffers(GpuMesh& mesh, const Mesh& source, int views);
-    Result<TileLayout> tileLayout(const Rig& rig, int width, int height, int maxViewports) const;
+    Result<TileLayout> tileLayout(const Rig& rig, int width, int height) const;
 
-    // Draw paths (methods.cpp); each leaves its results in the targets below.
+    // Per-frame preparations and draw paths (methods.cpp), named by the method table; each
+    // draw leaves its results in the targets below.
+    Status prepareKalaiah(const Frame& f);
     Status drawMultipass(const Frame& f, GLuint program);
     Status drawLayeredGs(const Frame& f, GLuint program);
     Status drawInstancedLayer(const Frame& f, GLuint program);
     Status drawMultiview(const Frame& f, GLuint program);
-    Status drawViewportArray(const Frame& f, GLuint program, const TileLayout& t);
-    Status drawKalaiah(const Frame& f, GLuint program, const TileLayout& t);
-    Status drawGsMrt(const Frame& f, GLuint program, bool depthMap);
+    Status drawViewportArray(const Frame& f, GLuint program);
+    Status drawKalaiah(const Frame& f, GLuint program);
+    Status drawGsMrt(const Frame& f, GLuint program);
+    Status drawGsDepthMap(const Frame& f, GLuint program);
+    Status drawSorbier(const Frame& f, GLuint program, bool depthMap);
     void drawScene(const Frame& f, GLuint program, int instances);
 
     // Targets, reallocated when their size changes.
@@ -122,7 +153,7 @@ private:
     void ensureMrt(int w, int h);
     void ensureTiled(int w, int h);
     void readLayered(RenderOutput& out, const Frame& f, bool depth);
-    void readTiled(RenderOutput& out, const Frame& f, const TileLayout& t);
+    void readTiled(RenderOutput& out, const Frame& f);
     void readMrt(RenderOutput& out, const Frame& f);
 
     std::unique_ptr<EglContext> mContext;
@@ -153,15 +184,12 @@ private:
     } mTiled;
 
     struct AutoChoice {
-        std::string method;
+        const GlMethod* method = nullptr;
         std::string note;
     };
     std::map<std::string, AutoChoice> mAutoChoices;
     std::optional<GlFrameStats> mLastStats;
     std::uint64_t mLastSceneKey = 0;
 };
-
-/// Every method name, "multipass" first and "auto" last.
-const std::vector<std::string>& methodNames();
 
 }  // namespace mvr::gl::detail

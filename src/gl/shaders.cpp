@@ -3,15 +3,16 @@
 #include <fmt/format.h>
 
 #include "egl_context.h"
+#include "mvr/core/rig.h"
+#include "mvr/core/scene.h"
 
 namespace mvr::gl::detail {
 
 namespace {
 
 // Shared by every stage: the per-frame block, the per-instance uniforms and lighting.h in GLSL.
+// MAX_VIEWS / MAX_LIGHTS are defined before it (common()).
 const char* const kCommon = R"glsl(
-#define MAX_VIEWS 64
-#define MAX_LIGHTS 4
 layout(std140, binding = 0) uniform Frame {
     mat4 uClipFromWorld[MAX_VIEWS];
     vec4 uTile[MAX_VIEWS];      // kalaiah: clip.xy' = clip.xy * uTile.xy + clip.w * uTile.zw
@@ -56,6 +57,12 @@ vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
     return clamp(c, 0.0, 1.0);
 }
 )glsl";
+
+// The shared source with its array sizes from the C++ constants (FrameBlock has the same).
+std::string common() {
+    return fmt::format("#define MAX_VIEWS {}\n#define MAX_LIGHTS {}\n", kMaxViews, kMaxLights) +
+           kCommon;
+}
 
 const char* const kVertex = R"glsl(
 #ifdef VS_KALAIAH
@@ -349,15 +356,19 @@ Result<Program> link(std::initializer_list<const Shader*> shaders) {
 
 }  // namespace
 
+void addDefine(ProgramDesc& d, const std::string& name, int value) {
+    d.defines += fmt::format("#define {} {}\n", name, value);
+}
+
 Result<Program> buildProgram(const ProgramDesc& desc) {
     const std::string head = "#version 450 core\n";
     auto vs = compile(GL_VERTEX_SHADER,
-                      head + desc.vsExtensions + desc.defines + kCommon + kVertex);
+                      head + desc.vsExtensions + desc.defines + common() + kVertex);
     if (!vs) return vs.status();
-    auto fs = compile(GL_FRAGMENT_SHADER, head + desc.defines + kCommon + kFragment);
+    auto fs = compile(GL_FRAGMENT_SHADER, head + desc.defines + common() + kFragment);
     if (!fs) return fs.status();
     if (desc.geometry) {
-        auto gs = compile(GL_GEOMETRY_SHADER, head + desc.defines + kCommon + kGeometry);
+        auto gs = compile(GL_GEOMETRY_SHADER, head + desc.defines + common() + kGeometry);
         if (!gs) return gs.status();
         return link({&vs.value(), &gs.value(), &fs.value()});
     }

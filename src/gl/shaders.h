@@ -10,6 +10,8 @@
 //   geometry  GS_VIEWS n (loop) | GS_INVOCATIONS n, and GS_OUT_LAYER | GS_OUT_VIEWPORT |
 //             GS_OUT_FLAG (sorbier2008 MRT); DEPTHMAP (sorbier2008 §5.2 test)
 //   multiview NUM_VIEWS n
+// buildProgram() puts MAX_VIEWS (mvr::kMaxViews) and MAX_LIGHTS (mvr::kMaxLights) before the
+// shared source: the sizes of the Frame block's arrays (renderer.h's FrameBlock).
 #pragma once
 
 #include <string>
@@ -24,6 +26,9 @@ struct ProgramDesc {
     std::string vsExtensions;  ///< "#extension …: require\n" lines for the vertex shader
     bool geometry = false;     ///< link a geometry shader
 };
+
+/// Appends "#define NAME VALUE\n" to d.defines.
+void addDefine(ProgramDesc& d, const std::string& name, int value = 1);
 
 /// Compiles and links. Errors: Internal with the stage's compile log or the link log.
 Result<Program> buildProgram(const ProgramDesc& desc);

@@ -2,10 +2,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <mutex>
 #include <new>
 
-#include <fmt/core.h>
+#include <fmt/format.h>
 
 #include "cpu.h"
 #include "mvr/core/platform.h"
@@ -27,6 +28,29 @@ SimdPath bestSimdPath() { return detail::bestSupportedSimd(); }
 
 namespace {
 
+// The soft backend's methods: one row each (mScratch has one slot per row).
+struct SoftMethod {
+    const char* name;
+    const char* description;
+    void (*render)(detail::FrameContext& f, std::span<const detail::Target> targets,
+                   StageTimes& times, std::unique_ptr<detail::MethodScratch>& scratch);
+};
+
+constexpr SoftMethod kMethods[] = {
+    {"multipass", "N independent single-view renders", detail::renderMultipass},
+    {"unified", "kalaiah2007's unified N-view pipeline with adelson1991's algorithms",
+     detail::renderUnified},
+};
+constexpr const char* kDefaultMethod = "unified";
+
+// The row of `name`'s index in kMethods; -1 for an unknown name.
+int findMethod(const std::string& name) {
+    for (std::size_t i = 0; i < std::size(kMethods); ++i) {
+        if (name == kMethods[i].name) return static_cast<int>(i);
+    }
+    return -1;
+}
+
 class SoftBackend final : public Backend {
 public:
     explicit SoftBackend(const SoftOptions& options) : mOptions(options) {
@@ -34,17 +58,21 @@ public:
     }
 
     std::string name() const override { return "soft"; }
-    std::vector<std::string> methods() const override { return {"multipass", "unified"}; }
-    std::string defaultMethod() const override { return "unified"; }
+    std::vector<std::string> methods() const override {
+        std::vector<std::string> names;
+        for (const SoftMethod& m : kMethods) names.emplace_back(m.name);
+        return names;
+    }
+    std::string defaultMethod() const override { return kDefaultMethod; }
     std::optional<RenderStats> lastStats() const override {
         std::lock_guard lock(mStatsMutex);
         return mStats;
     }
 
     Status supports(const std::string& method) const override {
-        if (method == "multipass" || method == "unified") return {};
-        return usageError(fmt::format("soft backend: unknown method '{}' (expected multipass or unified)",
-                                      method));
+        if (findMethod(method) >= 0) return {};
+        return usageError(fmt::format("soft backend: unknown method '{}' (expected {})", method,
+                                      fmt::join(methods(), " or ")));
     }
 
     std::vector<std::string> info() const override {
@@ -90,11 +118,8 @@ private:
         std::vector<detail::Target> targets;
         detail::allocateOutputs(pool, out, rig.viewCount(), settings, targets);
         out.stages.fillMs = clock.lap();
-        if (method == "multipass") {
-            detail::renderMultipass(f, targets, out.stages, mScratch[0]);
-        } else {
-            detail::renderUnified(f, targets, out.stages, mScratch[1]);
-        }
+        const auto row = static_cast<std::size_t>(findMethod(method));  // supports() passed
+        kMethods[row].render(f, targets, out.stages, mScratch[row]);
         RenderStats stats;
         stats.method = method;
         stats.stages = out.stages;
@@ -120,7 +145,7 @@ private:
     mutable std::mutex mStatsMutex;
     std::optional<RenderStats> mStats;
     std::unique_ptr<detail::ThreadPool> mPool;
-    std::unique_ptr<detail::MethodScratch> mScratch[2];
+    std::unique_ptr<detail::MethodScratch> mScratch[std::size(kMethods)];
 };
 
 }  // namespace

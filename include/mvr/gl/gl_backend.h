@@ -40,7 +40,9 @@
 //                      offscreen buffer, per-view clipping through gl_ClipDistance.
 //   auto               measures the exact (per-view depth) methods this driver supports for this
 //                      scene, view count and size, and uses the fastest (RenderOutput::method,
-//                      ::note say which and the times measured). Measurements are cached.
+//                      ::note say which and the times measured). Measurements are cached. The
+//                      backend's defaultMethod().
+// gs-mrt and gs-depthmap put their artifact in RenderOutput::note on every render.
 // Each method's view limit depends on the driver; info() lists it and render() explains a
 // refusal ("gs-invocations: 40 views exceed GL_MAX_GEOMETRY_SHADER_INVOCATIONS = 32").
 //
