@@ -515,9 +515,11 @@ void Renderer::readMrt(RenderOutput& out, const Frame& f) {
 
 Result<RenderOutput> Renderer::render(const Scene& scene, const Rig& rig, const RenderSettings& s,
                                       const std::string& method) {
+    // The request first (the same message from every backend, driver or none), then what
+    // this driver can do.
+    if (Status st = validateRequest(scene, rig, s); !st) return st;
     if (Status st = supports(method); !st) return st;
     const GlMethod& m = *findMethod(method);  // the one look-up of the name
-    if (Status st = validateRequest(scene, rig, s); !st) return st;
     if (m.measuresExact) return renderAuto(scene, rig, s);
     return renderOnce(scene, rig, s, m);
 }

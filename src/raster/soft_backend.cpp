@@ -86,8 +86,8 @@ public:
 
     Result<RenderOutput> render(const Scene& scene, const Rig& rig, const RenderSettings& settings,
                                 const std::string& method) override {
-        if (Status s = supports(method); !s) return s;
         if (Status s = validateRequest(scene, rig, settings); !s) return s;
+        if (Status s = supports(method); !s) return s;
         try {
             return renderChecked(scene, rig, settings, method);
         } catch (const std::bad_alloc&) {
