@@ -128,8 +128,8 @@ Result<MethodSpec> parseMethodSpec(std::string_view spec) {
     out.method = std::string(spec.substr(colon + 1));
     const auto methods = (*backend)->methods();
     if (std::find(methods.begin(), methods.end(), out.method) == methods.end()) {
-        return usageError(fmt::format("'{}': unknown {} method '{}' (expected one of: {})", spec,
-                                      out.backend, out.method, fmt::join(methods, ", ")));
+        return usageError(fmt::format("'{}': unknown method '{}' of backend {} (expected one of: {})",
+                                      spec, out.method, out.backend, fmt::join(methods, ", ")));
     }
     return out;
 }

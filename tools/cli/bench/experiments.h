@@ -1,0 +1,23 @@
+// tools/cli/bench/experiments.h — `mvr bench sorbier | kalaiah | adelson`: the experiments of
+// the papers (sorbier2008 Tables 1–2, kalaiah2007 Table 1, adelson1991 Table 1) on this
+// machine. Each file measures through harness.h and hands its rows to report.h: markdown
+// tables, --json, --csv and a gnuplot --plot.
+#pragma once
+
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+namespace mvr::cli::bench {
+
+/// A paper's subcommand of `mvr bench` and the function that runs it (returns the exit code).
+struct PaperBench {
+    CLI::App* app = nullptr;
+    std::function<int()> run;
+};
+
+PaperBench addSorbier(CLI::App* bench);  ///< sorbier.cpp
+PaperBench addKalaiah(CLI::App* bench);  ///< kalaiah.cpp
+PaperBench addAdelson(CLI::App* bench);  ///< adelson.cpp
+
+}  // namespace mvr::cli::bench

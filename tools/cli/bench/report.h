@@ -1,0 +1,124 @@
+// tools/cli/bench/report.h — what the benches print: the rows they measured as text tables
+// (markdown for the paper benches), CSV, JSON (stdout and --save-json) and gnuplot plots.
+// The benches fill rows (harness.h measures them); everything about layout is here.
+//
+// Three kinds of rows: MethodRow (`mvr bench`: methods side by side on one scene), RenderRow
+// (`mvr bench sorbier | kalaiah`: one configuration × method) and AdelsonRow (`mvr bench
+// adelson`: a simultaneous algorithm against its single-eye version).
+#pragma once
+
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "bench/harness.h"
+#include "mvr/adelson/adelson.h"
+
+namespace mvr::cli::bench {
+
+// ---- `mvr bench`: methods side by side -------------------------------------------------------
+
+struct MethodRow {
+    std::string backend, method, ran;
+    double medianMs = 0, minMs = 0;
+    double cpuMs = 0;   ///< median process CPU time (all threads) per frame
+    StageTimes stages;  ///< medians per stage (RenderStats::stages)
+    bool hasStages = false;
+};
+MethodRow methodRow(const Job& job, const Measured& measured);
+
+struct MethodReport {
+    const Machine* machine = nullptr;
+    const Prepared* request = nullptr;
+    std::vector<MethodRow> rows;  ///< the first is the baseline of "vs first"
+    int frames = 0, warmup = 0;
+};
+/// The machine, scene and one line per method; JSON {machine, scene, results} with `json`.
+/// Returns the exit code.
+int printMethodReport(const MethodReport& report, bool json);
+
+// ---- `mvr bench sorbier | kalaiah`: render rows --------------------------------------------
+
+struct RenderRow {
+    std::string backend, method, ran, shading, model, config, error;
+    int copies = 1, views = 2, width = 0, height = 0;
+    int bufferW = 0, bufferH = 0;  ///< kalaiah: the buffer the views share
+    std::size_t triangles = 0;
+    Stats wall, cpu;
+    double speedup = 0, cpuSpeedup = 0;  ///< multipass of the same backend / this
+    std::string spec() const { return backend + ":" + method; }
+};
+/// The row of one measured job: what every render bench records; the bench adds its columns.
+RenderRow renderRow(const Job& job, const Measured& measured, std::size_t triangles);
+/// Speed-ups of rows[first..] over the baseline of their backend among them.
+void fillSpeedups(std::vector<RenderRow>& rows, std::size_t first);
+
+/// A markdown table of rows: one line per distinct rowLabels(), one column per distinct
+/// column(), both in the order they first occur; the cell: fps [min–max] speed-up (cpu ×).
+struct PivotTable {
+    std::string caption;                ///< the paragraph above the table
+    std::vector<std::string> rowHeads;  ///< headings of the label columns
+    std::function<bool(const RenderRow&)> filter;
+    std::function<std::vector<std::string>(const RenderRow&)> rowLabels;
+    std::function<std::string(const RenderRow&)> column;
+};
+
+/// fps against `x`, one panel per distinct panel(), one line per series (job), bars min–max.
+struct RenderPlot {
+    std::string title;   ///< " — CPU | GL_RENDERER" is appended
+    std::string xlabel;  ///< "triangles" (axis in k) or "views" (ticks at 1, 2, 3, 4, 6, 9)
+    std::function<bool(const RenderRow&)> filter;
+    std::function<std::string(const RenderRow&)> panel;
+    std::function<double(const RenderRow&)> x;
+};
+
+struct RenderReport {
+    std::string bench;  ///< "sorbier2008", "kalaiah2007"
+    const Machine* machine = nullptr;
+    std::vector<RenderRow> rows;
+    std::vector<Skipped> skipped;
+    std::vector<std::string> series;  ///< the jobs, in order
+    std::vector<PivotTable> tables;
+    RenderPlot plot;
+};
+/// JSON (--json, --save-json), CSV (--csv) or the machine line, tables and skipped methods;
+/// then --plot. Returns the exit code.
+int printRenderReport(const RenderReport& report, const CommonOptions& options);
+
+// ---- `mvr bench adelson` ---------------------------------------------------------------------
+
+struct AdelsonRow {
+    std::string algorithm, caseName, label, paperI, paperII, paperIII, opsNote, check, checkDetail;
+    adelson::OpCounts opsSep, opsSim;
+    Stats sepMs, simMs;      ///< thread CPU time per call of both eyes
+    Stats sepWall, simWall;  ///< wall time per call
+    int reps = 1;
+    adelson::Savings byOps, byTime, byInterp;
+    bool hasInterp = false;
+};
+
+struct AdelsonReport {
+    const Machine* machine = nullptr;
+    std::vector<AdelsonRow> rows;
+    bool tiny = false;
+};
+/// JSON, CSV or the machine line and Table 1; then --plot. Returns the exit code.
+int printAdelsonReport(const AdelsonReport& report, const CommonOptions& options);
+
+// ---- report_json.cpp -------------------------------------------------------------------------
+
+namespace detail {
+/// The JSON of each report; printed on stdout with `print`, written to `saveTo` if non-empty.
+/// Errors: Unsupported without nlohmann-json in this build; Output when saveTo fails.
+Status emitJson(const MethodReport& report, bool print, const std::string& saveTo);
+Status emitJson(const RenderReport& report, const CommonOptions& options);
+Status emitJson(const AdelsonReport& report, const CommonOptions& options);
+}  // namespace detail
+
+// ---- plots -----------------------------------------------------------------------------------
+
+/// --plot FILE: .png or .svg, and gnuplot on PATH. Errors: Usage, Unsupported.
+Status checkPlotTarget(const std::string& file);
+
+}  // namespace mvr::cli::bench

@@ -1,0 +1,140 @@
+// `mvr bench sorbier`: sorbier2008 Tables 1 and 2 — flat, vertex and pixel shading of 1, 3, 5
+// and 9 bunnies in a grid, 2 views, each backend's multipass against its one-pass methods.
+#include <filesystem>
+
+#include <fmt/core.h>
+
+#include "bench/experiments.h"
+#include "bench/harness.h"
+#include "bench/report.h"
+
+namespace mvr::cli::bench {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct SorbierOptions {
+    CommonOptions common;
+    std::string model;
+    std::vector<int> copies{1, 3, 5, 9};
+    std::vector<std::string> shadings{"flat", "vertex", "pixel"};
+    std::vector<std::string> sizes{"1024x768"};
+    std::vector<std::string> methods{"soft:multipass",     "soft:unified",     "gl:multipass",
+                                     "gl:gs-mrt",          "gl:gs-depthmap",   "gl:gs-layered",
+                                     "gl:gs-invocations",  "gl:instanced-layer", "gl:viewport-array",
+                                     "gl:kalaiah-emulation"};
+};
+
+int runSorbier(const SorbierOptions& o) {
+    if (Status s = checkCommonOptions(o.common); !s) return fail(s);
+    if (o.copies.empty()) return fail(usageError("--copies is empty (expected e.g. 1,3,5,9)"));
+    for (const int c : o.copies) {
+        if (c < 1 || c > 1024) return fail(usageError(fmt::format("--copies {} is out of range (expected 1..1024)", c)));
+    }
+    std::vector<std::pair<int, int>> sizes;
+    for (const std::string& sz : o.sizes) {
+        auto p = parseSize(sz, "--sizes");
+        if (!p) return fail(p.status());
+        sizes.push_back(*p);
+    }
+    if (sizes.empty()) return fail(usageError("--sizes is empty (expected e.g. 1024x768)"));
+    std::vector<Shading> shadings;
+    for (const std::string& s : o.shadings) {
+        auto sh = parseShading(s);
+        if (!sh) return fail(usageError("--shadings: " + sh.status().message()));
+        shadings.push_back(*sh);
+    }
+    if (shadings.empty()) return fail(usageError("--shadings is empty (expected flat,vertex,pixel)"));
+    BackendSet backends({.threads = o.common.threads});
+    std::vector<Skipped> skipped;
+    auto jobsR = resolveJobs(o.methods, backends,
+                             {.addBaseline = true, .skipUnavailable = true, .allowAuto = false}, &skipped);
+    if (!jobsR) return fail(jobsR.status());
+    const std::vector<Job> jobs = std::move(jobsR).value();
+    if (jobs.empty()) return fail(unsupportedError("none of the --methods can run here"));
+    auto model = findModel(o.model, "stanford-bunny.obj");
+    if (!model) return fail(model.status());
+    const std::string modelName = fs::path(*model).filename().string();
+    const Machine machine = describeMachine(backends);
+
+    Progress progress(int(sizes.size() * o.copies.size() * shadings.size() * jobs.size()),
+                      o.common.machineReadable(), o.common.progress);
+    RenderReport report;
+    report.bench = "sorbier2008", report.machine = &machine, report.skipped = skipped;
+    for (const Job& j : jobs) report.series.push_back(j.text());
+    for (const auto& [w, h] : sizes) {
+        for (const int copies : o.copies) {
+            SceneOptions so;
+            so.models = {*model};
+            so.grid = copies;
+            so.size = fmt::format("{}x{}", w, h);
+            so.views = 2;
+            auto prepared = so.prepare();
+            if (!prepared) return fail(prepared.status());
+            Prepared& p = *prepared;
+            for (std::size_t si = 0; si < shadings.size(); ++si) {
+                p.settings.shading = shadings[si];
+                const std::string label =
+                    fmt::format("{}x{} {} {} tris", w, h, o.shadings[si], p.scene.triangleCount());
+                const std::vector<Measured> m =
+                    measure(jobs, p, {.warmup = o.common.warmup, .frames = o.common.frames},
+                            {.progress = &progress, .label = label});
+                const std::size_t first = report.rows.size();
+                for (std::size_t j = 0; j < jobs.size(); ++j) {
+                    RenderRow r = renderRow(jobs[j], m[j], p.scene.triangleCount());
+                    r.shading = shadingName(shadings[si]);
+                    r.model = modelName;
+                    r.copies = copies, r.views = 2, r.width = w, r.height = h;
+                    r.config = "2x1";
+                    report.rows.push_back(r);
+                }
+                fillSpeedups(report.rows, first);
+            }
+        }
+    }
+    progress.done();
+
+    // One table per size: a line per shading and method, a column per triangle count.
+    for (const auto& [w, h] : sizes) {
+        report.tables.push_back(PivotTable{
+            .caption = fmt::format(
+                "sorbier2008 Tables 1 and 2 — {} × 1..{} copies, {}x{}, 2 views (off-axis), {} frames after {} "
+                "warm-up; cell: fps = 1000 / median wall ms [slowest–fastest frame] and speed-up over "
+                "multipass of the same backend (wall, and process CPU time)",
+                modelName, o.copies.back(), w, h, o.common.frames, o.common.warmup),
+            .rowHeads = {"shading", "method"},
+            .filter = [w = w, h = h](const RenderRow& r) { return r.width == w && r.height == h; },
+            .rowLabels = [](const RenderRow& r) { return std::vector<std::string>{r.shading, r.spec()}; },
+            .column = [](const RenderRow& r) { return fmt::format("{} tris", r.triangles); }});
+    }
+    // One panel per shading, fps against triangles, one line per method (first size).
+    const auto [w0, h0] = sizes[0];
+    report.plot = RenderPlot{
+        .title = fmt::format("sorbier2008 Tables 1-2 on this machine: {}x{}, 2 views", w0, h0),
+        .xlabel = "triangles",
+        .filter = [w0 = w0, h0 = h0](const RenderRow& r) { return r.width == w0 && r.height == h0; },
+        .panel = [](const RenderRow& r) { return r.shading + " shading"; },
+        .x = [](const RenderRow& r) { return double(r.triangles); }};
+    return printRenderReport(report, o.common);
+}
+
+}  // namespace
+
+PaperBench addSorbier(CLI::App* bench) {
+    auto o = std::make_shared<SorbierOptions>();
+    CLI::App* s = bench->add_subcommand(
+        "sorbier", "sorbier2008 Tables 1-2: flat/vertex/pixel shading x 1,3,5,9 bunnies (70k-630k triangles), "
+                   "2 views, multipass vs every one-pass method: fps and speed-up");
+    s->add_option("model", o->model, "Model (default: $MVR_SHARED_DIR/models/stanford-bunny.obj)");
+    s->add_option("--copies", o->copies, "Copies of the model in a grid, comma separated")->delimiter(',')->default_str("1,3,5,9");
+    s->add_option("--shadings", o->shadings, "Shading modes, comma separated")->delimiter(',')->default_str("flat,vertex,pixel");
+    s->add_option("--sizes", o->sizes, "Image sizes WxH per view, comma separated")->delimiter(',')->default_str("1024x768");
+    s->add_option("--methods", o->methods, "BACKEND:METHOD list (BACKEND:multipass is added as the baseline)")
+        ->delimiter(',')
+        ->default_str("soft:multipass,soft:unified,gl:multipass,gl:gs-mrt,gl:gs-depthmap,gl:gs-layered,...");
+    addCommonOptions(s, o->common, "Timed frames per method and configuration");
+    return {s, [o] { return runSorbier(*o); }};
+}
+
+}  // namespace mvr::cli::bench
