@@ -29,8 +29,7 @@ std::vector<BackendEntry> builtIn() {
     std::vector<BackendEntry> rows;
     rows.push_back(BackendEntry{
         .name = "soft",
-        .description = "mvr's CPU rasterizer: multipass (the reference) and unified (kalaiah2007 "
-                       "on the CPU, bit-identical)",
+        .description = "CPU: mvr's own rasterizer",
         .gpu = false,
         .make = [](const BackendOptions& o) -> Result<std::unique_ptr<Backend>> {
             if (o.threads < 0) {
@@ -45,7 +44,7 @@ std::vector<BackendEntry> builtIn() {
 #ifdef MVR_HAVE_GL
     rows.push_back(BackendEntry{
         .name = "gl",
-        .description = "OpenGL 4.5 core through EGL: every GPU method of the papers",
+        .description = "OpenGL 4.5 through EGL",
         .gpu = true,
         .make = [](const BackendOptions&) -> Result<std::unique_ptr<Backend>> {
             return gl::makeGlBackend();

@@ -18,7 +18,7 @@ namespace {
 
 struct RenderOptions {
     SceneOptions scene;
-    std::string backend = "soft";
+    std::string backend;  ///< default: the registry's first backend
     std::string method;  ///< empty: the backend's default (its fastest exact method)
     std::string outDir = "out";
     std::vector<std::string> formats;
@@ -139,10 +139,17 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
         "render", "Render a scene or model files from N viewpoints into DIR/view-0.png ... view-{N-1}.png "
                   "(views numbered left to right, then top to bottom), plus DIR/anaglyph.png for a stereo pair");
     o->scene.addTo(app);
-    app->add_option("--backend", o->backend, "Backend: soft (CPU) or gl (OpenGL through EGL)")->default_val(o->backend);
+    o->backend = backendNames().front();
+    std::string backendHelp = "Backend:";
+    for (const BackendEntry& e : backends()) {
+        backendHelp += fmt::format("{} {} ({})", backendHelp.back() == ':' ? "" : ";", e.name,
+                                   e.description);
+    }
+    app->add_option("--backend", o->backend, backendHelp)->default_val(o->backend);
     app->add_option("--method", o->method,
-                    "Method of the backend (see `mvr info`); default: soft unified (bit-identical to "
-                    "soft multipass, the reference), gl auto (the fastest exact method, measured)");
+                    "Method of the backend (see `mvr info`); default: the backend's fastest exact "
+                    "method (soft unified, bit-identical to soft multipass, the reference; gl auto, "
+                    "measured)");
     app->add_option("-o,--output", o->outDir, "Output directory")->default_val(o->outDir);
     app->add_flag("--depth", o->depth, "Also write depth-0.png ... (16-bit, near = black)");
     app->add_flag("-q,--quiet", o->quiet, "Print nothing on success");
