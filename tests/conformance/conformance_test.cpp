@@ -128,7 +128,9 @@ std::vector<Param> registryMethods(bool gpu) {
             out.push_back({entry.name, "factory", backend.status().message()});
             continue;
         }
-        for (const std::string& method : (*backend)->methods()) out.push_back({entry.name, method, ""});
+        for (const std::string& method : (*backend)->methods()) {
+            out.push_back({entry.name, method, ""});
+        }
     }
     return out;
 }
@@ -197,7 +199,8 @@ std::string expectWithin(const std::string& refName, const RenderOutput& ref,
         worstShare = std::max(worstShare, share);
         if (bothDepth) {
             float maxDepth = 0.0f;
-            const double ds = test::depthMismatch(ref.depth[i], out.depth[i], bound.depth, &maxDepth);
+            const double ds =
+                test::depthMismatch(ref.depth[i], out.depth[i], bound.depth, &maxDepth);
             EXPECT_TRUE(bound.depthShare.holds(ds))
                 << "view " << v << " depth vs " << refName << ": " << 100.0 * ds
                 << " % of the pixels differ by more than " << bound.depth << ", max " << maxDepth;
@@ -212,10 +215,12 @@ std::string expectWithin(const std::string& refName, const RenderOutput& ref,
 }
 
 /// Renders one case with `method` of `backend` (registered as `name`) and checks it against
-/// soft:multipass (and the row's sibling method). Sets *skipped (and checks nothing more) where the case cannot run here.
+/// soft:multipass (and the row's sibling method). Sets *skipped (and checks nothing more)
+/// where the case cannot run here.
 void checkCase(const std::string& name, Backend& backend, Backend& reference,
                const std::string& method, const SceneCase& c, std::string* skipped) {
     const Tolerance& tol = toleranceFor(name, method, c.tags());
+    SCOPED_TRACE(std::string("bound: ") + tol.reason);
     const Scene* scene = sceneNamed(c.scene);
     if (!scene) {
         *skipped = "model not found under " + test::sharedDir().string();
@@ -356,7 +361,8 @@ TEST(GpuSorbier2008, DepthMapErrsNoMoreThanGsMrt) {
                 RecordProperty(key + "_gs_mrt_left_pct", fmt::format("{:.2f}", 100 * mrt.left));
                 RecordProperty(key + "_gs_mrt_right_pct", fmt::format("{:.2f}", 100 * mrt.right));
                 RecordProperty(key + "_gs_depthmap_left_pct", fmt::format("{:.2f}", 100 * dm.left));
-                RecordProperty(key + "_gs_depthmap_right_pct", fmt::format("{:.2f}", 100 * dm.right));
+                RecordProperty(key + "_gs_depthmap_right_pct",
+                               fmt::format("{:.2f}", 100 * dm.right));
                 EXPECT_LE(dm.left, mrt.left + 1e-9) << key;
                 EXPECT_LE(dm.right, mrt.right + 0.002) << key;
             }

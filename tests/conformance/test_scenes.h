@@ -86,8 +86,10 @@ inline const Scene& octahedraScene() {
     static const Scene s = [] {
         Scene scene;
         Mesh octahedron;
-        octahedron.positions = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-        octahedron.indices = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+        octahedron.positions = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+        octahedron.indices = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4,
+                              2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
         computeSmoothNormals(octahedron);
         scene.meshes.push_back(octahedron);
         for (int i = 0; i < 3; ++i) {

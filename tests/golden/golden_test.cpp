@@ -122,7 +122,8 @@ Image diffImage(const Image& expected, const Image& actual) {
             const int delta = std::max({std::abs(a.r - e.r), std::abs(a.g - e.g),
                                         std::abs(a.b - e.b), std::abs(a.a - e.a)});
             if (delta == 0) {
-                out.set(x, y, {std::uint8_t(e.r / 4), std::uint8_t(e.g / 4), std::uint8_t(e.b / 4), 255});
+                out.set(x, y, {std::uint8_t(e.r / 4), std::uint8_t(e.g / 4),
+                               std::uint8_t(e.b / 4), 255});
             } else {
                 out.set(x, y, {std::uint8_t(std::min(255, 128 + 8 * delta)), 0, 0, 255});
             }
@@ -146,7 +147,8 @@ void expectSame(const GoldenCase& g, const Variant& variant, int view, const Ima
     fs::create_directories(actualPath.parent_path());
     const Status wrote = writePng(actualPath, actual);
     if (!expected) {
-        ADD_FAILURE() << expected.status().message() << " (MVR_UPDATE_GOLDENS=1 writes it); actual: "
+        ADD_FAILURE() << expected.status().message()
+                      << " (MVR_UPDATE_GOLDENS=1 writes it); actual: "
                       << (wrote ? actualPath.string() : wrote.message());
         return;
     }
@@ -155,14 +157,16 @@ void expectSame(const GoldenCase& g, const Variant& variant, int view, const Ima
     const ImageDiff d = compareImages(*expected, actual, 0);
     long alphaOnly = 0;
     if (expected->rgba.size() == actual.rgba.size()) {
-        for (std::size_t i = 3; i < actual.rgba.size(); i += 4) alphaOnly += expected->rgba[i] != actual.rgba[i];
+        for (std::size_t i = 3; i < actual.rgba.size(); i += 4) {
+            alphaOnly += expected->rgba[i] != actual.rgba[i];
+        }
     }
     ADD_FAILURE() << g.name << " " << variant.name << " view " << view << " differs from "
                   << expectedPath.string() << ": " << expected->width << "x" << expected->height
-                  << " expected, " << actual.width << "x" << actual.height << " rendered; max delta "
-                  << d.maxDelta << ", mean delta " << d.meanDelta << ", " << d.differingPixels
-                  << " pixels differ in RGB (" << alphaOnly << " in alpha), worst at (" << d.worstX
-                  << ", " << d.worstY << ")\n  actual: "
+                  << " expected, " << actual.width << "x" << actual.height
+                  << " rendered; max delta " << d.maxDelta << ", mean delta " << d.meanDelta
+                  << ", " << d.differingPixels << " pixels differ in RGB (" << alphaOnly
+                  << " in alpha), worst at (" << d.worstX << ", " << d.worstY << ")\n  actual: "
                   << (wrote ? actualPath.string() : wrote.message())
                   << "\n  diff:   " << (wroteDiff ? diffPath.string() : wroteDiff.message());
 }
