@@ -1,0 +1,150 @@
+// tests/conformance/test_scenes.h — the scenes, rigs and image measures the cross-backend tests
+// share (the conformance suite here, tests/gl through gl_test_util.h). Backend-neutral: core
+// headers only. Models come from MVR_SHARED_DIR/models (ctest sets it; the build's
+// MVR_SHARED_DIR otherwise).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include "mvr/core/image.h"
+#include "mvr/core/mesh.h"
+#include "mvr/core/render.h"
+#include "mvr/core/rig.h"
+#include "mvr/core/scene.h"
+
+namespace mvr::test {
+
+inline std::filesystem::path sharedDir() {
+    if (const char* d = std::getenv("MVR_SHARED_DIR")) return d;
+#ifdef MVR_TEST_SHARED_DIR
+    return MVR_TEST_SHARED_DIR;
+#else
+    return "../shared";
+#endif
+}
+
+inline std::filesystem::path modelPath(const std::string& file) {
+    return sharedDir() / "models" / file;
+}
+
+/// The procedural default scene (no files needed): spheres, torus, boxes, ground.
+inline const Scene& defaultScene() {
+    static const Scene s = makeDefaultScene();
+    return s;
+}
+
+/// One model from shared/models laid out as `mvr render MODEL` does (makeGridScene, 1 copy);
+/// nullopt when the file cannot be loaded.
+inline std::optional<Scene> modelScene(const std::string& file) {
+    auto m = loadMesh(modelPath(file));
+    if (!m) return std::nullopt;
+    std::vector<Mesh> meshes;
+    meshes.push_back(std::move(m).value());
+    return makeGridScene(std::move(meshes), 1);
+}
+
+/// Suzanne from shared/models, or nullptr when the file is not there.
+inline const Scene* suzanneScene() {
+    static const std::unique_ptr<Scene> s = []() -> std::unique_ptr<Scene> {
+        auto scene = modelScene("suzanne.obj");
+        return scene ? std::make_unique<Scene>(std::move(*scene)) : nullptr;
+    }();
+    return s.get();
+}
+
+/// Suzanne under a mirrored, non-uniformly scaled, rotated transform: flat normals computed
+/// from world-space corners and from cofactor-mapped model-space cross products must agree
+/// (cof(M)·(a×b) = (Ma)×(Mb), sign included, where the inverse transpose alone flips under a
+/// mirror). nullptr when suzanne.obj is not there.
+inline const Scene* mirroredSuzanneScene() {
+    static const std::unique_ptr<Scene> s = []() -> std::unique_ptr<Scene> {
+        const Scene* suz = suzanneScene();
+        if (!suz) return nullptr;
+        auto scene = std::make_unique<Scene>(*suz);
+        glm::mat4 xf = glm::rotate(glm::mat4(1.0f), 0.7f, glm::vec3(0.3f, 1.0f, 0.2f));
+        xf = glm::scale(xf, glm::vec3(-1.3f, 0.8f, 1.1f));
+        scene->instances[0].worldFromModel = xf * scene->instances[0].worldFromModel;
+        return scene;
+    }();
+    return s.get();
+}
+
+/// Three convex octahedra at different depths, listed front to back (so that a back-to-front
+/// sort has work to do): with back-face culling, painter's order between objects is exact.
+inline const Scene& octahedraScene() {
+    static const Scene s = [] {
+        Scene scene;
+        Mesh octahedron;
+        octahedron.positions = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+        octahedron.indices = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4,
+                              2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+        computeSmoothNormals(octahedron);
+        scene.meshes.push_back(octahedron);
+        for (int i = 0; i < 3; ++i) {
+            const glm::mat4 xf = glm::translate(
+                glm::mat4(1.0f), glm::vec3(0.6f * i - 0.6f, 0.1f * i, 1.5f - 1.5f * i));
+            scene.instances.push_back(
+                {0, xf, Material{{0.3f + 0.3f * i, 0.5f, 0.9f - 0.3f * i}, 0.3f, 16.0f}});
+        }
+        scene.lights = defaultLights();
+        return scene;
+    }();
+    return s;
+}
+
+/// A camera framing `scene`, looking down −Z at its centre (closer than frameScene(), so that
+/// the pictures are full).
+inline Camera cameraFor(const Scene& scene, float aspect) {
+    const Bounds b = scene.bounds();
+    Camera c;
+    const float r = b.radius();
+    c.target = b.center();
+    c.position = b.center() + glm::vec3(0.0f, 0.25f * r, 2.6f * r);
+    c.aspect = aspect;
+    c.near = 0.05f * r;
+    c.far = 10.0f * r;
+    return c;
+}
+
+/// An off-axis rig of columns × rows views with exaggerated spacing (so the eyes really differ).
+inline Rig rigFor(const Scene& scene, int columns, int rows, float aspect = 4.0f / 3.0f) {
+    const Camera cam = cameraFor(scene, aspect);
+    RigParams p;
+    p.columns = columns;
+    p.rows = rows;
+    const float dist = glm::length(cam.position - cam.target);
+    p.convergence = dist;
+    p.interaxial = 0.06f * dist;
+    p.interaxialY = 0.03f * dist;
+    auto rig = makeRig(cam, p);
+    EXPECT_TRUE(rig) << rig.status().message();
+    return rig ? *rig : Rig{};
+}
+
+/// Fraction of depth pixels that differ by more than `eps`; the largest difference in *maxDiff.
+inline double depthMismatch(const DepthImage& a, const DepthImage& b, float eps, float* maxDiff) {
+    if (a.width != b.width || a.height != b.height) return 1.0;
+    long bad = 0;
+    float worst = 0.0f;
+    for (std::size_t i = 0; i < a.depth.size(); ++i) {
+        const float d = std::abs(a.depth[i] - b.depth[i]);
+        worst = std::max(worst, d);
+        if (d > eps) ++bad;
+    }
+    if (maxDiff) *maxDiff = worst;
+    return static_cast<double>(bad) / static_cast<double>(a.depth.size());
+}
+
+}  // namespace mvr::test
