@@ -34,6 +34,10 @@ struct BackendEntry {
     std::string description;  ///< one line for help texts and `mvr info`
     bool gpu = false;         ///< renders on a GPU (or its driver's software rasterizer)
     std::function<Result<std::unique_ptr<Backend>>(const BackendOptions&)> make;
+    /// The method an interactive tool (`mvr view`) starts on, where it is not the backend's
+    /// defaultMethod() (gl: "multipass", since its default "auto" measures every method again
+    /// for each new view size). Empty: defaultMethod().
+    std::string interactiveMethod;
     /// Composes an image format from that backend's views on its own device (gl: on the GPU);
     /// nullopt where it does not (the caller composes on the CPU). May be empty.
     std::function<std::optional<Result<Image>>(std::string_view format,

@@ -40,6 +40,7 @@ std::vector<BackendEntry> builtIn() {
             if (!simd) return simd.status();
             return raster::makeSoftBackend({.threads = o.threads, .simd = *simd});
         },
+        .interactiveMethod = {},
         .compose = {}});
 #ifdef MVR_HAVE_GL
     rows.push_back(BackendEntry{
@@ -49,6 +50,7 @@ std::vector<BackendEntry> builtIn() {
         .make = [](const BackendOptions&) -> Result<std::unique_ptr<Backend>> {
             return gl::makeGlBackend();
         },
+        .interactiveMethod = "multipass",
         .compose = [](std::string_view format, std::span<const Image> views,
                       const composite::ComposeOptions& options) -> std::optional<Result<Image>> {
             if (!gl::composeGpuSupports(std::string(format))) return std::nullopt;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
 
 #include <fmt/core.h>
 
@@ -19,32 +20,52 @@ namespace {
 
 constexpr int kAny = kAnyViewCount;
 
+// Cells of the Tiled rule: {rule, cellsAcross, cellsDown, squeezeX, squeezeY}.
+constexpr FormatSize kOneCell{SizeRule::Tiled, 1, 1, 1, 1};
+constexpr FormatSize kSideBySide{SizeRule::Tiled, 2, 1, 1, 1};
+constexpr FormatSize kSideBySideHalf{SizeRule::Tiled, 2, 1, 2, 1};
+constexpr FormatSize kTopBottom{SizeRule::Tiled, 1, 2, 1, 1};
+constexpr FormatSize kTopBottomHalf{SizeRule::Tiled, 1, 2, 1, 2};
+
 const std::array kFormats = {
     FormatInfo{"anaglyph-dubois", 2, 2, false, ".png",
-               "red-cyan, Dubois least squares (the default anaglyph)"},
-    FormatInfo{"anaglyph-color", 2, 2, false, ".png", "red-cyan, full color"},
-    FormatInfo{"anaglyph-half-color", 2, 2, false, ".png", "red-cyan, left eye as luminance"},
-    FormatInfo{"anaglyph-gray", 2, 2, false, ".png", "red-cyan, luminance only"},
-    FormatInfo{"anaglyph-true", 2, 2, false, ".png", "red-blue, luminance (true anaglyph)"},
-    FormatInfo{"anaglyph-dubois-gm", 2, 2, false, ".png", "green-magenta, Dubois least squares"},
-    FormatInfo{"anaglyph-dubois-ab", 2, 2, false, ".png", "amber-blue, Dubois least squares"},
-    FormatInfo{"sbs", 2, 2, false, ".png", "side by side, full width (2W x H)"},
-    FormatInfo{"sbs-half", 2, 2, false, ".png", "side by side, squeezed (W x H)"},
-    FormatInfo{"tb", 2, 2, false, ".png", "top-bottom, left on top (W x 2H)"},
-    FormatInfo{"tb-half", 2, 2, false, ".png", "top-bottom, squeezed (W x H)"},
-    FormatInfo{"rows", 2, kAny, false, ".png", "row-interleaved: row y from view y mod N"},
+               "red-cyan, Dubois least squares (the default anaglyph)", kOneCell},
+    FormatInfo{"anaglyph-color", 2, 2, false, ".png", "red-cyan, full color", kOneCell},
+    FormatInfo{"anaglyph-half-color", 2, 2, false, ".png", "red-cyan, left eye as luminance",
+               kOneCell},
+    FormatInfo{"anaglyph-gray", 2, 2, false, ".png", "red-cyan, luminance only", kOneCell},
+    FormatInfo{"anaglyph-true", 2, 2, false, ".png", "red-blue, luminance (true anaglyph)",
+               kOneCell},
+    FormatInfo{"anaglyph-dubois-gm", 2, 2, false, ".png", "green-magenta, Dubois least squares",
+               kOneCell},
+    FormatInfo{"anaglyph-dubois-ab", 2, 2, false, ".png", "amber-blue, Dubois least squares",
+               kOneCell},
+    FormatInfo{"sbs", 2, 2, false, ".png", "side by side, full width (2W x H)", kSideBySide},
+    FormatInfo{"sbs-half", 2, 2, false, ".png", "side by side, squeezed (W x H)",
+               kSideBySideHalf},
+    FormatInfo{"tb", 2, 2, false, ".png", "top-bottom, left on top (W x 2H)", kTopBottom},
+    FormatInfo{"tb-half", 2, 2, false, ".png", "top-bottom, squeezed (W x H)", kTopBottomHalf},
+    FormatInfo{"rows", 2, kAny, false, ".png", "row-interleaved: row y from view y mod N",
+               kOneCell},
     FormatInfo{"columns", 2, kAny, false, ".png",
-               "column-interleaved: column x from view x mod N (parallax barrier)"},
-    FormatInfo{"checkerboard", 2, 2, false, ".png", "checkerboard: (x + y) even from the left"},
+               "column-interleaved: column x from view x mod N (parallax barrier)", kOneCell},
+    FormatInfo{"checkerboard", 2, 2, false, ".png", "checkerboard: (x + y) even from the left",
+               kOneCell},
     FormatInfo{"hdmi-frame-packing", 2, 2, false, ".png",
-               "HDMI 1.4a frame packing: 720p -> 1280x1470, 1080p -> 1920x2205"},
+               "HDMI 1.4a frame packing: 720p -> 1280x1470, 1080p -> 1920x2205",
+               {SizeRule::FramePacked}},
     FormatInfo{"quilt", 1, kAny, false, ".png",
-               "Looking Glass quilt, view 0 bottom left: quilt_qsCxRaA.png"},
+               "Looking Glass quilt, view 0 bottom left: quilt_qsCxRaA.png", {SizeRule::QuiltGrid}},
     FormatInfo{"lenticular", 2, kAny, false, ".png",
-               "slanted-lens sub-pixel interleave from a panel calibration"},
-    FormatInfo{"jps", 2, 2, false, ".jps", "JPEG side by side, right view on the left"},
-    FormatInfo{"mpo", 2, 4096, true, ".mpo", "CIPA multi-picture JPEG, one image per view"},
+               "slanted-lens sub-pixel interleave from a panel calibration", {SizeRule::Panel}},
+    FormatInfo{"jps", 2, 2, false, ".jps", "JPEG side by side, right view on the left",
+               kSideBySide},
+    FormatInfo{"mpo", 2, 4096, true, ".mpo", "CIPA multi-picture JPEG, one image per view",
+               {SizeRule::PerView}},
 };
+
+// As composite::quilt(): no side of a quilt beyond this.
+constexpr long long kMaxQuiltSide = 65536;
 
 std::string lower(std::string_view s) {
     std::string out(s);
@@ -69,8 +90,9 @@ Ordered ordered(std::span<const Image> views, bool reverse) {
     return o;
 }
 
-Result<std::pair<int, int>> quiltGridFor(std::span<const Image> views,
-                                         const ComposeOptions& options, const char* who) {
+// The quilt grid compose() uses: the options' or chooseQuiltLayout()'s.
+Result<std::pair<int, int>> quiltGrid(int viewCount, int viewWidth, int viewHeight,
+                                      const ComposeOptions& options, const std::string& who) {
     if ((options.quiltColumns == 0) != (options.quiltRows == 0) || options.quiltColumns < 0 ||
         options.quiltRows < 0)
         return usageError(
@@ -78,7 +100,27 @@ Result<std::pair<int, int>> quiltGridFor(std::span<const Image> views,
                         "or both 0 for automatic)",
                         who, options.quiltColumns, options.quiltRows));
     if (options.quiltColumns > 0) return std::pair{options.quiltColumns, options.quiltRows};
-    return chooseQuiltLayout(static_cast<int>(views.size()), views[0].width, views[0].height);
+    return chooseQuiltLayout(viewCount, viewWidth, viewHeight);
+}
+
+Result<std::pair<int, int>> quiltGridFor(std::span<const Image> views,
+                                         const ComposeOptions& options, const char* who) {
+    return quiltGrid(static_cast<int>(views.size()), views[0].width, views[0].height, options,
+                     who);
+}
+
+// "needs 2 views (got 3)", as validateViews() words it.
+Status checkViewCount(const FormatInfo& f, int viewCount, const std::string& who) {
+    if (viewCount >= f.minViews && viewCount <= f.maxViews) return Status::ok();
+    std::string expected;
+    if (f.minViews == f.maxViews)
+        expected = fmt::format("{}", f.minViews);
+    else if (f.maxViews >= kAny)
+        expected = fmt::format("at least {}", f.minViews);
+    else
+        expected = fmt::format("{} to {}", f.minViews, f.maxViews);
+    return usageError(fmt::format("{}: needs {} view{} (got {})", who, expected,
+                                  (f.minViews == 1 && f.maxViews == 1) ? "" : "s", viewCount));
 }
 
 }  // namespace
@@ -154,6 +196,152 @@ double convergenceAngleDegrees(double interaxial, double convergenceDistance) {
         !std::isfinite(interaxial))
         return 0.0;
     return 2.0 * std::atan(interaxial / (2.0 * convergenceDistance)) * 180.0 / std::numbers::pi;
+}
+
+Result<Size> outputSize(const FormatInfo& f, int viewCount, int w, int h,
+                        const ComposeOptions& options, const std::string& who) {
+    if (Status s = checkViewCount(f, viewCount, who); !s) return s;
+    if (w < 1 || h < 1)
+        return usageError(
+            fmt::format("{}: view size {}x{} (expected at least 1x1)", who, w, h));
+    const FormatSize& rule = f.size;
+    switch (rule.rule) {
+        case SizeRule::Tiled:
+            // layout.h's texts for the -half formats.
+            if (w % rule.squeezeX != 0)
+                return usageError(
+                    rule.squeezeX == 2
+                        ? fmt::format("{}: view width {} is odd (expected an even width to "
+                                      "squeeze 2:1)",
+                                      who, w)
+                        : fmt::format("{}: view width {} (expected a multiple of {} to squeeze "
+                                      "{}:1)",
+                                      who, w, rule.squeezeX, rule.squeezeX));
+            if (h % rule.squeezeY != 0)
+                return usageError(
+                    rule.squeezeY == 2
+                        ? fmt::format("{}: view height {} is odd (expected an even height to "
+                                      "squeeze 2:1)",
+                                      who, h)
+                        : fmt::format("{}: view height {} (expected a multiple of {} to squeeze "
+                                      "{}:1)",
+                                      who, h, rule.squeezeY, rule.squeezeY));
+            return Size{rule.cellsAcross * (w / rule.squeezeX),
+                        rule.cellsDown * (h / rule.squeezeY)};
+        case SizeRule::FramePacked: {
+            const int gap = hdmiActiveSpaceLines(w, h);
+            if (gap < 0)
+                return usageError(
+                    fmt::format("{}: view size {}x{} has no HDMI 1.4a frame packing "
+                                "(expected 1280x720 or 1920x1080)",
+                                who, w, h));
+            return Size{w, 2 * h + gap};
+        }
+        case SizeRule::QuiltGrid: {
+            Result<std::pair<int, int>> grid = quiltGrid(viewCount, w, h, options, who);
+            if (!grid) return grid.status();
+            const auto [columns, rows] = *grid;
+            if (static_cast<long long>(columns) * rows < viewCount)
+                return usageError(
+                    fmt::format("{}: grid {}x{} has {} tiles for {} views (expected at "
+                                "least one tile per view)",
+                                who, columns, rows, static_cast<long long>(columns) * rows,
+                                viewCount));
+            if (static_cast<long long>(columns) * w > kMaxQuiltSide ||
+                static_cast<long long>(rows) * h > kMaxQuiltSide)
+                return usageError(
+                    fmt::format("{}: quilt of {}x{} tiles of {}x{} is larger than "
+                                "65536 pixels on a side",
+                                who, columns, rows, w, h));
+            return Size{columns * w, rows * h};
+        }
+        case SizeRule::Panel: {
+            const LenticularCalibration& cal = options.lenticular;
+            const Size panel{cal.screenWidth > 0 ? cal.screenWidth : w,
+                             cal.screenHeight > 0 ? cal.screenHeight : h};
+            Result<LenticularShaderParams> params =
+                lenticularShaderParams(cal, panel.width, panel.height);
+            if (!params) return params.status();
+            return panel;
+        }
+        case SizeRule::PerView: return Size{w, h};
+    }
+    return internalError(fmt::format("{}: format without a size rule", who));
+}
+
+Result<Size> outputSize(std::string_view format, int viewCount, int viewWidth, int viewHeight,
+                        const ComposeOptions& options) {
+    Result<FormatInfo> info = findFormat(format);
+    if (!info) return info.status();
+    return outputSize(*info, viewCount, viewWidth, viewHeight, options,
+                      fmt::format("mvr::composite::outputSize(): {}", info->name));
+}
+
+Result<Size> largestViewSize(std::string_view format, int viewCount, int frameWidth,
+                             int frameHeight, const ComposeOptions& options) {
+    Result<FormatInfo> info = findFormat(format);
+    if (!info) return info.status();
+    const std::string who = fmt::format("mvr::composite::largestViewSize(): {}", info->name);
+    if (Status s = checkViewCount(*info, viewCount, who); !s) return s;
+    const auto fits = [&](Size view) {
+        Result<Size> out = outputSize(*info, viewCount, view.width, view.height, options, who);
+        return out && out->width <= frameWidth && out->height <= frameHeight;
+    };
+    const auto tooSmall = [&](std::string_view needs) -> Status {
+        return usageError(fmt::format("{}: a frame of {}x{} is too small (expected {})", who,
+                                      frameWidth, frameHeight, needs));
+    };
+    const FormatSize& rule = info->size;
+    switch (rule.rule) {
+        case SizeRule::Tiled: {
+            const Size view{frameWidth / rule.cellsAcross * rule.squeezeX,
+                            frameHeight / rule.cellsDown * rule.squeezeY};
+            if (view.width < 1 || view.height < 1)
+                return tooSmall(fmt::format("at least {}x{}", rule.cellsAcross,
+                                            rule.cellsDown));
+            return view;
+        }
+        case SizeRule::FramePacked:
+            for (const Size view : {Size{1920, 1080}, Size{1280, 720}})
+                if (fits(view)) return view;
+            return tooSmall("at least 1280x1470");
+        case SizeRule::QuiltGrid: {
+            if (Result<std::pair<int, int>> grid = quiltGrid(viewCount, 1, 1, options, who); !grid)
+                return grid.status();
+            // The grid is the options' or, automatic, the one chooseQuiltLayout() picks for the
+            // views themselves: try every grid without an empty row and keep the largest views
+            // whose own grid it is.
+            std::optional<Size> best;
+            for (int rows = 1; rows <= viewCount; ++rows) {
+                const int columns = options.quiltColumns > 0 ? options.quiltColumns
+                                                             : (viewCount + rows - 1) / rows;
+                if (options.quiltRows > 0 && rows != options.quiltRows) continue;
+                const Size view{frameWidth / columns, frameHeight / rows};
+                if (view.width < 1 || view.height < 1 || !fits(view)) continue;
+                if (options.quiltColumns == 0 &&
+                    chooseQuiltLayout(viewCount, view.width, view.height) !=
+                        std::pair{columns, rows})
+                    continue;
+                if (!best || static_cast<long long>(view.width) * view.height >
+                                 static_cast<long long>(best->width) * best->height)
+                    best = view;
+            }
+            if (!best) return tooSmall("one pixel per view in a quilt grid");
+            return *best;
+        }
+        case SizeRule::Panel: {
+            const LenticularCalibration& cal = options.lenticular;
+            const Size view{cal.screenWidth > 0 ? cal.screenWidth : frameWidth,
+                            cal.screenHeight > 0 ? cal.screenHeight : frameHeight};
+            if (view.width < 1 || view.height < 1 || !fits(view))
+                return tooSmall(fmt::format("the panel, {}x{}", view.width, view.height));
+            return view;
+        }
+        case SizeRule::PerView:
+            if (frameWidth < 1 || frameHeight < 1) return tooSmall("at least 1x1");
+            return Size{frameWidth, frameHeight};
+    }
+    return internalError(fmt::format("{}: format without a size rule", who));
 }
 
 Result<Image> compose(std::string_view format, std::span<const Image> views,

@@ -1,7 +1,5 @@
 #include "composite_context.h"
 
-#include "shaders.h"
-
 namespace mvr::gl::detail {
 
 CompositeContext& compositeContext() {
@@ -14,12 +12,6 @@ CompositeContext& compositeContext() {
             return ccp;
         }
         cc.context = std::move(ctx).value();
-        auto p = buildCompositeProgram();
-        if (!p) {
-            cc.status = p.status();
-            return ccp;
-        }
-        cc.program = std::move(p).value();
         cc.vao = createVertexArray();
         return ccp;
     }();

@@ -1,5 +1,5 @@
 // src/gl/composite_context.h — the one EGL context of the process's GPU composites
-// (composeAnaglyphGpu(), composeGpu()), separate from every backend's render context.
+// (composeGpu()), separate from every backend's render context.
 #pragma once
 
 #include <map>
@@ -15,9 +15,7 @@ namespace mvr::gl::detail {
 
 struct CompositeContext {
     std::unique_ptr<EglContext> context;
-    Program program;                        ///< sorbier2008 colour-mask quad (texelFetch)
-    std::map<std::string, Program> mixPrograms;  ///< composeAnaglyphGpu(glslMix), by GLSL source
-    std::map<std::string, Program> programs;     ///< composeGpu(), by fragment source
+    std::map<std::string, Program> programs;  ///< composeGpu(), by fragment source
     /// composeGpu()'s textures, kept for the next call of the same size.
     struct Storage {
         Texture views;  ///< RGBA8 2D array, one layer per view
@@ -27,7 +25,7 @@ struct CompositeContext {
         int targetW = 0, targetH = 0;
     } storage;
     VertexArray vao;
-    Status status;  ///< why the context or its base program could not be made
+    Status status;  ///< why the context could not be made
 };
 
 /// Made on first use and deliberately never destroyed: at exit no context may be current, and

@@ -1,6 +1,7 @@
 // Every image format of the composite module on the GPU (composite_gpu.h): the views as one
-// RGBA8 array texture, one full-screen pass per format family into an RGBA8 target
-// (tiled when the output is larger than a render target may be), read back.
+// RGBA8 array texture, one full-screen pass per format family (two colour-masked passes for
+// sorbier2008's anaglyph-color) into an RGBA8 target (tiled when the output is larger than a
+// render target may be), read back.
 #include "mvr/gl/composite_gpu.h"
 
 #include <algorithm>
@@ -31,6 +32,7 @@ enum LayoutMode : int {
     kCheckerboard = 6,
     kHdmi = 7,
     kQuilt = 8,
+    kCopy = 9,  // one view as it is (uFirst): the passes of the colour-mask anaglyph
 };
 
 // One source for every family; a family is a #define. Pixel p is the output pixel with row 0 at
@@ -90,6 +92,8 @@ uvec4 composite(ivec2 p) {
         if (p.y < H) return fetch(uFirst, p);
         if (p.y < H + uGap) return kBlank;
         return fetch(uSecond, ivec2(p.x, p.y - H - uGap));
+    case 9:  // one view as it is (each pass of the colour-mask anaglyph)
+        return fetch(uFirst, p);
     default: {  // quilt: view i in tile column i mod C, tile row i / C from the BOTTOM
         const int tx = p.x / W, tyFromTop = p.y / H;
         const int i = (uGrid.y - 1 - tyFromTop) * uGrid.x + tx;
@@ -147,52 +151,48 @@ struct Plan {
     std::string source;  ///< fragment shader (defines + kFragment)
     int width = 0, height = 0;
     int mode = 0, first = 0, second = 1, gap = 0, gridColumns = 1, gridRows = 1;
+    bool colorMask = false;  ///< sorbier2008 §4.3: red from `first`, green/blue from `second`
+    bool customMix = false;  ///< the source holds GpuComposeOptions::anaglyphMix
     bool lenticular = false;
     composite::LenticularShaderParams lens;
     bool flipX = false, flipY = false;
 };
 
-constexpr long long kMaxOutputSide = 65536;  // as composite::quilt()
-
-// compose()'s checks and the plan of `name` for `views` (already validated for count/size).
-Result<Plan> makePlan(std::string_view name, std::span<const Image> views,
-                      const composite::ComposeOptions& options, const std::string& who) {
+// The plan of format `info` for `views` (already validated for count and size); its size and
+// size checks are composite::outputSize()'s, i.e. compose()'s.
+Result<Plan> makePlan(const composite::FormatInfo& info, std::span<const Image> views,
+                      const composite::ComposeOptions& options, const GpuComposeOptions& gpu,
+                      const std::string& who) {
     const int n = static_cast<int>(views.size());
     const int w = views[0].width, h = views[0].height;
+    Result<composite::Size> size = composite::outputSize(info, n, w, h, options, who);
+    if (!size) return size.status();
     Plan plan;
-    plan.width = w;
-    plan.height = h;
-    const std::string layout = "#define FAMILY_LAYOUT 1\n" + std::string(kFragment);
+    plan.width = size->width;
+    plan.height = size->height;
+    plan.source = "#define FAMILY_LAYOUT 1\n" + std::string(kFragment);
+    const std::string_view name = info.name;
 
     if (const std::optional<composite::AnaglyphMethod> method = composite::anaglyphMethod(name)) {
-        plan.source = "#define FAMILY_ANAGLYPH 1\n" + composite::anaglyphGlsl(*method) + "\n" +
-                      kFragment;
+        if (!gpu.anaglyphMix.empty()) {
+            plan.source = "#define FAMILY_ANAGLYPH 1\n" + gpu.anaglyphMix + "\n" + kFragment;
+            plan.customMix = true;
+        } else if (*method == composite::AnaglyphMethod::Color) {
+            plan.mode = kCopy;
+            plan.colorMask = true;
+        } else {
+            plan.source = "#define FAMILY_ANAGLYPH 1\n" + composite::anaglyphGlsl(*method) + "\n" +
+                          kFragment;
+        }
         return plan;
     }
-    plan.source = layout;
     if (name == "sbs" || name == "sbs-half") {
         if (options.crossEyed) std::swap(plan.first, plan.second);
-        if (name == "sbs") {
-            plan.mode = kSbs;
-            plan.width = 2 * w;
-        } else {
-            if (w % 2 != 0)
-                return usageError(fmt::format(
-                    "{}: view width {} is odd (expected an even width to squeeze 2:1)", who, w));
-            plan.mode = kSbsHalf;
-        }
+        plan.mode = name == "sbs" ? kSbs : kSbsHalf;
         return plan;
     }
     if (name == "tb" || name == "tb-half") {
-        if (name == "tb") {
-            plan.mode = kTb;
-            plan.height = 2 * h;
-        } else {
-            if (h % 2 != 0)
-                return usageError(fmt::format(
-                    "{}: view height {} is odd (expected an even height to squeeze 2:1)", who, h));
-            plan.mode = kTbHalf;
-        }
+        plan.mode = name == "tb" ? kTb : kTbHalf;
         return plan;
     }
     if (name == "rows") {
@@ -208,45 +208,18 @@ Result<Plan> makePlan(std::string_view name, std::span<const Image> views,
         return plan;
     }
     if (name == "hdmi-frame-packing") {
-        plan.gap = composite::hdmiActiveSpaceLines(w, h);
-        if (plan.gap < 0)
-            return usageError(fmt::format(
-                "{}: view size {}x{} has no HDMI 1.4a frame packing (expected 1280x720 or "
-                "1920x1080)",
-                who, w, h));
         plan.mode = kHdmi;
-        plan.height = 2 * h + plan.gap;
+        plan.gap = plan.height - 2 * h;  // composite::hdmiActiveSpaceLines()
         return plan;
     }
     if (name == "quilt") {
-        // compose()'s quiltGridFor() and quilt()'s checks.
-        const int c = options.quiltColumns, r = options.quiltRows;
-        if ((c == 0) != (r == 0) || c < 0 || r < 0)
-            return usageError(
-                fmt::format("{}: quilt grid {}x{} (expected both columns and rows >= 1, or both "
-                            "0 for automatic)",
-                            who, c, r));
-        const auto [columns, rows] = c > 0 ? std::pair{c, r} : composite::chooseQuiltLayout(n, w, h);
-        if (static_cast<long long>(columns) * rows < n)
-            return usageError(fmt::format(
-                "{}: grid {}x{} has {} tiles for {} views (expected at least one tile per view)",
-                who, columns, rows, static_cast<long long>(columns) * rows, n));
-        if (static_cast<long long>(columns) * w > kMaxOutputSide ||
-            static_cast<long long>(rows) * h > kMaxOutputSide)
-            return usageError(fmt::format(
-                "{}: quilt of {}x{} tiles of {}x{} is larger than 65536 pixels on a side", who,
-                columns, rows, w, h));
         plan.mode = kQuilt;
-        plan.gridColumns = columns;
-        plan.gridRows = rows;
-        plan.width = columns * w;
-        plan.height = rows * h;
+        plan.gridColumns = plan.width / w;
+        plan.gridRows = plan.height / h;
         return plan;
     }
     if (name == "lenticular") {
         const composite::LenticularCalibration& cal = options.lenticular;
-        plan.width = cal.screenWidth > 0 ? cal.screenWidth : w;
-        plan.height = cal.screenHeight > 0 ? cal.screenHeight : h;
         Result<composite::LenticularShaderParams> params =
             composite::lenticularShaderParams(cal, plan.width, plan.height);
         if (!params) return params.status();
@@ -282,6 +255,10 @@ Result<Image> draw(detail::CompositeContext& c, const Plan& plan, std::span<cons
     auto it = c.programs.find(plan.source);
     if (it == c.programs.end()) {
         auto p = detail::buildFullScreenProgram(plan.source);
+        if (!p && plan.customMix)
+            return usageError(fmt::format("mvr::gl::composeGpu(): the anaglyph mix GLSL does not "
+                                          "build: {}",
+                                          p.status().message()));
         if (!p) return p.status();
         it = c.programs.emplace(plan.source, std::move(p).value()).first;
     }
@@ -367,7 +344,25 @@ Result<Image> draw(detail::CompositeContext& c, const Plan& plan, std::span<cons
             const int tw = std::min(tileW, plan.width - ox), th = std::min(tileH, plan.height - oy);
             glViewport(0, 0, tw, th);
             glProgramUniform2i(program, 0, ox, oy);
-            glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+            if (plan.colorMask) {
+                // sorbier2008 §4.3: over black, additively, red from the first view, then
+                // green and blue from the second; alpha keeps the clear's 1.
+                glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+                glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+                glClear(GL_COLOR_BUFFER_BIT);
+                glEnable(GL_BLEND);
+                glBlendFunc(GL_ONE, GL_ONE);
+                glColorMask(GL_TRUE, GL_FALSE, GL_FALSE, GL_FALSE);
+                glProgramUniform1i(program, 4, plan.first);
+                glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+                glColorMask(GL_FALSE, GL_TRUE, GL_TRUE, GL_FALSE);
+                glProgramUniform1i(program, 4, plan.second);
+                glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+                glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+                glDisable(GL_BLEND);
+            } else {
+                glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+            }
             glReadPixels(0, 0, tw, th, GL_RGBA, GL_UNSIGNED_BYTE,
                          out.rgba.data() + (static_cast<std::size_t>(oy) * plan.width + ox) * 4);
         }
@@ -390,7 +385,7 @@ bool composeGpuSupports(const std::string& format) {
 }
 
 Result<Image> composeGpu(const std::string& format, std::span<const Image> views,
-                         const composite::ComposeOptions& options) {
+                         const composite::ComposeOptions& options, const GpuComposeOptions& gpu) {
     // compose()'s checks, in compose()'s order.
     Result<composite::FormatInfo> info = composite::findFormat(format);
     if (!info) return info.status();
@@ -402,7 +397,7 @@ Result<Image> composeGpu(const std::string& format, std::span<const Image> views
             "{}: a JPEG file, composed on the CPU only (mvr::composite::compose() / "
             "writeComposite())",
             who));
-    Result<Plan> plan = makePlan(info->name, views, options, who);
+    Result<Plan> plan = makePlan(*info, views, options, gpu, who);
     if (!plan) return plan.status();
 
     std::lock_guard lock(detail::compositeMutex());

@@ -292,24 +292,6 @@ void main() {
 }
 )glsl";
 
-const char* const kCompositeFragment = R"glsl(
-layout(binding = 0) uniform sampler2D uImage;
-layout(location = 0) out vec4 oColor;
-void main() {
-    oColor = texelFetch(uImage, ivec2(gl_FragCoord.xy), 0);
-}
-)glsl";
-
-const char* const kMixFragment = R"glsl(
-layout(binding = 0) uniform sampler2D uLeft;
-layout(binding = 1) uniform sampler2D uRight;
-layout(location = 0) out vec4 oColor;
-void main() {
-    ivec2 p = ivec2(gl_FragCoord.xy);
-    oColor = vec4(mvrAnaglyph(texelFetch(uLeft, p, 0).rgb, texelFetch(uRight, p, 0).rgb), 1.0);
-}
-)glsl";
-
 const char* stageName(GLenum stage) {
     switch (stage) {
     case GL_VERTEX_SHADER: return "vertex";
@@ -372,24 +354,6 @@ Result<Program> buildProgram(const ProgramDesc& desc) {
         if (!gs) return gs.status();
         return link({&vs.value(), &gs.value(), &fs.value()});
     }
-    return link({&vs.value(), &fs.value()});
-}
-
-Result<Program> buildCompositeProgram() {
-    const std::string head = "#version 450 core\n";
-    auto vs = compile(GL_VERTEX_SHADER, head + kCompositeVertex);
-    if (!vs) return vs.status();
-    auto fs = compile(GL_FRAGMENT_SHADER, head + kCompositeFragment);
-    if (!fs) return fs.status();
-    return link({&vs.value(), &fs.value()});
-}
-
-Result<Program> buildMixProgram(const std::string& glslMix) {
-    const std::string head = "#version 450 core\n";
-    auto vs = compile(GL_VERTEX_SHADER, head + kCompositeVertex);
-    if (!vs) return vs.status();
-    auto fs = compile(GL_FRAGMENT_SHADER, head + glslMix + "\n" + kMixFragment);
-    if (!fs) return fs.status();
     return link({&vs.value(), &fs.value()});
 }
 

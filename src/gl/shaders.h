@@ -33,13 +33,6 @@ void addDefine(ProgramDesc& d, const std::string& name, int value = 1);
 /// Compiles and links. Errors: Internal with the stage's compile log or the link log.
 Result<Program> buildProgram(const ProgramDesc& desc);
 
-/// Full-screen-quad program for the anaglyph composite (texelFetch of binding 0).
-Result<Program> buildCompositeProgram();
-
-/// One-pass two-view mix: `glslMix` defines vec3 mvrAnaglyph(vec3 left, vec3 right); the
-/// program reads binding 0 (left) and 1 (right) by texelFetch.
-Result<Program> buildMixProgram(const std::string& glslMix);
-
 /// Full-screen-quad program with the fragment shader `fragmentSource` (without #version;
 /// "#version 450 core" is prepended). Errors: Internal with the compile or link log.
 Result<Program> buildFullScreenProgram(const std::string& fragmentSource);

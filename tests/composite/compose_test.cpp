@@ -12,6 +12,7 @@ namespace {
 using namespace mvr::composite::test;
 
 constexpr int kJpegTolerance = 8;
+const ComposeOptions kNoOptions;
 
 TEST(Compose, FormatList) {
     const std::vector<std::string> names = formatNames();
@@ -158,6 +159,118 @@ TEST(Compose, QuiltGridParsingAndConvergenceAngle) {
     ComposeOptions half;
     half.quiltColumns = 3;  // rows missing
     EXPECT_FALSE(compose("quilt", taggedViews(3, 2, 2), half));
+}
+
+// The size rules of the formats table against what compose() makes: for every format, view
+// count and size (odd, even, HDMI, tiny), outputSize() gives compose()'s size, or refuses with
+// compose()'s code and the text after its caller's name.
+TEST(Compose, OutputSizeIsComposesSize) {
+    ComposeOptions grid, badGrid, panel, badPanel;
+    grid.quiltColumns = 3;
+    grid.quiltRows = 2;
+    badGrid.quiltColumns = 3;
+    panel.lenticular.screenWidth = 23;
+    panel.lenticular.screenHeight = 19;
+    badPanel.lenticular.slope = 0;
+    const std::vector<std::pair<int, int>> sizes = {{1, 1}, {7, 5}, {8, 6}, {1280, 720}};
+    int compared = 0;
+    for (const FormatInfo& f : formats()) {
+        if (f.fileOnly) continue;
+        for (int n : {1, 2, 3, 7}) {
+            for (const auto& [w, h] : sizes) {
+                // 1280x720 (an HDMI size) only where it is the rule, to stay quick.
+                if (w == 1280 && (f.size.rule != SizeRule::FramePacked || n != 2)) continue;
+                const std::vector<Image> views = taggedViews(n, w, h);
+                for (const ComposeOptions* o :
+                     std::initializer_list<const ComposeOptions*>{&kNoOptions, &grid, &badGrid,
+                                                                  &panel, &badPanel}) {
+                    Result<Image> image = compose(f.name, views, *o);
+                    Result<Size> size = outputSize(f.name, n, w, h, *o);
+                    ++compared;
+                    ASSERT_EQ(bool(image), bool(size))
+                        << f.name << " " << n << "x" << w << "x" << h << ": "
+                        << (image ? size.status().message() : image.status().message());
+                    if (image) {
+                        EXPECT_EQ(*size, (Size{image->width, image->height})) << f.name;
+                        continue;
+                    }
+                    EXPECT_EQ(size.status().code(), image.status().code()) << f.name;
+                    std::string tail = image.status().message();
+                    tail = tail.substr(tail.find("): ") + 3);
+                    if (tail.rfind(std::string(f.name) + ": ", 0) == 0)
+                        tail = tail.substr(f.name.size() + 2);
+                    EXPECT_NE(size.status().message().find(tail), std::string::npos)
+                        << "outputSize: " << size.status().message()
+                        << "\ncompose: " << image.status().message();
+                }
+            }
+        }
+    }
+    EXPECT_GT(compared, 300);
+    Result<Size> mpo = outputSize("mpo", 3, 4, 5);
+    ASSERT_TRUE(mpo) << mpo.status().message();
+    EXPECT_EQ(*mpo, (Size{4, 5}));
+    EXPECT_FALSE(outputSize("anaglyph-purple", 2, 4, 4));
+    Result<Size> zero = outputSize("sbs", 2, 0, 4);
+    ASSERT_FALSE(zero);
+    EXPECT_EQ(zero.status().message(),
+              "mvr::composite::outputSize(): sbs: view size 0x4 (expected at least 1x1)");
+}
+
+// largestViewSize(): the largest views whose output fits the frame (and one pixel more across
+// or down does not fit, for the tiled formats).
+TEST(Compose, LargestViewSizeFitsTheFrame) {
+    const auto view = [](std::string_view f, int n, int w, int h, const ComposeOptions& o = {}) {
+        Result<Size> s = largestViewSize(f, n, w, h, o);
+        EXPECT_TRUE(s) << f << ": " << s.status().message();
+        return s ? *s : Size{};
+    };
+    EXPECT_EQ(view("anaglyph-dubois", 2, 961, 541), (Size{961, 541}));
+    EXPECT_EQ(view("sbs", 2, 961, 541), (Size{480, 541}));
+    EXPECT_EQ(view("sbs-half", 2, 961, 541), (Size{960, 541}));
+    EXPECT_EQ(view("tb", 2, 961, 541), (Size{961, 270}));
+    EXPECT_EQ(view("tb-half", 2, 961, 541), (Size{961, 540}));
+    EXPECT_EQ(view("rows", 5, 31, 17), (Size{31, 17}));
+    EXPECT_EQ(view("jps", 2, 31, 17), (Size{15, 17}));
+    EXPECT_EQ(view("hdmi-frame-packing", 2, 1920, 2205), (Size{1920, 1080}));
+    EXPECT_EQ(view("hdmi-frame-packing", 2, 1919, 2205), (Size{1280, 720}));
+    ComposeOptions grid;
+    grid.quiltColumns = 4;
+    grid.quiltRows = 2;
+    EXPECT_EQ(view("quilt", 8, 400, 301, grid), (Size{100, 150}));
+    ComposeOptions panel;
+    panel.lenticular.screenWidth = 30;
+    panel.lenticular.screenHeight = 20;
+    EXPECT_EQ(view("lenticular", 3, 64, 48, panel), (Size{30, 20}));
+    EXPECT_EQ(view("lenticular", 3, 64, 48), (Size{64, 48}));
+    for (const FormatInfo& f : formats()) {
+        if (f.size.rule != SizeRule::Tiled) continue;
+        for (const auto& [fw, fh] : {std::pair{2, 2}, std::pair{7, 9}, std::pair{960, 541}}) {
+            const Size v = view(f.name, 2, fw, fh);
+            Result<Size> out = outputSize(f.name, 2, v.width, v.height);
+            ASSERT_TRUE(out) << f.name << ": " << out.status().message();
+            EXPECT_LE(out->width, fw) << f.name;
+            EXPECT_LE(out->height, fh) << f.name;
+            Result<Size> wider = outputSize(f.name, 2, v.width + f.size.squeezeX, v.height);
+            EXPECT_TRUE(!wider || wider->width > fw) << f.name;
+            Result<Size> taller = outputSize(f.name, 2, v.width, v.height + f.size.squeezeY);
+            EXPECT_TRUE(!taller || taller->height > fh) << f.name;
+        }
+    }
+    // The automatic quilt grid: the views' own grid, i.e. compose() of them fits the frame.
+    for (int n : {2, 5, 8, 45}) {
+        const Size v = view("quilt", n, 1000, 700);
+        const auto [c, r] = chooseQuiltLayout(n, v.width, v.height);
+        EXPECT_LE(c * v.width, 1000) << n;
+        EXPECT_LE(r * v.height, 700) << n;
+    }
+    Result<Size> small = largestViewSize("sbs", 2, 1, 100);
+    ASSERT_FALSE(small);
+    EXPECT_EQ(small.status().code(), ErrorCode::Usage);
+    EXPECT_NE(small.status().message().find("a frame of 1x100 is too small"), std::string::npos)
+        << small.status().message();
+    EXPECT_FALSE(largestViewSize("hdmi-frame-packing", 2, 1280, 1469));
+    EXPECT_FALSE(largestViewSize("sbs", 3, 100, 100));
 }
 
 }  // namespace

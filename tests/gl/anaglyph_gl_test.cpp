@@ -1,12 +1,13 @@
-// The GPU red-cyan anaglyph (sorbier2008 §4.3) against the CPU mapping R ← left, G B ← right.
+// The GPU anaglyphs of composeGpu(): sorbier2008 §4.3's red-cyan (anaglyph-color, colour
+// masks) against the CPU mapping R ← left, G B ← right, and every anaglyph against the CPU.
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "gl_test_util.h"
-#ifdef MVR_HAVE_COMPOSITE
 #include "mvr/composite/anaglyph.h"
-#endif
+#include "mvr/gl/composite_gpu.h"
 
 namespace mvr::gl::test {
 namespace {
@@ -18,9 +19,16 @@ Image randomImage(int w, int h, unsigned seed) {
     return img;
 }
 
+// composeGpu() of two views (a stereo pair: left, right).
+Result<Image> composePair(const std::string& format, const Image& left, const Image& right,
+                          const GpuComposeOptions& gpu = {}) {
+    const std::vector<Image> views = {left, right};
+    return composeGpu(format, views, {}, gpu);
+}
+
 TEST(AnaglyphGpu, MatchesCpuMappingExactly) {
     const Image left = randomImage(37, 23, 1), right = randomImage(37, 23, 2);
-    auto r = composeAnaglyphGpu(left, right);
+    auto r = composePair("anaglyph-color", left, right);
     if (!r && r.status().code() == ErrorCode::Unsupported) GTEST_SKIP() << r.status().message();
     ASSERT_TRUE(r) << r.status().message();
     ASSERT_EQ(r->width, 37);
@@ -37,17 +45,19 @@ TEST(AnaglyphGpu, MatchesCpuMappingExactly) {
 }
 
 TEST(AnaglyphGpu, RejectsMismatchedSizes) {
-    auto r = composeAnaglyphGpu(Image(4, 4), Image(5, 4));
+    auto r = composePair("anaglyph-color", Image(4, 4), Image(5, 4));
     ASSERT_FALSE(r);
     EXPECT_EQ(r.status().code(), ErrorCode::Usage);
-    EXPECT_NE(r.status().message().find("same size"), std::string::npos);
-    auto e = composeAnaglyphGpu(Image(), Image());
+    EXPECT_NE(r.status().message().find("views differ in size"), std::string::npos)
+        << r.status().message();
+    auto e = composePair("anaglyph-color", Image(), Image());
     ASSERT_FALSE(e);
     EXPECT_EQ(e.status().code(), ErrorCode::Usage);
 }
 
 TEST(AnaglyphGpu, BrokenMixGlslIsAUsageErrorWithTheLog) {
-    auto r = composeAnaglyphGpu(Image(4, 4), Image(4, 4), "vec3 mvrAnaglyph(vec3 l) { oops }");
+    auto r = composePair("anaglyph-color", Image(4, 4), Image(4, 4),
+                         {.anaglyphMix = "vec3 mvrAnaglyph(vec3 l) { oops }"});
     if (!r && r.status().code() == ErrorCode::Unsupported) GTEST_SKIP() << r.status().message();
     ASSERT_FALSE(r);
     EXPECT_EQ(r.status().code(), ErrorCode::Usage);
@@ -55,9 +65,8 @@ TEST(AnaglyphGpu, BrokenMixGlslIsAUsageErrorWithTheLog) {
         << r.status().message();
 }
 
-#ifdef MVR_HAVE_COMPOSITE
 // Every anaglyph of the composite module, composed on the GPU from the same formula
-// (composite::anaglyphGlsl), against the CPU composite. Tolerance: 1/255 per channel — the
+// (composite::anaglyphGlsl; anaglyph-color by colour masks), against the CPU composite. Tolerance: 1/255 per channel — the
 // GPU's pow() (exp2/log2 approximations in llvmpipe) and the CPU's table-driven sRGB curve
 // can round an output to the neighbouring 8-bit value; nothing more.
 TEST(AnaglyphGpu, EveryCompositeAnaglyphMatchesTheCpuWithin1) {
@@ -66,7 +75,7 @@ TEST(AnaglyphGpu, EveryCompositeAnaglyphMatchesTheCpuWithin1) {
     for (AnaglyphMethod m : {AnaglyphMethod::Color, AnaglyphMethod::HalfColor, AnaglyphMethod::Gray,
                              AnaglyphMethod::True, AnaglyphMethod::Dubois,
                              AnaglyphMethod::DuboisGreenMagenta, AnaglyphMethod::DuboisAmberBlue}) {
-        auto gpu = composeAnaglyphGpu(left, right, composite::anaglyphGlsl(m));
+        auto gpu = composePair(std::string(composite::anaglyphFormatName(m)), left, right);
         if (!gpu && gpu.status().code() == ErrorCode::Unsupported) GTEST_SKIP() << gpu.status().message();
         ASSERT_TRUE(gpu) << gpu.status().message();
         auto cpu = composite::anaglyph(left, right, m);
@@ -78,7 +87,20 @@ TEST(AnaglyphGpu, EveryCompositeAnaglyphMatchesTheCpuWithin1) {
         EXPECT_LE(d.maxDelta, 1) << composite::anaglyphFormatName(m);
     }
 }
-#endif
+
+// A replacement mix (GpuComposeOptions::anaglyphMix) is what runs: anaglyphGlsl() of another
+// method given for anaglyph-color gives that method's image.
+TEST(AnaglyphGpu, AnaglyphMixReplacesTheFormatsMix) {
+    const Image left = randomImage(16, 8, 5), right = randomImage(16, 8, 6);
+    using composite::AnaglyphMethod;
+    auto own = composePair("anaglyph-gray", left, right);
+    if (!own && own.status().code() == ErrorCode::Unsupported) GTEST_SKIP() << own.status().message();
+    ASSERT_TRUE(own) << own.status().message();
+    auto mixed = composePair("anaglyph-color", left, right,
+                             {.anaglyphMix = composite::anaglyphGlsl(AnaglyphMethod::Gray)});
+    ASSERT_TRUE(mixed) << mixed.status().message();
+    EXPECT_EQ(compareImages(*mixed, *own, 0).maxDelta, 0);
+}
 
 }  // namespace
 }  // namespace mvr::gl::test

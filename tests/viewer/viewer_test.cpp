@@ -1,12 +1,15 @@
 // Unit tests of the viewer's window-free parts: the stereo camera state, the 3D cursor, the HUD
-// overlay and the --script parser.
+// overlay, the --script parser and the choice of backend and method from the registry.
 #include <cmath>
 
 #include <gtest/gtest.h>
 
 #include "input.h"
+#include "mvr/backends.h"
 #include "overlay.h"
 #include "view_state.h"
+#include "viewer.h"
+#include "viewer_backends.h"
 
 namespace mvr::viewer {
 namespace {
@@ -196,6 +199,77 @@ TEST(Script, UnknownTokenIsAUsageError) {
     auto resize = parseScript("size:300:100");
     ASSERT_TRUE(resize);
     EXPECT_EQ(resize->at(0).kind, ScriptStep::Kind::Resize);
+}
+
+// The registry decides: the default backend is the first GPU row, the fallback the first other
+// row, `m` cycles GPU backends' methods first. Making a backend touches no GPU.
+TEST(ViewerBackends, ComeFromTheRegistry) {
+    std::string firstGpu, firstOther;
+    for (const BackendEntry& e : backends()) {
+        std::string& first = e.gpu ? firstGpu : firstOther;
+        if (first.empty()) first = e.name;
+    }
+    if (firstGpu.empty()) GTEST_SKIP() << "no GPU backend in this build";
+    EXPECT_EQ(defaultViewerBackend(), firstGpu);
+    EXPECT_EQ(fallbackViewerBackend(), firstOther);
+    ViewerBackends made;
+    ASSERT_TRUE(made.make());
+    ASSERT_FALSE(made.methods().empty());
+    EXPECT_EQ(made.methods().front().backend, firstGpu);
+    bool other = false;
+    for (const MethodRef& m : made.methods()) {
+        const bool gpu = (*findBackend(m.backend))->gpu;
+        EXPECT_FALSE(gpu && other) << m.label() << " after a non-GPU backend's method";
+        other = other || !gpu;
+    }
+}
+
+// The initial method: the backend's start method (interactiveMethod, else defaultMethod()); the
+// fallback when the default backend does not run, keeping --method where the fallback has it.
+TEST(ViewerBackends, InitialMethodAndFallback) {
+    ViewerBackends made;
+    ASSERT_TRUE(made.make());
+    const std::string gpu = defaultViewerBackend(), cpu = fallbackViewerBackend();
+    if (gpu == cpu || cpu.empty()) GTEST_SKIP() << "no fallback in this build";
+    const auto start = [&](const std::string& name) {
+        return startMethod(name, made.backend(name).defaultMethod());
+    };
+    const auto everything = [](const MethodRef&) { return Status::ok(); };
+    const auto noGpu = [&](const MethodRef& m) {
+        return m.backend == gpu ? unsupportedError("no EGL display: test") : Status::ok();
+    };
+    ViewerOptions options;
+    Result<std::size_t> chosen = chooseInitialMethod(made, options, everything);
+    ASSERT_TRUE(chosen) << chosen.status().message();
+    EXPECT_EQ(made.methods()[*chosen].label(), gpu + ":" + start(gpu));
+    const std::string interactive = (*findBackend(gpu))->interactiveMethod;
+    if (!interactive.empty()) {
+        EXPECT_EQ(made.methods()[*chosen].method, interactive);
+    }
+
+    chosen = chooseInitialMethod(made, options, noGpu);
+    ASSERT_TRUE(chosen) << chosen.status().message();
+    EXPECT_EQ(made.methods()[*chosen].label(), cpu + ":" + start(cpu));
+
+    options.method = made.backend(cpu).methods().front();  // also a method of gpu?
+    if (made.find(gpu, options.method)) {
+        chosen = chooseInitialMethod(made, options, noGpu);
+        ASSERT_TRUE(chosen) << chosen.status().message();
+        EXPECT_EQ(made.methods()[*chosen].label(), cpu + ":" + options.method);
+    }
+
+    options.method.clear();
+    options.backendGiven = true;
+    chosen = chooseInitialMethod(made, options, noGpu);
+    ASSERT_FALSE(chosen);
+    EXPECT_EQ(chosen.status().code(), ErrorCode::Unsupported);
+
+    options.backendGiven = false;
+    options.method = "no-such-method";
+    chosen = chooseInitialMethod(made, options, everything);
+    ASSERT_FALSE(chosen);
+    EXPECT_EQ(chosen.status().code(), ErrorCode::Usage);
+    EXPECT_NE(chosen.status().message().find("--method 'no-such-method'"), std::string::npos);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <fmt/core.h>
 
 #include "command.h"
+#include "compose_options.h"
 #include "options.h"
 
 #include "mvr/composite/compose.h"
@@ -129,7 +130,7 @@ const CommandRegistrar kCompose(20, [](CLI::App& root) -> std::function<int()> {
                     "in .png, .jpg, .jpeg, .jps or .mpo (written as is)")
         ->default_val(o->output);
     app->add_flag("-q,--quiet", o->quiet, "Print nothing on success");
-    composite::addComposeOptions(app, o->compose, /*withStereoMetadata=*/true);
+    addComposeOptions(app, o->compose, /*withStereoMetadata=*/true);
     app->footer("Formats:\n" + composite::formatHelp() +
                 "Views are numbered left to right: the first view is the left eye.\n"
                 "Exit codes: 0 ok, 1 usage, 2 unreadable input, 3 unsupported, 4 output.");

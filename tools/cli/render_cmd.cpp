@@ -8,6 +8,7 @@
 #include <fmt/core.h>
 
 #include "command.h"
+#include "compose_options.h"
 #include "options.h"
 
 #include "mvr/backends.h"
@@ -155,7 +156,7 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
     app->add_flag("-q,--quiet", o->quiet, "Print nothing on success");
     app->add_option("--format", o->formats, "Also write composites: DIR/<format>.png (.mpo, .jps); repeatable")
         ->check(CLI::IsMember(composite::formatNames()));
-    composite::addComposeOptions(app, o->compose);
+    addComposeOptions(app, o->compose);
     return [o] { return runRender(*o); };
 });
 

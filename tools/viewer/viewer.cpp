@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -19,11 +18,14 @@
 #include <fmt/format.h>
 
 #include "input.h"
+#include "mvr/backends.h"
 #include "mvr/composite/anaglyph.h"
 #include "mvr/composite/compose.h"
 #include "overlay.h"
+#include "presenter.h"
 #include "render_worker.h"
 #include "view_state.h"
+#include "viewer_backends.h"
 
 namespace mvr::viewer {
 
@@ -46,237 +48,38 @@ double msSince(Clock::time_point t) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
-// ---- geometry of the output formats ---------------------------------------------------------
+// ---- geometry of the output formats: the composite formats table's size rules ---------------
+// quad-buffer is no composite format: each eye is the window.
 
-/// The size of one view for a window framebuffer of `fb` pixels showing `format`.
-glm::ivec2 viewSizeFor(std::string_view format, glm::ivec2 fb) {
-    glm::ivec2 v = fb;
-    if (format == "sbs") v.x = fb.x / 2;
-    if (format == "tb") v.y = fb.y / 2;
-    if (format == "sbs-half") v.x = fb.x & ~1;  // compose() squeezes pairs of columns
-    if (format == "tb-half") v.y = fb.y & ~1;
-    return glm::max(v, glm::ivec2(2));
+/// The size rule of `format` (one cell, the view's size, for quad-buffer).
+composite::FormatSize sizeRule(const std::string& format) {
+    Result<composite::FormatInfo> info = composite::findFormat(format);
+    return info ? info->size : composite::FormatSize{};
+}
+
+/// The size of one view for a window framebuffer of `fb` pixels showing `format`: the largest
+/// whose composite fits (sbs: half the width; sbs-half: the width rounded down to even; …).
+glm::ivec2 viewSizeFor(const std::string& format, glm::ivec2 fb) {
+    Result<composite::Size> v = composite::largestViewSize(format, 2, fb.x, fb.y);
+    return glm::max(v ? glm::ivec2(v->width, v->height) : fb, glm::ivec2(2));
 }
 
 /// The size of the composed frame of `format` for views of `view` pixels.
-glm::ivec2 frameSizeFor(std::string_view format, glm::ivec2 view) {
-    if (format == "sbs") return {view.x * 2, view.y};
-    if (format == "tb") return {view.x, view.y * 2};
-    return view;
+glm::ivec2 frameSizeFor(const std::string& format, glm::ivec2 view) {
+    Result<composite::Size> f = composite::outputSize(format, 2, view.x, view.y);
+    return f ? glm::ivec2(f->width, f->height) : view;
 }
 
 /// A position in the composed frame → the position in one view that it shows (the mouse's
-/// position "on the screen", before any eye offset).
-glm::vec2 viewPxFromFrame(std::string_view format, glm::vec2 p, glm::ivec2 view) {
-    if (format == "sbs") return {std::fmod(p.x, float(view.x)), p.y};
-    if (format == "tb") return {p.x, std::fmod(p.y, float(view.y))};
-    if (format == "sbs-half") return {std::fmod(p.x, view.x * 0.5f) * 2.0f, p.y};
-    if (format == "tb-half") return {p.x, std::fmod(p.y, view.y * 0.5f) * 2.0f};
-    return p;
+/// position "on the screen", before any eye offset): within its cell, unsqueezed.
+glm::vec2 viewPxFromFrame(const std::string& format, glm::vec2 p, glm::ivec2 view) {
+    const composite::FormatSize rule = sizeRule(format);
+    if (rule.rule != composite::SizeRule::Tiled) return p;
+    const float cellW = float(view.x) / float(rule.squeezeX);
+    const float cellH = float(view.y) / float(rule.squeezeY);
+    return {std::fmod(p.x, cellW) * float(rule.squeezeX),
+            std::fmod(p.y, cellH) * float(rule.squeezeY)};
 }
-
-// ---- presenting images in the window (OpenGL 3.3 core) ---------------------------------------
-
-const char* const kPresentVs = R"(#version 330 core
-void main() {
-    // One triangle covering the viewport.
-    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
-
-// Pixel (x, y) of the window shows texel (x − offset.x, fbHeight − 1 − y − offset.y): the image
-// is uploaded row 0 first (its TOP row, image.h) and drawn 1:1 with its top-left corner at
-// `offset` from the window's top-left; outside it, black.
-const char* const kPresentFs = R"(#version 330 core
-uniform sampler2D uImage;
-uniform ivec2 uOffset;
-uniform int uFbHeight;
-out vec4 oColor;
-void main() {
-    ivec2 p = ivec2(int(gl_FragCoord.x), uFbHeight - 1 - int(gl_FragCoord.y)) - uOffset;
-    ivec2 size = textureSize(uImage, 0);
-    if (any(lessThan(p, ivec2(0))) || any(greaterThanEqual(p, size))) {
-        oColor = vec4(0.0, 0.0, 0.0, 1.0);
-    } else {
-        oColor = vec4(texelFetch(uImage, p, 0).rgb, 1.0);
-    }
-}
-)";
-
-// The GPU composite of the anaglyphs: the two eyes as two textures mixed per pixel by
-// composite::anaglyphGlsl(method), the same formula as the CPU composite (within 1/255: GPU pow
-// vs the CPU's sRGB tables; see src/composite/README.md).
-const char* const kAnaglyphFsHead = R"(#version 330 core
-uniform sampler2D uImage;
-uniform sampler2D uRight;
-uniform ivec2 uOffset;
-uniform int uFbHeight;
-out vec4 oColor;
-)";
-const char* const kAnaglyphFsMain = R"(
-void main() {
-    ivec2 p = ivec2(int(gl_FragCoord.x), uFbHeight - 1 - int(gl_FragCoord.y)) - uOffset;
-    ivec2 size = textureSize(uImage, 0);
-    if (any(lessThan(p, ivec2(0))) || any(greaterThanEqual(p, size))) {
-        oColor = vec4(0.0, 0.0, 0.0, 1.0);
-    } else {
-        oColor = vec4(mvrAnaglyph(texelFetch(uImage, p, 0).rgb, texelFetch(uRight, p, 0).rgb), 1.0);
-    }
-}
-)";
-
-class Presenter {
-public:
-    Presenter() = default;
-    Presenter(const Presenter&) = delete;
-    Presenter& operator=(const Presenter&) = delete;
-    ~Presenter() {
-        if (mProgram) glDeleteProgram(mProgram);
-        for (auto& [method, program] : mAnaglyphPrograms) {
-            if (program.id) glDeleteProgram(program.id);
-        }
-        if (mVao) glDeleteVertexArrays(1, &mVao);
-        glDeleteTextures(2, mTextures);
-    }
-
-    Status init() {
-        if (Status s = link(kPresentFs, mProgram); !s) return s;
-        mOffsetLoc = glGetUniformLocation(mProgram, "uOffset");
-        mFbHeightLoc = glGetUniformLocation(mProgram, "uFbHeight");
-        glGenVertexArrays(1, &mVao);
-        glGenTextures(2, mTextures);
-        for (GLuint t : mTextures) {
-            glBindTexture(GL_TEXTURE_2D, t);
-            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        }
-        return Status::ok();
-    }
-
-    /// Uploads `image` (RGBA8, row 0 at the top) into texture `slot` (0, or 1 for the right eye).
-    void upload(int slot, const Image& image) {
-        glBindTexture(GL_TEXTURE_2D, mTextures[slot]);
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-        if (mSizes[slot] != glm::ivec2(image.width, image.height)) {
-            glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA,
-                         GL_UNSIGNED_BYTE, image.rgba.data());
-            mSizes[slot] = {image.width, image.height};
-        } else {
-            glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, image.width, image.height, GL_RGBA,
-                            GL_UNSIGNED_BYTE, image.rgba.data());
-        }
-    }
-
-    /// The top-left corner of texture `slot` in a framebuffer of `fb` (centred).
-    glm::ivec2 offset(int slot, glm::ivec2 fb) const { return (fb - mSizes[slot]) / 2; }
-
-    /// Draws texture `slot` 1:1, centred, into `drawBuffer` (GL_BACK, GL_BACK_LEFT, …).
-    void draw(int slot, glm::ivec2 fb, GLenum drawBuffer) {
-        drawWith(mProgram, mOffsetLoc, mFbHeightLoc, slot, fb, drawBuffer);
-    }
-
-    /// Draws the anaglyph `method` of texture 0 (left eye) and 1 (right eye), 1:1, centred.
-    /// Errors: the mix shader does not compile (then the caller composes on the CPU).
-    Status drawAnaglyph(composite::AnaglyphMethod method, glm::ivec2 fb, GLenum drawBuffer) {
-        auto it = mAnaglyphPrograms.find(method);
-        if (it == mAnaglyphPrograms.end()) {
-            MixProgram program;
-            const std::string fs =
-                kAnaglyphFsHead + composite::anaglyphGlsl(method) + kAnaglyphFsMain;
-            if (Status s = link(fs.c_str(), program.id); !s) return s;
-            program.offsetLoc = glGetUniformLocation(program.id, "uOffset");
-            program.fbHeightLoc = glGetUniformLocation(program.id, "uFbHeight");
-            glUseProgram(program.id);
-            glUniform1i(glGetUniformLocation(program.id, "uImage"), 0);
-            glUniform1i(glGetUniformLocation(program.id, "uRight"), 1);
-            it = mAnaglyphPrograms.emplace(method, program).first;
-        }
-        glActiveTexture(GL_TEXTURE1);
-        glBindTexture(GL_TEXTURE_2D, mTextures[1]);
-        drawWith(it->second.id, it->second.offsetLoc, it->second.fbHeightLoc, 0, fb, drawBuffer);
-        return Status::ok();
-    }
-
-    /// Reads `readBuffer` of the window back as an image (row 0 at the top, alpha 255).
-    static Image readBack(glm::ivec2 fb, GLenum readBuffer) {
-        Image image(fb.x, fb.y);
-        std::vector<std::uint8_t> rows(std::size_t(fb.x) * fb.y * 4);
-        glReadBuffer(readBuffer);
-        glPixelStorei(GL_PACK_ALIGNMENT, 1);
-        glReadPixels(0, 0, fb.x, fb.y, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
-        for (int y = 0; y < fb.y; ++y) {
-            const std::uint8_t* src = rows.data() + std::size_t(fb.y - 1 - y) * fb.x * 4;
-            std::copy(src, src + std::size_t(fb.x) * 4, image.row(y));
-        }
-        for (std::size_t i = 3; i < image.rgba.size(); i += 4) image.rgba[i] = 255;
-        return image;
-    }
-
-private:
-    struct MixProgram {
-        GLuint id = 0;
-        GLint offsetLoc = -1, fbHeightLoc = -1;
-    };
-
-    void drawWith(GLuint program, GLint offsetLoc, GLint fbHeightLoc, int slot, glm::ivec2 fb,
-                  GLenum drawBuffer) {
-        glDrawBuffer(drawBuffer);
-        glViewport(0, 0, fb.x, fb.y);
-        glDisable(GL_DEPTH_TEST);
-        glDisable(GL_BLEND);
-        glUseProgram(program);
-        const glm::ivec2 o = offset(slot, fb);
-        glUniform2i(offsetLoc, o.x, o.y);
-        glUniform1i(fbHeightLoc, fb.y);
-        glActiveTexture(GL_TEXTURE0);
-        glBindTexture(GL_TEXTURE_2D, mTextures[slot]);
-        glBindVertexArray(mVao);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-    }
-
-    /// Links the full-screen-triangle vertex shader with fragment shader `fsSource`.
-    static Status link(const char* fsSource, GLuint& out) {
-        GLuint vs = 0, fs = 0;
-        if (Status s = compile(GL_VERTEX_SHADER, kPresentVs, vs); !s) return s;
-        if (Status s = compile(GL_FRAGMENT_SHADER, fsSource, fs); !s) {
-            glDeleteShader(vs);
-            return s;
-        }
-        out = glCreateProgram();
-        glAttachShader(out, vs);
-        glAttachShader(out, fs);
-        glLinkProgram(out);
-        glDeleteShader(vs);
-        glDeleteShader(fs);
-        GLint ok = 0;
-        glGetProgramiv(out, GL_LINK_STATUS, &ok);
-        if (ok) return Status::ok();
-        char log[2048] = {};
-        glGetProgramInfoLog(out, sizeof log, nullptr, log);
-        glDeleteProgram(out);
-        out = 0;
-        return internalError(fmt::format("mvr view: present shader does not link: {}", log));
-    }
-
-    static Status compile(GLenum stage, const char* source, GLuint& out) {
-        out = glCreateShader(stage);
-        glShaderSource(out, 1, &source, nullptr);
-        glCompileShader(out);
-        GLint ok = 0;
-        glGetShaderiv(out, GL_COMPILE_STATUS, &ok);
-        if (ok) return Status::ok();
-        char log[2048] = {};
-        glGetShaderInfoLog(out, sizeof log, nullptr, log);
-        glDeleteShader(out);
-        return internalError(fmt::format("mvr view: present shader does not compile: {}", log));
-    }
-    GLuint mProgram = 0, mVao = 0;
-    std::map<composite::AnaglyphMethod, MixProgram> mAnaglyphPrograms;
-    GLuint mTextures[2] = {0, 0};
-    glm::ivec2 mSizes[2] = {glm::ivec2(0), glm::ivec2(0)};
-    GLint mOffsetLoc = -1, mFbHeightLoc = -1;
-};
 
 // ---- GLFW errors -------------------------------------------------------------------------------
 
@@ -290,12 +93,6 @@ void onGlfwError(int code, const char* description) {
 }
 
 // ---- the viewer --------------------------------------------------------------------------------
-
-struct MethodRef {
-    std::string backend;
-    std::string method;
-    std::string label() const { return backend + ":" + method; }
-};
 
 class Viewer {
 public:
@@ -313,8 +110,6 @@ public:
 
 private:
     // Setup and teardown.
-    Status createBackends();
-    Status chooseInitialMethod();
     Status openWindow(glm::ivec2 size);
     void shutdown();
 
@@ -335,7 +130,7 @@ private:
 
     std::string formatName() const { return viewerFormats()[mFormatIndex]; }
     bool quadBuffer() const { return formatName() == kQuadBuffer; }
-    const MethodRef& method() const { return mMethods[mMethodIndex]; }
+    const MethodRef& method() const { return mBackends.methods()[mMethodIndex]; }
     void drawOverlays(std::vector<Image>& views);
     std::vector<std::string> hudLines() const;
 
@@ -345,8 +140,7 @@ private:
     std::size_t mScriptNext = 0;
 
     RenderWorker mWorker;
-    std::map<std::string, std::unique_ptr<Backend>> mBackends;  // touched on mWorker only
-    std::vector<MethodRef> mMethods;
+    ViewerBackends mBackends;  // touched on mWorker only
     std::size_t mMethodIndex = 0;
     std::size_t mFormatIndex = 0;
 
@@ -392,61 +186,6 @@ private:
     bool mQuit = false;
     long mFrames = 0;
 };
-
-Status Viewer::createBackends() {
-    return mWorker.call([this]() -> Status {
-        for (const std::string& name : {std::string("gl"), std::string("soft")}) {
-            auto backend = mvr::makeBackend(name);
-            if (!backend) continue;  // not built into this mvr
-            for (const std::string& m : (*backend)->methods()) mMethods.push_back({name, m});
-            mBackends[name] = std::move(backend).value();
-        }
-        if (mMethods.empty()) return unsupportedError("mvr view: no rendering backend in this mvr");
-        return Status::ok();
-    });
-}
-
-Status Viewer::chooseInitialMethod() {
-    auto find = [this](const std::string& backend, const std::string& m) -> std::optional<std::size_t> {
-        for (std::size_t i = 0; i < mMethods.size(); ++i) {
-            if (mMethods[i].backend == backend && mMethods[i].method == m) return i;
-        }
-        return std::nullopt;
-    };
-    auto supported = [this](const MethodRef& ref) {
-        return mWorker.call([this, ref] { return mBackends.at(ref.backend)->supports(ref.method); });
-    };
-    if (!mBackends.count(mOptions.backend)) {
-        auto made = mvr::makeBackend(mOptions.backend);  // for its error message
-        if (!made) return made.status();
-        return unsupportedError(fmt::format("backend '{}' is not available", mOptions.backend));
-    }
-    // Default method: the backend's fastest exact one (cli::defaultMethod), except gl's "auto",
-    // which measures every method again for each new window size; the viewer starts on
-    // multipass and `m` reaches auto.
-    const std::string wanted = !mOptions.method.empty() ? mOptions.method
-                               : mOptions.backend == "gl" ? std::string("multipass")
-                                                          : mBackends.at(mOptions.backend)->defaultMethod();
-    std::optional<std::size_t> index = find(mOptions.backend, wanted);
-    if (!index) {
-        return usageError(fmt::format("--method '{}' is not a method of the {} backend (see `mvr "
-                                      "info`)",
-                                      wanted, mOptions.backend));
-    }
-    Status s = supported(mMethods[*index]);
-    if (!s && !mOptions.backendGiven && s.code() == ErrorCode::Unsupported &&
-        mBackends.count("soft")) {
-        // The default backend (gl) has no context here: show the soft backend instead.
-        fmt::print(stderr, "mvr view: gl backend unavailable ({}); using soft\n", s.message());
-        index = find("soft", mOptions.method == "multipass" ? std::string("multipass")
-                                                            : mBackends.at("soft")->defaultMethod());
-        if (!index) index = find("soft", "multipass");
-        s = supported(mMethods[*index]);
-    }
-    if (!s) return s;
-    mMethodIndex = *index;
-    return Status::ok();
-}
 
 Status Viewer::openWindow(glm::ivec2 size) {
     glfwSetErrorCallback(onGlfwError);
@@ -573,13 +312,13 @@ void Viewer::drag(glm::vec2 delta, bool panning) {
 }
 
 void Viewer::cycleMethod(int direction) {
-    const std::size_t n = mMethods.size();
+    const std::size_t n = mBackends.methods().size();
     std::vector<std::string> skipped;
     std::size_t index = mMethodIndex;
     for (std::size_t tries = 0; tries + 1 < n; ++tries) {
         index = (index + n + std::size_t(direction + int(n))) % n;
-        const MethodRef ref = mMethods[index];
-        Status s = mWorker.call([this, ref] { return mBackends.at(ref.backend)->supports(ref.method); });
+        const MethodRef ref = mBackends.methods()[index];
+        Status s = mWorker.call([this, ref] { return mBackends.backend(ref.backend).supports(ref.method); });
         if (s) {
             mMethodIndex = index;
             mNeedRender = true;
@@ -703,7 +442,7 @@ Status Viewer::renderFrame() {
     const MethodRef ref = method();
     const auto start = Clock::now();
     Result<RenderOutput> out = mWorker.call([&]() {
-        return mBackends.at(ref.backend)->render(mPrepared.scene, *rig, mSettings, ref.method);
+        return mBackends.backend(ref.backend).render(mPrepared.scene, *rig, mSettings, ref.method);
     });
     mRenderMs = msSince(start);
     if (!out) return out.status();
@@ -892,11 +631,16 @@ std::filesystem::path Viewer::nextScreenshotPath() {
 }
 
 int Viewer::run() {
-    if (Status s = createBackends(); !s) return cli::fail(s);
-    if (Status s = chooseInitialMethod(); !s) {
+    if (Status s = mWorker.call([this] { return mBackends.make(); }); !s) return cli::fail(s);
+    auto supports = [this](const MethodRef& ref) {
+        return mWorker.call([this, ref] { return mBackends.backend(ref.backend).supports(ref.method); });
+    };
+    Result<std::size_t> initial = chooseInitialMethod(mBackends, mOptions, supports);
+    if (!initial) {
         shutdown();
-        return cli::fail(s);
+        return cli::fail(initial.status());
     }
+    mMethodIndex = *initial;
     const auto formats = viewerFormats();
     mFormatIndex = std::size_t(std::find(formats.begin(), formats.end(), mOptions.format) - formats.begin());
     if (mFormatIndex >= formats.size()) mFormatIndex = 0;
@@ -1015,13 +759,27 @@ std::function<int()> addViewCommand(CLI::App& root) {
         "view", "Interactive stereo viewer: orbit, pan and zoom a scene or model files in a window, "
                 "switch the method and the output format live, with a HUD and a 3D cursor");
     o->scene.addTo(app);
-    auto* backend = app->add_option("--backend", o->backend,
-                                    "Backend: gl (OpenGL through EGL; falls back to soft when it has no "
-                                    "context, unless given) or soft (CPU)")
-                        ->default_val(o->backend);
+    o->backend = defaultViewerBackend();
+    const std::string fallback = fallbackViewerBackend();
+    auto* backend =
+        app->add_option("--backend", o->backend,
+                        fmt::format("Backend: {} (default: {}, the first GPU backend{})",
+                                    fmt::join(backendNames(), " or "), o->backend,
+                                    fallback.empty() || fallback == o->backend
+                                        ? std::string()
+                                        : fmt::format("; falls back to {} when it has no "
+                                                      "context, unless given",
+                                                      fallback)))
+            ->default_val(o->backend);
+    std::vector<std::string> interactive;
+    for (const BackendEntry& e : backends())
+        if (!e.interactiveMethod.empty()) interactive.push_back(e.name + " " + e.interactiveMethod);
     app->add_option("--method", o->method,
-                    "Method of the backend (see `mvr info`; default: gl multipass, soft unified); "
-                    "m/M cycle them");
+                    fmt::format("Method of the backend (see `mvr info`; default: the backend's "
+                                "default method{}); m/M cycle them",
+                                interactive.empty() ? std::string()
+                                                    : fmt::format(", except {}",
+                                                                  fmt::join(interactive, ", "))));
     app->add_option("--format", o->format, "Output format; f/F cycle them")
         ->default_val(o->format)
         ->check(CLI::IsMember(viewerFormats()));

@@ -1,8 +1,9 @@
 // tools/viewer/viewer.h — `mvr view`: the interactive stereo viewer (library mvr_viewer).
 //
 // A GLFW window (OpenGL 3.3 core, GLX under X11) shows a stereo pair of the scene:
-//  1. the pair is rendered through the mvr::Backend interface — every gl method (in the gl
-//     backend's own EGL context, on a worker thread, see render_worker.h) and the soft backend;
+//  1. the pair is rendered through the mvr::Backend interface — every method of every backend of
+//     the registry (mvr::backends(); the gl backend in its own EGL context, all of them on a
+//     worker thread, see render_worker.h; which backend and method first: viewer_backends.h);
 //  2. the HUD (at screen depth) and the 3D cursor (at the depth of the surface under the mouse)
 //     are drawn into each eye's image (overlay.h, view_state.h);
 //  3. the output format is composed on the CPU by mvr::composite::compose(), so the window
@@ -10,9 +11,10 @@
 //     mixed on the GPU by the same formula (composite::anaglyphGlsl(), within 1/255 of the CPU);
 //     quad-buffer stereo instead puts the eyes into GL_BACK_LEFT / GL_BACK_RIGHT when the
 //     driver gives a stereo visual;
-//  4. the frame is uploaded as a texture and drawn 1:1 (texelFetch, no filtering).
-// The view size follows the window: one view is the window (anaglyphs, interleaves, half
-// formats, quad-buffer), half of it (sbs: width, tb: height).
+//  4. the frame is uploaded as a texture and drawn 1:1 (texelFetch, no filtering; presenter.h).
+// The view size follows the window: the largest views whose composite fits it, by the formats
+// table's size rules (composite::largestViewSize()): one view is the window (anaglyphs,
+// interleaves, half formats, quad-buffer), half of it (sbs: width, tb: height).
 //
 // Errors: no display or no GL context → "error: mvr view: …" and exit 3 (Unsupported); bad
 // options → exit 1; unreadable models → exit 2; an unwritable screenshot → exit 4.
@@ -30,9 +32,9 @@ namespace mvr::viewer {
 
 struct ViewerOptions {
     cli::SceneOptions scene;
-    std::string backend = "gl";
-    std::string method;  ///< empty: gl multipass, otherwise the backend's defaultMethod()
-    bool backendGiven = false;  ///< --backend was on the command line (no fallback to soft)
+    std::string backend;  ///< empty: defaultViewerBackend(), the first GPU backend
+    std::string method;   ///< empty: the backend's start method (viewer_backends.h)
+    bool backendGiven = false;  ///< --backend was on the command line (no fallback)
     std::string format = "anaglyph-dubois";
     bool swapEyes = false;
     std::string compose = "gpu";  ///< anaglyphs mixed on the GPU ("gpu") or the CPU ("cpu")

@@ -27,6 +27,9 @@
 //   lenticular (slanted-lens sub-pixel interleave, see lenticular.h)            2..N views
 //   jps (JPEG, side by side, RIGHT view on the left)                             2 views, file
 //   mpo (CIPA DC-007 multi-picture JPEG, one JPEG per view)                     2..N views, file
+// Each format's size rules are in its row of formats() (FormatInfo::size): outputSize() gives
+// the output size of views of W×H — and refuses exactly the sizes compose() refuses —, and
+// largestViewSize() the largest views whose output fits a frame (the viewer's window).
 #pragma once
 
 #include <filesystem>
@@ -38,10 +41,6 @@
 
 #include "mvr/core/image.h"
 #include "mvr/core/status.h"
-
-namespace CLI {
-class App;
-}
 
 namespace mvr::composite {
 
@@ -89,6 +88,28 @@ struct ComposeOptions {
     int baseViewpoint = 0;
 };
 
+/// How a format's output size follows from its views' size W×H (FormatInfo::size).
+enum class SizeRule {
+    Tiled,        ///< a grid of cells, one view each: see FormatSize
+    FramePacked,  ///< HDMI 1.4a frame packing: only 1280×720 → 1280×1470, 1920×1080 → 1920×2205
+    QuiltGrid,    ///< C·W × R·H, C×R = options.quiltColumns × quiltRows or chooseQuiltLayout()
+    Panel,        ///< the lenticular panel: options.lenticular.screenWidth × screenHeight
+                  ///< (0 = the view's), whatever the view size
+    PerView,      ///< no single image: one image of W×H per view in a file (mpo)
+};
+
+/// The size rule of one format. SizeRule::Tiled: the output is a grid of cellsAcross ×
+/// cellsDown cells, each one view of W×H squeezed to W / squeezeX × H / squeezeY (so W must be a
+/// multiple of squeezeX, H of squeezeY): output (cellsAcross·W / squeezeX) × (cellsDown·H /
+/// squeezeY). sbs and jps are 2×1 cells, sbs-half 2×1 cells squeezed 2:1 across, tb 1×2, tb-half
+/// 1×2 squeezed 2:1 down; formats that mix or interleave the views pixel by pixel (anaglyphs,
+/// rows, columns, checkerboard) are one cell, W×H. The other rules ignore the cell fields.
+struct FormatSize {
+    SizeRule rule = SizeRule::Tiled;
+    int cellsAcross = 1, cellsDown = 1;
+    int squeezeX = 1, squeezeY = 1;
+};
+
 /// One output format and what it needs.
 struct FormatInfo {
     std::string_view name;
@@ -97,6 +118,7 @@ struct FormatInfo {
     bool fileOnly;               ///< true for mpo (a file, not one image); compose() refuses it
     std::string_view extension;  ///< of the file writeComposite() writes: ".png", ".jps", ".mpo"
     std::string_view summary;    ///< one line for --help
+    FormatSize size;             ///< how big the output is (outputSize(), largestViewSize())
 };
 inline constexpr int kAnyViewCount = 1 << 20;
 
@@ -108,6 +130,40 @@ std::vector<std::string> formatNames();
 Result<FormatInfo> findFormat(std::string_view name);
 /// Multi-line description of the formats for `--help`.
 std::string formatHelp();
+
+/// A size in pixels.
+struct Size {
+    int width = 0;
+    int height = 0;
+    bool operator==(const Size&) const = default;
+};
+
+/// The size of the image compose() makes of `viewCount` views of viewWidth×viewHeight, from the
+/// format's row (FormatInfo::size). It refuses what compose() refuses for views of that count
+/// and size, with compose()'s texts after the caller's name: an unknown format, a view count
+/// out of range, a size < 1, a width / height a squeezed format cannot halve, a non-HDMI size
+/// for hdmi-frame-packing, a quilt grid that is malformed, too small for the views or larger
+/// than 65536 pixels on a side, a lenticular calibration lenticularShaderParams() refuses
+/// (ErrorCode::Usage). jps: its side-by-side picture (2W×H). mpo: the size of each of its
+/// images (W×H; compose() itself refuses mpo as a file). Messages start
+/// "mvr::composite::outputSize(): FORMAT: ".
+Result<Size> outputSize(std::string_view format, int viewCount, int viewWidth, int viewHeight,
+                        const ComposeOptions& options = {});
+/// As above for a row of formats(), with `who` naming the caller in the messages (e.g.
+/// "mvr::gl::composeGpu(): sbs-half"), for composites that check sizes before they draw.
+Result<Size> outputSize(const FormatInfo& format, int viewCount, int viewWidth, int viewHeight,
+                        const ComposeOptions& options, const std::string& who);
+
+/// The largest view size whose output (outputSize()) fits in frameWidth×frameHeight: for a
+/// window that shows the composite 1:1. Tiled: (frame / cells) · squeeze on each axis (sbs:
+/// half the width; sbs-half: the width rounded down to even); hdmi-frame-packing: 1920×1080 or
+/// 1280×720, whichever fits; quilt: the given grid's tiles, or (automatic grid) the largest
+/// views whose own automatic grid fits; lenticular: the frame with a screen size of 0, else the
+/// panel's size when it fits; mpo: the frame. Errors (ErrorCode::Usage, naming the format and
+/// the frame): unknown format, view count out of range, a frame too small for one pixel per view
+/// (or for the HDMI sizes, or the panel).
+Result<Size> largestViewSize(std::string_view format, int viewCount, int frameWidth,
+                             int frameHeight, const ComposeOptions& options = {});
 
 /// The default anaglyph of `mvr render`: Dubois least-squares red-cyan.
 inline constexpr std::string_view kDefaultAnaglyph = "anaglyph-dubois";
@@ -163,14 +219,5 @@ double convergenceAngleDegrees(double interaxial, double convergenceDistance);
 /// right}. Errors: ErrorCode::Input naming the path (missing, unreadable, not PNG/JPEG,
 /// truncated or corrupt data).
 Result<std::vector<Image>> readViewFile(const std::filesystem::path& path);
-
-/// Adds the composite options to a CLI11 subcommand; they write into `options`, which must
-/// outlive parsing: --swap-eyes, --cross-eyed, --quilt CxR, --jpeg-quality Q,
-/// --base-viewpoint K, --lenticular-calibration visual.json (read while parsing: a bad file is
-/// a usage error, exit 1), --lenticular-pitch/-slope/-center/-dpi, --lenticular-screen WxH,
-/// --lenticular-bgr, --lenticular-invert-views, --lenticular-flip-x, --lenticular-flip-y, and
-/// with `withStereoMetadata` (for `mvr compose`, which has no rig) --baseline M and
-/// --convergence D. Bad values are CLI11 validation errors (usage, exit 1).
-void addComposeOptions(CLI::App* app, ComposeOptions& options, bool withStereoMetadata = false);
 
 }  // namespace mvr::composite

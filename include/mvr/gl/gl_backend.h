@@ -85,24 +85,7 @@ struct GlFrameStats {
 /// backend reports through Backend::lastStats()).
 std::optional<GlFrameStats> lastFrameStats(const mvr::Backend& backend);
 
-/// (Every image format of the composite module on the GPU: mvr/gl/composite_gpu.h.)
-///
-/// Red-cyan anaglyph composed on the GPU as sorbier2008 §4.3 does it: depth test off,
-/// additive blending, colour mask red → full-screen quad textured with `left`, colour mask
-/// green+blue → full-screen quad textured with `right`. Result: R from left, G and B from
-/// right, alpha 255 — the same mapping as the CPU "color" anaglyph.
-/// Errors: Usage when the images are empty or differ in size; Unsupported when no GL context
-/// can be made. GL requires: 4.5 core (direct state access).
-Result<Image> composeAnaglyphGpu(const Image& left, const Image& right);
-
-/// Any two-view per-pixel mix on the GPU in one full-screen-quad pass: `glslMix` is GLSL
-/// (#version 450 core compatible) defining `vec3 mvrAnaglyph(vec3 left, vec3 right)`, called
-/// with the RGBA8 texels as [0, 1] floats; its result (clamped, rounded to nearest) is the
-/// output colour, alpha 255. mvr::composite::anaglyphGlsl(method) gives every anaglyph
-/// method of the composite module in that form, so the GPU and CPU composites share one
-/// formula. Errors: Usage (sizes, as above; a shader that does not compile, with its log);
-/// Unsupported when no GL context can be made. GL requires: 4.5 core.
-Result<Image> composeAnaglyphGpu(const Image& left, const Image& right,
-                                 const std::string& glslMix);
+/// (GPU composites — every image format of the composite module, the sorbier2008 §4.3
+/// colour-mask anaglyph among them: mvr::gl::composeGpu() in mvr/gl/composite_gpu.h.)
 
 }  // namespace mvr::gl

@@ -1,8 +1,7 @@
-#include "mvr/composite/compose.h"
+#include "compose_options.h"
 
-// The command-line options of the composite formats, declared in mvr/composite/compose.h so that
-// `mvr render`, `mvr compose` and `mvr view` need no extra include. CLI11 is header-only and a
-// dependency of mvr already; only this file of the library includes it.
+// The command-line options of the composite formats: CLI11 glue of the tools, kept out of the
+// composite library (which knows no command line).
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -13,9 +12,14 @@
 
 #include "mvr/composite/lenticular.h"
 
-namespace mvr::composite {
+namespace mvr::cli {
 
-void addComposeOptions(CLI::App* app, ComposeOptions& options, bool withStereoMetadata) {
+using composite::LenticularCalibration;
+using composite::parseQuiltGrid;
+using composite::readLookingGlassCalibration;
+
+void addComposeOptions(CLI::App* app, composite::ComposeOptions& options,
+                       bool withStereoMetadata) {
     const std::string group = "Composite formats";
     app->add_flag("--swap-eyes", options.swapEyes,
                   "Exchange left and right (N views: reverse their order)")
@@ -134,4 +138,4 @@ void addComposeOptions(CLI::App* app, ComposeOptions& options, bool withStereoMe
         ->group(group);
 }
 
-}  // namespace mvr::composite
+}  // namespace mvr::cli
