@@ -87,14 +87,13 @@ TEST(Registry, ParsesBackendMethodSpecs) {
 
 TEST(Registry, ABackendJoinsByRegistering) {
     // A real backend under another name (the soft rasterizer pinned to the scalar path).
-    Status s = registerBackend(BackendEntry{
-        .name = "soft-scalar-test",
-        .description = "the soft backend on its scalar path",
-        .gpu = false,
-        .make = [](const BackendOptions&) -> Result<std::unique_ptr<Backend>> {
-            return raster::makeSoftBackend({.threads = 1, .simd = raster::SimdPath::Scalar});
-        },
-        .compose = {}});
+    BackendEntry scalar;
+    scalar.name = "soft-scalar-test";
+    scalar.description = "the soft backend on its scalar path";
+    scalar.make = [](const BackendOptions&) -> Result<std::unique_ptr<Backend>> {
+        return raster::makeSoftBackend({.threads = 1, .simd = raster::SimdPath::Scalar});
+    };
+    Status s = registerBackend(scalar);
     ASSERT_TRUE(s) << s.message();
     const auto names = backendNames();
     EXPECT_EQ(names.back(), "soft-scalar-test");
