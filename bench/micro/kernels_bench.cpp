@@ -36,14 +36,16 @@ Vertices makeVertices(std::size_t n) {
     v.normals.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
         v.positions[i] = {u(rng), u(rng), u(rng)};
-        v.normals[i] = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(0.0f, 0.0f, 1e-3f));
+        v.normals[i] =
+            glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(0.0f, 0.0f, 1e-3f));
     }
     v.worldFromModel = glm::rotate(glm::translate(glm::mat4(1.0f), {0.5f, -0.2f, 0.1f}), 0.7f,
                                    glm::vec3(0.2f, 1.0f, 0.3f));
     v.normalFromModel = glm::transpose(glm::inverse(glm::mat3(v.worldFromModel)));
-    v.clipFromModel = glm::perspective(0.8f, 4.0f / 3.0f, 0.5f, 50.0f) *
-                      glm::lookAt(glm::vec3(0.0f, 1.0f, 8.0f), glm::vec3(0.0f), glm::vec3(0, 1, 0)) *
-                      v.worldFromModel;
+    v.clipFromModel =
+        glm::perspective(0.8f, 4.0f / 3.0f, 0.5f, 50.0f) *
+        glm::lookAt(glm::vec3(0.0f, 1.0f, 8.0f), glm::vec3(0.0f), glm::vec3(0, 1, 0)) *
+        v.worldFromModel;
     return v;
 }
 
@@ -52,7 +54,8 @@ void transformPoints(benchmark::State& state, const Kernels* k) {
     const Vertices v = makeVertices(n);
     std::vector<float> out(4 * n);
     for (auto _ : state) {
-        k->transformPoints(v.positions.data(), n, v.clipFromModel, &out[0], &out[n], &out[2 * n], &out[3 * n]);
+        k->transformPoints(v.positions.data(), n, v.clipFromModel, &out[0], &out[n], &out[2 * n],
+                           &out[3 * n]);
         benchmark::DoNotOptimize(out.data());
         benchmark::ClobberMemory();
     }
@@ -67,8 +70,8 @@ void shadeVertices(benchmark::State& state, const Kernels* k) {
     const Material material;
     std::vector<float> color(3 * n);
     for (auto _ : state) {
-        k->shadeVertices(v.positions.data(), v.normals.data(), n, v.worldFromModel, v.normalFromModel, ctx,
-                         material, color.data());
+        k->shadeVertices(v.positions.data(), v.normals.data(), n, v.worldFromModel,
+                         v.normalFromModel, ctx, material, color.data());
         benchmark::DoNotOptimize(color.data());
         benchmark::ClobberMemory();
     }
@@ -93,8 +96,8 @@ void specularPow(benchmark::State& state, const Kernels* k) {
 std::vector<float> clipPositions(std::size_t n) {
     const Vertices v = makeVertices(n);
     std::vector<float> clip(4 * n);
-    raster::detail::scalarKernels().transformPoints(v.positions.data(), n, v.clipFromModel, &clip[0], &clip[n],
-                                                    &clip[2 * n], &clip[3 * n]);
+    raster::detail::scalarKernels().transformPoints(v.positions.data(), n, v.clipFromModel,
+                                                    &clip[0], &clip[n], &clip[2 * n], &clip[3 * n]);
     return clip;
 }
 
@@ -105,7 +108,8 @@ void projectYZW(benchmark::State& state, const Kernels* k) {
     std::vector<float> q(n), zw(n);
     std::vector<std::int32_t> sy(n);
     for (auto _ : state) {
-        k->projectYZW(&clip[n], &clip[2 * n], &clip[3 * n], n, 768.0f, code.data(), q.data(), sy.data(), zw.data());
+        k->projectYZW(&clip[n], &clip[2 * n], &clip[3 * n], n, 768.0f, code.data(), q.data(),
+                      sy.data(), zw.data());
         benchmark::DoNotOptimize(sy.data());
         benchmark::ClobberMemory();
     }
@@ -118,7 +122,8 @@ void projectX(benchmark::State& state, const Kernels* k) {
     std::vector<std::uint8_t> code(n);
     std::vector<float> q(n), zw(n);
     std::vector<std::int32_t> sx(n), sy(n);
-    k->projectYZW(&clip[n], &clip[2 * n], &clip[3 * n], n, 768.0f, code.data(), q.data(), sy.data(), zw.data());
+    k->projectYZW(&clip[n], &clip[2 * n], &clip[3 * n], n, 768.0f, code.data(), q.data(), sy.data(),
+                  zw.data());
     for (auto _ : state) {
         k->projectX(&clip[0], &clip[3 * n], q.data(), n, 1024.0f, code.data(), sx.data());
         benchmark::DoNotOptimize(sx.data());
@@ -151,14 +156,16 @@ void setupViews(benchmark::State& state, const Kernels* k) {
         raster::detail::setupY(t.ys, y[0], y[1], y[2], 0, 767);
         if (t.ys.rowMin > t.ys.rowMax) continue;
         for (int view = 0; view < views; ++view) {
-            for (int i = 0; i < 3; ++i) t.x[i][view] = cx + view * 37 + (big ? jitter(rng) * 20 : jitter(rng) / 2);
+            for (int i = 0; i < 3; ++i)
+                t.x[i][view] = cx + view * 37 + (big ? jitter(rng) * 20 : jitter(rng) / 2);
         }
         tris.push_back(t);
     }
     raster::detail::ViewsSetup out;
     for (auto _ : state) {
         std::uint64_t any = 0;
-        for (const Tri& t : tris) any |= k->setupViews(t.ys, t.x[0], t.x[1], t.x[2], views, kWidth, out);
+        for (const Tri& t : tris)
+            any |= k->setupViews(t.ys, t.x[0], t.x[1], t.x[2], views, kWidth, out);
         benchmark::DoNotOptimize(any);
         benchmark::ClobberMemory();
     }
@@ -197,14 +204,17 @@ void setupLanes(benchmark::State& state, const Kernels* k) {
         benchmark::DoNotOptimize(any);
         benchmark::ClobberMemory();
     }
-    state.SetItemsProcessed(state.iterations() * std::int64_t(kQueues) * raster::detail::kLaneCount);
+    state.SetItemsProcessed(state.iterations() * std::int64_t(kQueues) *
+                            raster::detail::kLaneCount);
 }
 
 bool registerKernels() {
     for (const KernelPath& p : kernelPaths()) {
         const std::string path = "/" + p.name;
-        const auto perVertex = [&](const char* name, void (*fn)(benchmark::State&, const Kernels*)) {
-            benchmark::RegisterBenchmark((name + path).c_str(), fn, p.kernels)->Arg(std::int64_t(kVertices));
+        const auto perVertex = [&](const char* name,
+                                   void (*fn)(benchmark::State&, const Kernels*)) {
+            benchmark::RegisterBenchmark((name + path).c_str(), fn, p.kernels)
+                ->Arg(std::int64_t(kVertices));
         };
         perVertex("transformPoints", transformPoints);
         perVertex("shadeVertices", shadeVertices);
@@ -213,7 +223,10 @@ bool registerKernels() {
         perVertex("projectX", projectX);
         // setupViews serves families of more than 8 views (smaller ones go through setupLanes).
         benchmark::RegisterBenchmark(("setupViews" + path).c_str(), setupViews, p.kernels)
-            ->ArgName("views")->Arg(9)->Arg(16)->Arg(kMaxViews);
+            ->ArgName("views")
+            ->Arg(9)
+            ->Arg(16)
+            ->Arg(kMaxViews);
         benchmark::RegisterBenchmark(("setupLanes" + path).c_str(), setupLanes, p.kernels);
     }
     return true;

@@ -19,7 +19,8 @@ struct KernelPath {
 
 inline std::vector<KernelPath> kernelPaths() {
     std::vector<KernelPath> paths;
-    for (raster::SimdPath p : {raster::SimdPath::Scalar, raster::SimdPath::Avx2, raster::SimdPath::Avx512}) {
+    for (raster::SimdPath p :
+         {raster::SimdPath::Scalar, raster::SimdPath::Avx2, raster::SimdPath::Avx512}) {
         if (raster::detail::resolveSimd(p) != p) continue;  // not built, or not on this CPU
         paths.push_back({p, &raster::detail::kernels(p), raster::simdPathName(p)});
     }

@@ -27,8 +27,8 @@ int main() {
     auto request = mvr::frameScene(scene, mvr::FramingParams{}, settings);
     if (!request) return fail("frameScene: " + request.status().message());
 
-    auto out = (*backend)->render(scene, request->rig, request->settings,
-                                  (*backend)->defaultMethod());
+    auto out =
+        (*backend)->render(scene, request->rig, request->settings, (*backend)->defaultMethod());
     if (!out) return fail("render: " + out.status().message());
     if (out->color.size() != 2) {
         return fail("expected 2 images, got " + std::to_string(out->color.size()));
