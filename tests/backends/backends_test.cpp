@@ -1,8 +1,11 @@
 // The backend registry (mvr/backends.h) and the one validation of a render request
 // (mvr::validateRequest): every backend of the build refuses the same bad request with the same
 // message and error code.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -191,6 +194,21 @@ TEST(Validation, EveryBackendRefusesABadRequestWithTheSameMessageAndCode) {
             EXPECT_EQ(out.status().message(), expected.message()) << e.name << ": " << r.what;
         }
     }
+}
+
+// The same without any EGL driver (glvnd pointed at nothing): a GPU backend that cannot make a
+// context still gives validateRequest's message for a bad request, not "no EGL display".
+TEST(Validation, TheSameMessageWithoutADisplay) {
+    if (std::getenv("MVR_BACKENDS_TEST_NO_EGL")) GTEST_SKIP() << "the child run";
+    char exe[4096] = {};
+    const ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
+    ASSERT_GT(n, 0);
+    const std::string cmd =
+        "MVR_BACKENDS_TEST_NO_EGL=1 __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json '" +
+        std::string(exe, std::size_t(n)) +
+        "' --gtest_filter=Validation.EveryBackendRefusesABadRequestWithTheSameMessageAndCode"
+        " > /dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
 }
 
 TEST(Validation, MessagesNameTheCulprit) {
