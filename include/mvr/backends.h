@@ -24,8 +24,8 @@ namespace mvr {
 
 /// Options a backend may honour when it is created (the others ignore them).
 struct BackendOptions {
-    int threads = 0;             ///< CPU worker threads; 0 = one per core the process may use
-    std::string simd = "auto";   ///< CPU SIMD path: auto | scalar | avx2 | avx512
+    int threads = 0;            ///< CPU worker threads; 0 = one per core the process may use
+    std::string simd = "auto";  ///< CPU SIMD path: auto | scalar | avx2 | avx512
 };
 
 /// One backend of the registry.

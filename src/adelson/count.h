@@ -34,8 +34,10 @@ struct Count {
 /// Calls f.template operator()<true>() when ops is non-null, else <false>.
 template <class F>
 void dispatch(OpCounts* ops, F&& f) {
-    if (ops) f.template operator()<true>();
-    else f.template operator()<false>();
+    if (ops)
+        f.template operator()<true>();
+    else
+        f.template operator()<false>();
 }
 
 }  // namespace mvr::adelson::detail

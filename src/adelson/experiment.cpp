@@ -70,8 +70,8 @@ std::shared_ptr<PolygonSet> makePolygons(std::size_t count, int edges, int w, in
     return set;
 }
 
-ExperimentCase fillCase(const std::string& algorithm, const std::string& name, const std::string& label,
-                        bool gouraud, std::shared_ptr<PolygonSet> set) {
+ExperimentCase fillCase(const std::string& algorithm, const std::string& name,
+                        const std::string& label, bool gouraud, std::shared_ptr<PolygonSet> set) {
     ExperimentCase c;
     c.algorithm = algorithm;
     c.caseName = name;
@@ -96,8 +96,10 @@ ExperimentCase fillCase(const std::string& algorithm, const std::string& name, c
     };
     c.simultaneous = [set, gouraud](OpCounts* ops) {
         for (const StereoPolygon& p : set->polys) {
-            if (gouraud) fillGouraudStereo(p, set->l2, set->r2, ops);
-            else fillFlatStereo(p, 0xffffffffu, set->l2, set->r2, ops);
+            if (gouraud)
+                fillGouraudStereo(p, set->l2, set->r2, ops);
+            else
+                fillFlatStereo(p, 0xffffffffu, set->l2, set->r2, ops);
         }
     };
     c.check = [set, sep = c.separate, sim = c.simultaneous](std::string& detail) {
@@ -147,8 +149,8 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
         c.check = [st, sep = c.separate, sim = c.simultaneous](std::string& detail) -> std::string {
             sep(nullptr), sim(nullptr);
             for (std::size_t i = 0; i < st->pts.size(); ++i) {
-                if (st->l[i].x != st->s[i].xl || st->r[i].x != st->s[i].xr || st->l[i].y != st->s[i].y ||
-                    st->r[i].y != st->s[i].y) {
+                if (st->l[i].x != st->s[i].xl || st->r[i].x != st->s[i].xr ||
+                    st->l[i].y != st->s[i].y || st->r[i].y != st->s[i].y) {
                     return "point " + num(i) + " projects differently";
                 }
             }
@@ -161,10 +163,13 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
     // ---- scan-line polygon fill, flat and Gouraud ----
     const std::size_t np = tiny ? 20 : 2000;
     for (const int edges : {4, 8, 16, 32}) {
-        auto set = makePolygons(np, edges, w, h, [](int k, int n) {
-            const double a = 2.0 * 3.14159265358979 * (k + 0.25) / n;
-            return std::pair{30.0 * std::cos(a), 30.0 * std::sin(a)};
-        }, 10 + edges);
+        auto set = makePolygons(
+            np, edges, w, h,
+            [](int k, int n) {
+                const double a = 2.0 * 3.14159265358979 * (k + 0.25) / n;
+                return std::pair{30.0 * std::cos(a), 30.0 * std::sin(a)};
+            },
+            10 + edges);
         cases.push_back(fillCase("Flat shaded polygon (scan-line fill)",
                                  num(np) + " " + num(edges) + "-edge polygons, 60 px across",
                                  "flat fill " + num(edges) + "-gon", false, set));
@@ -177,23 +182,28 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
     };
     // The paper's examples: a flat wide triangle (22 edge / 211 interior pixels), a tower
     // (58 edge / 105 interior) and the two-pixel-wide best case; plus a 32-edge polygon.
-    for (const GShape& g : {GShape{"wide flat triangles (~40x11 px)", "Gouraud wide", 3, 40.0, 11.0},
-                            GShape{"tower quads (~4x29 px)", "Gouraud tower", 4, 4.0, 29.0},
-                            GShape{"two-pixel-wide quads (2x40 px)", "Gouraud 2 px wide", 4, 2.0, 40.0},
-                            GShape{"32-edge polygons, 60 px across", "Gouraud 32-gon", 32, 60.0, 60.0}}) {
-        auto set = makePolygons(np, g.edges, w, h, [g](int k, int n) {
-            if (n == 3) {
-                const double xs[3] = {-0.5, 0.5, 0.1}, ys[3] = {0.5, 0.5, -0.5};
-                return std::pair{xs[k] * g.wpx, ys[k] * g.hpx};
-            }
-            if (n == 4) {
-                const double xs[4] = {-0.5, 0.5, 0.5, -0.5}, ys[4] = {-0.5, -0.5, 0.5, 0.5};
-                return std::pair{xs[k] * g.wpx, ys[k] * g.hpx};
-            }
-            const double a = 2.0 * 3.14159265358979 * (k + 0.25) / n;
-            return std::pair{0.5 * g.wpx * std::cos(a), 0.5 * g.hpx * std::sin(a)};
-        }, 100 + g.edges);
-        cases.push_back(fillCase("Gouraud shaded polygon", num(np) + " " + g.name, g.label, true, set));
+    for (const GShape& g :
+         {GShape{"wide flat triangles (~40x11 px)", "Gouraud wide", 3, 40.0, 11.0},
+          GShape{"tower quads (~4x29 px)", "Gouraud tower", 4, 4.0, 29.0},
+          GShape{"two-pixel-wide quads (2x40 px)", "Gouraud 2 px wide", 4, 2.0, 40.0},
+          GShape{"32-edge polygons, 60 px across", "Gouraud 32-gon", 32, 60.0, 60.0}}) {
+        auto set = makePolygons(
+            np, g.edges, w, h,
+            [g](int k, int n) {
+                if (n == 3) {
+                    const double xs[3] = {-0.5, 0.5, 0.1}, ys[3] = {0.5, 0.5, -0.5};
+                    return std::pair{xs[k] * g.wpx, ys[k] * g.hpx};
+                }
+                if (n == 4) {
+                    const double xs[4] = {-0.5, 0.5, 0.5, -0.5}, ys[4] = {-0.5, -0.5, 0.5, 0.5};
+                    return std::pair{xs[k] * g.wpx, ys[k] * g.hpx};
+                }
+                const double a = 2.0 * 3.14159265358979 * (k + 0.25) / n;
+                return std::pair{0.5 * g.wpx * std::cos(a), 0.5 * g.hpx * std::sin(a)};
+            },
+            100 + g.edges);
+        cases.push_back(
+            fillCase("Gouraud shaded polygon", num(np) + " " + g.name, g.label, true, set));
     }
 
     // ---- Liang–Barsky line clipping ----
@@ -237,13 +247,15 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
             sep(nullptr), sim(nullptr);
             std::size_t visible = 0;
             for (std::size_t i = 0; i < st->segs.size(); ++i) {
-                const bool same = st->l1[i].visible == st->l2[i].visible && st->r1[i].visible == st->r2[i].visible &&
+                const bool same = st->l1[i].visible == st->l2[i].visible &&
+                                  st->r1[i].visible == st->r2[i].visible &&
                                   (!st->l1[i].visible || st->l1[i] == st->l2[i]) &&
                                   (!st->r1[i].visible || st->r1[i] == st->r2[i]);
                 if (!same) return "segment " + num(i) + " clips differently";
                 visible += st->l1[i].visible + st->r1[i].visible;
             }
-            detail = "identical segments (" + num(visible) + " of " + num(2 * st->segs.size()) + " visible)";
+            detail = "identical segments (" + num(visible) + " of " + num(2 * st->segs.size()) +
+                     " visible)";
             return {};
         };
         cases.push_back(std::move(c));
@@ -266,14 +278,16 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
             StereoPolygon p;
             for (int j = 0; j < k; ++j) {
                 const double a = 2.0 * 3.14159265358979 * j / k;
-                const Vec3 v[1] = {{c.x + r * std::cos(a), c.y + r * std::sin(a), c.z + 0.3 * std::cos(a)}};
+                const Vec3 v[1] = {
+                    {c.x + r * std::cos(a), c.y + r * std::sin(a), c.z + 0.3 * std::cos(a)}};
                 ProjectedStereo pr[1];
                 projectStereo(v, cam, pr);
                 p.xl.push_back(pr[0].xl), p.xr.push_back(pr[0].xr), p.y.push_back(pr[0].y);
             }
             st->polys.push_back(std::move(p));
         }
-        for (auto* v : {&st->l1x, &st->l1y, &st->r1x, &st->r1y, &st->l2x, &st->l2y, &st->r2x, &st->r2y}) {
+        for (auto* v :
+             {&st->l1x, &st->l1y, &st->r1x, &st->r1y, &st->l2x, &st->l2y, &st->r2x, &st->r2y}) {
             v->resize(n);
         }
         ExperimentCase c;
@@ -292,15 +306,16 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
         c.simultaneous = [st](OpCounts* ops) {
             for (std::size_t i = 0; i < st->polys.size(); ++i) {
                 const StereoPolygon& p = st->polys[i];
-                clipPolygonStereo(p.xl, p.xr, p.y, st->win, st->l2x[i], st->l2y[i], st->r2x[i], st->r2y[i], ops);
+                clipPolygonStereo(p.xl, p.xr, p.y, st->win, st->l2x[i], st->l2y[i], st->r2x[i],
+                                  st->r2y[i], ops);
             }
         };
         c.check = [st, sep = c.separate, sim = c.simultaneous](std::string& detail) -> std::string {
             sep(nullptr), sim(nullptr);
             std::size_t verts = 0;
             for (std::size_t i = 0; i < st->polys.size(); ++i) {
-                if (st->l1x[i] != st->l2x[i] || st->l1y[i] != st->l2y[i] || st->r1x[i] != st->r2x[i] ||
-                    st->r1y[i] != st->r2y[i]) {
+                if (st->l1x[i] != st->l2x[i] || st->l1y[i] != st->l2y[i] ||
+                    st->r1x[i] != st->r2x[i] || st->r1y[i] != st->r2y[i]) {
                     return "polygon " + num(i) + " clips differently";
                 }
                 verts += st->l1x[i].size() + st->r1x[i].size();
@@ -323,7 +338,9 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
         // Inputs on a 1/1024 grid below 64 in magnitude: every product and sum below is exact
         // in double, so A·xv + … + (A·e + D) == (A·xv + … + D) + A·e and the separate and
         // simultaneous classifications must agree everywhere.
-        auto q = [&](double lo, double hi) { return std::round((lo + u01(rng) * (hi - lo)) * 1024.0) / 1024.0; };
+        auto q = [&](double lo, double hi) {
+            return std::round((lo + u01(rng) * (hi - lo)) * 1024.0) / 1024.0;
+        };
         st->viewer = {0.0, 0.0, -2.0};
         st->e = 0.25;
         const std::size_t n = tiny ? 1000 : 200000;
@@ -345,7 +362,9 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
             backFacesMono(st->left, st->viewer, st->l, ops);
             backFacesMono(st->right, st->viewer, st->r, ops);
         };
-        c.simultaneous = [st](OpCounts* ops) { backFacesStereo(st->right, st->viewer, st->e, st->s, ops); };
+        c.simultaneous = [st](OpCounts* ops) {
+            backFacesStereo(st->right, st->viewer, st->e, st->s, ops);
+        };
         c.check = [st, sep = c.separate, sim = c.simultaneous](std::string& detail) -> std::string {
             sep(nullptr), sim(nullptr);
             std::size_t split = 0;
@@ -354,18 +373,22 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
                 if (want != st->s[i]) return "plane " + num(i) + " classified differently";
                 split += st->l[i] != st->r[i];
             }
-            detail = "identical classification (" + num(split) + " planes back-facing for one eye only)";
+            detail =
+                "identical classification (" + num(split) + " planes back-facing for one eye only)";
             return {};
         };
         ExperimentCase b = c;  // the same classification without the paper's branches
         b.caseName += ", branch-free simultaneous test";
         b.label = "back-face branch-free";
         b.opsNote = "2 x (3 mul + 3 add + 1 cmp) vs 4 mul + 4 add + 2 cmp, no branches";
-        b.simultaneous = [st](OpCounts* ops) { backFacesStereoBranchFree(st->right, st->viewer, st->e, st->s, ops); };
+        b.simultaneous = [st](OpCounts* ops) {
+            backFacesStereoBranchFree(st->right, st->viewer, st->e, st->s, ops);
+        };
         b.check = [st, sep = b.separate, sim = b.simultaneous](std::string& detail) -> std::string {
             sep(nullptr), sim(nullptr);
             for (std::size_t i = 0; i < st->s.size(); ++i) {
-                if (std::uint8_t(st->l[i] | (st->r[i] << 1)) != st->s[i]) return "plane " + num(i) + " classified differently";
+                if (std::uint8_t(st->l[i] | (st->r[i] << 1)) != st->s[i])
+                    return "plane " + num(i) + " classified differently";
             }
             detail = "identical classification";
             return {};
@@ -390,8 +413,9 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
         st->l1 = st->r1 = st->l2 = st->r2 = Frame(w, h);
         ExperimentCase c;
         c.algorithm = "BSP/Z-buffer compared to BSP";
-        c.caseName = "village, " + num(buildings) + (buildings == 1 ? " building: " : " buildings: ") +
-                     num(st->input) + " polygons (" + num(st->tree.polygons.size()) + " after BSP splits)";
+        c.caseName = "village, " + num(buildings) +
+                     (buildings == 1 ? " building: " : " buildings: ") + num(st->input) +
+                     " polygons (" + num(st->tree.polygons.size()) + " after BSP splits)";
         c.paperI = "17%", c.paperII = "33%", c.paperIII = "1.33";
         c.label = "BSP+z vs 2 BSP, " + num(st->input) + " polys";
         c.opsNote = "traversal, projection, fills (z-buffer: z interpolation and tests)";
@@ -399,15 +423,19 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
             renderBspMono(st->tree, -1, st->cam, st->l1, ops);
             renderBspMono(st->tree, +1, st->cam, st->r1, ops);
         };
-        c.simultaneous = [st](OpCounts* ops) { renderBspZBuffer(st->tree, st->cam, st->l2, st->r2, ops); };
+        c.simultaneous = [st](OpCounts* ops) {
+            renderBspZBuffer(st->tree, st->cam, st->l2, st->r2, ops);
+        };
         c.check = [st, sep = c.separate, sim = c.simultaneous](std::string& detail) -> std::string {
             sep(nullptr), sim(nullptr);
-            if (std::string e = compareFrames(st->r1, st->r2, "right (same BSP order)"); !e.empty()) return e;
+            if (std::string e = compareFrames(st->r1, st->r2, "right (same BSP order)"); !e.empty())
+                return e;
             std::size_t diff = 0;
-            for (std::size_t i = 0; i < st->l1.pixels.size(); ++i) diff += st->l1.pixels[i] != st->l2.pixels[i];
+            for (std::size_t i = 0; i < st->l1.pixels.size(); ++i)
+                diff += st->l1.pixels[i] != st->l2.pixels[i];
             const std::size_t drawn = covered(st->l1);
-            detail = "right identical; left (z-buffer vs painter's) differs on " + num(diff) + " of " +
-                     num(drawn) + " pixels (surfaces meeting at equal depth)";
+            detail = "right identical; left (z-buffer vs painter's) differs on " + num(diff) +
+                     " of " + num(drawn) + " pixels (surfaces meeting at equal depth)";
             if (double(diff) > 0.01 * double(drawn)) return "left eye: " + detail;
             return {};
         };
@@ -429,19 +457,21 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
         auto compare = [st](std::string& detail) -> std::string {
             if (std::string e = compareFrames(st->l1, st->l2, "left"); !e.empty()) return e;
             if (std::string e = compareFrames(st->r1, st->r2, "right"); !e.empty()) return e;
-            detail = "identical images (" + num(covered(st->l1) + covered(st->r1)) + " pixels drawn)";
+            detail =
+                "identical images (" + num(covered(st->l1) + covered(st->r1)) + " pixels drawn)";
             return {};
         };
         for (const bool gouraud : {false, true}) {
             ExperimentCase c;
             c.algorithm = "Scan-line hidden surface";
-            c.caseName = "village, " + num(st->polys.size()) + " polygons, " + num(w) + "x" + num(h) +
-                         (gouraud ? ", Gouraud" : ", flat");
+            c.caseName = "village, " + num(st->polys.size()) + " polygons, " + num(w) + "x" +
+                         num(h) + (gouraud ? ", Gouraud" : ", flat");
             c.paperI = gouraud ? "17% (with Gouraud)" : "12%";
             c.label = gouraud ? "scan-line HSR Gouraud" : "scan-line HSR flat";
             c.paperII = gouraud ? "-" : "24%";
             c.paperIII = gouraud ? "-" : "1.24";
-            c.opsNote = "projection, y-sorted edge list, active edges, x order, nearest span, span fill";
+            c.opsNote =
+                "projection, y-sorted edge list, active edges, x order, nearest span, span fill";
             c.separate = [st, gouraud](OpCounts* ops) {
                 renderScanlineMono(st->polys, -1, st->cam, gouraud, st->l1, ops);
                 renderScanlineMono(st->polys, +1, st->cam, gouraud, st->r1, ops);
@@ -466,7 +496,9 @@ std::vector<ExperimentCase> adelsonCases(bool tiny) {
             renderVillageMono(st->polys, -1, st->cam, st->l1, ops);
             renderVillageMono(st->polys, +1, st->cam, st->r1, ops);
         };
-        c.simultaneous = [st](OpCounts* ops) { renderVillageStereo(st->polys, st->cam, st->l2, st->r2, ops); };
+        c.simultaneous = [st](OpCounts* ops) {
+            renderVillageStereo(st->polys, st->cam, st->l2, st->r2, ops);
+        };
         c.check = [compare, sep = c.separate, sim = c.simultaneous](std::string& detail) {
             sep(nullptr), sim(nullptr);
             return compare(detail);

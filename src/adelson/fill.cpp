@@ -10,8 +10,8 @@ using detail::dispatch;
 using detail::Mode;
 using detail::scanFill;
 
-void fillFlat(std::span<const double> x, std::span<const double> y, std::uint32_t color, Frame& frame,
-              OpCounts* ops) {
+void fillFlat(std::span<const double> x, std::span<const double> y, std::uint32_t color,
+              Frame& frame, OpCounts* ops) {
     const double* xs[1] = {x.data()};
     Frame* frames[1] = {&frame};
     dispatch(ops, [&]<bool On>() {

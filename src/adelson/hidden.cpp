@@ -76,7 +76,8 @@ int buildNode(BspTree& tree, std::vector<Polygon3> polys) {
     std::vector<Polygon3> front, back;
     for (std::size_t i = 1; i < polys.size(); ++i) {
         bool coplanar = true;
-        for (const Vec3& v : polys[i].v) coplanar = coplanar && std::abs(side(plane, v)) <= kPlaneEps;
+        for (const Vec3& v : polys[i].v)
+            coplanar = coplanar && std::abs(side(plane, v)) <= kPlaneEps;
         if (coplanar) {  // on the plane: draw with the front side
             front.push_back(std::move(polys[i]));
             continue;
@@ -183,7 +184,8 @@ BspTree buildBsp(std::vector<Polygon3> polygons) {
     return tree;
 }
 
-void renderBspMono(const BspTree& tree, int eye, const StereoCamera& cam, Frame& frame, OpCounts* ops) {
+void renderBspMono(const BspTree& tree, int eye, const StereoCamera& cam, Frame& frame,
+                   OpCounts* ops) {
     frame.clear();
     const Vec3 eyePos{eye < 0 ? -cam.e / 2 : cam.e / 2, 0.0, -cam.d};
     dispatch(ops, [&]<bool On>() {
@@ -290,8 +292,10 @@ void scanlineHsr(std::span<const Polygon3> polys, int eye, const StereoCamera& c
             HsrEdge e;
             e.poly = std::uint32_t(pi);
             n.cmp();
-            if (s.y[a] < s.y[b]) e.lo = a, e.hi = b;
-            else e.lo = b, e.hi = a;
+            if (s.y[a] < s.y[b])
+                e.lo = a, e.hi = b;
+            else
+                e.lo = b, e.hi = a;
             const double y0 = s.y[e.lo], y1 = s.y[e.hi];
             e.ys = int(std::ceil(y0 - 0.5)), e.ye = int(std::ceil(y1 - 0.5));
             n.add(2), n.cmp();
@@ -349,7 +353,8 @@ void scanlineHsr(std::span<const Polygon3> polys, int eye, const StereoCamera& c
         }
         if (anyDead) {
             std::erase_if(active, [&](int k) { return s.dead[k] != 0; });
-            for (int v = 0; v < K; ++v) std::erase_if(s.order[v], [&](int k) { return s.dead[k] != 0; });
+            for (int v = 0; v < K; ++v)
+                std::erase_if(s.order[v], [&](int k) { return s.dead[k] != 0; });
         }
         while (next < ne && s.edges[next].ys == yy) {
             n.cmp();
@@ -399,7 +404,8 @@ void scanlineHsr(std::span<const Polygon3> polys, int eye, const StereoCamera& c
                     std::erase(s.inside, int(pi));
                 }
                 if (s.inside.empty() || i + 1 == ord.size()) continue;
-                int pa = int(std::ceil(xv[ord[i]] - 0.5)), pb = int(std::ceil(xv[ord[i + 1]] - 0.5));
+                int pa = int(std::ceil(xv[ord[i]] - 0.5)),
+                    pb = int(std::ceil(xv[ord[i + 1]] - 0.5));
                 n.add(2);
                 pa = std::max(pa, 0), pb = std::min(pb, width);
                 if (pa >= pb) continue;
@@ -448,8 +454,8 @@ void scanlineHsr(std::span<const Polygon3> polys, int eye, const StereoCamera& c
 
 }  // namespace
 
-void renderScanlineMono(std::span<const Polygon3> polys, int eye, const StereoCamera& cam, bool gouraud,
-                        Frame& frame, OpCounts* ops) {
+void renderScanlineMono(std::span<const Polygon3> polys, int eye, const StereoCamera& cam,
+                        bool gouraud, Frame& frame, OpCounts* ops) {
     frame.clear();
     Frame* frames[1] = {&frame};
     dispatch(ops, [&]<bool On>() {

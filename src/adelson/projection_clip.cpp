@@ -15,7 +15,8 @@ using detail::dispatch;
 
 void Frame::clear() {
     std::fill(pixels.begin(), pixels.end(), 0u);
-    if (!depth.empty()) std::fill(depth.begin(), depth.end(), std::numeric_limits<float>::infinity());
+    if (!depth.empty())
+        std::fill(depth.begin(), depth.end(), std::numeric_limits<float>::infinity());
 }
 
 std::uint32_t packRgb(const Rgb& c) {
@@ -110,7 +111,8 @@ inline bool clipY(double y0, double dy, const ClipWindow& w, double& t0, double&
 }
 
 template <bool On>
-inline Segment finish(double x0, double y0, double dx, double dy, double t0, double t1, Count<On>& n) {
+inline Segment finish(double x0, double y0, double dx, double dy, double t0, double t1,
+                      Count<On>& n) {
     n.mul(4), n.add(4);
     return {x0 + t0 * dx, y0 + t0 * dy, x0 + t1 * dx, y0 + t1 * dy, true};
 }
@@ -224,8 +226,10 @@ inline void clipEdgeX(double x1, double x2, EdgeY& ey, const ClipWindow& w, std:
     const double touty = ey.touty;
     double tout1, tout2;
     n.cmp();
-    if (toutx < touty) tout1 = toutx, tout2 = touty;
-    else tout1 = touty, tout2 = toutx;
+    if (toutx < touty)
+        tout1 = toutx, tout2 = touty;
+    else
+        tout1 = touty, tout2 = toutx;
     n.cmp();
     if (tout2 > 0.0) {
         double tinx;
@@ -243,8 +247,10 @@ inline void clipEdgeX(double x1, double x2, EdgeY& ey, const ClipWindow& w, std:
             n.cmp(2);
             if (0.0 < tout1 && tout1 <= 1.0) {
                 n.cmp();
-                if (tinx < tiny) ox.push_back(xout), oy.push_back(ey.yin);
-                else ox.push_back(xin), oy.push_back(ey.yout);
+                if (tinx < tiny)
+                    ox.push_back(xout), oy.push_back(ey.yin);
+                else
+                    ox.push_back(xin), oy.push_back(ey.yout);
             }
         } else {
             n.cmp(2);
@@ -252,14 +258,18 @@ inline void clipEdgeX(double x1, double x2, EdgeY& ey, const ClipWindow& w, std:
                 n.cmp();
                 if (0.0 < tin2) {  // the edge enters the window
                     n.cmp(), n.mul(), n.add();
-                    if (tinx > tiny) ox.push_back(xin), oy.push_back(ey.y1 + tinx * ey.dy);
-                    else ox.push_back(x1 + tiny * dx), oy.push_back(ey.yin);
+                    if (tinx > tiny)
+                        ox.push_back(xin), oy.push_back(ey.y1 + tinx * ey.dy);
+                    else
+                        ox.push_back(x1 + tiny * dx), oy.push_back(ey.yin);
                 }
                 n.cmp();
                 if (1.0 > tout1) {  // the edge leaves the window
                     n.cmp(), n.mul(), n.add();
-                    if (toutx < touty) ox.push_back(xout), oy.push_back(ey.y1 + toutx * ey.dy);
-                    else ox.push_back(x1 + touty * dx), oy.push_back(ey.yout);
+                    if (toutx < touty)
+                        ox.push_back(xout), oy.push_back(ey.y1 + toutx * ey.dy);
+                    else
+                        ox.push_back(x1 + touty * dx), oy.push_back(ey.yout);
                 } else {
                     ox.push_back(x2), oy.push_back(ey.y2);
                 }

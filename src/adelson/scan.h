@@ -24,13 +24,15 @@ template <Mode M>
 constexpr int kAttrs = M == Mode::Gouraud ? 3 : (M == Mode::Flat ? 0 : 1);
 
 struct EdgeY {
-    int ys = 0, ye = 0;       ///< first scan-line, one past the last
-    double inv = 0, off = 0;  ///< 1/Δy, (ys + 0.5) − y_low
+    int ys = 0, ye = 0;            ///< first scan-line, one past the last
+    double inv = 0, off = 0;       ///< 1/Δy, (ys + 0.5) − y_low
     std::uint32_t lo = 0, hi = 0;  ///< vertex indices, lo has the smaller y
 };
 
 inline std::uint32_t packD(double r, double g, double b) {
-    auto q = [](double v) { return static_cast<std::uint32_t>(std::clamp(v, 0.0, 1.0) * 255.0 + 0.5); };
+    auto q = [](double v) {
+        return static_cast<std::uint32_t>(std::clamp(v, 0.0, 1.0) * 255.0 + 0.5);
+    };
     return q(r) | (q(g) << 8) | (q(b) << 16) | 0xff000000u;
 }
 
@@ -50,8 +52,8 @@ inline ScanScratch& scratch() {
 /// xs[k]: eye k's x per vertex (pixels); y: shared (pixels); attr[c]: per-vertex attribute c
 /// (r, g, b for Gouraud; z for FlatZ). frames[k]: eye k's frame (FlatZ: with depth).
 template <bool On, int K, Mode M>
-void scanFill(const double* const* xs, const double* y, std::size_t count, const double* const* attr,
-              std::uint32_t color, Frame* const* frames, Count<On>& n) {
+void scanFill(const double* const* xs, const double* y, std::size_t count,
+              const double* const* attr, std::uint32_t color, Frame* const* frames, Count<On>& n) {
     constexpr int A = kAttrs<M>;
     ScanScratch& s = scratch();
     std::vector<EdgeY>& edges = s.edges;
@@ -63,8 +65,10 @@ void scanFill(const double* const* xs, const double* y, std::size_t count, const
         if (y[i] == y[j]) continue;  // horizontal edges add nothing
         EdgeY e;
         n.cmp();
-        if (y[i] < y[j]) e.lo = std::uint32_t(i), e.hi = std::uint32_t(j);
-        else e.lo = std::uint32_t(j), e.hi = std::uint32_t(i);
+        if (y[i] < y[j])
+            e.lo = std::uint32_t(i), e.hi = std::uint32_t(j);
+        else
+            e.lo = std::uint32_t(j), e.hi = std::uint32_t(i);
         const double y0 = y[e.lo], y1 = y[e.hi];
         e.ys = int(std::ceil(y0 - 0.5));
         e.ye = int(std::ceil(y1 - 0.5));
@@ -119,7 +123,8 @@ void scanFill(const double* const* xs, const double* y, std::size_t count, const
         }
         if (anyDead) {
             std::erase_if(active, [&](int k) { return s.dead[k] != 0; });
-            for (int v = 0; v < K; ++v) std::erase_if(s.order[v], [&](int k) { return s.dead[k] != 0; });
+            for (int v = 0; v < K; ++v)
+                std::erase_if(s.order[v], [&](int k) { return s.dead[k] != 0; });
         }
         while (next < ne && edges[next].ys == yy) {
             n.cmp();

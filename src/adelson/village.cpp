@@ -16,7 +16,9 @@ Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 Vec3 operator*(Vec3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
 double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+Vec3 cross(Vec3 a, Vec3 b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 
 struct Builder {
     std::vector<Polygon3> polys;
@@ -26,7 +28,8 @@ struct Builder {
         Vec3 c{};
         for (const Vec3& p : v) c = c + p;
         c = c * (1.0 / double(v.size()));
-        if (dot(cross(v[1] - v[0], v[2] - v[0]), c - inside) < 0.0) std::reverse(v.begin(), v.end());
+        if (dot(cross(v[1] - v[0], v[2] - v[0]), c - inside) < 0.0)
+            std::reverse(v.begin(), v.end());
         Polygon3 p;
         p.v = std::move(v);
         p.albedo = albedo;
@@ -63,7 +66,8 @@ std::vector<Polygon3> makeVillage(int buildings) {
            {0.0, groundY - 1.0, 8.0});
     const double xs[4] = {-4.5, -1.5, 1.5, 4.5};
     const double zs[2] = {5.0, 9.0};
-    const Rgb walls[4] = {{0.85f, 0.75f, 0.6f}, {0.8f, 0.8f, 0.78f}, {0.9f, 0.65f, 0.5f}, {0.7f, 0.72f, 0.8f}};
+    const Rgb walls[4] = {
+        {0.85f, 0.75f, 0.6f}, {0.8f, 0.8f, 0.78f}, {0.9f, 0.65f, 0.5f}, {0.7f, 0.72f, 0.8f}};
     for (int k = 0; k < buildings; ++k) {
         const double cx = xs[k % 4] + (k / 4) * 0.6, cz = zs[k / 4];
         const double w = 1.0, h = 1.5, ridge = 0.9, top = groundY + h;
@@ -79,25 +83,33 @@ std::vector<Polygon3> makeVillage(int buildings) {
         const Vec3 roofIn{cx, top, cz};
         b.grid({cx - w, top, cz - w}, {2 * w, 0, 0}, {0, ridge, w}, 6, 3, roof, roofIn);
         b.grid({cx - w, top, cz + w}, {2 * w, 0, 0}, {0, ridge, -w}, 6, 3, roof, roofIn);
-        b.add({{cx - w, top, cz - w}, {cx - w, top, cz + w}, {cx - w, top + ridge, cz}}, wall, roofIn);
-        b.add({{cx + w, top, cz - w}, {cx + w, top, cz + w}, {cx + w, top + ridge, cz}}, wall, roofIn);
+        b.add({{cx - w, top, cz - w}, {cx - w, top, cz + w}, {cx - w, top + ridge, cz}}, wall,
+              roofIn);
+        b.add({{cx + w, top, cz - w}, {cx + w, top, cz + w}, {cx + w, top + ridge, cz}}, wall,
+              roofIn);
         // windows (0.02 in front of the walls) and the door
         const double off = 0.02;
         for (int i = 0; i < 3; ++i) {
             const double x0 = cx - 0.8 + i * 0.6;
             for (const double zf : {cz - w - off, cz + w + off}) {
-                b.add({{x0, top - 0.7, zf}, {x0 + 0.3, top - 0.7, zf}, {x0 + 0.3, top - 0.35, zf},
+                b.add({{x0, top - 0.7, zf},
+                       {x0 + 0.3, top - 0.7, zf},
+                       {x0 + 0.3, top - 0.35, zf},
                        {x0, top - 0.35, zf}},
                       glass, center);
             }
         }
         for (const double xf : {cx - w - off, cx + w + off}) {
-            b.add({{xf, top - 0.7, cz - 0.15}, {xf, top - 0.7, cz + 0.15}, {xf, top - 0.35, cz + 0.15},
+            b.add({{xf, top - 0.7, cz - 0.15},
+                   {xf, top - 0.7, cz + 0.15},
+                   {xf, top - 0.35, cz + 0.15},
                    {xf, top - 0.35, cz - 0.15}},
                   glass, center);
         }
-        b.add({{cx - 0.15, groundY, cz - w - off}, {cx + 0.2, groundY, cz - w - off},
-               {cx + 0.2, groundY + 0.7, cz - w - off}, {cx - 0.15, groundY + 0.7, cz - w - off}},
+        b.add({{cx - 0.15, groundY, cz - w - off},
+               {cx + 0.2, groundY, cz - w - off},
+               {cx + 0.2, groundY + 0.7, cz - w - off},
+               {cx - 0.15, groundY + 0.7, cz - w - off}},
               door, center);
         // chimney: four sides and a top, standing in the back slope
         const double chx = cx + 0.5, chz = cz + 0.45, c0 = top + 0.3, c1 = top + 1.2, s = 0.1;

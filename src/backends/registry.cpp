@@ -21,27 +21,27 @@ Result<raster::SimdPath> parseSimd(const std::string& name) {
                                raster::SimdPath::Avx2, raster::SimdPath::Avx512}) {
         if (name == raster::simdPathName(p)) return p;
     }
-    return usageError(fmt::format("unknown SIMD path '{}' (expected auto, scalar, avx2 or avx512)",
-                                  name));
+    return usageError(
+        fmt::format("unknown SIMD path '{}' (expected auto, scalar, avx2 or avx512)", name));
 }
 
 std::vector<BackendEntry> builtIn() {
     std::vector<BackendEntry> rows;
-    rows.push_back(BackendEntry{
-        .name = "soft",
-        .description = "CPU: mvr's own rasterizer",
-        .gpu = false,
-        .make = [](const BackendOptions& o) -> Result<std::unique_ptr<Backend>> {
-            if (o.threads < 0) {
-                return usageError(fmt::format("threads {} is out of range (expected >= 0)",
-                                              o.threads));
-            }
-            auto simd = parseSimd(o.simd);
-            if (!simd) return simd.status();
-            return raster::makeSoftBackend({.threads = o.threads, .simd = *simd});
-        },
-        .interactiveMethod = {},
-        .compose = {}});
+    rows.push_back(
+        BackendEntry{.name = "soft",
+                     .description = "CPU: mvr's own rasterizer",
+                     .gpu = false,
+                     .make = [](const BackendOptions& o) -> Result<std::unique_ptr<Backend>> {
+                         if (o.threads < 0) {
+                             return usageError(fmt::format(
+                                 "threads {} is out of range (expected >= 0)", o.threads));
+                         }
+                         auto simd = parseSimd(o.simd);
+                         if (!simd) return simd.status();
+                         return raster::makeSoftBackend({.threads = o.threads, .simd = *simd});
+                     },
+                     .interactiveMethod = {},
+                     .compose = {}});
 #ifdef MVR_HAVE_GL
     rows.push_back(BackendEntry{
         .name = "gl",
@@ -88,16 +88,18 @@ Result<const BackendEntry*> findBackend(std::string_view name) {
     for (const BackendEntry& e : backends()) {
         if (e.name == name) return &e;
     }
-    return usageError(fmt::format("unknown backend '{}' (expected {})", name,
-                                  fmt::join(backendNames(), " or ")));
+    return usageError(
+        fmt::format("unknown backend '{}' (expected {})", name, fmt::join(backendNames(), " or ")));
 }
 
 Status registerBackend(BackendEntry entry) {
     Registry& r = registry();
     std::lock_guard lock(r.mutex);
     if (entry.name.empty() || entry.name.find(':') != std::string::npos || !entry.make) {
-        return usageError(fmt::format("registerBackend: '{}' is not a valid backend (a name "
-                                      "without ':' and a factory)", entry.name));
+        return usageError(
+            fmt::format("registerBackend: '{}' is not a valid backend (a name "
+                        "without ':' and a factory)",
+                        entry.name));
     }
     if (std::any_of(r.rows.begin(), r.rows.end(),
                     [&](const BackendEntry& e) { return e.name == entry.name; })) {
@@ -129,8 +131,9 @@ Result<MethodSpec> parseMethodSpec(std::string_view spec) {
     out.method = std::string(spec.substr(colon + 1));
     const auto methods = (*backend)->methods();
     if (std::find(methods.begin(), methods.end(), out.method) == methods.end()) {
-        return usageError(fmt::format("'{}': unknown method '{}' of backend {} (expected one of: {})",
-                                      spec, out.method, out.backend, fmt::join(methods, ", ")));
+        return usageError(
+            fmt::format("'{}': unknown method '{}' of backend {} (expected one of: {})", spec,
+                        out.method, out.backend, fmt::join(methods, ", ")));
     }
     return out;
 }

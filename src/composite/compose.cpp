@@ -41,8 +41,7 @@ const std::array kFormats = {
     FormatInfo{"anaglyph-dubois-ab", 2, 2, false, ".png", "amber-blue, Dubois least squares",
                kOneCell},
     FormatInfo{"sbs", 2, 2, false, ".png", "side by side, full width (2W x H)", kSideBySide},
-    FormatInfo{"sbs-half", 2, 2, false, ".png", "side by side, squeezed (W x H)",
-               kSideBySideHalf},
+    FormatInfo{"sbs-half", 2, 2, false, ".png", "side by side, squeezed (W x H)", kSideBySideHalf},
     FormatInfo{"tb", 2, 2, false, ".png", "top-bottom, left on top (W x 2H)", kTopBottom},
     FormatInfo{"tb-half", 2, 2, false, ".png", "top-bottom, squeezed (W x H)", kTopBottomHalf},
     FormatInfo{"rows", 2, kAny, false, ".png", "row-interleaved: row y from view y mod N",
@@ -51,16 +50,35 @@ const std::array kFormats = {
                "column-interleaved: column x from view x mod N (parallax barrier)", kOneCell},
     FormatInfo{"checkerboard", 2, 2, false, ".png", "checkerboard: (x + y) even from the left",
                kOneCell},
-    FormatInfo{"hdmi-frame-packing", 2, 2, false, ".png",
+    FormatInfo{"hdmi-frame-packing",
+               2,
+               2,
+               false,
+               ".png",
                "HDMI 1.4a frame packing: 720p -> 1280x1470, 1080p -> 1920x2205",
                {SizeRule::FramePacked}},
-    FormatInfo{"quilt", 1, kAny, false, ".png",
-               "Looking Glass quilt, view 0 bottom left: quilt_qsCxRaA.png", {SizeRule::QuiltGrid}},
-    FormatInfo{"lenticular", 2, kAny, false, ".png",
-               "slanted-lens sub-pixel interleave from a panel calibration", {SizeRule::Panel}},
+    FormatInfo{"quilt",
+               1,
+               kAny,
+               false,
+               ".png",
+               "Looking Glass quilt, view 0 bottom left: quilt_qsCxRaA.png",
+               {SizeRule::QuiltGrid}},
+    FormatInfo{"lenticular",
+               2,
+               kAny,
+               false,
+               ".png",
+               "slanted-lens sub-pixel interleave from a panel calibration",
+               {SizeRule::Panel}},
     FormatInfo{"jps", 2, 2, false, ".jps", "JPEG side by side, right view on the left",
                kSideBySide},
-    FormatInfo{"mpo", 2, 4096, true, ".mpo", "CIPA multi-picture JPEG, one image per view",
+    FormatInfo{"mpo",
+               2,
+               4096,
+               true,
+               ".mpo",
+               "CIPA multi-picture JPEG, one image per view",
                {SizeRule::PerView}},
 };
 
@@ -105,8 +123,7 @@ Result<std::pair<int, int>> quiltGrid(int viewCount, int viewWidth, int viewHeig
 
 Result<std::pair<int, int>> quiltGridFor(std::span<const Image> views,
                                          const ComposeOptions& options, const char* who) {
-    return quiltGrid(static_cast<int>(views.size()), views[0].width, views[0].height, options,
-                     who);
+    return quiltGrid(static_cast<int>(views.size()), views[0].width, views[0].height, options, who);
 }
 
 // "needs 2 views (got 3)", as validateViews() words it.
@@ -202,8 +219,7 @@ Result<Size> outputSize(const FormatInfo& f, int viewCount, int w, int h,
                         const ComposeOptions& options, const std::string& who) {
     if (Status s = checkViewCount(f, viewCount, who); !s) return s;
     if (w < 1 || h < 1)
-        return usageError(
-            fmt::format("{}: view size {}x{} (expected at least 1x1)", who, w, h));
+        return usageError(fmt::format("{}: view size {}x{} (expected at least 1x1)", who, w, h));
     const FormatSize& rule = f.size;
     switch (rule.rule) {
         case SizeRule::Tiled:
@@ -242,11 +258,10 @@ Result<Size> outputSize(const FormatInfo& f, int viewCount, int w, int h,
             if (!grid) return grid.status();
             const auto [columns, rows] = *grid;
             if (static_cast<long long>(columns) * rows < viewCount)
-                return usageError(
-                    fmt::format("{}: grid {}x{} has {} tiles for {} views (expected at "
-                                "least one tile per view)",
-                                who, columns, rows, static_cast<long long>(columns) * rows,
-                                viewCount));
+                return usageError(fmt::format(
+                    "{}: grid {}x{} has {} tiles for {} views (expected at "
+                    "least one tile per view)",
+                    who, columns, rows, static_cast<long long>(columns) * rows, viewCount));
             if (static_cast<long long>(columns) * w > kMaxQuiltSide ||
                 static_cast<long long>(rows) * h > kMaxQuiltSide)
                 return usageError(
@@ -297,8 +312,7 @@ Result<Size> largestViewSize(std::string_view format, int viewCount, int frameWi
             const Size view{frameWidth / rule.cellsAcross * rule.squeezeX,
                             frameHeight / rule.cellsDown * rule.squeezeY};
             if (view.width < 1 || view.height < 1)
-                return tooSmall(fmt::format("at least {}x{}", rule.cellsAcross,
-                                            rule.cellsDown));
+                return tooSmall(fmt::format("at least {}x{}", rule.cellsAcross, rule.cellsDown));
             return view;
         }
         case SizeRule::FramePacked:
@@ -313,8 +327,8 @@ Result<Size> largestViewSize(std::string_view format, int viewCount, int frameWi
             // whose own grid it is.
             std::optional<Size> best;
             for (int rows = 1; rows <= viewCount; ++rows) {
-                const int columns = options.quiltColumns > 0 ? options.quiltColumns
-                                                             : (viewCount + rows - 1) / rows;
+                const int columns =
+                    options.quiltColumns > 0 ? options.quiltColumns : (viewCount + rows - 1) / rows;
                 if (options.quiltRows > 0 && rows != options.quiltRows) continue;
                 const Size view{frameWidth / columns, frameHeight / rows};
                 if (view.width < 1 || view.height < 1 || !fits(view)) continue;

@@ -41,9 +41,9 @@ Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params
         return usageError(fmt::format("{}x{} views is out of range (expected 1..{} views)",
                                       params.columns, params.rows, kMaxViews));
     }
-    for (const auto& [name, value] : {std::pair{"interaxial", params.interaxial},
-                                      std::pair{"separation", params.separation},
-                                      std::pair{"convergence", params.convergence}}) {
+    for (const auto& [name, value] :
+         {std::pair{"interaxial", params.interaxial}, std::pair{"separation", params.separation},
+          std::pair{"convergence", params.convergence}}) {
         if (value && (!std::isfinite(*value) || *value < 0.0f)) {
             return usageError(
                 fmt::format("{} {} is out of range (expected a finite value >= 0)", name, *value));
@@ -59,8 +59,8 @@ Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params
     if (Status s = validateScene(scene); !s) return s;
 
     settings.clearColor = params.clearColor.value_or(scene.background);
-    Camera camera = frameCamera(scene, params.fovYDegrees,
-                                float(settings.width) / float(settings.height));
+    Camera camera =
+        frameCamera(scene, params.fovYDegrees, float(settings.width) / float(settings.height));
     const float distance = glm::length(camera.position - camera.target);
     RigParams rig;
     rig.kind = params.kind;

@@ -81,7 +81,8 @@ Status writePngRaw(const std::filesystem::path& path, int width, int height, png
     image.format = format;
     std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
     if (!file) {
-        return outputError(fmt::format("mvr::writePng(): {}: cannot open for writing", path.string()));
+        return outputError(
+            fmt::format("mvr::writePng(): {}: cannot open for writing", path.string()));
     }
     if (!png_image_write_to_stdio(&image, file.get(), 0, pixels, static_cast<png_int_32>(rowStride),
                                   nullptr)) {
@@ -99,9 +100,10 @@ Status writePngRaw(const std::filesystem::path& path, int width, int height, png
 
 Status writePng(const std::filesystem::path& path, const Image& image) {
     if (image.empty() || image.rgba.size() != std::size_t(image.width) * image.height * 4) {
-        return outputError(fmt::format("mvr::writePng(): {}: image is empty or its size ({}x{}) "
-                                       "does not match its data",
-                                       path.string(), image.width, image.height));
+        return outputError(
+            fmt::format("mvr::writePng(): {}: image is empty or its size ({}x{}) "
+                        "does not match its data",
+                        path.string(), image.width, image.height));
     }
     return writePngRaw(path, image.width, image.height, PNG_FORMAT_RGBA, image.rgba.data(),
                        image.width * 4);
@@ -109,11 +111,13 @@ Status writePng(const std::filesystem::path& path, const Image& image) {
 
 Status writeDepthPng(const std::filesystem::path& path, const DepthImage& depth) {
     if (depth.width <= 0 || depth.height <= 0) {
-        return outputError(fmt::format("mvr::writeDepthPng(): {}: empty depth image", path.string()));
+        return outputError(
+            fmt::format("mvr::writeDepthPng(): {}: empty depth image", path.string()));
     }
     std::vector<std::uint16_t> gray(depth.depth.size());
     for (std::size_t i = 0; i < gray.size(); ++i) {
-        const float d = std::isfinite(depth.depth[i]) ? std::clamp(depth.depth[i], 0.0f, 1.0f) : 1.0f;
+        const float d =
+            std::isfinite(depth.depth[i]) ? std::clamp(depth.depth[i], 0.0f, 1.0f) : 1.0f;
         gray[i] = static_cast<std::uint16_t>(d * 65535.0f + 0.5f);
     }
     // PNG_FORMAT_LINEAR_Y: 16-bit gray samples in native byte order; libpng swaps them.
@@ -131,14 +135,16 @@ Result<Image> readPng(const std::filesystem::path& path) {
     }
     std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
     if (!file) {
-        return inputError(fmt::format("mvr::readPng(): {}: cannot open for reading", path.string()));
+        return inputError(
+            fmt::format("mvr::readPng(): {}: cannot open for reading", path.string()));
     }
     png_image image{};
     image.version = PNG_IMAGE_VERSION;
     if (!png_image_begin_read_from_stdio(&image, file.get())) {
         const std::string why = image.message;
         png_image_free(&image);
-        return inputError(fmt::format("mvr::readPng(): {}: not a readable PNG ({})", path.string(), why));
+        return inputError(
+            fmt::format("mvr::readPng(): {}: not a readable PNG ({})", path.string(), why));
     }
     if (image.width == 0 || image.height == 0 || image.width > 65536 || image.height > 65536) {
         png_image_free(&image);
@@ -150,8 +156,8 @@ Result<Image> readPng(const std::filesystem::path& path) {
     if (!png_image_finish_read(&image, nullptr, out.rgba.data(), 0, nullptr)) {
         const std::string why = image.message;
         png_image_free(&image);
-        return inputError(fmt::format("mvr::readPng(): {}: corrupt or truncated PNG ({})",
-                                      path.string(), why));
+        return inputError(
+            fmt::format("mvr::readPng(): {}: corrupt or truncated PNG ({})", path.string(), why));
     }
     return out;
 }

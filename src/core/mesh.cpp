@@ -22,8 +22,8 @@ Bounds Mesh::bounds() const {
 Status validateMesh(const Mesh& mesh, const std::string& what) {
     if (mesh.indices.empty()) return inputError(fmt::format("{}: has no triangles", what));
     if (mesh.indices.size() % 3 != 0) {
-        return inputError(fmt::format("{}: index count {} is not a multiple of 3", what,
-                                      mesh.indices.size()));
+        return inputError(
+            fmt::format("{}: index count {} is not a multiple of 3", what, mesh.indices.size()));
     }
     if (mesh.normals.size() != mesh.positions.size()) {
         return inputError(fmt::format("{}: {} normals for {} positions", what, mesh.normals.size(),
@@ -57,14 +57,16 @@ Status validateMesh(const Mesh& mesh, const std::string& what) {
         const glm::vec3 e2 = mesh.positions[mesh.indices[t + 2]] - a;
         anyArea = glm::length(glm::cross(e1, e2)) > 0.0f;
     }
-    if (!anyArea) return inputError(fmt::format("{}: is degenerate (every triangle has zero area)", what));
+    if (!anyArea)
+        return inputError(fmt::format("{}: is degenerate (every triangle has zero area)", what));
     return {};
 }
 
 void computeSmoothNormals(Mesh& mesh) {
     mesh.normals.assign(mesh.positions.size(), glm::vec3(0.0f));
     for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-        const std::uint32_t i0 = mesh.indices[t], i1 = mesh.indices[t + 1], i2 = mesh.indices[t + 2];
+        const std::uint32_t i0 = mesh.indices[t], i1 = mesh.indices[t + 1],
+                            i2 = mesh.indices[t + 2];
         // The cross product's length is twice the area: area weighting for free.
         const glm::vec3 n = glm::cross(mesh.positions[i1] - mesh.positions[i0],
                                        mesh.positions[i2] - mesh.positions[i0]);
@@ -126,7 +128,8 @@ void appendNode(const aiScene& scene, const aiNode& node, const aiMatrix4x4& par
                 out.normals.emplace_back(0.0f);
             }
             if (hasUv) {
-                out.texcoords.emplace_back(mesh.mTextureCoords[0][v].x, mesh.mTextureCoords[0][v].y);
+                out.texcoords.emplace_back(mesh.mTextureCoords[0][v].x,
+                                           mesh.mTextureCoords[0][v].y);
             } else {
                 out.texcoords.emplace_back(0.0f);
             }
@@ -148,7 +151,8 @@ Result<Mesh> loadMesh(const std::filesystem::path& path) {
     const std::string what = fmt::format("mvr::loadMesh(): {}", path.string());
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return inputError(what + ": file not found");
-    if (!std::filesystem::is_regular_file(path, ec)) return inputError(what + ": not a regular file");
+    if (!std::filesystem::is_regular_file(path, ec))
+        return inputError(what + ": not a regular file");
     {
         std::ifstream probe(path, std::ios::binary);
         if (!probe) return inputError(what + ": cannot open for reading");
@@ -163,7 +167,8 @@ Result<Mesh> loadMesh(const std::filesystem::path& path) {
         if (detail::looksLikePly(std::string(head, static_cast<std::size_t>(in.gcount())))) {
             in.clear();
             in.seekg(0);
-            const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            const std::string data((std::istreambuf_iterator<char>(in)),
+                                   std::istreambuf_iterator<char>());
             auto mesh = detail::loadPly(data, what);
             if (!mesh) return mesh.status();
             mesh->name = path.filename().string();
@@ -190,7 +195,8 @@ Result<Mesh> loadMesh(const std::filesystem::path& path) {
     bool allHaveNormals = true;
     appendNode(*scene, *scene->mRootNode, aiMatrix4x4(), mesh, allHaveNormals);
     bool anyUv = false;
-    for (unsigned m = 0; m < scene->mNumMeshes; ++m) anyUv = anyUv || scene->mMeshes[m]->HasTextureCoords(0);
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m)
+        anyUv = anyUv || scene->mMeshes[m]->HasTextureCoords(0);
     if (!anyUv) mesh.texcoords.clear();
     if (mesh.indices.empty()) return inputError(what + ": has no triangles");
     bool normalsUsable = allHaveNormals;

@@ -36,9 +36,13 @@ std::optional<Type> parseType(const std::string& s) {
 
 std::size_t typeSize(Type t) {
     switch (t) {
-        case Type::Int8: case Type::Uint8: return 1;
-        case Type::Int16: case Type::Uint16: return 2;
-        case Type::Int32: case Type::Uint32: case Type::Float32: return 4;
+        case Type::Int8:
+        case Type::Uint8: return 1;
+        case Type::Int16:
+        case Type::Uint16: return 2;
+        case Type::Int32:
+        case Type::Uint32:
+        case Type::Float32: return 4;
         case Type::Float64: return 8;
     }
     return 1;
@@ -62,7 +66,8 @@ enum class Encoding { Ascii, BinaryLE, BinaryBE };
 /// Reads values from the body, bounds-checked.
 class Reader {
 public:
-    Reader(const std::string& data, std::size_t pos, Encoding enc) : mData(data), mPos(pos), mEnc(enc) {}
+    Reader(const std::string& data, std::size_t pos, Encoding enc)
+        : mData(data), mPos(pos), mEnc(enc) {}
 
     bool read(Type t, double& out) {
         if (mEnc == Encoding::Ascii) return readAscii(out);
@@ -74,14 +79,50 @@ public:
         const bool little = std::endian::native == std::endian::little;
         if ((mEnc == Encoding::BinaryLE) != little) std::reverse(b, b + n);
         switch (t) {
-            case Type::Int8: { std::int8_t v; std::memcpy(&v, b, 1); out = v; break; }
-            case Type::Uint8: { out = b[0]; break; }
-            case Type::Int16: { std::int16_t v; std::memcpy(&v, b, 2); out = v; break; }
-            case Type::Uint16: { std::uint16_t v; std::memcpy(&v, b, 2); out = v; break; }
-            case Type::Int32: { std::int32_t v; std::memcpy(&v, b, 4); out = v; break; }
-            case Type::Uint32: { std::uint32_t v; std::memcpy(&v, b, 4); out = v; break; }
-            case Type::Float32: { float v; std::memcpy(&v, b, 4); out = v; break; }
-            case Type::Float64: { std::memcpy(&out, b, 8); break; }
+            case Type::Int8: {
+                std::int8_t v;
+                std::memcpy(&v, b, 1);
+                out = v;
+                break;
+            }
+            case Type::Uint8: {
+                out = b[0];
+                break;
+            }
+            case Type::Int16: {
+                std::int16_t v;
+                std::memcpy(&v, b, 2);
+                out = v;
+                break;
+            }
+            case Type::Uint16: {
+                std::uint16_t v;
+                std::memcpy(&v, b, 2);
+                out = v;
+                break;
+            }
+            case Type::Int32: {
+                std::int32_t v;
+                std::memcpy(&v, b, 4);
+                out = v;
+                break;
+            }
+            case Type::Uint32: {
+                std::uint32_t v;
+                std::memcpy(&v, b, 4);
+                out = v;
+                break;
+            }
+            case Type::Float32: {
+                float v;
+                std::memcpy(&v, b, 4);
+                out = v;
+                break;
+            }
+            case Type::Float64: {
+                std::memcpy(&out, b, 8);
+                break;
+            }
         }
         return true;
     }
@@ -106,10 +147,14 @@ private:
 
 }  // namespace
 
-bool looksLikePly(const std::string& head) { return head.rfind("ply\n", 0) == 0 || head.rfind("ply\r\n", 0) == 0; }
+bool looksLikePly(const std::string& head) {
+    return head.rfind("ply\n", 0) == 0 || head.rfind("ply\r\n", 0) == 0;
+}
 
 Result<Mesh> loadPly(const std::string& data, const std::string& what) {
-    auto bad = [&](const std::string& why) { return inputError(fmt::format("{}: malformed PLY: {}", what, why)); };
+    auto bad = [&](const std::string& why) {
+        return inputError(fmt::format("{}: malformed PLY: {}", what, why));
+    };
     // Header: lines up to "end_header".
     const std::size_t endHeader = data.find("end_header");
     if (endHeader == std::string::npos) return bad("no end_header line (truncated header?)");
@@ -131,10 +176,14 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
         if (key == "format") {
             std::string fmtName, version;
             words >> fmtName >> version;
-            if (fmtName == "ascii") encoding = Encoding::Ascii;
-            else if (fmtName == "binary_little_endian") encoding = Encoding::BinaryLE;
-            else if (fmtName == "binary_big_endian") encoding = Encoding::BinaryBE;
-            else return bad(fmt::format("header line {}: unknown format '{}'", lineNo, fmtName));
+            if (fmtName == "ascii")
+                encoding = Encoding::Ascii;
+            else if (fmtName == "binary_little_endian")
+                encoding = Encoding::BinaryLE;
+            else if (fmtName == "binary_big_endian")
+                encoding = Encoding::BinaryBE;
+            else
+                return bad(fmt::format("header line {}: unknown format '{}'", lineNo, fmtName));
         } else if (key == "element") {
             Element e;
             long long count = -1;
@@ -145,7 +194,8 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
             e.count = static_cast<std::size_t>(count);
             elements.push_back(std::move(e));
         } else if (key == "property") {
-            if (elements.empty()) return bad(fmt::format("header line {}: property before any element", lineNo));
+            if (elements.empty())
+                return bad(fmt::format("header line {}: property before any element", lineNo));
             Property p;
             std::string type;
             words >> type;
@@ -154,14 +204,16 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
                 words >> countType >> itemType >> p.name;
                 auto ct = parseType(countType);
                 auto it = parseType(itemType);
-                if (!ct || !it || p.name.empty()) return bad(fmt::format("header line {}: bad list property", lineNo));
+                if (!ct || !it || p.name.empty())
+                    return bad(fmt::format("header line {}: bad list property", lineNo));
                 p.isList = true;
                 p.countType = *ct;
                 p.type = *it;
             } else {
                 auto t = parseType(type);
                 words >> p.name;
-                if (!t || p.name.empty()) return bad(fmt::format("header line {}: bad property '{}'", lineNo, line));
+                if (!t || p.name.empty())
+                    return bad(fmt::format("header line {}: bad property '{}'", lineNo, line));
                 p.type = *t;
             }
             elements.back().properties.push_back(p);
@@ -179,7 +231,9 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
         // refuse counts the remaining bytes cannot hold before allocating anything.
         const std::size_t minBytes = std::max<std::size_t>(1, e.properties.size());
         if (e.count > reader.remaining() / minBytes + 1) {
-            return bad(fmt::format("element '{}' claims {} entries but the file is too short (truncated?)", e.name, e.count));
+            return bad(
+                fmt::format("element '{}' claims {} entries but the file is too short (truncated?)",
+                            e.name, e.count));
         }
         const bool isVertex = e.name == "vertex";
         const bool isFace = e.name == "face";
@@ -190,10 +244,22 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
                 if (n == "vertex_indices" || n == "vertex_index") iList = k;
                 continue;
             }
-            if (n == "x") ix = k; else if (n == "y") iy = k; else if (n == "z") iz = k;
-            else if (n == "nx") inx = k; else if (n == "ny") iny = k; else if (n == "nz") inz = k;
-            else if (n == "s" || n == "u" || n == "texture_u") iu = k;
-            else if (n == "t" || n == "v" || n == "texture_v") iv = k;
+            if (n == "x")
+                ix = k;
+            else if (n == "y")
+                iy = k;
+            else if (n == "z")
+                iz = k;
+            else if (n == "nx")
+                inx = k;
+            else if (n == "ny")
+                iny = k;
+            else if (n == "nz")
+                inz = k;
+            else if (n == "s" || n == "u" || n == "texture_u")
+                iu = k;
+            else if (n == "t" || n == "v" || n == "texture_v")
+                iv = k;
         }
         if (isVertex) {
             if (ix < 0 || iy < 0 || iz < 0) return bad("vertex element lacks x, y or z");
@@ -213,12 +279,14 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
                 const Property& p = e.properties[k];
                 if (!p.isList) {
                     if (!reader.read(p.type, values[k])) {
-                        return bad(fmt::format("{} {} of {}: value missing (truncated?)", e.name, i, e.count));
+                        return bad(fmt::format("{} {} of {}: value missing (truncated?)", e.name, i,
+                                               e.count));
                     }
                     continue;
                 }
                 double countValue = 0;
-                if (!reader.read(p.countType, countValue) || !(countValue >= 0) || countValue > 65535) {
+                if (!reader.read(p.countType, countValue) || !(countValue >= 0) ||
+                    countValue > 65535) {
                     return bad(fmt::format("{} {} of {}: bad list length", e.name, i, e.count));
                 }
                 const auto count = static_cast<std::size_t>(countValue);
@@ -230,14 +298,16 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
                     }
                     if (int(k) == iList) {
                         if (!(idx >= 0) || idx > 4294967295.0) {
-                            return bad(fmt::format("face {}: negative or huge vertex index {}", i, idx));
+                            return bad(
+                                fmt::format("face {}: negative or huge vertex index {}", i, idx));
                         }
                         polygon.push_back(static_cast<std::uint32_t>(idx));
                     }
                 }
                 if (isFace && int(k) == iList) {
                     for (std::size_t j = 1; j + 1 < polygon.size(); ++j) {  // fan triangulation
-                        mesh.indices.insert(mesh.indices.end(), {polygon[0], polygon[j], polygon[j + 1]});
+                        mesh.indices.insert(mesh.indices.end(),
+                                            {polygon[0], polygon[j], polygon[j + 1]});
                     }
                 }
             }
@@ -248,7 +318,8 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
             }
         }
     }
-    if (!sawFaces || mesh.indices.empty()) return inputError(fmt::format("{}: has no triangles", what));
+    if (!sawFaces || mesh.indices.empty())
+        return inputError(fmt::format("{}: has no triangles", what));
     bool normalsUsable = !mesh.normals.empty();
     for (glm::vec3& n : mesh.normals) {
         const float len = glm::length(n);
@@ -257,7 +328,8 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
     }
     for (std::uint32_t idx : mesh.indices) {
         if (idx >= mesh.positions.size()) {
-            return inputError(fmt::format("{}: index {} out of range for {} vertices", what, idx, mesh.positions.size()));
+            return inputError(fmt::format("{}: index {} out of range for {} vertices", what, idx,
+                                          mesh.positions.size()));
         }
     }
     if (!normalsUsable) computeSmoothNormals(mesh);

@@ -31,8 +31,8 @@ bool finiteMatrix(const glm::mat4& m) {
 
 Status validateRig(const Rig& rig) {
     if (rig.viewCount() < 1 || rig.viewCount() > kMaxViews) {
-        return usageError(fmt::format("the rig has {} views (expected 1..{})", rig.viewCount(),
-                                      kMaxViews));
+        return usageError(
+            fmt::format("the rig has {} views (expected 1..{})", rig.viewCount(), kMaxViews));
     }
     if (!std::isfinite(rig.convergence)) return usageError("the rig's convergence is not finite");
     for (int v = 0; v < rig.viewCount(); ++v) {

@@ -29,16 +29,19 @@ float Rig::screenWidth() const {
 float Rig::separation() const { return interaxial / screenWidth(); }
 
 float separationFromInteraxial(const Camera& camera, float interaxial, float convergence) {
-    const float width = 2.0f * convergence * camera.aspect * std::tan(glm::radians(camera.fovYDegrees) * 0.5f);
+    const float width =
+        2.0f * convergence * camera.aspect * std::tan(glm::radians(camera.fovYDegrees) * 0.5f);
     return interaxial / width;
 }
 
 float interaxialFromSeparation(const Camera& camera, float separation, float convergence) {
-    const float width = 2.0f * convergence * camera.aspect * std::tan(glm::radians(camera.fovYDegrees) * 0.5f);
+    const float width =
+        2.0f * convergence * camera.aspect * std::tan(glm::radians(camera.fovYDegrees) * 0.5f);
     return separation * width;
 }
 
-glm::vec4 applyClipSpaceStereo(glm::vec4 monoClip, float eyeSign, float separation, float convergence) {
+glm::vec4 applyClipSpaceStereo(glm::vec4 monoClip, float eyeSign, float separation,
+                               float convergence) {
     monoClip.x += eyeSign * separation * (monoClip.w - convergence);
     return monoClip;
 }
@@ -54,7 +57,9 @@ glm::mat4 frustumMatrix(float left, float right, float bottom, float top, float 
 }
 
 /// The camera's orthonormal frame in world space: right, up, back (= −forward).
-struct Frame { glm::vec3 right, up, back; };
+struct Frame {
+    glm::vec3 right, up, back;
+};
 Frame cameraFrame(const Camera& c) {
     const glm::mat4 worldFromView = glm::inverse(c.viewFromWorld());
     return {glm::vec3(worldFromView[0]), glm::vec3(worldFromView[1]), glm::vec3(worldFromView[2])};
@@ -66,31 +71,35 @@ Status validateRigParams(const Camera& c, const RigParams& p) {
     if (!finite(c.position) || !finite(c.target) || !finite(c.up)) {
         return usageError("camera position, target and up must be finite");
     }
-    if (glm::length(c.target - c.position) <= 0.0f) return usageError("camera target equals its position");
+    if (glm::length(c.target - c.position) <= 0.0f)
+        return usageError("camera target equals its position");
     if (glm::length(glm::cross(glm::normalize(c.target - c.position), c.up)) < 1e-6f) {
         return usageError("camera up vector is parallel to the viewing direction");
     }
     if (!finite(c.fovYDegrees) || c.fovYDegrees <= 0.0f || c.fovYDegrees >= 180.0f) {
-        return usageError(fmt::format("field of view {} is out of range (expected 0 < fov < 180 degrees)",
-                                      c.fovYDegrees));
+        return usageError(fmt::format(
+            "field of view {} is out of range (expected 0 < fov < 180 degrees)", c.fovYDegrees));
     }
     if (!finite(c.aspect) || c.aspect <= 0.0f) {
         return usageError(fmt::format("aspect {} is out of range (expected > 0)", c.aspect));
     }
     if (!finite(c.near) || !finite(c.far) || c.near <= 0.0f || c.far <= c.near) {
-        return usageError(fmt::format("near {} / far {} are out of range (expected 0 < near < far)", c.near, c.far));
+        return usageError(fmt::format("near {} / far {} are out of range (expected 0 < near < far)",
+                                      c.near, c.far));
     }
     if (p.columns < 1 || p.rows < 1 || p.columns * p.rows > kMaxViews) {
-        return usageError(fmt::format("view count {}x{} is out of range (expected 1..{} views)", p.columns,
-                                      p.rows, kMaxViews));
+        return usageError(fmt::format("view count {}x{} is out of range (expected 1..{} views)",
+                                      p.columns, p.rows, kMaxViews));
     }
     if (!finite(p.interaxial) || p.interaxial < 0.0f) {
-        return usageError(fmt::format("interaxial {} is out of range (expected a finite value >= 0)", p.interaxial));
+        return usageError(fmt::format(
+            "interaxial {} is out of range (expected a finite value >= 0)", p.interaxial));
     }
     if (!finite(p.interaxialY)) return usageError("vertical interaxial is not finite");
     if (!finite(p.convergence) || p.convergence <= c.near) {
-        return usageError(fmt::format("convergence {} is out of range (expected a finite distance > near = {})",
-                                      p.convergence, c.near));
+        return usageError(
+            fmt::format("convergence {} is out of range (expected a finite distance > near = {})",
+                        p.convergence, c.near));
     }
     return {};
 }
@@ -127,23 +136,27 @@ Result<Rig> makeRig(const Camera& camera, const RigParams& p) {
                 case RigKind::OffAxis: {
                     // Translate the world by −offset in eye space; shift the frustum so that
                     // all views share the window on the convergence plane.
-                    v.viewFromWorld = glm::translate(glm::mat4(1.0f), glm::vec3(-ox, -oy, 0.0f)) * monoView;
-                    v.clipFromView = frustumMatrix(-(a + ox) * nearOverConv, (a - ox) * nearOverConv,
-                                                   -(b + oy) * nearOverConv, (b - oy) * nearOverConv,
-                                                   camera.near, camera.far);
+                    v.viewFromWorld =
+                        glm::translate(glm::mat4(1.0f), glm::vec3(-ox, -oy, 0.0f)) * monoView;
+                    v.clipFromView = frustumMatrix(
+                        -(a + ox) * nearOverConv, (a - ox) * nearOverConv, -(b + oy) * nearOverConv,
+                        (b - oy) * nearOverConv, camera.near, camera.far);
                     v.clipShear = glm::vec2(ox / a, oy / b);
                     break;
                 }
                 case RigKind::Parallel: {
-                    v.viewFromWorld = glm::translate(glm::mat4(1.0f), glm::vec3(-ox, -oy, 0.0f)) * monoView;
-                    v.clipFromView = frustumMatrix(-halfWidthNear, halfWidthNear, -top, top, camera.near, camera.far);
+                    v.viewFromWorld =
+                        glm::translate(glm::mat4(1.0f), glm::vec3(-ox, -oy, 0.0f)) * monoView;
+                    v.clipFromView = frustumMatrix(-halfWidthNear, halfWidthNear, -top, top,
+                                                   camera.near, camera.far);
                     break;
                 }
                 case RigKind::ToeIn: {
                     const glm::vec3 forward = -frame.back;
                     const glm::vec3 focus = camera.position + p.convergence * forward;
                     v.viewFromWorld = glm::lookAt(v.eyeWorld, focus, frame.up);
-                    v.clipFromView = frustumMatrix(-halfWidthNear, halfWidthNear, -top, top, camera.near, camera.far);
+                    v.clipFromView = frustumMatrix(-halfWidthNear, halfWidthNear, -top, top,
+                                                   camera.near, camera.far);
                     break;
                 }
                 case RigKind::List:
@@ -158,7 +171,8 @@ Result<Rig> makeRig(const Camera& camera, const RigParams& p) {
 
 Result<Rig> makeListRig(const Camera& camera, std::vector<View> views) {
     if (views.empty() || views.size() > std::size_t(kMaxViews)) {
-        return usageError(fmt::format("view list has {} views (expected 1..{})", views.size(), kMaxViews));
+        return usageError(
+            fmt::format("view list has {} views (expected 1..{})", views.size(), kMaxViews));
     }
     Rig rig;
     rig.kind = RigKind::List;
@@ -192,7 +206,9 @@ Frustum enclosingFrustum(const Camera& camera, std::span<const View> views) {
     // Work in the camera's frame: x right, y up, depth d = distance along the viewing axis.
     const Frame f = cameraFrame(camera);
     const glm::vec3 forward = -f.back;
-    struct Local { float x, y, d; };
+    struct Local {
+        float x, y, d;
+    };
     std::vector<Local> pts;
     for (const View& v : views) {
         for (const glm::vec3& c : frustumCorners(v)) {
@@ -233,12 +249,12 @@ Frustum enclosingFrustum(const Camera& camera, std::span<const View> views) {
     };
     auto getX = [](const Local& p) { return p.x; };
     auto getY = [](const Local& p) { return p.y; };
-    out.planes[0] = sidePlane(getX, 1.0f, f.right);    // left
-    out.planes[1] = sidePlane(getX, -1.0f, f.right);   // right
-    out.planes[2] = sidePlane(getY, 1.0f, f.up);       // bottom
-    out.planes[3] = sidePlane(getY, -1.0f, f.up);      // top
-    out.planes[4] = Plane{forward, -dMin - glm::dot(forward, camera.position)};   // near
-    out.planes[5] = Plane{-forward, dMax + glm::dot(forward, camera.position)};   // far
+    out.planes[0] = sidePlane(getX, 1.0f, f.right);                              // left
+    out.planes[1] = sidePlane(getX, -1.0f, f.right);                             // right
+    out.planes[2] = sidePlane(getY, 1.0f, f.up);                                 // bottom
+    out.planes[3] = sidePlane(getY, -1.0f, f.up);                                // top
+    out.planes[4] = Plane{forward, -dMin - glm::dot(forward, camera.position)};  // near
+    out.planes[5] = Plane{-forward, dMax + glm::dot(forward, camera.position)};  // far
     return out;
 }
 

@@ -12,7 +12,8 @@ namespace mvr {
 std::size_t Scene::triangleCount() const {
     std::size_t n = 0;
     for (const Instance& inst : instances) {
-        if (inst.mesh >= 0 && std::size_t(inst.mesh) < meshes.size()) n += meshes[inst.mesh].triangleCount();
+        if (inst.mesh >= 0 && std::size_t(inst.mesh) < meshes.size())
+            n += meshes[inst.mesh].triangleCount();
     }
     return n;
 }
@@ -34,9 +35,9 @@ Bounds Scene::bounds() const {
 
 std::vector<DirectionalLight> defaultLights() {
     return {
-        {glm::normalize(glm::vec3(0.4f, 0.8f, 0.6f)), glm::vec3(0.75f)},     // key
-        {glm::normalize(glm::vec3(-0.7f, 0.2f, 0.4f)), glm::vec3(0.30f)},    // fill
-        {glm::normalize(glm::vec3(0.0f, 0.3f, -1.0f)), glm::vec3(0.25f)},    // rim
+        {glm::normalize(glm::vec3(0.4f, 0.8f, 0.6f)), glm::vec3(0.75f)},   // key
+        {glm::normalize(glm::vec3(-0.7f, 0.2f, 0.4f)), glm::vec3(0.30f)},  // fill
+        {glm::normalize(glm::vec3(0.0f, 0.3f, -1.0f)), glm::vec3(0.25f)},  // rim
     };
 }
 
@@ -51,7 +52,8 @@ Mesh makeSphere(int slices, int stacks) {
         const float v = float(j) / stacks, phi = v * kPi;
         for (int i = 0; i <= slices; ++i) {
             const float u = float(i) / slices, theta = u * 2.0f * kPi;
-            const glm::vec3 n(std::sin(phi) * std::cos(theta), std::cos(phi), -std::sin(phi) * std::sin(theta));
+            const glm::vec3 n(std::sin(phi) * std::cos(theta), std::cos(phi),
+                              -std::sin(phi) * std::sin(theta));
             m.positions.push_back(n);
             m.normals.push_back(n);
             m.texcoords.emplace_back(u, 1.0f - v);
@@ -95,7 +97,9 @@ Mesh makeBox() {
     m.name = "box";
     // Per face: its normal n and two axes with cross(u, v) = n, so the corners below run
     // counter-clockwise seen from outside.
-    struct Face { glm::vec3 n, u, v; };
+    struct Face {
+        glm::vec3 n, u, v;
+    };
     const Face faces[6] = {{{1, 0, 0}, {0, 0, -1}, {0, 1, 0}}, {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
                            {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}}, {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
                            {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},  {{0, 0, -1}, {-1, 0, 0}, {0, 1, 0}}};
@@ -132,7 +136,8 @@ Mesh makeGroundPlane(int cells) {
     return m;
 }
 
-glm::mat4 placed(glm::vec3 at, float scale, float yawDegrees = 0.0f, glm::vec3 stretch = glm::vec3(1.0f)) {
+glm::mat4 placed(glm::vec3 at, float scale, float yawDegrees = 0.0f,
+                 glm::vec3 stretch = glm::vec3(1.0f)) {
     glm::mat4 m = glm::translate(glm::mat4(1.0f), at);
     m = glm::rotate(m, glm::radians(yawDegrees), glm::vec3(0, 1, 0));
     return glm::scale(m, scale * stretch);
@@ -150,10 +155,10 @@ Scene makeDefaultScene() {
         s.instances.push_back({mesh, xf, Material{albedo, 0.35f, 48.0f}});
     };
     add(0, placed({0, -1.0f, -1.0f}, 1.0f, 0, {6.0f, 1.0f, 6.0f}), {0.55f, 0.55f, 0.6f});
-    add(1, placed({0.0f, -0.1f, 0.0f}, 0.9f), {0.85f, 0.25f, 0.2f});       // on the convergence plane
-    add(2, placed({-1.9f, -0.4f, -2.2f}, 0.8f, 30.0f), {0.2f, 0.7f, 0.3f}); // behind
+    add(1, placed({0.0f, -0.1f, 0.0f}, 0.9f), {0.85f, 0.25f, 0.2f});  // on the convergence plane
+    add(2, placed({-1.9f, -0.4f, -2.2f}, 0.8f, 30.0f), {0.2f, 0.7f, 0.3f});  // behind
     add(3, placed({1.8f, -0.55f, -1.5f}, 0.45f, 25.0f), {0.25f, 0.4f, 0.9f});
-    add(1, placed({0.9f, -0.55f, 1.6f}, 0.42f), {0.95f, 0.8f, 0.2f});      // in front
+    add(1, placed({0.9f, -0.55f, 1.6f}, 0.42f), {0.95f, 0.8f, 0.2f});  // in front
     add(3, placed({-1.1f, -0.7f, 1.4f}, 0.3f, -20.0f), {0.8f, 0.3f, 0.8f});
     return s;
 }
@@ -169,9 +174,10 @@ Scene makeGridScene(std::vector<Mesh> meshes, int copies) {
     const float spacing = std::max({size.x, size.y, 1e-6f}) * 1.1f;
     const int columns = static_cast<int>(std::ceil(std::sqrt(double(copies))));
     const int rows = (copies + columns - 1) / columns;
-    static const glm::vec3 kPalette[] = {{0.85f, 0.75f, 0.6f}, {0.6f, 0.75f, 0.9f}, {0.9f, 0.55f, 0.5f},
-                                         {0.6f, 0.85f, 0.6f},  {0.85f, 0.8f, 0.4f}, {0.75f, 0.6f, 0.9f},
-                                         {0.5f, 0.8f, 0.8f},   {0.9f, 0.7f, 0.8f},  {0.7f, 0.7f, 0.7f}};
+    static const glm::vec3 kPalette[] = {
+        {0.85f, 0.75f, 0.6f}, {0.6f, 0.75f, 0.9f}, {0.9f, 0.55f, 0.5f},
+        {0.6f, 0.85f, 0.6f},  {0.85f, 0.8f, 0.4f}, {0.75f, 0.6f, 0.9f},
+        {0.5f, 0.8f, 0.8f},   {0.9f, 0.7f, 0.8f},  {0.7f, 0.7f, 0.7f}};
     for (int k = 0; k < copies; ++k) {
         const int col = k % columns, row = k / columns;
         const glm::vec3 offset((col - (columns - 1) * 0.5f) * spacing,
@@ -187,11 +193,13 @@ Scene makeGridScene(std::vector<Mesh> meshes, int copies) {
 Status validateScene(const Scene& scene) {
     if (scene.instances.empty()) return inputError("scene has nothing to draw (no mesh instances)");
     if (scene.lights.size() > std::size_t(kMaxLights)) {
-        return usageError(fmt::format("scene has {} lights (at most {})", scene.lights.size(), kMaxLights));
+        return usageError(
+            fmt::format("scene has {} lights (at most {})", scene.lights.size(), kMaxLights));
     }
     for (const Instance& inst : scene.instances) {
         if (inst.mesh < 0 || std::size_t(inst.mesh) >= scene.meshes.size()) {
-            return inputError(fmt::format("scene instance refers to mesh {} of {}", inst.mesh, scene.meshes.size()));
+            return inputError(fmt::format("scene instance refers to mesh {} of {}", inst.mesh,
+                                          scene.meshes.size()));
         }
     }
     for (const Mesh& m : scene.meshes) {

@@ -9,7 +9,8 @@ namespace {
 int getInt(GLenum e) {
     GLint v = 0;
     glGetIntegerv(e, &v);
-    while (glGetError() != GL_NO_ERROR) {}  // an enum the driver lacks reads as 0
+    while (glGetError() != GL_NO_ERROR) {
+    }  // an enum the driver lacks reads as 0
     return v;
 }
 std::string getString(GLenum e) {
@@ -54,7 +55,8 @@ GlCaps GlCaps::query() {
     if (c.has("GL_OVR_multiview")) c.maxViewsOvr = getInt(GL_MAX_VIEWS_OVR);
     GLint bits = 0;
     glGetQueryiv(GL_TIME_ELAPSED, GL_QUERY_COUNTER_BITS, &bits);
-    while (glGetError() != GL_NO_ERROR) {}
+    while (glGetError() != GL_NO_ERROR) {
+    }
     c.timerBits = bits;
     return c;
 }

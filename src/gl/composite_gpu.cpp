@@ -181,8 +181,8 @@ Result<Plan> makePlan(const composite::FormatInfo& info, std::span<const Image> 
             plan.mode = kCopy;
             plan.colorMask = true;
         } else {
-            plan.source = "#define FAMILY_ANAGLYPH 1\n" + composite::anaglyphGlsl(*method) + "\n" +
-                          kFragment;
+            plan.source =
+                "#define FAMILY_ANAGLYPH 1\n" + composite::anaglyphGlsl(*method) + "\n" + kFragment;
         }
         return plan;
     }
@@ -245,8 +245,9 @@ Result<Image> draw(detail::CompositeContext& c, const Plan& plan, std::span<cons
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxRenderbuffer);
     glGetIntegerv(GL_MAX_VIEWPORT_DIMS, maxViewport);
     if (w > maxSize || h > maxSize)
-        return unsupportedError(fmt::format(
-            "mvr::gl::composeGpu(): views of {}x{} exceed GL_MAX_TEXTURE_SIZE = {}", w, h, maxSize));
+        return unsupportedError(
+            fmt::format("mvr::gl::composeGpu(): views of {}x{} exceed GL_MAX_TEXTURE_SIZE = {}", w,
+                        h, maxSize));
     if (n > maxLayers)
         return unsupportedError(
             fmt::format("mvr::gl::composeGpu(): {} views exceed GL_MAX_ARRAY_TEXTURE_LAYERS = {}",
@@ -256,9 +257,10 @@ Result<Image> draw(detail::CompositeContext& c, const Plan& plan, std::span<cons
     if (it == c.programs.end()) {
         auto p = detail::buildFullScreenProgram(plan.source);
         if (!p && plan.customMix)
-            return usageError(fmt::format("mvr::gl::composeGpu(): the anaglyph mix GLSL does not "
-                                          "build: {}",
-                                          p.status().message()));
+            return usageError(
+                fmt::format("mvr::gl::composeGpu(): the anaglyph mix GLSL does not "
+                            "build: {}",
+                            p.status().message()));
         if (!p) return p.status();
         it = c.programs.emplace(plan.source, std::move(p).value()).first;
     }
@@ -283,8 +285,7 @@ Result<Image> draw(detail::CompositeContext& c, const Plan& plan, std::span<cons
     glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
     for (int i = 0; i < n; ++i) {
         const Image& v = views[static_cast<std::size_t>(reverse ? n - 1 - i : i)];
-        glTextureSubImage3D(array, 0, 0, 0, i, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
-                            v.rgba.data());
+        glTextureSubImage3D(array, 0, 0, 0, i, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE, v.rgba.data());
     }
     if (Status s = detail::checkGlError("mvr::gl::composeGpu(): uploading the views"); !s) {
         cache = {};
@@ -393,10 +394,10 @@ Result<Image> composeGpu(const std::string& format, std::span<const Image> views
     if (Status s = composite::validateViews(views, info->minViews, info->maxViews, who.c_str()); !s)
         return s;
     if (info->fileOnly || info->name == "jps")
-        return unsupportedError(fmt::format(
-            "{}: a JPEG file, composed on the CPU only (mvr::composite::compose() / "
-            "writeComposite())",
-            who));
+        return unsupportedError(
+            fmt::format("{}: a JPEG file, composed on the CPU only (mvr::composite::compose() / "
+                        "writeComposite())",
+                        who));
     Result<Plan> plan = makePlan(*info, views, options, gpu, who);
     if (!plan) return plan.status();
 

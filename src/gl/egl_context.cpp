@@ -11,37 +11,37 @@ namespace mvr::gl::detail {
 
 std::string eglErrorName(EGLint code) {
     switch (code) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CURRENT_SURFACE: return "EGL_BAD_CURRENT_SURFACE";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_SURFACE: return "EGL_BAD_SURFACE";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    case EGL_BAD_NATIVE_PIXMAP: return "EGL_BAD_NATIVE_PIXMAP";
-    case EGL_BAD_NATIVE_WINDOW: return "EGL_BAD_NATIVE_WINDOW";
-    case EGL_CONTEXT_LOST: return "EGL_CONTEXT_LOST";
-    default: return fmt::format("EGL error 0x{:04X}", static_cast<unsigned>(code));
+        case EGL_SUCCESS: return "EGL_SUCCESS";
+        case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
+        case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
+        case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
+        case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
+        case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
+        case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
+        case EGL_BAD_CURRENT_SURFACE: return "EGL_BAD_CURRENT_SURFACE";
+        case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
+        case EGL_BAD_SURFACE: return "EGL_BAD_SURFACE";
+        case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
+        case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
+        case EGL_BAD_NATIVE_PIXMAP: return "EGL_BAD_NATIVE_PIXMAP";
+        case EGL_BAD_NATIVE_WINDOW: return "EGL_BAD_NATIVE_WINDOW";
+        case EGL_CONTEXT_LOST: return "EGL_CONTEXT_LOST";
+        default: return fmt::format("EGL error 0x{:04X}", static_cast<unsigned>(code));
     }
 }
 
 std::string glErrorName(GLenum code) {
     switch (code) {
-    case GL_NO_ERROR: return "GL_NO_ERROR";
-    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-    case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
-    case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
-    case GL_CONTEXT_LOST: return "GL_CONTEXT_LOST";
-    default: return fmt::format("GL error 0x{:04X}", code);
+        case GL_NO_ERROR: return "GL_NO_ERROR";
+        case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+        case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+        case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+        case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+        case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+        case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
+        case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
+        case GL_CONTEXT_LOST: return "GL_CONTEXT_LOST";
+        default: return fmt::format("GL error 0x{:04X}", code);
     }
 }
 
@@ -111,15 +111,16 @@ Result<std::unique_ptr<EglContext>> EglContext::create() {
                 // A software device is llvmpipe again: leave it to the surfaceless platform
                 // unless the device platform was forced.
                 if (force.empty() && hasExtension(devExt, "EGL_MESA_device_software")) continue;
-                EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+                EGLDisplay d =
+                    eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
                 if (d != EGL_NO_DISPLAY) candidates.push_back({d, fmt::format("device {}", i)});
             }
         }
     }
     if ((force.empty() || force == "surfaceless") && platformBase &&
         hasExtension(clientExt, "EGL_MESA_platform_surfaceless")) {
-        EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY,
-                                                nullptr);
+        EGLDisplay d =
+            eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
         if (d != EGL_NO_DISPLAY) candidates.push_back({d, "surfaceless"});
     }
     if (force == "default" || (force.empty() && candidates.empty())) {
@@ -127,17 +128,17 @@ Result<std::unique_ptr<EglContext>> EglContext::create() {
         if (d != EGL_NO_DISPLAY) candidates.push_back({d, "default"});
     }
     if (candidates.empty()) {
-        return unsupportedError(fmt::format(
-            "no EGL display: {} (client extensions: {})", eglErrorName(eglGetError()),
-            clientExt && *clientExt ? clientExt : "none"));
+        return unsupportedError(fmt::format("no EGL display: {} (client extensions: {})",
+                                            eglErrorName(eglGetError()),
+                                            clientExt && *clientExt ? clientExt : "none"));
     }
 
     std::string failures;
     for (const Candidate& c : candidates) {
         EGLint major = 0, minor = 0;
         if (!eglInitialize(c.display, &major, &minor)) {
-            failures += fmt::format("; {}: eglInitialize: {}", c.platform,
-                                    eglErrorName(eglGetError()));
+            failures +=
+                fmt::format("; {}: eglInitialize: {}", c.platform, eglErrorName(eglGetError()));
             continue;
         }
         const char* dpyExt = eglQueryString(c.display, EGL_EXTENSIONS);
@@ -150,8 +151,7 @@ Result<std::unique_ptr<EglContext>> EglContext::create() {
         const EGLint configAttribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
                                         EGL_OPENGL_BIT, EGL_NONE};
         EGLint numConfigs = 0;
-        if (!eglChooseConfig(c.display, configAttribs, &config, 1, &numConfigs) ||
-            numConfigs < 1) {
+        if (!eglChooseConfig(c.display, configAttribs, &config, 1, &numConfigs) || numConfigs < 1) {
             if (!hasExtension(dpyExt, "EGL_KHR_no_config_context")) {
                 failures += fmt::format("; {}: no OpenGL config: {}", c.platform,
                                         eglErrorName(eglGetError()));
@@ -159,15 +159,17 @@ Result<std::unique_ptr<EglContext>> EglContext::create() {
             }
             config = nullptr;  // EGL_NO_CONFIG_KHR
         }
-        const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4,
-                                         EGL_CONTEXT_MINOR_VERSION, 5,
+        const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                         4,
+                                         EGL_CONTEXT_MINOR_VERSION,
+                                         5,
                                          EGL_CONTEXT_OPENGL_PROFILE_MASK,
                                          EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                                          EGL_NONE};
         EGLContext ctx = eglCreateContext(c.display, config, EGL_NO_CONTEXT, contextAttribs);
         if (ctx == EGL_NO_CONTEXT) {
-            failures += fmt::format("; {}: OpenGL 4.5 core context not available: {}",
-                                    c.platform, eglErrorName(eglGetError()));
+            failures += fmt::format("; {}: OpenGL 4.5 core context not available: {}", c.platform,
+                                    eglErrorName(eglGetError()));
             continue;
         }
         if (!hasExtension(dpyExt, "EGL_KHR_surfaceless_context") ||

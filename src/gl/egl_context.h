@@ -34,7 +34,9 @@ public:
     /// Makes this context current on the calling thread (no-op when it already is).
     Status makeCurrent() const;
     /// True when this context is current on the calling thread.
-    bool isCurrent() const { return mContext != EGL_NO_CONTEXT && eglGetCurrentContext() == mContext; }
+    bool isCurrent() const {
+        return mContext != EGL_NO_CONTEXT && eglGetCurrentContext() == mContext;
+    }
 
     const std::string& platform() const { return mPlatform; }  ///< "device (…)" / "surfaceless"
     const std::string& eglVersion() const { return mEglVersion; }

@@ -11,11 +11,8 @@ public:
     std::string name() const override { return "gl"; }
     std::vector<std::string> methods() const override { return detail::methodNames(); }
     std::string defaultMethod() const override { return detail::defaultMethod().name; }
-    Status supports(const std::string& method) const override {
-        return mRenderer.supports(method);
-    }
-    Result<RenderOutput> render(const Scene& scene, const Rig& rig,
-                                const RenderSettings& settings,
+    Status supports(const std::string& method) const override { return mRenderer.supports(method); }
+    Result<RenderOutput> render(const Scene& scene, const Rig& rig, const RenderSettings& settings,
                                 const std::string& method) override {
         return mRenderer.render(scene, rig, settings, method);
     }

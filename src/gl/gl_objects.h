@@ -53,16 +53,30 @@ using Program = GlHandle<deleteProgram>;
 using Shader = GlHandle<deleteShader>;
 using Query = GlHandle<deleteQuery>;
 
-inline Buffer createBuffer() { GLuint n = 0; glCreateBuffers(1, &n); return Buffer(n); }
+inline Buffer createBuffer() {
+    GLuint n = 0;
+    glCreateBuffers(1, &n);
+    return Buffer(n);
+}
 inline VertexArray createVertexArray() {
-    GLuint n = 0; glCreateVertexArrays(1, &n); return VertexArray(n);
+    GLuint n = 0;
+    glCreateVertexArrays(1, &n);
+    return VertexArray(n);
 }
 inline Texture createTexture(GLenum target) {
-    GLuint n = 0; glCreateTextures(target, 1, &n); return Texture(n);
+    GLuint n = 0;
+    glCreateTextures(target, 1, &n);
+    return Texture(n);
 }
 inline Framebuffer createFramebuffer() {
-    GLuint n = 0; glCreateFramebuffers(1, &n); return Framebuffer(n);
+    GLuint n = 0;
+    glCreateFramebuffers(1, &n);
+    return Framebuffer(n);
 }
-inline Query createQuery(GLenum target) { GLuint n = 0; glCreateQueries(target, 1, &n); return Query(n); }
+inline Query createQuery(GLenum target) {
+    GLuint n = 0;
+    glCreateQueries(target, 1, &n);
+    return Query(n);
+}
 
 }  // namespace mvr::gl::detail

@@ -23,9 +23,9 @@ int gsComponentsPerVertex(Shading s) {
 
 const char* shadingDefine(Shading s) {
     switch (s) {
-    case Shading::Flat: return "SHADING_FLAT";
-    case Shading::Vertex: return "SHADING_VERTEX";
-    case Shading::Pixel: return "SHADING_PIXEL";
+        case Shading::Flat: return "SHADING_FLAT";
+        case Shading::Vertex: return "SHADING_VERTEX";
+        case Shading::Pixel: return "SHADING_PIXEL";
     }
     return "SHADING_VERTEX";
 }
@@ -98,9 +98,8 @@ const std::vector<GlMethod>& glMethods() {
             // The reference: one full pass of the scene per view, each into its own layer.
             .name = "multipass",
             .target = TargetKind::Layered,
-            .limits = [](const GlCaps& c, Shading, int, int) {
-                return std::vector<ViewLimitTerm>{layers(c)};
-            },
+            .limits = [](const GlCaps& c, Shading, int,
+                         int) { return std::vector<ViewLimitTerm>{layers(c)}; },
             .defines = [](ProgramDesc& d, const GlCaps&, int) { addDefine(d, "VS_DIRECT"); },
             .flatProvoking = true,
             .draw = &Renderer::drawMultipass,
@@ -131,19 +130,21 @@ const std::vector<GlMethod>& glMethods() {
             .missing = needsDrawBuffers,
             .fixedViews = 2,
             .fixedViewsWhy = kSorbierPair,
-            .defines = [](ProgramDesc& d, const GlCaps&, int n) {
-                gsLoop(d, n, "GS_OUT_FLAG");
-                addDefine(d, "DEPTHMAP");
-            },
+            .defines =
+                [](ProgramDesc& d, const GlCaps&, int n) {
+                    gsLoop(d, n, "GS_OUT_FLAG");
+                    addDefine(d, "DEPTHMAP");
+                },
             .draw = &Renderer::drawGsDepthMap,
         },
         {
             // GS loop over the views → gl_Layer.
             .name = "gs-layered",
             .target = TargetKind::Layered,
-            .limits = [](const GlCaps& c, Shading s, int, int) {
-                return std::vector<ViewLimitTerm>{layers(c), gsLoopOutput(c, s)};
-            },
+            .limits =
+                [](const GlCaps& c, Shading s, int, int) {
+                    return std::vector<ViewLimitTerm>{layers(c), gsLoopOutput(c, s)};
+                },
             .defines = [](ProgramDesc& d, const GlCaps&, int n) { gsLoop(d, n, "GS_OUT_LAYER"); },
             .draw = &Renderer::drawLayeredGs,
         },
@@ -151,15 +152,17 @@ const std::vector<GlMethod>& glMethods() {
             // layout(invocations = N): one GS invocation per view → gl_Layer.
             .name = "gs-invocations",
             .target = TargetKind::Layered,
-            .limits = [](const GlCaps& c, Shading s, int, int) {
-                return std::vector<ViewLimitTerm>{layers(c), gsInvocations(c, s)};
-            },
-            .defines = [](ProgramDesc& d, const GlCaps&, int n) {
-                addDefine(d, "VS_TO_GS");
-                addDefine(d, "GS_INVOCATIONS", n);
-                addDefine(d, "GS_OUT_LAYER");
-                d.geometry = true;
-            },
+            .limits =
+                [](const GlCaps& c, Shading s, int, int) {
+                    return std::vector<ViewLimitTerm>{layers(c), gsInvocations(c, s)};
+                },
+            .defines =
+                [](ProgramDesc& d, const GlCaps&, int n) {
+                    addDefine(d, "VS_TO_GS");
+                    addDefine(d, "GS_INVOCATIONS", n);
+                    addDefine(d, "GS_OUT_LAYER");
+                    d.geometry = true;
+                },
             .draw = &Renderer::drawLayeredGs,
         },
         {
@@ -168,17 +171,20 @@ const std::vector<GlMethod>& glMethods() {
             .target = TargetKind::Layered,
             .missing = [](const GlCaps& c) -> std::string {
                 if (c.vertexLayer()) return {};
-                return fmt::format("needs GL_ARB_shader_viewport_layer_array or "
-                                   "GL_AMD_vertex_shader_layer (gl_Layer from the vertex "
-                                   "shader); {} has neither", driverName(c));
+                return fmt::format(
+                    "needs GL_ARB_shader_viewport_layer_array or "
+                    "GL_AMD_vertex_shader_layer (gl_Layer from the vertex "
+                    "shader); {} has neither",
+                    driverName(c));
             },
-            .limits = [](const GlCaps& c, Shading, int, int) {
-                return std::vector<ViewLimitTerm>{layers(c)};
-            },
-            .defines = [](ProgramDesc& d, const GlCaps& c, int) {
-                addDefine(d, "VS_INSTANCED_LAYER");
-                d.vsExtensions = fmt::format("#extension {} : require\n", c.vertexLayerExtension());
-            },
+            .limits = [](const GlCaps& c, Shading, int,
+                         int) { return std::vector<ViewLimitTerm>{layers(c)}; },
+            .defines =
+                [](ProgramDesc& d, const GlCaps& c, int) {
+                    addDefine(d, "VS_INSTANCED_LAYER");
+                    d.vsExtensions =
+                        fmt::format("#extension {} : require\n", c.vertexLayerExtension());
+                },
             .flatProvoking = true,
             .draw = &Renderer::drawInstancedLayer,
         },
@@ -190,13 +196,13 @@ const std::vector<GlMethod>& glMethods() {
                 if (c.maxViewports >= 2) return {};
                 return fmt::format("GL_MAX_VIEWPORTS = {}", c.maxViewports);
             },
-            .limits = [](const GlCaps& c, Shading s, int w, int h) {
-                return std::vector<ViewLimitTerm>{viewports(c), gsLoopOutput(c, s),
-                                                  tiles(c, w, h)};
-            },
-            .defines = [](ProgramDesc& d, const GlCaps&, int n) {
-                gsLoop(d, n, "GS_OUT_VIEWPORT");
-            },
+            .limits =
+                [](const GlCaps& c, Shading s, int w, int h) {
+                    return std::vector<ViewLimitTerm>{viewports(c), gsLoopOutput(c, s),
+                                                      tiles(c, w, h)};
+                },
+            .defines = [](ProgramDesc& d, const GlCaps&,
+                          int n) { gsLoop(d, n, "GS_OUT_VIEWPORT"); },
             .draw = &Renderer::drawViewportArray,
         },
         {
@@ -207,14 +213,16 @@ const std::vector<GlMethod>& glMethods() {
                 if (c.has("GL_OVR_multiview")) return {};
                 return fmt::format("GL_OVR_multiview is not supported by {}", driverName(c));
             },
-            .limits = [](const GlCaps& c, Shading, int, int) {
-                return std::vector<ViewLimitTerm>{layers(c), viewsOvr(c)};
-            },
-            .defines = [](ProgramDesc& d, const GlCaps&, int n) {
-                addDefine(d, "VS_MULTIVIEW");
-                addDefine(d, "NUM_VIEWS", n);
-                d.vsExtensions = "#extension GL_OVR_multiview : require\n";
-            },
+            .limits =
+                [](const GlCaps& c, Shading, int, int) {
+                    return std::vector<ViewLimitTerm>{layers(c), viewsOvr(c)};
+                },
+            .defines =
+                [](ProgramDesc& d, const GlCaps&, int n) {
+                    addDefine(d, "VS_MULTIVIEW");
+                    addDefine(d, "NUM_VIEWS", n);
+                    d.vsExtensions = "#extension GL_OVR_multiview : require\n";
+                },
             .flatProvoking = true,
             .draw = &Renderer::drawMultiview,
         },
@@ -228,9 +236,8 @@ const std::vector<GlMethod>& glMethods() {
                 return fmt::format("needs 4 clip distances, GL_MAX_CLIP_DISTANCES = {}",
                                    c.maxClipDistances);
             },
-            .limits = [](const GlCaps& c, Shading, int w, int h) {
-                return std::vector<ViewLimitTerm>{tiles(c, w, h)};
-            },
+            .limits = [](const GlCaps& c, Shading, int w,
+                         int h) { return std::vector<ViewLimitTerm>{tiles(c, w, h)}; },
             .defines = [](ProgramDesc& d, const GlCaps&, int) { addDefine(d, "VS_KALAIAH"); },
             .prepare = &Renderer::prepareKalaiah,
             .draw = &Renderer::drawKalaiah,
@@ -283,8 +290,7 @@ int viewLimit(const GlMethod& m, const GlCaps& caps, Shading shading, int width,
     return std::max(limit, 0);
 }
 
-Status checkMethodViews(const GlMethod& m, const GlCaps& caps, int views,
-                        const RenderSettings& s) {
+Status checkMethodViews(const GlMethod& m, const GlCaps& caps, int views, const RenderSettings& s) {
     if (m.fixedViews > 0 && views != m.fixedViews) {
         return usageError(fmt::format("gl: {} renders exactly {} views ({}); the rig has {}",
                                       m.name, m.fixedViews, m.fixedViewsWhy, views));
@@ -300,8 +306,8 @@ Status checkMethodViews(const GlMethod& m, const GlCaps& caps, int views,
             }
         }
     }
-    return unsupportedError(fmt::format("gl: {}: {} views exceed its limit of {} here ({})",
-                                        m.name, views, limit, why));
+    return unsupportedError(fmt::format("gl: {}: {} views exceed its limit of {} here ({})", m.name,
+                                        views, limit, why));
 }
 
 ProgramDesc methodProgram(const GlMethod& m, const GlCaps& caps, Shading shading, int views) {

@@ -77,8 +77,7 @@ Status driverSupport(const GlMethod& m, const GlCaps& caps);
 int viewLimit(const GlMethod& m, const GlCaps& caps, Shading shading, int width, int height);
 /// `views` against the method's own limits: Usage for a fixed-count method given another
 /// count, Unsupported naming the first limit exceeded.
-Status checkMethodViews(const GlMethod& m, const GlCaps& caps, int views,
-                        const RenderSettings& s);
+Status checkMethodViews(const GlMethod& m, const GlCaps& caps, int views, const RenderSettings& s);
 
 /// The program of `m` for this shading and view count (shading define, the row's defines,
 /// FLAT_PROVOKING where the row draws the provoking-vertex arrays).

@@ -68,8 +68,8 @@ Status Renderer::drawMultiview(const Frame& f, GLuint prog) {
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
     glFramebufferTextureMultiviewOVR(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
                                      mLayered.color.get(), 0, 0, f.views);
-    glFramebufferTextureMultiviewOVR(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
-                                     mLayered.depth.get(), 0, 0, f.views);
+    glFramebufferTextureMultiviewOVR(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, mLayered.depth.get(),
+                                     0, 0, f.views);
     if (Status s = checkFramebuffer(fbo, "multiview target"); !s) return s;
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     drawScene(f, prog, 1);
@@ -89,9 +89,8 @@ Status Renderer::drawViewportArray(const Frame& f, GLuint prog) {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     for (int v = 0; v < f.views; ++v) {
         const glm::ivec2 o = t.origin(v);
-        glViewportIndexedf(static_cast<GLuint>(v), static_cast<float>(o.x),
-                           static_cast<float>(o.y), static_cast<float>(t.width),
-                           static_cast<float>(t.height));
+        glViewportIndexedf(static_cast<GLuint>(v), static_cast<float>(o.x), static_cast<float>(o.y),
+                           static_cast<float>(t.width), static_cast<float>(t.height));
         glScissorIndexed(static_cast<GLuint>(v), o.x, o.y, t.width, t.height);
     }
     glEnable(GL_SCISSOR_TEST);
@@ -151,9 +150,9 @@ Status Renderer::drawSorbier(const Frame& f, GLuint prog, bool depthMap) {
         const glm::vec3 c = f.meshes[static_cast<std::size_t>(inst.mesh)]->bounds.center();
         dist[i] = glm::length(glm::vec3(inst.worldFromModel * glm::vec4(c, 1.0f)) - eye);
     }
-    std::stable_sort(sorted.order.begin(), sorted.order.end(),
-                     [&](int a, int b) { return dist[static_cast<std::size_t>(a)] >
-                                                dist[static_cast<std::size_t>(b)]; });
+    std::stable_sort(sorted.order.begin(), sorted.order.end(), [&](int a, int b) {
+        return dist[static_cast<std::size_t>(a)] > dist[static_cast<std::size_t>(b)];
+    });
     if (depthMap) {
         Result<GLuint> pre = program(depthPrepassName(), depthPrepassProgram());
         if (!pre) return pre.status();

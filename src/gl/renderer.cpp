@@ -57,25 +57,45 @@ Renderer::~Renderer() {
         // Without the context current, GL objects must not be deleted through GL calls:
         // hand the names over (the context, if any, frees them with itself).
         for (auto& [k, m] : mMeshes) {
-            m.positions.release(); m.normals.release(); m.indices.release();
-            m.vao.release(); m.flatPositions.release(); m.flatNormals.release();
-            m.flatIndices.release(); m.flatVao.release();
-            m.kalaiahTriangles.release(); m.kalaiahVao.release(); m.kalaiahDummy.release();
+            m.positions.release();
+            m.normals.release();
+            m.indices.release();
+            m.vao.release();
+            m.flatPositions.release();
+            m.flatNormals.release();
+            m.flatIndices.release();
+            m.flatVao.release();
+            m.kalaiahTriangles.release();
+            m.kalaiahVao.release();
+            m.kalaiahDummy.release();
         }
         for (auto& [k, p] : mPrograms) p.release();
-        mFrameUbo.release(); mTimer.release(); mEmptyVao.release();
-        mLayered.color.release(); mLayered.depth.release(); mLayered.fbo.release();
+        mFrameUbo.release();
+        mTimer.release();
+        mEmptyVao.release();
+        mLayered.color.release();
+        mLayered.depth.release();
+        mLayered.fbo.release();
         for (auto& t : mMrt.color) t.release();
-        mMrt.depthMap.release(); mMrt.fbo.release(); mMrt.depthFbo.release();
-        mTiled.color.release(); mTiled.depth.release(); mTiled.fbo.release();
+        mMrt.depthMap.release();
+        mMrt.fbo.release();
+        mMrt.depthFbo.release();
+        mTiled.color.release();
+        mTiled.depth.release();
+        mTiled.fbo.release();
         return;
     }
     mMeshes.clear();
     mPrograms.clear();
-    mFrameUbo.reset(); mTimer.reset(); mEmptyVao.reset();
-    mLayered = {}; mTiled = {};
+    mFrameUbo.reset();
+    mTimer.reset();
+    mEmptyVao.reset();
+    mLayered = {};
+    mTiled = {};
     for (auto& t : mMrt.color) t.reset();
-    mMrt.depthMap.reset(); mMrt.fbo.reset(); mMrt.depthFbo.reset();
+    mMrt.depthMap.reset();
+    mMrt.fbo.reset();
+    mMrt.depthFbo.reset();
 }
 
 Status Renderer::ensureContext() {
@@ -97,9 +117,9 @@ Status Renderer::ensureContext() {
     mContextStatus = checkGlError("creating the backend's objects");
     if (!*mContextStatus) return *mContextStatus;
     if (mCaps.maxUniformBlockSize < static_cast<int>(sizeof(FrameBlock))) {
-        mContextStatus = unsupportedError(fmt::format(
-            "mvr::gl: GL_MAX_UNIFORM_BLOCK_SIZE = {} is below the {} bytes mvr needs",
-            mCaps.maxUniformBlockSize, sizeof(FrameBlock)));
+        mContextStatus = unsupportedError(
+            fmt::format("mvr::gl: GL_MAX_UNIFORM_BLOCK_SIZE = {} is below the {} bytes mvr needs",
+                        mCaps.maxUniformBlockSize, sizeof(FrameBlock)));
     }
     return *mContextStatus;
 }
@@ -121,9 +141,11 @@ std::vector<std::string> Renderer::info() {
         }
         const int lf = viewLimit(m, Shading::Flat, 1024, 768);
         const int lp = viewLimit(m, Shading::Pixel, 1024, 768);
-        lines.push_back(lf == lp ? fmt::format("method {}: supported, up to {} views", m.name, lf)
-                                 : fmt::format("method {}: supported, up to {} views (flat/vertex), "
-                                               "{} (pixel) at 1024x768", m.name, lf, lp));
+        lines.push_back(lf == lp
+                            ? fmt::format("method {}: supported, up to {} views", m.name, lf)
+                            : fmt::format("method {}: supported, up to {} views (flat/vertex), "
+                                          "{} (pixel) at 1024x768",
+                                          m.name, lf, lp));
     }
     return lines;
 }
@@ -159,9 +181,10 @@ Result<TileLayout> Renderer::tileLayout(const Rig& rig, int width, int height) c
         t.rows = (n + t.columns - 1) / t.columns;
     }
     if (t.columns * width > maxW || t.rows * height > maxH) {
-        return unsupportedError(fmt::format(
-            "{} views of {}x{} do not fit in one target of at most {}x{} "
-            "(GL_MAX_TEXTURE_SIZE / GL_MAX_VIEWPORT_DIMS)", n, width, height, maxW, maxH));
+        return unsupportedError(
+            fmt::format("{} views of {}x{} do not fit in one target of at most {}x{} "
+                        "(GL_MAX_TEXTURE_SIZE / GL_MAX_VIEWPORT_DIMS)",
+                        n, width, height, maxW, maxH));
     }
     return t;
 }
@@ -246,9 +269,12 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
             g.flatPositions = createBuffer();
             g.flatNormals = createBuffer();
             g.flatIndices = createBuffer();
-            glNamedBufferStorage(g.flatPositions.get(), pos.size() * sizeof(glm::vec3), pos.data(), 0);
-            glNamedBufferStorage(g.flatNormals.get(), face.size() * sizeof(glm::vec3), face.data(), 0);
-            glNamedBufferStorage(g.flatIndices.get(), idx.size() * sizeof(std::uint32_t), idx.data(), 0);
+            glNamedBufferStorage(g.flatPositions.get(), pos.size() * sizeof(glm::vec3), pos.data(),
+                                 0);
+            glNamedBufferStorage(g.flatNormals.get(), face.size() * sizeof(glm::vec3), face.data(),
+                                 0);
+            glNamedBufferStorage(g.flatIndices.get(), idx.size() * sizeof(std::uint32_t),
+                                 idx.data(), 0);
             g.flatVao = createVertexArray();
             bindVertexArray(g.flatVao.get(), g.flatPositions.get(), g.flatNormals.get(),
                             g.flatIndices.get());
@@ -275,8 +301,8 @@ Status Renderer::ensureKalaiahBuffers(GpuMesh& g, const Mesh& src, int views) {
             }
         }
         g.kalaiahTriangles = createBuffer();
-        glNamedBufferStorage(g.kalaiahTriangles.get(), data.size() * sizeof(glm::vec3),
-                             data.data(), 0);
+        glNamedBufferStorage(g.kalaiahTriangles.get(), data.size() * sizeof(glm::vec3), data.data(),
+                             0);
         g.kalaiahVao = createVertexArray();
         const GLuint vao = g.kalaiahVao.get();
         glVertexArrayVertexBuffer(vao, 1, g.kalaiahTriangles.get(), 0, 6 * sizeof(glm::vec3));
@@ -297,8 +323,8 @@ Status Renderer::ensureKalaiahBuffers(GpuMesh& g, const Mesh& src, int views) {
         for (int j = 0; j < views; ++j)
             for (int i = 0; i < 3; ++i) dummy.emplace_back(i, j);
         g.kalaiahDummy = createBuffer();
-        glNamedBufferStorage(g.kalaiahDummy.get(), dummy.size() * sizeof(glm::ivec2),
-                             dummy.data(), 0);
+        glNamedBufferStorage(g.kalaiahDummy.get(), dummy.size() * sizeof(glm::ivec2), dummy.data(),
+                             0);
         glVertexArrayVertexBuffer(g.kalaiahVao.get(), 0, g.kalaiahDummy.get(), 0,
                                   sizeof(glm::ivec2));
         g.kalaiahViews = views;
@@ -539,8 +565,7 @@ Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
     for (std::size_t i = 0; i < f.order.size(); ++i) f.order[i] = static_cast<int>(i);
 
     f.flatProvoking = s.shading == Shading::Flat && method.flatProvoking;
-    Result<GLuint> prog =
-        program(method.name, methodProgram(method, mCaps, s.shading, f.views));
+    Result<GLuint> prog = program(method.name, methodProgram(method, mCaps, s.shading, f.views));
     if (!prog) return prog.status();
 
     if (method.target == TargetKind::Tiled) {
@@ -573,9 +598,9 @@ Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
     out.method = method.name;
     if (method.artifact) out.note = method.artifact;
     switch (method.target) {
-    case TargetKind::Mrt: readMrt(out, f); break;
-    case TargetKind::Tiled: readTiled(out, f); break;
-    case TargetKind::Layered: readLayered(out, f, true); break;
+        case TargetKind::Mrt: readMrt(out, f); break;
+        case TargetKind::Tiled: readTiled(out, f); break;
+        case TargetKind::Layered: readLayered(out, f, true); break;
     }
     if (Status st = checkGlError("reading back"); !st) return st;
     const double readMs = msSince(tRead);
@@ -603,9 +628,9 @@ Result<RenderOutput> Renderer::renderAuto(const Scene& scene, const Rig& rig,
     Frame probe;
     std::uint64_t sceneKey = 0;
     if (Status st = prepareScene(scene, probe, sceneKey); !st) return st;
-    const std::string key = fmt::format("{:x}/{}x{}/{}/{}/{}{}", sceneKey, s.width, s.height,
-                                        rig.viewCount(), shadingName(s.shading),
-                                        s.cullBackFaces, s.wireframe);
+    const std::string key =
+        fmt::format("{:x}/{}x{}/{}/{}/{}{}", sceneKey, s.width, s.height, rig.viewCount(),
+                    shadingName(s.shading), s.cullBackFaces, s.wireframe);
     if (auto it = mAutoChoices.find(key); it != mAutoChoices.end()) {
         auto r = renderOnce(scene, rig, s, *it->second.method);
         if (!r) return r;
@@ -618,7 +643,10 @@ Result<RenderOutput> Renderer::renderAuto(const Scene& scene, const Rig& rig,
     for (const GlMethod& m : glMethods()) {
         if (!m.exact()) continue;
         const std::string name = m.name;
-        if (Status st = supportsMethod(m); !st) { skipped.push_back(name + " (unsupported)"); continue; }
+        if (Status st = supportsMethod(m); !st) {
+            skipped.push_back(name + " (unsupported)");
+            continue;
+        }
         if (Status st = checkViews(m, rig.viewCount(), s); !st) {
             skipped.push_back(name + " (view limit)");
             continue;
@@ -628,14 +656,19 @@ Result<RenderOutput> Renderer::renderAuto(const Scene& scene, const Rig& rig,
         bool failed = false;
         for (int run = 0; run < 3 && !failed; ++run) {
             auto r = renderOnce(scene, rig, s, m);
-            if (!r) { skipped.push_back(name + " (" + r.status().message() + ")"); failed = true; break; }
+            if (!r) {
+                skipped.push_back(name + " (" + r.status().message() + ")");
+                failed = true;
+                break;
+            }
             if (run > 0) ms = std::min(ms, mLastStats->totalWallMs);
         }
         if (failed) continue;
         times.emplace_back(ms, &m);
     }
-    if (times.empty()) return unsupportedError("gl: auto: no method can render this here: " +
-                                       fmt::format("{}", fmt::join(skipped, ", ")));
+    if (times.empty())
+        return unsupportedError("gl: auto: no method can render this here: " +
+                                fmt::format("{}", fmt::join(skipped, ", ")));
     // Fastest first; equal times by name.
     std::sort(times.begin(), times.end(), [](const auto& a, const auto& b) {
         return a.first != b.first ? a.first < b.first
@@ -646,11 +679,12 @@ Result<RenderOutput> Renderer::renderAuto(const Scene& scene, const Rig& rig,
     AutoChoice c;
     c.method = times.front().second;
     const std::string excluded = autoExclusions();
-    c.note = fmt::format("auto picked {}: fastest of the exact (per-view depth) methods measured "
-                         "on {} for {} views at {}x{} ({}){}{}",
-                         c.method->name, mCaps.renderer, rig.viewCount(), s.width, s.height,
-                         fmt::join(parts, ", "), excluded.empty() ? "" : "; " + excluded,
-                         skipped.empty() ? "" : fmt::format("; skipped: {}", fmt::join(skipped, ", ")));
+    c.note = fmt::format(
+        "auto picked {}: fastest of the exact (per-view depth) methods measured "
+        "on {} for {} views at {}x{} ({}){}{}",
+        c.method->name, mCaps.renderer, rig.viewCount(), s.width, s.height, fmt::join(parts, ", "),
+        excluded.empty() ? "" : "; " + excluded,
+        skipped.empty() ? "" : fmt::format("; skipped: {}", fmt::join(skipped, ", ")));
     mAutoChoices[key] = c;
     auto r = renderOnce(scene, rig, s, *c.method);  // the returned images and stats are its
     if (!r) return r;

@@ -87,9 +87,9 @@ struct Frame {
     const Rig* rig = nullptr;
     const RenderSettings* settings = nullptr;
     int views = 0;
-    std::vector<GpuMesh*> meshes;  ///< per scene mesh
-    std::vector<int> order;        ///< instance draw order
-    bool flatProvoking = false;    ///< draw the provoking-vertex flat arrays
+    std::vector<GpuMesh*> meshes;     ///< per scene mesh
+    std::vector<int> order;           ///< instance draw order
+    bool flatProvoking = false;       ///< draw the provoking-vertex flat arrays
     std::optional<TileLayout> tiles;  ///< where the views lie in a TargetKind::Tiled target
 };
 

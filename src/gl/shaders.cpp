@@ -294,10 +294,10 @@ void main() {
 
 const char* stageName(GLenum stage) {
     switch (stage) {
-    case GL_VERTEX_SHADER: return "vertex";
-    case GL_GEOMETRY_SHADER: return "geometry";
-    case GL_FRAGMENT_SHADER: return "fragment";
-    default: return "?";
+        case GL_VERTEX_SHADER: return "vertex";
+        case GL_GEOMETRY_SHADER: return "geometry";
+        case GL_FRAGMENT_SHADER: return "fragment";
+        default: return "?";
     }
 }
 
@@ -344,8 +344,8 @@ void addDefine(ProgramDesc& d, const std::string& name, int value) {
 
 Result<Program> buildProgram(const ProgramDesc& desc) {
     const std::string head = "#version 450 core\n";
-    auto vs = compile(GL_VERTEX_SHADER,
-                      head + desc.vsExtensions + desc.defines + common() + kVertex);
+    auto vs =
+        compile(GL_VERTEX_SHADER, head + desc.vsExtensions + desc.defines + common() + kVertex);
     if (!vs) return vs.status();
     auto fs = compile(GL_FRAGMENT_SHADER, head + desc.defines + common() + kFragment);
     if (!fs) return fs.status();

@@ -7,8 +7,9 @@ namespace mvr::raster::detail {
 SimdPath bestSupportedSimd() {
 #if defined(__x86_64__) || defined(__i386__)
     __builtin_cpu_init();
-    if (avx512Kernels() && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-        __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq")) {
+    if (avx512Kernels() && __builtin_cpu_supports("avx512f") &&
+        __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl") &&
+        __builtin_cpu_supports("avx512dq")) {
         return SimdPath::Avx512;
     }
     if (avx2Kernels() && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {

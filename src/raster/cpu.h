@@ -32,22 +32,24 @@ using ProjectXFn = void (*)(const float* x, const float* w, const float* q, std:
 /// x setup of one triangle for n views (snapped window x of its vertices per view, the shared
 /// y setup with a non-empty row range): fills `out` for views 0..n-1 (see ViewsSetup) and returns
 /// the views whose mask is not 0 (bit k: view k), so that the caller visits only those.
-using SetupViewsFn = std::uint64_t (*)(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
-                              const std::int32_t* x2, int n, int width, ViewsSetup& out);
+using SetupViewsFn = std::uint64_t (*)(const YSetup& ys, const std::int32_t* x0,
+                                       const std::int32_t* x1, const std::int32_t* x2, int n,
+                                       int width, ViewsSetup& out);
 
 /// Vertex lighting (Shading::Vertex) of n vertices: world position transformPoint(worldFromModel,
 /// p), normal transformDir(normalFromModel, normal), color shadeBlinnPhong(ctx, material, normal,
 /// world) — 3 floats per vertex into `color`. SIMD paths: the same float operations in the same
 /// order as lighting.h (glm's scalar code, specularPow vectorized), so bit for bit the scalar
 /// result.
-using ShadeVerticesFn = void (*)(const glm::vec3* positions, const glm::vec3* normals, std::size_t n,
-                                 const glm::mat4& worldFromModel, const glm::mat3& normalFromModel,
-                                 const ShadingContext& ctx, const Material& material, float* color);
+using ShadeVerticesFn = void (*)(const glm::vec3* positions, const glm::vec3* normals,
+                                 std::size_t n, const glm::mat4& worldFromModel,
+                                 const glm::mat3& normalFromModel, const ShadingContext& ctx,
+                                 const Material& material, float* color);
 
 /// transformPoint(m, positions[i]) for n vertices, stored split: x[i], y[i], z[i], w[i] (e.g. the
 /// center clip positions of the vertex stage). Bit for bit pipeline.h's transformPoint.
-using TransformPointsFn = void (*)(const glm::vec3* positions, std::size_t n, const glm::mat4& m, float* x,
-                                   float* y, float* z, float* w);
+using TransformPointsFn = void (*)(const glm::vec3* positions, std::size_t n, const glm::mat4& m,
+                                   float* x, float* y, float* z, float* w);
 
 /// out[i] = specularPow(x[i], s) (lighting.h) for n values: the kernels' vectorized pow on its
 /// own, for the tests (shadeVertices inlines the same code).

@@ -31,7 +31,8 @@ BandLayout makeBands(int height, int threads) {
     const int want = std::max(1, threads * 8);
     b.rows = std::max(16, (height + want - 1) / want);
     b.count = (height + b.rows - 1) / b.rows;
-    b.rowsReciprocal = ((std::uint64_t(1) << 40) + std::uint64_t(b.rows) - 1) / std::uint64_t(b.rows);
+    b.rowsReciprocal =
+        ((std::uint64_t(1) << 40) + std::uint64_t(b.rows) - 1) / std::uint64_t(b.rows);
     return b;
 }
 

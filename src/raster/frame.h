@@ -91,20 +91,23 @@ struct Bins {
 /// vertex indices: onItem(item) first whenever the draw item changes (material, instance), then
 /// fn(v) for the triangle.
 template <class OnItem, class Fn>
-void forBandTriangles(const DrawList& draw, const Bins& bins, int band, int bandCount, OnItem&& onItem, Fn&& fn) {
+void forBandTriangles(const DrawList& draw, const Bins& bins, int band, int bandCount,
+                      OnItem&& onItem, Fn&& fn) {
     std::size_t item = 0;
     std::uint32_t itemEnd = 0;
     const DrawItem* it = nullptr;
     for (int chunk = 0; chunk < bins.chunkCount; ++chunk) {
         for (std::uint32_t t : bins.lists[std::size_t(chunk) * bandCount + band]) {
             if (!it || t >= itemEnd) {
-                while (t >= draw.items[item].triangleBase + draw.items[item].mesh->triangleCount()) ++item;
+                while (t >= draw.items[item].triangleBase + draw.items[item].mesh->triangleCount())
+                    ++item;
                 it = &draw.items[item];
                 itemEnd = it->triangleBase + std::uint32_t(it->mesh->triangleCount());
                 onItem(*it);
             }
             const std::uint32_t* idx = &it->mesh->indices[std::size_t(t - it->triangleBase) * 3];
-            const std::uint32_t v[3] = {it->vertexBase + idx[0], it->vertexBase + idx[1], it->vertexBase + idx[2]};
+            const std::uint32_t v[3] = {it->vertexBase + idx[0], it->vertexBase + idx[1],
+                                        it->vertexBase + idx[2]};
             fn(v);
         }
     }
@@ -120,8 +123,9 @@ void forVertexChunks(const DrawList& draw, ThreadPool& pool, Fn&& fn) {
         firstTask[i + 1] = firstTask[i] + std::max(1u, n / 4096u);
     }
     pool.run(int(firstTask.back()), [&](int task, int) {
-        const std::size_t i = std::size_t(
-            std::upper_bound(firstTask.begin(), firstTask.end(), std::uint32_t(task)) - firstTask.begin() - 1);
+        const std::size_t i =
+            std::size_t(std::upper_bound(firstTask.begin(), firstTask.end(), std::uint32_t(task)) -
+                        firstTask.begin() - 1);
         const DrawItem& item = draw.items[i];
         const std::uint32_t n = std::uint32_t(item.mesh->positions.size());
         const std::uint32_t chunks = firstTask[i + 1] - firstTask[i];
@@ -137,8 +141,8 @@ void allocateOutputs(ThreadPool& pool, RenderOutput& out, int views, const Rende
                      std::vector<Target>& targets);
 
 /// Pixel rows [rowMin, rowMax] a triangle with snapped window y may cover (whole screen rows).
-inline void triangleRows(std::int32_t y0, std::int32_t y1, std::int32_t y2, int height,
-                         int& rowMin, int& rowMax) {
+inline void triangleRows(std::int32_t y0, std::int32_t y1, std::int32_t y2, int height, int& rowMin,
+                         int& rowMax) {
     const std::int32_t lo = std::min(y0, std::min(y1, y2)), hi = std::max(y0, std::max(y1, y2));
     rowMin = std::max(0, ceilDivSub(std::int64_t(lo) - kHalfSubpixel));
     rowMax = std::min(height - 1, floorDivSub(std::int64_t(hi) - kHalfSubpixel));
@@ -178,7 +182,8 @@ struct FrameContext {
 /// guard-band clipping after the family's shared planes.
 template <class SinkT>
 void drawClippedPolygon(ClipVertex* poly, int count, std::uint8_t planes, int attrCount,
-                        const Target& target, int rowLo, int rowHi, SinkT& sink, FragmentTri& frag) {
+                        const Target& target, int rowLo, int rowHi, SinkT& sink,
+                        FragmentTri& frag) {
     ClipVertex scratch[kMaxPolyVerts];
     const int n = clipPolygon(poly, count, planes, attrCount, scratch);
     if (n < 3) return;

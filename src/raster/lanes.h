@@ -23,8 +23,8 @@ inline constexpr int kLaneBlock = 8;
 inline constexpr int kLaneRoom = kLaneCount + kLaneBlock;
 
 struct TriangleLanes {
-    alignas(64) std::int32_t x[3][kLaneRoom];  ///< snapped window x of the lane's view
-    alignas(64) std::int32_t y[3][kLaneRoom];  ///< snapped window y (the triangle's, shared)
+    alignas(64) std::int32_t x[3][kLaneRoom];    ///< snapped window x of the lane's view
+    alignas(64) std::int32_t y[3][kLaneRoom];    ///< snapped window y (the triangle's, shared)
     alignas(64) std::int32_t rowMin[kLaneRoom];  ///< YSetup rows, clamped to the band, not empty
     alignas(64) std::int32_t rowMax[kLaneRoom];
     ViewsSetup out;  ///< lane k's results in column k, as setupViews writes view k's
@@ -66,8 +66,8 @@ struct LaneQueue {
     /// The lanes of n <= kLaneBlock views at once (x of view k: x0[k], x1[k], x2[k]; view
     /// indices views[k]): block copies and broadcasts instead of n addLane() calls. All of x0,
     /// x1, x2 and views must be readable for kLaneBlock entries.
-    void addLanes(int slot, int n, const std::uint8_t* views, const std::int32_t* x0, const std::int32_t* x1,
-                  const std::int32_t* x2) {
+    void addLanes(int slot, int n, const std::uint8_t* views, const std::int32_t* x0,
+                  const std::int32_t* x1, const std::int32_t* x2) {
         const int k = laneCount;
         const YSetup& ys = slotYs[slot];
         std::memcpy(&lanes.x[0][k], x0, sizeof(std::int32_t) * kLaneBlock);

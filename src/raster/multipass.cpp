@@ -17,13 +17,13 @@ namespace mvr::raster::detail {
 namespace {
 
 struct ViewVertexData : MethodScratch {
-    std::vector<float> x, y, z, w, cx, cy;  // clip (and center clip x, y for sheared views)
-    std::vector<std::int32_t> sx, sy;       // snapped window position
-    std::vector<float> zw, q;               // window depth, 1/w
+    std::vector<float> x, y, z, w, cx, cy;     // clip (and center clip x, y for sheared views)
+    std::vector<std::int32_t> sx, sy;          // snapped window position
+    std::vector<float> zw, q;                  // window depth, 1/w
     std::vector<std::uint8_t> codeYZW, codeX;  // outcodes
-    std::vector<float> attr;                // attrStride floats per vertex
-    std::size_t attrStride = 0;             // attributeCount(shading): only what is interpolated
-    std::vector<glm::vec3> world;           // world positions (Flat's face normal)
+    std::vector<float> attr;                   // attrStride floats per vertex
+    std::size_t attrStride = 0;                // attributeCount(shading): only what is interpolated
+    std::vector<glm::vec3> world;              // world positions (Flat's face normal)
     Bins bins;
 
     void resize(std::size_t n, Shading shading) {
@@ -49,24 +49,28 @@ void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
     const glm::vec2 shear = sheared ? *view.clipShear : glm::vec2(0.0f);
     const float conv = f.rig.convergence;
     const glm::mat4 viewClip = sheared ? f.centerClip : view.clipFromWorld();
-    forVertexChunks(f.draw, f.pool, [&](const DrawItem& item, std::uint32_t begin, std::uint32_t end) {
+    forVertexChunks(
+        f.draw, f.pool, [&](const DrawItem& item, std::uint32_t begin, std::uint32_t end) {
             const glm::mat4 clipFromModel = viewClip * item.instance->worldFromModel;
             const std::uint32_t g = item.vertexBase + begin, count = end - begin;
             // Clip positions (SIMD kernel); a sheared view keeps the center's x, y for the
             // back-face test and shears them.
             f.kernels.transformPoints(&item.mesh->positions[begin], count, clipFromModel,
-                                      sheared ? &d.cx[g] : &d.x[g], sheared ? &d.cy[g] : &d.y[g], &d.z[g],
-                                      &d.w[g]);
+                                      sheared ? &d.cx[g] : &d.x[g], sheared ? &d.cy[g] : &d.y[g],
+                                      &d.z[g], &d.w[g]);
             if (sheared) {
                 const float* cx = &d.cx[g];
                 const float* cy = &d.cy[g];
                 const float* cw = &d.w[g];
                 float* x = &d.x[g];
                 float* y = &d.y[g];
-                for (std::uint32_t k = 0; k < count; ++k) x[k] = shearClip(cx[k], shear.x, cw[k], conv);
-                for (std::uint32_t k = 0; k < count; ++k) y[k] = shearClip(cy[k], shear.y, cw[k], conv);
+                for (std::uint32_t k = 0; k < count; ++k)
+                    x[k] = shearClip(cx[k], shear.x, cw[k], conv);
+                for (std::uint32_t k = 0; k < count; ++k)
+                    y[k] = shearClip(cy[k], shear.y, cw[k], conv);
             }
-            for (std::uint32_t i = begin; i < end && shading != Shading::Vertex; ++i) {  // Vertex: below
+            for (std::uint32_t i = begin; i < end && shading != Shading::Vertex;
+                 ++i) {  // Vertex: below
                 const std::uint32_t gi = item.vertexBase + i;
                 const glm::vec3& p = item.mesh->positions[i];
                 const glm::vec3 world = glm::vec3(transformPoint(item.instance->worldFromModel, p));
@@ -79,14 +83,15 @@ void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
                 }
             }
             if (shading == Shading::Vertex) {
-                f.kernels.shadeVertices(&item.mesh->positions[begin], &item.mesh->normals[begin], count,
-                                        item.instance->worldFromModel, item.normalFromModel, f.shading,
-                                        item.instance->material, d.attr.data() + g * d.attrStride);
+                f.kernels.shadeVertices(&item.mesh->positions[begin], &item.mesh->normals[begin],
+                                        count, item.instance->worldFromModel, item.normalFromModel,
+                                        f.shading, item.instance->material,
+                                        d.attr.data() + g * d.attrStride);
             }
             f.kernels.projectYZW(&d.y[g], &d.z[g], &d.w[g], count, height, &d.codeYZW[g], &d.q[g],
                                  &d.sy[g], &d.zw[g]);
             f.kernels.projectX(&d.x[g], &d.w[g], &d.q[g], count, width, &d.codeX[g], &d.sx[g]);
-    });
+        });
 }
 
 TriCodes triCodes(const ViewVertexData& d, const std::uint32_t v[3]) {
@@ -97,7 +102,8 @@ TriCodes triCodes(const ViewVertexData& d, const std::uint32_t v[3]) {
 }
 
 /// Back-face test: true when the triangle is culled in this view.
-bool culled(const FrameContext& f, const View& view, const ViewVertexData& d, const TriangleRef& t) {
+bool culled(const FrameContext& f, const View& view, const ViewVertexData& d,
+            const TriangleRef& t) {
     if (!f.settings.cullBackFaces) return false;
     const float w[3] = {d.w[t.i[0]], d.w[t.i[1]], d.w[t.i[2]]};
     float det;
@@ -126,9 +132,11 @@ void binStage(FrameContext& f, const View& view, const ViewVertexData& d, Bins& 
             int rowMin = 0, rowMax = f.settings.height - 1;
             if (!codes.planes()) {
                 if (f.settings.wireframe) {
-                    wireframeRows(d.sy[tri.i[0]], d.sy[tri.i[1]], d.sy[tri.i[2]], f.settings.height, rowMin, rowMax);
+                    wireframeRows(d.sy[tri.i[0]], d.sy[tri.i[1]], d.sy[tri.i[2]], f.settings.height,
+                                  rowMin, rowMax);
                 } else {  // a direct call, so that it is inlined (not through a function pointer)
-                    triangleRows(d.sy[tri.i[0]], d.sy[tri.i[1]], d.sy[tri.i[2]], f.settings.height, rowMin, rowMax);
+                    triangleRows(d.sy[tri.i[0]], d.sy[tri.i[1]], d.sy[tri.i[2]], f.settings.height,
+                                 rowMin, rowMax);
                 }
                 if (rowMin > rowMax) return;
             }
@@ -165,7 +173,8 @@ void drawWireframe(const FrameContext& f, const ViewVertexData& d, const std::ui
         float t0 = 0.0f, t1 = 1.0f;
         if (!liangBarskyAxis(xw[0], xw[1] - xw[0], 0.0f, width, t0, t1)) continue;
         if (!liangBarskyAxis(yw[0], yw[1] - yw[0], 0.0f, height, t0, t1)) continue;
-        rasterLine(xw[0], yw[0], xw[1], yw[1], t0, t1, target.width, target.height, rowLo, rowHi, sink);
+        rasterLine(xw[0], yw[0], xw[1], yw[1], t0, t1, target.width, target.height, rowLo, rowHi,
+                   sink);
     }
 }
 
@@ -179,7 +188,9 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
         // Small triangles wait in a queue and are set up 16 at a time (lanes.h), as in unified;
         // everything drawn directly flushes the queue first (submission order).
         LaneQueue<S> queue;
-        auto flush = [&] { queue.flush(f.kernels.setupLanes, target.width, [&](int) { return sink; }); };
+        auto flush = [&] {
+            queue.flush(f.kernels.setupLanes, target.width, [&](int) { return sink; });
+        };
         const Material* material = nullptr;
         auto onItem = [&](const DrawItem& it) {
             flush();  // the queued triangles shade with the previous material
@@ -187,7 +198,8 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
         };
         forBandTriangles(f.draw, bins, band, f.bands.count, onItem, [&](const std::uint32_t v[3]) {
             if constexpr (S == Shading::Flat) {
-                frag.flat = flatColor(f.shading, *material, d.world[v[0]], d.world[v[1]], d.world[v[2]]);
+                frag.flat =
+                    flatColor(f.shading, *material, d.world[v[0]], d.world[v[1]], d.world[v[2]]);
             }
             if (f.settings.wireframe) {
                 flush();

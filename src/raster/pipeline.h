@@ -145,7 +145,8 @@ inline float det3(const float x[3], const float y[3], const float w[3]) {
 struct ShearDet {
     float center = 0, kx = 0, ky = 0;
 };
-inline ShearDet shearDet(const float cx[3], const float cy[3], const float w[3], float convergence) {
+inline ShearDet shearDet(const float cx[3], const float cy[3], const float w[3],
+                         float convergence) {
     ShearDet d;
     d.center = det3(cx, cy, w);
     const float dx = ((cy[1] * w[2] - cy[2] * w[1]) + (cy[2] * w[0] - cy[0] * w[2])) +
@@ -163,14 +164,11 @@ inline float shearedDet(const ShearDet& d, float sx, float sy) {
 /// Window x in 1/256 px of a clip x with q = 1/w. Rounding: nearest, ties to even (lrintf and
 /// cvtps2dq agree).
 inline std::int32_t snapX(float x, float q, float width) {
-    return static_cast<std::int32_t>(std::lrintf(((x * q) * 0.5f + 0.5f) * width * float(kSubpixel)));
+    return static_cast<std::int32_t>(
+        std::lrintf(((x * q) * 0.5f + 0.5f) * width * float(kSubpixel)));
 }
-inline std::int32_t snapY(float y, float q, float height) {
-    return snapX(y, q, height);
-}
-inline float windowDepth(float z, float q) {
-    return std::clamp((z * q) * 0.5f + 0.5f, 0.0f, 1.0f);
-}
+inline std::int32_t snapY(float y, float q, float height) { return snapX(y, q, height); }
+inline float windowDepth(float z, float q) { return std::clamp((z * q) * 0.5f + 0.5f, 0.0f, 1.0f); }
 
 // ---- homogeneous clipping --------------------------------------------------------------------
 /// A polygon vertex during clipping: clip position and attributes.
@@ -181,12 +179,12 @@ struct ClipVertex {
 
 inline float planeDistance(int plane, float x, float y, float z, float w) {
     switch (plane) {
-        case 0: return z + w;               // near
-        case 1: return w - z;               // far
-        case 2: return y + kGuardBand * w;  // bottom
-        case 3: return kGuardBand * w - y;  // top
-        case 4: return x + kGuardBand * w;  // left
-        default: return kGuardBand * w - x; // right
+        case 0: return z + w;                // near
+        case 1: return w - z;                // far
+        case 2: return y + kGuardBand * w;   // bottom
+        case 3: return kGuardBand * w - y;   // top
+        case 4: return x + kGuardBand * w;   // left
+        default: return kGuardBand * w - x;  // right
     }
 }
 
@@ -309,7 +307,8 @@ inline void rasterSmallTriangle(const YSetup& ys, const std::int32_t x[3], int c
     while (mask) {
         const int k = __builtin_ctz(mask);
         mask &= mask - 1;
-        sink(colMin + (k & 1), ys.rowMin + (k >> 1), static_cast<float>(e[k][0] - bias[0]) * invArea,
+        sink(colMin + (k & 1), ys.rowMin + (k >> 1),
+             static_cast<float>(e[k][0] - bias[0]) * invArea,
              static_cast<float>(e[k][1] - bias[1]) * invArea,
              static_cast<float>(e[k][2] - bias[2]) * invArea);
     }
@@ -356,7 +355,8 @@ inline void rasterTriangle(const YSetup& ys, const std::int32_t x[3], int width,
     const float invArea = 1.0f / static_cast<float>(area);
     auto emit = [&](int col, int row, std::int64_t e0, std::int64_t e1, std::int64_t e2) {
         sink(col, row, static_cast<float>(e0 - bias[0]) * invArea,
-             static_cast<float>(e1 - bias[1]) * invArea, static_cast<float>(e2 - bias[2]) * invArea);
+             static_cast<float>(e1 - bias[1]) * invArea,
+             static_cast<float>(e2 - bias[2]) * invArea);
     };
     // rowE holds E + bias; the barycentrics use E itself.
     for (int row = ys.rowMin; row <= ys.rowMax; ++row) {
@@ -391,7 +391,8 @@ inline void emitSmall(const ViewsSetup& s, int k, int rowMin, Sink& sink) {
         mask &= mask - 1;
         float l[3];
         for (int i = 0; i < 3; ++i) {
-            const std::int32_t e = s.e[i][k] + (j & 1 ? s.sx[i][k] : 0) + (j & 2 ? s.sy[i][k] : 0) - s.bias[i][k];
+            const std::int32_t e =
+                s.e[i][k] + (j & 1 ? s.sx[i][k] : 0) + (j & 2 ? s.sy[i][k] : 0) - s.bias[i][k];
             l[i] = static_cast<float>(e) * invArea;
         }
         sink(s.colMin[k] + (j & 1), rowMin + (j >> 1), l[0], l[1], l[2]);
@@ -411,10 +412,10 @@ struct Target {
 
 /// The per-triangle fragment inputs (all view-independent for views that share z and w).
 struct FragmentTri {
-    float z[3];                   ///< window depth
-    float q[3];                   ///< 1/w
-    const float* attr[3];         ///< kMaxAttrs-strided attributes
-    std::uint32_t flat = 0;       ///< Flat: the triangle's packed color
+    float z[3];              ///< window depth
+    float q[3];              ///< 1/w
+    const float* attr[3];    ///< kMaxAttrs-strided attributes
+    std::uint32_t flat = 0;  ///< Flat: the triangle's packed color
 };
 
 struct ShadeInputs {

@@ -80,7 +80,9 @@ public:
                 fmt::format("SIMD path: {} (best on this CPU and build: {})", simdPathName(mSimd),
                             simdPathName(bestSimdPath())),
                 fmt::format("worker threads: {} ({})", threadCount(),
-                            !mPool ? "pinned to cores when started" : mPool->pinned() ? "pinned to cores" : "not pinned: the OS refused"),
+                            !mPool            ? "pinned to cores when started"
+                            : mPool->pinned() ? "pinned to cores"
+                                              : "not pinned: the OS refused"),
                 "fixed point: 8 sub-pixel bits, top-left fill rule, guard band ±64 NDC"};
     }
 
@@ -91,14 +93,15 @@ public:
         try {
             return renderChecked(scene, rig, settings, method);
         } catch (const std::bad_alloc&) {
-            return internalError(fmt::format("soft backend: out of memory rendering {} views of {}x{}",
-                                             rig.viewCount(), settings.width, settings.height));
+            return internalError(
+                fmt::format("soft backend: out of memory rendering {} views of {}x{}",
+                            rig.viewCount(), settings.width, settings.height));
         }
     }
 
 private:
-    Result<RenderOutput> renderChecked(const Scene& scene, const Rig& rig, const RenderSettings& settings,
-                                       const std::string& method) {
+    Result<RenderOutput> renderChecked(const Scene& scene, const Rig& rig,
+                                       const RenderSettings& settings, const std::string& method) {
         std::lock_guard lock(mMutex);  // one render at a time per backend (shared pool, scratch)
         const auto start = std::chrono::steady_clock::now();
         detail::ThreadPool& pool = this->pool();
@@ -123,8 +126,9 @@ private:
         RenderStats stats;
         stats.method = method;
         stats.stages = out.stages;
-        stats.totalWallMs = std::chrono::duration<double, std::milli>(
-                                std::chrono::steady_clock::now() - start).count();
+        stats.totalWallMs =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                .count();
         stats.drawWallMs = stats.totalWallMs;
         std::lock_guard statsLock(mStatsMutex);
         mStats = stats;

@@ -82,8 +82,8 @@ struct UnifiedData : MethodScratch {
     bool anySheared = false;
     // Per vertex, view-independent: world position, attributes, center clip position.
     std::vector<glm::vec3> world;
-    std::vector<float> attr;          ///< attrStride floats per vertex
-    std::size_t attrStride = 0;       ///< attributeCount(shading): only what is interpolated
+    std::vector<float> attr;     ///< attrStride floats per vertex
+    std::size_t attrStride = 0;  ///< attributeCount(shading): only what is interpolated
     std::vector<float> cx, cy, cz, cw;
     /// OR over all views of the left/right guard-band bits; the vertex stage also ORs it into
     /// every family's code (bits kClipX are free there), so the bin and raster stages read one
@@ -144,7 +144,8 @@ void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, Uni
         if (!rig.views[v].clipShear) continue;
         for (std::size_t u = 0; u < v && vd.twin < 0; ++u) {
             if (rig.views[u].clipShear && d.views[u].twin < 0 &&
-                std::bit_cast<std::uint32_t>(d.views[u].shearX) == std::bit_cast<std::uint32_t>(vd.shearX)) {
+                std::bit_cast<std::uint32_t>(d.views[u].shearX) ==
+                    std::bit_cast<std::uint32_t>(vd.shearX)) {
                 vd.twin = int(u);
             }
         }
@@ -188,15 +189,19 @@ void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, Uni
         vd.code = const_cast<std::uint8_t*>(src.codeStore.data());
     }
     d.attrStride = std::size_t(attributeCount(shading));
-    d.world.resize(shading == Shading::Flat ? n : 0), d.attr.resize(n * d.attrStride), d.anyClipX.resize(n);
-    if (d.anySheared) d.cx.resize(n), d.cy.resize(n), d.cz.resize(n), d.cw.resize(n), d.cq.resize(n), d.czw.resize(n);
+    d.world.resize(shading == Shading::Flat ? n : 0), d.attr.resize(n * d.attrStride),
+        d.anyClipX.resize(n);
+    if (d.anySheared)
+        d.cx.resize(n), d.cy.resize(n), d.cz.resize(n), d.cw.resize(n), d.cq.resize(n),
+            d.czw.resize(n);
 }
 
 void vertexStage(FrameContext& f, UnifiedData& d) {
     const Shading shading = f.settings.shading;
     const float width = float(f.settings.width), height = float(f.settings.height);
     const float conv = f.rig.convergence;
-    forVertexChunks(f.draw, f.pool, [&](const DrawItem& item, std::uint32_t begin, std::uint32_t end) {
+    forVertexChunks(
+        f.draw, f.pool, [&](const DrawItem& item, std::uint32_t begin, std::uint32_t end) {
             const glm::mat4 centerFromModel = f.centerClip * item.instance->worldFromModel;
             std::array<glm::mat4, kMaxViews> ownFromModel;
             for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
@@ -223,19 +228,21 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
             // family and view); views without a shear transform with their own matrix.
             const glm::vec3* positions = &item.mesh->positions[begin];
             if (d.anySheared) {
-                f.kernels.transformPoints(positions, count, centerFromModel, &d.cx[g], &d.cy[g], &d.cz[g],
-                                          &d.cw[g]);
+                f.kernels.transformPoints(positions, count, centerFromModel, &d.cx[g], &d.cy[g],
+                                          &d.cz[g], &d.cw[g]);
             }
             for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
                 Family& fam = d.families[fi];
                 if (fam.sheared) continue;
-                f.kernels.transformPoints(positions, count, ownFromModel[fi], &d.views[std::size_t(fam.views[0])].x[g],
-                                          &fam.y[g], &fam.z[g], &fam.w[g]);
+                f.kernels.transformPoints(positions, count, ownFromModel[fi],
+                                          &d.views[std::size_t(fam.views[0])].x[g], &fam.y[g],
+                                          &fam.z[g], &fam.w[g]);
             }
             if (shading == Shading::Vertex) {
-                f.kernels.shadeVertices(&item.mesh->positions[begin], &item.mesh->normals[begin], count,
-                                        item.instance->worldFromModel, item.normalFromModel, f.shading,
-                                        item.instance->material, d.attr.data() + g * d.attrStride);
+                f.kernels.shadeVertices(&item.mesh->positions[begin], &item.mesh->normals[begin],
+                                        count, item.instance->worldFromModel, item.normalFromModel,
+                                        f.shading, item.instance->material,
+                                        d.attr.data() + g * d.attrStride);
             }
             for (Family& fam : d.families) {
                 if (!fam.sheared) continue;
@@ -243,24 +250,28 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 const float* cy = &d.cy[g];
                 const float* cw = &d.cw[g];
                 float* y = &fam.y[g];
-                for (std::uint32_t k = 0; k < count; ++k) y[k] = shearClip(cy[k], fam.shearY, cw[k], conv);
+                for (std::uint32_t k = 0; k < count; ++k)
+                    y[k] = shearClip(cy[k], fam.shearY, cw[k], conv);
                 for (int v : fam.views) {
                     ViewData& vd = d.views[std::size_t(v)];
                     if (vd.twin >= 0) continue;  // its column's first view computes x
                     float* x = &vd.x[g];
-                    for (std::uint32_t k = 0; k < count; ++k) x[k] = shearClip(cx[k], vd.shearX, cw[k], conv);
+                    for (std::uint32_t k = 0; k < count; ++k)
+                        x[k] = shearClip(cx[k], vd.shearX, cw[k], conv);
                 }
             }
             std::fill_n(&d.anyClipX[g], count, std::uint8_t(0));
             for (Family& fam : d.families) {
-                f.kernels.projectYZW(&fam.y[g], &d.famZ(fam)[g], &d.famW(fam)[g], count, height, &fam.code[g],
-                                     d.famQ(fam) + g, &fam.sy[g], d.famZW(fam) + g);
+                f.kernels.projectYZW(&fam.y[g], &d.famZ(fam)[g], &d.famW(fam)[g], count, height,
+                                     &fam.code[g], d.famQ(fam) + g, &fam.sy[g], d.famZW(fam) + g);
             }
             for (ViewData& vd : d.views) {
                 if (vd.twin >= 0) continue;  // the same x, code and sx as its twin, computed there
                 const Family& fam = d.families[std::size_t(vd.family)];
-                f.kernels.projectX(&vd.x[g], &d.famW(fam)[g], d.famQ(fam) + g, count, width, &vd.code[g], &vd.sx[g]);
-                for (std::uint32_t k = 0; k < count; ++k) d.anyClipX[g + k] |= vd.code[g + k] & kClipX;
+                f.kernels.projectX(&vd.x[g], &d.famW(fam)[g], d.famQ(fam) + g, count, width,
+                                   &vd.code[g], &vd.sx[g]);
+                for (std::uint32_t k = 0; k < count; ++k)
+                    d.anyClipX[g + k] |= vd.code[g + k] & kClipX;
             }
             for (Family& fam : d.families) {
                 if (fam.sxvTwin >= 0) continue;  // its twin's sxv is the same
@@ -274,7 +285,7 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
             for (Family& fam : d.families) {
                 for (std::uint32_t k = 0; k < count; ++k) fam.code[g + k] |= d.anyClipX[g + k];
             }
-    });
+        });
 }
 
 /// Back-face classification of a family's views for one triangle (adelson1991): all culled,
@@ -368,7 +379,8 @@ void clipShared(SharedPolygon& p, std::uint8_t planes, int attrCount, int viewCo
     for (int plane = 0; plane < 4 && in->n > 0; ++plane) {
         if (!(planes & (1u << plane))) continue;
         float dist[kMaxPolyVerts];
-        for (int i = 0; i < in->n; ++i) dist[i] = planeDistance(plane, 0.0f, in->y[i], in->z[i], in->w[i]);
+        for (int i = 0; i < in->n; ++i)
+            dist[i] = planeDistance(plane, 0.0f, in->y[i], in->z[i], in->w[i]);
         int m = 0;
         auto copy = [&](int i) {
             out->y[m] = in->y[i], out->z[m] = in->z[i], out->w[m] = in->w[i];
@@ -386,8 +398,10 @@ void clipShared(SharedPolygon& p, std::uint8_t planes, int attrCount, int viewCo
                 out->y[m] = lerpF(in->y[a], in->y[b], t);
                 out->z[m] = lerpF(in->z[a], in->z[b], t);
                 out->w[m] = lerpF(in->w[a], in->w[b], t);
-                for (int k = 0; k < attrCount; ++k) out->a[m][k] = lerpF(in->a[a][k], in->a[b][k], t);
-                for (int k = 0; k < viewCount; ++k) out->x[m][k] = lerpF(in->x[a][k], in->x[b][k], t);
+                for (int k = 0; k < attrCount; ++k)
+                    out->a[m][k] = lerpF(in->a[a][k], in->a[b][k], t);
+                for (int k = 0; k < viewCount; ++k)
+                    out->x[m][k] = lerpF(in->x[a][k], in->x[b][k], t);
                 ++m;
             }
         }
@@ -412,13 +426,14 @@ struct BandContext {
     FragmentTri frag{};
     std::vector<FragmentSink<S>> sinks;  ///< per view, all pointing at `frag`
     int attrCount = attributeCount(S);
-    ViewsSetup views{};                  ///< the current triangle's per-view x setup (L1)
+    ViewsSetup views{};    ///< the current triangle's per-view x setup (L1)
     LaneQueue<S> queue{};  ///< small families' (triangle, view) lanes waiting for setupLanes
 };
 
 template <Shading S>
 void flushLanes(BandContext<S>& b) {
-    b.queue.flush(b.f.kernels.setupLanes, b.f.settings.width, [&](int view) { return b.sinks[std::size_t(view)]; });
+    b.queue.flush(b.f.kernels.setupLanes, b.f.settings.width,
+                  [&](int view) { return b.sinks[std::size_t(view)]; });
 }
 
 /// One family's replicas of a triangle that needs clipping against shared planes (or whose
@@ -434,7 +449,8 @@ void drawFamilyClipped(BandContext<S>& b, const Family& fam, const std::uint32_t
     for (int j = 0; j < 3; ++j) {
         poly.y[j] = fam.y[v[j]], poly.z[j] = z[v[j]], poly.w[j] = w[v[j]];
         std::copy_n(d.attrOf(v[j]), b.attrCount, poly.a[j]);
-        for (int k = 0; k < activeCount; ++k) poly.x[j][k] = d.views[std::size_t(active[k])].x[v[j]];
+        for (int k = 0; k < activeCount; ++k)
+            poly.x[j][k] = d.views[std::size_t(active[k])].x[v[j]];
     }
     clipShared(poly, famPlanes, b.attrCount, activeCount, tmp);
     if (poly.n < 3) return;
@@ -459,12 +475,13 @@ void drawFamilyClipped(BandContext<S>& b, const Family& fam, const std::uint32_t
             // This view leaves the guard band: continue with left/right on its own copy.
             ClipVertex cv[kMaxPolyVerts];
             for (int i = 0; i < poly.n; ++i) {
-                cv[i].x = poly.x[i][k], cv[i].y = poly.y[i], cv[i].z = poly.z[i], cv[i].w = poly.w[i];
+                cv[i].x = poly.x[i][k], cv[i].y = poly.y[i], cv[i].z = poly.z[i],
+                cv[i].w = poly.w[i];
                 std::copy_n(poly.a[i], b.attrCount, cv[i].a);
             }
             drawClippedPolygon(cv, poly.n, std::uint8_t(orX & kClipX), b.attrCount,
-                               b.sinks[std::size_t(view)].target, b.rowLo,
-                               b.rowHi, b.sinks[std::size_t(view)], b.frag);
+                               b.sinks[std::size_t(view)].target, b.rowLo, b.rowHi,
+                               b.sinks[std::size_t(view)], b.frag);
             continue;
         }
         if (!projectable) continue;
@@ -519,11 +536,12 @@ void drawFamilyWireframe(BandContext<S>& b, const Family& fam, const std::uint32
         float y0 = 0.0f, y1 = 1.0f;
         if (!liangBarskyAxis(yw[0], yw[1] - yw[0], 0.0f, height, y0, y1)) continue;
         for (int k = 0; k < activeCount; ++k) {
-            const float x0 = windowCoord(e.x[0][k], q[0], width), x1 = windowCoord(e.x[1][k], q[1], width);
+            const float x0 = windowCoord(e.x[0][k], q[0], width),
+                        x1 = windowCoord(e.x[1][k], q[1], width);
             float t0 = y0, t1 = y1;
             if (!liangBarskyAxis(x0, x1 - x0, 0.0f, width, t0, t1)) continue;
-            rasterLine(x0, yw[0], x1, yw[1], t0, t1, b.f.settings.width, b.f.settings.height, b.rowLo,
-                       b.rowHi, b.sinks[std::size_t(active[k])]);
+            rasterLine(x0, yw[0], x1, yw[1], t0, t1, b.f.settings.width, b.f.settings.height,
+                       b.rowLo, b.rowHi, b.sinks[std::size_t(active[k])]);
         }
     }
 }
@@ -532,8 +550,8 @@ void drawFamilyWireframe(BandContext<S>& b, const Family& fam, const std::uint32
 /// flushing first unless `views` more lanes fit; the caller adds the lanes. zw, q: the family's
 /// window depth and 1/w per vertex; attr, stride: the vertex attributes.
 template <Shading S>
-inline int queueSlot(BandContext<S>& b, const YSetup& ys, const std::uint32_t v[3], int views, const float* zw,
-                     const float* q, const float* attr, std::size_t stride) {
+inline int queueSlot(BandContext<S>& b, const YSetup& ys, const std::uint32_t v[3], int views,
+                     const float* zw, const float* q, const float* attr, std::size_t stride) {
     if (b.queue.needsFlush(views)) flushLanes(b);
     const int slot = b.queue.slotCount++;
     b.queue.slotYs[slot] = ys;
@@ -553,8 +571,8 @@ inline int queueSlot(BandContext<S>& b, const YSetup& ys, const std::uint32_t v[
 /// reject is needed), and each covered view's pixels. Back faces of a mixed family are skipped
 /// view by view. The same values rasterTriangle() computes, view by view.
 template <Shading S>
-void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t v[3], FaceClass faces,
-                      const ShearDet& det) {
+void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t v[3],
+                      FaceClass faces, const ShearDet& det) {
     const UnifiedData& d = b.d;
     const int width = b.f.settings.width;
     // Raw pointers, loaded once: the stores below (queue, fragment inputs) could alias the
@@ -617,7 +635,8 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
 /// inside fast path (the lane queue), wireframe, or clipping. b.frag.flat is already set for
 /// Flat shading; det is the triangle's ShearDet when culling sheared views.
 template <Shading S>
-void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_t v[3], const ShearDet& det) {
+void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_t v[3],
+                        const ShearDet& det) {
     FrameContext& f = b.f;
     const UnifiedData& d = b.d;
     const bool cull = f.settings.cullBackFaces;
@@ -709,7 +728,8 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
 template <Shading S>
 void drawTriangle(BandContext<S>& b, const std::uint32_t v[3]) {
     ShearDet det;
-    if (b.f.settings.cullBackFaces && b.d.anySheared) det = triangleShearDet(b.d, v, b.f.rig.convergence);
+    if (b.f.settings.cullBackFaces && b.d.anySheared)
+        det = triangleShearDet(b.d, v, b.f.rig.convergence);
     for (const Family& fam : b.d.families) drawTriangleFamily(b, fam, v, det);
 }
 
@@ -731,10 +751,13 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
     constexpr int kMaxFastRows = 8;
     Row rows[kMaxFastRows] = {};
     int rowCount = 0;
-    bool fast = !f.settings.cullBackFaces && !f.settings.wireframe && d.families.size() <= std::size_t(kMaxFastRows);
+    bool fast = !f.settings.cullBackFaces && !f.settings.wireframe &&
+                d.families.size() <= std::size_t(kMaxFastRows);
     for (const Family& fam : d.families) {
         fast = fast && fam.sheared && fam.views.size() <= std::size_t(kLaneBlock);
-        if (fast) rows[rowCount++] = Row{&fam, fam.code.data(), fam.sy.data(), fam.sxvData, int(fam.views.size())};
+        if (fast)
+            rows[rowCount++] =
+                Row{&fam, fam.code.data(), fam.sy.data(), fam.sxvData, int(fam.views.size())};
     }
     const float* zw = d.czw.data();
     const float* q = d.cq.data();
@@ -765,7 +788,8 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
     forBandTriangles(f.draw, bins, band, f.bands.count, onItem, [&](const std::uint32_t v[3]) {
         if constexpr (S == Shading::Flat) {
             // View-independent: once for every view.
-            b.frag.flat = flatColor(f.shading, *material, d.world[v[0]], d.world[v[1]], d.world[v[2]]);
+            b.frag.flat =
+                flatColor(f.shading, *material, d.world[v[0]], d.world[v[1]], d.world[v[2]]);
         }
         if (!fast) {
             drawTriangle(b, v);
@@ -784,7 +808,8 @@ void rasterStage(FrameContext& f, const UnifiedData& d, std::span<const Target> 
     f.pool.run(f.bands.count, [&](int band, int) {
         BandContext<S> b{f, d, f.bands.rowBegin(band), f.bands.rowEnd(band) - 1, {}, {}};
         b.sinks.reserve(targets.size());
-        for (const Target& t : targets) b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr}});
+        for (const Target& t : targets)
+            b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr}});
         rasterBand(b, d.bins, band);
         flushLanes(b);
     });

@@ -98,7 +98,8 @@ inline void rasterLine(float x0, float y0, float x1, float y1, float t0, float t
         const float t = (float(i) + 0.5f - a0) / d;
         const float other = std::floor(xMajor ? y0 + t * dy : x0 + t * dx);
         if (xMajor) {
-            if (other >= float(rowLo) && other <= float(rowHi)) sink(i, int(other), 1.0f - t, t, 0.0f);
+            if (other >= float(rowLo) && other <= float(rowHi))
+                sink(i, int(other), 1.0f - t, t, 0.0f);
         } else {
             if (other >= 0.0f && other <= float(width - 1)) sink(int(other), i, 1.0f - t, t, 0.0f);
         }
@@ -107,8 +108,8 @@ inline void rasterLine(float x0, float y0, float x1, float y1, float t0, float t
 
 /// Rows a wireframe triangle may touch, from its snapped window y (pixel rows are floor(y) for
 /// lines, so one row of margin covers the snapping).
-inline void wireframeRows(std::int32_t y0, std::int32_t y1, std::int32_t y2, int height, int& rowMin,
-                          int& rowMax) {
+inline void wireframeRows(std::int32_t y0, std::int32_t y1, std::int32_t y2, int height,
+                          int& rowMin, int& rowMax) {
     const std::int32_t lo = std::min(y0, std::min(y1, y2)), hi = std::max(y0, std::max(y1, y2));
     rowMin = std::max(0, floorDivSub(lo) - 1);
     rowMax = std::min(height - 1, floorDivSub(hi) + 1);

@@ -30,11 +30,13 @@ TEST_P(CaseTest, SimultaneousEqualsTwoSingleEyeRuns) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Table1, CaseTest, ::testing::Range<std::size_t>(0, adelsonCases(true).size()),
+INSTANTIATE_TEST_SUITE_P(Table1, CaseTest,
+                         ::testing::Range<std::size_t>(0, adelsonCases(true).size()),
                          [](const ::testing::TestParamInfo<std::size_t>& param) {
                              std::string name = adelsonCases(true)[param.param].algorithm;
                              std::string out;
-                             for (const char ch : name) out += std::isalnum((unsigned char)ch) ? ch : '_';
+                             for (const char ch : name)
+                                 out += std::isalnum((unsigned char)ch) ? ch : '_';
                              return out + "_" + std::to_string(param.param);
                          });
 
@@ -42,7 +44,8 @@ TEST(Adelson, FullWorkloadsAgreeToo) {
     // The bench's own workloads (not tiny) for the cheap rows.
     std::vector<ExperimentCase> cases = adelsonCases(false);
     for (ExperimentCase& c : cases) {
-        if (c.algorithm.find("Perspective") == std::string::npos && c.algorithm.find("Back-face") == std::string::npos &&
+        if (c.algorithm.find("Perspective") == std::string::npos &&
+            c.algorithm.find("Back-face") == std::string::npos &&
             c.algorithm.find("line clipping") == std::string::npos) {
             continue;
         }
@@ -186,7 +189,8 @@ TEST(Adelson, BspSplitsCrossingPolygonsAndPaintsThemRight) {
     renderBspZBuffer(tree, cam, l2, r2);
     EXPECT_EQ(r1.pixels, r2.pixels);
     std::size_t diff = 0, drawn = 0;
-    for (std::size_t i = 0; i < l1.pixels.size(); ++i) diff += l1.pixels[i] != l2.pixels[i], drawn += l1.pixels[i] != 0;
+    for (std::size_t i = 0; i < l1.pixels.size(); ++i)
+        diff += l1.pixels[i] != l2.pixels[i], drawn += l1.pixels[i] != 0;
     EXPECT_GT(drawn, 1000u);
     EXPECT_LE(diff, drawn / 100);  // only along the line where the quads meet at equal depth
 }

@@ -159,7 +159,8 @@ std::vector<BadRequest> badRequests() {
         r.scene.instances[0].worldFromModel[3][0] = std::numeric_limits<float>::infinity();
         out.push_back(r);
     }
-    out.push_back({"zero size", oneTriangle(), stereoRig(), RenderSettings{.width = 0, .height = 24}});
+    out.push_back(
+        {"zero size", oneTriangle(), stereoRig(), RenderSettings{.width = 0, .height = 24}});
     {
         // 65 views: more than kMaxViews.
         BadRequest r{"too many views", oneTriangle(), stereoRig(), small()};
@@ -213,8 +214,9 @@ TEST(Validation, TheSameMessageWithoutADisplay) {
 
 TEST(Validation, MessagesNameTheCulprit) {
     auto reqs = badRequests();
-    EXPECT_NE(validateRequest(reqs[0].scene, reqs[0].rig, reqs[0].settings).message().find("view 1"),
-              std::string::npos);
+    EXPECT_NE(
+        validateRequest(reqs[0].scene, reqs[0].rig, reqs[0].settings).message().find("view 1"),
+        std::string::npos);
     const Status budget = validateRequest(reqs[6].scene, reqs[6].rig, reqs[6].settings);
     EXPECT_EQ(budget.code(), ErrorCode::Unsupported);
     EXPECT_NE(budget.message().find("GiB"), std::string::npos) << budget.message();

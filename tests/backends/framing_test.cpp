@@ -31,8 +31,8 @@ fs::path sharedModel(const char* name) {
 
 /// Runs `mvr render ARGS -o DIR -q` and returns its exit code.
 int mvrRender(const std::string& args, const fs::path& dir) {
-    const std::string cmd = fmt::format("'{}' render {} -q -o '{}' </dev/null", mvrBinary().string(),
-                                        args, dir.string());
+    const std::string cmd = fmt::format("'{}' render {} -q -o '{}' </dev/null",
+                                        mvrBinary().string(), args, dir.string());
     const int status = std::system(cmd.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
 }
@@ -62,8 +62,8 @@ void expectSameAsCli(const Scene& scene, const FramingParams& params, RenderSett
     for (int v = 0; v < request->rig.viewCount(); ++v) {
         auto cli = readPng(dir / fmt::format("view-{}.png", v));
         ASSERT_TRUE(cli) << cli.status().message();
-        EXPECT_TRUE(*cli == out->color[std::size_t(v)]) << "view " << v << " of `mvr render "
-                                                        << cliArgs << "` differs from the API's";
+        EXPECT_TRUE(*cli == out->color[std::size_t(v)])
+            << "view " << v << " of `mvr render " << cliArgs << "` differs from the API's";
     }
 }
 
@@ -81,8 +81,7 @@ TEST_F(Framing, TheApiRendersWhatTheCliWritesForAModelGridAndOptions) {
     p.rows = 2;
     p.fovYDegrees = 50.0f;
     p.separation = 0.02f;
-    expectSameAsCli(scene, p,
-                    RenderSettings{.width = 64, .height = 48, .shading = Shading::Pixel},
+    expectSameAsCli(scene, p, RenderSettings{.width = 64, .height = 48, .shading = Shading::Pixel},
                     fmt::format("'{}' --grid 3 --view-grid 3x2 --fov 50 --separation 0.02 "
                                 "--size 64x48 --shading pixel",
                                 sharedModel("suzanne.obj").string()),
@@ -112,8 +111,8 @@ TEST(FramingGeometry, FitsTheBoundingSphereFromPlusZ) {
     params.fovYDegrees = fov;
     auto req = frameScene(s, params, RenderSettings{.width = 50, .height = 100});
     ASSERT_TRUE(req) << req.status().message();
-    EXPECT_NEAR(req->rig.convergence, d, 1e-3f);                 // the target's distance
-    EXPECT_NEAR(req->rig.interaxial, d / 30.0f, 1e-4f);          // convergence / 30
+    EXPECT_NEAR(req->rig.convergence, d, 1e-3f);         // the target's distance
+    EXPECT_NEAR(req->rig.interaxial, d / 30.0f, 1e-4f);  // convergence / 30
     EXPECT_EQ(req->settings.clearColor, s.background);
 }
 

@@ -38,15 +38,17 @@ class BenchCli : public ::testing::Test {
 protected:
     void SetUp() override {
         mDir = fs::temp_directory_path() /
-               fmt::format("mvr-bench-test-{}-{}", ::getpid(), ::testing::UnitTest::GetInstance()->current_test_info()->name());
+               fmt::format("mvr-bench-test-{}-{}", ::getpid(),
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
         fs::create_directories(mDir);
     }
     void TearDown() override { fs::remove_all(mDir); }
 
     CliRun run(const std::string& args) const {
         const fs::path out = mDir / "stdout.txt", err = mDir / "stderr.txt";
-        const std::string cmd = fmt::format("cd '{}' && '{}' {} >'{}' 2>'{}' </dev/null", mDir.string(),
-                                            mvrBinary().string(), args, out.string(), err.string());
+        const std::string cmd =
+            fmt::format("cd '{}' && '{}' {} >'{}' 2>'{}' </dev/null", mDir.string(),
+                        mvrBinary().string(), args, out.string(), err.string());
         const int status = std::system(cmd.c_str());
         CliRun r;
         r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -72,7 +74,8 @@ protected:
         const CliRun r = run(args);
         EXPECT_EQ(r.exitCode, code) << args << "\n" << r.err;
         EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << args << ": " << r.err;
-        EXPECT_NE(r.err.substr(0, r.err.find('\n')).find(needle), std::string::npos) << args << ": " << r.err;
+        EXPECT_NE(r.err.substr(0, r.err.find('\n')).find(needle), std::string::npos)
+            << args << ": " << r.err;
         EXPECT_LE(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;
         EXPECT_TRUE(r.out.empty()) << r.out;
     }
@@ -101,17 +104,21 @@ void expectRenderResults(const nlohmann::json& j) {
         if (r.contains("error")) continue;
         EXPECT_GT(r["fps"].get<double>(), 0.0);
         EXPECT_GT(r["speedup_vs_multipass"].get<double>(), 0.0);
-        for (const char* k : {"median", "min", "max", "q1", "q3"}) EXPECT_GT(r["wall_ms"][k].get<double>(), 0.0) << k;
+        for (const char* k : {"median", "min", "max", "q1", "q3"})
+            EXPECT_GT(r["wall_ms"][k].get<double>(), 0.0) << k;
         EXPECT_LE(r["wall_ms"]["min"].get<double>(), r["wall_ms"]["median"].get<double>());
         EXPECT_LE(r["wall_ms"]["median"].get<double>(), r["wall_ms"]["max"].get<double>());
-        if (r["method"] == "multipass") EXPECT_DOUBLE_EQ(r["speedup_vs_multipass"].get<double>(), 1.0);
+        if (r["method"] == "multipass")
+            EXPECT_DOUBLE_EQ(r["speedup_vs_multipass"].get<double>(), 1.0);
     }
     EXPECT_TRUE(j["skipped"].is_array());
 }
 
 TEST_F(BenchCli, SorbierJsonEveryDefaultMethod) {
-    const nlohmann::json j = runJson(fmt::format("bench sorbier '{}' --sizes 64x48 --copies 1 --frames 1 --warmup 0 "
-                                                 "--shadings flat --json", model("suzanne.obj")));
+    const nlohmann::json j =
+        runJson(fmt::format("bench sorbier '{}' --sizes 64x48 --copies 1 --frames 1 --warmup 0 "
+                            "--shadings flat --json",
+                            model("suzanne.obj")));
     EXPECT_EQ(j["bench"], "sorbier2008");
     expectMachine(j);
     expectRenderResults(j);
@@ -121,14 +128,17 @@ TEST_F(BenchCli, SorbierJsonEveryDefaultMethod) {
         EXPECT_EQ(r["width"], 64);
         EXPECT_EQ(r["height"], 48);
         EXPECT_EQ(r["shading"], "flat");
-        sawUnified = sawUnified || (r["backend"] == "soft" && r["method"] == "unified" && !r.contains("error"));
+        sawUnified = sawUnified ||
+                     (r["backend"] == "soft" && r["method"] == "unified" && !r.contains("error"));
     }
     EXPECT_TRUE(sawUnified);
 }
 
 TEST_F(BenchCli, SorbierTableAddsTheMultipassBaseline) {
-    const CliRun r = run(fmt::format("bench sorbier '{}' --sizes 64x48 --copies 1,2 --frames 1 --warmup 0 "
-                                  "--methods soft:unified", model("suzanne.obj")));
+    const CliRun r =
+        run(fmt::format("bench sorbier '{}' --sizes 64x48 --copies 1,2 --frames 1 --warmup 0 "
+                        "--methods soft:unified",
+                        model("suzanne.obj")));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(r.out.rfind("machine: ", 0), 0u) << r.out;
     EXPECT_NE(r.out.find("| flat | soft:multipass |"), std::string::npos) << r.out;
@@ -137,8 +147,10 @@ TEST_F(BenchCli, SorbierTableAddsTheMultipassBaseline) {
 }
 
 TEST_F(BenchCli, SorbierCsvAndProgressLines) {
-    const CliRun r = run(fmt::format("bench sorbier '{}' --sizes 64x48 --copies 1 --frames 1 --warmup 0 "
-                                  "--methods soft:unified --shadings vertex --csv --progress", model("suzanne.obj")));
+    const CliRun r =
+        run(fmt::format("bench sorbier '{}' --sizes 64x48 --copies 1 --frames 1 --warmup 0 "
+                        "--methods soft:unified --shadings vertex --csv --progress",
+                        model("suzanne.obj")));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     std::istringstream in(r.out);
     std::string line;
@@ -152,9 +164,10 @@ TEST_F(BenchCli, SorbierCsvAndProgressLines) {
 }
 
 TEST_F(BenchCli, KalaiahJsonViewsShareTheBuffer) {
-    const nlohmann::json j = runJson(fmt::format("bench kalaiah '{}' '{}@2' --sizes 64x48 --configs 1x1,2x1,2x2 "
-                                                 "--frames 1 --warmup 0 --methods soft:unified,gl:kalaiah-emulation --json",
-                                                 model("suzanne.obj"), model("suzanne.obj")));
+    const nlohmann::json j = runJson(
+        fmt::format("bench kalaiah '{}' '{}@2' --sizes 64x48 --configs 1x1,2x1,2x2 "
+                    "--frames 1 --warmup 0 --methods soft:unified,gl:kalaiah-emulation --json",
+                    model("suzanne.obj"), model("suzanne.obj")));
     EXPECT_EQ(j["bench"], "kalaiah2007");
     expectMachine(j);
     expectRenderResults(j);
@@ -175,7 +188,8 @@ TEST_F(BenchCli, KalaiahJsonViewsShareTheBuffer) {
 }
 
 TEST_F(BenchCli, AdelsonJsonEveryRowAgrees) {
-    const nlohmann::json j = runJson("bench adelson --tiny --frames 1 --warmup 0 --min-batch-ms 0 --json");
+    const nlohmann::json j =
+        runJson("bench adelson --tiny --frames 1 --warmup 0 --min-batch-ms 0 --json");
     EXPECT_EQ(j["bench"], "adelson1991");
     expectMachine(j);
     ASSERT_TRUE(j["results"].is_array());
@@ -194,29 +208,36 @@ TEST_F(BenchCli, AdelsonJsonEveryRowAgrees) {
 }
 
 TEST_F(BenchCli, AdelsonCsvOnly) {
-    const CliRun r = run("bench adelson --tiny --frames 1 --warmup 0 --min-batch-ms 0 --only clipping --csv");
+    const CliRun r =
+        run("bench adelson --tiny --frames 1 --warmup 0 --min-batch-ms 0 --only clipping --csv");
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 4) << r.out;  // machine, header, line, polygon
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 4)
+        << r.out;  // machine, header, line, polygon
     EXPECT_NE(r.out.find("\"Liang-Barsky line clipping\""), std::string::npos);
 }
 
 TEST_F(BenchCli, Plots) {
     if (!haveGnuplot()) GTEST_SKIP() << "gnuplot is not installed";
-    CliRun r = run(fmt::format("bench sorbier '{}' --sizes 64x48 --copies 1,2 --frames 1 --warmup 0 --methods soft:unified "
-                            "--plot s.png", model("suzanne.obj")));
+    CliRun r = run(fmt::format(
+        "bench sorbier '{}' --sizes 64x48 --copies 1,2 --frames 1 --warmup 0 --methods soft:unified "
+        "--plot s.png",
+        model("suzanne.obj")));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     std::ifstream png(mDir / "s.png", std::ios::binary);
     char magic[8] = {};
     png.read(magic, 8);
     EXPECT_EQ(std::string(magic + 1, 3), "PNG");
-    r = run("bench adelson --tiny --frames 1 --warmup 0 --min-batch-ms 0 --only projection --plot a.svg");
+    r = run(
+        "bench adelson --tiny --frames 1 --warmup 0 --min-batch-ms 0 --only projection --plot a.svg");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     std::ifstream svg(mDir / "a.svg");
     std::stringstream ss;
     ss << svg.rdbuf();
     EXPECT_NE(ss.str().find("<svg"), std::string::npos);
-    r = run(fmt::format("bench kalaiah '{}' --sizes 64x48 --configs 1x1,2x1 --frames 1 --warmup 0 --methods soft:unified "
-                        "--plot k.png", model("suzanne.obj")));
+    r = run(fmt::format(
+        "bench kalaiah '{}' --sizes 64x48 --configs 1x1,2x1 --frames 1 --warmup 0 --methods soft:unified "
+        "--plot k.png",
+        model("suzanne.obj")));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_TRUE(fs::file_size(mDir / "k.png") > 1000);
 }
@@ -224,8 +245,10 @@ TEST_F(BenchCli, Plots) {
 TEST_F(BenchCli, PlotWithoutGnuplotIsOneClearError) {
     // Checked before anything is measured; exit code 3 (unsupported here).
     const fs::path err = mDir / "err.txt";
-    const std::string cmd = fmt::format("cd '{}' && PATH=/nonexistent '{}' bench adelson --tiny --frames 1 --plot x.png "
-                                        ">/dev/null 2>'{}'", mDir.string(), mvrBinary().string(), err.string());
+    const std::string cmd = fmt::format(
+        "cd '{}' && PATH=/nonexistent '{}' bench adelson --tiny --frames 1 --plot x.png "
+        ">/dev/null 2>'{}'",
+        mDir.string(), mvrBinary().string(), err.string());
     const int status = std::system(cmd.c_str());
     EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 3);
     std::ifstream in(err);
@@ -236,10 +259,12 @@ TEST_F(BenchCli, PlotWithoutGnuplotIsOneClearError) {
 }
 
 TEST_F(BenchCli, PlainBenchKeepsItsJsonContract) {
-    const nlohmann::json j = runJson(fmt::format("bench '{}' --size 64x48 --frames 1 --warmup 0 --json", model("suzanne.obj")));
+    const nlohmann::json j = runJson(
+        fmt::format("bench '{}' --size 64x48 --frames 1 --warmup 0 --json", model("suzanne.obj")));
     for (const char* k : {"machine", "scene", "results"}) EXPECT_TRUE(j.contains(k)) << k;
     for (const auto& r : j["results"]) {
-        for (const char* k : {"backend", "method", "views", "triangles", "median_ms", "min_ms", "speedup_vs_first"}) {
+        for (const char* k : {"backend", "method", "views", "triangles", "median_ms", "min_ms",
+                              "speedup_vs_first"}) {
             EXPECT_TRUE(r.contains(k)) << k;
         }
     }

@@ -32,8 +32,8 @@ const JobRules kPaperRules{.addBaseline = true, .skipUnavailable = true, .allowA
 TEST(BenchHarness, PaperJobsGetTheirBaselineFirstAndOnce) {
     BackendSet backends({});
     std::vector<Skipped> skipped;
-    auto jobs = resolveJobs({"soft:unified", "soft:multipass", "soft:unified"}, backends, kPaperRules,
-                            &skipped);
+    auto jobs = resolveJobs({"soft:unified", "soft:multipass", "soft:unified"}, backends,
+                            kPaperRules, &skipped);
     ASSERT_TRUE(jobs) << jobs.status().message();
     EXPECT_EQ(texts(*jobs), (std::vector<std::string>{"soft:multipass", "soft:unified"}));
     EXPECT_TRUE(skipped.empty());
@@ -61,9 +61,10 @@ TEST(BenchHarness, BadEntriesNameTheOption) {
               "--methods entry 'unified' is not of the form BACKEND:METHOD (e.g. soft:unified)");
     EXPECT_EQ(message({"soft:"}, {}),
               "--methods entry 'soft:' is not of the form BACKEND:METHOD (e.g. soft:unified)");
-    EXPECT_EQ(message({"nope:multipass"}, kPaperRules).rfind("--methods entry 'nope:multipass': "
-                                                             "unknown backend 'nope' (expected soft",
-                                                             0),
+    EXPECT_EQ(message({"nope:multipass"}, kPaperRules)
+                  .rfind("--methods entry 'nope:multipass': "
+                         "unknown backend 'nope' (expected soft",
+                         0),
               0u);
     EXPECT_EQ(message({"soft:bogus"}, {}),
               "--methods entry 'soft:bogus': unknown method 'bogus' of backend soft (expected one "

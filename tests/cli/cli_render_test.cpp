@@ -35,15 +35,17 @@ class Cli : public ::testing::Test {
 protected:
     void SetUp() override {
         mDir = std::filesystem::temp_directory_path() /
-               fmt::format("mvr-cli-test-{}-{}", ::getpid(), ::testing::UnitTest::GetInstance()->current_test_info()->name());
+               fmt::format("mvr-cli-test-{}-{}", ::getpid(),
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
         std::filesystem::create_directories(mDir);
     }
     void TearDown() override { std::filesystem::remove_all(mDir); }
 
     CliRun run(const std::string& args) const {
         const auto outFile = mDir / "stdout.txt", errFile = mDir / "stderr.txt";
-        const std::string cmd = fmt::format("cd '{}' && '{}' {} >'{}' 2>'{}' </dev/null", mDir.string(),
-                                            mvrBinary().string(), args, outFile.string(), errFile.string());
+        const std::string cmd =
+            fmt::format("cd '{}' && '{}' {} >'{}' 2>'{}' </dev/null", mDir.string(),
+                        mvrBinary().string(), args, outFile.string(), errFile.string());
         const int status = std::system(cmd.c_str());
         CliRun r;
         r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -65,7 +67,8 @@ protected:
         EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << args << ": " << r.err;
         const std::string firstLine = r.err.substr(0, r.err.find('\n'));
         EXPECT_NE(firstLine.find(needle), std::string::npos) << args << ": " << r.err;
-        EXPECT_LE(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;  // the error (+ a usage hint)
+        EXPECT_LE(std::count(r.err.begin(), r.err.end(), '\n'), 2)
+            << r.err;  // the error (+ a usage hint)
     }
 
     std::filesystem::path write(const std::string& name, const std::string& bytes) const {
@@ -79,8 +82,9 @@ protected:
 TEST_F(Cli, HelpDocumentsTheContract) {
     const CliRun r = run("render --help");
     EXPECT_EQ(r.exitCode, 0);
-    for (const char* opt : {"--grid", "--views", "--view-grid", "--rig", "--interaxial", "--separation",
-                            "--convergence", "--fov", "--size", "--shading", "--backend", "--method", "-o"}) {
+    for (const char* opt :
+         {"--grid", "--views", "--view-grid", "--rig", "--interaxial", "--separation",
+          "--convergence", "--fov", "--size", "--shading", "--backend", "--method", "-o"}) {
         EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
     }
     EXPECT_EQ(run("--help").exitCode, 0);
@@ -108,7 +112,8 @@ TEST_F(Cli, DefaultSceneWritesViewsAndAnaglyph) {
 TEST_F(Cli, ViewGridNamesViewsInOrder) {
     const CliRun r = run("render --size 64x48 --view-grid 3x2 -o grid");
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    for (int v = 0; v < 6; ++v) EXPECT_TRUE(std::filesystem::exists(mDir / fmt::format("grid/view-{}.png", v)));
+    for (int v = 0; v < 6; ++v)
+        EXPECT_TRUE(std::filesystem::exists(mDir / fmt::format("grid/view-{}.png", v)));
     EXPECT_FALSE(std::filesystem::exists(mDir / "grid/view-6.png"));
     EXPECT_FALSE(std::filesystem::exists(mDir / "grid/anaglyph.png"));  // only for a pair
 }
@@ -140,7 +145,8 @@ Coverage coverage(const Image& img) {
 TEST_F(Cli, BunnyEyesOffsetHorizontallyOnly) {
     const auto bunny = sharedModels() / "stanford-bunny.obj";
     if (!std::filesystem::exists(bunny)) GTEST_SKIP() << "no " << bunny;
-    const CliRun r = run(fmt::format("render '{}' --size 200x150 --separation 0.05 --convergence 0.1 -o bunny", bunny.string()));
+    const CliRun r = run(fmt::format(
+        "render '{}' --size 200x150 --separation 0.05 --convergence 0.1 -o bunny", bunny.string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     auto left = readPng(mDir / "bunny/view-0.png");
     auto right = readPng(mDir / "bunny/view-1.png");
@@ -153,10 +159,13 @@ TEST_F(Cli, BunnyEyesOffsetHorizontallyOnly) {
     EXPECT_GT(rc.centroidX - l.centroidX, 2.0);  // behind the screen: right image shifted right
     // Toe-in, for comparison, gives vertical parallax somewhere (keystone), so extents may differ;
     // with convergence in front of the bunny, parallel eyes shift it the other way: negative parallax.
-    const CliRun p = run(fmt::format("render '{}' --size 200x150 --rig parallel --separation 0.05 -o par", bunny.string()));
+    const CliRun p = run(fmt::format(
+        "render '{}' --size 200x150 --rig parallel --separation 0.05 -o par", bunny.string()));
     ASSERT_EQ(p.exitCode, 0) << p.err;
-    const Coverage pl = coverage(*readPng(mDir / "par/view-0.png")), pr = coverage(*readPng(mDir / "par/view-1.png"));
-    EXPECT_LT(pr.centroidX - pl.centroidX, -2.0);  // parallel rig: everything in front of the screen
+    const Coverage pl = coverage(*readPng(mDir / "par/view-0.png")),
+                   pr = coverage(*readPng(mDir / "par/view-1.png"));
+    EXPECT_LT(pr.centroidX - pl.centroidX,
+              -2.0);  // parallel rig: everything in front of the screen
 }
 
 TEST_F(Cli, BadNumbersAreUsageErrors) {
@@ -188,10 +197,18 @@ TEST_F(Cli, UnknownNamesAreUsageErrors) {
 TEST_F(Cli, BadModelFilesAreInputErrors) {
     expectError("render nowhere.obj", 2, "file not found");
     expectError(fmt::format("render '{}'", write("empty.obj", "").string()), 2, "empty");
-    expectError(fmt::format("render '{}'", write("lines.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n").string()), 2, "no triangles");
-    expectError(fmt::format("render '{}'", write("flat.obj", "v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\n").string()), 2, "degenerate");
-    expectError(fmt::format("render '{}'", write("cut.ply", "ply\nformat ascii 1.0\nelement vertex 3\nprop").string()), 2, "PLY");
-    expectError(fmt::format("render '{}'", write("junk.gltf", "{\"asset\": {").string()), 2, "junk.gltf");
+    expectError(
+        fmt::format("render '{}'", write("lines.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n").string()), 2,
+        "no triangles");
+    expectError(fmt::format("render '{}'",
+                            write("flat.obj", "v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\n").string()),
+                2, "degenerate");
+    expectError(
+        fmt::format("render '{}'",
+                    write("cut.ply", "ply\nformat ascii 1.0\nelement vertex 3\nprop").string()),
+        2, "PLY");
+    expectError(fmt::format("render '{}'", write("junk.gltf", "{\"asset\": {").string()), 2,
+                "junk.gltf");
     expectError(fmt::format("render '{}'", mDir.string()), 2, "not a regular file");
 }
 

@@ -181,9 +181,8 @@ TEST(Compose, OutputSizeIsComposesSize) {
                 // 1280x720 (an HDMI size) only where it is the rule, to stay quick.
                 if (w == 1280 && (f.size.rule != SizeRule::FramePacked || n != 2)) continue;
                 const std::vector<Image> views = taggedViews(n, w, h);
-                for (const ComposeOptions* o :
-                     std::initializer_list<const ComposeOptions*>{&kNoOptions, &grid, &badGrid,
-                                                                  &panel, &badPanel}) {
+                for (const ComposeOptions* o : std::initializer_list<const ComposeOptions*>{
+                         &kNoOptions, &grid, &badGrid, &panel, &badPanel}) {
                     Result<Image> image = compose(f.name, views, *o);
                     Result<Size> size = outputSize(f.name, n, w, h, *o);
                     ++compared;

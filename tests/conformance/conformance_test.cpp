@@ -178,15 +178,15 @@ std::string expectWithin(const std::string& refName, const RenderOutput& ref,
         if (bound.exact) {
             const std::string diff = firstDifference(a, b, bothDepth ? &ref.depth[i] : nullptr,
                                                      bothDepth ? &out.depth[i] : nullptr);
-            EXPECT_EQ(diff, "") << "view " << v << " vs " << refName << " (exact): "
-                                << compareImages(a, b, 0).differingPixels
+            EXPECT_EQ(diff, "") << "view " << v << " vs " << refName
+                                << " (exact): " << compareImages(a, b, 0).differingPixels
                                 << " pixels differ, max " << d.maxDelta;
             if (!diff.empty()) worstShare = std::max(worstShare, 1.0 / pixels);
             continue;
         }
         if (a.width != b.width || a.height != b.height) {
-            ADD_FAILURE() << "view " << v << ": " << b.width << "x" << b.height << " vs "
-                          << refName << "'s " << a.width << "x" << a.height;
+            ADD_FAILURE() << "view " << v << ": " << b.width << "x" << b.height << " vs " << refName
+                          << "'s " << a.width << "x" << a.height;
             return "sizes differ";
         }
         const double share = static_cast<double>(d.differingPixels) / pixels;
@@ -194,8 +194,8 @@ std::string expectWithin(const std::string& refName, const RenderOutput& ref,
         EXPECT_TRUE(allowed.holds(share))
             << "view " << v << " vs " << refName << ": " << d.differingPixels << " pixels ("
             << 100.0 * share << " %) off by more than " << bound.channel << "/255, allowed "
-            << (allowed.strict ? "below " : "at most ") << 100.0 * allowed.fraction
-            << " %; max " << d.maxDelta << " at (" << d.worstX << "," << d.worstY << ")";
+            << (allowed.strict ? "below " : "at most ") << 100.0 * allowed.fraction << " %; max "
+            << d.maxDelta << " at (" << d.worstX << "," << d.worstY << ")";
         worstShare = std::max(worstShare, share);
         if (bothDepth) {
             float maxDepth = 0.0f;
@@ -244,9 +244,11 @@ void checkCase(const std::string& name, Backend& backend, Backend& reference,
     const auto views = static_cast<std::size_t>(rig.viewCount());
     ASSERT_EQ(out->color.size(), views);
     switch (tol.depth) {
-    case Depth::PerView: ASSERT_EQ(out->depth.size(), views); break;
-    case Depth::None: EXPECT_TRUE(out->depth.empty()) << method << " has no per-view depth"; break;
-    case Depth::Optional: ASSERT_TRUE(out->depth.empty() || out->depth.size() == views); break;
+        case Depth::PerView: ASSERT_EQ(out->depth.size(), views); break;
+        case Depth::None:
+            EXPECT_TRUE(out->depth.empty()) << method << " has no per-view depth";
+            break;
+        case Depth::Optional: ASSERT_TRUE(out->depth.empty() || out->depth.size() == views); break;
     }
 
     std::string measured = expectWithin("soft:multipass", *ref, *out, tol.vsSoft);
@@ -257,19 +259,19 @@ void checkCase(const std::string& name, Backend& backend, Backend& reference,
         measured += "; " + expectWithin(name + ":" + sibling, *sib, *out, tol.vsSibling);
     }
     const std::string ran = out->method != method ? " (ran " + out->method + ")" : "";
-    std::printf("[ measured ] %s:%s %s%s: %s\n", name.c_str(), method.c_str(),
-                c.name().c_str(), ran.c_str(), measured.c_str());
+    std::printf("[ measured ] %s:%s %s%s: %s\n", name.c_str(), method.c_str(), c.name().c_str(),
+                ran.c_str(), measured.c_str());
     testing::Test::RecordProperty(c.name(), measured);
 }
 
 /// ok, or skips (Unsupported: cannot run here) / fails (anything else) with `status`.
-#define MVR_SKIP_UNSUPPORTED(status, what)                                                     \
-    do {                                                                                       \
-        const ::mvr::Status s_ = (status);                                                     \
-        if (!s_) {                                                                             \
-            if (s_.code() == ::mvr::ErrorCode::Unsupported) GTEST_SKIP() << s_.message();      \
-            FAIL() << (what) << ": " << s_.message();                                          \
-        }                                                                                      \
+#define MVR_SKIP_UNSUPPORTED(status, what)                                                \
+    do {                                                                                  \
+        const ::mvr::Status s_ = (status);                                                \
+        if (!s_) {                                                                        \
+            if (s_.code() == ::mvr::ErrorCode::Unsupported) GTEST_SKIP() << s_.message(); \
+            FAIL() << (what) << ": " << s_.message();                                     \
+        }                                                                                 \
     } while (0)
 
 class Conformance : public testing::TestWithParam<Param> {};
@@ -353,10 +355,11 @@ TEST(GpuSorbier2008, DepthMapErrsNoMoreThanGsMrt) {
                 const StereoErrors mrt = stereoErrors(**backend, "gs-mrt", *scene, cull);
                 const StereoErrors dm = stereoErrors(**backend, "gs-depthmap", *scene, cull);
                 const std::string name = scene == suz ? "suzanne" : "default";
-                std::printf("[ measured ] %s %s cull=%d: gs-mrt wrong pixels left %.2f %% right "
-                            "%.2f %%; gs-depthmap left %.2f %% right %.2f %%\n",
-                            entry.name.c_str(), name.c_str(), cull, 100 * mrt.left,
-                            100 * mrt.right, 100 * dm.left, 100 * dm.right);
+                std::printf(
+                    "[ measured ] %s %s cull=%d: gs-mrt wrong pixels left %.2f %% right "
+                    "%.2f %%; gs-depthmap left %.2f %% right %.2f %%\n",
+                    entry.name.c_str(), name.c_str(), cull, 100 * mrt.left, 100 * mrt.right,
+                    100 * dm.left, 100 * dm.right);
                 const std::string key = entry.name + "_" + name + (cull ? "_cull" : "");
                 RecordProperty(key + "_gs_mrt_left_pct", fmt::format("{:.2f}", 100 * mrt.left));
                 RecordProperty(key + "_gs_mrt_right_pct", fmt::format("{:.2f}", 100 * mrt.right));

@@ -87,27 +87,41 @@ inline constexpr Bound kGlVsSoft = within(2, atMost(0.01), std::nullopt, 1e-5f, 
 inline constexpr Bound kGlExact = within(2, atMost(0.002), std::nullopt, 1e-6f, atMost(0.002));
 
 inline constexpr Tolerance kTolerances[] = {
-    {"soft", "multipass", "*", 0, Depth::PerView, kExact, "", {},
+    {"soft",
+     "multipass",
+     "*",
+     0,
+     Depth::PerView,
+     kExact,
+     "",
+     {},
      "the reference against a second backend instance: bit for bit (the bands a thread takes "
      "do not change what is drawn into them)"},
-    {"soft", "unified", "*", 0, Depth::PerView, kExact, "", {},
+    {"soft",
+     "unified",
+     "*",
+     0,
+     Depth::PerView,
+     kExact,
+     "",
+     {},
      "kalaiah2007's unified pipeline with adelson1991's shared setup does the same snapped "
      "int64 edge functions and the same float operations in the same order per view: bit for "
      "bit, colour and depth (tests/raster/unified_test.cpp covers many more rigs)"},
-    {"gl", "gs-mrt", "octahedra", 2, Depth::None,
-     within(2, atMost(0.012)), "multipass", within(2, atMost(0.002)),
+    {"gl", "gs-mrt", "octahedra", 2, Depth::None, within(2, atMost(0.012)), "multipass",
+     within(2, atMost(0.002)),
      "sorbier2008 §4 on separate convex objects with culling, listed front to back: painter's "
      "order (instances sorted back to front) is then exact, up to gl's edge pixels; vs soft "
      "the sum with kGlVsSoft"},
-    {"gl", "gs-mrt", "*", 2, Depth::None,
-     within(2, below(0.31)), "multipass", within(2, below(0.30)),
+    {"gl", "gs-mrt", "*", 2, Depth::None, within(2, below(0.31)), "multipass",
+     within(2, below(0.30)),
      "sorbier2008 §4, its Figures 4/5: depth test off, painter's order sorts whole objects "
      "only, so faces of a concave object drawn after nearer ones show through. Measured vs "
      "gl:multipass, left / right: default scene 1.06 / 1.06 % (culled 0.18 / 0.19 %), "
      "Suzanne 3.06 / 2.91 % (culled 0.89 / 0.77 %); bounded well above (a visible fraction "
      "of the picture, not the whole of it); vs soft the sum with kGlVsSoft"},
-    {"gl", "gs-depthmap", "*", 2, Depth::None,
-     within(2, atMost(0.012), below(0.06)), "multipass", within(2, atMost(0.002), below(0.05)),
+    {"gl", "gs-depthmap", "*", 2, Depth::None, within(2, atMost(0.012), below(0.06)), "multipass",
+     within(2, atMost(0.002), below(0.05)),
      "sorbier2008 §5.2: the left eye renders against its own depth pre-pass, so it is exact "
      "up to edge pixels; the right eye tests its fragments at their left-eye position in the "
      "left depth map, so surfaces the left eye cannot see are lost (disocclusions) and depth "
@@ -121,7 +135,14 @@ inline constexpr Tolerance kTolerances[] = {
      "kalaiah-emulation: one vertex/fragment source, a method only changes where the view index "
      "comes from and where the primitive goes (kGlExact vs gl:multipass); gl vs soft: "
      "kGlVsSoft"},
-    {"*", "*", "*", 0, Depth::Optional, kGlVsSoft, "", {},
+    {"*",
+     "*",
+     "*",
+     0,
+     Depth::Optional,
+     kGlVsSoft,
+     "",
+     {},
      "a backend without a row of its own: another rasterizer with soft_backend.h's conventions "
      "(1/256-pixel snapping, top-left rule, GL depth) is held to what gl holds to"},
 };

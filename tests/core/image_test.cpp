@@ -12,14 +12,17 @@ namespace mvr {
 namespace {
 
 std::filesystem::path tempPath(const std::string& name) {
-    return std::filesystem::temp_directory_path() / fmt::format("mvr-image-test-{}-{}", ::getpid(), name);
+    return std::filesystem::temp_directory_path() /
+           fmt::format("mvr-image-test-{}-{}", ::getpid(), name);
 }
 
 Image gradient(int w, int h) {
     Image img(w, h);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-            img.set(x, y, {std::uint8_t(x * 7), std::uint8_t(y * 13), std::uint8_t(x ^ y), std::uint8_t(255 - x)});
+            img.set(x, y,
+                    {std::uint8_t(x * 7), std::uint8_t(y * 13), std::uint8_t(x ^ y),
+                     std::uint8_t(255 - x)});
     return img;
 }
 
@@ -63,7 +66,8 @@ TEST(Image, CompareReportsWorstPixel) {
 }
 
 TEST(Image, BadPngFilesGiveClearErrors) {
-    EXPECT_NE(readPng(tempPath("missing.png")).status().message().find("file not found"), std::string::npos);
+    EXPECT_NE(readPng(tempPath("missing.png")).status().message().find("file not found"),
+              std::string::npos);
     const auto garbage = tempPath("garbage.png");
     std::ofstream(garbage) << "this is not a png";
     auto r = readPng(garbage);

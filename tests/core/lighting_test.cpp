@@ -35,14 +35,16 @@ PowError sweep(float s, std::uint32_t stride) {
 }
 
 TEST(Lighting, SpecularPowMatchesStdPow) {
-    for (float s : {1.0f, 2.0f, 4.5f, 8.0f, 16.0f, 32.0f, 64.0f, 100.0f, 128.0f, 256.0f, 500.0f, 1000.0f, 0.5f}) {
+    for (float s : {1.0f, 2.0f, 4.5f, 8.0f, 16.0f, 32.0f, 64.0f, 100.0f, 128.0f, 256.0f, 500.0f,
+                    1000.0f, 0.5f}) {
         const PowError e = sweep(s, 251);
         RecordProperty("s" + std::to_string(int(s)) + "_maxRel", std::to_string(e.maxRel));
         EXPECT_LT(e.maxRel, 1e-5) << "s " << s;
         EXPECT_LT(e.maxRelAll, 2e-5) << "s " << s;
         EXPECT_LT(e.maxAbs, 2e-6) << "s " << s;
-        std::printf("specularPow s=%-6g max rel error %.2e (results >= 2^-24), %.2e (normal results), max abs %.2e\n",
-                    double(s), e.maxRel, e.maxRelAll, e.maxAbs);
+        std::printf(
+            "specularPow s=%-6g max rel error %.2e (results >= 2^-24), %.2e (normal results), max abs %.2e\n",
+            double(s), e.maxRel, e.maxRelAll, e.maxAbs);
     }
 }
 
@@ -57,7 +59,8 @@ TEST(Lighting, SpecularPowSpecialValues) {
     EXPECT_EQ(specularPow(0.0f, -1.0f), std::numeric_limits<float>::infinity());
     // Denormal x: as accurate as normal x.
     for (float x : {0x1p-149f, 0x1.8p-140f, 0x1.fffffep-127f}) {
-        EXPECT_NEAR(specularPow(x, 0.5f), std::pow(double(x), 0.5), 1e-5 * std::pow(double(x), 0.5)) << x;
+        EXPECT_NEAR(specularPow(x, 0.5f), std::pow(double(x), 0.5), 1e-5 * std::pow(double(x), 0.5))
+            << x;
         EXPECT_EQ(specularPow(x, 32.0f), 0.0f);  // underflows, as std::pow
     }
     // x^1 is x to a few ulps, x^2 is x·x; large exponents underflow to exactly 0.

@@ -74,11 +74,13 @@ end_header
 )";
 
 std::string base64(const std::string& in) {
-    static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    static const char* kAlphabet =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     std::string out;
     std::size_t i = 0;
     for (; i + 2 < in.size(); i += 3) {
-        const unsigned v = (unsigned char)in[i] << 16 | (unsigned char)in[i + 1] << 8 | (unsigned char)in[i + 2];
+        const unsigned v =
+            (unsigned char)in[i] << 16 | (unsigned char)in[i + 1] << 8 | (unsigned char)in[i + 2];
         for (int k = 3; k >= 0; --k) out += kAlphabet[(v >> (6 * k)) & 63];
     }
     if (i < in.size()) {
@@ -121,9 +123,14 @@ void expectValidMesh(const Mesh& m) {
 }
 
 TEST(Mesh, LoadsSharedModels) {
-    struct Expect { const char* file; std::size_t triangles; bool uv; };
-    for (const Expect e : {Expect{"stanford-bunny.obj", 69451, false}, Expect{"spot.obj", 5856, true},
-                           Expect{"teapot.obj", 6320, false}, Expect{"suzanne.obj", 0, false}}) {
+    struct Expect {
+        const char* file;
+        std::size_t triangles;
+        bool uv;
+    };
+    for (const Expect e :
+         {Expect{"stanford-bunny.obj", 69451, false}, Expect{"spot.obj", 5856, true},
+          Expect{"teapot.obj", 6320, false}, Expect{"suzanne.obj", 0, false}}) {
         const auto path = sharedModels() / e.file;
         if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
         auto mesh = loadMesh(path);
@@ -165,14 +172,15 @@ TEST(Mesh, LoadsObjPlyGltf) {
     ASSERT_TRUE(tri) << tri.status().message();
     EXPECT_EQ(tri->triangleCount(), 1u);
     EXPECT_NEAR(tri->bounds().min.x, 10.0f, 1e-5f);  // the node transform was applied
-    EXPECT_NEAR(tri->normals[0].z, 1.0f, 1e-5f);      // smooth normals generated
+    EXPECT_NEAR(tri->normals[0].z, 1.0f, 1e-5f);     // smooth normals generated
 }
 
 std::string binaryPly(bool bigEndian) {
-    std::string out = fmt::format("ply\nformat {} 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                                  "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
-                                  "element face 1\nproperty list uchar uint vertex_indices\nend_header\n",
-                                  bigEndian ? "binary_big_endian" : "binary_little_endian");
+    std::string out = fmt::format(
+        "ply\nformat {} 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+        "element face 1\nproperty list uchar uint vertex_indices\nend_header\n",
+        bigEndian ? "binary_big_endian" : "binary_little_endian");
     auto put = [&](const void* p, std::size_t n) {
         std::string bytes(static_cast<const char*>(p), n);
         if (bigEndian) std::reverse(bytes.begin(), bytes.end());  // this machine is little-endian
@@ -208,14 +216,16 @@ TEST(Mesh, LocalityReorderKeepsTriangles) {
     ASSERT_TRUE(cube);
     // Same set of triangles (as position triples, up to rotation of the corners) after reorder.
     auto key = [](const Mesh& m, std::size_t t) {
-        std::array<glm::vec3, 3> p{m.positions[m.indices[t]], m.positions[m.indices[t + 1]], m.positions[m.indices[t + 2]]};
+        std::array<glm::vec3, 3> p{m.positions[m.indices[t]], m.positions[m.indices[t + 1]],
+                                   m.positions[m.indices[t + 2]]};
         int first = 0;
         for (int k = 1; k < 3; ++k) {
-            if (std::tie(p[k].x, p[k].y, p[k].z) < std::tie(p[first].x, p[first].y, p[first].z)) first = k;
+            if (std::tie(p[k].x, p[k].y, p[k].z) < std::tie(p[first].x, p[first].y, p[first].z))
+                first = k;
         }
-        return fmt::format("{},{},{}|{},{},{}|{},{},{}", p[first].x, p[first].y, p[first].z, p[(first + 1) % 3].x,
-                           p[(first + 1) % 3].y, p[(first + 1) % 3].z, p[(first + 2) % 3].x, p[(first + 2) % 3].y,
-                           p[(first + 2) % 3].z);
+        return fmt::format("{},{},{}|{},{},{}|{},{},{}", p[first].x, p[first].y, p[first].z,
+                           p[(first + 1) % 3].x, p[(first + 1) % 3].y, p[(first + 1) % 3].z,
+                           p[(first + 2) % 3].x, p[(first + 2) % 3].y, p[(first + 2) % 3].z);
     };
     Mesh shuffled = *cube;
     std::vector<std::string> before, after;
@@ -234,8 +244,10 @@ TEST(Mesh, BadFilesGiveClearErrors) {
     auto missing = loadMesh(dir.path() / "nope.obj");
     EXPECT_EQ(missing.status().code(), ErrorCode::Input);
     EXPECT_NE(missing.status().message().find("file not found"), std::string::npos);
-    EXPECT_NE(loadMesh(dir.path()).status().message().find("not a regular file"), std::string::npos);
-    EXPECT_NE(loadMesh(dir.write("empty.obj", "")).status().message().find("empty"), std::string::npos);
+    EXPECT_NE(loadMesh(dir.path()).status().message().find("not a regular file"),
+              std::string::npos);
+    EXPECT_NE(loadMesh(dir.write("empty.obj", "")).status().message().find("empty"),
+              std::string::npos);
     auto noTris = loadMesh(dir.write("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"));
     EXPECT_FALSE(noTris);
     EXPECT_EQ(noTris.status().code(), ErrorCode::Input);
@@ -243,16 +255,22 @@ TEST(Mesh, BadFilesGiveClearErrors) {
     EXPECT_FALSE(degenerate);
     auto badIndex = loadMesh(dir.write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"));
     EXPECT_FALSE(badIndex);
-    auto garbage = loadMesh(dir.write("garbage.obj", std::string("\x7f\x45LF\x02\x01\x01\0\0\0garbage\xff\xfe", 22)));
+    auto garbage = loadMesh(
+        dir.write("garbage.obj", std::string("\x7f\x45LF\x02\x01\x01\0\0\0garbage\xff\xfe", 22)));
     EXPECT_FALSE(garbage);
-    auto badPly = loadMesh(dir.write("bad.ply", "ply\nformat ascii 1.0\nelement vertex 3\nend_header\n0 0\n"));
+    auto badPly = loadMesh(
+        dir.write("bad.ply", "ply\nformat ascii 1.0\nelement vertex 3\nend_header\n0 0\n"));
     EXPECT_FALSE(badPly);
-    auto badGltf = loadMesh(dir.write("bad.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 7}}]}]}"));
+    auto badGltf = loadMesh(dir.write(
+        "bad.gltf",
+        "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 7}}]}]}"));
     EXPECT_FALSE(badGltf);
     auto nanObj = loadMesh(dir.write("nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
     EXPECT_FALSE(nanObj);
-    for (const auto* r : {&missing, &noTris, &degenerate, &badIndex, &garbage, &badPly, &badGltf, &nanObj}) {
-        EXPECT_NE(r->status().message().find("mvr::loadMesh()"), std::string::npos) << r->status().message();
+    for (const auto* r :
+         {&missing, &noTris, &degenerate, &badIndex, &garbage, &badPly, &badGltf, &nanObj}) {
+        EXPECT_NE(r->status().message().find("mvr::loadMesh()"), std::string::npos)
+            << r->status().message();
     }
 }
 

@@ -18,7 +18,8 @@ RandomRig randomRig(std::mt19937& rng, RigKind kind, int columns, int rows = 1) 
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     RandomRig r;
     r.camera.position = glm::vec3(u(rng), u(rng), u(rng)) * 5.0f;
-    r.camera.target = r.camera.position + glm::normalize(glm::vec3(u(rng), u(rng) * 0.5f, -1.0f)) * 4.0f;
+    r.camera.target =
+        r.camera.position + glm::normalize(glm::vec3(u(rng), u(rng) * 0.5f, -1.0f)) * 4.0f;
     r.camera.fovYDegrees = 30.0f + 40.0f * (u(rng) * 0.5f + 0.5f);
     r.camera.aspect = 1.0f + 0.8f * (u(rng) * 0.5f + 0.5f);
     r.camera.near = 0.2f + 0.3f * (u(rng) * 0.5f + 0.5f);
@@ -53,18 +54,24 @@ TEST(Rig, OffAxisMatchesNvidiaClipSpaceForm) {
         auto rig = makeRig(rr.camera, rr.params);
         ASSERT_TRUE(rig) << rig.status().message();
         const float separation = rig->separation();
-        EXPECT_NEAR(separation, separationFromInteraxial(rr.camera, rr.params.interaxial, rr.params.convergence), 1e-6f);
-        EXPECT_NEAR(interaxialFromSeparation(rr.camera, separation, rr.params.convergence), rr.params.interaxial, 1e-5f);
+        EXPECT_NEAR(
+            separation,
+            separationFromInteraxial(rr.camera, rr.params.interaxial, rr.params.convergence),
+            1e-6f);
+        EXPECT_NEAR(interaxialFromSeparation(rr.camera, separation, rr.params.convergence),
+                    rr.params.interaxial, 1e-5f);
         const glm::mat4 mono = rr.camera.clipFromView() * rr.camera.viewFromWorld();
         for (int k = 0; k < 10; ++k) {
             const glm::vec3 p = randomPointInView(rng, rr.camera);
             const glm::vec4 monoClip = mono * glm::vec4(p, 1.0f);
             for (int eye = 0; eye < 2; ++eye) {
                 const float eyeSign = eye == 0 ? -1.0f : 1.0f;
-                const glm::vec4 expected = applyClipSpaceStereo(monoClip, eyeSign, separation, rig->convergence);
+                const glm::vec4 expected =
+                    applyClipSpaceStereo(monoClip, eyeSign, separation, rig->convergence);
                 const glm::vec4 actual = rig->views[eye].clipFromWorld() * glm::vec4(p, 1.0f);
                 for (int c = 0; c < 4; ++c) {
-                    EXPECT_NEAR(actual[c], expected[c], relTol(expected.w)) << "trial " << trial << " eye " << eye << " c " << c;
+                    EXPECT_NEAR(actual[c], expected[c], relTol(expected.w))
+                        << "trial " << trial << " eye " << eye << " c " << c;
                 }
                 // The stored clip shear gives the same position.
                 ASSERT_TRUE(rig->views[eye].clipShear.has_value());
@@ -102,7 +109,8 @@ TEST(Rig, ParallaxZeroAtConvergenceAndChangesSign) {
         const glm::mat4 worldFromView = glm::inverse(rr.camera.viewFromWorld());
         std::uniform_real_distribution<float> u(-0.5f, 0.5f);
         auto pointAt = [&](float w) {
-            return glm::vec3(worldFromView * glm::vec4(u(rng) * w * 0.3f, u(rng) * w * 0.3f, -w, 1.0f));
+            return glm::vec3(worldFromView *
+                             glm::vec4(u(rng) * w * 0.3f, u(rng) * w * 0.3f, -w, 1.0f));
         };
         const float conv = rig->convergence;
         EXPECT_NEAR(parallax(*rig, pointAt(conv), 0, 1), 0.0f, 2e-5f);
@@ -127,20 +135,23 @@ TEST(Rig, OffAxisFrustumCornersLandOnNdcCorners) {
             // The corners of the eye's frustum in eye space, from the glFrustum bounds.
             const glm::mat4 viewFromClip = glm::inverse(v.clipFromView);
             for (int i = 0; i < 8; ++i) {
-                const glm::vec4 ndc((i & 1) ? 1.f : -1.f, (i & 2) ? 1.f : -1.f, (i & 4) ? 1.f : -1.f, 1.f);
+                const glm::vec4 ndc((i & 1) ? 1.f : -1.f, (i & 2) ? 1.f : -1.f,
+                                    (i & 4) ? 1.f : -1.f, 1.f);
                 const glm::vec4 eye = viewFromClip * ndc;
                 const glm::vec4 back = v.clipFromView * eye;
                 EXPECT_NEAR(back.x / back.w, ndc.x, 1e-4f);
                 EXPECT_NEAR(back.y / back.w, ndc.y, 1e-4f);
                 EXPECT_NEAR(back.z / back.w, ndc.z, 1e-3f);
                 // near corners at distance near, far corners at far
-                EXPECT_NEAR(-eye.z / eye.w, (i & 4) ? rr.camera.far : rr.camera.near, 1e-3f * rr.camera.far);
+                EXPECT_NEAR(-eye.z / eye.w, (i & 4) ? rr.camera.far : rr.camera.near,
+                            1e-3f * rr.camera.far);
             }
             // All views share the window on the convergence plane: its corners project to NDC corners.
             const glm::mat4 worldFromView = glm::inverse(rr.camera.viewFromWorld());
             const float tanHalf = std::tan(glm::radians(rr.camera.fovYDegrees) * 0.5f);
             const float conv = rig->convergence;
-            const glm::vec3 corner(worldFromView * glm::vec4(conv * tanHalf * rr.camera.aspect, conv * tanHalf, -conv, 1.0f));
+            const glm::vec3 corner(worldFromView * glm::vec4(conv * tanHalf * rr.camera.aspect,
+                                                             conv * tanHalf, -conv, 1.0f));
             const glm::vec4 c = v.clipFromWorld() * glm::vec4(corner, 1.0f);
             EXPECT_NEAR(c.x / c.w, 1.0f, 1e-4f);
             EXPECT_NEAR(c.y / c.w, 1.0f, 1e-4f);
@@ -162,9 +173,11 @@ TEST(Rig, EveryViewInsideCullingFrustum) {
             }
         }
         // And the culling frustum is not trivially everything: a point far behind the camera is out.
-        const glm::vec3 behind = rr.camera.position + (rr.camera.position - rr.camera.target) * 10.0f;
+        const glm::vec3 behind =
+            rr.camera.position + (rr.camera.position - rr.camera.target) * 10.0f;
         EXPECT_FALSE(rig->cullingFrustum.contains(behind));
-        const glm::vec3 farOut = rr.camera.target + (rr.camera.target - rr.camera.position) * 1000.0f;
+        const glm::vec3 farOut =
+            rr.camera.target + (rr.camera.target - rr.camera.position) * 1000.0f;
         EXPECT_FALSE(rig->cullingFrustum.contains(farOut));
     }
 }
@@ -179,7 +192,8 @@ TEST(Rig, OneViewRigEqualsMonoCamera) {
         const glm::mat4 mono = rr.camera.clipFromView() * rr.camera.viewFromWorld();
         const glm::mat4 one = rig->views[0].clipFromWorld();
         for (int c = 0; c < 4; ++c)
-            for (int r = 0; r < 4; ++r) EXPECT_NEAR(one[c][r], mono[c][r], 1e-5f * std::max(1.0f, std::abs(mono[c][r])));
+            for (int r = 0; r < 4; ++r)
+                EXPECT_NEAR(one[c][r], mono[c][r], 1e-5f * std::max(1.0f, std::abs(mono[c][r])));
     }
 }
 
@@ -197,7 +211,8 @@ TEST(Rig, ToeInHasVerticalParallaxOffAxisHasNone) {
         const glm::mat4 worldFromView = glm::inverse(rr.camera.viewFromWorld());
         const float w = rr.params.convergence * 2.0f;
         const float tanHalf = std::tan(glm::radians(rr.camera.fovYDegrees) * 0.5f);
-        const glm::vec3 p(worldFromView * glm::vec4(0.7f * w * tanHalf * rr.camera.aspect, 0.7f * w * tanHalf, -w, 1.0f));
+        const glm::vec3 p(worldFromView * glm::vec4(0.7f * w * tanHalf * rr.camera.aspect,
+                                                    0.7f * w * tanHalf, -w, 1.0f));
         auto ndcY = [&](const Rig& rig, int v) {
             const glm::vec4 c = rig.views[v].clipFromWorld() * glm::vec4(p, 1.0f);
             return c.y / c.w;

@@ -19,7 +19,8 @@ TEST(Scene, DefaultSceneIsValidAndOutwardFacing) {
             const glm::vec3 a = m.positions[m.indices[t]], b = m.positions[m.indices[t + 1]],
                             c = m.positions[m.indices[t + 2]];
             const glm::vec3 n = glm::cross(b - a, c - a);
-            agree += glm::dot(n, m.normals[m.indices[t]] + m.normals[m.indices[t + 1]] + m.normals[m.indices[t + 2]]) > 0.0f;
+            agree += glm::dot(n, m.normals[m.indices[t]] + m.normals[m.indices[t + 1]] +
+                                     m.normals[m.indices[t + 2]]) > 0.0f;
         }
         EXPECT_EQ(agree, int(m.triangleCount())) << m.name;
     }
@@ -41,7 +42,9 @@ TEST(Scene, GridHasCopiesSideBySide) {
         // No two copies at the same place.
         for (int i = 0; i < k; ++i)
             for (int j = i + 1; j < k; ++j)
-                EXPECT_GT(glm::length(glm::vec3(s.instances[i].worldFromModel[3] - s.instances[j].worldFromModel[3])), 0.5f);
+                EXPECT_GT(glm::length(glm::vec3(s.instances[i].worldFromModel[3] -
+                                                s.instances[j].worldFromModel[3])),
+                          0.5f);
     }
 }
 

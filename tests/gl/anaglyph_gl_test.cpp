@@ -76,7 +76,8 @@ TEST(AnaglyphGpu, EveryCompositeAnaglyphMatchesTheCpuWithin1) {
                              AnaglyphMethod::True, AnaglyphMethod::Dubois,
                              AnaglyphMethod::DuboisGreenMagenta, AnaglyphMethod::DuboisAmberBlue}) {
         auto gpu = composePair(std::string(composite::anaglyphFormatName(m)), left, right);
-        if (!gpu && gpu.status().code() == ErrorCode::Unsupported) GTEST_SKIP() << gpu.status().message();
+        if (!gpu && gpu.status().code() == ErrorCode::Unsupported)
+            GTEST_SKIP() << gpu.status().message();
         ASSERT_TRUE(gpu) << gpu.status().message();
         auto cpu = composite::anaglyph(left, right, m);
         ASSERT_TRUE(cpu) << cpu.status().message();
@@ -94,7 +95,8 @@ TEST(AnaglyphGpu, AnaglyphMixReplacesTheFormatsMix) {
     const Image left = randomImage(16, 8, 5), right = randomImage(16, 8, 6);
     using composite::AnaglyphMethod;
     auto own = composePair("anaglyph-gray", left, right);
-    if (!own && own.status().code() == ErrorCode::Unsupported) GTEST_SKIP() << own.status().message();
+    if (!own && own.status().code() == ErrorCode::Unsupported)
+        GTEST_SKIP() << own.status().message();
     ASSERT_TRUE(own) << own.status().message();
     auto mixed = composePair("anaglyph-color", left, right,
                              {.anaglyphMix = composite::anaglyphGlsl(AnaglyphMethod::Gray)});

@@ -79,8 +79,8 @@ bool compareOne(const std::string& format, const std::vector<Image>& views,
     return true;
 }
 
-#define MVR_COMPARE(format, views, options, what)                                           \
-    do {                                                                                    \
+#define MVR_COMPARE(format, views, options, what)                                            \
+    do {                                                                                     \
         if (!compareOne(format, views, options, what)) GTEST_SKIP() << "no GL context here"; \
     } while (0)
 
@@ -128,7 +128,8 @@ TEST(ComposeGpu, HdmiFramePackingMatchesTheCpu) {
         swap.swapEyes = true;
         MVR_COMPARE("hdmi-frame-packing", views, composite::ComposeOptions{},
                     label("hdmi-frame-packing", 2, w, h));
-        MVR_COMPARE("hdmi-frame-packing", views, swap, label("hdmi-frame-packing", 2, w, h, " swap"));
+        MVR_COMPARE("hdmi-frame-packing", views, swap,
+                    label("hdmi-frame-packing", 2, w, h, " swap"));
     }
 }
 
@@ -264,7 +265,8 @@ TEST(ComposeGpu, JpegFilesStayOnTheCpu) {
         Result<Image> r = composeGpu(f, views, {});
         ASSERT_FALSE(r);
         EXPECT_EQ(r.status().code(), ErrorCode::Unsupported);
-        EXPECT_NE(r.status().message().find("JPEG file"), std::string::npos) << r.status().message();
+        EXPECT_NE(r.status().message().find("JPEG file"), std::string::npos)
+            << r.status().message();
     }
 }
 
@@ -272,7 +274,8 @@ TEST(ComposeGpu, WorksFromAnotherThreadAndLeavesNoContextCurrent) {
     const EGLContext before = eglGetCurrentContext();  // a backend's, when other tests ran
     const std::vector<Image> views = randomViews(2, 16, 8, 21);
     Result<Image> here = composeGpu("checkerboard", views, {});
-    if (!here && here.status().code() == ErrorCode::Unsupported) GTEST_SKIP() << here.status().message();
+    if (!here && here.status().code() == ErrorCode::Unsupported)
+        GTEST_SKIP() << here.status().message();
     ASSERT_TRUE(here) << here.status().message();
     Result<Image> there = internalError("not run");
     std::thread t([&] { there = composeGpu("checkerboard", views, {}); });

@@ -73,8 +73,10 @@ TEST(GlBackend, NoDisplayIsUnsupportedNotACrash) {
         EXPECT_EQ(r.status().code(), ErrorCode::Unsupported);
         return;
     }
-    EXPECT_EQ(runChild("MVR_GL_TEST_EXPECT_NO_EGL=1 __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json",
-                       "GlBackend.NoDisplayIsUnsupportedNotACrash"), 0);
+    EXPECT_EQ(
+        runChild("MVR_GL_TEST_EXPECT_NO_EGL=1 __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json",
+                 "GlBackend.NoDisplayIsUnsupportedNotACrash"),
+        0);
 }
 
 // MVR_EGL_PLATFORM picks the platform: "device" (Mesa offers its software device too) must
@@ -86,7 +88,8 @@ TEST(GlBackend, ForcedPlatforms) {
         if (std::string(p) == "bogus") {
             EXPECT_EQ(s.code(), ErrorCode::Usage);
             EXPECT_NE(s.message().find("expected device, surfaceless or default"),
-                      std::string::npos) << s.message();
+                      std::string::npos)
+                << s.message();
             return;
         }
         if (!s) GTEST_SKIP() << s.message();
@@ -100,11 +103,15 @@ TEST(GlBackend, ForcedPlatforms) {
         return;
     }
     MVR_SKIP_WITHOUT_GL();
-    EXPECT_EQ(runChild("MVR_GL_TEST_PLATFORM=bogus MVR_EGL_PLATFORM=bogus", "GlBackend.ForcedPlatforms"), 0);
+    EXPECT_EQ(
+        runChild("MVR_GL_TEST_PLATFORM=bogus MVR_EGL_PLATFORM=bogus", "GlBackend.ForcedPlatforms"),
+        0);
     EXPECT_EQ(runChild("MVR_GL_TEST_PLATFORM=surfaceless MVR_EGL_PLATFORM=surfaceless",
-                       "GlBackend.ForcedPlatforms"), 0);
+                       "GlBackend.ForcedPlatforms"),
+              0);
     EXPECT_EQ(runChild("MVR_GL_TEST_PLATFORM=device MVR_EGL_PLATFORM=device",
-                       "GlBackend.ForcedPlatforms"), 0);
+                       "GlBackend.ForcedPlatforms"),
+              0);
 }
 
 TEST(GlBackend, InfoNamesDriverAndLimits) {
@@ -157,8 +164,9 @@ TEST(GlBackend, ViewLimitsAreReportedNotCrashed) {
         if (r) {
             ASSERT_EQ(r->color.size(), 64u) << m;
             for (int v = 0; v < 64; ++v) {
-                EXPECT_LE(compareImages(ref->color[v], r->color[v], kColorThreshold).differingPixels,
-                          2) << m << " view " << v;
+                EXPECT_LE(
+                    compareImages(ref->color[v], r->color[v], kColorThreshold).differingPixels, 2)
+                    << m << " view " << v;
             }
             continue;
         }

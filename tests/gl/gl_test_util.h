@@ -26,10 +26,10 @@ inline mvr::Backend& backend() {
 }
 
 /// Skips the current test when no GL context can be made here.
-#define MVR_SKIP_WITHOUT_GL()                                                          \
-    do {                                                                               \
+#define MVR_SKIP_WITHOUT_GL()                                                             \
+    do {                                                                                  \
         const ::mvr::Status glStatus_ = ::mvr::gl::test::backend().supports("multipass"); \
-        if (!glStatus_) GTEST_SKIP() << glStatus_.message();                           \
+        if (!glStatus_) GTEST_SKIP() << glStatus_.message();                              \
     } while (0)
 
 // The scenes, rigs and measures the cross-backend tests share (tests/conformance/test_scenes.h).

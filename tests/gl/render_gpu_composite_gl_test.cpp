@@ -50,9 +50,10 @@ protected:
         const std::vector<Image> probe(2, Image(1, 1));
         Result<Image> g = composeGpu("sbs", probe, {});
         if (!g && g.status().code() == ErrorCode::Unsupported) GTEST_SKIP() << g.status().message();
-        std::string args = fmt::format("render --backend gl --method multipass --size 42x30 "
-                                       "--views {} -q -o '{}' {}",
-                                       views, mDir.string(), extra);
+        std::string args = fmt::format(
+            "render --backend gl --method multipass --size 42x30 "
+            "--views {} -q -o '{}' {}",
+            views, mDir.string(), extra);
         for (const std::string& f : formats) args += " --format " + f;
         const std::string cmd = fmt::format("'{}' {} 2>'{}'", mvrBinary().string(), args,
                                             (mDir / "stderr.txt").string());

@@ -122,8 +122,8 @@ Image diffImage(const Image& expected, const Image& actual) {
             const int delta = std::max({std::abs(a.r - e.r), std::abs(a.g - e.g),
                                         std::abs(a.b - e.b), std::abs(a.a - e.a)});
             if (delta == 0) {
-                out.set(x, y, {std::uint8_t(e.r / 4), std::uint8_t(e.g / 4),
-                               std::uint8_t(e.b / 4), 255});
+                out.set(x, y,
+                        {std::uint8_t(e.r / 4), std::uint8_t(e.g / 4), std::uint8_t(e.b / 4), 255});
             } else {
                 out.set(x, y, {std::uint8_t(std::min(255, 128 + 8 * delta)), 0, 0, 255});
             }
@@ -164,10 +164,10 @@ void expectSame(const GoldenCase& g, const Variant& variant, int view, const Ima
     ADD_FAILURE() << g.name << " " << variant.name << " view " << view << " differs from "
                   << expectedPath.string() << ": " << expected->width << "x" << expected->height
                   << " expected, " << actual.width << "x" << actual.height
-                  << " rendered; max delta " << d.maxDelta << ", mean delta " << d.meanDelta
-                  << ", " << d.differingPixels << " pixels differ in RGB (" << alphaOnly
-                  << " in alpha), worst at (" << d.worstX << ", " << d.worstY << ")\n  actual: "
-                  << (wrote ? actualPath.string() : wrote.message())
+                  << " rendered; max delta " << d.maxDelta << ", mean delta " << d.meanDelta << ", "
+                  << d.differingPixels << " pixels differ in RGB (" << alphaOnly
+                  << " in alpha), worst at (" << d.worstX << ", " << d.worstY
+                  << ")\n  actual: " << (wrote ? actualPath.string() : wrote.message())
                   << "\n  diff:   " << (wroteDiff ? diffPath.string() : wroteDiff.message());
 }
 

@@ -66,9 +66,11 @@ TEST(Lanes, EachLaneEqualsSetupViewsOfItsTriangle) {
         for (int k = 0; k < c.n; ++k) {
             detail::ViewsSetup ref;
             const std::int32_t x0 = c.lanes.x[0][k], x1 = c.lanes.x[1][k], x2 = c.lanes.x[2][k];
-            const std::uint64_t refLane = detail::scalarKernels().setupViews(c.ys[k], &x0, &x1, &x2, 1, 1024, ref);
+            const std::uint64_t refLane =
+                detail::scalarKernels().setupViews(c.ys[k], &x0, &x1, &x2, 1, 1024, ref);
             ASSERT_EQ((lanes >> k) & 1u, refLane) << iter << " lane " << k;
-            expectSameSetup(c.lanes.out, k, ref, 0, std::to_string(iter) + " lane " + std::to_string(k));
+            expectSameSetup(c.lanes.out, k, ref, 0,
+                            std::to_string(iter) + " lane " + std::to_string(k));
             small += ref.mask[0] > 0, general += ref.mask[0] < 0, empty += ref.mask[0] == 0;
         }
         if (c.n < 32) {
@@ -97,8 +99,9 @@ TEST(Lanes, SimdPathsEqualScalar) {
             detail::TriangleLanes got = c.lanes;
             ASSERT_EQ(fn(got, c.n, 1024), refLanes) << iter << " " << simdPathName(path);
             for (int k = 0; k < c.n; ++k) {
-                expectSameSetup(got.out, k, ref.out, k,
-                                std::to_string(iter) + " lane " + std::to_string(k) + " " + simdPathName(path));
+                expectSameSetup(
+                    got.out, k, ref.out, k,
+                    std::to_string(iter) + " lane " + std::to_string(k) + " " + simdPathName(path));
             }
             ++compared;
         }

@@ -24,7 +24,9 @@ using detail::kSubpixel;
 struct CountSink {
     std::vector<int>* counts;
     int width;
-    void operator()(int x, int y, float, float, float) const { ++(*counts)[std::size_t(y) * width + x]; }
+    void operator()(int x, int y, float, float, float) const {
+        ++(*counts)[std::size_t(y) * width + x];
+    }
 };
 
 /// Rasterizes a triangle given in window pixels (GL: y up) through the same setup the renderer
@@ -55,7 +57,9 @@ TEST(Coverage, TwoTrianglesSharingAnEdgeCoverEachPixelOnce) {
         }
         // The triangles must not overlap: p1 and p3 strictly on opposite sides of p0–p2
         // (decided on the snapped positions, as the rasterizer sees them).
-        auto sn = [](glm::vec2 v) { return glm::i64vec2(std::lrintf(v.x * 256), std::lrintf(v.y * 256)); };
+        auto sn = [](glm::vec2 v) {
+            return glm::i64vec2(std::lrintf(v.x * 256), std::lrintf(v.y * 256));
+        };
         auto side = [&](glm::vec2 q) {
             const auto a = sn(p[0]), b = sn(p[2]), c = sn(q);
             return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
@@ -66,7 +70,8 @@ TEST(Coverage, TwoTrianglesSharingAnEdgeCoverEachPixelOnce) {
         std::vector<int> both(w * h, 0), first(w * h, 0);
         coverTriangle(p[0], p[1], p[2], w, h, both);
         coverTriangle(p[0], p[2], p[3], w, h, both);
-        for (int i = 0; i < w * h; ++i) ASSERT_LE(both[i], 1) << "iteration " << iter << " pixel " << i;
+        for (int i = 0; i < w * h; ++i)
+            ASSERT_LE(both[i], 1) << "iteration " << iter << " pixel " << i;
         // Reversing the winding must not change coverage.
         coverTriangle(p[0], p[2], p[1], w, h, first);
         coverTriangle(p[0], p[3], p[2], w, h, first);
@@ -121,7 +126,8 @@ TEST(Coverage, MatchesAnalyticPixelCount) {
     // A generic triangle (no ties): compare with a point-in-triangle test in double.
     const glm::dvec2 a(3.3, 2.7), b(57.1, 11.9), c(21.7, 45.3);  // multiples of 1/256? no: snapped
     auto snapd = [](double v) { return std::nearbyint(v * 256.0) / 256.0; };
-    const glm::dvec2 sa(snapd(a.x), snapd(a.y)), sb(snapd(b.x), snapd(b.y)), sc(snapd(c.x), snapd(c.y));
+    const glm::dvec2 sa(snapd(a.x), snapd(a.y)), sb(snapd(b.x), snapd(b.y)),
+        sc(snapd(c.x), snapd(c.y));
     std::vector<int> counts2(64 * 64, 0);
     coverTriangle(glm::vec2(a), glm::vec2(b), glm::vec2(c), 64, 64, counts2);
     auto edge = [](glm::dvec2 p, glm::dvec2 q, glm::dvec2 r) {
@@ -254,8 +260,12 @@ TEST(Render, TriangleBehindTheCameraDrawsNothing) {
 
 TEST(Render, BackFaceCulling) {
     // Counter-clockwise (front) and clockwise (back) triangles side by side.
-    Scene scene = test::triangleScene({{-0.9f, -0.5f, 0}, {-0.1f, -0.5f, 0}, {-0.5f, 0.5f, 0},
-                                       {0.1f, -0.5f, 0}, {0.5f, 0.5f, 0}, {0.9f, -0.5f, 0}});
+    Scene scene = test::triangleScene({{-0.9f, -0.5f, 0},
+                                       {-0.1f, -0.5f, 0},
+                                       {-0.5f, 0.5f, 0},
+                                       {0.1f, -0.5f, 0},
+                                       {0.5f, 0.5f, 0},
+                                       {0.9f, -0.5f, 0}});
     RenderSettings s;
     s.width = 40, s.height = 20;
     for (bool cull : {false, true}) {
@@ -316,7 +326,7 @@ TEST(Wireframe, StereoLiangBarskyEqualsClippingEachViewOnItsOwn) {
             float t0 = 0.0f, t1 = 1.0f;  // this view on its own: left, right, bottom, top
             const bool own = detail::liangBarskyAxis(x0, x1 - x0, 0.0f, 160.0f, t0, t1) &&
                              detail::liangBarskyAxis(y0, y1 - y0, 0.0f, 100.0f, t0, t1);
-            float s0 = sy0, s1 = sy1;     // shared bottom/top, then this view's left/right
+            float s0 = sy0, s1 = sy1;  // shared bottom/top, then this view's left/right
             const bool shared = yOk && detail::liangBarskyAxis(x0, x1 - x0, 0.0f, 160.0f, s0, s1);
             ASSERT_EQ(own, shared) << i;
             if (own) {
@@ -346,7 +356,8 @@ TEST(Wireframe, DrawsTheEdgesOnly) {
     EXPECT_LT(drawn, 300);
     EXPECT_EQ(out->depth[0].at(50, 50), 1.0f) << "the interior stays empty";
     // The bottom edge lies on window y = 10 (± rounding): image row 89 or 90.
-    EXPECT_LT(std::min(out->depth[0].at(50, 89), out->depth[0].at(50, 90)), 1.0f) << "the bottom edge";
+    EXPECT_LT(std::min(out->depth[0].at(50, 89), out->depth[0].at(50, 90)), 1.0f)
+        << "the bottom edge";
 }
 
 // ---- SIMD kernels ----------------------------------------------------------------------------
@@ -367,8 +378,9 @@ TEST(Kernels, SimdPathsEqualScalar) {
         std::vector<std::int32_t> sy, sx;
     };
     auto run = [&](const detail::Kernels& k) {
-        Out o{std::vector<std::uint8_t>(n), std::vector<std::uint8_t>(n), std::vector<float>(n),
-              std::vector<float>(n), std::vector<std::int32_t>(n), std::vector<std::int32_t>(n)};
+        Out o{std::vector<std::uint8_t>(n), std::vector<std::uint8_t>(n),
+              std::vector<float>(n),        std::vector<float>(n),
+              std::vector<std::int32_t>(n), std::vector<std::int32_t>(n)};
         k.projectYZW(y.data(), z.data(), w.data(), n, 768.0f, o.cy.data(), o.q.data(), o.sy.data(),
                      o.zw.data());
         k.projectX(x.data(), w.data(), o.q.data(), n, 1024.0f, o.cx.data(), o.sx.data());
@@ -377,7 +389,8 @@ TEST(Kernels, SimdPathsEqualScalar) {
     const Out ref = run(detail::scalarKernels());
     for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
         if (!k) continue;
-        if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512) continue;
+        if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512)
+            continue;
         if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar) continue;
         const Out o = run(*k);
         for (std::size_t i = 0; i < n; ++i) {
@@ -405,12 +418,14 @@ TEST(Kernels, ShadeVerticesSimdEqualsScalar) {
         nrm[i] = i % 97 == 0 ? glm::vec3(0.0f) : glm::vec3(u(rng), u(rng), u(rng));
     }
     pos[5] = glm::vec3(0.0f, 0.0f, 3.0f);  // at the eye: v is NaN
-    const DirectionalLight lights[3] = {{glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f)), {1.0f, 0.9f, 0.8f}},
-                                        {glm::normalize(glm::vec3(-0.6f, 0.2f, 0.7f)), {0.3f, 0.4f, 0.6f}},
-                                        {glm::normalize(glm::vec3(0.1f, -0.9f, -0.3f)), {0.5f, 0.5f, 0.5f}}};
-    const glm::mat4 world = glm::scale(glm::rotate(glm::translate(glm::mat4(1.0f), {0.5f, -1.0f, 0.2f}),
-                                                   0.7f, glm::vec3(0.2f, 1.0f, 0.3f)),
-                                       glm::vec3(1.5f, 0.7f, 1.1f));
+    const DirectionalLight lights[3] = {
+        {glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f)), {1.0f, 0.9f, 0.8f}},
+        {glm::normalize(glm::vec3(-0.6f, 0.2f, 0.7f)), {0.3f, 0.4f, 0.6f}},
+        {glm::normalize(glm::vec3(0.1f, -0.9f, -0.3f)), {0.5f, 0.5f, 0.5f}}};
+    const glm::mat4 world =
+        glm::scale(glm::rotate(glm::translate(glm::mat4(1.0f), {0.5f, -1.0f, 0.2f}), 0.7f,
+                               glm::vec3(0.2f, 1.0f, 0.3f)),
+                   glm::vec3(1.5f, 0.7f, 1.1f));
     const glm::mat3 normalFrom = glm::transpose(glm::inverse(glm::mat3(world)));
     for (int lightCount = 1; lightCount <= 3; ++lightCount) {
         for (float shininess : {1.0f, 32.0f, 77.5f, 0.5f, 1000.0f, 0.0f}) {
@@ -418,18 +433,21 @@ TEST(Kernels, ShadeVerticesSimdEqualsScalar) {
                                glm::vec3(0.12f), glm::vec3(0.0f, 0.0f, 3.0f)};
             Material m{{0.8f, 0.6f, 0.4f}, 0.25f, shininess};
             std::vector<float> ref(3 * n), got(3 * n);
-            detail::scalarKernels().shadeVertices(pos.data(), nrm.data(), n, world, normalFrom, ctx, m,
-                                                  ref.data());
+            detail::scalarKernels().shadeVertices(pos.data(), nrm.data(), n, world, normalFrom, ctx,
+                                                  m, ref.data());
             for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
                 if (!k) continue;
-                if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512) continue;
-                if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar) continue;
+                if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512)
+                    continue;
+                if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar)
+                    continue;
                 std::fill(got.begin(), got.end(), -1.0f);
                 k->shadeVertices(pos.data(), nrm.data(), n, world, normalFrom, ctx, m, got.data());
                 for (std::size_t i = 0; i < 3 * n; ++i) {
                     if (std::isnan(ref[i]) && std::isnan(got[i])) continue;  // payloads may differ
                     ASSERT_EQ(std::memcmp(&got[i], &ref[i], 4), 0)
-                        << "vertex " << i / 3 << " lights " << lightCount << " shininess " << shininess;
+                        << "vertex " << i / 3 << " lights " << lightCount << " shininess "
+                        << shininess;
                 }
             }
         }
@@ -440,9 +458,10 @@ TEST(Kernels, SpecularPowSimdEqualsScalar) {
     // lighting.h's specularPow vectorized: a dense sweep of x (every 331st float bit pattern in
     // [0, 1.01], so zero, denormals, x = 1 and a little above), plus special values, bit for bit.
     std::vector<float> x;
-    for (std::uint32_t b = 0; b <= std::bit_cast<std::uint32_t>(1.01f); b += 331) x.push_back(std::bit_cast<float>(b));
-    for (float v : {0.0f, -0.0f, 1.0f, 0x1p-149f, 0x1p-126f, 0x1.fffffep-127f, 0.70710677f, 0.70710683f,
-                    1.4142135f, 2.0f, 1e30f, std::numeric_limits<float>::infinity(),
+    for (std::uint32_t b = 0; b <= std::bit_cast<std::uint32_t>(1.01f); b += 331)
+        x.push_back(std::bit_cast<float>(b));
+    for (float v : {0.0f, -0.0f, 1.0f, 0x1p-149f, 0x1p-126f, 0x1.fffffep-127f, 0.70710677f,
+                    0.70710683f, 1.4142135f, 2.0f, 1e30f, std::numeric_limits<float>::infinity(),
                     std::numeric_limits<float>::quiet_NaN()}) {
         x.push_back(v);
     }
@@ -450,17 +469,21 @@ TEST(Kernels, SpecularPowSimdEqualsScalar) {
     for (float s : {1.0f, 32.0f, 77.5f, 1000.0f, 0.5f, 0.0f, 3e4f}) {
         detail::scalarKernels().specularPow(x.data(), x.size(), s, ref.data());
         for (std::size_t i = 0; i < x.size(); ++i) {
-            ASSERT_EQ(std::bit_cast<std::uint32_t>(ref[i]), std::bit_cast<std::uint32_t>(specularPow(x[i], s)));
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(ref[i]),
+                      std::bit_cast<std::uint32_t>(specularPow(x[i], s)));
         }
         for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
             if (!k) continue;
-            if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512) continue;
-            if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar) continue;
+            if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512)
+                continue;
+            if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar)
+                continue;
             std::fill(got.begin(), got.end(), -1.0f);
             k->specularPow(x.data(), x.size(), s, got.data());
             for (std::size_t i = 0; i < x.size(); ++i) {
                 if (std::isnan(ref[i]) && std::isnan(got[i])) continue;  // payloads may differ
-                ASSERT_EQ(std::bit_cast<std::uint32_t>(got[i]), std::bit_cast<std::uint32_t>(ref[i]))
+                ASSERT_EQ(std::bit_cast<std::uint32_t>(got[i]),
+                          std::bit_cast<std::uint32_t>(ref[i]))
                     << "x " << x[i] << " s " << s;
             }
         }
@@ -473,18 +496,23 @@ TEST(Kernels, TransformPointsSimdEqualsScalar) {
     const std::size_t n = 1000 + 7;
     std::vector<glm::vec3> pos(n);
     for (auto& p : pos) p = {u(rng), u(rng), u(rng)};
-    const glm::mat4 m = glm::perspective(0.9f, 1.3f, 0.1f, 100.0f) *
-                        glm::lookAt(glm::vec3(3.0f, 2.0f, 9.0f), glm::vec3(0.1f, 0.2f, -0.3f), glm::vec3(0, 1, 0)) *
-                        glm::rotate(glm::mat4(1.0f), 0.4f, glm::vec3(0.3f, 1.0f, 0.1f));
+    const glm::mat4 m =
+        glm::perspective(0.9f, 1.3f, 0.1f, 100.0f) *
+        glm::lookAt(glm::vec3(3.0f, 2.0f, 9.0f), glm::vec3(0.1f, 0.2f, -0.3f), glm::vec3(0, 1, 0)) *
+        glm::rotate(glm::mat4(1.0f), 0.4f, glm::vec3(0.3f, 1.0f, 0.1f));
     std::vector<float> ref(4 * n), got(4 * n);
-    detail::scalarKernels().transformPoints(pos.data(), n, m, &ref[0], &ref[n], &ref[2 * n], &ref[3 * n]);
+    detail::scalarKernels().transformPoints(pos.data(), n, m, &ref[0], &ref[n], &ref[2 * n],
+                                            &ref[3 * n]);
     for (std::size_t i = 0; i < n; ++i) {
         const glm::vec4 c = detail::transformPoint(m, pos[i]);
-        for (int r = 0; r < 4; ++r) ASSERT_EQ(std::bit_cast<std::uint32_t>(ref[r * n + i]), std::bit_cast<std::uint32_t>(c[r]));
+        for (int r = 0; r < 4; ++r)
+            ASSERT_EQ(std::bit_cast<std::uint32_t>(ref[r * n + i]),
+                      std::bit_cast<std::uint32_t>(c[r]));
     }
     for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
         if (!k) continue;
-        if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512) continue;
+        if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512)
+            continue;
         if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar) continue;
         for (std::size_t count : {n, std::size_t(5), std::size_t(16), std::size_t(17)}) {
             std::fill(got.begin(), got.end(), -1.0f);
@@ -492,7 +520,8 @@ TEST(Kernels, TransformPointsSimdEqualsScalar) {
             for (std::size_t i = 0; i < n; ++i) {
                 for (int r = 0; r < 4; ++r) {
                     const float want = i < count ? ref[r * n + i] : -1.0f;
-                    ASSERT_EQ(std::bit_cast<std::uint32_t>(got[r * n + i]), std::bit_cast<std::uint32_t>(want))
+                    ASSERT_EQ(std::bit_cast<std::uint32_t>(got[r * n + i]),
+                              std::bit_cast<std::uint32_t>(want))
                         << "vertex " << i << " of " << count;
                 }
             }
@@ -517,20 +546,25 @@ TEST(Kernels, SetupViewsSimdEqualsScalar) {
         if (ys.rowMin > ys.rowMax) continue;
         std::int32_t x[3][kMaxViews];
         for (int k = 0; k < n; ++k) {
-            for (int i = 0; i < 3; ++i) x[i][k] = cx + k * 37 + (big ? jitter(rng) * 20 : jitter(rng) / 2);
+            for (int i = 0; i < 3; ++i)
+                x[i][k] = cx + k * 37 + (big ? jitter(rng) * 20 : jitter(rng) / 2);
         }
         detail::ViewsSetup ref, got;
-        const std::uint64_t refLanes = detail::scalarKernels().setupViews(ys, x[0], x[1], x[2], n, 1024, ref);
+        const std::uint64_t refLanes =
+            detail::scalarKernels().setupViews(ys, x[0], x[1], x[2], n, 1024, ref);
         for (int v = 0; v < n; ++v) {
-            ASSERT_EQ((refLanes >> v) & 1u, std::uint64_t(ref.mask[v] != 0)) << iter << " view " << v;
+            ASSERT_EQ((refLanes >> v) & 1u, std::uint64_t(ref.mask[v] != 0))
+                << iter << " view " << v;
         }
         if (n < 64) {
             ASSERT_EQ(refLanes >> n, 0u) << "no lanes past n";
         }
         for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
             if (!k) continue;
-            if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512) continue;
-            if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar) continue;
+            if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512)
+                continue;
+            if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar)
+                continue;
             ASSERT_EQ(k->setupViews(ys, x[0], x[1], x[2], n, 1024, got), refLanes) << iter;
             for (int v = 0; v < n; ++v) {
                 ASSERT_EQ(got.mask[v], ref.mask[v]) << iter << " view " << v;

@@ -24,21 +24,24 @@ std::filesystem::path modelsDir() {
 
 /// First difference between two renders, or "" when identical bit for bit.
 std::string firstDifference(const RenderOutput& a, const RenderOutput& b) {
-    if (a.color.size() != b.color.size() || a.depth.size() != b.depth.size()) return "view counts differ";
+    if (a.color.size() != b.color.size() || a.depth.size() != b.depth.size())
+        return "view counts differ";
     for (std::size_t v = 0; v < a.color.size(); ++v) {
         const Image& ca = a.color[v];
         const Image& cb = b.color[v];
-        if (ca.width != cb.width || ca.height != cb.height) return fmt::format("view {}: sizes differ", v);
+        if (ca.width != cb.width || ca.height != cb.height)
+            return fmt::format("view {}: sizes differ", v);
         for (int y = 0; y < ca.height; ++y) {
             for (int x = 0; x < ca.width; ++x) {
                 if (ca.at(x, y) != cb.at(x, y)) {
                     const Rgba8 p = ca.at(x, y), q = cb.at(x, y);
-                    return fmt::format("view {} color at ({}, {}): {},{},{} vs {},{},{}", v, x, y, p.r,
-                                       p.g, p.b, q.r, q.g, q.b);
+                    return fmt::format("view {} color at ({}, {}): {},{},{} vs {},{},{}", v, x, y,
+                                       p.r, p.g, p.b, q.r, q.g, q.b);
                 }
                 const float da = a.depth[v].at(x, y), db = b.depth[v].at(x, y);
                 if (std::memcmp(&da, &db, sizeof(float)) != 0) {
-                    return fmt::format("view {} depth at ({}, {}): {:.9g} vs {:.9g}", v, x, y, da, db);
+                    return fmt::format("view {} depth at ({}, {}): {:.9g} vs {:.9g}", v, x, y, da,
+                                       db);
                 }
             }
         }
@@ -102,15 +105,18 @@ Rig randomRig(std::mt19937& rng, const Camera& camera, int shape) {
             break;
         }
         case 2: p.kind = RigKind::ToeIn, p.columns = 2 + int(rng() % 4), p.rows = 1; break;
-        case 3: p.kind = RigKind::Parallel, p.columns = 2 + int(rng() % 3), p.rows = 1 + int(rng() % 2); break;
+        case 3:
+            p.kind = RigKind::Parallel, p.columns = 2 + int(rng() % 3), p.rows = 1 + int(rng() % 2);
+            break;
         default: {
             // A list: shadow-map-like views from random positions, some orthographic.
             std::vector<View> views;
             const int n = 1 + int(rng() % 4);
             for (int i = 0; i < n; ++i) {
                 Camera c = camera;
-                c.position = camera.target + (camera.position - camera.target) *
-                                                 glm::vec3(0.5f + u(rng), 0.5f + u(rng), 0.5f + u(rng));
+                c.position =
+                    camera.target + (camera.position - camera.target) *
+                                        glm::vec3(0.5f + u(rng), 0.5f + u(rng), 0.5f + u(rng));
                 View v;
                 v.viewFromWorld = c.viewFromWorld();
                 if (i % 2 == 1) {
@@ -150,7 +156,8 @@ TEST(UnifiedEqualsMultipass, Models) {
         auto mesh = loadMesh(path);
         ASSERT_TRUE(mesh) << mesh.status().message();
         ++models;
-        const Scene scene = makeGridScene({std::move(mesh).value()}, name[0] == 's' && name[1] == 't' ? 1 : 2);
+        const Scene scene =
+            makeGridScene({std::move(mesh).value()}, name[0] == 's' && name[1] == 't' ? 1 : 2);
         const Bounds b = scene.bounds();
         for (int i = 0; i < 12; ++i) {
             SCOPED_TRACE(fmt::format("{} case {}", name, i));
@@ -158,7 +165,8 @@ TEST(UnifiedEqualsMultipass, Models) {
             // Mostly outside the model; every fourth case with the camera close enough that the
             // near plane cuts the model.
             const float distance = b.radius() * (i % 4 == 3 ? 0.8f : 2.0f + float(rng() % 3));
-            const Camera cam = randomCamera(rng, b.center(), distance, float(s.width) / float(s.height));
+            const Camera cam =
+                randomCamera(rng, b.center(), distance, float(s.width) / float(s.height));
             const Rig rig = randomRig(rng, cam, i + models);
             expectSame(*backend, scene, rig, s, stats);
         }
@@ -178,7 +186,8 @@ Scene randomSoup(std::mt19937& rng, int count) {
         const glm::vec3 c(u(rng) * 4.0f, u(rng) * 3.0f, u(rng) * 8.0f - 2.0f);
         for (int k = 0; k < 3; ++k) {
             m.positions.push_back(c + glm::vec3(u(rng), u(rng), u(rng)) * scale);
-            m.normals.push_back(glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(0, 0, 0.01f)));
+            m.normals.push_back(
+                glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(0, 0, 0.01f)));
             m.indices.push_back(std::uint32_t(m.positions.size() - 1));
         }
     }
@@ -190,8 +199,9 @@ Scene randomSoup(std::mt19937& rng, int count) {
     s.instances = {inst};
     // A second instance of the same soup, moved and rotated, with its own material.
     Instance second;
-    second.worldFromModel = glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, -0.3f, -1.0f)),
-                                        0.4f, glm::vec3(0.2f, 1.0f, 0.1f));
+    second.worldFromModel =
+        glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, -0.3f, -1.0f)), 0.4f,
+                    glm::vec3(0.2f, 1.0f, 0.1f));
     second.material.albedo = {0.2f, 0.6f, 0.9f};
     second.material.shininess = 8.0f;
     s.instances.push_back(second);
@@ -279,8 +289,9 @@ TEST(UnifiedEqualsMultipass, GridViewsInAnyOrder) {
     auto grid = makeRig(cam, p);
     ASSERT_TRUE(grid);
     const std::vector<View> v = grid->views;
-    for (const std::vector<int>& order : {std::vector<int>{0, 4, 2, 1, 5, 3}, std::vector<int>{3, 4, 5, 0, 1, 2},
-                                          std::vector<int>{5, 0, 4, 1, 3, 2}}) {
+    for (const std::vector<int>& order :
+         {std::vector<int>{0, 4, 2, 1, 5, 3}, std::vector<int>{3, 4, 5, 0, 1, 2},
+          std::vector<int>{5, 0, 4, 1, 3, 2}}) {
         Rig rig = *grid;
         for (std::size_t i = 0; i < order.size(); ++i) rig.views[i] = v[std::size_t(order[i])];
         RenderSettings s;
@@ -330,7 +341,8 @@ TEST(UnifiedEqualsMultipass, ShearFormMatchesTheViewMatrices) {
     const glm::mat4 center = cam.clipFromView() * cam.viewFromWorld();
     for (const View& v : rig->views) {
         ASSERT_TRUE(v.clipShear);
-        for (glm::vec3 world : {glm::vec3(0.0f), glm::vec3(1.0f, -1.0f, 2.0f), glm::vec3(-2.0f, 1.0f, -5.0f)}) {
+        for (glm::vec3 world :
+             {glm::vec3(0.0f), glm::vec3(1.0f, -1.0f, 2.0f), glm::vec3(-2.0f, 1.0f, -5.0f)}) {
             const glm::vec4 c = center * glm::vec4(world, 1.0f);
             const glm::vec4 m = v.clipFromWorld() * glm::vec4(world, 1.0f);
             EXPECT_NEAR(c.x + v.clipShear->x * (c.w - rig->convergence), m.x, 1e-4f);

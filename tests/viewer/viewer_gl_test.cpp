@@ -80,13 +80,14 @@ public:
             return false;
         }
         const std::string fd = std::to_string(fds[1]);
-        const char* argv[] = {"Xvfb", "-displayfd", fd.c_str(), "-screen", "0", "1280x1024x24",
-                              "-nolisten", "tcp", nullptr};
+        const char* argv[] = {"Xvfb",         "-displayfd", fd.c_str(), "-screen", "0",
+                              "1280x1024x24", "-nolisten",  "tcp",      nullptr};
         posix_spawn_file_actions_t actions;
         posix_spawn_file_actions_init(&actions);
         posix_spawn_file_actions_addclose(&actions, fds[0]);
         posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-        const int rc = posix_spawnp(&mPid, "Xvfb", &actions, nullptr, const_cast<char**>(argv), environ);
+        const int rc =
+            posix_spawnp(&mPid, "Xvfb", &actions, nullptr, const_cast<char**>(argv), environ);
         posix_spawn_file_actions_destroy(&actions);
         ::close(fds[1]);
         if (rc != 0) {
@@ -144,7 +145,8 @@ protected:
     void SetUp() override {
         mvr = fs::path(envOr("MVR_BINARY_DIR", MVR_TEST_BINARY_DIR)) / "tools" / "cli" / "mvr";
         if (!fs::exists(mvr)) GTEST_SKIP() << mvr << " not built";
-        bunny = fs::path(envOr("MVR_SHARED_DIR", MVR_TEST_SHARED_DIR)) / "models" / "stanford-bunny.obj";
+        bunny = fs::path(envOr("MVR_SHARED_DIR", MVR_TEST_SHARED_DIR)) / "models" /
+                "stanford-bunny.obj";
         dir = fs::temp_directory_path() /
               fmt::format("mvr-view-test-{}-{}", ::getpid(),
                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
@@ -161,12 +163,14 @@ protected:
     }
 
     /// Runs `mvr ARGS` in `dir`, on the test's display (or none with display = false).
-    CliRun run(const std::string& args, bool display = true, const std::string& extraEnv = "") const {
-        const std::string env = (display ? fmt::format("DISPLAY='{}'", sXvfb ? sXvfb->display() : "")
-                                         : std::string("-u DISPLAY")) +
-                                " " + extraEnv;
-        const std::string command = fmt::format("cd '{}' && env {} '{}' {} 2>&1", dir.string(), env,
-                                                mvr.string(), args);
+    CliRun run(const std::string& args, bool display = true,
+               const std::string& extraEnv = "") const {
+        const std::string env =
+            (display ? fmt::format("DISPLAY='{}'", sXvfb ? sXvfb->display() : "")
+                     : std::string("-u DISPLAY")) +
+            " " + extraEnv;
+        const std::string command =
+            fmt::format("cd '{}' && env {} '{}' {} 2>&1", dir.string(), env, mvr.string(), args);
         CliRun r;
         std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
         if (!pipe) return r;
@@ -202,7 +206,8 @@ std::string ViewCli::sWhyNoDisplay;
 TEST_F(ViewCli, NoDisplayIsAnErrorWithExitCode3) {
     const CliRun r = run("view --frames 1", /*display=*/false);
     EXPECT_EQ(r.exitCode, 3) << r.output;
-    EXPECT_NE(r.output.find("error: mvr view: cannot open a window"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("error: mvr view: cannot open a window"), std::string::npos)
+        << r.output;
 }
 
 TEST_F(ViewCli, BadScriptIsAUsageError) {
@@ -220,7 +225,8 @@ TEST_F(ViewCli, ScreenshotMatchesRenderAnaglyph) {
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const Image expected = read(dir / "render" / "anaglyph-dubois.png");
     for (const std::string compose : {"cpu", "gpu"}) {
-        r = run("view " + view + " --frames 3 --no-hud --compose " + compose + " --screenshot shot.png");
+        r = run("view " + view + " --frames 3 --no-hud --compose " + compose +
+                " --screenshot shot.png");
         ASSERT_EQ(r.exitCode, 0) << r.output;
         EXPECT_NE(r.output.find("wrote shot.png (320x240)"), std::string::npos) << r.output;
         const Image shot = read(dir / "shot.png");
@@ -274,10 +280,13 @@ TEST_F(ViewCli, ScriptedKeysChangeSeparationMethodAndWireframe) {
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("method soft:unified"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("last: soft:unified"), std::string::npos) << r.output;
-    r = run("render " + model() + " --size 240x180 --backend soft --method unified "
+    r = run("render " + model() +
+            " --size 240x180 --backend soft --method unified "
             "--format anaglyph-dubois -o soft -q");
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    EXPECT_LE(compareImages(read(dir / "soft.png"), read(dir / "soft" / "anaglyph-dubois.png")).maxDelta, 1);
+    EXPECT_LE(
+        compareImages(read(dir / "soft.png"), read(dir / "soft" / "anaglyph-dubois.png")).maxDelta,
+        1);
 
     // Wireframe.
     r = run("view " + view + " --frames 2 --script w --screenshot wire.png");
@@ -292,7 +301,8 @@ TEST_F(ViewCli, HudIsAtScreenDepthInBothEyes) {
     // In a side-by-side frame the HUD's text pixels must sit at the same place in both halves
     // (zero parallax), while the scene behind them differs between the eyes.
     needDisplay();
-    CliRun r = run("view " + model() + " --size 200x150 --format sbs --frames 2 --screenshot hud.png");
+    CliRun r =
+        run("view " + model() + " --size 200x150 --format sbs --frames 2 --screenshot hud.png");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const Image hud = read(dir / "hud.png");
     ASSERT_EQ(hud.width, 400);
@@ -311,8 +321,9 @@ TEST_F(ViewCli, HudIsAtScreenDepthInBothEyes) {
 TEST_F(ViewCli, ViewSizeFollowsTheWindow) {
     // Resized to 300x100 in side-by-side: two 150x100 views, separation kept.
     needDisplay();
-    const CliRun r = run("view --size 160x120 --format sbs --frames 3 --script size:300:100 "
-                         "--screenshot resized.png");
+    const CliRun r =
+        run("view --size 160x120 --format sbs --frames 3 --script size:300:100 "
+            "--screenshot resized.png");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("150x100 per view, separation 3.02%"), std::string::npos) << r.output;
     const Image shot = read(dir / "resized.png");
@@ -326,7 +337,8 @@ TEST_F(ViewCli, WithoutEglTheDefaultBackendFallsBackToSoft) {
     const std::string noEgl = "__EGL_VENDOR_LIBRARY_DIRS=/nonexistent";
     CliRun r = run("view --size 160x120 --frames 1", true, noEgl);
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    EXPECT_NE(r.output.find("gl backend unavailable (no EGL display"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("gl backend unavailable (no EGL display"), std::string::npos)
+        << r.output;
     EXPECT_NE(r.output.find("last: soft:unified"), std::string::npos) << r.output;
     r = run("view --size 160x120 --frames 1 --backend gl", true, noEgl);
     EXPECT_EQ(r.exitCode, 3) << r.output;

@@ -103,7 +103,8 @@ TEST(Cursor, FollowsATiltedSurfaceFromTheLeftEye) {
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
             const float w = 3.0f + 2.0f * float(x) / float(width);
-            depth.depth[std::size_t(y) * width + x] = windowDepth(w, rig.camera.near, rig.camera.far);
+            depth.depth[std::size_t(y) * width + x] =
+                windowDepth(w, rig.camera.near, rig.camera.far);
         }
     }
     const CursorPlacement c = placeCursor(rig, depth, {100.5f, 50.5f}, width, height);
@@ -162,7 +163,7 @@ TEST(Overlay, HudTextIsTheSameInBothEyes) {
 TEST(Overlay, CrosshairCentredOnItsPixel) {
     Image image(40, 40);
     drawCrosshair(image, {20.5f, 10.5f}, 8, {255, 255, 255, 255});
-    EXPECT_EQ(image.at(20, 10), (Rgba8{255, 255, 255, 255}));  // centre dot
+    EXPECT_EQ(image.at(20, 10), (Rgba8{255, 255, 255, 255}));      // centre dot
     EXPECT_EQ(image.at(20, 10 - 7), (Rgba8{255, 255, 255, 255}));  // upper arm
     EXPECT_EQ(image.at(20 + 7, 10), (Rgba8{255, 255, 255, 255}));  // right arm
     EXPECT_EQ(image.at(30, 30), (Rgba8{0, 0, 0, 255}));

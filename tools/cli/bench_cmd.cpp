@@ -31,13 +31,16 @@ std::string joined(const std::vector<std::string>& list) {
 
 int runBench(const BenchOptions& o) {
     if (o.frames < 1 || o.frames > 100000) {
-        return fail(usageError(fmt::format("--frames {} is out of range (expected 1..100000)", o.frames)));
+        return fail(
+            usageError(fmt::format("--frames {} is out of range (expected 1..100000)", o.frames)));
     }
     if (o.warmup < 0 || o.warmup > 1000) {
-        return fail(usageError(fmt::format("--warmup {} is out of range (expected 0..1000)", o.warmup)));
+        return fail(
+            usageError(fmt::format("--warmup {} is out of range (expected 0..1000)", o.warmup)));
     }
     if (o.threads < 0 || o.threads > 1024) {
-        return fail(usageError(fmt::format("--threads {} is out of range (expected 0..1024, 0 = all cores)", o.threads)));
+        return fail(usageError(fmt::format(
+            "--threads {} is out of range (expected 0..1024, 0 = all cores)", o.threads)));
     }
     // Every backend:method is checked before anything is loaded.
     bench::BackendSet backends({.threads = o.threads, .simd = o.simd});
@@ -48,9 +51,9 @@ int runBench(const BenchOptions& o) {
     const bench::Machine machine = bench::describeMachine(backends);
 
     bench::Progress progress(0, o.json, false);
-    const std::vector<bench::Measured> measured =
-        bench::measure(*jobs, *prepared, {.warmup = o.warmup, .frames = o.frames, .stopAtFirstError = true},
-                       {.progress = &progress, .label = {}});
+    const std::vector<bench::Measured> measured = bench::measure(
+        *jobs, *prepared, {.warmup = o.warmup, .frames = o.frames, .stopAtFirstError = true},
+        {.progress = &progress, .label = {}});
     for (const bench::Measured& m : measured) {
         if (m.failed()) {
             progress.done(true);
@@ -61,23 +64,28 @@ int runBench(const BenchOptions& o) {
     bench::MethodReport report;
     report.machine = &machine, report.request = &*prepared;
     report.frames = o.frames, report.warmup = o.warmup;
-    for (std::size_t j = 0; j < jobs->size(); ++j) report.rows.push_back(bench::methodRow((*jobs)[j], measured[j]));
+    for (std::size_t j = 0; j < jobs->size(); ++j)
+        report.rows.push_back(bench::methodRow((*jobs)[j], measured[j]));
     return bench::printMethodReport(report, o.json);
 }
 
 const CommandRegistrar kBench(30, [](CLI::App& root) -> std::function<int()> {
     auto o = std::make_shared<BenchOptions>();
     CLI::App* app = root.add_subcommand(
-        "bench", "Time rendering methods side by side (warm-up, then F frames): median/min ms, per-stage "
-                 "breakdown (soft), ratio to the first method; --json for machines");
+        "bench",
+        "Time rendering methods side by side (warm-up, then F frames): median/min ms, per-stage "
+        "breakdown (soft), ratio to the first method; --json for machines");
     o->scene.addTo(app);
-    app->add_option("--methods", o->methods, "BACKEND:METHOD list, comma separated (first = baseline)")
+    app->add_option("--methods", o->methods,
+                    "BACKEND:METHOD list, comma separated (first = baseline)")
         ->delimiter(',')
         ->default_str(joined(o->methods));
     app->add_option("--frames", o->frames, "Timed frames per method")->default_val(o->frames);
     app->add_option("--warmup", o->warmup, "Untimed frames before them")->default_val(o->warmup);
-    app->add_option("--threads", o->threads, "soft: worker threads (0 = one per core)")->default_val(o->threads);
-    app->add_option("--simd", o->simd, "soft: SIMD path auto | scalar | avx2 | avx512")->default_val(o->simd);
+    app->add_option("--threads", o->threads, "soft: worker threads (0 = one per core)")
+        ->default_val(o->threads);
+    app->add_option("--simd", o->simd, "soft: SIMD path auto | scalar | avx2 | avx512")
+        ->default_val(o->simd);
     app->add_flag("--json", o->json, "Print JSON: {machine, scene, results: [...]}");
     // bench sorbier | kalaiah | adelson
     const std::vector<bench::PaperBench> papers = {bench::addSorbier(app), bench::addKalaiah(app),

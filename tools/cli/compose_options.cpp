@@ -18,8 +18,7 @@ using composite::LenticularCalibration;
 using composite::parseQuiltGrid;
 using composite::readLookingGlassCalibration;
 
-void addComposeOptions(CLI::App* app, composite::ComposeOptions& options,
-                       bool withStereoMetadata) {
+void addComposeOptions(CLI::App* app, composite::ComposeOptions& options, bool withStereoMetadata) {
     const std::string group = "Composite formats";
     app->add_flag("--swap-eyes", options.swapEyes,
                   "Exchange left and right (N views: reverse their order)")

@@ -30,7 +30,8 @@ int runInfo() {
 }
 
 const CommandRegistrar kInfo(90, [](CLI::App& root) -> std::function<int()> {
-    root.add_subcommand("info", "List backends, methods (and whether each runs here) and driver limits");
+    root.add_subcommand("info",
+                        "List backends, methods (and whether each runs here) and driver limits");
     return runInfo;
 });
 

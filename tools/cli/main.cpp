@@ -17,8 +17,9 @@ std::vector<CommandEntry>& commandRegistry() {
 int main(int argc, char** argv) {
     using namespace mvr::cli;
     mvr::retainFreedMemory();  // per-frame buffers (ours, llvmpipe's) stop page-faulting
-    CLI::App app{"mvr — render one 3D scene from 2..N viewpoints (stereo pairs, autostereo rows, "
-                 "view grids) cheaper than N renders."};
+    CLI::App app{
+        "mvr — render one 3D scene from 2..N viewpoints (stereo pairs, autostereo rows, "
+        "view grids) cheaper than N renders."};
     app.require_subcommand(1);
     app.fallthrough(false);
     auto& registry = commandRegistry();

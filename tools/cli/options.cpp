@@ -20,17 +20,20 @@ Result<std::pair<int, int>> parseSize(const std::string& text, const char* what)
     static const std::regex kSize(R"(\s*(-?\d+)\s*[xX]\s*(-?\d+)\s*)");
     std::smatch m;
     if (!std::regex_match(text, m, kSize)) {
-        return usageError(fmt::format("{} '{}' is not of the form WxH (e.g. 1024x768)", what, text));
+        return usageError(
+            fmt::format("{} '{}' is not of the form WxH (e.g. 1024x768)", what, text));
     }
     long w = 0, h = 0;
     try {
         w = std::stol(m[1].str());
         h = std::stol(m[2].str());
     } catch (...) {
-        return usageError(fmt::format("{} '{}' is out of range (expected 1..16384 each)", what, text));
+        return usageError(
+            fmt::format("{} '{}' is out of range (expected 1..16384 each)", what, text));
     }
     if (w < 1 || h < 1 || w > 16384 || h > 16384) {
-        return usageError(fmt::format("{} '{}' is out of range (expected 1..16384 each)", what, text));
+        return usageError(
+            fmt::format("{} '{}' is out of range (expected 1..16384 each)", what, text));
     }
     return std::pair<int, int>{int(w), int(h)};
 }
@@ -40,20 +43,26 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
         app->add_option("models", models,
                         "Model files (OBJ, PLY, glTF 2.0). None: the procedural default scene");
     }
-    app->add_option("--grid", grid, "Lay out K copies of the model(s) in a grid (sorbier2008: 1, 3, 5, 9)")
+    app->add_option("--grid", grid,
+                    "Lay out K copies of the model(s) in a grid (sorbier2008: 1, 3, 5, 9)")
         ->default_val(grid);
     auto* views_ = app->add_option("--views", views, "Number of views in a horizontal row (1..64)")
                        ->default_val(views);
-    app->add_option("--view-grid", viewGrid, "CxR grid of views, numbered left to right, top to bottom")
+    app->add_option("--view-grid", viewGrid,
+                    "CxR grid of views, numbered left to right, top to bottom")
         ->excludes(views_);
-    app->add_option("--rig", rig, "Rig: offaxis (asymmetric frustums), toein or parallel")->default_val(rig);
-    auto* ia = app->add_option("--interaxial", interaxial,
-                               "Distance between adjacent eyes, world units (default: convergence / 30)");
-    app->add_option("--separation", separation,
-                    "Interaxial as a fraction of the screen width at the convergence plane (nvidia-gtc2010)")
+    app->add_option("--rig", rig, "Rig: offaxis (asymmetric frustums), toein or parallel")
+        ->default_val(rig);
+    auto* ia =
+        app->add_option("--interaxial", interaxial,
+                        "Distance between adjacent eyes, world units (default: convergence / 30)");
+    app->add_option(
+           "--separation", separation,
+           "Interaxial as a fraction of the screen width at the convergence plane (nvidia-gtc2010)")
         ->excludes(ia);
-    app->add_option("--convergence", convergence,
-                    "Distance of the zero-parallax plane, world units (default: distance to the scene center)");
+    app->add_option(
+        "--convergence", convergence,
+        "Distance of the zero-parallax plane, world units (default: distance to the scene center)");
     app->add_option("--fov", fov, "Vertical field of view, degrees")->default_val(fov);
     app->add_option("--size", size, "Size of one view, WxH pixels")->default_val(size);
     app->add_option("--shading", shading, "Shading: flat, vertex (Gouraud) or pixel (per-fragment)")
@@ -82,7 +91,8 @@ Result<Prepared> SceneOptions::prepare() const {
         static const std::regex kGrid(R"(\s*(\d{1,3})\s*[xX]\s*(\d{1,3})\s*)");
         std::smatch m;
         if (!std::regex_match(viewGrid, m, kGrid)) {
-            return usageError(fmt::format("--view-grid '{}' is not of the form CxR (e.g. 3x3)", viewGrid));
+            return usageError(
+                fmt::format("--view-grid '{}' is not of the form CxR (e.g. 3x3)", viewGrid));
         }
         params.columns = std::stoi(m[1].str());
         params.rows = std::stoi(m[2].str());
@@ -92,18 +102,22 @@ Result<Prepared> SceneOptions::prepare() const {
     }
     if (params.columns < 1 || params.rows < 1 || params.columns * params.rows > kMaxViews) {
         return usageError(fmt::format("view count {} is out of range (expected 1..{})",
-                                      viewGrid.empty() ? fmt::format("{}", views) : viewGrid, kMaxViews));
+                                      viewGrid.empty() ? fmt::format("{}", views) : viewGrid,
+                                      kMaxViews));
     }
     if (grid < 1 || grid > 1024) {
         return usageError(fmt::format("--grid {} is out of range (expected 1..1024 copies)", grid));
     }
     if (!std::isfinite(fov) || fov <= 0.0 || fov >= 180.0) {
-        return usageError(fmt::format("--fov {} is out of range (expected 0 < fov < 180 degrees)", fov));
+        return usageError(
+            fmt::format("--fov {} is out of range (expected 0 < fov < 180 degrees)", fov));
     }
-    for (const auto& [name, value] : {std::pair{"--interaxial", interaxial}, std::pair{"--separation", separation},
-                                      std::pair{"--convergence", convergence}}) {
+    for (const auto& [name, value] :
+         {std::pair{"--interaxial", interaxial}, std::pair{"--separation", separation},
+          std::pair{"--convergence", convergence}}) {
         if (value && (!std::isfinite(*value) || *value < 0.0)) {
-            return usageError(fmt::format("{} {} is out of range (expected a finite value >= 0)", name, *value));
+            return usageError(
+                fmt::format("{} {} is out of range (expected a finite value >= 0)", name, *value));
         }
     }
     if (convergence && *convergence <= 0.0) {
@@ -115,7 +129,8 @@ Result<Prepared> SceneOptions::prepare() const {
         out.scene = makeDefaultScene();
         out.sceneName = "default scene";
         if (grid != 1) {
-            return usageError(fmt::format("--grid {} needs a model file (the default scene is not gridded)", grid));
+            return usageError(fmt::format(
+                "--grid {} needs a model file (the default scene is not gridded)", grid));
         }
     } else {
         std::vector<Mesh> meshes;

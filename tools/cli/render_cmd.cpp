@@ -20,7 +20,7 @@ namespace {
 struct RenderOptions {
     SceneOptions scene;
     std::string backend;  ///< default: the registry's first backend
-    std::string method;  ///< empty: the backend's default (its fastest exact method)
+    std::string method;   ///< empty: the backend's default (its fastest exact method)
     std::string outDir = "out";
     std::vector<std::string> formats;
     bool depth = false;
@@ -53,11 +53,12 @@ int runRender(const RenderOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     auto rendered = (*backend)->render(p.scene, p.rig, p.settings, method);
     if (!rendered) return fail(rendered.status());
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const RenderOutput& out = *rendered;
     if (int(out.color.size()) != p.rig.viewCount()) {
-        return fail(internalError(fmt::format("backend returned {} images for {} views", out.color.size(),
-                                              p.rig.viewCount())));
+        return fail(internalError(fmt::format("backend returned {} images for {} views",
+                                              out.color.size(), p.rig.viewCount())));
     }
 
     const std::filesystem::path dir(o.outDir);
@@ -104,13 +105,16 @@ int runRender(const RenderOptions& o) {
         written.push_back(path->string());
     }
     if (!o.quiet) {
-        fmt::print("rendered {} ({} triangles) from {} view{} at {}x{}, {} shading, {}:{}{} in {:.1f} ms\n",
-                   p.sceneName, p.scene.triangleCount(), p.rig.viewCount(), p.rig.viewCount() == 1 ? "" : "s",
-                   p.settings.width, p.settings.height, shadingName(p.settings.shading), o.backend, out.method,
-                   out.note.empty() ? "" : " (" + out.note + ")", ms);
-        fmt::print("rig: {} {}x{}, interaxial {:.4g}, convergence {:.4g}, separation {:.2f}% of screen width\n",
-                   rigKindName(p.rig.kind), p.rig.columns, p.rig.rows, p.rig.interaxial, p.rig.convergence,
-                   100.0 * p.rig.separation());
+        fmt::print(
+            "rendered {} ({} triangles) from {} view{} at {}x{}, {} shading, {}:{}{} in {:.1f} ms\n",
+            p.sceneName, p.scene.triangleCount(), p.rig.viewCount(),
+            p.rig.viewCount() == 1 ? "" : "s", p.settings.width, p.settings.height,
+            shadingName(p.settings.shading), o.backend, out.method,
+            out.note.empty() ? "" : " (" + out.note + ")", ms);
+        fmt::print(
+            "rig: {} {}x{}, interaxial {:.4g}, convergence {:.4g}, separation {:.2f}% of screen width\n",
+            rigKindName(p.rig.kind), p.rig.columns, p.rig.rows, p.rig.interaxial, p.rig.convergence,
+            100.0 * p.rig.separation());
         if (!out.depth.empty() && p.rig.columns > 1) {
             float dMin = 1.0f, dMax = 0.0f;
             for (float d : out.depth[0].depth) {
@@ -120,12 +124,15 @@ int runRender(const RenderOptions& o) {
                 }
             }
             if (dMin <= dMax) {
-                const ParallaxRange r = parallaxRange(p.rig, distanceFromWindowDepth(dMin, p.rig.camera.near, p.rig.camera.far),
-                                                      distanceFromWindowDepth(dMax, p.rig.camera.near, p.rig.camera.far));
-                fmt::print("parallax between outer views: {:+.2f}% .. {:+.2f}% of screen width ({})\n",
-                           100.0 * r.minParallax, 100.0 * r.maxParallax,
-                           r.comfortable ? "comfortable: all within [convergence/2, 100 x convergence]"
-                                         : "uncomfortable: scene reaches closer than convergence/2 or beyond 100 x convergence");
+                const ParallaxRange r = parallaxRange(
+                    p.rig, distanceFromWindowDepth(dMin, p.rig.camera.near, p.rig.camera.far),
+                    distanceFromWindowDepth(dMax, p.rig.camera.near, p.rig.camera.far));
+                fmt::print(
+                    "parallax between outer views: {:+.2f}% .. {:+.2f}% of screen width ({})\n",
+                    100.0 * r.minParallax, 100.0 * r.maxParallax,
+                    r.comfortable
+                        ? "comfortable: all within [convergence/2, 100 x convergence]"
+                        : "uncomfortable: scene reaches closer than convergence/2 or beyond 100 x convergence");
             }
         }
         fmt::print("wrote:\n");
@@ -137,24 +144,27 @@ int runRender(const RenderOptions& o) {
 const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
     auto o = std::make_shared<RenderOptions>();
     CLI::App* app = root.add_subcommand(
-        "render", "Render a scene or model files from N viewpoints into DIR/view-0.png ... view-{N-1}.png "
-                  "(views numbered left to right, then top to bottom), plus DIR/anaglyph.png for a stereo pair");
+        "render",
+        "Render a scene or model files from N viewpoints into DIR/view-0.png ... view-{N-1}.png "
+        "(views numbered left to right, then top to bottom), plus DIR/anaglyph.png for a stereo pair");
     o->scene.addTo(app);
     o->backend = backendNames().front();
     std::string backendHelp = "Backend:";
     for (const BackendEntry& e : backends()) {
-        backendHelp += fmt::format("{} {} ({})", backendHelp.back() == ':' ? "" : ";", e.name,
-                                   e.description);
+        backendHelp +=
+            fmt::format("{} {} ({})", backendHelp.back() == ':' ? "" : ";", e.name, e.description);
     }
     app->add_option("--backend", o->backend, backendHelp)->default_val(o->backend);
-    app->add_option("--method", o->method,
-                    "Method of the backend (see `mvr info`); default: the backend's fastest exact "
-                    "method (soft unified, bit-identical to soft multipass, the reference; gl auto, "
-                    "measured)");
+    app->add_option(
+        "--method", o->method,
+        "Method of the backend (see `mvr info`); default: the backend's fastest exact "
+        "method (soft unified, bit-identical to soft multipass, the reference; gl auto, "
+        "measured)");
     app->add_option("-o,--output", o->outDir, "Output directory")->default_val(o->outDir);
     app->add_flag("--depth", o->depth, "Also write depth-0.png ... (16-bit, near = black)");
     app->add_flag("-q,--quiet", o->quiet, "Print nothing on success");
-    app->add_option("--format", o->formats, "Also write composites: DIR/<format>.png (.mpo, .jps); repeatable")
+    app->add_option("--format", o->formats,
+                    "Also write composites: DIR/<format>.png (.mpo, .jps); repeatable")
         ->check(CLI::IsMember(composite::formatNames()));
     addComposeOptions(app, o->compose);
     return [o] { return runRender(*o); };

@@ -15,10 +15,12 @@ namespace {
 const CommandRegistrar kView(40, [](CLI::App& root) { return viewer::addViewCommand(root); });
 #else
 const CommandRegistrar kView(40, [](CLI::App& root) -> std::function<int()> {
-    CLI::App* app = root.add_subcommand("view", "Interactive stereo viewer (not in this build: GLFW not found)");
+    CLI::App* app = root.add_subcommand(
+        "view", "Interactive stereo viewer (not in this build: GLFW not found)");
     app->allow_extras();  // whatever the options, the answer is the same
     return [] {
-        return fail(unsupportedError("mvr view: this mvr was built without the viewer (GLFW not found)"));
+        return fail(
+            unsupportedError("mvr view: this mvr was built without the viewer (GLFW not found)"));
     };
 });
 #endif

@@ -12,19 +12,29 @@ Action actionForChar(char32_t ch) {
         case 'M': return Action::PrevMethod;
         case 'f': return Action::NextFormat;
         case 'F': return Action::PrevFormat;
-        case '+': case '=': return Action::SeparationUp;    // '=' is '+' without shift
-        case '-': case '_': return Action::SeparationDown;
+        case '+':
+        case '=': return Action::SeparationUp;  // '=' is '+' without shift
+        case '-':
+        case '_': return Action::SeparationDown;
         case ']': return Action::ConvergenceFar;
         case '[': return Action::ConvergenceNear;
-        case 'c': case 'C': return Action::ConvergeAtCursor;
-        case 's': case 'S': return Action::SwapEyes;
-        case 'w': case 'W': return Action::Wireframe;
-        case 'l': case 'L': return Action::NextShading;
-        case 'p': case 'P': return Action::Screenshot;
-        case 'h': case 'H': return Action::ToggleHud;
+        case 'c':
+        case 'C': return Action::ConvergeAtCursor;
+        case 's':
+        case 'S': return Action::SwapEyes;
+        case 'w':
+        case 'W': return Action::Wireframe;
+        case 'l':
+        case 'L': return Action::NextShading;
+        case 'p':
+        case 'P': return Action::Screenshot;
+        case 'h':
+        case 'H': return Action::ToggleHud;
         case '?': return Action::ToggleHelp;
-        case 'r': case 'R': return Action::ResetView;
-        case 'q': case 'Q': return Action::Quit;
+        case 'r':
+        case 'R': return Action::ResetView;
+        case 'q':
+        case 'Q': return Action::Quit;
         default: return Action::None;
     }
 }

@@ -23,21 +23,29 @@ namespace mvr::viewer {
 
 enum class Action {
     None,
-    NextMethod, PrevMethod,          // m M
-    NextFormat, PrevFormat,          // f F
-    SeparationUp, SeparationDown,    // + -
-    ConvergenceFar, ConvergenceNear, // ] [
-    ConvergeAtCursor,                // c
-    SwapEyes,                        // s
-    Wireframe,                       // w
-    NextShading,                     // l
-    Screenshot,                      // p, F12
-    ToggleHud,                       // h
-    ToggleHelp,                      // ?, F1
-    ResetView,                       // r
-    OrbitLeft, OrbitRight, OrbitUp, OrbitDown,  // arrows
-    ZoomIn, ZoomOut,                 // PgUp PgDn (also the wheel)
-    Quit,                            // q, Esc
+    NextMethod,
+    PrevMethod,  // m M
+    NextFormat,
+    PrevFormat,  // f F
+    SeparationUp,
+    SeparationDown,  // + -
+    ConvergenceFar,
+    ConvergenceNear,   // ] [
+    ConvergeAtCursor,  // c
+    SwapEyes,          // s
+    Wireframe,         // w
+    NextShading,       // l
+    Screenshot,        // p, F12
+    ToggleHud,         // h
+    ToggleHelp,        // ?, F1
+    ResetView,         // r
+    OrbitLeft,
+    OrbitRight,
+    OrbitUp,
+    OrbitDown,  // arrows
+    ZoomIn,
+    ZoomOut,  // PgUp PgDn (also the wheel)
+    Quit,     // q, Esc
 };
 
 /// The action of a printable key (its character as typed), or Action::None.
@@ -47,7 +55,8 @@ Action actionForChar(char32_t ch);
 struct ScriptStep {
     enum class Kind { Action, MouseAt, Drag, Pan, Wheel, Resize } kind = Kind::Action;
     Action action = Action::None;
-    float x = 0.0f, y = 0.0f;  ///< MouseAt: position; Drag/Pan: delta; Wheel: steps in x; Resize: size
+    float x = 0.0f,
+          y = 0.0f;  ///< MouseAt: position; Drag/Pan: delta; Wheel: steps in x; Resize: size
 };
 
 /// Parses a --script string. Errors (ErrorCode::Usage): an unknown token, naming it and its

@@ -84,11 +84,11 @@ void drawCrosshair(Image& image, glm::vec2 center, int arm, Rgba8 color) {
     for (int pass = 0; pass < 2; ++pass) {
         const int o = pass == 0 ? 1 : 0;
         const Rgba8 c = pass == 0 ? outline : color;
-        fillRect(image, cx - arm - o, cy - 1 - o, cx - gap + o, cy + 1 + o, c);      // left
-        fillRect(image, cx + gap - o, cy - 1 - o, cx + arm + o, cy + 1 + o, c);      // right
-        fillRect(image, cx - 1 - o, cy - arm - o, cx + 1 + o, cy - gap + o, c);      // up
-        fillRect(image, cx - 1 - o, cy + gap - o, cx + 1 + o, cy + arm + o, c);      // down
-        fillRect(image, cx - 1 - o, cy - 1 - o, cx + 1 + o, cy + 1 + o, c);          // dot
+        fillRect(image, cx - arm - o, cy - 1 - o, cx - gap + o, cy + 1 + o, c);  // left
+        fillRect(image, cx + gap - o, cy - 1 - o, cx + arm + o, cy + 1 + o, c);  // right
+        fillRect(image, cx - 1 - o, cy - arm - o, cx + 1 + o, cy - gap + o, c);  // up
+        fillRect(image, cx - 1 - o, cy + gap - o, cx + 1 + o, cy + arm + o, c);  // down
+        fillRect(image, cx - 1 - o, cy - 1 - o, cx + 1 + o, cy + 1 + o, c);      // dot
     }
 }
 

@@ -138,13 +138,11 @@ void Presenter::draw(int slot, glm::ivec2 fb, GLenum drawBuffer) {
     drawWith(mProgram, mOffsetLoc, mFbHeightLoc, slot, fb, drawBuffer);
 }
 
-Status Presenter::drawAnaglyph(composite::AnaglyphMethod method, glm::ivec2 fb,
-                               GLenum drawBuffer) {
+Status Presenter::drawAnaglyph(composite::AnaglyphMethod method, glm::ivec2 fb, GLenum drawBuffer) {
     auto it = mAnaglyphPrograms.find(method);
     if (it == mAnaglyphPrograms.end()) {
         MixProgram program;
-        const std::string fs =
-            kAnaglyphFsHead + composite::anaglyphGlsl(method) + kAnaglyphFsMain;
+        const std::string fs = kAnaglyphFsHead + composite::anaglyphGlsl(method) + kAnaglyphFsMain;
         if (Status s = link(fs.c_str(), program.id); !s) return s;
         program.offsetLoc = glGetUniformLocation(program.id, "uOffset");
         program.fbHeightLoc = glGetUniformLocation(program.id, "uFbHeight");

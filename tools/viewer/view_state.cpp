@@ -50,8 +50,8 @@ void StereoCamera::orbit(float yawRadians, float pitchRadians) {
     const float limit = glm::radians(89.0f);
     const float p = std::clamp(pitch + pitchRadians, -limit, limit);
     const float y = yaw + yawRadians;
-    camera.position = camera.target +
-                      d * glm::vec3(std::cos(p) * std::sin(y), std::sin(p), std::cos(p) * std::cos(y));
+    camera.position = camera.target + d * glm::vec3(std::cos(p) * std::sin(y), std::sin(p),
+                                                    std::cos(p) * std::cos(y));
 }
 
 void StereoCamera::pan(float dxFraction, float dyFraction) {
@@ -144,8 +144,8 @@ std::optional<float> depthAt(const DepthImage& depth, glm::vec2 px) {
 
 }  // namespace
 
-CursorPlacement placeCursor(const Rig& rig, const DepthImage& depth0, glm::vec2 screenPx,
-                            int width, int height) {
+CursorPlacement placeCursor(const Rig& rig, const DepthImage& depth0, glm::vec2 screenPx, int width,
+                            int height) {
     CursorPlacement out;
     const Camera& camera = rig.camera;
     const glm::vec2 ndc(screenPx.x / float(width) * 2.0f - 1.0f,

@@ -36,7 +36,7 @@ struct StereoCamera {
     /// From a prepared rig (`mvr render`'s) and the scene's bounding radius.
     static StereoCamera fromRig(const Rig& rig, float sceneRadius);
 
-    float separation() const;             ///< interaxial / screen width at convergence
+    float separation() const;              ///< interaxial / screen width at convergence
     void setSeparation(float separation);  ///< clamped to [0, 0.25]
     void setConvergence(float distance);   ///< clamped to (near·1.01, far]; keeps separation
     void setAspect(float aspect);          ///< no-op when equal; keeps separation
@@ -58,11 +58,11 @@ std::optional<ParallaxRange> frameParallaxRange(const Rig& rig, const DepthImage
 
 /// Where the 3D cursor goes in each eye.
 struct CursorPlacement {
-    bool onSurface = false;   ///< a surface is under the mouse (else: screen depth)
-    float distance = 0.0f;    ///< eye-space w of the cursor's point (convergence if not on surface)
-    glm::vec3 world{0.0f};    ///< the cursor's world-space point
-    glm::vec2 viewPx[2]{};    ///< its position in view 0 and view 1, pixels (row 0 at top)
-    float parallax = 0.0f;    ///< (ndc_1.x − ndc_0.x) / 2: fraction of the screen width
+    bool onSurface = false;  ///< a surface is under the mouse (else: screen depth)
+    float distance = 0.0f;   ///< eye-space w of the cursor's point (convergence if not on surface)
+    glm::vec3 world{0.0f};   ///< the cursor's world-space point
+    glm::vec2 viewPx[2]{};   ///< its position in view 0 and view 1, pixels (row 0 at top)
+    float parallax = 0.0f;   ///< (ndc_1.x − ndc_0.x) / 2: fraction of the screen width
 };
 
 /// Places the 3D cursor for the mouse at `screenPx` (pixels of one view, as if seen by the mono
@@ -74,7 +74,7 @@ struct CursorPlacement {
 /// with parallax separation · (1 − convergence / w). No surface (background, empty depth, as
 /// for gs-mrt) → the point on the convergence plane: zero parallax, like the HUD.
 /// Precondition: rig has two views; depth0 is empty or the view size `width`×`height`.
-CursorPlacement placeCursor(const Rig& rig, const DepthImage& depth0, glm::vec2 screenPx,
-                            int width, int height);
+CursorPlacement placeCursor(const Rig& rig, const DepthImage& depth0, glm::vec2 screenPx, int width,
+                            int height);
 
 }  // namespace mvr::viewer

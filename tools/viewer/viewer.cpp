@@ -30,11 +30,21 @@
 namespace mvr::viewer {
 
 const std::vector<std::string>& viewerFormats() {
-    static const std::vector<std::string> kFormats = {
-        "anaglyph-dubois", "anaglyph-color", "anaglyph-half-color", "anaglyph-gray",
-        "anaglyph-true",   "anaglyph-dubois-gm", "anaglyph-dubois-ab", "sbs",
-        "sbs-half",        "tb",               "tb-half",             "rows",
-        "columns",         "checkerboard",     "quad-buffer"};
+    static const std::vector<std::string> kFormats = {"anaglyph-dubois",
+                                                      "anaglyph-color",
+                                                      "anaglyph-half-color",
+                                                      "anaglyph-gray",
+                                                      "anaglyph-true",
+                                                      "anaglyph-dubois-gm",
+                                                      "anaglyph-dubois-ab",
+                                                      "sbs",
+                                                      "sbs-half",
+                                                      "tb",
+                                                      "tb-half",
+                                                      "rows",
+                                                      "columns",
+                                                      "checkerboard",
+                                                      "quad-buffer"};
     return kFormats;
 }
 
@@ -215,13 +225,14 @@ Status Viewer::openWindow(glm::ivec2 size) {
         mWindow = glfwCreateWindow(size.x, size.y, title.c_str(), nullptr, nullptr);
     }
     if (!mWindow) {
-        return unsupportedError(fmt::format("mvr view: cannot create an OpenGL 3.3 core window: {}",
-                                            lastGlfwError()));
+        return unsupportedError(
+            fmt::format("mvr view: cannot create an OpenGL 3.3 core window: {}", lastGlfwError()));
     }
     glfwMakeContextCurrent(mWindow);
     if (epoxy_gl_version() < 33) {
-        return unsupportedError(fmt::format("mvr view: the window's OpenGL is {}.{} (expected 3.3 core)",
-                                            epoxy_gl_version() / 10, epoxy_gl_version() % 10));
+        return unsupportedError(
+            fmt::format("mvr view: the window's OpenGL is {}.{} (expected 3.3 core)",
+                        epoxy_gl_version() / 10, epoxy_gl_version() % 10));
     }
     glfwSwapInterval(mOptions.frames > 0 ? 0 : 1);
     mPresenter = std::make_unique<Presenter>();
@@ -318,13 +329,16 @@ void Viewer::cycleMethod(int direction) {
     for (std::size_t tries = 0; tries + 1 < n; ++tries) {
         index = (index + n + std::size_t(direction + int(n))) % n;
         const MethodRef ref = mBackends.methods()[index];
-        Status s = mWorker.call([this, ref] { return mBackends.backend(ref.backend).supports(ref.method); });
+        Status s = mWorker.call(
+            [this, ref] { return mBackends.backend(ref.backend).supports(ref.method); });
         if (s) {
             mMethodIndex = index;
             mNeedRender = true;
             say(fmt::format("method {}{}", ref.label(),
-                            skipped.empty() ? "" : " (skipped, unsupported here: " +
-                                                       fmt::format("{}", fmt::join(skipped, ", ")) + ")"));
+                            skipped.empty()
+                                ? ""
+                                : " (skipped, unsupported here: " +
+                                      fmt::format("{}", fmt::join(skipped, ", ")) + ")"));
             return;
         }
         skipped.push_back(ref.label());
@@ -393,7 +407,8 @@ void Viewer::apply(Action action) {
         case Action::Screenshot: mScreenshotRequested = true; return;
         case Action::ToggleHud:
             mShowHud = !mShowHud;
-            glfwSetInputMode(mWindow, GLFW_CURSOR, mShowHud ? GLFW_CURSOR_HIDDEN : GLFW_CURSOR_NORMAL);
+            glfwSetInputMode(mWindow, GLFW_CURSOR,
+                             mShowHud ? GLFW_CURSOR_HIDDEN : GLFW_CURSOR_NORMAL);
             return;
         case Action::ToggleHelp: mShowHelp = !mShowHelp; return;
         case Action::ResetView: {
@@ -447,8 +462,8 @@ Status Viewer::renderFrame() {
     mRenderMs = msSince(start);
     if (!out) return out.status();
     if (out->color.size() != 2) {
-        return internalError(fmt::format("{} returned {} images for 2 views", ref.label(),
-                                         out->color.size()));
+        return internalError(
+            fmt::format("{} returned {} images for 2 views", ref.label(), out->color.size()));
     }
     mOutput = std::move(out).value();
     mRig = std::move(rig).value();
@@ -462,12 +477,13 @@ std::vector<std::string> Viewer::hudLines() const {
     std::vector<std::string> lines;
     const MethodRef& ref = method();
     std::string methodText = ref.label();
-    if (!mOutput.method.empty() && mOutput.method != ref.method) methodText += " -> " + mOutput.method;
+    if (!mOutput.method.empty() && mOutput.method != ref.method)
+        methodText += " -> " + mOutput.method;
     const Timing& t = mShownTiming;
     lines.push_back(fmt::format("{:.1f} fps ({:.0f} ms: render {:.0f}, compose {:.0f})  {}  {}{}",
                                 t.frameMs > 0 ? 1000.0 / t.frameMs : 0.0, t.frameMs, t.renderMs,
-                                t.composeMs,
-                                methodText, formatName(), mSwapEyes ? " (eyes swapped)" : ""));
+                                t.composeMs, methodText, formatName(),
+                                mSwapEyes ? " (eyes swapped)" : ""));
     lines.push_back(fmt::format("separation {:.2f}%  convergence {:.4g}  interaxial {:.4g}  {}{}",
                                 100.0 * mStereo.separation(), mStereo.convergence,
                                 mStereo.interaxial, shadingName(mSettings.shading),
@@ -547,7 +563,8 @@ Status Viewer::composeAndPresent() {
         mMouseInside = mMouse.x >= 0 && mMouse.y >= 0 && mMouse.x < ww && mMouse.y < wh;
     }
     if (mShowHud && mMouseInside && mRig) {
-        const glm::vec2 fbPx = glm::vec2(mMouse) * glm::vec2(mFb) / glm::vec2(std::max(ww, 1), std::max(wh, 1));
+        const glm::vec2 fbPx =
+            glm::vec2(mMouse) * glm::vec2(mFb) / glm::vec2(std::max(ww, 1), std::max(wh, 1));
         const glm::ivec2 frame = quadBuffer() ? view : frameSizeFor(format, view);
         const glm::vec2 framePx = fbPx - glm::vec2((mFb - frame) / 2);
         if (framePx.x >= 0 && framePx.y >= 0 && framePx.x < frame.x && framePx.y < frame.y) {
@@ -624,16 +641,17 @@ std::filesystem::path Viewer::nextScreenshotPath() {
     ++mScreenshotCount;
     if (mOptions.screenshot.empty()) return fmt::format("mvr-view-{}.png", mScreenshotCount);
     const std::filesystem::path base(mOptions.screenshot);
-    std::filesystem::path p = base.parent_path() /
-                              fmt::format("{}-{}{}", base.stem().string(), mScreenshotCount,
-                                          base.extension().string());
+    std::filesystem::path p =
+        base.parent_path() /
+        fmt::format("{}-{}{}", base.stem().string(), mScreenshotCount, base.extension().string());
     return p;
 }
 
 int Viewer::run() {
     if (Status s = mWorker.call([this] { return mBackends.make(); }); !s) return cli::fail(s);
     auto supports = [this](const MethodRef& ref) {
-        return mWorker.call([this, ref] { return mBackends.backend(ref.backend).supports(ref.method); });
+        return mWorker.call(
+            [this, ref] { return mBackends.backend(ref.backend).supports(ref.method); });
     };
     Result<std::size_t> initial = chooseInitialMethod(mBackends, mOptions, supports);
     if (!initial) {
@@ -642,7 +660,8 @@ int Viewer::run() {
     }
     mMethodIndex = *initial;
     const auto formats = viewerFormats();
-    mFormatIndex = std::size_t(std::find(formats.begin(), formats.end(), mOptions.format) - formats.begin());
+    mFormatIndex =
+        std::size_t(std::find(formats.begin(), formats.end(), mOptions.format) - formats.begin());
     if (mFormatIndex >= formats.size()) mFormatIndex = 0;
 
     const glm::ivec2 viewSize(mSettings.width, mSettings.height);
@@ -652,8 +671,10 @@ int Viewer::run() {
         return cli::fail(s);
     }
     if (quadBuffer() && !mStereoWindow) {
-        fmt::print(stderr, "mvr view: quad-buffer: the driver gives no stereo visual (GLFW_STEREO); "
-                           "showing {} instead\n", kQuadBufferFallback);
+        fmt::print(stderr,
+                   "mvr view: quad-buffer: the driver gives no stereo visual (GLFW_STEREO); "
+                   "showing {} instead\n",
+                   kQuadBufferFallback);
         mFormatIndex = std::size_t(std::find(formats.begin(), formats.end(), kQuadBufferFallback) -
                                    formats.begin());
     }
@@ -724,10 +745,11 @@ int Viewer::run() {
         if (Status s = writeScreenshot(mOptions.screenshot); !s) exit = cli::fail(s);
     }
     if (exit == 0 && !mOptions.quiet) {
-        fmt::print("mvr view: {} frame{}; last: {}, {}, {}x{} per view, separation {:.2f}%, "
-                   "convergence {:.4g}\n",
-                   mFrames, mFrames == 1 ? "" : "s", method().label(), formatName(), mSettings.width, mSettings.height,
-                   100.0 * mStereo.separation(), mStereo.convergence);
+        fmt::print(
+            "mvr view: {} frame{}; last: {}, {}, {}x{} per view, separation {:.2f}%, "
+            "convergence {:.4g}\n",
+            mFrames, mFrames == 1 ? "" : "s", method().label(), formatName(), mSettings.width,
+            mSettings.height, 100.0 * mStereo.separation(), mStereo.convergence);
     }
     shutdown();
     return exit;
@@ -739,14 +761,15 @@ int runViewer(const ViewerOptions& options) {
     auto script = parseScript(options.script);
     if (!script) return cli::fail(script.status());
     if (options.frames < 0) {
-        return cli::fail(usageError(fmt::format("--frames {} is out of range (expected >= 0)", options.frames)));
+        return cli::fail(
+            usageError(fmt::format("--frames {} is out of range (expected >= 0)", options.frames)));
     }
     auto prepared = options.scene.prepare();
     if (!prepared) return cli::fail(prepared.status());
     if (prepared->rig.viewCount() != 2) {
-        return cli::fail(usageError(fmt::format(
-            "mvr view shows a stereo pair: {} views requested (expected --views 2)",
-            prepared->rig.viewCount())));
+        return cli::fail(usageError(
+            fmt::format("mvr view shows a stereo pair: {} views requested (expected --views 2)",
+                        prepared->rig.viewCount())));
     }
     Viewer viewer(options, std::move(prepared).value(), std::move(script).value());
     return viewer.run();
@@ -756,8 +779,9 @@ std::function<int()> addViewCommand(CLI::App& root) {
     auto o = std::make_shared<ViewerOptions>();
     o->scene.size = "960x540";
     CLI::App* app = root.add_subcommand(
-        "view", "Interactive stereo viewer: orbit, pan and zoom a scene or model files in a window, "
-                "switch the method and the output format live, with a HUD and a 3D cursor");
+        "view",
+        "Interactive stereo viewer: orbit, pan and zoom a scene or model files in a window, "
+        "switch the method and the output format live, with a HUD and a 3D cursor");
     o->scene.addTo(app);
     o->backend = defaultViewerBackend();
     const std::string fallback = fallbackViewerBackend();
@@ -777,9 +801,9 @@ std::function<int()> addViewCommand(CLI::App& root) {
     app->add_option("--method", o->method,
                     fmt::format("Method of the backend (see `mvr info`; default: the backend's "
                                 "default method{}); m/M cycle them",
-                                interactive.empty() ? std::string()
-                                                    : fmt::format(", except {}",
-                                                                  fmt::join(interactive, ", "))));
+                                interactive.empty()
+                                    ? std::string()
+                                    : fmt::format(", except {}", fmt::join(interactive, ", "))));
     app->add_option("--format", o->format, "Output format; f/F cycle them")
         ->default_val(o->format)
         ->check(CLI::IsMember(viewerFormats()));
@@ -791,17 +815,20 @@ std::function<int()> addViewCommand(CLI::App& root) {
         ->check(CLI::IsMember({"gpu", "cpu"}));
     app->add_option("--frames", o->frames, "Render N frames and exit (0: until the window closes)")
         ->default_val(o->frames);
-    app->add_option("--screenshot", o->screenshot,
-                    "Write the last frame (what the window shows) to FILE (PNG); p saves FILE-1.png, …");
-    app->add_option("--script", o->script,
-                    "Comma-separated keys applied one per frame, e.g. \"m,m,+\"; also left, right, up, "
-                    "down, pgup, pgdn, esc, f1, f12, at:X:Y (mouse), drag:DX:DY, pan:DX:DY, wheel:N, size:W:H");
+    app->add_option(
+        "--screenshot", o->screenshot,
+        "Write the last frame (what the window shows) to FILE (PNG); p saves FILE-1.png, …");
+    app->add_option(
+        "--script", o->script,
+        "Comma-separated keys applied one per frame, e.g. \"m,m,+\"; also left, right, up, "
+        "down, pgup, pgdn, esc, f1, f12, at:X:Y (mouse), drag:DX:DY, pan:DX:DY, wheel:N, size:W:H");
     app->add_flag("--no-hud", o->noHud, "Hide the HUD and the 3D cursor");
     app->add_flag("-q,--quiet", o->quiet, "Print nothing but errors");
     std::string keys = "Keys (also shown in the window by ? or F1):\n";
     for (const KeyHelp& k : keyHelp()) keys += fmt::format("  {:<12} {}\n", k.keys, k.what);
-    keys += "The view size follows the window (--size sets the first one); side-by-side shows two "
-            "half-width views, top-bottom two half-height views.";
+    keys +=
+        "The view size follows the window (--size sets the first one); side-by-side shows two "
+        "half-width views, top-bottom two half-height views.";
     app->footer(keys);
     return [o, backend] {
         o->backendGiven = backend->count() > 0;

@@ -32,8 +32,8 @@ namespace mvr::viewer {
 
 struct ViewerOptions {
     cli::SceneOptions scene;
-    std::string backend;  ///< empty: defaultViewerBackend(), the first GPU backend
-    std::string method;   ///< empty: the backend's start method (viewer_backends.h)
+    std::string backend;        ///< empty: defaultViewerBackend(), the first GPU backend
+    std::string method;         ///< empty: the backend's start method (viewer_backends.h)
     bool backendGiven = false;  ///< --backend was on the command line (no fallback)
     std::string format = "anaglyph-dubois";
     bool swapEyes = false;

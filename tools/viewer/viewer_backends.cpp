@@ -64,9 +64,10 @@ Result<std::size_t> chooseInitialMethod(const ViewerBackends& backends,
     const std::string wanted = !options.method.empty() ? options.method : begin(name);
     std::optional<std::size_t> index = backends.find(name, wanted);
     if (!index) {
-        return usageError(fmt::format("--method '{}' is not a method of the {} backend (see `mvr "
-                                      "info`)",
-                                      wanted, name));
+        return usageError(
+            fmt::format("--method '{}' is not a method of the {} backend (see `mvr "
+                        "info`)",
+                        wanted, name));
     }
     Status s = supports(backends.methods()[*index]);
     const std::string fallback = fallbackViewerBackend();

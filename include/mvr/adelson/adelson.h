@@ -52,9 +52,9 @@ struct Vec3 {
 
 /// The stereo camera of the paper plus the raster the images go to.
 struct StereoCamera {
-    double d = 2.0;      ///< distance from the centers of projection to the view plane (> 0)
-    double e = 0.065;    ///< eye separation (≥ 0)
-    int width = 640;     ///< pixels per eye image
+    double d = 2.0;    ///< distance from the centers of projection to the view plane (> 0)
+    double e = 0.065;  ///< eye separation (≥ 0)
+    int width = 640;   ///< pixels per eye image
     int height = 480;
     double scale = 400;  ///< pixels per view-plane unit
 };
@@ -120,7 +120,8 @@ void fillGouraud(std::span<const double> x, std::span<const double> y, std::span
 /// Both eyes: edge colors are interpolated once (a vertex has the same color in both views
 /// and an edge the same height), x per eye: 5 interpolations per edge scan-line for both eyes
 /// instead of 8; interior pixels are still interpolated per eye.
-void fillGouraudStereo(const StereoPolygon& poly, Frame& left, Frame& right, OpCounts* ops = nullptr);
+void fillGouraudStereo(const StereoPolygon& poly, Frame& left, Frame& right,
+                       OpCounts* ops = nullptr);
 
 // ---- Liang–Barsky clipping --------------------------------------------------------------------
 
@@ -263,11 +264,11 @@ Savings savingsFrom(double separate, double simultaneous);
 /// One measured case of a Table 1 row: the single-eye algorithm run for the left and the
 /// right eye (`separate`) against the simultaneous one, on a workload built once.
 struct ExperimentCase {
-    std::string algorithm;  ///< the Table 1 row, e.g. "Liang-Barsky line clipping"
-    std::string caseName;   ///< the workload, e.g. "200000 random segments"
-    std::string label;      ///< a short name for plots, e.g. "LB line clip"
+    std::string algorithm;                  ///< the Table 1 row, e.g. "Liang-Barsky line clipping"
+    std::string caseName;                   ///< the workload, e.g. "200000 random segments"
+    std::string label;                      ///< a short name for plots, e.g. "LB line clip"
     std::string paperI, paperII, paperIII;  ///< adelson1991 Table 1 as printed
-    std::string opsNote;    ///< what the operation counts cover
+    std::string opsNote;                    ///< what the operation counts cover
     /// Runs both eyes separately / simultaneously; counts into `ops` when non-null.
     std::function<void(OpCounts*)> separate, simultaneous;
     /// Runs both and compares their results: "" when they agree as the algorithm promises

@@ -92,10 +92,10 @@ struct ComposeOptions {
 enum class SizeRule {
     Tiled,        ///< a grid of cells, one view each: see FormatSize
     FramePacked,  ///< HDMI 1.4a frame packing: only 1280×720 → 1280×1470, 1920×1080 → 1920×2205
-    QuiltGrid,    ///< C·W × R·H, C×R = options.quiltColumns × quiltRows or chooseQuiltLayout()
-    Panel,        ///< the lenticular panel: options.lenticular.screenWidth × screenHeight
-                  ///< (0 = the view's), whatever the view size
-    PerView,      ///< no single image: one image of W×H per view in a file (mpo)
+    QuiltGrid,  ///< C·W × R·H, C×R = options.quiltColumns × quiltRows or chooseQuiltLayout()
+    Panel,      ///< the lenticular panel: options.lenticular.screenWidth × screenHeight
+                ///< (0 = the view's), whatever the view size
+    PerView,    ///< no single image: one image of W×H per view in a file (mpo)
 };
 
 /// The size rule of one format. SizeRule::Tiled: the output is a grid of cellsAcross ×

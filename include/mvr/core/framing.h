@@ -22,13 +22,13 @@ namespace mvr {
 
 struct FramingParams {
     RigKind kind = RigKind::OffAxis;
-    int columns = 2;                    ///< views per row
-    int rows = 1;                       ///< rows of views
-    float fovYDegrees = 45.0f;          ///< vertical field of view, (0, 180)
-    std::optional<float> interaxial;    ///< world units, >= 0; default convergence / 30
-    std::optional<float> separation;    ///< fraction of the screen width; excludes interaxial
-    std::optional<float> convergence;   ///< world units, > 0; default: distance to the target
-    std::optional<glm::vec3> clearColor;///< default: Scene::background
+    int columns = 2;                      ///< views per row
+    int rows = 1;                         ///< rows of views
+    float fovYDegrees = 45.0f;            ///< vertical field of view, (0, 180)
+    std::optional<float> interaxial;      ///< world units, >= 0; default convergence / 30
+    std::optional<float> separation;      ///< fraction of the screen width; excludes interaxial
+    std::optional<float> convergence;     ///< world units, > 0; default: distance to the target
+    std::optional<glm::vec3> clearColor;  ///< default: Scene::background
 };
 
 /// A rig and settings ready for Backend::render().

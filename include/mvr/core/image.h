@@ -55,9 +55,9 @@ struct DepthImage {
 
 /// Per-pixel comparison of two images of the same size.
 struct ImageDiff {
-    int maxDelta = 0;         ///< largest absolute channel difference (0..255)
-    double meanDelta = 0.0;   ///< mean absolute channel difference over all RGB channels
-    long differingPixels = 0; ///< pixels whose RGB differ by more than the threshold given
+    int maxDelta = 0;          ///< largest absolute channel difference (0..255)
+    double meanDelta = 0.0;    ///< mean absolute channel difference over all RGB channels
+    long differingPixels = 0;  ///< pixels whose RGB differ by more than the threshold given
     int worstX = -1, worstY = -1;
 };
 

@@ -49,16 +49,14 @@ inline constexpr float kLog2[9] = {0x1.715476p+0f,  -0x1.715474p-1f, 0x1.ec73dep
                                    -0x1.715994p-2f, 0x1.26d01cp-2f,  -0x1.e9d1e6p-3f,
                                    0x1.ba8738p-3f,  -0x1.a59aeap-3f, 0x1.f841dcp-4f};
 /// 2^r ≈ 1 + r · Q(r), r ∈ [−½, ½]: Q's coefficients d0..d5.
-inline constexpr float kExp2[6] = {0x1.62e430p-1f, 0x1.ebfbe0p-3f, 0x1.c6af6cp-5f,
+inline constexpr float kExp2[6] = {0x1.62e430p-1f, 0x1.ebfbe0p-3f,  0x1.c6af6cp-5f,
                                    0x1.3b2a54p-7f, 0x1.5f0890p-10f, 0x1.44138ap-13f};
 /// y = s·log2(x) is clamped to [−kYMax, kYMax] (2^±160 under/overflows float; NaN → −kYMax).
 inline constexpr float kYMax = 160.0f;
 /// 1.5·2^23: (y + kRound) − kRound rounds |y| < 2^22 to the nearest integer (ties to even).
 inline constexpr float kRound = 0x1.8p23f;
 /// pow(0, s): 0 for s > 0, 1 for s = 0, +inf for s < 0 (as std::pow).
-inline float powOfZero(float s) {
-    return s > 0.0f ? 0.0f : s == 0.0f ? 1.0f : HUGE_VALF;
-}
+inline float powOfZero(float s) { return s > 0.0f ? 0.0f : s == 0.0f ? 1.0f : HUGE_VALF; }
 }  // namespace pow_detail
 
 /// x^s for x ≥ 0 — the specular power of shadeBlinnPhong, as exp2(s · log2(x)) with fixed float
@@ -117,7 +115,8 @@ inline glm::vec3 shadeBlinnPhong(const ShadingContext& ctx, const Material& m, g
         const float nl = glm::dot(n, l.towardLight);
         if (nl > 0.0f) {
             const glm::vec3 h = glm::normalize(l.towardLight + v);
-            const float spec = m.specular * specularPow(std::max(glm::dot(n, h), 0.0f), m.shininess);
+            const float spec =
+                m.specular * specularPow(std::max(glm::dot(n, h), 0.0f), m.shininess);
             c += (nl * m.albedo + glm::vec3(spec)) * l.color;
         }
     }

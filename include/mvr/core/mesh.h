@@ -21,8 +21,16 @@ struct Bounds {
     glm::vec3 min{std::numeric_limits<float>::max()};
     glm::vec3 max{-std::numeric_limits<float>::max()};
     bool empty() const { return min.x > max.x; }
-    void extend(const glm::vec3& p) { min = glm::min(min, p); max = glm::max(max, p); }
-    void extend(const Bounds& b) { if (!b.empty()) { extend(b.min); extend(b.max); } }
+    void extend(const glm::vec3& p) {
+        min = glm::min(min, p);
+        max = glm::max(max, p);
+    }
+    void extend(const Bounds& b) {
+        if (!b.empty()) {
+            extend(b.min);
+            extend(b.max);
+        }
+    }
     glm::vec3 center() const { return (min + max) * 0.5f; }
     float radius() const { return glm::length(max - min) * 0.5f; }
 };
@@ -30,9 +38,9 @@ struct Bounds {
 struct Mesh {
     std::string name;
     std::vector<glm::vec3> positions;
-    std::vector<glm::vec3> normals;     ///< one per position, unit length
-    std::vector<glm::vec2> texcoords;   ///< empty, or one per position
-    std::vector<std::uint32_t> indices; ///< 3 per triangle, counter-clockwise = front
+    std::vector<glm::vec3> normals;      ///< one per position, unit length
+    std::vector<glm::vec2> texcoords;    ///< empty, or one per position
+    std::vector<std::uint32_t> indices;  ///< 3 per triangle, counter-clockwise = front
 
     std::size_t triangleCount() const { return indices.size() / 3; }
     Bounds bounds() const;

@@ -22,11 +22,11 @@
 namespace mvr {
 
 struct RenderSettings {
-    int width = 1024;   ///< pixels per view
+    int width = 1024;  ///< pixels per view
     int height = 768;
     Shading shading = Shading::Vertex;
-    bool cullBackFaces = false;           ///< cull clockwise (back) faces
-    bool wireframe = false;               ///< draw triangle edges instead of filled triangles
+    bool cullBackFaces = false;              ///< cull clockwise (back) faces
+    bool wireframe = false;                  ///< draw triangle edges instead of filled triangles
     glm::vec3 clearColor{0.0f, 0.0f, 0.0f};  ///< background, linear [0,1]; alpha is 1
 };
 
@@ -40,21 +40,21 @@ struct StageTimes {
 /// Timings of a backend's last successful render() (Backend::lastStats()). Fields a backend
 /// does not measure stay at their defaults: stages zero, gpuMs negative.
 struct RenderStats {
-    std::string method;          ///< the method that ran (for "auto": the one it picked)
-    StageTimes stages;           ///< soft: per pipeline stage
-    double gpuMs = -1.0;         ///< GPU timer of the draws (gl: GL_TIME_ELAPSED); <0 if none
-    double drawWallMs = 0.0;     ///< wall time from the first draw to the finished frame
-    double readbackWallMs = 0.0; ///< wall time of handing the views' images back
-    double totalWallMs = 0.0;    ///< the whole render() call
+    std::string method;           ///< the method that ran (for "auto": the one it picked)
+    StageTimes stages;            ///< soft: per pipeline stage
+    double gpuMs = -1.0;          ///< GPU timer of the draws (gl: GL_TIME_ELAPSED); <0 if none
+    double drawWallMs = 0.0;      ///< wall time from the first draw to the finished frame
+    double readbackWallMs = 0.0;  ///< wall time of handing the views' images back
+    double totalWallMs = 0.0;     ///< the whole render() call
 };
 
 /// What one render produces: a color and a depth image per view, in rig view order.
 struct RenderOutput {
     std::vector<Image> color;
-    std::vector<DepthImage> depth;   ///< empty for methods without a per-view depth buffer
-    std::string method;              ///< the method that actually ran (differs for "auto")
-    std::string note;                ///< e.g. why "auto" picked that method
-    StageTimes stages;               ///< per-stage times (zero where not measured)
+    std::vector<DepthImage> depth;  ///< empty for methods without a per-view depth buffer
+    std::string method;             ///< the method that actually ran (differs for "auto")
+    std::string note;               ///< e.g. why "auto" picked that method
+    StageTimes stages;              ///< per-stage times (zero where not measured)
 };
 
 class Backend {

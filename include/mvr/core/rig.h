@@ -85,14 +85,14 @@ enum class RigKind { OffAxis, ToeIn, Parallel, List };
 /// (view 0 is the top-left viewpoint; for a row, view 0 is the leftmost eye).
 struct Rig {
     RigKind kind = RigKind::OffAxis;
-    Camera camera;                 ///< the mono/center camera
+    Camera camera;  ///< the mono/center camera
     int columns = 1;
     int rows = 1;
-    float interaxial = 0.0f;       ///< distance between horizontally adjacent eyes
-    float interaxialY = 0.0f;      ///< distance between vertically adjacent eyes (grids)
-    float convergence = 5.0f;      ///< distance to the zero-parallax plane (off-axis, toe-in)
+    float interaxial = 0.0f;   ///< distance between horizontally adjacent eyes
+    float interaxialY = 0.0f;  ///< distance between vertically adjacent eyes (grids)
+    float convergence = 5.0f;  ///< distance to the zero-parallax plane (off-axis, toe-in)
     std::vector<View> views;
-    Frustum cullingFrustum;        ///< encloses every view's frustum
+    Frustum cullingFrustum;  ///< encloses every view's frustum
 
     int viewCount() const { return static_cast<int>(views.size()); }
     glm::vec3 centerEye() const { return camera.position; }
@@ -105,11 +105,11 @@ struct Rig {
 /// Rig parameters as the command line gives them.
 struct RigParams {
     RigKind kind = RigKind::OffAxis;
-    int columns = 2;                 ///< views per row
-    int rows = 1;                    ///< rows of views
-    float interaxial = 0.065f;       ///< eye spacing, world units
-    float interaxialY = -1.0f;       ///< vertical spacing for grids; < 0: same as interaxial
-    float convergence = 5.0f;        ///< zero-parallax distance, > near
+    int columns = 2;            ///< views per row
+    int rows = 1;               ///< rows of views
+    float interaxial = 0.065f;  ///< eye spacing, world units
+    float interaxialY = -1.0f;  ///< vertical spacing for grids; < 0: same as interaxial
+    float convergence = 5.0f;   ///< zero-parallax distance, > near
 };
 
 /// Checks parameters (finite, positive where needed, views within kMaxViews, convergence
@@ -157,7 +157,7 @@ struct ParallaxRange {
     float minParallax = 0.0f;  ///< most negative (nearest, out of the screen)
     float maxParallax = 0.0f;  ///< most positive (farthest, into the screen)
     float nearestDistance = 0.0f, farthestDistance = 0.0f;  ///< eye-space distances seen
-    bool comfortable = true;   ///< everything within [convergence/2, 100·convergence]
+    bool comfortable = true;  ///< everything within [convergence/2, 100·convergence]
 };
 
 /// Comfort report over eye-space distances `w` actually rendered (nvidia-gtc2010 "Parallax

@@ -20,7 +20,7 @@ struct Material {
 };
 
 struct Instance {
-    int mesh = 0;                      ///< index into Scene::meshes
+    int mesh = 0;  ///< index into Scene::meshes
     glm::mat4 worldFromModel{1.0f};
     Material material;
 };

@@ -56,7 +56,9 @@ template <class T>
 class [[nodiscard]] Result {
 public:
     Result(T value) : mData(std::move(value)) {}
-    Result(Status status) : mData(std::move(status)) { MVR_ASSERT(!std::get<Status>(mData).isOk()); }
+    Result(Status status) : mData(std::move(status)) {
+        MVR_ASSERT(!std::get<Status>(mData).isOk());
+    }
 
     bool isOk() const { return std::holds_alternative<T>(mData); }
     explicit operator bool() const { return isOk(); }

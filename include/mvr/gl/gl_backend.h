@@ -74,9 +74,9 @@ const std::vector<std::string>& glMethodNames();
 
 /// Timings of the last successful render() of a gl backend.
 struct GlFrameStats {
-    std::string method;       ///< the method that ran
-    double gpuMs = 0.0;       ///< GL_TIME_ELAPSED of the draws (readback excluded); <0 if none
-    double drawWallMs = 0.0;  ///< wall time from first draw to glFinish()
+    std::string method;           ///< the method that ran
+    double gpuMs = 0.0;           ///< GL_TIME_ELAPSED of the draws (readback excluded); <0 if none
+    double drawWallMs = 0.0;      ///< wall time from first draw to glFinish()
     double readbackWallMs = 0.0;  ///< wall time of reading back every view's color (+ depth)
     double totalWallMs = 0.0;     ///< the whole render() call
 };

@@ -41,8 +41,8 @@ namespace mvr::raster {
 enum class SimdPath { Auto, Scalar, Avx2, Avx512 };
 
 struct SoftOptions {
-    int threads = 0;               ///< worker threads; 0 = one per core the process may use
-    SimdPath simd = SimdPath::Auto;///< Auto: the best the CPU has and this build compiled
+    int threads = 0;                 ///< worker threads; 0 = one per core the process may use
+    SimdPath simd = SimdPath::Auto;  ///< Auto: the best the CPU has and this build compiled
 };
 
 /// "scalar" | "avx2" | "avx512".

@@ -29,16 +29,19 @@ inline __m256i snap(__m256 v, __m256 q, __m256 size) {
 
 void projectYZW(const float* y, const float* z, const float* w, std::size_t n, float height,
                 std::uint8_t* code, float* q, std::int32_t* sy, float* zw) {
-    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f), half = _mm256_set1_ps(0.5f);
+    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f),
+                 half = _mm256_set1_ps(0.5f);
     const __m256 gb = _mm256_set1_ps(kGuardBand), ngb = _mm256_set1_ps(-kGuardBand);
     const __m256 sign = _mm256_set1_ps(-0.0f), h = _mm256_set1_ps(height);
     std::size_t i = 0;
     for (; i + 8 <= n; i += 8) {
-        const __m256 Y = _mm256_loadu_ps(y + i), Z = _mm256_loadu_ps(z + i), W = _mm256_loadu_ps(w + i);
+        const __m256 Y = _mm256_loadu_ps(y + i), Z = _mm256_loadu_ps(z + i),
+                     W = _mm256_loadu_ps(w + i);
         const __m256 nW = _mm256_xor_ps(W, sign);
         __m256i c = bitIf(_mm256_cmp_ps(Z, nW, _CMP_LT_OQ), kClipNear);
         c = _mm256_or_si256(c, bitIf(_mm256_cmp_ps(Z, W, _CMP_GT_OQ), kClipFar));
-        c = _mm256_or_si256(c, bitIf(_mm256_cmp_ps(Y, _mm256_mul_ps(ngb, W), _CMP_LT_OQ), kClipBottom));
+        c = _mm256_or_si256(
+            c, bitIf(_mm256_cmp_ps(Y, _mm256_mul_ps(ngb, W), _CMP_LT_OQ), kClipBottom));
         c = _mm256_or_si256(c, bitIf(_mm256_cmp_ps(Y, _mm256_mul_ps(gb, W), _CMP_GT_OQ), kClipTop));
         c = _mm256_or_si256(c, bitIf(_mm256_cmp_ps(Y, nW, _CMP_LT_OQ), kOutBottom));
         c = _mm256_or_si256(c, bitIf(_mm256_cmp_ps(Y, W, _CMP_GT_OQ), kOutTop));
@@ -67,7 +70,8 @@ void projectX(const float* x, const float* w, const float* q, std::size_t n, flo
         const __m256 X = _mm256_loadu_ps(x + i), W = _mm256_loadu_ps(w + i);
         const __m256 nW = _mm256_xor_ps(W, sign);
         __m256i c = bitIf(_mm256_cmp_ps(X, _mm256_mul_ps(ngb, W), _CMP_LT_OQ), kClipLeft);
-        c = _mm256_or_si256(c, bitIf(_mm256_cmp_ps(X, _mm256_mul_ps(gb, W), _CMP_GT_OQ), kClipRight));
+        c = _mm256_or_si256(c,
+                            bitIf(_mm256_cmp_ps(X, _mm256_mul_ps(gb, W), _CMP_GT_OQ), kClipRight));
         c = _mm256_or_si256(c, bitIf(_mm256_cmp_ps(X, nW, _CMP_LT_OQ), kOutLeft));
         c = _mm256_or_si256(c, bitIf(_mm256_cmp_ps(X, W, _CMP_GT_OQ), kOutRight));
         storeCodes(c, code + i);
@@ -79,11 +83,12 @@ void projectX(const float* x, const float* w, const float* q, std::size_t n, flo
     projectXTail(x + i, w + i, q + i, n - i, width, code + i, sx + i);
 }
 
-
 inline __m256i loadLanes(const std::int32_t* p, __m256i live) {
     return _mm256_maskload_epi32(reinterpret_cast<const int*>(p), live);
 }
-inline void store(std::int32_t* p, __m256i v) { _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), v); }
+inline void store(std::int32_t* p, __m256i v) {
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), v);
+}
 inline __m256i cmple(__m256i a, __m256i b) {  // a <= b as all-ones lanes
     return _mm256_xor_si256(_mm256_cmpgt_epi32(a, b), _mm256_set1_epi32(-1));
 }
@@ -92,33 +97,40 @@ inline __m256i cmple(__m256i a, __m256i b) {  // a <= b as all-ones lanes
 /// x of the three vertices, snapped y and row range (broadcast by setupViews: one triangle's
 /// views; loaded per lane by setupLanes: (triangle, view) pairs). `live`: all-ones lanes. Writes
 /// columns [k, k + 8) of `o` and returns the live lanes whose mask is not 0, as bits from k.
-inline std::uint64_t setupCore(__m256i X0, __m256i X1, __m256i X2, const __m256i Y[3], __m256i rowMin,
-                               __m256i rowMax, __m256i live, int width, ViewsSetup& o, int k) {
-    const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1), ones = _mm256_set1_epi32(-1);
+inline std::uint64_t setupCore(__m256i X0, __m256i X1, __m256i X2, const __m256i Y[3],
+                               __m256i rowMin, __m256i rowMax, __m256i live, int width,
+                               ViewsSetup& o, int k) {
+    const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1),
+                  ones = _mm256_set1_epi32(-1);
     const __m256i half = _mm256_set1_epi32(kHalfSubpixel);
     const __m256i tall = _mm256_cmpgt_epi32(rowMax, rowMin);
     const __m256i rowsSmall = cmple(_mm256_sub_epi32(rowMax, rowMin), one);
     const __m256i py0 = _mm256_add_epi32(_mm256_slli_epi32(rowMin, kSubpixelBits), half);
-    const __m256i yr[3] = {_mm256_sub_epi32(Y[0], py0), _mm256_sub_epi32(Y[1], py0), _mm256_sub_epi32(Y[2], py0)};
+    const __m256i yr[3] = {_mm256_sub_epi32(Y[0], py0), _mm256_sub_epi32(Y[1], py0),
+                           _mm256_sub_epi32(Y[2], py0)};
     const __m256i dyShared[3] = {_mm256_sub_epi32(Y[2], Y[1]), _mm256_sub_epi32(Y[0], Y[2]),
                                  _mm256_sub_epi32(Y[1], Y[0])};
     const __m256i yr20 = _mm256_sub_epi32(yr[2], yr[0]);
     const __m256i xlo = _mm256_min_epi32(X0, _mm256_min_epi32(X1, X2));
     const __m256i xhi = _mm256_max_epi32(X0, _mm256_max_epi32(X1, X2));
     const __m256i colMin = _mm256_max_epi32(
-        zero, _mm256_srai_epi32(_mm256_add_epi32(_mm256_sub_epi32(xlo, half), _mm256_set1_epi32(kSubpixel - 1)),
-                                kSubpixelBits));
-    const __m256i colMax = _mm256_min_epi32(_mm256_set1_epi32(width - 1),
-                                            _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
+        zero, _mm256_srai_epi32(
+                  _mm256_add_epi32(_mm256_sub_epi32(xlo, half), _mm256_set1_epi32(kSubpixel - 1)),
+                  kSubpixelBits));
+    const __m256i colMax =
+        _mm256_min_epi32(_mm256_set1_epi32(width - 1),
+                         _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
     const __m256i empty = _mm256_cmpgt_epi32(colMin, colMax);
     const __m256i cols = _mm256_sub_epi32(colMax, colMin);
     const __m256i small = _mm256_andnot_si256(empty, _mm256_and_si256(rowsSmall, cmple(cols, one)));
     const __m256i px0 = _mm256_add_epi32(_mm256_slli_epi32(colMin, kSubpixelBits), half);
-    const __m256i xr[3] = {_mm256_sub_epi32(X0, px0), _mm256_sub_epi32(X1, px0), _mm256_sub_epi32(X2, px0)};
+    const __m256i xr[3] = {_mm256_sub_epi32(X0, px0), _mm256_sub_epi32(X1, px0),
+                           _mm256_sub_epi32(X2, px0)};
     __m256i dx[3] = {_mm256_sub_epi32(xr[2], xr[1]), _mm256_sub_epi32(xr[0], xr[2]),
                      _mm256_sub_epi32(xr[1], xr[0])};
-    __m256i area = _mm256_sub_epi32(_mm256_mullo_epi32(dx[2], yr20),
-                                    _mm256_mullo_epi32(dyShared[2], _mm256_sub_epi32(xr[2], xr[0])));
+    __m256i area =
+        _mm256_sub_epi32(_mm256_mullo_epi32(dx[2], yr20),
+                         _mm256_mullo_epi32(dyShared[2], _mm256_sub_epi32(xr[2], xr[0])));
     const __m256i flip = _mm256_srai_epi32(area, 31);
     area = _mm256_sub_epi32(_mm256_xor_si256(area, flip), flip);
     __m256i any[4] = {zero, zero, zero, zero};
@@ -126,11 +138,13 @@ inline std::uint64_t setupCore(__m256i X0, __m256i X1, __m256i X2, const __m256i
         const int a = i == 2 ? 0 : i + 1;
         dx[i] = _mm256_sub_epi32(_mm256_xor_si256(dx[i], flip), flip);
         const __m256i dy = _mm256_sub_epi32(_mm256_xor_si256(dyShared[i], flip), flip);
-        const __m256i tl = _mm256_or_si256(_mm256_cmpgt_epi32(zero, dy),
-                                           _mm256_and_si256(_mm256_cmpeq_epi32(dy, zero), _mm256_cmpgt_epi32(zero, dx[i])));
+        const __m256i tl = _mm256_or_si256(
+            _mm256_cmpgt_epi32(zero, dy),
+            _mm256_and_si256(_mm256_cmpeq_epi32(dy, zero), _mm256_cmpgt_epi32(zero, dx[i])));
         const __m256i bias = _mm256_and_si256(tl, one);
         const __m256i e = _mm256_add_epi32(
-            _mm256_sub_epi32(_mm256_mullo_epi32(dy, xr[a]), _mm256_mullo_epi32(dx[i], yr[a])), bias);
+            _mm256_sub_epi32(_mm256_mullo_epi32(dy, xr[a]), _mm256_mullo_epi32(dx[i], yr[a])),
+            bias);
         const __m256i sx = _mm256_slli_epi32(_mm256_sub_epi32(zero, dy), kSubpixelBits);
         const __m256i sy = _mm256_slli_epi32(dx[i], kSubpixelBits);
         store(o.e[i] + k, e);
@@ -147,7 +161,8 @@ inline std::uint64_t setupCore(__m256i X0, __m256i X1, __m256i X2, const __m256i
     const __m256i valid[4] = {ones, wide, tall, _mm256_and_si256(tall, wide)};
     __m256i mask = zero;
     for (int j = 0; j < 4; ++j) {
-        const __m256i in = _mm256_andnot_si256(_mm256_cmpgt_epi32(zero, any[j]), valid[j]);  // any >= 0
+        const __m256i in =
+            _mm256_andnot_si256(_mm256_cmpgt_epi32(zero, any[j]), valid[j]);  // any >= 0
         mask = _mm256_or_si256(mask, _mm256_and_si256(in, _mm256_set1_epi32(1 << j)));
     }
     mask = _mm256_andnot_si256(_mm256_cmpeq_epi32(area, zero), mask);
@@ -166,15 +181,16 @@ inline __m256i liveLanes(int n, int k) {
 }
 
 /// setupViews, 8 views per pass (the scalar reference: setupViewsTail).
-std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1, const std::int32_t* x2,
-                         int n, int width, ViewsSetup& o) {
-    const __m256i Y[3] = {_mm256_set1_epi32(ys.y[0]), _mm256_set1_epi32(ys.y[1]), _mm256_set1_epi32(ys.y[2])};
+std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
+                         const std::int32_t* x2, int n, int width, ViewsSetup& o) {
+    const __m256i Y[3] = {_mm256_set1_epi32(ys.y[0]), _mm256_set1_epi32(ys.y[1]),
+                          _mm256_set1_epi32(ys.y[2])};
     const __m256i rowMin = _mm256_set1_epi32(ys.rowMin), rowMax = _mm256_set1_epi32(ys.rowMax);
     std::uint64_t lanes = 0;
     for (int k = 0; k < n; k += 8) {
         const __m256i live = liveLanes(n, k);
-        lanes |= setupCore(loadLanes(x0 + k, live), loadLanes(x1 + k, live), loadLanes(x2 + k, live), Y, rowMin,
-                           rowMax, live, width, o, k);
+        lanes |= setupCore(loadLanes(x0 + k, live), loadLanes(x1 + k, live),
+                           loadLanes(x2 + k, live), Y, rowMin, rowMax, live, width, o, k);
     }
     return lanes;
 }
@@ -184,18 +200,25 @@ std::uint32_t setupLanes(TriangleLanes& l, int n, int width) {
     std::uint64_t lanes = 0;
     for (int k = 0; k < n; k += 8) {
         const __m256i live = liveLanes(n, k);
-        const __m256i Y[3] = {loadLanes(l.y[0] + k, live), loadLanes(l.y[1] + k, live), loadLanes(l.y[2] + k, live)};
-        lanes |= setupCore(loadLanes(l.x[0] + k, live), loadLanes(l.x[1] + k, live), loadLanes(l.x[2] + k, live), Y,
-                           loadLanes(l.rowMin + k, live), loadLanes(l.rowMax + k, live), live, width, l.out, k);
+        const __m256i Y[3] = {loadLanes(l.y[0] + k, live), loadLanes(l.y[1] + k, live),
+                              loadLanes(l.y[2] + k, live)};
+        lanes |= setupCore(loadLanes(l.x[0] + k, live), loadLanes(l.x[1] + k, live),
+                           loadLanes(l.x[2] + k, live), Y, loadLanes(l.rowMin + k, live),
+                           loadLanes(l.rowMax + k, live), live, width, l.out, k);
     }
     return std::uint32_t(lanes);
 }
 
 /// glm's scalar semantics, lane by lane: max(x, y) = x < y ? y : x; min(x, y) = y < x ? y : x.
-inline __m256 glmMax(__m256 x, __m256 y) { return _mm256_blendv_ps(x, y, _mm256_cmp_ps(x, y, _CMP_LT_OQ)); }
-inline __m256 glmMin(__m256 x, __m256 y) { return _mm256_blendv_ps(x, y, _mm256_cmp_ps(y, x, _CMP_LT_OQ)); }
+inline __m256 glmMax(__m256 x, __m256 y) {
+    return _mm256_blendv_ps(x, y, _mm256_cmp_ps(x, y, _CMP_LT_OQ));
+}
+inline __m256 glmMin(__m256 x, __m256 y) {
+    return _mm256_blendv_ps(x, y, _mm256_cmp_ps(y, x, _CMP_LT_OQ));
+}
 inline __m256 dot3(__m256 ax, __m256 ay, __m256 az, __m256 bx, __m256 by, __m256 bz) {
-    return _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(ax, bx), _mm256_mul_ps(ay, by)), _mm256_mul_ps(az, bz));
+    return _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(ax, bx), _mm256_mul_ps(ay, by)),
+                         _mm256_mul_ps(az, bz));
 }
 /// glm::normalize: v * (1 / sqrt(dot(v, v))).
 inline void normalize3(__m256& x, __m256& y, __m256& z) {
@@ -209,8 +232,9 @@ inline __m256 specularPow8(__m256 x, float s) {
     const __m256 tiny = _mm256_cmp_ps(x, _mm256_set1_ps(0x1p-126f), _CMP_LT_OQ);
     const __m256 xs = _mm256_blendv_ps(x, _mm256_mul_ps(x, _mm256_set1_ps(0x1p23f)), tiny);
     const __m256i t = _mm256_sub_epi32(_mm256_castps_si256(xs), _mm256_set1_epi32(kSqrtHalfBits));
-    const __m256i e = _mm256_sub_epi32(_mm256_srai_epi32(t, 23),
-                                       _mm256_and_si256(_mm256_castps_si256(tiny), _mm256_set1_epi32(23)));
+    const __m256i e =
+        _mm256_sub_epi32(_mm256_srai_epi32(t, 23),
+                         _mm256_and_si256(_mm256_castps_si256(tiny), _mm256_set1_epi32(23)));
     const __m256 f = _mm256_sub_ps(
         _mm256_castsi256_ps(_mm256_add_epi32(_mm256_and_si256(t, _mm256_set1_epi32(0x007fffff)),
                                              _mm256_set1_epi32(kSqrtHalfBits))),
@@ -220,7 +244,7 @@ inline __m256 specularPow8(__m256 x, float s) {
     const __m256 l = _mm256_add_ps(_mm256_cvtepi32_ps(e), _mm256_mul_ps(f, p));
     __m256 y = _mm256_mul_ps(_mm256_set1_ps(s), l);
     y = _mm256_max_ps(y, _mm256_set1_ps(-kYMax));  // y > −Y ? y : −Y (NaN → −Y), as the scalar code
-    y = _mm256_min_ps(y, _mm256_set1_ps(kYMax));   // y < Y ? y : Y
+    y = _mm256_min_ps(y, _mm256_set1_ps(kYMax));  // y < Y ? y : Y
     const __m256 rnd = _mm256_set1_ps(kRound);
     const __m256 nf = _mm256_sub_ps(_mm256_add_ps(y, rnd), rnd);
     const __m256 r = _mm256_sub_ps(y, nf);
@@ -230,9 +254,11 @@ inline __m256 specularPow8(__m256 x, float s) {
     const __m256i n = _mm256_cvttps_epi32(nf);  // nf is an integer: exact
     const __m256i a = _mm256_srai_epi32(n, 1), b = _mm256_sub_epi32(n, a);
     const __m256i bias = _mm256_set1_epi32(127);
-    __m256 res = _mm256_mul_ps(_mm256_mul_ps(m, _mm256_castsi256_ps(_mm256_slli_epi32(_mm256_add_epi32(a, bias), 23))),
-                               _mm256_castsi256_ps(_mm256_slli_epi32(_mm256_add_epi32(b, bias), 23)));
-    res = _mm256_blendv_ps(res, _mm256_set1_ps(powOfZero(s)), _mm256_cmp_ps(x, _mm256_setzero_ps(), _CMP_EQ_OQ));
+    __m256 res = _mm256_mul_ps(
+        _mm256_mul_ps(m, _mm256_castsi256_ps(_mm256_slli_epi32(_mm256_add_epi32(a, bias), 23))),
+        _mm256_castsi256_ps(_mm256_slli_epi32(_mm256_add_epi32(b, bias), 23)));
+    res = _mm256_blendv_ps(res, _mm256_set1_ps(powOfZero(s)),
+                           _mm256_cmp_ps(x, _mm256_setzero_ps(), _CMP_EQ_OQ));
     return _mm256_add_ps(res, _mm256_sub_ps(x, x));
 }
 
@@ -269,24 +295,29 @@ void shadeVertices(const glm::vec3* positions, const glm::vec3* normals, std::si
         __m256 vy = _mm256_sub_ps(_mm256_set1_ps(ctx.centerEye.y), wp[1]);
         __m256 vz = _mm256_sub_ps(_mm256_set1_ps(ctx.centerEye.z), wp[2]);
         normalize3(vx, vy, vz);
-        __m256 cr = _mm256_set1_ps(ambient.x), cg = _mm256_set1_ps(ambient.y), cb = _mm256_set1_ps(ambient.z);
+        __m256 cr = _mm256_set1_ps(ambient.x), cg = _mm256_set1_ps(ambient.y),
+               cb = _mm256_set1_ps(ambient.z);
         for (const DirectionalLight& l : ctx.lights) {
             const __m256 lx = _mm256_set1_ps(l.towardLight.x), ly = _mm256_set1_ps(l.towardLight.y),
                          lz = _mm256_set1_ps(l.towardLight.z);
             const __m256 nl = dot3(nx, ny, nz, lx, ly, lz);
             const __m256 lit = _mm256_cmp_ps(nl, zero, _CMP_GT_OQ);
             if (_mm256_movemask_ps(lit) == 0) continue;
-            __m256 hx = _mm256_add_ps(lx, vx), hy = _mm256_add_ps(ly, vy), hz = _mm256_add_ps(lz, vz);
+            __m256 hx = _mm256_add_ps(lx, vx), hy = _mm256_add_ps(ly, vy),
+                   hz = _mm256_add_ps(lz, vz);
             normalize3(hx, hy, hz);
             const __m256 nh = dot3(nx, ny, nz, hx, hy, hz);
             const __m256 base = _mm256_blendv_ps(nh, zero, _mm256_cmp_ps(nh, zero, _CMP_LT_OQ));
             const __m256 spec = _mm256_mul_ps(specular, specularPow8(base, m.shininess));
-            const __m256 ar = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(nl, _mm256_set1_ps(m.albedo.x)), spec),
-                                            _mm256_set1_ps(l.color.x));
-            const __m256 ag = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(nl, _mm256_set1_ps(m.albedo.y)), spec),
-                                            _mm256_set1_ps(l.color.y));
-            const __m256 ab = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(nl, _mm256_set1_ps(m.albedo.z)), spec),
-                                            _mm256_set1_ps(l.color.z));
+            const __m256 ar =
+                _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(nl, _mm256_set1_ps(m.albedo.x)), spec),
+                              _mm256_set1_ps(l.color.x));
+            const __m256 ag =
+                _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(nl, _mm256_set1_ps(m.albedo.y)), spec),
+                              _mm256_set1_ps(l.color.y));
+            const __m256 ab =
+                _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(nl, _mm256_set1_ps(m.albedo.z)), spec),
+                              _mm256_set1_ps(l.color.z));
             cr = _mm256_blendv_ps(cr, _mm256_add_ps(cr, ar), lit);
             cg = _mm256_blendv_ps(cg, _mm256_add_ps(cg, ag), lit);
             cb = _mm256_blendv_ps(cb, _mm256_add_ps(cb, ab), lit);
@@ -297,14 +328,15 @@ void shadeVertices(const glm::vec3* positions, const glm::vec3* normals, std::si
         alignas(32) float t[3][8];
         _mm256_store_ps(t[0], cr), _mm256_store_ps(t[1], cg), _mm256_store_ps(t[2], cb);
         float* o = color + 3 * i;
-        for (int k = 0; k < 8; ++k) o[3 * k] = t[0][k], o[3 * k + 1] = t[1][k], o[3 * k + 2] = t[2][k];
+        for (int k = 0; k < 8; ++k)
+            o[3 * k] = t[0][k], o[3 * k + 1] = t[1][k], o[3 * k + 2] = t[2][k];
     }
     shadeVerticesTail(positions + i, normals + i, n - i, W, N, ctx, m, color + 3 * i);
 }
 
 /// transformPointsTail with 8 vertices per register.
-void transformPoints(const glm::vec3* positions, std::size_t n, const glm::mat4& M, float* x, float* y,
-                     float* z, float* w) {
+void transformPoints(const glm::vec3* positions, std::size_t n, const glm::mat4& M, float* x,
+                     float* y, float* z, float* w) {
     const __m256i idx3 = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
     float* out[4] = {x, y, z, w};
     std::size_t i = 0;
@@ -333,8 +365,8 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 }  // namespace
 
 const Kernels* avx2Kernels() {
-    static const Kernels k{&projectYZW, &projectX, &setupViews, &shadeVertices, &transformPoints, &specularPowN,
-                           &setupLanes};
+    static const Kernels k{&projectYZW,      &projectX,     &setupViews, &shadeVertices,
+                           &transformPoints, &specularPowN, &setupLanes};
     return &k;
 }
 

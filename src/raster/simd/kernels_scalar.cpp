@@ -6,12 +6,16 @@
 namespace mvr::raster::detail {
 
 const Kernels& scalarKernels() {
-    static const Kernels k{&projectYZWTail, &projectXTail,
+    static const Kernels k{&projectYZWTail,
+                           &projectXTail,
                            [](const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
                               const std::int32_t* x2, int n, int width, ViewsSetup& out) {
                                return setupViewsTail(ys, x0, x1, x2, 0, n, width, out);
                            },
-                           &shadeVerticesTail, &transformPointsTail, &specularPowTail, &setupLanesTail};
+                           &shadeVerticesTail,
+                           &transformPointsTail,
+                           &specularPowTail,
+                           &setupLanesTail};
     return k;
 }
 

@@ -7,7 +7,8 @@
 namespace mvr::raster::detail {
 
 inline void projectYZWTail(const float* y, const float* z, const float* w, std::size_t n,
-                           float height, std::uint8_t* code, float* q, std::int32_t* sy, float* zw) {
+                           float height, std::uint8_t* code, float* q, std::int32_t* sy,
+                           float* zw) {
     for (std::size_t i = 0; i < n; ++i) {
         code[i] = outcodeYZW(y[i], z[i], w[i]);
         q[i] = 1.0f / w[i];
@@ -30,8 +31,8 @@ inline void shadeVerticesTail(const glm::vec3* positions, const glm::vec3* norma
                               const ShadingContext& ctx, const Material& material, float* color) {
     for (std::size_t i = 0; i < n; ++i) {
         const glm::vec3 world = glm::vec3(transformPoint(worldFromModel, positions[i]));
-        vertexAttributes(Shading::Vertex, ctx, material, world, transformDir(normalFromModel, normals[i]),
-                         color + 3 * i);
+        vertexAttributes(Shading::Vertex, ctx, material, world,
+                         transformDir(normalFromModel, normals[i]), color + 3 * i);
     }
 }
 
@@ -40,8 +41,8 @@ inline void specularPowTail(const float* x, std::size_t n, float s, float* out) 
 }
 
 /// Clip (or any) positions of n vertices, transformPoint(m, p) split into x, y, z, w arrays.
-inline void transformPointsTail(const glm::vec3* positions, std::size_t n, const glm::mat4& m, float* x,
-                                float* y, float* z, float* w) {
+inline void transformPointsTail(const glm::vec3* positions, std::size_t n, const glm::mat4& m,
+                                float* x, float* y, float* z, float* w) {
     for (std::size_t i = 0; i < n; ++i) {
         const glm::vec4 c = transformPoint(m, positions[i]);
         x[i] = c.x, y[i] = c.y, z[i] = c.z, w[i] = c.w;
@@ -50,8 +51,9 @@ inline void transformPointsTail(const glm::vec3* positions, std::size_t n, const
 
 /// Views [begin, n) of setupViews, one at a time: the reference for the SIMD versions (and the
 /// same integer operations as rasterSmallTriangle).
-inline std::uint64_t setupViewsTail(const YSetup& ys, const std::int32_t* x0, const std::int32_t* x1,
-                                    const std::int32_t* x2, int begin, int n, int width, ViewsSetup& o) {
+inline std::uint64_t setupViewsTail(const YSetup& ys, const std::int32_t* x0,
+                                    const std::int32_t* x1, const std::int32_t* x2, int begin,
+                                    int n, int width, ViewsSetup& o) {
     std::uint64_t lanes = 0;
     const bool tall = ys.rowMax > ys.rowMin;
     const bool rowsSmall = ys.rowMax - ys.rowMin <= 1;

@@ -22,7 +22,8 @@ struct AdelsonOptions {
 };
 
 std::string lower(std::string s) {
-    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    std::transform(s.begin(), s.end(), s.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
     return s;
 }
 
@@ -35,8 +36,10 @@ AdelsonRow measureCase(adelson::ExperimentCase& c, const CommonOptions& o, doubl
     c.separate(&r.opsSep);
     c.simultaneous(&r.opsSim);
     for (int i = 0; i < o.warmup; ++i) c.separate(nullptr), c.simultaneous(nullptr);
-    const std::function<void()> fns[2] = {[&c] { c.separate(nullptr); }, [&c] { c.simultaneous(nullptr); }};
-    r.reps = repetitionsFor(fns[0], minBatchMs);  // enough for --min-batch-ms of the separate version
+    const std::function<void()> fns[2] = {[&c] { c.separate(nullptr); },
+                                          [&c] { c.simultaneous(nullptr); }};
+    r.reps =
+        repetitionsFor(fns[0], minBatchMs);  // enough for --min-batch-ms of the separate version
     const std::vector<BatchSamples> t = measureBatches(fns, o.frames, r.reps);
     r.sepMs = statsOf(t[0].cpuMs), r.simMs = statsOf(t[1].cpuMs);
     r.sepWall = statsOf(t[0].wallMs), r.simWall = statsOf(t[1].wallMs);
@@ -45,14 +48,16 @@ AdelsonRow measureCase(adelson::ExperimentCase& c, const CommonOptions& o, doubl
     // Interpolation counts are the paper's measure for Gouraud shading only.
     r.hasInterp = r.opsSep.interps > 0 && (r.algorithm.find("Gouraud") != std::string::npos ||
                                            r.caseName.find("Gouraud") != std::string::npos);
-    if (r.hasInterp) r.byInterp = adelson::savingsFrom(double(r.opsSep.interps), double(r.opsSim.interps));
+    if (r.hasInterp)
+        r.byInterp = adelson::savingsFrom(double(r.opsSep.interps), double(r.opsSim.interps));
     return r;
 }
 
 int runAdelson(const AdelsonOptions& o) {
     if (Status s = checkCommonOptions(o.common); !s) return fail(s);
     if (!(o.minBatchMs >= 0.0 && o.minBatchMs <= 10000.0)) {
-        return fail(usageError(fmt::format("--min-batch-ms {} is out of range (expected 0..10000)", o.minBatchMs)));
+        return fail(usageError(
+            fmt::format("--min-batch-ms {} is out of range (expected 0..10000)", o.minBatchMs)));
     }
     const Machine machine = describeMachine(BackendSet({.threads = o.common.threads}));
     std::vector<adelson::ExperimentCase> cases = adelson::adelsonCases(o.tiny);
@@ -60,7 +65,9 @@ int runAdelson(const AdelsonOptions& o) {
         std::erase_if(cases, [&](const adelson::ExperimentCase& c) {
             return lower(c.algorithm).find(lower(o.only)) == std::string::npos;
         });
-        if (cases.empty()) return fail(usageError(fmt::format("--only '{}' matches no algorithm of Table 1", o.only)));
+        if (cases.empty())
+            return fail(
+                usageError(fmt::format("--only '{}' matches no algorithm of Table 1", o.only)));
     }
     Progress progress(int(cases.size()), o.common.machineReadable(), o.common.progress);
     AdelsonReport report;
@@ -73,8 +80,9 @@ int runAdelson(const AdelsonOptions& o) {
     if (int rc = printAdelsonReport(report, o.common); rc != 0) return rc;
     for (const AdelsonRow& r : report.rows) {
         if (!r.check.empty()) {
-            return fail(internalError("adelson: a simultaneous algorithm disagreed with its single-eye "
-                                      "version (see the table)"));
+            return fail(
+                internalError("adelson: a simultaneous algorithm disagreed with its single-eye "
+                              "version (see the table)"));
         }
     }
     return 0;
@@ -86,10 +94,13 @@ PaperBench addAdelson(CLI::App* bench) {
     auto o = std::make_shared<AdelsonOptions>();
     o->common.frames = 7;
     CLI::App* a = bench->add_subcommand(
-        "adelson", "adelson1991 Table 1: savings of each simultaneous stereo CPU algorithm (and the village "
-                   "renderer) over two single-eye runs, measures I, II, III from operation counts and time");
+        "adelson",
+        "adelson1991 Table 1: savings of each simultaneous stereo CPU algorithm (and the village "
+        "renderer) over two single-eye runs, measures I, II, III from operation counts and time");
     a->add_flag("--tiny", o->tiny, "Small workloads (for tests)");
-    a->add_option("--min-batch-ms", o->minBatchMs, "Repeat each algorithm until a batch takes this long")->default_val(o->minBatchMs);
+    a->add_option("--min-batch-ms", o->minBatchMs,
+                  "Repeat each algorithm until a batch takes this long")
+        ->default_val(o->minBatchMs);
     a->add_option("--only", o->only, "Only the algorithms whose name contains this text");
     addCommonOptions(a, o->common, "Timed batches per algorithm");
     return {a, [o] { return runAdelson(*o); }};

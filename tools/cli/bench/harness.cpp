@@ -70,8 +70,10 @@ Result<Backend*> BackendSet::get(const std::string& name) {
         const BackendOptions plain{.threads = mOptions.threads};
         if (made.status().code() == ErrorCode::Usage && mOptions.simd != plain.simd &&
             (*entry)->make(plain)) {
-            return usageError(fmt::format("--simd '{}' is not a SIMD path (expected auto, scalar, "
-                                          "avx2 or avx512)", mOptions.simd));
+            return usageError(
+                fmt::format("--simd '{}' is not a SIMD path (expected auto, scalar, "
+                            "avx2 or avx512)",
+                            mOptions.simd));
         }
         return made.status();
     }
@@ -89,15 +91,19 @@ Status entryError(const std::string& entry, const Status& why) {
 Result<MethodSpec> parseEntry(const std::string& entry, const JobRules& rules) {
     const auto colon = entry.find(':');
     if (colon == std::string::npos || colon == 0 || colon + 1 == entry.size()) {
-        return usageError(fmt::format("--methods entry '{}' is not of the form BACKEND:METHOD "
-                                      "(e.g. soft:unified)", entry));
+        return usageError(
+            fmt::format("--methods entry '{}' is not of the form BACKEND:METHOD "
+                        "(e.g. soft:unified)",
+                        entry));
     }
     if (auto backend = findBackend(entry.substr(0, colon)); !backend) {
         return entryError(entry, backend.status());
     }
     if (!rules.allowAuto && entry.substr(colon + 1) == "auto") {
-        return usageError(fmt::format("--methods entry '{}': 'auto' is not a method to measure (it "
-                                      "picks one of the others)", entry));
+        return usageError(
+            fmt::format("--methods entry '{}': 'auto' is not a method to measure (it "
+                        "picks one of the others)",
+                        entry));
     }
     auto spec = parseMethodSpec(entry);
     if (!spec && spec.status().code() != ErrorCode::Usage) {
@@ -158,7 +164,8 @@ std::vector<std::string> defaultMethodList() {
     if (all.empty()) return {};
     const std::string name = all.front().name;
     std::vector<std::string> list{name + ":" + kBaselineMethod};
-    if (auto backend = all.front().make({}); backend && (*backend)->defaultMethod() != kBaselineMethod) {
+    if (auto backend = all.front().make({});
+        backend && (*backend)->defaultMethod() != kBaselineMethod) {
         list.push_back(name + ":" + (*backend)->defaultMethod());
     }
     return list;
@@ -210,12 +217,14 @@ std::vector<Measured> measure(std::span<const Job> jobs, const Prepared& p, cons
             if (m.failed()) continue;
             if (progress.progress && progress.label.empty()) {
                 progress.progress->status(fmt::format("{} frame {}/{}{}", jobs[j].text(), round + 1,
-                                                      total, round < rounds.warmup ? " (warm-up)" : ""));
+                                                      total,
+                                                      round < rounds.warmup ? " (warm-up)" : ""));
             }
             const double cpu0 = processCpuMs();
             const auto t0 = Clock::now();
             auto r = jobs[j].backend->render(p.scene, p.rig, p.settings, jobs[j].spec.method);
-            const double wall = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+            const double wall =
+                std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
             const double cpu = processCpuMs() - cpu0;
             if (!r) {
                 m.error = r.status();
@@ -248,7 +257,8 @@ std::vector<BatchSamples> measureBatches(std::span<const std::function<void()>> 
             const double c0 = threadCpuMs();
             const auto s0 = Clock::now();
             for (int r = 0; r < reps; ++r) fns[which]();
-            const double wall = std::chrono::duration<double, std::milli>(Clock::now() - s0).count();
+            const double wall =
+                std::chrono::duration<double, std::milli>(Clock::now() - s0).count();
             out[which].cpuMs.push_back((threadCpuMs() - c0) / reps);
             out[which].wallMs.push_back(wall / reps);
         }
@@ -281,7 +291,8 @@ Machine describeMachine(const BackendSet& backends) {
         if (!b.gpu || sawGpu) continue;  // the first GPU backend names the renderer
         sawGpu = true;
         m.gpuRenderer = "none";
-        if (Status s = b.backend->supports(kBaselineMethod); !s) m.gpuRenderer = "none (" + s.message() + ")";
+        if (Status s = b.backend->supports(kBaselineMethod); !s)
+            m.gpuRenderer = "none (" + s.message() + ")";
         for (const std::string& line : info) {
             if (line.rfind("GL_RENDERER: ", 0) == 0) m.gpuRenderer = line.substr(13);
         }
@@ -297,24 +308,30 @@ Machine describeMachine(const BackendSet& backends) {
 
 void addCommonOptions(CLI::App* app, CommonOptions& o, const char* framesHelp) {
     app->add_option("--frames", o.frames, framesHelp)->default_val(o.frames);
-    app->add_option("--warmup", o.warmup, "Untimed runs of each method before timing")->default_val(o.warmup);
-    app->add_option("--threads", o.threads, "soft: worker threads (0 = one per core)")->default_val(o.threads);
+    app->add_option("--warmup", o.warmup, "Untimed runs of each method before timing")
+        ->default_val(o.warmup);
+    app->add_option("--threads", o.threads, "soft: worker threads (0 = one per core)")
+        ->default_val(o.threads);
     auto* json = app->add_flag("--json", o.json, "Print JSON instead of tables");
-    app->add_flag("--csv", o.csv, "Print CSV (one row per measurement) instead of tables")->excludes(json);
-    app->add_flag("--progress", o.progress, "Progress lines on stderr even when it is not a terminal");
+    app->add_flag("--csv", o.csv, "Print CSV (one row per measurement) instead of tables")
+        ->excludes(json);
+    app->add_flag("--progress", o.progress,
+                  "Progress lines on stderr even when it is not a terminal");
     app->add_option("--plot", o.plot, "Also draw FILE.png or FILE.svg with gnuplot");
     app->add_option("--save-json", o.saveJson, "Also write the JSON to FILE");
 }
 
 Status checkCommonOptions(const CommonOptions& o) {
     if (o.frames < 1 || o.frames > 100000) {
-        return usageError(fmt::format("--frames {} is out of range (expected 1..100000)", o.frames));
+        return usageError(
+            fmt::format("--frames {} is out of range (expected 1..100000)", o.frames));
     }
     if (o.warmup < 0 || o.warmup > 1000) {
         return usageError(fmt::format("--warmup {} is out of range (expected 0..1000)", o.warmup));
     }
     if (o.threads < 0 || o.threads > 1024) {
-        return usageError(fmt::format("--threads {} is out of range (expected 0..1024, 0 = all cores)", o.threads));
+        return usageError(fmt::format(
+            "--threads {} is out of range (expected 0..1024, 0 = all cores)", o.threads));
     }
     if (!o.plot.empty()) return checkPlotTarget(o.plot);
     return {};
@@ -326,16 +343,18 @@ Result<std::string> findModel(const std::string& given, const std::string& defau
     if (const char* env = std::getenv("MVR_SHARED_DIR"); env && *env) {
         candidates.push_back(fs::path(env) / "models" / defaultName);
     }
-    if (*MVR_DEFAULT_SHARED_DIR) candidates.push_back(fs::path(MVR_DEFAULT_SHARED_DIR) / "models" / defaultName);
+    if (*MVR_DEFAULT_SHARED_DIR)
+        candidates.push_back(fs::path(MVR_DEFAULT_SHARED_DIR) / "models" / defaultName);
     candidates.push_back(fs::path("../shared/models") / defaultName);
     candidates.push_back(fs::path("shared/models") / defaultName);
     for (const fs::path& c : candidates) {
         std::error_code ec;
         if (fs::is_regular_file(c, ec)) return c.string();
     }
-    return inputError(fmt::format("no model given and {} not found (expected a MODEL argument, or "
-                                  "$MVR_SHARED_DIR/models/{} or ../shared/models/{})",
-                                  defaultName, defaultName, defaultName));
+    return inputError(
+        fmt::format("no model given and {} not found (expected a MODEL argument, or "
+                    "$MVR_SHARED_DIR/models/{} or ../shared/models/{})",
+                    defaultName, defaultName, defaultName));
 }
 
 }  // namespace mvr::cli::bench

@@ -91,7 +91,8 @@ struct JobRules {
 /// entry ("--methods entry 'x:y': …"); without skipUnavailable, whatever keeps a job from
 /// running here (its status code: Unsupported, …).
 Result<std::vector<Job>> resolveJobs(const std::vector<std::string>& entries, BackendSet& backends,
-                                     const JobRules& rules, std::vector<Skipped>* skipped = nullptr);
+                                     const JobRules& rules,
+                                     std::vector<Skipped>* skipped = nullptr);
 
 /// The default --methods of `mvr bench`: the first registered backend's baseline and its
 /// default method ("soft:multipass,soft:unified").
@@ -164,11 +165,11 @@ int repetitionsFor(const std::function<void()>& fn, double minBatchMs);
 
 struct Machine {
     std::string cpu = "unknown CPU";
-    int cores = 1;                   ///< hardware threads
-    std::string simd = "-";          ///< the CPU backend's SIMD path
-    int threads = 1;                 ///< the CPU backend's worker threads
+    int cores = 1;                         ///< hardware threads
+    std::string simd = "-";                ///< the CPU backend's SIMD path
+    int threads = 1;                       ///< the CPU backend's worker threads
     std::string gpuRenderer = "not used";  ///< GL_RENDERER of the GPU backend used, if any
-    std::string date;                ///< "YYYY-MM-DD HH:MM UTC"
+    std::string date;                      ///< "YYYY-MM-DD HH:MM UTC"
     std::vector<std::string> backendInfo;  ///< "name: line" for each info() line of each backend
 };
 /// The machine, and what `backends` (those a bench created) say about themselves.

@@ -16,9 +16,10 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string machineLine(const Machine& m) {
-    return fmt::format("machine: {} | {} hardware threads | soft: SIMD {}, {} worker threads | "
-                       "GL_RENDERER: {} | {}",
-                       m.cpu, m.cores, m.simd, m.threads, m.gpuRenderer, m.date);
+    return fmt::format(
+        "machine: {} | {} hardware threads | soft: SIMD {}, {} worker threads | "
+        "GL_RENDERER: {} | {}",
+        m.cpu, m.cores, m.simd, m.threads, m.gpuRenderer, m.date);
 }
 
 std::string fmtFps(double ms) { return ms > 0 ? fmt::format("{:.1f}", 1000.0 / ms) : "-"; }
@@ -37,11 +38,13 @@ Status runGnuplot(const std::string& output, const std::string& data, std::strin
     std::error_code ec;
     const fs::path dir = fs::temp_directory_path(ec) / fmt::format("mvr-plot-{}", ::getpid());
     fs::create_directories(dir, ec);
-    if (ec) return outputError(fmt::format("--plot: cannot create {}: {}", dir.string(), ec.message()));
+    if (ec)
+        return outputError(fmt::format("--plot: cannot create {}: {}", dir.string(), ec.message()));
     const fs::path dataPath = dir / "data.dat", scriptPath = dir / "plot.gp";
     const std::string ext = fs::path(output).extension().string();
-    const std::string terminal = ext == ".svg" ? "set terminal svg size 1500,520 dynamic font 'sans,11'\n"
-                                               : "set terminal pngcairo size 1500,520 font 'sans,10'\n";
+    const std::string terminal = ext == ".svg"
+                                     ? "set terminal svg size 1500,520 dynamic font 'sans,11'\n"
+                                     : "set terminal pngcairo size 1500,520 font 'sans,10'\n";
     for (std::size_t pos = 0; (pos = script.find("DATA", pos)) != std::string::npos;) {
         const std::string quoted = gpQuote(dataPath.string());
         script.replace(pos, 4, quoted);
@@ -67,10 +70,11 @@ Status runGnuplot(const std::string& output, const std::string& data, std::strin
     fs::remove_all(dir, ec);
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
         if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
-            return unsupportedError("--plot: gnuplot could not be run (Debian: apt-get install gnuplot-nox)");
+            return unsupportedError(
+                "--plot: gnuplot could not be run (Debian: apt-get install gnuplot-nox)");
         }
-        return outputError(fmt::format("--plot: gnuplot failed writing '{}' (exit status {})", output,
-                                       WIFEXITED(status) ? WEXITSTATUS(status) : -1));
+        return outputError(fmt::format("--plot: gnuplot failed writing '{}' (exit status {})",
+                                       output, WIFEXITED(status) ? WEXITSTATUS(status) : -1));
     }
     return {};
 }
@@ -82,8 +86,9 @@ std::string renderPlotScript(const std::string& title, const std::vector<std::st
     const int cols = int(std::min<std::size_t>(panels.size(), 3));
     const int rowsN = int((panels.size() + cols - 1) / cols);
     s += fmt::format("set multiplot layout {},{} title {}\n", rowsN, cols, gpQuote(title));
-    s += fmt::format("set xlabel {}\nset ylabel 'fps (median; bars: min-max)'\nset logscale y\nset grid\n",
-                     gpQuote(xlabel));
+    s += fmt::format(
+        "set xlabel {}\nset ylabel 'fps (median; bars: min-max)'\nset logscale y\nset grid\n",
+        gpQuote(xlabel));
     if (xlabel == "triangles") s += "set format x '%.0s%c'\n";  // 100k, 200k, …
     if (xlabel == "views") s += "set xtics (1, 2, 3, 4, 6, 9)\n";
     s += "set key inside top right font ',7' samplen 2 spacing 0.9 opaque box\nset pointsize 0.7\n";
@@ -91,8 +96,8 @@ std::string renderPlotScript(const std::string& title, const std::vector<std::st
     for (std::size_t p = 0; p < panels.size(); ++p) {
         s += fmt::format("set title {}\nplot ", gpQuote(panels[p]));
         for (std::size_t k = 0; k < series.size(); ++k) {
-            s += fmt::format("{}DATA index {} using 1:2:3:4 with yerrorlines lw 1.5 title {}", k ? ", " : "",
-                             index++, gpQuote(series[k]));
+            s += fmt::format("{}DATA index {} using 1:2:3:4 with yerrorlines lw 1.5 title {}",
+                             k ? ", " : "", index++, gpQuote(series[k]));
         }
         s += "\n";
         if (p == 0) s += "set key off\n";
@@ -105,7 +110,8 @@ Status plotRenderRows(const RenderReport& report, const std::string& file) {
     const RenderPlot& plot = report.plot;
     std::vector<std::string> panels;
     for (const RenderRow& r : report.rows) {
-        if (plot.filter(r) && std::find(panels.begin(), panels.end(), plot.panel(r)) == panels.end()) {
+        if (plot.filter(r) &&
+            std::find(panels.begin(), panels.end(), plot.panel(r)) == panels.end()) {
             panels.push_back(plot.panel(r));
         }
     }
@@ -114,9 +120,11 @@ Status plotRenderRows(const RenderReport& report, const std::string& file) {
         for (const std::string& series : report.series) {
             data += fmt::format("# {} {}\n", panel, series);
             for (const RenderRow& r : report.rows) {
-                if (plot.filter(r) && plot.panel(r) == panel && r.spec() == series && r.error.empty()) {
-                    data += fmt::format("{} {:.4f} {:.4f} {:.4f}\n", plot.x(r), 1000.0 / r.wall.median,
-                                        1000.0 / r.wall.max, 1000.0 / r.wall.min);
+                if (plot.filter(r) && plot.panel(r) == panel && r.spec() == series &&
+                    r.error.empty()) {
+                    data +=
+                        fmt::format("{} {:.4f} {:.4f} {:.4f}\n", plot.x(r), 1000.0 / r.wall.median,
+                                    1000.0 / r.wall.max, 1000.0 / r.wall.min);
                 }
             }
             data += "\n\n";
@@ -132,8 +140,8 @@ Status plotRenderRows(const RenderReport& report, const std::string& file) {
 /// "fps [min–max] ×speedup (cpu ×)" for a table cell.
 std::string renderCell(const RenderRow& r) {
     if (!r.error.empty()) return "n/a";
-    return fmt::format("{} [{}–{}] {:.2f}× (cpu {:.2f}×)", fmtFps(r.wall.median), fmtFps(r.wall.max),
-                       fmtFps(r.wall.min), r.speedup, r.cpuSpeedup);
+    return fmt::format("{} [{}–{}] {:.2f}× (cpu {:.2f}×)", fmtFps(r.wall.median),
+                       fmtFps(r.wall.max), fmtFps(r.wall.min), r.speedup, r.cpuSpeedup);
 }
 
 void printPivot(const PivotTable& t, const std::vector<RenderRow>& rows) {
@@ -144,7 +152,8 @@ void printPivot(const PivotTable& t, const std::vector<RenderRow>& rows) {
         const std::vector<std::string> labels = t.rowLabels(r);
         if (std::find(lines.begin(), lines.end(), labels) == lines.end()) lines.push_back(labels);
         const std::string column = t.column(r);
-        if (std::find(columns.begin(), columns.end(), column) == columns.end()) columns.push_back(column);
+        if (std::find(columns.begin(), columns.end(), column) == columns.end())
+            columns.push_back(column);
     }
     fmt::print("\n{}\n\n", t.caption);
     std::string head = "|", sep = "|";
@@ -157,7 +166,8 @@ void printPivot(const PivotTable& t, const std::vector<RenderRow>& rows) {
         for (const std::string& c : columns) {
             std::string cell = "-";
             for (const RenderRow& r : rows) {
-                if (t.filter(r) && t.column(r) == c && t.rowLabels(r) == labels) cell = renderCell(r);
+                if (t.filter(r) && t.column(r) == c && t.rowLabels(r) == labels)
+                    cell = renderCell(r);
             }
             line += " " + cell + " |";
         }
@@ -200,27 +210,30 @@ int printMethodReport(const MethodReport& report, bool json) {
     fmt::print("machine: {} | {} hardware threads | soft SIMD path: {} | soft worker threads: {}\n",
                m.cpu, m.cores, m.simd, m.threads);
     for (const std::string& line : m.backendInfo) fmt::print("  {}\n", line);
-    fmt::print("scene: {} ({} triangles) | {} rig {}x{} = {} views | {}x{} | {} shading{}{} | {} frames "
-               "after {} warm-up\n",
-               p.sceneName, triangles, rigKindName(p.rig.kind), p.rig.columns, p.rig.rows, views,
-               p.settings.width, p.settings.height, shadingName(p.settings.shading),
-               p.settings.cullBackFaces ? " | cull" : "", p.settings.wireframe ? " | wireframe" : "",
-               report.frames, report.warmup);
-    fmt::print("{:<24} {:>10} {:>10} {:>9} {:>10} {:>12}   {:>8} {:>8} {:>8} {:>8}\n", "backend:method",
-               "median ms", "min ms", "vs first", "cpu ms", "Mtri·view/s", "vertex", "setup", "raster",
-               "fill");
+    fmt::print(
+        "scene: {} ({} triangles) | {} rig {}x{} = {} views | {}x{} | {} shading{}{} | {} frames "
+        "after {} warm-up\n",
+        p.sceneName, triangles, rigKindName(p.rig.kind), p.rig.columns, p.rig.rows, views,
+        p.settings.width, p.settings.height, shadingName(p.settings.shading),
+        p.settings.cullBackFaces ? " | cull" : "", p.settings.wireframe ? " | wireframe" : "",
+        report.frames, report.warmup);
+    fmt::print("{:<24} {:>10} {:>10} {:>9} {:>10} {:>12}   {:>8} {:>8} {:>8} {:>8}\n",
+               "backend:method", "median ms", "min ms", "vs first", "cpu ms", "Mtri·view/s",
+               "vertex", "setup", "raster", "fill");
     for (const MethodRow& r : rows) {
-        const std::string name = r.backend + ":" + r.method + (r.ran != r.method ? " (" + r.ran + ")" : "");
+        const std::string name =
+            r.backend + ":" + r.method + (r.ran != r.method ? " (" + r.ran + ")" : "");
         const double rate = double(triangles) * views / (r.medianMs * 1e3);
         const double vsFirst = rows[0].medianMs / r.medianMs;
         if (r.hasStages) {
-            fmt::print("{:<24} {:>10.2f} {:>10.2f} {:>8.2f}x {:>10.2f} {:>12.1f}   {:>8.2f} {:>8.2f} "
-                       "{:>8.2f} {:>8.2f}\n",
-                       name, r.medianMs, r.minMs, vsFirst, r.cpuMs, rate, r.stages.vertexMs,
-                       r.stages.setupMs, r.stages.rasterMs, r.stages.fillMs);
+            fmt::print(
+                "{:<24} {:>10.2f} {:>10.2f} {:>8.2f}x {:>10.2f} {:>12.1f}   {:>8.2f} {:>8.2f} "
+                "{:>8.2f} {:>8.2f}\n",
+                name, r.medianMs, r.minMs, vsFirst, r.cpuMs, rate, r.stages.vertexMs,
+                r.stages.setupMs, r.stages.rasterMs, r.stages.fillMs);
         } else {
-            fmt::print("{:<24} {:>10.2f} {:>10.2f} {:>8.2f}x {:>10.2f} {:>12.1f}\n", name, r.medianMs,
-                       r.minMs, vsFirst, r.cpuMs, rate);
+            fmt::print("{:<24} {:>10.2f} {:>10.2f} {:>8.2f}x {:>10.2f} {:>12.1f}\n", name,
+                       r.medianMs, r.minMs, vsFirst, r.cpuMs, rate);
         }
     }
     return 0;
@@ -243,7 +256,8 @@ void fillSpeedups(std::vector<RenderRow>& rows, std::size_t first) {
             if (rows[k].backend == rows[i].backend && rows[k].method == kBaselineMethod &&
                 rows[k].error.empty() && rows[i].error.empty() && rows[i].wall.median > 0) {
                 rows[i].speedup = rows[k].wall.median / rows[i].wall.median;
-                rows[i].cpuSpeedup = rows[i].cpu.median > 0 ? rows[k].cpu.median / rows[i].cpu.median : 0;
+                rows[i].cpuSpeedup =
+                    rows[i].cpu.median > 0 ? rows[k].cpu.median / rows[i].cpu.median : 0;
             }
         }
     }
@@ -257,16 +271,18 @@ int printRenderReport(const RenderReport& report, const CommonOptions& o) {
         // printed above
     } else if (o.csv) {
         fmt::print("# {}\n", machineLine(*report.machine));
-        fmt::print("bench,backend,method,model,copies,triangles,shading,views,config,width,height,frames,"
-                   "median_ms,min_ms,max_ms,q1_ms,q3_ms,cpu_median_ms,fps,speedup_vs_multipass,"
-                   "cpu_speedup_vs_multipass,error\n");
+        fmt::print(
+            "bench,backend,method,model,copies,triangles,shading,views,config,width,height,frames,"
+            "median_ms,min_ms,max_ms,q1_ms,q3_ms,cpu_median_ms,fps,speedup_vs_multipass,"
+            "cpu_speedup_vs_multipass,error\n");
         for (const RenderRow& r : report.rows) {
-            fmt::print("{},{},{},\"{}\",{},{},{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},"
-                       "{:.2f},{:.3f},{:.3f},\"{}\"\n",
-                       report.bench, r.backend, r.method, r.model, r.copies, r.triangles, r.shading, r.views,
-                       r.config, r.width, r.height, r.wall.n, r.wall.median, r.wall.min, r.wall.max, r.wall.q1,
-                       r.wall.q3, r.cpu.median, r.wall.median > 0 ? 1000.0 / r.wall.median : 0.0, r.speedup,
-                       r.cpuSpeedup, r.error);
+            fmt::print(
+                "{},{},{},\"{}\",{},{},{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},"
+                "{:.2f},{:.3f},{:.3f},\"{}\"\n",
+                report.bench, r.backend, r.method, r.model, r.copies, r.triangles, r.shading,
+                r.views, r.config, r.width, r.height, r.wall.n, r.wall.median, r.wall.min,
+                r.wall.max, r.wall.q1, r.wall.q3, r.cpu.median,
+                r.wall.median > 0 ? 1000.0 / r.wall.median : 0.0, r.speedup, r.cpuSpeedup, r.error);
         }
     } else {
         fmt::print("{}\n", machineLine(*report.machine));
@@ -291,39 +307,45 @@ int printAdelsonReport(const AdelsonReport& report, const CommonOptions& o) {
         // printed above
     } else if (o.csv) {
         fmt::print("# {}\n", machineLine(machine));
-        fmt::print("algorithm,case,ops_separate,ops_simultaneous,ops_I,ops_II,ops_III,interp_I,ms_separate,"
-                   "ms_simultaneous,ms_separate_min,ms_separate_max,ms_simultaneous_min,ms_simultaneous_max,"
-                   "time_I,time_II,time_III,paper_I,paper_II,paper_III,results_agree\n");
+        fmt::print(
+            "algorithm,case,ops_separate,ops_simultaneous,ops_I,ops_II,ops_III,interp_I,ms_separate,"
+            "ms_simultaneous,ms_separate_min,ms_separate_max,ms_simultaneous_min,ms_simultaneous_max,"
+            "time_I,time_II,time_III,paper_I,paper_II,paper_III,results_agree\n");
         for (const AdelsonRow& r : report.rows) {
-            fmt::print("\"{}\",\"{}\",{},{},{:.4f},{:.4f},{:.4f},{},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},"
-                       "{:.4f},{:.4f},{:.4f},\"{}\",\"{}\",\"{}\",{}\n",
-                       r.algorithm, r.caseName, r.opsSep.total(), r.opsSim.total(), r.byOps.measureI,
-                       r.byOps.measureII, r.byOps.measureIII,
-                       r.hasInterp ? fmt::format("{:.4f}", r.byInterp.measureI) : "", r.sepMs.median,
-                       r.simMs.median, r.sepMs.min, r.sepMs.max, r.simMs.min, r.simMs.max, r.byTime.measureI,
-                       r.byTime.measureII, r.byTime.measureIII, r.paperI, r.paperII, r.paperIII,
-                       r.check.empty() ? "yes" : "no");
+            fmt::print(
+                "\"{}\",\"{}\",{},{},{:.4f},{:.4f},{:.4f},{},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},"
+                "{:.4f},{:.4f},{:.4f},\"{}\",\"{}\",\"{}\",{}\n",
+                r.algorithm, r.caseName, r.opsSep.total(), r.opsSim.total(), r.byOps.measureI,
+                r.byOps.measureII, r.byOps.measureIII,
+                r.hasInterp ? fmt::format("{:.4f}", r.byInterp.measureI) : "", r.sepMs.median,
+                r.simMs.median, r.sepMs.min, r.sepMs.max, r.simMs.min, r.simMs.max,
+                r.byTime.measureI, r.byTime.measureII, r.byTime.measureIII, r.paperI, r.paperII,
+                r.paperIII, r.check.empty() ? "yes" : "no");
         }
     } else {
         fmt::print("{}\n", machineLine(machine));
-        fmt::print("\nadelson1991 Table 1 — savings of the simultaneous (both eyes at once) algorithm over the "
-                   "single-eye algorithm run for each eye, mvr's own implementations of both; I = 1 − sim/sep, "
-                   "II = 1 − (sim − sep/2)/(sep/2), III = sep/sim; ops = additions + multiplications + comparisons "
-                   "(counted in the code); time = thread CPU time, median of {} batches ({} warm-up), ms per "
-                   "stereo pair [min–max]\n\n",
-                   o.frames, o.warmup);
-        fmt::print("| algorithm | workload | ops I | ops II | ops III | time sep ms | time sim ms | time I | "
-                   "time II | time III | paper I / II / III | same result |\n");
+        fmt::print(
+            "\nadelson1991 Table 1 — savings of the simultaneous (both eyes at once) algorithm over the "
+            "single-eye algorithm run for each eye, mvr's own implementations of both; I = 1 − sim/sep, "
+            "II = 1 − (sim − sep/2)/(sep/2), III = sep/sim; ops = additions + multiplications + comparisons "
+            "(counted in the code); time = thread CPU time, median of {} batches ({} warm-up), ms per "
+            "stereo pair [min–max]\n\n",
+            o.frames, o.warmup);
+        fmt::print(
+            "| algorithm | workload | ops I | ops II | ops III | time sep ms | time sim ms | time I | "
+            "time II | time III | paper I / II / III | same result |\n");
         fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
         for (const AdelsonRow& r : report.rows) {
             std::string opsI = pct(r.byOps.measureI);
             if (r.hasInterp) opsI += fmt::format(" (interp. {})", pct(r.byInterp.measureI));
-            fmt::print("| {} | {} | {} | {} | {:.2f} | {:.3f} [{:.3f}–{:.3f}] | {:.3f} [{:.3f}–{:.3f}] | {} | {} | "
-                       "{:.2f} | {} / {} / {} | {} |\n",
-                       r.algorithm, r.caseName, opsI, pct(r.byOps.measureII), r.byOps.measureIII,
-                       r.sepMs.median, r.sepMs.min, r.sepMs.max, r.simMs.median, r.simMs.min, r.simMs.max,
-                       pct(r.byTime.measureI), pct(r.byTime.measureII), r.byTime.measureIII, r.paperI,
-                       r.paperII, r.paperIII, r.check.empty() ? "yes: " + r.checkDetail : "NO: " + r.check);
+            fmt::print(
+                "| {} | {} | {} | {} | {:.2f} | {:.3f} [{:.3f}–{:.3f}] | {:.3f} [{:.3f}–{:.3f}] | {} | {} | "
+                "{:.2f} | {} / {} / {} | {} |\n",
+                r.algorithm, r.caseName, opsI, pct(r.byOps.measureII), r.byOps.measureIII,
+                r.sepMs.median, r.sepMs.min, r.sepMs.max, r.simMs.median, r.simMs.min, r.simMs.max,
+                pct(r.byTime.measureI), pct(r.byTime.measureII), r.byTime.measureIII, r.paperI,
+                r.paperII, r.paperIII,
+                r.check.empty() ? "yes: " + r.checkDetail : "NO: " + r.check);
         }
     }
     if (!o.plot.empty()) {
@@ -340,8 +362,10 @@ int printAdelsonReport(const AdelsonReport& report, const CommonOptions& o) {
             "set yrange [-60:55]\nset grid ytics\nset xtics rotate by -35 left font ',9'\nset bmargin 8\n"
             "set key top right\nset arrow from graph 0, first 50 to graph 1, first 50 nohead dt 2\n"
             "plot DATA using 2:xtic(1) title 'operation counts', '' using 3 title 'time (median)'\n",
-            gpQuote(fmt::format("adelson1991 Table 1 on this machine (measure I; 50% = both eyes for the "
-                                "price of one; bars clipped at -60%) — {}", machine.cpu)));
+            gpQuote(fmt::format(
+                "adelson1991 Table 1 on this machine (measure I; 50% = both eyes for the "
+                "price of one; bars clipped at -60%) — {}",
+                machine.cpu)));
         if (Status s = runGnuplot(o.plot, data, script); !s) return fail(s);
     }
     return 0;
@@ -359,15 +383,18 @@ Status checkPlotTarget(const std::string& file) {
         const std::string p = path;
         for (std::size_t start = 0; start <= p.size();) {
             const std::size_t end = p.find(':', start);
-            const std::string dir = p.substr(start, end == std::string::npos ? std::string::npos : end - start);
-            if (!dir.empty() && ::access((fs::path(dir) / "gnuplot").c_str(), X_OK) == 0) found = true;
+            const std::string dir =
+                p.substr(start, end == std::string::npos ? std::string::npos : end - start);
+            if (!dir.empty() && ::access((fs::path(dir) / "gnuplot").c_str(), X_OK) == 0)
+                found = true;
             if (end == std::string::npos) break;
             start = end + 1;
         }
     }
     if (!found) {
-        return unsupportedError("--plot: gnuplot is not installed (not on PATH; Debian: apt-get install "
-                                "gnuplot-nox)");
+        return unsupportedError(
+            "--plot: gnuplot is not installed (not on PATH; Debian: apt-get install "
+            "gnuplot-nox)");
     }
     return {};
 }

@@ -31,12 +31,17 @@ Status emit(const json& j, bool print, const std::string& saveTo) {
 
 /// The paper benches' machine object.
 json machineJson(const Machine& m) {
-    return {{"cpu", m.cpu}, {"cores", m.cores}, {"simd", m.simd}, {"threads", m.threads},
-            {"gl_renderer", m.gpuRenderer}, {"date", m.date}};
+    return {{"cpu", m.cpu},
+            {"cores", m.cores},
+            {"simd", m.simd},
+            {"threads", m.threads},
+            {"gl_renderer", m.gpuRenderer},
+            {"date", m.date}};
 }
 
 json statsJson(const Stats& s) {
-    return {{"median", s.median}, {"min", s.min}, {"max", s.max}, {"q1", s.q1}, {"q3", s.q3}, {"n", s.n}};
+    return {{"median", s.median}, {"min", s.min}, {"max", s.max},
+            {"q1", s.q1},         {"q3", s.q3},   {"n", s.n}};
 }
 
 }  // namespace
@@ -45,22 +50,37 @@ Status emitJson(const MethodReport& report, bool print, const std::string& saveT
     const Machine& m = *report.machine;
     const Prepared& p = *report.request;
     json j;
-    j["machine"] = {{"cpu", m.cpu}, {"cores", m.cores}, {"simd", m.simd}, {"threads", m.threads},
+    j["machine"] = {{"cpu", m.cpu},
+                    {"cores", m.cores},
+                    {"simd", m.simd},
+                    {"threads", m.threads},
                     {"backends", m.backendInfo}};
-    j["scene"] = {{"name", p.sceneName}, {"rig", rigKindName(p.rig.kind)}, {"columns", p.rig.columns},
-                  {"rows", p.rig.rows}, {"cull", p.settings.cullBackFaces},
+    j["scene"] = {{"name", p.sceneName},
+                  {"rig", rigKindName(p.rig.kind)},
+                  {"columns", p.rig.columns},
+                  {"rows", p.rig.rows},
+                  {"cull", p.settings.cullBackFaces},
                   {"wireframe", p.settings.wireframe}};
     j["results"] = json::array();
     for (const MethodRow& r : report.rows) {
-        json e = {{"backend", r.backend}, {"method", r.method}, {"views", p.rig.viewCount()},
-                  {"triangles", p.scene.triangleCount()}, {"shading", shadingName(p.settings.shading)},
-                  {"width", p.settings.width}, {"height", p.settings.height},
-                  {"median_ms", r.medianMs}, {"min_ms", r.minMs}, {"frames", report.frames},
-                  {"cpu_ms", r.cpuMs}, {"speedup_vs_first", report.rows[0].medianMs / r.medianMs}};
+        json e = {{"backend", r.backend},
+                  {"method", r.method},
+                  {"views", p.rig.viewCount()},
+                  {"triangles", p.scene.triangleCount()},
+                  {"shading", shadingName(p.settings.shading)},
+                  {"width", p.settings.width},
+                  {"height", p.settings.height},
+                  {"median_ms", r.medianMs},
+                  {"min_ms", r.minMs},
+                  {"frames", report.frames},
+                  {"cpu_ms", r.cpuMs},
+                  {"speedup_vs_first", report.rows[0].medianMs / r.medianMs}};
         if (r.ran != r.method) e["ran"] = r.ran;
         if (r.hasStages) {
-            e["stages_ms"] = {{"vertex", r.stages.vertexMs}, {"setup", r.stages.setupMs},
-                              {"raster", r.stages.rasterMs}, {"fill", r.stages.fillMs}};
+            e["stages_ms"] = {{"vertex", r.stages.vertexMs},
+                              {"setup", r.stages.setupMs},
+                              {"raster", r.stages.rasterMs},
+                              {"fill", r.stages.fillMs}};
         }
         j["results"].push_back(e);
     }
@@ -74,9 +94,10 @@ Status emitJson(const RenderReport& report, const CommonOptions& o) {
     j["frames"] = o.frames, j["warmup"] = o.warmup;
     j["results"] = json::array();
     for (const RenderRow& r : report.rows) {
-        json e = {{"backend", r.backend}, {"method", r.method}, {"model", r.model},
-                  {"copies", r.copies}, {"triangles", r.triangles}, {"shading", r.shading},
-                  {"views", r.views}, {"config", r.config}, {"width", r.width}, {"height", r.height}};
+        json e = {{"backend", r.backend}, {"method", r.method},       {"model", r.model},
+                  {"copies", r.copies},   {"triangles", r.triangles}, {"shading", r.shading},
+                  {"views", r.views},     {"config", r.config},       {"width", r.width},
+                  {"height", r.height}};
         if (!r.error.empty()) {
             e["error"] = r.error;
         } else {
@@ -92,7 +113,8 @@ Status emitJson(const RenderReport& report, const CommonOptions& o) {
         j["results"].push_back(e);
     }
     j["skipped"] = json::array();
-    for (const Skipped& s : report.skipped) j["skipped"].push_back({{"method", s.spec}, {"reason", s.reason}});
+    for (const Skipped& s : report.skipped)
+        j["skipped"].push_back({{"method", s.spec}, {"reason", s.reason}});
     return emit(j, o.json, o.saveJson);
 }
 
@@ -106,18 +128,27 @@ Status emitJson(const AdelsonReport& report, const CommonOptions& o) {
         return json{{"I", s.measureI}, {"II", s.measureII}, {"III", s.measureIII}};
     };
     auto ops = [](const adelson::OpCounts& c) {
-        return json{{"adds", c.adds}, {"muls", c.muls}, {"cmps", c.cmps}, {"interps", c.interps},
+        return json{{"adds", c.adds},
+                    {"muls", c.muls},
+                    {"cmps", c.cmps},
+                    {"interps", c.interps},
                     {"total", c.total()}};
     };
     for (const AdelsonRow& r : report.rows) {
-        json e = {{"algorithm", r.algorithm}, {"case", r.caseName},
-                  {"ops_separate", ops(r.opsSep)}, {"ops_simultaneous", ops(r.opsSim)},
-                  {"ms_separate", statsJson(r.sepMs)}, {"ms_simultaneous", statsJson(r.simMs)},
-                  {"wall_ms_separate", statsJson(r.sepWall)}, {"wall_ms_simultaneous", statsJson(r.simWall)},
+        json e = {{"algorithm", r.algorithm},
+                  {"case", r.caseName},
+                  {"ops_separate", ops(r.opsSep)},
+                  {"ops_simultaneous", ops(r.opsSim)},
+                  {"ms_separate", statsJson(r.sepMs)},
+                  {"ms_simultaneous", statsJson(r.simMs)},
+                  {"wall_ms_separate", statsJson(r.sepWall)},
+                  {"wall_ms_simultaneous", statsJson(r.simWall)},
                   {"reps_per_batch", r.reps},
-                  {"savings_ops", sav(r.byOps)}, {"savings_time", sav(r.byTime)},
+                  {"savings_ops", sav(r.byOps)},
+                  {"savings_time", sav(r.byTime)},
                   {"paper", {{"I", r.paperI}, {"II", r.paperII}, {"III", r.paperIII}}},
-                  {"results_agree", r.check.empty()}, {"check", r.check.empty() ? r.checkDetail : r.check}};
+                  {"results_agree", r.check.empty()},
+                  {"check", r.check.empty() ? r.checkDetail : r.check}};
         if (r.hasInterp) e["savings_interpolations"] = sav(r.byInterp);
         j["results"].push_back(e);
     }

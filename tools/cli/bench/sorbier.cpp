@@ -20,17 +20,19 @@ struct SorbierOptions {
     std::vector<int> copies{1, 3, 5, 9};
     std::vector<std::string> shadings{"flat", "vertex", "pixel"};
     std::vector<std::string> sizes{"1024x768"};
-    std::vector<std::string> methods{"soft:multipass",     "soft:unified",     "gl:multipass",
-                                     "gl:gs-mrt",          "gl:gs-depthmap",   "gl:gs-layered",
-                                     "gl:gs-invocations",  "gl:instanced-layer", "gl:viewport-array",
-                                     "gl:kalaiah-emulation"};
+    std::vector<std::string> methods{
+        "soft:multipass",    "soft:unified",        "gl:multipass",      "gl:gs-mrt",
+        "gl:gs-depthmap",    "gl:gs-layered",       "gl:gs-invocations", "gl:instanced-layer",
+        "gl:viewport-array", "gl:kalaiah-emulation"};
 };
 
 int runSorbier(const SorbierOptions& o) {
     if (Status s = checkCommonOptions(o.common); !s) return fail(s);
     if (o.copies.empty()) return fail(usageError("--copies is empty (expected e.g. 1,3,5,9)"));
     for (const int c : o.copies) {
-        if (c < 1 || c > 1024) return fail(usageError(fmt::format("--copies {} is out of range (expected 1..1024)", c)));
+        if (c < 1 || c > 1024)
+            return fail(
+                usageError(fmt::format("--copies {} is out of range (expected 1..1024)", c)));
     }
     std::vector<std::pair<int, int>> sizes;
     for (const std::string& sz : o.sizes) {
@@ -45,11 +47,13 @@ int runSorbier(const SorbierOptions& o) {
         if (!sh) return fail(usageError("--shadings: " + sh.status().message()));
         shadings.push_back(*sh);
     }
-    if (shadings.empty()) return fail(usageError("--shadings is empty (expected flat,vertex,pixel)"));
+    if (shadings.empty())
+        return fail(usageError("--shadings is empty (expected flat,vertex,pixel)"));
     BackendSet backends({.threads = o.common.threads});
     std::vector<Skipped> skipped;
-    auto jobsR = resolveJobs(o.methods, backends,
-                             {.addBaseline = true, .skipUnavailable = true, .allowAuto = false}, &skipped);
+    auto jobsR =
+        resolveJobs(o.methods, backends,
+                    {.addBaseline = true, .skipUnavailable = true, .allowAuto = false}, &skipped);
     if (!jobsR) return fail(jobsR.status());
     const std::vector<Job> jobs = std::move(jobsR).value();
     if (jobs.empty()) return fail(unsupportedError("none of the --methods can run here"));
@@ -105,7 +109,10 @@ int runSorbier(const SorbierOptions& o) {
                 modelName, o.copies.back(), w, h, o.common.frames, o.common.warmup),
             .rowHeads = {"shading", "method"},
             .filter = [w = w, h = h](const RenderRow& r) { return r.width == w && r.height == h; },
-            .rowLabels = [](const RenderRow& r) { return std::vector<std::string>{r.shading, r.spec()}; },
+            .rowLabels =
+                [](const RenderRow& r) {
+                    return std::vector<std::string>{r.shading, r.spec()};
+                },
             .column = [](const RenderRow& r) { return fmt::format("{} tris", r.triangles); }});
     }
     // One panel per shading, fps against triangles, one line per method (first size).
@@ -113,7 +120,8 @@ int runSorbier(const SorbierOptions& o) {
     report.plot = RenderPlot{
         .title = fmt::format("sorbier2008 Tables 1-2 on this machine: {}x{}, 2 views", w0, h0),
         .xlabel = "triangles",
-        .filter = [w0 = w0, h0 = h0](const RenderRow& r) { return r.width == w0 && r.height == h0; },
+        .filter = [w0 = w0,
+                   h0 = h0](const RenderRow& r) { return r.width == w0 && r.height == h0; },
         .panel = [](const RenderRow& r) { return r.shading + " shading"; },
         .x = [](const RenderRow& r) { return double(r.triangles); }};
     return printRenderReport(report, o.common);
@@ -124,15 +132,24 @@ int runSorbier(const SorbierOptions& o) {
 PaperBench addSorbier(CLI::App* bench) {
     auto o = std::make_shared<SorbierOptions>();
     CLI::App* s = bench->add_subcommand(
-        "sorbier", "sorbier2008 Tables 1-2: flat/vertex/pixel shading x 1,3,5,9 bunnies (70k-630k triangles), "
-                   "2 views, multipass vs every one-pass method: fps and speed-up");
+        "sorbier",
+        "sorbier2008 Tables 1-2: flat/vertex/pixel shading x 1,3,5,9 bunnies (70k-630k triangles), "
+        "2 views, multipass vs every one-pass method: fps and speed-up");
     s->add_option("model", o->model, "Model (default: $MVR_SHARED_DIR/models/stanford-bunny.obj)");
-    s->add_option("--copies", o->copies, "Copies of the model in a grid, comma separated")->delimiter(',')->default_str("1,3,5,9");
-    s->add_option("--shadings", o->shadings, "Shading modes, comma separated")->delimiter(',')->default_str("flat,vertex,pixel");
-    s->add_option("--sizes", o->sizes, "Image sizes WxH per view, comma separated")->delimiter(',')->default_str("1024x768");
-    s->add_option("--methods", o->methods, "BACKEND:METHOD list (BACKEND:multipass is added as the baseline)")
+    s->add_option("--copies", o->copies, "Copies of the model in a grid, comma separated")
         ->delimiter(',')
-        ->default_str("soft:multipass,soft:unified,gl:multipass,gl:gs-mrt,gl:gs-depthmap,gl:gs-layered,...");
+        ->default_str("1,3,5,9");
+    s->add_option("--shadings", o->shadings, "Shading modes, comma separated")
+        ->delimiter(',')
+        ->default_str("flat,vertex,pixel");
+    s->add_option("--sizes", o->sizes, "Image sizes WxH per view, comma separated")
+        ->delimiter(',')
+        ->default_str("1024x768");
+    s->add_option("--methods", o->methods,
+                  "BACKEND:METHOD list (BACKEND:multipass is added as the baseline)")
+        ->delimiter(',')
+        ->default_str(
+            "soft:multipass,soft:unified,gl:multipass,gl:gs-mrt,gl:gs-depthmap,gl:gs-layered,...");
     addCommonOptions(s, o->common, "Timed frames per method and configuration");
     return {s, [o] { return runSorbier(*o); }};
 }
