@@ -1,6 +1,11 @@
 #include "mvr/core/mesh.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
+#include <optional>
+#include <string_view>
 #include <fstream>
 
 #include <assimp/Importer.hpp>
@@ -145,6 +150,83 @@ void appendNode(const aiScene& scene, const aiNode& node, const aiMatrix4x4& par
     }
 }
 
+/// What mvr checks in an OBJ's text before assimp reads it: assimp drops NaN vertices and
+/// degenerate faces silently and then reports "No meshes remaining", which names neither the
+/// line nor the reason. Lines are joined at `\` continuations; CR line ends are accepted.
+struct ObjScan {
+    Status status;          ///< the first non-finite vertex, by line
+    std::size_t faces = 0;  ///< face lines
+    bool anyArea = false;   ///< some face has a non-zero area
+};
+
+ObjScan scanObj(const std::string& text, const std::string& what) {
+    ObjScan scan;
+    std::vector<glm::dvec3> vertices;
+    std::size_t pos = 0, lineNo = 0;
+    std::string line;
+    while (pos < text.size()) {
+        // One logical line: physical lines joined where one ends in a backslash.
+        line.clear();
+        const std::size_t firstLine = lineNo + 1;
+        for (;;) {
+            std::size_t end = text.find('\n', pos);
+            if (end == std::string::npos) end = text.size();
+            std::string_view piece(text.data() + pos, end - pos);
+            ++lineNo;
+            pos = end + 1;
+            if (!piece.empty() && piece.back() == '\r') piece.remove_suffix(1);
+            if (!piece.empty() && piece.back() == '\\' && pos < text.size()) {
+                piece.remove_suffix(1);
+                line.append(piece).push_back(' ');
+                continue;
+            }
+            line.append(piece);
+            break;
+        }
+        std::size_t i = line.find_first_not_of(" \t");
+        if (i == std::string::npos || i + 1 >= line.size()) continue;
+        const char c0 = line[i], c1 = line[i + 1];
+        if (c0 == 'v' && (c1 == ' ' || c1 == '\t')) {
+            glm::dvec3 p(0.0);
+            const char* cur = line.c_str() + i + 1;
+            for (int k = 0; k < 3; ++k) {
+                char* next = nullptr;
+                const double value = std::strtod(cur, &next);
+                if (next == cur) break;  // assimp's to say what is wrong with it
+                if (!std::isfinite(value)) {
+                    scan.status = inputError(fmt::format(
+                        "{}: line {}: vertex {} has a{} coordinate", what, firstLine,
+                        vertices.size() + 1, std::isnan(value) ? " NaN" : "n infinite"));
+                    return scan;
+                }
+                p[k] = value;
+                cur = next;
+            }
+            vertices.push_back(p);
+        } else if (c0 == 'f' && (c1 == ' ' || c1 == '\t')) {
+            ++scan.faces;
+            if (scan.anyArea) continue;
+            std::vector<glm::dvec3> corners;
+            const char* cur = line.c_str() + i + 1;
+            for (;;) {
+                char* next = nullptr;
+                const long index = std::strtol(cur, &next, 10);
+                if (next == cur) break;
+                const long n = long(vertices.size());
+                const long resolved = index < 0 ? n + index : index - 1;  // negative: relative
+                if (resolved >= 0 && resolved < n) corners.push_back(vertices[resolved]);
+                cur = next;
+                while (*cur && *cur != ' ' && *cur != '\t') ++cur;  // skip /vt/vn
+            }
+            glm::dvec3 area(0.0);
+            for (std::size_t k = 1; k + 1 < corners.size(); ++k)
+                area += glm::cross(corners[k] - corners[0], corners[k + 1] - corners[0]);
+            scan.anyArea = glm::length(area) > 0.0;
+        }
+    }
+    return scan;
+}
+
 }  // namespace
 
 Result<Mesh> loadMesh(const std::filesystem::path& path) {
@@ -178,6 +260,20 @@ Result<Mesh> loadMesh(const std::filesystem::path& path) {
         }
     }
 
+    // OBJ: name the line of a non-finite vertex, and a file whose faces all have zero area,
+    // before assimp drops them and says only "No meshes remaining".
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::optional<ObjScan> obj;
+    if (ext == ".obj") {
+        std::ifstream in(path, std::ios::binary);
+        const std::string text((std::istreambuf_iterator<char>(in)),
+                               std::istreambuf_iterator<char>());
+        obj = scanObj(text, what);
+        if (!obj->status) return obj->status;
+    }
+
     Assimp::Importer importer;
     // Points and lines are split into meshes of their own (SortByPType) and skipped below, so a
     // file with no faces reports "has no triangles" rather than assimp's "No meshes remaining".
@@ -188,6 +284,9 @@ Result<Mesh> loadMesh(const std::filesystem::path& path) {
     if (!scene || !scene->mRootNode) {
         std::string why = importer.GetErrorString();
         if (why.empty()) why = "unknown error";
+        if (obj && obj->faces > 0 && !obj->anyArea) {
+            return inputError(fmt::format("{}: is degenerate (every face has zero area)", what));
+        }
         return inputError(fmt::format("{}: not a readable model (assimp: {})", what, why));
     }
     Mesh mesh;

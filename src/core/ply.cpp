@@ -145,6 +145,27 @@ private:
     Encoding mEnc;
 };
 
+constexpr std::uint32_t kRestart = 0xffffffffu;
+
+/// Triangulates one "tristrips" list: triangle i of a strip (a, b, c) is (a, b, c) for even i
+/// and (b, a, c) for odd i (strips alternate winding); kRestart (-1 in the file) starts a new
+/// strip; degenerate triangles (two equal indices, the strip's own joints) are dropped.
+void appendStrip(const std::vector<std::uint32_t>& strip, std::vector<std::uint32_t>& out) {
+    std::size_t start = 0;
+    while (start < strip.size()) {
+        std::size_t end = start;
+        while (end < strip.size() && strip[end] != kRestart) ++end;
+        for (std::size_t i = start; i + 2 < end; ++i) {
+            std::uint32_t a = strip[i], b = strip[i + 1];
+            const std::uint32_t c = strip[i + 2];
+            if ((i - start) % 2 == 1) std::swap(a, b);
+            if (a == b || b == c || a == c) continue;
+            out.insert(out.end(), {a, b, c});
+        }
+        start = end + 1;
+    }
+}
+
 }  // namespace
 
 bool looksLikePly(const std::string& head) {
@@ -236,7 +257,10 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
                             e.name, e.count));
         }
         const bool isVertex = e.name == "vertex";
-        const bool isFace = e.name == "face";
+        // "tristrips": one list per strip, -1 restarts a strip (the layout of scanned-model
+        // archives, e.g. Stanford's and Georgia Tech's).
+        const bool isStrips = e.name == "tristrips";
+        const bool isFace = e.name == "face" || isStrips;
         int ix = -1, iy = -1, iz = -1, inx = -1, iny = -1, inz = -1, iu = -1, iv = -1, iList = -1;
         for (int k = 0; k < int(e.properties.size()); ++k) {
             const std::string& n = e.properties[k].name;
@@ -269,7 +293,7 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
         const bool hasNormals = isVertex && inx >= 0 && iny >= 0 && inz >= 0;
         const bool hasUv = isVertex && iu >= 0 && iv >= 0;
         if (isFace) {
-            if (iList < 0) return bad("face element has no vertex_indices list");
+            if (iList < 0) return bad(fmt::format("{} element has no vertex_indices list", e.name));
             sawFaces = true;
         }
         std::vector<double> values(e.properties.size());
@@ -286,10 +310,19 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
                 }
                 double countValue = 0;
                 if (!reader.read(p.countType, countValue) || !(countValue >= 0) ||
-                    countValue > 65535) {
-                    return bad(fmt::format("{} {} of {}: bad list length", e.name, i, e.count));
+                    countValue > 4294967295.0) {
+                    return bad(fmt::format("{} {} of {}: bad list length {}", e.name, i, e.count,
+                                           countValue));
                 }
                 const auto count = static_cast<std::size_t>(countValue);
+                // Each item takes its size in binary, and a digit and a separator in ascii:
+                // refuse a length the rest of the file cannot hold before reading it.
+                const std::size_t itemBytes = *encoding == Encoding::Ascii ? 2 : typeSize(p.type);
+                if (count > (reader.remaining() + 1) / itemBytes) {
+                    return bad(fmt::format(
+                        "{} {} of {}: list of {} items but the file is too short (truncated?)",
+                        e.name, i, e.count, count));
+                }
                 polygon.clear();
                 for (std::size_t j = 0; j < count; ++j) {
                     double idx = 0;
@@ -297,14 +330,20 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
                         return bad(fmt::format("{} {} of {}: list truncated", e.name, i, e.count));
                     }
                     if (int(k) == iList) {
-                        if (!(idx >= 0) || idx > 4294967295.0) {
-                            return bad(
-                                fmt::format("face {}: negative or huge vertex index {}", i, idx));
+                        if (isStrips && idx == -1) {
+                            polygon.push_back(kRestart);
+                            continue;
+                        }
+                        if (!(idx >= 0) || idx > 4294967294.0) {
+                            return bad(fmt::format("{} {}: negative or huge vertex index {}",
+                                                   e.name, i, idx));
                         }
                         polygon.push_back(static_cast<std::uint32_t>(idx));
                     }
                 }
-                if (isFace && int(k) == iList) {
+                if (isStrips && int(k) == iList) {
+                    appendStrip(polygon, mesh.indices);
+                } else if (isFace && int(k) == iList) {
                     for (std::size_t j = 1; j + 1 < polygon.size(); ++j) {  // fan triangulation
                         mesh.indices.insert(mesh.indices.end(),
                                             {polygon[0], polygon[j], polygon[j + 1]});
@@ -312,6 +351,12 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
                 }
             }
             if (isVertex) {
+                if (!std::isfinite(values[ix]) || !std::isfinite(values[iy]) ||
+                    !std::isfinite(values[iz])) {
+                    return inputError(fmt::format(
+                        "{}: vertex {} of {} has a {} coordinate", what, i, e.count,
+                        std::isnan(values[ix] + values[iy] + values[iz]) ? "NaN" : "infinite"));
+                }
                 mesh.positions.emplace_back(values[ix], values[iy], values[iz]);
                 if (hasNormals) mesh.normals.emplace_back(values[inx], values[iny], values[inz]);
                 if (hasUv) mesh.texcoords.emplace_back(values[iu], values[iv]);

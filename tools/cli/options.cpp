@@ -1,7 +1,11 @@
 #include "options.h"
 
+#include <unistd.h>
+
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <regex>
 
 #include <fmt/core.h>
@@ -14,6 +18,35 @@ int fail(const Status& status) {
     fmt::print(stderr, "error: {}\n", status.message());
     const int code = exitCode(status.code());
     return code == 0 ? 1 : code;
+}
+
+TerminalProgress::TerminalProgress(std::string what) : mWhat(std::move(what)) {
+    if (!::isatty(STDERR_FILENO)) return;
+    int afterMs = 2000;
+    if (const char* env = std::getenv("MVR_PROGRESS_AFTER_MS")) afterMs = std::atoi(env);
+    mThread = std::thread([this, afterMs] {
+        using namespace std::chrono;
+        const auto start = steady_clock::now();
+        std::unique_lock lock(mMutex);
+        if (mWake.wait_for(lock, milliseconds(afterMs), [this] { return mDone; })) return;
+        do {
+            const double s = duration<double>(steady_clock::now() - start).count();
+            fmt::print(stderr, "\rmvr: {} ... {:.1f} s", mWhat, s);
+            std::fflush(stderr);
+        } while (!mWake.wait_for(lock, milliseconds(250), [this] { return mDone; }));
+        fmt::print(stderr, "\r\033[K");  // erase the line: the result follows on stdout
+        std::fflush(stderr);
+    });
+}
+
+TerminalProgress::~TerminalProgress() {
+    if (!mThread.joinable()) return;
+    {
+        std::lock_guard lock(mMutex);
+        mDone = true;
+    }
+    mWake.notify_all();
+    mThread.join();
 }
 
 Result<std::pair<int, int>> parseSize(const std::string& text, const char* what) {
@@ -150,7 +183,22 @@ Result<Prepared> SceneOptions::prepare() const {
     if (separation) params.separation = static_cast<float>(*separation);
     if (convergence) params.convergence = static_cast<float>(*convergence);
     auto framed = frameScene(out.scene, params, out.settings);
-    if (!framed) return framed.status();
+    if (!framed && framed.status().code() == ErrorCode::Usage) {
+        // The rig is a product of the options and the scene: name the options that shaped it
+        // ("--interaxial 1e+30: view 0 has a non-finite matrix or shear"), else the models.
+        std::string culprit;
+        auto add = [&](const std::string& text) {
+            culprit += (culprit.empty() ? "" : ", ") + text;
+        };
+        if (interaxial) add(fmt::format("--interaxial {}", *interaxial));
+        if (separation) add(fmt::format("--separation {}", *separation));
+        if (convergence) add(fmt::format("--convergence {}", *convergence));
+        if (fov != 45.0) add(fmt::format("--fov {}", fov));
+        if (culprit.empty()) culprit = out.sceneName;
+        return Status(framed.status().code(),
+                      fmt::format("{}: {}", culprit, framed.status().message()));
+    }
+    if (!framed) return framed.status();  // the memory budget: its message names views and size
     out.rig = std::move(framed->rig);
     out.settings = framed->settings;
     return out;

@@ -3,8 +3,12 @@
 // --convergence, --fov), the image (--size, --shading, --cull, --wireframe) and the backend.
 #pragma once
 
+#include <atomic>
+#include <condition_variable>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -49,6 +53,24 @@ struct SceneOptions {
 
 /// Parses "WxH" (both 1..16384). Errors: ErrorCode::Usage.
 Result<std::pair<int, int>> parseSize(const std::string& text, const char* what);
+
+/// "mvr: rendering 2 views ... 3.5 s" on stderr while a long step runs: only when stderr is a
+/// terminal, only once the step has taken about two seconds, erased when it ends (RAII).
+/// `MVR_PROGRESS_AFTER_MS` changes the two seconds (tests).
+class TerminalProgress {
+public:
+    explicit TerminalProgress(std::string what);
+    ~TerminalProgress();
+    TerminalProgress(const TerminalProgress&) = delete;
+    TerminalProgress& operator=(const TerminalProgress&) = delete;
+
+private:
+    std::string mWhat;
+    std::mutex mMutex;
+    std::condition_variable mWake;
+    bool mDone = false;
+    std::thread mThread;
+};
 
 /// Prints "error: <message>" on stderr and returns the exit code of its category.
 int fail(const Status& status);

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include <fmt/core.h>
 
@@ -25,8 +26,38 @@ struct RenderOptions {
     std::vector<std::string> formats;
     bool depth = false;
     bool quiet = false;
+    bool check = false;
     composite::ComposeOptions compose;
 };
+
+/// `--check`: renders the reference — the backend's multipass, or the registry's first
+/// backend's multipass when the method is multipass itself — and prints, per view, the fraction
+/// of pixels with a channel more than 2/255 off it (the conformance suite's and
+/// src/gl/README.md's "wrong pixels") and the largest channel difference.
+Status checkAgainstReference(const std::string& backendName, const std::string& method,
+                             const Prepared& p, const RenderOutput& out) {
+    std::string refName = backendName;
+    if (method == "multipass" || out.method == "multipass") refName = backendNames().front();
+    auto ref = makeBackend(refName);
+    if (!ref) return ref.status();
+    if (Status s = (*ref)->supports("multipass"); !s) return s;
+    std::optional<TerminalProgress> progress;
+    progress.emplace(fmt::format("rendering the reference {}:multipass", refName));
+    auto reference = (*ref)->render(p.scene, p.rig, p.settings, "multipass");
+    progress.reset();
+    if (!reference) return reference.status();
+    constexpr int kThreshold = 2;
+    for (std::size_t v = 0; v < out.color.size() && v < reference->color.size(); ++v) {
+        const ImageDiff d = compareImages(out.color[v], reference->color[v], kThreshold);
+        const double pixels = double(out.color[v].width) * out.color[v].height;
+        fmt::print(
+            "check: view {}: {}:{} vs {}:multipass: {:.2f} % of the pixels differ by more than "
+            "{}/255 ({} of {:.0f}); largest difference {}/255\n",
+            v, backendName, out.method, refName, 100.0 * double(d.differingPixels) / pixels,
+            kThreshold, d.differingPixels, pixels, d.maxDelta);
+    }
+    return {};
+}
 
 /// Eye-space distance w of a window depth d in [0, 1) for a perspective near/far.
 float distanceFromWindowDepth(float d, float near, float far) {
@@ -51,7 +82,12 @@ int runRender(const RenderOptions& o) {
     }
 
     const auto start = std::chrono::steady_clock::now();
+    std::optional<TerminalProgress> progress;
+    progress.emplace(fmt::format("rendering {} view{} of {}x{} on {}:{}", p.rig.viewCount(),
+                                 p.rig.viewCount() == 1 ? "" : "s", p.settings.width,
+                                 p.settings.height, o.backend, method));
     auto rendered = (*backend)->render(p.scene, p.rig, p.settings, method);
+    progress.reset();
     if (!rendered) return fail(rendered.status());
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -63,6 +99,8 @@ int runRender(const RenderOptions& o) {
 
     const std::filesystem::path dir(o.outDir);
     std::vector<std::string> written;
+    progress.emplace(fmt::format("writing and composing {} view{}", p.rig.viewCount(),
+                                 p.rig.viewCount() == 1 ? "" : "s"));
     for (int v = 0; v < p.rig.viewCount(); ++v) {
         const auto path = dir / fmt::format("view-{}.png", v);
         if (Status s = writePng(path, out.color[v]); !s) return fail(s);
@@ -104,6 +142,7 @@ int runRender(const RenderOptions& o) {
         if (!path) return fail(path.status());
         written.push_back(path->string());
     }
+    progress.reset();
     if (!o.quiet) {
         fmt::print(
             "rendered {} ({} triangles) from {} view{} at {}x{}, {} shading, {}:{}{} in {:.1f} ms\n",
@@ -138,6 +177,9 @@ int runRender(const RenderOptions& o) {
         fmt::print("wrote:\n");
         for (const std::string& w : written) fmt::print("  {}\n", w);
     }
+    if (o.check) {
+        if (Status s = checkAgainstReference(o.backend, method, p, out); !s) return fail(s);
+    }
     return 0;
 }
 
@@ -163,6 +205,10 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
     app->add_option("-o,--output", o->outDir, "Output directory")->default_val(o->outDir);
     app->add_flag("--depth", o->depth, "Also write depth-0.png ... (16-bit, near = black)");
     app->add_flag("-q,--quiet", o->quiet, "Print nothing on success");
+    app->add_flag("--check", o->check,
+                  "Also render the reference (the backend's multipass; for a multipass method, "
+                  "the first backend's multipass) and print per view the fraction of pixels "
+                  "more than 2/255 off it and the largest difference");
     app->add_option("--format", o->formats,
                     "Also write composites: DIR/<format>.png (.mpo, .jps); repeatable")
         ->check(CLI::IsMember(composite::formatNames()));
