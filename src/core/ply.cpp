@@ -330,7 +330,8 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
                         return bad(fmt::format("{} {} of {}: list truncated", e.name, i, e.count));
                     }
                     if (int(k) == iList) {
-                        if (isStrips && idx == -1) {
+                        // -1, or 0xffffffff where the list holds uint indices.
+                        if (isStrips && (idx == -1 || idx == 4294967295.0)) {
                             polygon.push_back(kRestart);
                             continue;
                         }
