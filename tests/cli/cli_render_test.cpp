@@ -217,5 +217,127 @@ TEST_F(Cli, UnwritableOutputIsAnOutputError) {
     expectError("render --size 8x8 -o file/sub", 4, "output directory");
 }
 
+// Every refusal names its culprit: the option and its value, or the file and the line or
+// element and the reason; and exits with its category's code (1 usage, 2 input, 3 unsupported).
+TEST_F(Cli, EveryRefusalNamesItsCulprit) {
+    const std::string nanObj = write("nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n").string();
+    const std::string infObj =
+        write("inf.obj", "# cube\r\nv 0 0 0\r\nv 1 0 0\r\nv 0 1 -inf\r\nf 1 2 3\r\n").string();
+    const std::string zeroObj = write("zero.obj", "v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\n").string();
+    const std::string plyHead =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\n";
+    const std::string nanPly = write("nan.ply", plyHead +
+                                                    "element face 1\nproperty list uchar int "
+                                                    "vertex_indices\nend_header\n0 0 0\nnan 1 0\n"
+                                                    "0 1 0\n3 0 1 2\n")
+                                   .string();
+    const std::string hugePly =
+        write("huge.ply",
+              "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000\n"
+              "property float x\nproperty float y\nproperty float z\nend_header\n")
+            .string();
+    const std::string badStrip = write("strip.ply", plyHead +
+                                                        "element tristrips 1\nproperty list int "
+                                                        "int vertex_indices\nend_header\n0 0 0\n"
+                                                        "1 0 0\n0 1 0\n4 0 1 2 -5\n")
+                                     .string();
+    const struct {
+        std::string args;
+        int code;
+        std::string message;
+    } kCases[] = {
+        {"--interaxial 1e30", 1, "--interaxial 1e+30: view 0 has a non-finite matrix or shear"},
+        {"--separation 1e30", 1, "--separation 1e+30: view 0 has a non-finite matrix"},
+        {"--interaxial -1", 1, "--interaxial -1 is out of range"},
+        {"--convergence 0", 1, "--convergence 0 is out of range"},
+        {"--fov 200", 1, "--fov 200 is out of range"},
+        {"--size 0x5", 1, "--size '0x5' is out of range"},
+        {"--size 20", 1, "--size '20' is not of the form WxH"},
+        {"--views 65", 1, "--views 65: view count 65 is out of range (expected 1..64)"},
+        {"--view-grid 9x9", 1, "--view-grid 9x9: view count 81 is out of range"},
+        {"--view-grid 3y3", 1, "--view-grid '3y3' is not of the form CxR"},
+        {"--grid 3", 1, "--grid 3 needs a model file"},
+        {"--shading toon", 1, "--shading toon: unknown shading 'toon'"},
+        {"--rig fisheye", 1, "--rig fisheye: unknown rig 'fisheye'"},
+        {"--backend vulkan", 1, "--backend vulkan: unknown backend 'vulkan'"},
+        {"--method nope", 1, "--method nope: soft backend: unknown method 'nope'"},
+        {"'" + nanObj + "'", 2, "nan.obj: line 2: vertex 2 has a NaN coordinate"},
+        {"'" + infObj + "'", 2, "inf.obj: line 4: vertex 3 has an infinite coordinate"},
+        {"'" + zeroObj + "'", 2, "zero.obj: is degenerate"},
+        {"'" + nanPly + "'", 2, "nan.ply: vertex 1 of 3 has a NaN coordinate"},
+        {"'" + hugePly + "'", 2,
+         "huge.ply: malformed PLY: element 'vertex' claims 1000000000 entries but the file is too "
+         "short"},
+        {"'" + badStrip + "'", 2,
+         "strip.ply: malformed PLY: tristrips 0: negative or huge vertex index -5"},
+        {"--size 16384x16384 --views 5", 3,
+         "5 views of 16384x16384 need 10.0 GiB of color and depth images (limit 8 GiB)"},
+    };
+    for (const auto& c : kCases) expectError("render -o out " + c.args, c.code, c.message);
+}
+
+// The memory budget is checked up front, before any backend allocates, with one message for
+// every backend (mvr::validateRequest).
+TEST_F(Cli, EveryBackendRefusesAnOutputOverTheBudgetAlike) {
+    std::string first;
+    for (const char* backend : {"soft", "gl"}) {
+        const CliRun r =
+            run(fmt::format("render -o out --backend {} --size 16384x16384 --views 5", backend));
+        EXPECT_EQ(r.exitCode, 3) << backend << ": " << r.err;
+        EXPECT_NE(r.err.find("need 10.0 GiB of color and depth images"), std::string::npos)
+            << r.err;
+        if (first.empty()) first = r.err;
+        EXPECT_EQ(r.err, first) << backend;
+    }
+    EXPECT_FALSE(std::filesystem::exists(mDir / "out" / "view-0.png"));
+}
+
+// --check renders the reference too and prints, per view, the fraction of pixels that differ.
+TEST_F(Cli, CheckPrintsTheArtifactFractionPerView) {
+    const CliRun soft = run("render --size 160x120 -o out --check");
+    ASSERT_EQ(soft.exitCode, 0) << soft.err;
+    for (const char* line :
+         {"check: view 0: soft:unified vs soft:multipass: 0.00 % of the pixels differ by more "
+          "than 2/255 (0 of 19200); largest difference 0/255",
+          "check: view 1: soft:unified vs soft:multipass: 0.00 %"}) {
+        EXPECT_NE(soft.out.find(line), std::string::npos) << soft.out;
+    }
+    const CliRun info = run("info");
+    if (info.out.find("backend gl") == std::string::npos) GTEST_SKIP() << "no gl backend";
+    const CliRun mrt = run("render --size 160x120 -o out --backend gl --method gs-mrt --check");
+    if (mrt.exitCode == 3) GTEST_SKIP() << mrt.err;  // no EGL driver here
+    ASSERT_EQ(mrt.exitCode, 0) << mrt.err;
+    EXPECT_NE(mrt.out.find("check: view 0: gl:gs-mrt vs gl:multipass: "), std::string::npos)
+        << mrt.out;
+    EXPECT_EQ(mrt.out.find("check: view 0: gl:gs-mrt vs gl:multipass: 0.00 %"), std::string::npos)
+        << "gs-mrt has artifacts on the default scene (src/gl/README.md)\n"
+        << mrt.out;
+    const CliRun multi =
+        run("render --size 160x120 -o out --backend gl --method multipass --check");
+    ASSERT_EQ(multi.exitCode, 0) << multi.err;
+    EXPECT_NE(multi.out.find("check: view 1: gl:multipass vs soft:multipass: "), std::string::npos)
+        << multi.out;
+}
+
+// A long render shows progress on a terminal only (MVR_PROGRESS_AFTER_MS=0: at once).
+TEST_F(Cli, ProgressGoesToATerminalOnly) {
+    const CliRun piped = run("render --size 160x120 -o out");
+    EXPECT_EQ(piped.err, "");
+    const std::string cmd = fmt::format(
+        "cd '{}' && MVR_PROGRESS_AFTER_MS=0 script -qec \"'{}' render --size 160x120 -o out\" "
+        "/dev/null >tty.txt 2>&1 </dev/null",
+        mDir.string(), mvrBinary().string());
+    if (std::system("script --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "no script(1)";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    std::ifstream in(mDir / "tty.txt");
+    std::stringstream tty;
+    tty << in.rdbuf();
+    EXPECT_NE(tty.str().find("mvr: rendering 2 views of 160x120 on soft:unified ... "),
+              std::string::npos)
+        << tty.str();
+    EXPECT_NE(tty.str().find("\r\033[K"), std::string::npos) << "the line is erased afterwards";
+}
+
 }  // namespace
 }  // namespace mvr

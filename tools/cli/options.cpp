@@ -112,12 +112,12 @@ Result<Prepared> SceneOptions::prepare() const {
     out.settings.width = sz->first;
     out.settings.height = sz->second;
     auto sh = parseShading(shading);
-    if (!sh) return sh.status();
+    if (!sh) return usageError(fmt::format("--shading {}: {}", shading, sh.status().message()));
     out.settings.shading = *sh;
     out.settings.cullBackFaces = cullBackFaces;
     out.settings.wireframe = wireframe;
     auto kind = parseRigKind(rig);
-    if (!kind) return kind.status();
+    if (!kind) return usageError(fmt::format("--rig {}: {}", rig, kind.status().message()));
     FramingParams params;
     params.kind = *kind;
     if (!viewGrid.empty()) {
@@ -134,9 +134,10 @@ Result<Prepared> SceneOptions::prepare() const {
         params.rows = 1;
     }
     if (params.columns < 1 || params.rows < 1 || params.columns * params.rows > kMaxViews) {
-        return usageError(fmt::format("view count {} is out of range (expected 1..{})",
+        return usageError(fmt::format("{} {}: view count {} is out of range (expected 1..{})",
+                                      viewGrid.empty() ? "--views" : "--view-grid",
                                       viewGrid.empty() ? fmt::format("{}", views) : viewGrid,
-                                      kMaxViews));
+                                      params.columns * params.rows, kMaxViews));
     }
     if (grid < 1 || grid > 1024) {
         return usageError(fmt::format("--grid {} is out of range (expected 1..1024 copies)", grid));

@@ -69,9 +69,14 @@ int runRender(const RenderOptions& o) {
     auto prepared = o.scene.prepare();
     if (!prepared) return fail(prepared.status());
     auto backend = makeBackend(o.backend);
-    if (!backend) return fail(backend.status());
+    if (!backend) {
+        return fail(Status(backend.status().code(),
+                           fmt::format("--backend {}: {}", o.backend, backend.status().message())));
+    }
     const std::string method = o.method.empty() ? (*backend)->defaultMethod() : o.method;
-    if (Status s = (*backend)->supports(method); !s) return fail(s);
+    if (Status s = (*backend)->supports(method); !s) {
+        return fail(Status(s.code(), fmt::format("--method {}: {}", method, s.message())));
+    }
     const Prepared& p = *prepared;
 
     std::error_code ec;
