@@ -134,6 +134,44 @@ TEST_F(BenchCli, SorbierJsonEveryDefaultMethod) {
     EXPECT_TRUE(sawUnified);
 }
 
+// Each one-pass method's artifacts for the bench's own camera: per eye, the percentage of
+// pixels more than 2/255 off its backend's multipass (gs-mrt's and gs-depthmap's are not 0).
+TEST_F(BenchCli, SorbierReportsArtifactsPerEye) {
+    const nlohmann::json j = runJson(
+        fmt::format("bench sorbier '{}' --sizes 160x120 --copies 1 --frames 1 --warmup 0 "
+                    "--shadings vertex --methods soft:unified,gl:gs-mrt,gl:gs-depthmap --json",
+                    model("suzanne.obj")));
+    int measured = 0;
+    for (const auto& r : j["results"]) {
+        if (r.contains("error")) continue;
+        if (r["method"] == "multipass") {
+            EXPECT_FALSE(r.contains("artifact_percent")) << r.dump();
+            continue;
+        }
+        ASSERT_TRUE(r.contains("artifact_percent")) << r.dump();
+        ASSERT_EQ(r["artifact_percent"].size(), 2u);
+        ++measured;
+        const double left = r["artifact_percent"][0], right = r["artifact_percent"][1];
+        if (r["method"] == "unified") {
+            EXPECT_EQ(left, 0.0);
+            EXPECT_EQ(right, 0.0);
+            EXPECT_EQ(r["artifact_max_delta"], 0);
+        } else if (r["method"] == "gs-mrt") {
+            EXPECT_GT(left, 0.5) << "gs-mrt draws hidden faces of suzanne";
+        } else if (r["method"] == "gs-depthmap") {
+            EXPECT_LT(left, 0.2) << "gs-depthmap's left eye is exact";
+            EXPECT_GT(right, 0.0) << "its right eye loses disocclusions";
+        }
+    }
+    EXPECT_GE(measured, 1);
+    const CliRun table =
+        run(fmt::format("bench sorbier '{}' --sizes 64x48 --copies 1 --frames 1 --warmup 0 "
+                        "--shadings flat --methods soft:unified",
+                        model("suzanne.obj")));
+    EXPECT_NE(table.out.find("| flat | soft:unified | "), std::string::npos) << table.out;
+    EXPECT_NE(table.out.find(" wrong px 0.00/0.00 % |"), std::string::npos) << table.out;
+}
+
 TEST_F(BenchCli, SorbierTableAddsTheMultipassBaseline) {
     const CliRun r =
         run(fmt::format("bench sorbier '{}' --sizes 64x48 --copies 1,2 --frames 1 --warmup 0 "

@@ -140,8 +140,15 @@ Status plotRenderRows(const RenderReport& report, const std::string& file) {
 /// "fps [min–max] ×speedup (cpu ×)" for a table cell.
 std::string renderCell(const RenderRow& r) {
     if (!r.error.empty()) return "n/a";
-    return fmt::format("{} [{}–{}] {:.2f}× (cpu {:.2f}×)", fmtFps(r.wall.median),
-                       fmtFps(r.wall.max), fmtFps(r.wall.min), r.speedup, r.cpuSpeedup);
+    std::string cell = fmt::format("{} [{}–{}] {:.2f}× (cpu {:.2f}×)", fmtFps(r.wall.median),
+                                   fmtFps(r.wall.max), fmtFps(r.wall.min), r.speedup, r.cpuSpeedup);
+    if (!r.artifactPercent.empty()) {
+        cell += " wrong px";
+        for (std::size_t v = 0; v < r.artifactPercent.size(); ++v)
+            cell += fmt::format("{}{:.2f}", v ? "/" : " ", r.artifactPercent[v]);
+        cell += " %";
+    }
+    return cell;
 }
 
 void printPivot(const PivotTable& t, const std::vector<RenderRow>& rows) {

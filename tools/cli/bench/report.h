@@ -47,6 +47,11 @@ struct RenderRow {
     std::size_t triangles = 0;
     Stats wall, cpu;
     double speedup = 0, cpuSpeedup = 0;  ///< multipass of the same backend / this
+    /// Artifacts for the bench's own camera (sorbier): per view, the percentage of pixels with
+    /// a channel more than 2/255 off the same backend's multipass, and the largest difference;
+    /// empty where not measured (the baseline itself, a failed job).
+    std::vector<double> artifactPercent;
+    int artifactMaxDelta = 0;
     std::string spec() const { return backend + ":" + method; }
 };
 /// The row of one measured job: what every render bench records; the bench adds its columns.

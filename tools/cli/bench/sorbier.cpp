@@ -1,5 +1,6 @@
 // `mvr bench sorbier`: sorbier2008 Tables 1 and 2 — flat, vertex and pixel shading of 1, 3, 5
 // and 9 bunnies in a grid, 2 views, each backend's multipass against its one-pass methods.
+#include <algorithm>
 #include <filesystem>
 
 #include <fmt/core.h>
@@ -25,6 +26,32 @@ struct SorbierOptions {
         "gl:gs-depthmap",    "gl:gs-layered",       "gl:gs-invocations", "gl:instanced-layer",
         "gl:viewport-array", "gl:kalaiah-emulation"};
 };
+
+/// The artifacts of each one-pass job for the bench's own camera: one more (untimed) frame of
+/// the job and of its backend's multipass, compared per view (channels > 2/255 apart), as
+/// `mvr render --check` and src/gl/README.md count them.
+void fillArtifacts(const std::vector<Job>& jobs, const std::vector<Measured>& measured,
+                   const Prepared& p, std::vector<RenderRow>& rows, std::size_t first) {
+    for (std::size_t j = 0; j < jobs.size(); ++j) {
+        if (measured[j].failed() || jobs[j].spec.method == "multipass") continue;
+        Backend* reference = nullptr;
+        for (const Job& k : jobs) {
+            if (k.spec.backend == jobs[j].spec.backend && k.spec.method == "multipass")
+                reference = k.backend;
+        }
+        if (!reference) continue;
+        auto ref = reference->render(p.scene, p.rig, p.settings, "multipass");
+        auto out = jobs[j].backend->render(p.scene, p.rig, p.settings, jobs[j].spec.method);
+        if (!ref || !out) continue;
+        RenderRow& row = rows[first + j];
+        for (std::size_t v = 0; v < out->color.size() && v < ref->color.size(); ++v) {
+            const ImageDiff d = compareImages(out->color[v], ref->color[v], 2);
+            const double pixels = double(out->color[v].width) * out->color[v].height;
+            row.artifactPercent.push_back(100.0 * double(d.differingPixels) / pixels);
+            row.artifactMaxDelta = std::max(row.artifactMaxDelta, d.maxDelta);
+        }
+    }
+}
 
 int runSorbier(const SorbierOptions& o) {
     if (Status s = checkCommonOptions(o.common); !s) return fail(s);
@@ -94,6 +121,7 @@ int runSorbier(const SorbierOptions& o) {
                     report.rows.push_back(r);
                 }
                 fillSpeedups(report.rows, first);
+                fillArtifacts(jobs, m, p, report.rows, first);
             }
         }
     }
@@ -105,7 +133,8 @@ int runSorbier(const SorbierOptions& o) {
             .caption = fmt::format(
                 "sorbier2008 Tables 1 and 2 — {} × 1..{} copies, {}x{}, 2 views (off-axis), {} frames after {} "
                 "warm-up; cell: fps = 1000 / median wall ms [slowest–fastest frame] and speed-up over "
-                "multipass of the same backend (wall, and process CPU time)",
+                "multipass of the same backend (wall, and process CPU time); wrong px: per eye, the pixels more "
+                "than 2/255 off that multipass for this camera",
                 modelName, o.copies.back(), w, h, o.common.frames, o.common.warmup),
             .rowHeads = {"shading", "method"},
             .filter = [w = w, h = h](const RenderRow& r) { return r.width == w && r.height == h; },
