@@ -151,6 +151,17 @@ Result<Image> readPng(const std::filesystem::path& path) {
         return inputError(fmt::format("mvr::readPng(): {}: unsupported size {}x{}", path.string(),
                                       image.width, image.height));
     }
+    // A header that claims more than the file can hold is refused before allocating: deflate
+    // expands at most ~1032:1 and a PNG row holds at least a filter byte and 1 bit per pixel.
+    const double fileBytes = double(std::filesystem::file_size(path, ec));
+    const double rawBytes = double(image.height) * (1.0 + std::ceil(double(image.width) / 8.0));
+    if (!ec && rawBytes > fileBytes * 1032.0 + 65536.0) {
+        png_image_free(&image);
+        return inputError(fmt::format(
+            "mvr::readPng(): {}: header claims {}x{} pixels but the file's {:.0f} bytes cannot "
+            "hold them (truncated or corrupt?)",
+            path.string(), image.width, image.height, fileBytes));
+    }
     image.format = PNG_FORMAT_RGBA;
     Image out(static_cast<int>(image.width), static_cast<int>(image.height));
     if (!png_image_finish_read(&image, nullptr, out.rgba.data(), 0, nullptr)) {

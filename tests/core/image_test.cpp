@@ -95,6 +95,38 @@ TEST(Image, BadPngFilesGiveClearErrors) {
     std::filesystem::remove(good);
 }
 
+std::uint32_t crc32(const std::string& bytes) {
+    std::uint32_t c = 0xffffffffu;
+    for (unsigned char b : bytes) {
+        c ^= b;
+        for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+    }
+    return ~c;
+}
+
+// A PNG whose header claims far more pixels than its bytes can hold is refused before the
+// image is allocated (60000 x 60000 RGBA would be 13 GiB).
+TEST(Image, PngHeaderClaimingTooMuchIsRefused) {
+    const auto good = tempPath("small.png"), big = tempPath("claims.png");
+    ASSERT_TRUE(writePng(good, gradient(4, 4)));
+    std::ifstream in(good, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    ASSERT_EQ(bytes.substr(12, 4), "IHDR");
+    const unsigned char size[8] = {0, 0, 0xea, 0x60, 0, 0, 0xea, 0x60};  // 60000 x 60000
+    bytes.replace(16, 8, reinterpret_cast<const char*>(size), 8);
+    const std::uint32_t crc = crc32(bytes.substr(12, 17));
+    for (int k = 0; k < 4; ++k) bytes[29 + k] = static_cast<char>(crc >> (24 - 8 * k));
+    std::ofstream(big, std::ios::binary) << bytes;
+    auto r = readPng(big);
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.status().code(), ErrorCode::Input);
+    EXPECT_NE(r.status().message().find("header claims 60000x60000 pixels but the file's"),
+              std::string::npos)
+        << r.status().message();
+    std::filesystem::remove(good);
+    std::filesystem::remove(big);
+}
+
 TEST(Image, WritePngToABadPathFails) {
     auto s = writePng("/nonexistent-dir/x.png", Image(2, 2));
     EXPECT_EQ(s.code(), ErrorCode::Output);
