@@ -276,6 +276,16 @@ Result<Image> decodeJpeg(std::span<const std::uint8_t> data, const std::string& 
     if (pixels <= 0 || pixels > kMaxPixels)
         return inputError(fmt::format("{}: JPEG of {}x{} pixels (expected 1..{} pixels)", what,
                                       st->cinfo.image_width, st->cinfo.image_height, kMaxPixels));
+    // A header that claims more pixels than the data can code is refused before allocating:
+    // with Huffman coding every 8x8 block of a scan takes at least one bit, so a file holds at
+    // most ~512 pixels per byte (1024 allowed). Arithmetic coding has no such floor.
+    if (!st->cinfo.arith_code &&
+        static_cast<double>(pixels) > static_cast<double>(data.size()) * 1024.0 + 1048576.0) {
+        return inputError(fmt::format(
+            "{}: JPEG header claims {}x{} pixels but the file's {} bytes cannot hold them "
+            "(truncated or corrupt?)",
+            what, st->cinfo.image_width, st->cinfo.image_height, data.size()));
+    }
     st->cinfo.out_color_space = JCS_EXT_RGBA;
     jpeg_start_decompress(&st->cinfo);
     st->image =

@@ -58,6 +58,25 @@ TEST(Jpeg, RejectsGarbageAndEveryTruncatedPrefix) {
     EXPECT_EQ(r.status().message(), "hello.txt: not a JPEG file (no SOI marker FF D8 FF)");
 }
 
+// A header that claims far more pixels than the file can code is refused before the image is
+// allocated (16000 x 16000 RGBA would be 1 GiB from a file of a few hundred bytes).
+TEST(Jpeg, HeaderClaimingTooMuchIsRefused) {
+    Result<std::vector<std::uint8_t>> bytes = encodeJpeg(smoothView(16, 16, 1), 90);
+    ASSERT_TRUE(bytes);
+    std::vector<std::uint8_t> d = *bytes;
+    std::size_t sof = 0;
+    for (std::size_t i = 2; i + 9 < d.size() && !sof; ++i)
+        if (d[i] == 0xff && (d[i + 1] == 0xc0 || d[i + 1] == 0xc2)) sof = i;
+    ASSERT_NE(sof, 0u);
+    for (std::size_t at : {sof + 5, sof + 7}) d[at] = 16000 >> 8, d[at + 1] = 16000 & 0xff;
+    Result<Image> r = decodeJpeg(d, "claims.jpg");
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.status().code(), ErrorCode::Input);
+    EXPECT_NE(r.status().message().find("claims.jpg: JPEG header claims 16000x16000 pixels"),
+              std::string::npos)
+        << r.status().message();
+}
+
 TEST(Jpeg, EncodeRejectsBadArguments) {
     EXPECT_EQ(encodeJpeg(Image(), 90).status().code(), ErrorCode::Usage);
     EXPECT_EQ(encodeJpeg(smoothView(4, 4, 0), 0).status().code(), ErrorCode::Usage);
