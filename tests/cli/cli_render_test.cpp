@@ -339,5 +339,46 @@ TEST_F(Cli, ProgressGoesToATerminalOnly) {
     EXPECT_NE(tty.str().find("\r\033[K"), std::string::npos) << "the line is erased afterwards";
 }
 
+// Real-world layouts render like their plain equivalents (tests/core/mesh_variants_test.cpp
+// compares the loaded triangles of every layout; here the soft renders of a few).
+TEST_F(Cli, VariantsRenderLikeTheirPlainFiles) {
+    const std::string head =
+        "ply\nformat ascii 1.0\nelement vertex 9\nproperty float x\nproperty float y\n"
+        "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n";
+    const std::string vertices =
+        "0 1 0 255 0 0\n0 0 0 255 0 0\n1 1 0 9 9 9\n1 0 0 1 2 3\n2 1 0 0 0 0\n2 0 0 7 7 7\n"
+        "0 0 1 1 1 1\n1 0 1 2 2 2\n0 1 1 3 3 3\n";
+    const std::vector<std::pair<std::string, std::string>> pairs = {
+        {head + "element face 5\nproperty list uchar int vertex_indices\nend_header\n" + vertices +
+             "3 1 0 3\n3 3 0 2\n3 3 2 5\n3 5 2 4\n3 6 7 8\n",
+         head + "element tristrips 1\nproperty list int int vertex_indices\nend_header\n" +
+             vertices + "11 1 0 3 2 5 4 -1 6 7 8 8\n"},
+        {"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\n"
+         "f 1 2 3\nf 1 3 4\nf 1 2 6\nf 1 6 5\n",
+         "v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0\r\nvt 0 0\r\nf -4/1 -3/1 \\\r\n -2/1 -1/1\r\n"
+         "v 0 0 1\r\nv 1 0 1\r\nf 1 2 -1 -2\r\n"},
+    };
+    int n = 0;
+    for (const auto& [plain, variant] : pairs) {
+        const std::string ext = plain.rfind("ply", 0) == 0 ? ".ply" : ".obj";
+        std::vector<Image> images;
+        for (const std::string* text : {&plain, &variant}) {
+            const std::string name = fmt::format("m{}{}", n++, ext);
+            const CliRun r = run(fmt::format("render -q --size 96x72 --views 1 -o {} {}",
+                                             name + ".out", write(name, *text).string()));
+            ASSERT_EQ(r.exitCode, 0) << name << ": " << r.err;
+            auto img = readPng(mDir / (name + ".out") / "view-0.png");
+            ASSERT_TRUE(img) << img.status().message();
+            images.push_back(*img);
+        }
+        const ImageDiff d = compareImages(images[0], images[1], 1);
+        EXPECT_EQ(d.differingPixels, 0) << ext << ": max delta " << d.maxDelta;
+        long drawn = 0;
+        for (std::size_t i = 0; i < images[0].rgba.size(); i += 4)
+            drawn += images[0].rgba[i] != images[0].rgba[0] ? 1 : 0;
+        EXPECT_GT(drawn, 100) << ext << ": the model is on screen";
+    }
+}
+
 }  // namespace
 }  // namespace mvr

@@ -2,6 +2,7 @@
 // any output format of the composite module.
 #include <cctype>
 #include <filesystem>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -80,6 +81,8 @@ int runCompose(ComposeCommandOptions o) {
 
     const std::filesystem::path out(o.output);
     std::filesystem::path written;
+    std::optional<TerminalProgress> progress;  // on a terminal, after ~2 s (options.h)
+    progress.emplace(fmt::format("composing {} view{} as {}", n, n == 1 ? "" : "s", info->name));
     if (isFileName(out)) {
         if (out.has_parent_path()) {
             std::error_code ec;
@@ -102,6 +105,7 @@ int runCompose(ComposeCommandOptions o) {
         if (!path) return fail(path.status());
         written = *path;
     }
+    progress.reset();
     if (!o.quiet)
         fmt::print("composed {} view{} of {}x{} as {}\nwrote:\n  {}\n", n, n == 1 ? "" : "s",
                    views[0].width, views[0].height, info->name, written.string());
