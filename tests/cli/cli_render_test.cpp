@@ -380,5 +380,49 @@ TEST_F(Cli, VariantsRenderLikeTheirPlainFiles) {
     }
 }
 
+// The gs-mrt / gs-depthmap figures README.md and src/gl/README.md quote for the default camera
+// are what `mvr render --backend gl --method M --check` prints (measured on llvmpipe; another
+// driver rasterizes differently, so only llvmpipe is held to them, within 0.05 points).
+TEST_F(Cli, DocsQuoteTheDefaultCameraArtifacts) {
+    const CliRun info = run("info");
+    if (info.out.find("GL_RENDERER: llvmpipe") == std::string::npos)
+        GTEST_SKIP() << "the figures are llvmpipe's";
+    auto slurp = [](const std::filesystem::path& p) {
+        std::ifstream in(p);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        return ss.str();
+    };
+    const std::string readme = slurp(std::filesystem::path(MVR_TEST_SOURCE_DIR) / "README.md");
+    const std::string glReadme =
+        slurp(std::filesystem::path(MVR_TEST_SOURCE_DIR) / "src" / "gl" / "README.md");
+    for (const char* method : {"gs-mrt", "gs-depthmap"}) {
+        const CliRun r = run(fmt::format("render -o out --backend gl --method {} --check", method));
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        double percent[2] = {-1, -1};
+        for (int v = 0; v < 2; ++v) {
+            const std::string key =
+                fmt::format("check: view {}: gl:{} vs gl:multipass: ", v, method);
+            const std::size_t at = r.out.find(key);
+            ASSERT_NE(at, std::string::npos) << r.out;
+            percent[v] = std::stod(r.out.substr(at + key.size()));
+        }
+        // The docs' figure: "<left> % / <right> %" in the default-camera row / the method table.
+        const std::string row = std::string("| gl:") + method + " |";
+        const std::size_t inTable = readme.find(row);
+        ASSERT_NE(inTable, std::string::npos);
+        const std::string line = readme.substr(inTable, readme.find('\n', inTable) - inTable);
+        const std::size_t fig = line.find("% / ");
+        ASSERT_NE(fig, std::string::npos) << line;
+        const std::size_t start = line.rfind(' ', line.rfind(' ', fig) - 1) + 1;
+        const double left = std::stod(line.substr(start)), right = std::stod(line.substr(fig + 4));
+        EXPECT_NEAR(left, percent[0], 0.05) << method << ": README.md says " << line;
+        EXPECT_NEAR(right, percent[1], 0.05) << method << ": README.md says " << line;
+        const std::string quoted = fmt::format("{:.2f} % / {:.2f} %", left, right);
+        EXPECT_NE(glReadme.find(quoted), std::string::npos)
+            << "src/gl/README.md's default-camera table quotes " << quoted;
+    }
+}
+
 }  // namespace
 }  // namespace mvr
