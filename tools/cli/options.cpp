@@ -14,7 +14,12 @@
 
 namespace mvr::cli {
 
+namespace {
+std::atomic<TerminalProgress*> sActiveProgress{nullptr};
+}  // namespace
+
 int fail(const Status& status) {
+    if (TerminalProgress* p = sActiveProgress.load()) p->stop();  // the error on a line of its own
     fmt::print(stderr, "error: {}\n", status.message());
     const int code = exitCode(status.code());
     return code == 0 ? 1 : code;
@@ -22,6 +27,7 @@ int fail(const Status& status) {
 
 TerminalProgress::TerminalProgress(std::string what) : mWhat(std::move(what)) {
     if (!::isatty(STDERR_FILENO)) return;
+    sActiveProgress = this;
     int afterMs = 2000;
     if (const char* env = std::getenv("MVR_PROGRESS_AFTER_MS")) afterMs = std::atoi(env);
     mThread = std::thread([this, afterMs] {
@@ -39,7 +45,9 @@ TerminalProgress::TerminalProgress(std::string what) : mWhat(std::move(what)) {
     });
 }
 
-TerminalProgress::~TerminalProgress() {
+void TerminalProgress::stop() {
+    TerminalProgress* self = this;
+    sActiveProgress.compare_exchange_strong(self, nullptr);
     if (!mThread.joinable()) return;
     {
         std::lock_guard lock(mMutex);

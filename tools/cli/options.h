@@ -60,7 +60,9 @@ Result<std::pair<int, int>> parseSize(const std::string& text, const char* what)
 class TerminalProgress {
 public:
     explicit TerminalProgress(std::string what);
-    ~TerminalProgress();
+    ~TerminalProgress() { stop(); }
+    /// Erases the line and ends the thread (idempotent); fail() calls it before its error line.
+    void stop();
     TerminalProgress(const TerminalProgress&) = delete;
     TerminalProgress& operator=(const TerminalProgress&) = delete;
 
