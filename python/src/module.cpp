@@ -10,7 +10,9 @@
 // backend (one driver context per thread) are serialised.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <mutex>
 #include <string>
 #include <utility>
@@ -179,13 +181,21 @@ void keywordsToArgs(const CLI::App& app, const char* fn, const py::dict& kwargs,
             if (!PyTuple_Check(v.ptr()) && !PyList_Check(v.ptr()))
                 throwParameter(fmt::format("{}: expected a string or a list of strings", key));
             for (py::handle item : v) {
-                args.push_back(name);
-                args.push_back(word(key, type, item));
+                args.push_back(name + "=" + word(key, type, item));
             }
             continue;
         }
-        args.push_back(name);
-        args.push_back(word(key, type, v));
+        // One word "--name=value", so that a value can never read as another option.
+        const std::string value = word(key, type, v);
+        if (type == "FILE") {
+            std::error_code ec;
+            if (!std::filesystem::exists(value, ec)) {
+                PyErr_SetString(PyExc_FileNotFoundError,
+                                fmt::format("{}: {}: file not found", key, value).c_str());
+                throw py::error_already_set();
+            }
+        }
+        args.push_back(name + "=" + value);
     }
 }
 
@@ -607,7 +617,9 @@ void writePngPy(const py::object& pathObj, const py::object& arrayObj) {
             throwStatus(usageError("array: a depth image must be (height, width) float"));
         auto c = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
         DepthImage d(int(a.shape(1)), int(a.shape(0)));
-        std::memcpy(d.depth.data(), c.data(), d.depth.size() * sizeof(float));
+        const float* src = c.data();
+        for (std::size_t i = 0; i < d.depth.size(); ++i)  // NaN: nothing drawn
+            d.depth[i] = std::isnan(src[i]) ? 1.0f : src[i];
         py::gil_scoped_release release;
         s = writeDepthPng(path, d);
     } else {

@@ -110,3 +110,18 @@ def test_write_png_bad_input(tmp_path):
         mvr.write_png(tmp_path / "x.png", np.zeros((3, 3, 4), np.int64))
     with pytest.raises(mvr.ParameterError):
         mvr.write_png(5, np.zeros((3, 3, 4), np.uint8))
+
+
+def test_values_never_read_as_options(tmp_path):
+    with pytest.raises(ValueError):
+        mvr.render(rig="--cull", size=(16, 12))
+    with pytest.raises(FileNotFoundError, match="lenticular_calibration"):
+        mvr.render(size=(16, 12), lenticular_calibration=tmp_path / "visual.json")
+    with pytest.raises(FileNotFoundError):
+        mvr.compose("lenticular", np.zeros((2, 4, 4, 4), np.uint8),
+                    lenticular_calibration=str(tmp_path / "none.json"))
+
+
+def test_too_much_memory_is_refused_not_allocated():
+    with pytest.raises(RuntimeError):
+        mvr.render(views=64, size=(16384, 16384))
