@@ -36,7 +36,9 @@ def render(models=None, **options):
     cull, wireframe, grid, backend ("soft", "gl", ...), method (default: the backend's fastest
     exact method), format (a format or a list: the composites land in ``.composites``) and the
     composite options (swap_eyes, cross_eyed, quilt, jpeg_quality, base_viewpoint,
-    lenticular_*). depth and quiet are accepted (the depth is always returned).
+    lenticular_*). output=DIR also writes the files ``mvr render -o DIR`` writes (view-N.png,
+    depth-N.png with depth=True, anaglyph.png for a pair, the formats' files; ``.written``
+    lists them); quiet is accepted (nothing is printed). The depth is always returned.
 
     Returns a :class:`RenderResult`: ``.color`` uint8 (N, H, W, 4), ``.depth`` float32
     (N, H, W) (window depth, 1 = nothing drawn), ``.method``, ``.rig`` (dict), ``.comfort``
@@ -53,7 +55,8 @@ def compose(format, views, **options):
     (H, W, 4) / (H, W, 3) uint8 arrays or image files (PNG, JPEG; an MPO or .jps gives its
     views), leftmost first. options: every ``mvr compose`` option (swap_eyes, cross_eyed,
     quilt=(C, R), jpeg_quality, base_viewpoint, baseline, convergence, lenticular_calibration,
-    lenticular_pitch, ... ).
+    lenticular_pitch, ...), and output: a file (.png .jpg .jpeg .jps .mpo) or a folder that also
+    gets the composite, as ``mvr compose -o`` writes it.
 
     Returns a uint8 (H, W, 4) array, or bytes (the file) for ``mpo`` and ``jps``.
     """

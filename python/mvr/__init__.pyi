@@ -66,6 +66,8 @@ class RenderResult:
     def shading(self) -> str: ...
     @property
     def elapsed_ms(self) -> float: ...
+    @property
+    def written(self) -> list[str]: ...
     def __len__(self) -> int: ...
 
 def render(
@@ -87,6 +89,7 @@ def render(
     method: str = ...,
     depth: bool = ...,
     quiet: bool = ...,
+    output: _Path = ...,
     format: str | Sequence[str] = ...,
     swap_eyes: bool = ...,
     cross_eyed: bool = ...,
@@ -109,6 +112,8 @@ def compose(
     format: str,
     views: _Views,
     *,
+    output: _Path = ...,
+    quiet: bool = ...,
     swap_eyes: bool = ...,
     cross_eyed: bool = ...,
     quilt: _Pair = ...,

@@ -9,6 +9,7 @@
 // scene loads, renders and composes; every call makes its own backend, and renders on a GPU
 // backend (one driver context per thread) are serialised.
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -242,7 +243,7 @@ std::mutex& gpuMutex() {
 
 struct RenderResult {
     py::object color, depth, method, note, backend, rig, comfort, composites, scene, triangles;
-    py::object size, shading, elapsedMs;
+    py::object size, shading, elapsedMs, written;
 };
 
 /// Composes `views` as `format`: an array for image formats, bytes for jps / mpo.
@@ -271,6 +272,54 @@ py::object composeOne(const std::string& format, std::vector<Image>& views,
     return py::bytes(reinterpret_cast<const char*>(b.data()), b.size());
 }
 
+/// The files `mvr render -o DIR` writes, in its order and under its names.
+Status writeRenderFiles(const std::filesystem::path& dir, const RenderOutput& out, bool depth,
+                        const std::vector<std::string>& formats,
+                        const composite::ComposeOptions& compose, const Backend& backend,
+                        std::vector<std::string>& written) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir)) {
+        return outputError(fmt::format("cannot create output directory '{}': {}", dir.string(),
+                                       ec ? ec.message() : "not a directory"));
+    }
+    for (std::size_t v = 0; v < out.color.size(); ++v) {
+        const auto path = dir / fmt::format("view-{}.png", v);
+        if (Status s = writePng(path, out.color[v]); !s) return s;
+        written.push_back(path.string());
+        if (depth && v < out.depth.size()) {
+            const auto dpath = dir / fmt::format("depth-{}.png", v);
+            if (Status s = writeDepthPng(dpath, out.depth[v]); !s) return s;
+            written.push_back(dpath.string());
+        }
+    }
+    if (out.color.size() == 2) {
+        auto anaglyph = composeFor(backend, composite::kDefaultAnaglyph, out.color, compose);
+        if (!anaglyph) return anaglyph.status();
+        const auto path = dir / "anaglyph.png";
+        if (Status s = writePng(path, *anaglyph); !s) return s;
+        written.push_back(path.string());
+    }
+    for (const std::string& format : formats) {
+        auto info = composite::findFormat(format);
+        if (!info) return info.status();
+        if (info->extension == ".png") {
+            auto name = composite::compositeFileName(format, out.color, compose);
+            if (!name) return name.status();
+            auto image = composeFor(backend, format, out.color, compose);
+            if (!image) return image.status();
+            const auto path = dir / *name;
+            if (Status s = writePng(path, *image); !s) return s;
+            written.push_back(path.string());
+            continue;
+        }
+        auto path = composite::writeComposite(format, out.color, compose, dir);
+        if (!path) return path.status();
+        written.push_back(path->string());
+    }
+    return {};
+}
+
 RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     CLI::App app("mvr.render");
     cli::SceneOptions scene;
@@ -278,6 +327,7 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     std::string method;
     bool depth = false, quiet = false;
     std::vector<std::string> formats;
+    std::string outDir;
     composite::ComposeOptions compose;
     scene.addTo(&app, true);
     app.add_option("--backend", backendName);
@@ -285,6 +335,7 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     app.add_flag("--depth", depth);
     app.add_flag("-q,--quiet", quiet);
     app.add_option("--format", formats)->check(CLI::IsMember(composite::formatNames()));
+    app.add_option("-o,--output", outDir);
     cli::addComposeOptions(&app, compose);
     std::vector<std::string> args;
     keywordsToArgs(app, "render", kwargs, args);
@@ -380,6 +431,18 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     for (const std::string& f : formats)
         composites[py::str(f)] = composeOne(f, out.color, compose, backend.get(), gpu);
     r.composites = composites;
+    std::vector<std::string> written;
+    if (!outDir.empty()) {
+        Status s;
+        {
+            py::gil_scoped_release release;
+            std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
+            if (gpu) lock.lock();
+            s = writeRenderFiles(outDir, out, depth, formats, compose, *backend, written);
+        }
+        if (!s) throwStatus(s);
+    }
+    r.written = py::cast(written);
     {
         py::gil_scoped_release release;
         std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
@@ -474,6 +537,10 @@ py::object composeViews(const py::object& formatObj, const py::object& views,
     const std::string format = py::str(formatObj);
     CLI::App app("mvr.compose");
     composite::ComposeOptions compose;
+    std::string output;
+    bool quiet = false;
+    app.add_option("-o,--output", output);
+    app.add_flag("-q,--quiet", quiet);
     cli::addComposeOptions(&app, compose, /*withStereoMetadata=*/true);
     std::vector<std::string> args;
     keywordsToArgs(app, "compose", kwargs, args);
@@ -496,6 +563,36 @@ py::object composeViews(const py::object& formatObj, const py::object& views,
                                          : fmt::format("{} to {}", info.minViews, info.maxViews);
         throwStatus(usageError(fmt::format("format {}: {} view{} given (expected {} views)",
                                            info.name, n, n == 1 ? "" : "s", expected)));
+    }
+    if (!output
+             .empty()) {  // as `mvr compose -o`: a file name (.png .jpg .jpeg .jps .mpo) or a folder
+        Status s;
+        {
+            py::gil_scoped_release release;
+            const std::filesystem::path out(output);
+            std::string ext = out.extension().string();
+            for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+            std::error_code ec;
+            if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".jps" ||
+                ext == ".mpo") {
+                if (out.has_parent_path())
+                    std::filesystem::create_directories(out.parent_path(), ec);
+                s = ec ? outputError(fmt::format("cannot create directory '{}': {}",
+                                                 out.parent_path().string(), ec.message()))
+                       : composite::writeCompositeFile(format, imgs, compose, out);
+            } else {
+                std::filesystem::create_directories(out, ec);
+                if (ec || !std::filesystem::is_directory(out)) {
+                    s = outputError(fmt::format("cannot create output directory '{}': {}",
+                                                out.string(),
+                                                ec ? ec.message() : "not a directory"));
+                } else if (auto path = composite::writeComposite(format, imgs, compose, out);
+                           !path) {
+                    s = path.status();
+                }
+            }
+        }
+        if (!s) throwStatus(s);
     }
     return composeOne(format, imgs, compose, nullptr, false);
 }
@@ -667,6 +764,8 @@ PYBIND11_MODULE(_core, m) {
         .def_readonly("size", &RenderResult::size, "(width, height) of one view")
         .def_readonly("shading", &RenderResult::shading)
         .def_readonly("elapsed_ms", &RenderResult::elapsedMs)
+        .def_readonly("written", &RenderResult::written,
+                      "the files written for output=DIR, as `mvr render -o DIR` writes them")
         .def("__len__", [](const RenderResult& r) { return py::len(r.color); })
         .def("__repr__", [](const RenderResult& r) {
             return fmt::format("<mvr.RenderResult {} views of {}x{}, {}:{}>", py::len(r.color),

@@ -125,3 +125,12 @@ def test_values_never_read_as_options(tmp_path):
 def test_too_much_memory_is_refused_not_allocated():
     with pytest.raises(RuntimeError):
         mvr.render(views=64, size=(16384, 16384))
+
+
+def test_unwritable_output(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    with pytest.raises(OSError, match="cannot create output directory"):
+        mvr.render(size=(16, 12), output=blocker / "out")
+    with pytest.raises(OSError):
+        mvr.compose("sbs", np.zeros((2, 4, 4, 4), np.uint8), output=blocker / "x.png")

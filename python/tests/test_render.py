@@ -121,3 +121,21 @@ def test_write_png_round_trip(tmp_path):
     np.testing.assert_array_equal(read_png(tmp_path / "b.png"), a)
     mvr.write_png(tmp_path / "c.png", a[:, ::2])  # not contiguous
     np.testing.assert_array_equal(read_png(tmp_path / "c.png"), a[:, ::2])
+
+
+def test_output_writes_the_cli_files(cli, tmp_path):
+    cli("render", "--size", "48x32", "--depth", "--format", "sbs", "--format", "jps", "-q",
+        "-o", tmp_path / "cli")
+    r = mvr.render(size=(48, 32), depth=True, format=["sbs", "jps"], output=tmp_path / "py")
+    names = sorted(p.name for p in (tmp_path / "cli").iterdir())
+    assert sorted(p.name for p in (tmp_path / "py").iterdir()) == names
+    assert sorted(__import__("os").path.basename(w) for w in r.written) == names
+    for name in names:
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    files = [tmp_path / "cli" / "view-0.png", tmp_path / "cli" / "view-1.png"]
+    cli("compose", *files, "-f", "tb", "-q", "-o", tmp_path / "cli-compose")
+    mvr.compose("tb", files, output=tmp_path / "py-compose", quiet=True)
+    assert (tmp_path / "py-compose" / "tb.png").read_bytes() == (tmp_path / "cli-compose" / "tb.png").read_bytes()
+    mvr.compose("mpo", files, output=tmp_path / "sub" / "pair.mpo")
+    cli("compose", *files, "-q", "-o", tmp_path / "pair.mpo")
+    assert (tmp_path / "sub" / "pair.mpo").read_bytes() == (tmp_path / "pair.mpo").read_bytes()
