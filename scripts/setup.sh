@@ -15,6 +15,9 @@ packages=(
     # tests and benchmarks
     googletest libgtest-dev libbenchmark-dev
     xvfb xauth libimage-exiftool-perl gnuplot-nox
+    # the Python module (import mvr) and its tests
+    python3-dev python3-venv python3-pip python3-setuptools python3-wheel
+    pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
 )
 
 missing=()

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -55,6 +56,38 @@ void TerminalProgress::stop() {
     }
     mWake.notify_all();
     mThread.join();
+}
+
+namespace {
+/// Eye-space distance w of a window depth d in [0, 1) for a perspective near/far.
+float distanceFromWindowDepth(float d, float near, float far) {
+    const float z = 2.0f * d - 1.0f;
+    return 2.0f * near * far / ((far + near) - z * (far - near));
+}
+}  // namespace
+
+std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& out) {
+    if (out.depth.empty() || rig.columns <= 1) return std::nullopt;
+    float dMin = 1.0f, dMax = 0.0f;
+    for (float d : out.depth[0].depth) {
+        if (d < 1.0f) {
+            dMin = std::min(dMin, d);
+            dMax = std::max(dMax, d);
+        }
+    }
+    if (dMin > dMax) return std::nullopt;
+    ComfortReport report;
+    report.range =
+        parallaxRange(rig, distanceFromWindowDepth(dMin, rig.camera.near, rig.camera.far),
+                      distanceFromWindowDepth(dMax, rig.camera.near, rig.camera.far));
+    const ParallaxRange& r = report.range;
+    report.line = fmt::format(
+        "parallax between outer views: {:+.2f}% .. {:+.2f}% of screen width ({})",
+        100.0 * r.minParallax, 100.0 * r.maxParallax,
+        r.comfortable
+            ? "comfortable: all within [convergence/2, 100 x convergence]"
+            : "uncomfortable: scene reaches closer than convergence/2 or beyond 100 x convergence");
+    return report;
 }
 
 Result<std::pair<int, int>> parseSize(const std::string& text, const char* what) {

@@ -51,6 +51,15 @@ struct SceneOptions {
     Result<Prepared> prepare() const;
 };
 
+/// The comfort report `mvr render` prints: the parallax between the outer views over the depth
+/// range view 0 saw, and that line's text. None for one column of views, without depth, or when
+/// nothing was drawn. Shared with the Python module (its `comfort` dict).
+struct ComfortReport {
+    ParallaxRange range;
+    std::string line;  ///< "parallax between outer views: ... (comfortable: ...)", no newline
+};
+std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& out);
+
 /// Parses "WxH" (both 1..16384). Errors: ErrorCode::Usage.
 Result<std::pair<int, int>> parseSize(const std::string& text, const char* what);
 

@@ -59,12 +59,6 @@ Status checkAgainstReference(const std::string& backendName, const std::string& 
     return {};
 }
 
-/// Eye-space distance w of a window depth d in [0, 1) for a perspective near/far.
-float distanceFromWindowDepth(float d, float near, float far) {
-    const float z = 2.0f * d - 1.0f;
-    return 2.0f * near * far / ((far + near) - z * (far - near));
-}
-
 int runRender(const RenderOptions& o) {
     auto prepared = o.scene.prepare();
     if (!prepared) return fail(prepared.status());
@@ -159,26 +153,7 @@ int runRender(const RenderOptions& o) {
             "rig: {} {}x{}, interaxial {:.4g}, convergence {:.4g}, separation {:.2f}% of screen width\n",
             rigKindName(p.rig.kind), p.rig.columns, p.rig.rows, p.rig.interaxial, p.rig.convergence,
             100.0 * p.rig.separation());
-        if (!out.depth.empty() && p.rig.columns > 1) {
-            float dMin = 1.0f, dMax = 0.0f;
-            for (float d : out.depth[0].depth) {
-                if (d < 1.0f) {
-                    dMin = std::min(dMin, d);
-                    dMax = std::max(dMax, d);
-                }
-            }
-            if (dMin <= dMax) {
-                const ParallaxRange r = parallaxRange(
-                    p.rig, distanceFromWindowDepth(dMin, p.rig.camera.near, p.rig.camera.far),
-                    distanceFromWindowDepth(dMax, p.rig.camera.near, p.rig.camera.far));
-                fmt::print(
-                    "parallax between outer views: {:+.2f}% .. {:+.2f}% of screen width ({})\n",
-                    100.0 * r.minParallax, 100.0 * r.maxParallax,
-                    r.comfortable
-                        ? "comfortable: all within [convergence/2, 100 x convergence]"
-                        : "uncomfortable: scene reaches closer than convergence/2 or beyond 100 x convergence");
-            }
-        }
+        if (auto comfort = comfortReport(p.rig, out)) fmt::print("{}\n", comfort->line);
         fmt::print("wrote:\n");
         for (const std::string& w : written) fmt::print("  {}\n", w);
     }

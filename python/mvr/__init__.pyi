@@ -1,0 +1,138 @@
+# Typed stub of the mvr package (python/mvr/__init__.py over the C++ module mvr._core).
+import os
+from typing import Any, Literal, Sequence, TypedDict, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+_Path = Union[str, os.PathLike[str]]
+_Pair = Union[str, tuple[int, int]]  # "WxH" / "CxR" or (w, h) / (c, r)
+_Views = Union[npt.NDArray[np.uint8], Sequence[Union[npt.NDArray[np.uint8], _Path]]]
+
+class ParameterError(TypeError, ValueError):
+    """A keyword of the wrong type, or an unknown keyword."""
+
+class Rig(TypedDict):
+    kind: Literal["offaxis", "toein", "parallel"]
+    columns: int
+    rows: int
+    views: int
+    interaxial: float
+    interaxial_y: float
+    convergence: float
+    separation: float
+    fov: float
+    aspect: float
+    near: float
+    far: float
+    eyes: list[tuple[float, float, float]]
+
+class Comfort(TypedDict, total=False):
+    min_parallax: float
+    max_parallax: float
+    min_parallax_percent: float
+    max_parallax_percent: float
+    nearest_distance: float
+    farthest_distance: float
+    comfortable: bool
+    text: str
+
+class RenderResult:
+    @property
+    def color(self) -> npt.NDArray[np.uint8]: ...  # (N, H, W, 4)
+    @property
+    def depth(self) -> npt.NDArray[np.float32] | None: ...  # (N, H, W)
+    @property
+    def method(self) -> str: ...
+    @property
+    def note(self) -> str: ...
+    @property
+    def backend(self) -> str: ...
+    @property
+    def rig(self) -> Rig: ...
+    @property
+    def comfort(self) -> Comfort: ...
+    @property
+    def composites(self) -> dict[str, npt.NDArray[np.uint8] | bytes]: ...
+    @property
+    def scene(self) -> str: ...
+    @property
+    def triangles(self) -> int: ...
+    @property
+    def size(self) -> tuple[int, int]: ...
+    @property
+    def shading(self) -> str: ...
+    @property
+    def elapsed_ms(self) -> float: ...
+    @property
+    def written(self) -> list[str]: ...
+    def __len__(self) -> int: ...
+
+def render(
+    models: _Path | Sequence[_Path] | None = None,
+    *,
+    grid: int = ...,
+    views: int = ...,
+    view_grid: _Pair = ...,
+    rig: Literal["offaxis", "toein", "parallel"] = ...,
+    interaxial: float = ...,
+    separation: float = ...,
+    convergence: float = ...,
+    fov: float = ...,
+    size: _Pair = ...,
+    shading: Literal["flat", "vertex", "pixel"] = ...,
+    cull: bool = ...,
+    wireframe: bool = ...,
+    backend: str = ...,
+    method: str = ...,
+    depth: bool = ...,
+    quiet: bool = ...,
+    output: _Path = ...,
+    format: str | Sequence[str] = ...,
+    swap_eyes: bool = ...,
+    cross_eyed: bool = ...,
+    quilt: _Pair = ...,
+    jpeg_quality: int = ...,
+    base_viewpoint: int = ...,
+    lenticular_calibration: _Path = ...,
+    lenticular_pitch: float = ...,
+    lenticular_slope: float = ...,
+    lenticular_center: float = ...,
+    lenticular_dpi: float = ...,
+    lenticular_screen: _Pair = ...,
+    lenticular_bgr: bool = ...,
+    lenticular_invert_views: bool = ...,
+    lenticular_flip_x: bool = ...,
+    lenticular_flip_y: bool = ...,
+    **options: Any,
+) -> RenderResult: ...
+def compose(
+    format: str,
+    views: _Views,
+    *,
+    output: _Path = ...,
+    quiet: bool = ...,
+    swap_eyes: bool = ...,
+    cross_eyed: bool = ...,
+    quilt: _Pair = ...,
+    jpeg_quality: int = ...,
+    base_viewpoint: int = ...,
+    baseline: float = ...,
+    convergence: float = ...,
+    lenticular_calibration: _Path = ...,
+    lenticular_pitch: float = ...,
+    lenticular_slope: float = ...,
+    lenticular_center: float = ...,
+    lenticular_dpi: float = ...,
+    lenticular_screen: _Pair = ...,
+    lenticular_bgr: bool = ...,
+    lenticular_invert_views: bool = ...,
+    lenticular_flip_x: bool = ...,
+    lenticular_flip_y: bool = ...,
+    **options: Any,
+) -> npt.NDArray[np.uint8] | bytes: ...
+def load_mesh(path: _Path) -> dict[str, Any]: ...
+def info() -> dict[str, Any]: ...
+def write_png(path: _Path, array: npt.ArrayLike) -> None: ...

@@ -1,0 +1,781 @@
+// python/src/module.cpp — mvr._core, the pybind11 module behind `import mvr`.
+//
+// The keywords of render() and compose() are the options of `mvr render` / `mvr compose`: they
+// are turned into those options' command-line words and parsed by the CLI's own option tables
+// (SceneOptions::addTo, addComposeOptions), so the scene, the rig and the validation are the
+// CLI's (SceneOptions::prepare → frameScene), and so are the images. Images leave as numpy arrays
+// whose base is a capsule owning the C++ buffer (no copy for one view; N views are gathered into
+// one (N, H, W, 4) block, each view freed as soon as it is in). The GIL is released while a
+// scene loads, renders and composes; every call makes its own backend, and renders on a GPU
+// backend (one driver context per thread) are serialised.
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fmt/core.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "compose_options.h"
+#include "options.h"
+
+#include "mvr/backends.h"
+#include "mvr/composite/compose.h"
+#include "mvr/composite/jpeg.h"
+#include "mvr/core/image.h"
+#include "mvr/core/mesh.h"
+
+namespace py = pybind11;
+
+namespace mvr::python {
+namespace {
+
+// ---- errors --------------------------------------------------------------------------------
+PyObject* gParameterError = nullptr;  // mvr.ParameterError(TypeError, ValueError)
+
+[[noreturn]] void throwParameter(const std::string& message) {
+    PyErr_SetString(gParameterError, message.c_str());
+    throw py::error_already_set();
+}
+
+[[noreturn]] void throwStatus(const Status& s) {
+    PyObject* type = PyExc_RuntimeError;
+    const std::string& m = s.message();
+    switch (s.code()) {
+        case ErrorCode::Usage: type = PyExc_ValueError; break;
+        case ErrorCode::Input:
+            type = m.find("not found") != std::string::npos ||
+                           m.find("No such file") != std::string::npos ||
+                           m.find("does not exist") != std::string::npos
+                       ? PyExc_FileNotFoundError
+                       : PyExc_OSError;
+            break;
+        case ErrorCode::Output: type = PyExc_OSError; break;
+        default: type = PyExc_RuntimeError; break;
+    }
+    PyErr_SetString(type, m.c_str());
+    throw py::error_already_set();
+}
+
+template <class T>
+T check(Result<T>&& r) {
+    if (!r) throwStatus(r.status());
+    return std::move(r).value();
+}
+
+// ---- arrays that own C++ buffers -------------------------------------------------------------
+template <class E>
+py::array adopt(std::vector<E>&& data, std::vector<py::ssize_t> shape) {
+    auto* owner = new std::vector<E>(std::move(data));
+    py::capsule base(owner, [](void* p) { delete static_cast<std::vector<E>*>(p); });
+    return py::array_t<E>(shape, owner->data(), base);
+}
+
+/// Gathers the views' buffers into one block, freeing each as it goes (one view: moved).
+template <class E, class Img, class Member>
+std::vector<E> gather(std::vector<Img>& views, Member member) {
+    if (views.size() == 1) return std::move(views[0].*member);
+    std::size_t total = 0;
+    for (const Img& v : views) total += (v.*member).size();
+    std::vector<E> all;
+    all.reserve(total);
+    for (Img& v : views) {
+        all.insert(all.end(), (v.*member).begin(), (v.*member).end());
+        std::vector<E>().swap(v.*member);
+    }
+    return all;
+}
+
+py::array imageArray(Image&& image) {
+    const py::ssize_t h = image.height, w = image.width;
+    return adopt(std::move(image.rgba), {h, w, 4});
+}
+
+// ---- keywords → the CLI's option words ---------------------------------------------------------
+std::string optionList(const CLI::App& app) {
+    std::string list;
+    for (const CLI::Option* o : app.get_options()) {
+        std::string name = o->get_name();
+        if (name.rfind("--", 0) != 0 || name == "--help") continue;
+        name = name.substr(2);
+        std::replace(name.begin(), name.end(), '-', '_');
+        list += (list.empty() ? "" : ", ") + name;
+    }
+    return list;
+}
+
+/// One value as the text of a command-line word, per the option's type.
+std::string word(const std::string& key, const std::string& type, const py::handle& v) {
+    if (PyBool_Check(v.ptr()))
+        throwParameter(fmt::format("{}: expected {}, got a bool", key, type));
+    if (type == "INT" || type == "UINT") {
+        if (!PyIndex_Check(v.ptr()))
+            throwParameter(
+                fmt::format("{}: expected an integer, got {}", key,
+                            std::string(py::str(py::type::handle_of(v).attr("__name__")))));
+        return py::str(py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr())));
+    }
+    if (type == "FLOAT") {
+        if (PyIndex_Check(v.ptr()))
+            return py::str(py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr())));
+        if (!PyFloat_Check(v.ptr()) && !py::hasattr(v, "__float__"))
+            throwParameter(
+                fmt::format("{}: expected a number, got {}", key,
+                            std::string(py::str(py::type::handle_of(v).attr("__name__")))));
+        const double d = PyFloat_AsDouble(v.ptr());
+        if (d == -1.0 && PyErr_Occurred()) throw py::error_already_set();
+        return fmt::format("{}", d);
+    }
+    if (PyUnicode_Check(v.ptr())) return py::str(v);
+    if (py::hasattr(v, "__fspath__")) {
+        py::object p = py::module_::import("os").attr("fspath")(v);
+        if (PyUnicode_Check(p.ptr())) return py::str(p);
+    }
+    // (W, H) / (C, R) pairs for --size, --view-grid, --quilt, --lenticular-screen.
+    if ((PyTuple_Check(v.ptr()) || PyList_Check(v.ptr())) && py::len(v) == 2) {
+        py::sequence s = py::reinterpret_borrow<py::sequence>(v);
+        if (!PyBool_Check(s[0].ptr()) && !PyBool_Check(s[1].ptr()) && PyIndex_Check(s[0].ptr()) &&
+            PyIndex_Check(s[1].ptr())) {
+            return fmt::format(
+                "{}x{}",
+                std::string(py::str(py::reinterpret_steal<py::object>(PyNumber_Index(s[0].ptr())))),
+                std::string(
+                    py::str(py::reinterpret_steal<py::object>(PyNumber_Index(s[1].ptr())))));
+        }
+    }
+    throwParameter(fmt::format("{}: expected a string{}, got {}", key,
+                               type == "TEXT" ? " (or a (width, height) pair)" : "",
+                               std::string(py::str(py::type::handle_of(v).attr("__name__")))));
+}
+
+/// Appends the words of the keywords to `args`. Unknown keyword, wrong type: ParameterError.
+void keywordsToArgs(const CLI::App& app, const char* fn, const py::dict& kwargs,
+                    std::vector<std::string>& args) {
+    for (auto [k, v] : kwargs) {
+        const std::string key = py::str(k);
+        std::string name = "--" + key;
+        std::replace(name.begin(), name.end(), '_', '-');
+        const CLI::Option* opt = app.get_option_no_throw(name);
+        if (!opt || name == "--help")
+            throwParameter(fmt::format("{}() got an unexpected keyword argument '{}' (options: {})",
+                                       fn, key, optionList(app)));
+        if (v.is_none()) continue;
+        if (opt->get_items_expected_max() == 0) {  // a flag
+            if (!PyBool_Check(v.ptr()))
+                throwParameter(
+                    fmt::format("{}: expected True or False, got {}", key,
+                                std::string(py::str(py::type::handle_of(v).attr("__name__")))));
+            if (v.ptr() == Py_True) args.push_back(name);
+            continue;
+        }
+        std::string type = opt->get_type_name();  // "INT", "FLOAT:POSITIVE", "TEXT", "WxH", …
+        type = type.substr(0, type.find(':'));
+        if (opt->get_items_expected_max() > 1 && !PyUnicode_Check(v.ptr())) {  // repeatable
+            if (!PyTuple_Check(v.ptr()) && !PyList_Check(v.ptr()))
+                throwParameter(fmt::format("{}: expected a string or a list of strings", key));
+            for (py::handle item : v) {
+                args.push_back(name + "=" + word(key, type, item));
+            }
+            continue;
+        }
+        // One word "--name=value", so that a value can never read as another option.
+        const std::string value = word(key, type, v);
+        if (type == "FILE") {
+            std::error_code ec;
+            if (!std::filesystem::exists(value, ec)) {
+                PyErr_SetString(PyExc_FileNotFoundError,
+                                fmt::format("{}: {}: file not found", key, value).c_str());
+                throw py::error_already_set();
+            }
+        }
+        args.push_back(name + "=" + value);
+    }
+}
+
+/// Parses `args` (in order) with the CLI's tables. CLI11's refusals: ValueError.
+void parse(CLI::App& app, std::vector<std::string> args) {
+    std::reverse(args.begin(), args.end());
+    try {
+        app.parse(args);
+    } catch (const CLI::ParseError& e) {
+        throwStatus(usageError(e.what()));
+    }
+}
+
+// ---- models --------------------------------------------------------------------------------
+std::vector<std::string> modelPaths(const py::object& models) {
+    std::vector<std::string> paths;
+    if (models.is_none()) return paths;
+    auto one = [](const py::handle& m) -> std::string {
+        if (PyUnicode_Check(m.ptr())) return py::str(m);
+        if (py::hasattr(m, "__fspath__")) {
+            py::object p = py::module_::import("os").attr("fspath")(m);
+            if (PyUnicode_Check(p.ptr())) return py::str(p);
+        }
+        throwParameter(fmt::format("models: expected file paths (str or os.PathLike), got {}",
+                                   std::string(py::str(py::type::handle_of(m).attr("__name__")))));
+    };
+    if (PyUnicode_Check(models.ptr()) || py::hasattr(models, "__fspath__")) {
+        paths.push_back(one(models));
+    } else if (PyTuple_Check(models.ptr()) || PyList_Check(models.ptr())) {
+        for (py::handle m : models) paths.push_back(one(m));
+    } else {
+        throwParameter("models: expected a list of file paths");
+    }
+    for (const std::string& p : paths)
+        if (p.empty()) throwStatus(usageError("models: an empty file name"));
+    return paths;
+}
+
+// ---- rendering -------------------------------------------------------------------------------
+std::mutex& gpuMutex() {
+    static std::mutex m;
+    return m;
+}
+
+struct RenderResult {
+    py::object color, depth, method, note, backend, rig, comfort, composites, scene, triangles;
+    py::object size, shading, elapsedMs, written;
+};
+
+/// Composes `views` as `format`: an array for image formats, bytes for jps / mpo.
+py::object composeOne(const std::string& format, std::vector<Image>& views,
+                      const composite::ComposeOptions& options, const Backend* backend, bool gpu) {
+    const composite::FormatInfo info = check(composite::findFormat(format));
+    Result<Image> image = usageError("");
+    Result<std::vector<std::uint8_t>> bytes = usageError("");
+    {
+        py::gil_scoped_release release;
+        std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
+        if (gpu && backend) lock.lock();
+        if (info.extension == ".png") {
+            image = backend ? composeFor(*backend, format, views, options)
+                            : composite::compose(format, views, options);
+        } else if (info.name == "mpo") {
+            bytes = composite::encodeMpo(views, options);
+        } else {
+            Result<Image> picture = composite::compose(format, views, options);
+            bytes = picture ? composite::encodeJpsPicture(*picture, options.jpegQuality)
+                            : Result<std::vector<std::uint8_t>>(picture.status());
+        }
+    }
+    if (info.extension == ".png") return imageArray(check(std::move(image)));
+    std::vector<std::uint8_t> b = check(std::move(bytes));
+    return py::bytes(reinterpret_cast<const char*>(b.data()), b.size());
+}
+
+/// The files `mvr render -o DIR` writes, in its order and under its names.
+Status writeRenderFiles(const std::filesystem::path& dir, const RenderOutput& out, bool depth,
+                        const std::vector<std::string>& formats,
+                        const composite::ComposeOptions& compose, const Backend& backend,
+                        std::vector<std::string>& written) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir)) {
+        return outputError(fmt::format("cannot create output directory '{}': {}", dir.string(),
+                                       ec ? ec.message() : "not a directory"));
+    }
+    for (std::size_t v = 0; v < out.color.size(); ++v) {
+        const auto path = dir / fmt::format("view-{}.png", v);
+        if (Status s = writePng(path, out.color[v]); !s) return s;
+        written.push_back(path.string());
+        if (depth && v < out.depth.size()) {
+            const auto dpath = dir / fmt::format("depth-{}.png", v);
+            if (Status s = writeDepthPng(dpath, out.depth[v]); !s) return s;
+            written.push_back(dpath.string());
+        }
+    }
+    if (out.color.size() == 2) {
+        auto anaglyph = composeFor(backend, composite::kDefaultAnaglyph, out.color, compose);
+        if (!anaglyph) return anaglyph.status();
+        const auto path = dir / "anaglyph.png";
+        if (Status s = writePng(path, *anaglyph); !s) return s;
+        written.push_back(path.string());
+    }
+    for (const std::string& format : formats) {
+        auto info = composite::findFormat(format);
+        if (!info) return info.status();
+        if (info->extension == ".png") {
+            auto name = composite::compositeFileName(format, out.color, compose);
+            if (!name) return name.status();
+            auto image = composeFor(backend, format, out.color, compose);
+            if (!image) return image.status();
+            const auto path = dir / *name;
+            if (Status s = writePng(path, *image); !s) return s;
+            written.push_back(path.string());
+            continue;
+        }
+        auto path = composite::writeComposite(format, out.color, compose, dir);
+        if (!path) return path.status();
+        written.push_back(path->string());
+    }
+    return {};
+}
+
+RenderResult render(const py::object& models, const py::kwargs& kwargs) {
+    CLI::App app("mvr.render");
+    cli::SceneOptions scene;
+    std::string backendName = backendNames().empty() ? "" : backendNames().front();
+    std::string method;
+    bool depth = false, quiet = false;
+    std::vector<std::string> formats;
+    std::string outDir;
+    composite::ComposeOptions compose;
+    scene.addTo(&app, true);
+    app.add_option("--backend", backendName);
+    app.add_option("--method", method);
+    app.add_flag("--depth", depth);
+    app.add_flag("-q,--quiet", quiet);
+    app.add_option("--format", formats)->check(CLI::IsMember(composite::formatNames()));
+    app.add_option("-o,--output", outDir);
+    cli::addComposeOptions(&app, compose);
+    std::vector<std::string> args;
+    keywordsToArgs(app, "render", kwargs, args);
+    const std::vector<std::string> paths = modelPaths(models);
+    if (!paths.empty()) {
+        args.push_back("--");
+        args.insert(args.end(), paths.begin(), paths.end());
+    }
+    parse(app, std::move(args));
+
+    Result<cli::Prepared> prepared = usageError("");
+    Result<RenderOutput> rendered = usageError("");
+    std::unique_ptr<Backend> backend;
+    double ms = 0.0;
+    bool gpu = false;
+    {
+        py::gil_scoped_release release;
+        prepared = scene.prepare();
+        if (prepared) {
+            if (auto entry = findBackend(backendName)) gpu = (*entry)->gpu;
+            std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
+            if (gpu) lock.lock();
+            Result<std::unique_ptr<Backend>> made = makeBackend(backendName);
+            if (!made) {
+                rendered = made.status();
+            } else {
+                backend = std::move(made).value();
+                if (method.empty()) method = backend->defaultMethod();
+                if (Status s = backend->supports(method); !s) {
+                    rendered = s;
+                } else {
+                    const auto start = std::chrono::steady_clock::now();
+                    rendered =
+                        backend->render(prepared->scene, prepared->rig, prepared->settings, method);
+                    ms = std::chrono::duration<double, std::milli>(
+                             std::chrono::steady_clock::now() - start)
+                             .count();
+                }
+            }
+        }
+    }
+    const cli::Prepared& p = check(std::move(prepared));
+    RenderOutput out = check(std::move(rendered));
+    if (int(out.color.size()) != p.rig.viewCount())
+        throwStatus(internalError(fmt::format("backend returned {} images for {} views",
+                                              out.color.size(), p.rig.viewCount())));
+
+    RenderResult r;
+    r.method = py::str(out.method);
+    r.note = py::str(out.note);
+    r.backend = py::str(backendName);
+    r.scene = py::str(p.sceneName);
+    r.triangles = py::int_(p.scene.triangleCount());
+    r.size = py::make_tuple(p.settings.width, p.settings.height);
+    r.shading = py::str(std::string(shadingName(p.settings.shading)));
+    r.elapsedMs = py::float_(ms);
+    const Rig& rig = p.rig;
+    py::dict rd;
+    rd["kind"] = std::string(rigKindName(rig.kind));
+    rd["columns"] = rig.columns;
+    rd["rows"] = rig.rows;
+    rd["views"] = rig.viewCount();
+    rd["interaxial"] = rig.interaxial;
+    rd["interaxial_y"] = rig.interaxialY;
+    rd["convergence"] = rig.convergence;
+    rd["separation"] = rig.separation();
+    rd["fov"] = rig.camera.fovYDegrees;
+    rd["aspect"] = rig.camera.aspect;
+    rd["near"] = rig.camera.near;
+    rd["far"] = rig.camera.far;
+    py::list eyes;
+    for (const View& v : rig.views)
+        eyes.append(py::make_tuple(v.eyeWorld.x, v.eyeWorld.y, v.eyeWorld.z));
+    rd["eyes"] = eyes;
+    r.rig = rd;
+    py::dict comfort;
+    if (auto c = cli::comfortReport(rig, out)) {
+        comfort["min_parallax"] = c->range.minParallax;
+        comfort["max_parallax"] = c->range.maxParallax;
+        comfort["min_parallax_percent"] = 100.0 * c->range.minParallax;
+        comfort["max_parallax_percent"] = 100.0 * c->range.maxParallax;
+        comfort["nearest_distance"] = c->range.nearestDistance;
+        comfort["farthest_distance"] = c->range.farthestDistance;
+        comfort["comfortable"] = c->range.comfortable;
+        comfort["text"] = c->line;
+    }
+    r.comfort = comfort;
+
+    // Composites first (they read the views), then the views leave as arrays.
+    compose.baseline = rig.interaxial;
+    compose.convergence = rig.convergence;
+    py::dict composites;
+    for (const std::string& f : formats)
+        composites[py::str(f)] = composeOne(f, out.color, compose, backend.get(), gpu);
+    r.composites = composites;
+    std::vector<std::string> written;
+    if (!outDir.empty()) {
+        Status s;
+        {
+            py::gil_scoped_release release;
+            std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
+            if (gpu) lock.lock();
+            s = writeRenderFiles(outDir, out, depth, formats, compose, *backend, written);
+        }
+        if (!s) throwStatus(s);
+    }
+    r.written = py::cast(written);
+    {
+        py::gil_scoped_release release;
+        std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
+        if (gpu) lock.lock();
+        backend.reset();  // the driver context goes on the thread that used it
+    }
+    const py::ssize_t n = py::ssize_t(out.color.size()), h = p.settings.height,
+                      w = p.settings.width;
+    std::vector<std::uint8_t> color;
+    std::vector<float> depthData;
+    const bool hasDepth = int(out.depth.size()) == n;
+    {
+        py::gil_scoped_release release;
+        color = gather<std::uint8_t>(out.color, &Image::rgba);
+        if (hasDepth) depthData = gather<float>(out.depth, &DepthImage::depth);
+    }
+    r.color = adopt(std::move(color), {n, h, w, 4});
+    r.depth = hasDepth ? py::object(adopt(std::move(depthData), {n, h, w})) : py::none();
+    return r;
+}
+
+// ---- compose ---------------------------------------------------------------------------------
+Image imageFromArray(const py::handle& obj, const std::string& what) {
+    if (!py::isinstance<py::array>(obj))
+        throwParameter(
+            fmt::format("{}: expected a numpy array or a file path, got {}", what,
+                        std::string(py::str(py::type::handle_of(obj).attr("__name__")))));
+    py::array a = py::reinterpret_borrow<py::array>(obj);
+    if (!a.dtype().is(py::dtype::of<std::uint8_t>()))
+        throwParameter(
+            fmt::format("{}: expected dtype uint8, got {}", what, std::string(py::str(a.dtype()))));
+    if (a.ndim() != 3 || (a.shape(2) != 3 && a.shape(2) != 4))
+        throwStatus(usageError(fmt::format(
+            "{}: expected an array of shape (height, width, 4) or (height, width, 3)", what)));
+    if (a.shape(0) < 1 || a.shape(1) < 1 || a.shape(0) > 65536 || a.shape(1) > 65536)
+        throwStatus(usageError(
+            fmt::format("{}: empty or too large image ({}x{})", what, a.shape(1), a.shape(0))));
+    auto c = py::array_t<std::uint8_t, py::array::c_style>::ensure(a);
+    Image img;
+    img.width = int(a.shape(1));
+    img.height = int(a.shape(0));
+    const std::size_t n = std::size_t(img.width) * img.height;
+    const std::uint8_t* src = c.data();
+    if (a.shape(2) == 4) {
+        img.rgba.assign(src, src + n * 4);
+    } else {
+        img.rgba.resize(n * 4);
+        for (std::size_t i = 0; i < n; ++i) {
+            std::memcpy(&img.rgba[i * 4], src + i * 3, 3);
+            img.rgba[i * 4 + 3] = 255;
+        }
+    }
+    return img;
+}
+
+std::vector<Image> viewsFrom(const py::object& views) {
+    std::vector<Image> out;
+    if (py::isinstance<py::array>(views)) {
+        py::array a = py::reinterpret_borrow<py::array>(views);
+        if (a.ndim() == 4) {
+            for (py::ssize_t i = 0; i < a.shape(0); ++i)
+                out.push_back(imageFromArray(views[py::int_(i)], fmt::format("views[{}]", i)));
+            return out;
+        }
+        throwStatus(
+            usageError("views: expected an array of shape (N, height, width, 4) or a list "
+                       "of views"));
+    }
+    if (PyUnicode_Check(views.ptr()) || !py::isinstance<py::sequence>(views))
+        throwParameter("views: expected a list of arrays or file paths, or an (N, H, W, 4) array");
+    py::sequence seq = py::reinterpret_borrow<py::sequence>(views);
+    for (std::size_t i = 0; i < seq.size(); ++i) {
+        py::object v = seq[i];
+        if (PyUnicode_Check(v.ptr()) || py::hasattr(v, "__fspath__")) {
+            std::string path = py::str(py::module_::import("os").attr("fspath")(v));
+            Result<std::vector<Image>> read = usageError("");
+            {
+                py::gil_scoped_release release;
+                read = composite::readViewFile(path);
+            }
+            for (Image& img : check(std::move(read))) out.push_back(std::move(img));
+        } else {
+            out.push_back(imageFromArray(v, fmt::format("views[{}]", i)));
+        }
+    }
+    return out;
+}
+
+py::object composeViews(const py::object& formatObj, const py::object& views,
+                        const py::kwargs& kwargs) {
+    if (!PyUnicode_Check(formatObj.ptr())) throwParameter("format: expected a string");
+    const std::string format = py::str(formatObj);
+    CLI::App app("mvr.compose");
+    composite::ComposeOptions compose;
+    std::string output;
+    bool quiet = false;
+    app.add_option("-o,--output", output);
+    app.add_flag("-q,--quiet", quiet);
+    cli::addComposeOptions(&app, compose, /*withStereoMetadata=*/true);
+    std::vector<std::string> args;
+    keywordsToArgs(app, "compose", kwargs, args);
+    parse(app, std::move(args));
+    const composite::FormatInfo info = check(composite::findFormat(format));
+    std::vector<Image> imgs = viewsFrom(views);
+    for (std::size_t i = 1; i < imgs.size(); ++i) {
+        if (imgs[i].width != imgs[0].width || imgs[i].height != imgs[0].height)
+            throwStatus(usageError(
+                fmt::format("views differ in size: view {} is {}x{} but view 0 is {}x{} "
+                            "(expected all views of one size)",
+                            i, imgs[i].width, imgs[i].height, imgs[0].width, imgs[0].height)));
+    }
+    const int n = int(imgs.size());
+    if (n < info.minViews || n > info.maxViews) {
+        const std::string expected = info.minViews == info.maxViews
+                                         ? fmt::format("exactly {}", info.minViews)
+                                     : info.maxViews >= composite::kAnyViewCount
+                                         ? fmt::format("at least {}", info.minViews)
+                                         : fmt::format("{} to {}", info.minViews, info.maxViews);
+        throwStatus(usageError(fmt::format("format {}: {} view{} given (expected {} views)",
+                                           info.name, n, n == 1 ? "" : "s", expected)));
+    }
+    if (!output
+             .empty()) {  // as `mvr compose -o`: a file name (.png .jpg .jpeg .jps .mpo) or a folder
+        Status s;
+        {
+            py::gil_scoped_release release;
+            const std::filesystem::path out(output);
+            std::string ext = out.extension().string();
+            for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+            std::error_code ec;
+            if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".jps" ||
+                ext == ".mpo") {
+                if (out.has_parent_path())
+                    std::filesystem::create_directories(out.parent_path(), ec);
+                s = ec ? outputError(fmt::format("cannot create directory '{}': {}",
+                                                 out.parent_path().string(), ec.message()))
+                       : composite::writeCompositeFile(format, imgs, compose, out);
+            } else {
+                std::filesystem::create_directories(out, ec);
+                if (ec || !std::filesystem::is_directory(out)) {
+                    s = outputError(fmt::format("cannot create output directory '{}': {}",
+                                                out.string(),
+                                                ec ? ec.message() : "not a directory"));
+                } else if (auto path = composite::writeComposite(format, imgs, compose, out);
+                           !path) {
+                    s = path.status();
+                }
+            }
+        }
+        if (!s) throwStatus(s);
+    }
+    return composeOne(format, imgs, compose, nullptr, false);
+}
+
+// ---- the rest --------------------------------------------------------------------------------
+std::string pathOf(const py::object& p, const char* what) {
+    if (PyUnicode_Check(p.ptr())) return py::str(p);
+    if (py::hasattr(p, "__fspath__")) {
+        py::object s = py::module_::import("os").attr("fspath")(p);
+        if (PyUnicode_Check(s.ptr())) return py::str(s);
+    }
+    throwParameter(fmt::format("{}: expected a file path (str or os.PathLike)", what));
+}
+
+py::dict loadMeshPy(const py::object& pathObj) {
+    const std::string path = pathOf(pathObj, "path");
+    Result<Mesh> loaded = usageError("");
+    {
+        py::gil_scoped_release release;
+        loaded = loadMesh(path);
+    }
+    Mesh mesh = check(std::move(loaded));
+    py::dict d;
+    const py::ssize_t v = py::ssize_t(mesh.positions.size());
+    auto floats = [](auto& vec, py::ssize_t rows, py::ssize_t cols) {
+        std::vector<float> f(reinterpret_cast<const float*>(vec.data()),
+                             reinterpret_cast<const float*>(vec.data()) + rows * cols);
+        return adopt(std::move(f), {rows, cols});
+    };
+    d["path"] = path;
+    d["positions"] = floats(mesh.positions, v, 3);
+    d["normals"] = floats(mesh.normals, py::ssize_t(mesh.normals.size()), 3);
+    d["texcoords"] = floats(mesh.texcoords, py::ssize_t(mesh.texcoords.size()), 2);
+    const py::ssize_t t = py::ssize_t(mesh.triangleCount());
+    mesh.indices.resize(std::size_t(t) * 3);
+    d["indices"] = adopt(std::move(mesh.indices), {t, 3});
+    d["triangles"] = t;
+    return d;
+}
+
+py::dict info() {
+    py::dict d;
+    d["version"] = MVR_VERSION;
+    py::dict limits;
+    limits["max_views"] = kMaxViews;
+    limits["max_view_size"] = 16384;
+    limits["max_framebuffer_bytes"] = kMaxFramebufferBytes;
+    limits["max_lights"] = kMaxLights;
+    d["limits"] = limits;
+    py::list list;
+    for (const BackendEntry& e : backends()) {
+        py::dict b;
+        b["name"] = e.name;
+        b["description"] = e.description;
+        b["gpu"] = e.gpu;
+        Result<std::unique_ptr<Backend>> made = usageError("");
+        {
+            py::gil_scoped_release release;
+            std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
+            if (e.gpu) lock.lock();
+            made = makeBackend(e.name);
+        }
+        b["available"] = bool(made);
+        if (!made) {
+            b["error"] = made.status().message();
+            list.append(b);
+            continue;
+        }
+        std::unique_ptr<Backend> be = std::move(made).value();
+        py::list lines, methods;
+        std::string def;
+        std::vector<std::pair<std::string, Status>> ms;
+        std::vector<std::string> infoLines;
+        {
+            py::gil_scoped_release release;
+            std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
+            if (e.gpu) lock.lock();
+            infoLines = be->info();
+            def = be->defaultMethod();
+            for (const std::string& m : be->methods()) ms.emplace_back(m, be->supports(m));
+            be.reset();
+        }
+        for (const std::string& l : infoLines) lines.append(l);
+        for (const auto& [m, s] : ms) {
+            py::dict md;
+            md["name"] = m;
+            md["supported"] = bool(s);
+            md["reason"] = s ? std::string() : s.message();
+            methods.append(md);
+        }
+        b["default_method"] = def;
+        b["info"] = lines;
+        b["methods"] = methods;
+        list.append(b);
+    }
+    d["backends"] = list;
+    py::list fmts;
+    for (const composite::FormatInfo& f : composite::formats()) {
+        py::dict fd;
+        fd["name"] = std::string(f.name);
+        fd["min_views"] = f.minViews;
+        fd["max_views"] = f.maxViews;
+        fd["extension"] = std::string(f.extension);
+        fd["summary"] = std::string(f.summary);
+        fmts.append(fd);
+    }
+    d["formats"] = fmts;
+    return d;
+}
+
+void writePngPy(const py::object& pathObj, const py::object& arrayObj) {
+    const std::string path = pathOf(pathObj, "path");
+    if (!py::isinstance<py::array>(arrayObj)) throwParameter("array: expected a numpy array");
+    py::array a = py::reinterpret_borrow<py::array>(arrayObj);
+    Status s;
+    if (a.dtype().kind() == 'f') {
+        if (a.ndim() != 2 || a.shape(0) < 1 || a.shape(1) < 1 || a.shape(0) > 65536 ||
+            a.shape(1) > 65536)
+            throwStatus(usageError("array: a depth image must be (height, width) float"));
+        auto c = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
+        DepthImage d(int(a.shape(1)), int(a.shape(0)));
+        const float* src = c.data();
+        for (std::size_t i = 0; i < d.depth.size(); ++i)  // NaN: nothing drawn
+            d.depth[i] = std::isnan(src[i]) ? 1.0f : src[i];
+        py::gil_scoped_release release;
+        s = writeDepthPng(path, d);
+    } else {
+        Image img;
+        if (a.ndim() == 2 && a.dtype().is(py::dtype::of<std::uint8_t>())) {
+            py::array rgb = py::module_::import("numpy").attr("repeat")(
+                a.attr("reshape")(a.shape(0), a.shape(1), 1), 3, 2);
+            img = imageFromArray(rgb, "array");
+        } else {
+            img = imageFromArray(a, "array");
+        }
+        py::gil_scoped_release release;
+        s = writePng(path, img);
+    }
+    if (!s) throwStatus(s);
+}
+
+}  // namespace
+}  // namespace mvr::python
+
+PYBIND11_MODULE(_core, m) {
+    using namespace mvr::python;
+    m.doc() = "mvr's C++ library (the _core module behind `import mvr`)";
+    static PyObject* err = PyErr_NewExceptionWithDoc(
+        "mvr.ParameterError",
+        "A keyword of the wrong type or an unknown keyword (both a TypeError and a ValueError).",
+        py::make_tuple(py::handle(PyExc_TypeError), py::handle(PyExc_ValueError)).ptr(), nullptr);
+    gParameterError = err;
+    m.attr("ParameterError") = py::handle(err);
+
+    py::class_<RenderResult>(m, "RenderResult", "What mvr.render() returns.")
+        .def_readonly("color", &RenderResult::color, "uint8 (N, H, W, 4): the views, RGBA")
+        .def_readonly("depth", &RenderResult::depth,
+                      "float32 (N, H, W): window depth in [0, 1] (1 = nothing drawn)")
+        .def_readonly("method", &RenderResult::method, "the method that ran")
+        .def_readonly("note", &RenderResult::note, "e.g. why 'auto' picked that method")
+        .def_readonly("backend", &RenderResult::backend)
+        .def_readonly("rig", &RenderResult::rig, "the rig's parameters (dict)")
+        .def_readonly("comfort", &RenderResult::comfort,
+                      "the comfort report of `mvr render` (dict; empty for one column of views)")
+        .def_readonly("composites", &RenderResult::composites,
+                      "format name -> array (bytes for mpo / jps), for format=[...]")
+        .def_readonly("scene", &RenderResult::scene)
+        .def_readonly("triangles", &RenderResult::triangles)
+        .def_readonly("size", &RenderResult::size, "(width, height) of one view")
+        .def_readonly("shading", &RenderResult::shading)
+        .def_readonly("elapsed_ms", &RenderResult::elapsedMs)
+        .def_readonly("written", &RenderResult::written,
+                      "the files written for output=DIR, as `mvr render -o DIR` writes them")
+        .def("__len__", [](const RenderResult& r) { return py::len(r.color); })
+        .def("__repr__", [](const RenderResult& r) {
+            return fmt::format("<mvr.RenderResult {} views of {}x{}, {}:{}>", py::len(r.color),
+                               py::cast<int>(r.size[py::int_(0)]),
+                               py::cast<int>(r.size[py::int_(1)]), std::string(py::str(r.backend)),
+                               std::string(py::str(r.method)));
+        });
+    m.def("render", &render, py::arg("models") = py::none());
+    m.def("compose", &composeViews, py::arg("format"), py::arg("views"));
+    m.def("load_mesh", &loadMeshPy, py::arg("path"));
+    m.def("info", &info);
+    m.def("write_png", &writePngPy, py::arg("path"), py::arg("array"));
+}
