@@ -9,6 +9,7 @@
 #include <fmt/core.h>
 #include <meshoptimizer.h>
 
+#include "model_guard.h"
 #include "ply.h"
 
 namespace mvr {
@@ -178,7 +179,9 @@ Result<Mesh> loadMesh(const std::filesystem::path& path) {
         }
     }
 
+    if (Status s = detail::checkGlbHeader(path, what); !s) return s;
     Assimp::Importer importer;
+    importer.SetIOHandler(new detail::ModelIOSystem(path));  // no MTL files: model_guard.h
     // Points and lines are split into meshes of their own (SortByPType) and skipped below, so a
     // file with no faces reports "has no triangles" rather than assimp's "No meshes remaining".
     const aiScene* scene = importer.ReadFile(
