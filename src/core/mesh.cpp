@@ -1,5 +1,6 @@
 #include "mvr/core/mesh.h"
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 
@@ -165,7 +166,14 @@ Result<Mesh> loadMesh(const std::filesystem::path& path) {
         std::ifstream in(path, std::ios::binary);
         char head[8] = {};
         in.read(head, sizeof head);
-        if (detail::looksLikePly(std::string(head, static_cast<std::size_t>(in.gcount())))) {
+        const std::string start(head, static_cast<std::size_t>(in.gcount()));
+        // Anything else assimp would take as PLY (by the extension or a "ply" start) would
+        // reach its PLY reader, which hangs (found by fuzzing, tests/fuzz/regressions/ply/).
+        std::string ext = path.extension().string();
+        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (!detail::looksLikePly(start) && (ext == ".ply" || start.rfind("ply", 0) == 0))
+            return inputError(what + ": malformed PLY: the first line is not \"ply\"");
+        if (detail::looksLikePly(start)) {
             in.clear();
             in.seekg(0);
             const std::string data((std::istreambuf_iterator<char>(in)),
