@@ -7,6 +7,8 @@ set -euo pipefail
 packages=(
     # toolchain
     build-essential cmake pkg-config git
+    # fuzzers (libFuzzer, ASan + UBSan runtimes) and readable sanitizer stacks
+    clang libclang-rt-14-dev llvm
     # libraries
     libglm-dev libfmt-dev libcli11-dev nlohmann-json3-dev
     libpng-dev libjpeg-dev libstb-dev

@@ -71,7 +71,10 @@ inline float specularPow(float x, float s) {
     // log2(x) = e + log2(m), m ∈ [√½, √2); a denormal (or zero) x is scaled by 2^23 first.
     const bool tiny = x < 0x1p-126f;
     const float xs = tiny ? x * 0x1p23f : x;
-    const std::int32_t t = std::bit_cast<std::int32_t>(xs) - kSqrtHalfBits;
+    // The subtraction wraps in uint32 (the same bits; as int32 it overflowed for x = -0.0,
+    // which UBSan reports: tests/core/lighting_test.cpp SpecularPowSpecialValues).
+    const std::int32_t t = std::bit_cast<std::int32_t>(std::bit_cast<std::uint32_t>(xs) -
+                                                       std::uint32_t(kSqrtHalfBits));
     const std::int32_t e = (t >> 23) - (tiny ? 23 : 0);
     const float f = std::bit_cast<float>((t & 0x007fffff) + kSqrtHalfBits) - 1.0f;  // exact
     float p = kLog2[8];

@@ -1,0 +1,35 @@
+// Internal: checks and limits around assimp for mvr::loadMesh(), each for a fault that fuzzing
+// found in assimp 5.2.5 (Debian 12) and that mvr keeps from reaching it (tests/fuzz/).
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include <assimp/DefaultIOSystem.h>
+
+#include "mvr/core/status.h"
+
+namespace mvr::detail {
+
+/// A binary glTF (a file that starts with the "glTF" magic): its header's total length and
+/// every chunk length must fit in the file. assimp allocates a chunk's claimed length before
+/// reading it (a 1 KB file claiming a 4 GB JSON chunk is a 4 GB allocation). Other files: OK.
+/// Errors: ErrorCode::Input, "WHAT: malformed GLB: ...".
+Status checkGlbHeader(const std::filesystem::path& path, const std::string& what);
+
+/// The file system assimp sees while it loads `model`: everything except OBJ material
+/// libraries (*.mtl). mvr draws no materials, and assimp's MTL parser writes out of bounds on
+/// malformed files (tests/fuzz/regressions/mtl/); without its MTL the OBJ loads with assimp's
+/// default material. The Importer owns it: importer.SetIOHandler(new ModelIOSystem(...)).
+class ModelIOSystem : public Assimp::DefaultIOSystem {
+public:
+    explicit ModelIOSystem(std::filesystem::path model) : mModel(std::move(model)) {}
+    bool Exists(const char* file) const override;
+    Assimp::IOStream* Open(const char* file, const char* mode = "rb") override;
+
+private:
+    bool hidden(const char* file) const;
+    std::filesystem::path mModel;
+};
+
+}  // namespace mvr::detail

@@ -1,0 +1,46 @@
+// tests/fuzz/fuzz_util.h — what the fuzz targets share: a scratch folder for the readers that
+// take a path (mvr::loadMesh, mvr::readPng, composite::readViewFile), one per process, removed
+// at exit. The readers pick the format by the file name's extension (assimp) or its signature,
+// so a memfd (/proc/self/fd/N, no extension) would not reach them.
+#pragma once
+
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <system_error>
+
+namespace mvr::fuzz {
+
+inline const std::filesystem::path& scratchDir() {
+    static const std::filesystem::path dir = [] {
+        std::string tmpl = (std::filesystem::temp_directory_path() / "mvr-fuzz-XXXXXX").string();
+        if (!::mkdtemp(tmpl.data())) std::abort();
+        std::atexit([] {
+            std::error_code ec;
+            std::filesystem::remove_all(scratchDir(), ec);
+        });
+        return std::filesystem::path(tmpl);
+    }();
+    return dir;
+}
+
+/// Writes `size` bytes to NAME in the scratch folder (replacing it) and returns its path.
+inline std::filesystem::path writeScratch(const std::string& name, const std::uint8_t* data,
+                                          std::size_t size) {
+    const std::filesystem::path path = scratchDir() / name;
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+    out.close();
+    if (!out) std::abort();
+    return path;
+}
+
+inline std::filesystem::path writeScratch(const std::string& name, const std::string& text) {
+    return writeScratch(name, reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
+}
+
+}  // namespace mvr::fuzz
