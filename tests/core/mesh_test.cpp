@@ -8,6 +8,8 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
+#include "base64.h"
+
 namespace mvr {
 namespace {
 
@@ -73,26 +75,7 @@ end_header
 3 1 2 3
 )";
 
-std::string base64(const std::string& in) {
-    static const char* kAlphabet =
-        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    std::size_t i = 0;
-    for (; i + 2 < in.size(); i += 3) {
-        const unsigned v =
-            (unsigned char)in[i] << 16 | (unsigned char)in[i + 1] << 8 | (unsigned char)in[i + 2];
-        for (int k = 3; k >= 0; --k) out += kAlphabet[(v >> (6 * k)) & 63];
-    }
-    if (i < in.size()) {
-        unsigned v = (unsigned char)in[i] << 16;
-        if (i + 1 < in.size()) v |= (unsigned char)in[i + 1] << 8;
-        out += kAlphabet[(v >> 18) & 63];
-        out += kAlphabet[(v >> 12) & 63];
-        out += i + 1 < in.size() ? kAlphabet[(v >> 6) & 63] : '=';
-        out += '=';
-    }
-    return out;
-}
+using test::base64;
 
 /// A glTF 2.0 file with one indexed triangle in an embedded buffer, placed by a node translation.
 std::string triangleGltf() {

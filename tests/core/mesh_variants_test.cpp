@@ -17,6 +17,8 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
+#include "base64.h"
+
 #include "mvr/core/mesh.h"
 
 namespace mvr {
@@ -292,26 +294,7 @@ TEST(MeshVariants, ObjRefusalsNameTheLine) {
 
 // ---- glTF ----
 
-std::string base64(const std::string& in) {
-    static const char* kAlphabet =
-        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    std::size_t i = 0;
-    for (; i + 2 < in.size(); i += 3) {
-        const unsigned v =
-            (unsigned char)in[i] << 16 | (unsigned char)in[i + 1] << 8 | (unsigned char)in[i + 2];
-        for (int k = 3; k >= 0; --k) out += kAlphabet[(v >> (6 * k)) & 63];
-    }
-    if (i < in.size()) {
-        unsigned v = (unsigned char)in[i] << 16;
-        if (i + 1 < in.size()) v |= (unsigned char)in[i + 1] << 8;
-        out += kAlphabet[(v >> 18) & 63];
-        out += kAlphabet[(v >> 12) & 63];
-        out += i + 1 < in.size() ? kAlphabet[(v >> 6) & 63] : '=';
-        out += '=';
-    }
-    return out;
-}
+using test::base64;
 
 template <typename T>
 void append(std::string& buffer, const std::vector<T>& values) {
