@@ -215,6 +215,16 @@ double convergenceAngleDegrees(double interaxial, double convergenceDistance) {
     return 2.0 * std::atan(interaxial / (2.0 * convergenceDistance)) * 180.0 / std::numbers::pi;
 }
 
+/// layout.h's texts for a view side that a -half format cannot squeeze `by`:1.
+static Status squeezeError(const std::string& who, const char* side, int value, int by) {
+    return usageError(by == 2 ? fmt::format("{}: view {} {} is odd (expected an even {} to squeeze "
+                                            "2:1)",
+                                            who, side, value, side)
+                              : fmt::format("{}: view {} {} (expected a multiple of {} to squeeze "
+                                            "{}:1)",
+                                            who, side, value, by, by));
+}
+
 Result<Size> outputSize(const FormatInfo& f, int viewCount, int w, int h,
                         const ComposeOptions& options, const std::string& who) {
     if (Status s = checkViewCount(f, viewCount, who); !s) return s;
@@ -224,24 +234,8 @@ Result<Size> outputSize(const FormatInfo& f, int viewCount, int w, int h,
     switch (rule.rule) {
         case SizeRule::Tiled:
             // layout.h's texts for the -half formats.
-            if (w % rule.squeezeX != 0)
-                return usageError(
-                    rule.squeezeX == 2
-                        ? fmt::format("{}: view width {} is odd (expected an even width to "
-                                      "squeeze 2:1)",
-                                      who, w)
-                        : fmt::format("{}: view width {} (expected a multiple of {} to squeeze "
-                                      "{}:1)",
-                                      who, w, rule.squeezeX, rule.squeezeX));
-            if (h % rule.squeezeY != 0)
-                return usageError(
-                    rule.squeezeY == 2
-                        ? fmt::format("{}: view height {} is odd (expected an even height to "
-                                      "squeeze 2:1)",
-                                      who, h)
-                        : fmt::format("{}: view height {} (expected a multiple of {} to squeeze "
-                                      "{}:1)",
-                                      who, h, rule.squeezeY, rule.squeezeY));
+            if (w % rule.squeezeX != 0) return squeezeError(who, "width", w, rule.squeezeX);
+            if (h % rule.squeezeY != 0) return squeezeError(who, "height", h, rule.squeezeY);
             return Size{rule.cellsAcross * (w / rule.squeezeX),
                         rule.cellsDown * (h / rule.squeezeY)};
         case SizeRule::FramePacked: {

@@ -8,7 +8,7 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
-#include "base64.h"
+#include "test_files.h"
 
 namespace mvr {
 namespace {
@@ -18,25 +18,7 @@ std::filesystem::path sharedModels() {
     return std::filesystem::path(dir ? dir : "../shared") / "models";
 }
 
-class TempDir {
-public:
-    TempDir() {
-        mPath = std::filesystem::temp_directory_path() /
-                fmt::format("mvr-mesh-test-{}-{}", ::getpid(), sCounter++);
-        std::filesystem::create_directories(mPath);
-    }
-    ~TempDir() { std::filesystem::remove_all(mPath); }
-    std::filesystem::path write(const std::string& name, const std::string& bytes) const {
-        const auto p = mPath / name;
-        std::ofstream(p, std::ios::binary) << bytes;
-        return p;
-    }
-    const std::filesystem::path& path() const { return mPath; }
-
-private:
-    std::filesystem::path mPath;
-    static inline int sCounter = 0;
-};
+using test::TempDir;
 
 const char* kCubeObj = R"(# a unit cube, quads, no normals
 v -1 -1 -1

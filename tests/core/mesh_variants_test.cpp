@@ -17,31 +17,14 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
-#include "base64.h"
+#include "test_files.h"
 
 #include "mvr/core/mesh.h"
 
 namespace mvr {
 namespace {
 
-class TempDir {
-public:
-    TempDir() {
-        mPath = std::filesystem::temp_directory_path() /
-                fmt::format("mvr-variants-test-{}-{}", ::getpid(), sCounter++);
-        std::filesystem::create_directories(mPath);
-    }
-    ~TempDir() { std::filesystem::remove_all(mPath); }
-    std::filesystem::path write(const std::string& name, const std::string& bytes) const {
-        const auto p = mPath / name;
-        std::ofstream(p, std::ios::binary) << bytes;
-        return p;
-    }
-
-private:
-    std::filesystem::path mPath;
-    static inline int sCounter = 0;
-};
+using test::TempDir;
 
 using Corner = std::tuple<float, float, float>;
 using Triangle = std::array<Corner, 3>;
@@ -158,7 +141,7 @@ std::string ply(const PlyLayout& l) {
 }
 
 TEST(MeshVariants, PlyLayoutsLoadLikeThePlainFile) {
-    TempDir dir;
+    TempDir dir("mvr-variants-test");
     const Mesh plain = load(dir.write("plain.ply", ply({})));
     ASSERT_EQ(plain.triangleCount(), kStripTriangles.size());
     const auto expected = triangles(plain);
@@ -185,7 +168,7 @@ TEST(MeshVariants, PlyLayoutsLoadLikeThePlainFile) {
 TEST(MeshVariants, PlyTristripsKeepTheirWinding) {
     // A strip's odd triangles are flipped back: every triangle of the grid faces +z or -z the
     // same way as the first.
-    TempDir dir;
+    TempDir dir("mvr-variants-test");
     const Mesh m = load(dir.write("strip.ply", ply({.strips = true})));
     ASSERT_EQ(m.triangleCount(), 5u);  // the degenerate joint is dropped
     int up = 0;
@@ -198,7 +181,7 @@ TEST(MeshVariants, PlyTristripsKeepTheirWinding) {
 }
 
 TEST(MeshVariants, PlyHeadersThatClaimTooMuchAreRefused) {
-    TempDir dir;
+    TempDir dir("mvr-variants-test");
     // An element count, and a list length, that the file cannot hold: refused before allocating.
     auto count = loadMesh(dir.write(
         "count.ply",
@@ -235,7 +218,7 @@ const char* kPlainObj =
     "f 1 2 3\nf 1 3 4\nf 1 2 6\nf 1 6 5\n";
 
 TEST(MeshVariants, ObjVariantsLoadLikeThePlainFile) {
-    TempDir dir;
+    TempDir dir("mvr-variants-test");
     const auto expected = triangles(load(dir.write("plain.obj", kPlainObj)));
     ASSERT_EQ(expected.size(), 4u);
     const std::vector<std::pair<std::string, std::string>> variants = {
@@ -273,7 +256,7 @@ TEST(MeshVariants, ObjVariantsLoadLikeThePlainFile) {
 }
 
 TEST(MeshVariants, ObjRefusalsNameTheLine) {
-    TempDir dir;
+    TempDir dir("mvr-variants-test");
     auto nan = loadMesh(dir.write("nan.obj",
                                   "# a comment\nv 0 0 0\nv 1 0 0\nv 0 1 nan\n"
                                   "f 1 2 3\n"));
@@ -380,7 +363,7 @@ std::string sparseGltf() {
 }
 
 TEST(MeshVariants, GltfVariantsLoadLikeThePlainFile) {
-    TempDir dir;
+    TempDir dir("mvr-variants-test");
     const auto expected = triangles(load(dir.write("plain.gltf", indexedGltf(5123))));
     ASSERT_EQ(expected.size(), 3u);
     EXPECT_EQ(triangles(load(dir.write("u8.gltf", indexedGltf(5121)))), expected) << "8-bit";
