@@ -90,6 +90,16 @@ std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& o
     return report;
 }
 
+std::vector<ViewDifference> viewDifferences(const std::vector<Image>& views,
+                                            const std::vector<Image>& reference) {
+    std::vector<ViewDifference> out;
+    for (std::size_t v = 0; v < views.size() && v < reference.size(); ++v) {
+        const ImageDiff d = compareImages(views[v], reference[v], kArtifactThreshold);
+        out.push_back({d.differingPixels, long(views[v].width) * views[v].height, d.maxDelta});
+    }
+    return out;
+}
+
 Result<std::pair<int, int>> parseSize(const std::string& text, const char* what) {
     static const std::regex kSize(R"(\s*(-?\d+)\s*[xX]\s*(-?\d+)\s*)");
     std::smatch m;

@@ -63,6 +63,20 @@ std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& o
 /// Parses "WxH" (both 1..16384). Errors: ErrorCode::Usage.
 Result<std::pair<int, int>> parseSize(const std::string& text, const char* what);
 
+/// How far each view is from a reference render: the share of its pixels with an RGB channel
+/// more than kArtifactThreshold / 255 off (the conformance suite's and src/gl/README.md's
+/// "wrong pixels") and the largest channel difference. `mvr render --check` and the sorbier
+/// bench's artifact column both report it.
+inline constexpr int kArtifactThreshold = 2;
+struct ViewDifference {
+    long differing = 0;  ///< pixels off by more than kArtifactThreshold
+    long pixels = 0;     ///< pixels of the view
+    int maxDelta = 0;
+    double percent() const { return pixels > 0 ? 100.0 * double(differing) / double(pixels) : 0; }
+};
+std::vector<ViewDifference> viewDifferences(const std::vector<Image>& views,
+                                            const std::vector<Image>& reference);
+
 /// "mvr: rendering 2 views ... 3.5 s" on stderr while a long step runs: only when stderr is a
 /// terminal, only once the step has taken about two seconds, erased when it ends (RAII).
 /// `MVR_PROGRESS_AFTER_MS` changes the two seconds (tests).

@@ -46,15 +46,14 @@ Status checkAgainstReference(const std::string& backendName, const std::string& 
     auto reference = (*ref)->render(p.scene, p.rig, p.settings, "multipass");
     progress.reset();
     if (!reference) return reference.status();
-    constexpr int kThreshold = 2;
-    for (std::size_t v = 0; v < out.color.size() && v < reference->color.size(); ++v) {
-        const ImageDiff d = compareImages(out.color[v], reference->color[v], kThreshold);
-        const double pixels = double(out.color[v].width) * out.color[v].height;
+    const std::vector<ViewDifference> diffs = viewDifferences(out.color, reference->color);
+    for (std::size_t v = 0; v < diffs.size(); ++v) {
+        const ViewDifference& d = diffs[v];
         fmt::print(
             "check: view {}: {}:{} vs {}:multipass: {:.2f} % of the pixels differ by more than "
-            "{}/255 ({} of {:.0f}); largest difference {}/255\n",
-            v, backendName, out.method, refName, 100.0 * double(d.differingPixels) / pixels,
-            kThreshold, d.differingPixels, pixels, d.maxDelta);
+            "{}/255 ({} of {}); largest difference {}/255\n",
+            v, backendName, out.method, refName, d.percent(), kArtifactThreshold, d.differing,
+            d.pixels, d.maxDelta);
     }
     return {};
 }

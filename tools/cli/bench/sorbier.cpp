@@ -2,6 +2,8 @@
 // and 9 bunnies in a grid, 2 views, each backend's multipass against its one-pass methods.
 #include <algorithm>
 #include <filesystem>
+#include <map>
+#include <optional>
 
 #include <fmt/core.h>
 
@@ -32,22 +34,26 @@ struct SorbierOptions {
 /// `mvr render --check` and src/gl/README.md count them.
 void fillArtifacts(const std::vector<Job>& jobs, const std::vector<Measured>& measured,
                    const Prepared& p, std::vector<RenderRow>& rows, std::size_t first) {
+    // Each backend's reference frame once, for all of its one-pass jobs.
+    std::map<Backend*, std::optional<RenderOutput>> references;
     for (std::size_t j = 0; j < jobs.size(); ++j) {
-        if (measured[j].failed() || jobs[j].spec.method == "multipass") continue;
+        if (measured[j].failed() || jobs[j].spec.method == kBaselineMethod) continue;
         Backend* reference = nullptr;
         for (const Job& k : jobs) {
-            if (k.spec.backend == jobs[j].spec.backend && k.spec.method == "multipass")
+            if (k.spec.backend == jobs[j].spec.backend && k.spec.method == kBaselineMethod)
                 reference = k.backend;
         }
         if (!reference) continue;
-        auto ref = reference->render(p.scene, p.rig, p.settings, "multipass");
+        auto [ref, added] = references.try_emplace(reference);
+        if (added) {
+            auto r = reference->render(p.scene, p.rig, p.settings, kBaselineMethod);
+            if (r) ref->second = std::move(r).value();
+        }
         auto out = jobs[j].backend->render(p.scene, p.rig, p.settings, jobs[j].spec.method);
-        if (!ref || !out) continue;
+        if (!ref->second || !out) continue;
         RenderRow& row = rows[first + j];
-        for (std::size_t v = 0; v < out->color.size() && v < ref->color.size(); ++v) {
-            const ImageDiff d = compareImages(out->color[v], ref->color[v], 2);
-            const double pixels = double(out->color[v].width) * out->color[v].height;
-            row.artifactPercent.push_back(100.0 * double(d.differingPixels) / pixels);
+        for (const ViewDifference& d : viewDifferences(out->color, ref->second->color)) {
+            row.artifactPercent.push_back(d.percent());
             row.artifactMaxDelta = std::max(row.artifactMaxDelta, d.maxDelta);
         }
     }
