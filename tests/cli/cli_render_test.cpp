@@ -255,7 +255,7 @@ TEST_F(Cli, EveryRefusalNamesItsCulprit) {
         {"--size 0x5", 1, "--size '0x5' is out of range"},
         {"--size 20", 1, "--size '20' is not of the form WxH"},
         {"--views 129", 1, "--views 129: view count 129 is out of range (expected 1..128)"},
-        {"--view-grid 9x9", 1, "--view-grid 9x9: view count 81 is out of range"},
+        {"--view-grid 12x11", 1, "--view-grid 12x11: view count 132 is out of range"},
         {"--view-grid 3y3", 1, "--view-grid '3y3' is not of the form CxR"},
         {"--grid 3", 1, "--grid 3 needs a model file"},
         {"--shading toon", 1, "--shading toon: unknown shading 'toon'"},

@@ -105,14 +105,14 @@ int runViews(const ViewsOptions& o) {
         auto prepared = so.prepare();
         if (!prepared) return fail(prepared.status());
         const Prepared& p = *prepared;
-        model = p.sceneName;
+        model = std::filesystem::path(p.sceneName).filename().string();
         const std::vector<Measured> m =
             measure(jobs, p, {.warmup = o.common.warmup, .frames = o.common.frames},
                     {.progress = &progress, .label = fmt::format("{} views", c * r)});
         const std::size_t first = report.rows.size();
         for (std::size_t j = 0; j < jobs.size(); ++j) {
             RenderRow row = renderRow(jobs[j], m[j], p.scene.triangleCount());
-            row.shading = o.shading, row.model = p.sceneName, row.copies = o.grid;
+            row.shading = o.shading, row.model = model, row.copies = o.grid;
             row.views = c * r, row.config = fmt::format("{}x{}", c, r);
             row.width = p.settings.width, row.height = p.settings.height;
             if (!m[j].stats.empty()) row.passes = m[j].stats.back().passes;
