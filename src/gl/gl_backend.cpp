@@ -27,6 +27,7 @@ public:
         s.drawWallMs = gl->drawWallMs;
         s.readbackWallMs = gl->readbackWallMs;
         s.totalWallMs = gl->totalWallMs;
+        s.passes = gl->passes;
         return s;
     }
 
@@ -44,7 +45,8 @@ const std::vector<std::string>& glMethodNames() { return detail::methodNames(); 
 std::optional<GlFrameStats> lastFrameStats(const mvr::Backend& backend) {
     const auto s = backend.lastStats();
     if (!s) return std::nullopt;
-    return GlFrameStats{s->method, s->gpuMs, s->drawWallMs, s->readbackWallMs, s->totalWallMs};
+    return GlFrameStats{s->method,         s->gpuMs,       s->drawWallMs,
+                        s->readbackWallMs, s->totalWallMs, s->passes};
 }
 
 }  // namespace mvr::gl

@@ -295,20 +295,23 @@ Status checkMethodViews(const GlMethod& m, const GlCaps& caps, int views, const 
         return usageError(fmt::format("gl: {} renders exactly {} views ({}); the rig has {}",
                                       m.name, m.fixedViews, m.fixedViewsWhy, views));
     }
-    const int limit = viewLimit(m, caps, s.shading, s.width, s.height);
-    if (views <= limit) return Status::ok();
+    // More views than one pass takes are drawn in batches (Renderer::renderOnce); only a method
+    // that cannot draw a single view here is refused.
+    if (viewLimit(m, caps, s.shading, s.width, s.height) >= 1) return Status::ok();
     std::string why = fmt::format("mvr::kMaxViews = {}", kMaxViews);
     if (m.limits) {
         for (ViewLimitTerm& t : m.limits(caps, s.shading, s.width, s.height)) {
-            if (views > t.views) {
+            if (t.views < 1) {
                 why = std::move(t.why);
                 break;
             }
         }
     }
-    return unsupportedError(fmt::format("gl: {}: {} views exceed its limit of {} here ({})", m.name,
-                                        views, limit, why));
+    return unsupportedError(fmt::format("gl: {}: cannot draw one view of {}x{} here ({})", m.name,
+                                        s.width, s.height, why));
 }
+
+int passCount(int views, int perPass) { return perPass < 1 ? 0 : (views + perPass - 1) / perPass; }
 
 ProgramDesc methodProgram(const GlMethod& m, const GlCaps& caps, Shading shading, int views) {
     ProgramDesc d;

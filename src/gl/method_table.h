@@ -73,11 +73,14 @@ const GlMethod& defaultMethod();
 
 /// Ok, or Unsupported "NAME: what the driver lacks".
 Status driverSupport(const GlMethod& m, const GlCaps& caps);
-/// The largest view count `m` allows on this driver for this shading and view size (0: none).
+/// The most views `m` draws in one pass on this driver for this shading and view size (0:
+/// none); the renderer draws more in batches of this many (kalaiah2007 §3). At most kMaxViews.
 int viewLimit(const GlMethod& m, const GlCaps& caps, Shading shading, int width, int height);
 /// `views` against the method's own limits: Usage for a fixed-count method given another
-/// count, Unsupported naming the first limit exceeded.
+/// count, Unsupported naming the limit when not even one view fits in a pass.
 Status checkMethodViews(const GlMethod& m, const GlCaps& caps, int views, const RenderSettings& s);
+/// The passes (batches) `views` views take at `perPass` views a pass: ceil(views / perPass).
+int passCount(int views, int perPass);
 
 /// The program of `m` for this shading and view count (shading define, the row's defines,
 /// FLAT_PROVOKING where the row draws the provoking-vertex arrays).

@@ -23,7 +23,7 @@ Status checkFramebuffer(GLuint fbo, const char* what) {
 
 // multipass: the reference. One full pass of the scene per view, each into its own layer.
 Status Renderer::drawMultipass(const Frame& f, GLuint prog) {
-    ensureLayered(f.settings->width, f.settings->height, f.views);
+    ensureLayered(f.settings->width, f.settings->height, f.targetViews);
     const GLuint fbo = mLayered.fbo.get();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
     for (int v = 0; v < f.views; ++v) {
@@ -41,7 +41,7 @@ Status Renderer::drawMultipass(const Frame& f, GLuint prog) {
 
 // gs-layered / gs-invocations: one pass; the geometry shader sends each copy to gl_Layer.
 Status Renderer::drawLayeredGs(const Frame& f, GLuint prog) {
-    ensureLayered(f.settings->width, f.settings->height, f.views);
+    ensureLayered(f.settings->width, f.settings->height, f.targetViews);
     attachLayered(mLayered.fbo.get(), mLayered.color.get(), mLayered.depth.get());
     if (Status s = checkFramebuffer(mLayered.fbo.get(), "layered target"); !s) return s;
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mLayered.fbo.get());
@@ -52,7 +52,7 @@ Status Renderer::drawLayeredGs(const Frame& f, GLuint prog) {
 
 // instanced-layer: N instances of every draw; the vertex shader picks gl_Layer = instance.
 Status Renderer::drawInstancedLayer(const Frame& f, GLuint prog) {
-    ensureLayered(f.settings->width, f.settings->height, f.views);
+    ensureLayered(f.settings->width, f.settings->height, f.targetViews);
     attachLayered(mLayered.fbo.get(), mLayered.color.get(), mLayered.depth.get());
     if (Status s = checkFramebuffer(mLayered.fbo.get(), "layered target"); !s) return s;
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mLayered.fbo.get());
@@ -63,7 +63,7 @@ Status Renderer::drawInstancedLayer(const Frame& f, GLuint prog) {
 
 // multiview: GL_OVR_multiview attachments of N layers; the driver replicates the draw.
 Status Renderer::drawMultiview(const Frame& f, GLuint prog) {
-    ensureLayered(f.settings->width, f.settings->height, f.views);
+    ensureLayered(f.settings->width, f.settings->height, f.targetViews);
     const GLuint fbo = mLayered.fbo.get();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
     glFramebufferTextureMultiviewOVR(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,

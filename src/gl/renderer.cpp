@@ -141,11 +141,17 @@ std::vector<std::string> Renderer::info() {
         }
         const int lf = viewLimit(m, Shading::Flat, 1024, 768);
         const int lp = viewLimit(m, Shading::Pixel, 1024, 768);
-        lines.push_back(lf == lp
-                            ? fmt::format("method {}: supported, up to {} views", m.name, lf)
-                            : fmt::format("method {}: supported, up to {} views (flat/vertex), "
-                                          "{} (pixel) at 1024x768",
-                                          m.name, lf, lp));
+        if (m.fixedViews > 0 || std::min(lf, lp) >= kMaxViews) {
+            lines.push_back(fmt::format("method {}: supported, up to {} views", m.name, lf));
+        } else if (lf == lp) {
+            lines.push_back(
+                fmt::format("method {}: supported, {} views per pass, batches beyond", m.name, lf));
+        } else {
+            lines.push_back(
+                fmt::format("method {}: supported, {} views per pass (flat/vertex), "
+                            "{} (pixel) at 1024x768, batches beyond",
+                            m.name, lf, lp));
+        }
     }
     return lines;
 }
@@ -317,8 +323,9 @@ Status Renderer::ensureKalaiahBuffers(GpuMesh& g, const Mesh& src, int views) {
         glVertexArrayAttribIFormat(vao, 0, 2, GL_INT, 0);
         glVertexArrayAttribBinding(vao, 0, 0);
     }
-    if (g.kalaiahViews != views) {
-        // V dummy triangles: vertex i of triangle j is (i, j).
+    if (g.kalaiahViews < views) {
+        // V dummy triangles: vertex i of triangle j is (i, j); a pass of fewer views draws the
+        // first ones.
         std::vector<glm::ivec2> dummy;
         for (int j = 0; j < views; ++j)
             for (int i = 0; i < 3; ++i) dummy.emplace_back(i, j);
@@ -502,29 +509,22 @@ void readDepthRegion(GLuint tex, int x, int y, int layer, int w, int h, DepthIma
 
 void Renderer::readLayered(RenderOutput& out, const Frame& f, bool depth) {
     const int w = f.settings->width, h = f.settings->height;
-    out.color.resize(static_cast<std::size_t>(f.views));
-    if (depth) out.depth.resize(static_cast<std::size_t>(f.views));
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     for (int v = 0; v < f.views; ++v) {
-        readRegion(mLayered.color.get(), 0, 0, v, w, h, out.color[static_cast<std::size_t>(v)]);
-        if (depth) {
-            readDepthRegion(mLayered.depth.get(), 0, 0, v, w, h,
-                            out.depth[static_cast<std::size_t>(v)]);
-        }
+        const auto i = static_cast<std::size_t>(f.firstView + v);
+        readRegion(mLayered.color.get(), 0, 0, v, w, h, out.color[i]);
+        if (depth) readDepthRegion(mLayered.depth.get(), 0, 0, v, w, h, out.depth[i]);
     }
 }
 
 void Renderer::readTiled(RenderOutput& out, const Frame& f) {
     const TileLayout& t = *f.tiles;
-    out.color.resize(static_cast<std::size_t>(f.views));
-    out.depth.resize(static_cast<std::size_t>(f.views));
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     for (int v = 0; v < f.views; ++v) {
         const glm::ivec2 o = t.origin(v);
-        readRegion(mTiled.color.get(), o.x, o.y, 0, t.width, t.height,
-                   out.color[static_cast<std::size_t>(v)]);
-        readDepthRegion(mTiled.depth.get(), o.x, o.y, 0, t.width, t.height,
-                        out.depth[static_cast<std::size_t>(v)]);
+        const auto i = static_cast<std::size_t>(f.firstView + v);
+        readRegion(mTiled.color.get(), o.x, o.y, 0, t.width, t.height, out.color[i]);
+        readDepthRegion(mTiled.depth.get(), o.x, o.y, 0, t.width, t.height, out.depth[i]);
     }
 }
 
@@ -553,26 +553,70 @@ Result<RenderOutput> Renderer::render(const Scene& scene, const Rig& rig, const 
 Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
                                           const RenderSettings& s, const GlMethod& method) {
     const auto t0 = Clock::now();
-    if (Status st = checkViews(method, rig.viewCount(), s); !st) return st;
+    const int views = rig.viewCount();
+    if (Status st = checkViews(method, views, s); !st) return st;
+    // kalaiah2007 §3: as many views a pass as the method takes, then the next pass.
+    const int perPass = std::min(views, viewLimit(method, s.shading, s.width, s.height));
+    const int passes = passCount(views, perPass);
     Frame f;
     f.method = &method;
     f.scene = &scene;
     f.rig = &rig;
     f.settings = &s;
-    f.views = rig.viewCount();
+    f.views = views;
+    f.targetViews = perPass;
     if (Status st = prepareScene(scene, f, mLastSceneKey); !st) return st;
     f.order.resize(scene.instances.size());
     for (std::size_t i = 0; i < f.order.size(); ++i) f.order[i] = static_cast<int>(i);
-
     f.flatProvoking = s.shading == Shading::Flat && method.flatProvoking;
-    Result<GLuint> prog = program(method.name, methodProgram(method, mCaps, s.shading, f.views));
-    if (!prog) return prog.status();
 
+    RenderOutput out;
+    out.method = method.name;
+    if (method.artifact) out.note = method.artifact;
+    if (method.target != TargetKind::Mrt) {
+        out.color.resize(static_cast<std::size_t>(views));
+        out.depth.resize(static_cast<std::size_t>(views));
+    }
+    GlFrameStats stats;
+    stats.method = method.name;
+    stats.gpuMs = mTimer ? 0.0 : -1.0;
+    stats.passes = passes;
+    // A pass's rig: its views, side by side (the whole rig when one pass takes them all).
+    Rig passRig;
+    if (passes > 1) {
+        passRig = rig;
+        passRig.columns = perPass;
+        passRig.rows = 1;
+        passRig.views.resize(static_cast<std::size_t>(perPass));
+    }
+    const Rig& layoutRig = passes > 1 ? passRig : rig;
     if (method.target == TargetKind::Tiled) {
-        auto t = tileLayout(rig, s.width, s.height);
+        // One layout (of the largest pass) for every pass: the target is made once.
+        auto t = tileLayout(layoutRig, s.width, s.height);
         if (!t) return t.status();
         f.tiles = *t;
     }
+    for (int p = 0; p < passes; ++p) {
+        f.firstView = p * perPass;
+        f.views = std::min(perPass, views - f.firstView);
+        if (passes > 1) {
+            const auto first = rig.views.begin() + f.firstView;
+            passRig.views.assign(first, first + f.views);
+            passRig.columns = f.views;
+            f.rig = &passRig;
+        }
+        if (Status st = drawPass(f, out, stats); !st) return st;
+    }
+    stats.totalWallMs = msSince(t0);
+    mLastStats = stats;
+    return out;
+}
+
+Status Renderer::drawPass(Frame& f, RenderOutput& out, GlFrameStats& stats) {
+    const GlMethod& method = *f.method;
+    const RenderSettings& s = *f.settings;
+    Result<GLuint> prog = program(method.name, methodProgram(method, mCaps, s.shading, f.views));
+    if (!prog) return prog.status();
     if (method.prepare) {
         if (Status st = (this->*method.prepare)(f); !st) return st;
     }
@@ -588,36 +632,25 @@ Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
                              : internalError(fmt::format("gl: no draw path for {}", method.name));
     if (mTimer) glEndQuery(GL_TIME_ELAPSED);
     glFinish();
-    const double drawMs = msSince(tDraw);
+    stats.drawWallMs += msSince(tDraw);
     if (!drawn) return drawn;
     if (Status st = checkGlError(fmt::format("drawing with {}", method.name).c_str()); !st)
         return st;
 
     const auto tRead = Clock::now();
-    RenderOutput out;
-    out.method = method.name;
-    if (method.artifact) out.note = method.artifact;
     switch (method.target) {
         case TargetKind::Mrt: readMrt(out, f); break;
         case TargetKind::Tiled: readTiled(out, f); break;
         case TargetKind::Layered: readLayered(out, f, true); break;
     }
     if (Status st = checkGlError("reading back"); !st) return st;
-    const double readMs = msSince(tRead);
-
-    GlFrameStats stats;
-    stats.method = method.name;
-    stats.gpuMs = -1.0;
+    stats.readbackWallMs += msSince(tRead);
     if (mTimer) {
         GLuint64 ns = 0;
         glGetQueryObjectui64v(mTimer.get(), GL_QUERY_RESULT, &ns);
-        stats.gpuMs = static_cast<double>(ns) * 1e-6;
+        stats.gpuMs += static_cast<double>(ns) * 1e-6;
     }
-    stats.drawWallMs = drawMs;
-    stats.readbackWallMs = readMs;
-    stats.totalWallMs = msSince(t0);
-    mLastStats = stats;
-    return out;
+    return Status::ok();
 }
 
 Result<RenderOutput> Renderer::renderAuto(const Scene& scene, const Rig& rig,

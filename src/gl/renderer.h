@@ -86,7 +86,9 @@ struct Frame {
     const Scene* scene = nullptr;
     const Rig* rig = nullptr;
     const RenderSettings* settings = nullptr;
-    int views = 0;
+    int views = 0;                    ///< of this pass (rig->views are this pass's views)
+    int firstView = 0;                ///< the request's index of this pass's view 0
+    int targetViews = 0;              ///< views the target holds: the largest pass's
     std::vector<GpuMesh*> meshes;     ///< per scene mesh
     std::vector<int> order;           ///< instance draw order
     bool flatProvoking = false;       ///< draw the provoking-vertex flat arrays
@@ -121,8 +123,12 @@ private:
     friend const std::vector<GlMethod>& glMethods();
 
     Status supportsMethod(const GlMethod& method);
+    /// Draws the views in passes of at most the method's per-pass limit (kalaiah2007 §3),
+    /// each pass into the same target, read back into its views' places.
     Result<RenderOutput> renderOnce(const Scene& scene, const Rig& rig, const RenderSettings& s,
                                     const GlMethod& method);
+    /// One pass of renderOnce: draws f's views, adds its times to `stats`, reads them back.
+    Status drawPass(Frame& f, RenderOutput& out, GlFrameStats& stats);
     Result<RenderOutput> renderAuto(const Scene& scene, const Rig& rig, const RenderSettings& s);
 
     Status prepareScene(const Scene& scene, Frame& frame, std::uint64_t& sceneKey);

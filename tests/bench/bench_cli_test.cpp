@@ -5,10 +5,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <fmt/core.h>
@@ -320,10 +322,70 @@ TEST_F(BenchCli, BadOptions) {
     expectError("bench sorbier " + m + " --plot out.gif", 1, "--plot 'out.gif'");
     expectError("bench sorbier /nonexistent/model.obj --sizes 64x48", 2, "/nonexistent/model.obj");
     expectError("bench kalaiah " + m + " --configs 9", 1, "--configs entry '9'");
-    expectError("bench kalaiah " + m + " --configs 9x9", 1, "out of range");
+    expectError("bench kalaiah " + m + " --configs 12x12", 1, "out of range");
     expectError("bench kalaiah " + m + " --sizes 2x2 --configs 3x1", 1, "too small");
     expectError("bench adelson --only nothing-like-this", 1, "--only");
     expectError("bench adelson --min-batch-ms -1", 1, "--min-batch-ms");
+    expectError("bench views " + m + " --counts 0", 1, "--counts entry 0");
+    expectError("bench views " + m + " --counts 129", 1, "out of range");
+    expectError("bench views " + m + " --grid-views 3", 1, "--grid-views entry '3'");
+    expectError("bench views " + m + " --size 0x2", 1, "--size");
+}
+
+// `mvr bench views`: per N, time, × one view and speed-up over the backend's multipass; the
+// structure and that the numbers are positive and consistent, not a speed.
+void expectViewsJson(const nlohmann::json& j, const std::vector<std::string>& specs) {
+    EXPECT_EQ(j["bench"], "views");
+    expectMachine(j);
+    expectRenderResults(j);
+    std::map<std::string, double> oneView;
+    int rows = 0;
+    for (const auto& r : j["results"]) {
+        ASSERT_FALSE(r.contains("error")) << r["method"] << ": " << r["error"];
+        const std::string spec =
+            r["backend"].get<std::string>() + ":" + r["method"].get<std::string>();
+        EXPECT_NE(std::find(specs.begin(), specs.end(), spec), specs.end()) << spec;
+        EXPECT_EQ(r["width"], 32);
+        EXPECT_EQ(r["height"], 24);
+        const int views = r["views"];
+        EXPECT_EQ(r["config"], fmt::format("{}x1", views));
+        ASSERT_TRUE(r.contains("times_one_view")) << spec;
+        const double times = r["times_one_view"];
+        EXPECT_GT(times, 0.0);
+        if (views == 1) {
+            EXPECT_DOUBLE_EQ(times, 1.0) << spec;
+            oneView[spec] = r["wall_ms"]["median"];
+        } else {
+            ASSERT_TRUE(oneView.count(spec)) << spec;  // N = 1 is measured first
+            EXPECT_NEAR(times, r["wall_ms"]["median"].get<double>() / oneView[spec], 1e-9 * times);
+        }
+        EXPECT_GE(r["passes"].get<int>(), 1);
+        ++rows;
+    }
+    EXPECT_EQ(rows, 3 * int(specs.size()));
+}
+
+TEST_F(BenchCli, ViewsJsonSoft) {
+    const nlohmann::json j =
+        runJson(fmt::format("bench views '{}' --counts 1,2,3 --size 32x24 --frames 1 --warmup 0 "
+                            "--methods soft:multipass,soft:unified --json",
+                            model("suzanne.obj")));
+    expectViewsJson(j, {"soft:multipass", "soft:unified"});
+}
+
+TEST_F(BenchCli, ViewsJsonGlAndPlot) {
+    // gl:multipass is added as the baseline of gl:viewport-array; skipped where gl cannot run.
+    const CliRun r =
+        run(fmt::format("bench views '{}' --counts 1,2,3 --size 32x24 --frames 1 --warmup 0 "
+                        "--methods gl:viewport-array --json --plot v.png",
+                        model("suzanne.obj")));
+    ASSERT_EQ(r.exitCode == 3 ? 3 : 0, r.exitCode) << r.err;
+    if (r.exitCode == 3) GTEST_SKIP() << r.err;
+    ASSERT_TRUE(nlohmann::json::accept(r.out)) << r.out;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    if (!j["skipped"].empty()) GTEST_SKIP() << j["skipped"].dump();
+    expectViewsJson(j, {"gl:multipass", "gl:viewport-array"});
+    EXPECT_TRUE(fs::file_size(mDir / "v.png") > 1000);
 }
 
 }  // namespace

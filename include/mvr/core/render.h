@@ -46,6 +46,9 @@ struct RenderStats {
     double drawWallMs = 0.0;      ///< wall time from the first draw to the finished frame
     double readbackWallMs = 0.0;  ///< wall time of handing the views' images back
     double totalWallMs = 0.0;     ///< the whole render() call
+    /// gl: the batches of at most the method's per-pass view limit it drew the views in
+    /// (kalaiah2007 §3); 1 when all views fit in one pass (and for soft).
+    int passes = 1;
 };
 
 /// What one render produces: a color and a depth image per view, in rig view order.

@@ -79,6 +79,7 @@ struct GlFrameStats {
     double drawWallMs = 0.0;      ///< wall time from first draw to glFinish()
     double readbackWallMs = 0.0;  ///< wall time of reading back every view's color (+ depth)
     double totalWallMs = 0.0;     ///< the whole render() call
+    int passes = 1;               ///< batches of at most the method's per-pass view limit
 };
 
 /// `backend.lastStats()` in the gl backend's terms (kept for callers of the gl API; every

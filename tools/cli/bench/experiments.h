@@ -19,5 +19,6 @@ struct PaperBench {
 PaperBench addSorbier(CLI::App* bench);  ///< sorbier.cpp
 PaperBench addKalaiah(CLI::App* bench);  ///< kalaiah.cpp
 PaperBench addAdelson(CLI::App* bench);  ///< adelson.cpp
+PaperBench addViews(CLI::App* bench);    ///< views.cpp: N views, × one view
 
 }  // namespace mvr::cli::bench

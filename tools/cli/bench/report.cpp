@@ -81,16 +81,17 @@ Status runGnuplot(const std::string& output, const std::string& data, std::strin
 
 /// Panels of fps against x, one line with min–max bars per series.
 std::string renderPlotScript(const std::string& title, const std::vector<std::string>& panels,
-                             const std::vector<std::string>& series, const std::string& xlabel) {
+                             const std::vector<std::string>& series, const std::string& xlabel,
+                             const std::string& ylabel = "") {
     std::string s;
     const int cols = int(std::min<std::size_t>(panels.size(), 3));
     const int rowsN = int((panels.size() + cols - 1) / cols);
     s += fmt::format("set multiplot layout {},{} title {}\n", rowsN, cols, gpQuote(title));
-    s += fmt::format(
-        "set xlabel {}\nset ylabel 'fps (median; bars: min-max)'\nset logscale y\nset grid\n",
-        gpQuote(xlabel));
+    s += fmt::format("set xlabel {}\nset ylabel {}\nset logscale y\nset grid\n", gpQuote(xlabel),
+                     gpQuote(ylabel.empty() ? "fps (median; bars: min-max)" : ylabel));
+    if (!ylabel.empty()) s += "set logscale x\nset xtics (1, 2, 4, 9, 16, 45, 72, 100)\n";
     if (xlabel == "triangles") s += "set format x '%.0s%c'\n";  // 100k, 200k, …
-    if (xlabel == "views") s += "set xtics (1, 2, 3, 4, 6, 9)\n";
+    if (xlabel == "views" && ylabel.empty()) s += "set xtics (1, 2, 3, 4, 6, 9)\n";
     s += "set key inside top right font ',7' samplen 2 spacing 0.9 opaque box\nset pointsize 0.7\n";
     int index = 0;
     for (std::size_t p = 0; p < panels.size(); ++p) {
@@ -122,9 +123,11 @@ Status plotRenderRows(const RenderReport& report, const std::string& file) {
             for (const RenderRow& r : report.rows) {
                 if (plot.filter(r) && plot.panel(r) == panel && r.spec() == series &&
                     r.error.empty()) {
-                    data +=
-                        fmt::format("{} {:.4f} {:.4f} {:.4f}\n", plot.x(r), 1000.0 / r.wall.median,
-                                    1000.0 / r.wall.max, 1000.0 / r.wall.min);
+                    const std::array<double, 3> y =
+                        plot.y ? plot.y(r)
+                               : std::array<double, 3>{1000.0 / r.wall.median, 1000.0 / r.wall.max,
+                                                       1000.0 / r.wall.min};
+                    data += fmt::format("{} {:.4f} {:.4f} {:.4f}\n", plot.x(r), y[0], y[1], y[2]);
                 }
             }
             data += "\n\n";
@@ -132,7 +135,9 @@ Status plotRenderRows(const RenderReport& report, const std::string& file) {
     }
     const std::string title =
         fmt::format("{} — {} | {}", plot.title, report.machine->cpu, report.machine->gpuRenderer);
-    return runGnuplot(file, data, renderPlotScript(title, panels, report.series, plot.xlabel));
+    return runGnuplot(
+        file, data,
+        renderPlotScript(title, panels, report.series, plot.xlabel, plot.y ? plot.ylabel : ""));
 }
 
 // ---- markdown -------------------------------------------------------------------------------
@@ -174,7 +179,7 @@ void printPivot(const PivotTable& t, const std::vector<RenderRow>& rows) {
             std::string cell = "-";
             for (const RenderRow& r : rows) {
                 if (t.filter(r) && t.column(r) == c && t.rowLabels(r) == labels)
-                    cell = renderCell(r);
+                    cell = t.cell ? t.cell(r) : renderCell(r);
             }
             line += " " + cell + " |";
         }

@@ -7,6 +7,7 @@
 // adelson`: a simultaneous algorithm against its single-eye version).
 #pragma once
 
+#include <array>
 #include <functional>
 #include <span>
 #include <string>
@@ -52,6 +53,10 @@ struct RenderRow {
     /// empty where not measured (the baseline itself, a failed job).
     std::vector<double> artifactPercent;
     int artifactMaxDelta = 0;
+    /// views: time(N) / time(1) of the same job (0: not measured), and the passes it drew the
+    /// views in (RenderStats::passes; 0: not recorded).
+    double timesOne = 0;
+    int passes = 0;
     std::string spec() const { return backend + ":" + method; }
 };
 /// The row of one measured job: what every render bench records; the bench adds its columns.
@@ -67,6 +72,8 @@ struct PivotTable {
     std::function<bool(const RenderRow&)> filter;
     std::function<std::vector<std::string>(const RenderRow&)> rowLabels;
     std::function<std::string(const RenderRow&)> column;
+    /// The cell's text (empty: fps [min–max] speed-up (cpu ×)).
+    std::function<std::string(const RenderRow&)> cell;
 };
 
 /// fps against `x`, one panel per distinct panel(), one line per series (job), bars min–max.
@@ -76,6 +83,10 @@ struct RenderPlot {
     std::function<bool(const RenderRow&)> filter;
     std::function<std::string(const RenderRow&)> panel;
     std::function<double(const RenderRow&)> x;
+    /// Empty: fps with min–max bars. Else the value and its bar's ends, against `ylabel`, and
+    /// both axes logarithmic (views: "× one view" against N).
+    std::function<std::array<double, 3>(const RenderRow&)> y;
+    std::string ylabel;
 };
 
 struct RenderReport {

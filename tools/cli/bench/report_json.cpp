@@ -109,6 +109,8 @@ Status emitJson(const RenderReport& report, const CommonOptions& o) {
             e["speedup_vs_multipass"] = r.speedup;
             e["cpu_speedup_vs_multipass"] = r.cpuSpeedup;
             if (r.ran != r.method) e["ran"] = r.ran;
+            if (r.timesOne > 0) e["times_one_view"] = r.timesOne;
+            if (r.passes > 0) e["passes"] = r.passes;
             if (!r.artifactPercent.empty()) {
                 e["artifact_percent"] = r.artifactPercent;  // per view, vs multipass
                 e["artifact_max_delta"] = r.artifactMaxDelta;

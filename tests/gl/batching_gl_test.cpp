@@ -1,0 +1,172 @@
+// Tests of the gl backend's batching (kalaiah2007 §3): a method given more views than one of
+// its passes takes draws them in ceil(N / limit) passes, each pass's views into their places.
+// The per-pass limits are read from `info()` ("L views per pass, batches beyond"), so the
+// tests also check what `mvr info` says. Small images and the procedural scene keep them fast
+// on llvmpipe.
+#include <cstdlib>
+#include <map>
+#include <regex>
+
+#include <gtest/gtest.h>
+
+#include "../conformance/tolerances.h"
+#include "gl_test_util.h"
+
+namespace mvr::gl::test {
+namespace {
+
+constexpr int kW = 64, kH = 48;
+
+RenderSettings smallSettings() {
+    RenderSettings s;
+    s.width = kW;
+    s.height = kH;
+    s.shading = Shading::Vertex;
+    s.clearColor = {0.1f, 0.15f, 0.2f};
+    return s;
+}
+
+// A row of `n` off-axis views spanning about a third of the camera distance.
+Rig rowOf(const Scene& scene, int n) {
+    const Camera cam = cameraFor(scene, static_cast<float>(kW) / kH);
+    RigParams p;
+    p.columns = n;
+    p.rows = 1;
+    const float dist = glm::length(cam.position - cam.target);
+    p.convergence = dist;
+    p.interaxial = 0.3f * dist / static_cast<float>(n);
+    auto rig = makeRig(cam, p);
+    EXPECT_TRUE(rig) << rig.status().message();
+    return rig ? *rig : Rig{};
+}
+
+// Views [first, first + n) of `rig` as a rig of their own (a row).
+Rig slice(const Rig& rig, int first, int n) {
+    Rig r = rig;
+    r.views.assign(rig.views.begin() + first, rig.views.begin() + first + n);
+    r.columns = n;
+    r.rows = 1;
+    return r;
+}
+
+// The per-pass view limit of every method that batches, from info()'s
+// "method NAME: supported, L views per pass…, batches beyond" (vertex shading: the first L).
+std::map<std::string, int> perPassLimits() {
+    std::map<std::string, int> limits;
+    const std::regex re(R"(^method ([a-z-]+): supported, (\d+) views per pass.*batches beyond$)");
+    for (const std::string& line : backend().info()) {
+        std::smatch m;
+        if (std::regex_match(line, m, re)) limits[m[1]] = std::atoi(m[2].str().c_str());
+    }
+    return limits;
+}
+
+// The methods that take any view count (all but the fixed-count ones and auto).
+std::vector<std::string> batchingMethods() {
+    std::vector<std::string> out;
+    for (const std::string& m : backend().methods()) {
+        if (m == "gs-mrt" || m == "gs-depthmap" || m == "auto") continue;
+        if (backend().supports(m)) out.push_back(m);
+    }
+    return out;
+}
+
+// `got` vs gl:multipass's `ref`, view by view, within tolerances.h's kGlExact.
+void expectWithinGlExact(const RenderOutput& ref, const RenderOutput& got, const std::string& m) {
+    const conformance::Bound b = conformance::kGlExact;
+    ASSERT_EQ(got.color.size(), ref.color.size()) << m;
+    ASSERT_EQ(got.depth.size(), ref.depth.size()) << m;
+    const double pixels = static_cast<double>(kW) * kH;
+    for (std::size_t v = 0; v < ref.color.size(); ++v) {
+        const double off = static_cast<double>(
+            compareImages(ref.color[v], got.color[v], b.channel).differingPixels);
+        EXPECT_TRUE(b.shareFor(static_cast<int>(v)).holds(off / pixels))
+            << m << " view " << v << ": " << off << " pixels off";
+        const double d = depthMismatch(ref.depth[v], got.depth[v], b.depth, nullptr);
+        EXPECT_TRUE(b.depthShare.holds(d)) << m << " view " << v << ": depth " << d;
+    }
+}
+
+TEST(GlBatching, InfoNamesThePerPassLimit) {
+    MVR_SKIP_WITHOUT_GL();
+    const auto limits = perPassLimits();
+    for (const auto& [m, l] : limits) {
+        EXPECT_GE(l, 1) << m;
+        EXPECT_LT(l, kMaxViews) << m;
+    }
+    // llvmpipe: 16 viewports, 32 GS invocations; a driver with more may take them all at once.
+    if (backend().supports("viewport-array") && limits.count("viewport-array")) {
+        EXPECT_GE(limits.at("viewport-array"), 2);
+    }
+}
+
+// 100 views (a light-field panel's row) on every method, against gl:multipass; the number of
+// passes is ceil(100 / the method's per-pass limit).
+TEST(GlBatching, HundredViewsOnEveryMethodMatchMultipass) {
+    MVR_SKIP_WITHOUT_GL();
+    const Scene& scene = defaultScene();
+    const Rig rig = rowOf(scene, 100);
+    ASSERT_EQ(rig.viewCount(), 100);
+    const RenderSettings s = smallSettings();
+    auto ref = backend().render(scene, rig, s, "multipass");
+    ASSERT_TRUE(ref) << ref.status().message();
+    ASSERT_EQ(ref->color.size(), 100u);
+    const auto limits = perPassLimits();
+    for (const std::string& m : batchingMethods()) {
+        auto r = backend().render(scene, rig, s, m);
+        ASSERT_TRUE(r) << m << ": " << r.status().message();
+        expectWithinGlExact(*ref, *r, m);
+        const auto stats = backend().lastStats();
+        ASSERT_TRUE(stats) << m;
+        const int limit = limits.count(m) ? limits.at(m) : kMaxViews;
+        EXPECT_EQ(stats->passes, (100 + limit - 1) / limit) << m << " (" << limit << " a pass)";
+    }
+}
+
+// One view over each limit: two passes, the second of one view; every view is the same
+// method's image of that view rendered without batching (the views of each pass as a rig of
+// their own), pixel for pixel, colour and depth.
+TEST(GlBatching, JustOverTheLimitIsTheUnbatchedImages) {
+    MVR_SKIP_WITHOUT_GL();
+    const Scene& scene = defaultScene();
+    const RenderSettings s = smallSettings();
+    const auto limits = perPassLimits();
+    if (limits.empty()) GTEST_SKIP() << "no method here batches below kMaxViews";
+    for (const auto& [m, limit] : limits) {
+        const int n = limit + 1;
+        const Rig rig = rowOf(scene, n);
+        auto r = backend().render(scene, rig, s, m);
+        ASSERT_TRUE(r) << m << ": " << r.status().message();
+        ASSERT_TRUE(backend().lastStats());
+        EXPECT_EQ(backend().lastStats()->passes, 2) << m;
+        ASSERT_EQ(r->color.size(), static_cast<std::size_t>(n));
+        auto first = backend().render(scene, slice(rig, 0, limit), s, m);
+        ASSERT_TRUE(first) << m << ": " << first.status().message();
+        EXPECT_EQ(backend().lastStats()->passes, 1) << m;
+        auto last = backend().render(scene, slice(rig, limit, 1), s, m);
+        ASSERT_TRUE(last) << m << ": " << last.status().message();
+        for (int v = 0; v < n; ++v) {
+            const RenderOutput& one = v < limit ? *first : *last;
+            const std::size_t i = static_cast<std::size_t>(v < limit ? v : 0);
+            EXPECT_EQ(r->color[v].rgba, one.color[i].rgba) << m << " view " << v;
+            EXPECT_EQ(r->depth[v].depth, one.depth[i].depth) << m << " view " << v;
+        }
+        auto ref = backend().render(scene, rig, s, "multipass");
+        ASSERT_TRUE(ref) << ref.status().message();
+        expectWithinGlExact(*ref, *r, m);
+    }
+}
+
+// auto measures the exact methods, batched ones among them, and renders 100 views.
+TEST(GlBatching, AutoRendersManyViews) {
+    MVR_SKIP_WITHOUT_GL();
+    const Scene& scene = defaultScene();
+    const Rig rig = rowOf(scene, 72);
+    auto r = backend().render(scene, rig, smallSettings(), "auto");
+    ASSERT_TRUE(r) << r.status().message();
+    EXPECT_EQ(r->color.size(), 72u);
+    EXPECT_EQ(r->note.find("view limit"), std::string::npos) << r->note;
+}
+
+}  // namespace
+}  // namespace mvr::gl::test

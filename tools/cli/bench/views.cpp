@@ -1,0 +1,197 @@
+// `mvr bench views`: many views at the cost of how many? For each view count N (an off-axis
+// row of N views, or the C×R grids of --grid-views), the time of every method, its multiple of
+// one view (time(N) / time(1) of the same method) and its speed-up over multipass of the same
+// backend; the passes a gl method drew the views in (kalaiah2007 §3's batches).
+#include <algorithm>
+#include <filesystem>
+#include <regex>
+
+#include <fmt/core.h>
+
+#include "bench/experiments.h"
+#include "bench/harness.h"
+#include "bench/report.h"
+
+namespace mvr::cli::bench {
+
+namespace {
+
+struct ViewsOptions {
+    CommonOptions common;
+    std::vector<std::string> models;
+    int grid = 1;
+    std::vector<int> counts{1, 2, 4, 9, 16, 45, 72, 100};
+    std::vector<std::string> gridViews;  ///< CxR entries; replace --counts when given
+    std::string size = "420x560";
+    std::string shading = "vertex";
+    std::vector<std::string> methods{"soft:multipass", "soft:unified"};
+};
+
+/// The view arrangements to measure: "Nx1" rows, or the --grid-views entries.
+Result<std::vector<std::pair<int, int>>> viewConfigs(const ViewsOptions& o) {
+    std::vector<std::pair<int, int>> configs;
+    if (!o.gridViews.empty()) {
+        static const std::regex kGrid(R"((\d{1,3})[xX](\d{1,3}))");
+        for (const std::string& g : o.gridViews) {
+            std::smatch m;
+            if (!std::regex_match(g, m, kGrid)) {
+                return usageError(
+                    fmt::format("--grid-views entry '{}' is not of the form CxR (e.g. 9x9)", g));
+            }
+            const int c = std::stoi(m[1].str()), r = std::stoi(m[2].str());
+            if (c < 1 || r < 1 || c * r > kMaxViews) {
+                return usageError(
+                    fmt::format("--grid-views entry '{}' is out of range (expected 1..{} views)", g,
+                                kMaxViews));
+            }
+            configs.push_back({c, r});
+        }
+        return configs;
+    }
+    for (int n : o.counts) {
+        if (n < 1 || n > kMaxViews) {
+            return usageError(
+                fmt::format("--counts entry {} is out of range (expected 1..{})", n, kMaxViews));
+        }
+        configs.push_back({n, 1});
+    }
+    if (configs.empty()) return usageError("--counts is empty (expected e.g. 1,2,4,9,16,45)");
+    return configs;
+}
+
+int runViews(const ViewsOptions& o) {
+    if (Status s = checkCommonOptions(o.common); !s) return fail(s);
+    if (o.grid < 1 || o.grid > 64) {
+        return fail(usageError(fmt::format("--grid {} is out of range (expected 1..64)", o.grid)));
+    }
+    auto configsR = viewConfigs(o);
+    if (!configsR) return fail(configsR.status());
+    const std::vector<std::pair<int, int>> configs = std::move(configsR).value();
+    if (auto size = parseSize(o.size, "--size"); !size) return fail(size.status());
+    if (auto shading = parseShading(o.shading); !shading) return fail(shading.status());
+    BackendSet backends({.threads = o.common.threads});
+    std::vector<Skipped> skipped;
+    auto jobsR =
+        resolveJobs(o.methods, backends,
+                    {.addBaseline = true, .skipUnavailable = true, .allowAuto = false}, &skipped);
+    if (!jobsR) return fail(jobsR.status());
+    const std::vector<Job> jobs = std::move(jobsR).value();
+    if (jobs.empty()) return fail(unsupportedError("none of the --methods can run here"));
+    const Machine machine = describeMachine(backends);
+    // A bare name that is not a file here is one of the shared models (stanford-bunny.obj).
+    std::vector<std::string> models;
+    for (const std::string& m : o.models) {
+        std::error_code ec;
+        auto path = std::filesystem::exists(m, ec) || m.find('/') != std::string::npos
+                        ? Result<std::string>(m)
+                        : findModel("", m);
+        if (!path) return fail(path.status());
+        models.push_back(*path);
+    }
+
+    Progress progress(int(configs.size() * jobs.size()), o.common.machineReadable(),
+                      o.common.progress);
+    RenderReport report;
+    report.bench = "views", report.machine = &machine, report.skipped = skipped;
+    for (const Job& j : jobs) report.series.push_back(j.text());
+    std::string model = "default scene";
+    for (const auto& [c, r] : configs) {
+        SceneOptions so;
+        so.models = models;
+        so.grid = o.grid;
+        so.viewGrid = fmt::format("{}x{}", c, r);
+        so.size = o.size;
+        so.shading = o.shading;
+        auto prepared = so.prepare();
+        if (!prepared) return fail(prepared.status());
+        const Prepared& p = *prepared;
+        model = std::filesystem::path(p.sceneName).filename().string();
+        const std::vector<Measured> m =
+            measure(jobs, p, {.warmup = o.common.warmup, .frames = o.common.frames},
+                    {.progress = &progress, .label = fmt::format("{} views", c * r)});
+        const std::size_t first = report.rows.size();
+        for (std::size_t j = 0; j < jobs.size(); ++j) {
+            RenderRow row = renderRow(jobs[j], m[j], p.scene.triangleCount());
+            row.shading = o.shading, row.model = model, row.copies = o.grid;
+            row.views = c * r, row.config = fmt::format("{}x{}", c, r);
+            row.width = p.settings.width, row.height = p.settings.height;
+            if (!m[j].stats.empty()) row.passes = m[j].stats.back().passes;
+            report.rows.push_back(row);
+        }
+        fillSpeedups(report.rows, first);
+    }
+    progress.done();
+    // × one view: against the same job's single view (a 1x1 config), where one was measured.
+    for (RenderRow& r : report.rows) {
+        for (const RenderRow& one : report.rows) {
+            if (one.views == 1 && one.spec() == r.spec() && one.error.empty() && r.error.empty() &&
+                one.wall.median > 0) {
+                r.timesOne = r.wall.median / one.wall.median;
+            }
+        }
+    }
+    report.tables.push_back(PivotTable{
+        .caption = fmt::format(
+            "Many views — {} ({} copies), views of {} each, {} shading, {} frames after {} warm-up; "
+            "cell: median wall ms, × one view of the same method, speed-up over multipass of the "
+            "same backend, and the passes where a method batched the views",
+            model, o.grid, o.size, o.shading, o.common.frames, o.common.warmup),
+        .rowHeads = {"views"},
+        .filter = [](const RenderRow&) { return true; },
+        .rowLabels = [](const RenderRow& r) { return std::vector<std::string>{r.config}; },
+        .column = [](const RenderRow& r) { return r.spec(); },
+        .cell = [](const RenderRow& r) -> std::string {
+            if (!r.error.empty()) return "error";
+            std::string cell = fmt::format("{:.1f} ms", r.wall.median);
+            if (r.timesOne > 0) cell += fmt::format(", {:.2f}× one view", r.timesOne);
+            if (r.speedup > 0) cell += fmt::format(", {:.2f}× vs multipass", r.speedup);
+            if (r.passes > 1) cell += fmt::format(", {} passes", r.passes);
+            return cell;
+        }});
+    report.plot = RenderPlot{
+        .title = fmt::format("Many views: time(N) / time(1), views of {}", o.size),
+        .xlabel = "views N",
+        .filter = [](const RenderRow& r) { return r.timesOne > 0; },
+        .panel =
+            [](const RenderRow& r) {
+                return fmt::format("{} ({} triangles)", r.model, r.triangles);
+            },
+        .x = [](const RenderRow& r) { return double(r.views); },
+        .y =
+            [](const RenderRow& r) {
+                const double perMs = r.timesOne / r.wall.median;
+                return std::array<double, 3>{r.timesOne, r.wall.min * perMs, r.wall.max * perMs};
+            },
+        .ylabel = "x one view (time(N) / time(1), median; bars: min-max)"};
+    return printRenderReport(report, o.common);
+}
+
+}  // namespace
+
+PaperBench addViews(CLI::App* bench) {
+    auto o = std::make_shared<ViewsOptions>();
+    o->common.frames = 5;
+    CLI::App* v = bench->add_subcommand(
+        "views",
+        "Many views: time, multiple of one view and speed-up over multipass for rows of N views "
+        "(1..100: light-field panels), every method batching past its per-pass limit");
+    v->add_option("models", o->models, "Models (default: the procedural scene)");
+    v->add_option("--grid", o->grid, "Lay out K copies of the model(s) in a grid")
+        ->default_val(o->grid);
+    v->add_option("--counts", o->counts, "View counts N (a row of N views), comma separated")
+        ->delimiter(',')
+        ->default_str("1,2,4,9,16,45,72,100");
+    v->add_option("--grid-views", o->gridViews,
+                  "View grids CxR instead of rows, comma separated (e.g. 1x1,3x3,9x9)")
+        ->delimiter(',');
+    v->add_option("--size", o->size, "One view's size WxH")->default_val(o->size);
+    v->add_option("--shading", o->shading, "flat, vertex or pixel")->default_val(o->shading);
+    v->add_option("--methods", o->methods,
+                  "BACKEND:METHOD list (BACKEND:multipass is added as the baseline)")
+        ->delimiter(',')
+        ->default_str("soft:multipass,soft:unified");
+    addCommonOptions(v, o->common, "Timed frames per method and view count");
+    return {v, [o] { return runViews(*o); }};
+}
+
+}  // namespace mvr::cli::bench
