@@ -106,7 +106,8 @@ Result<Sky> loadSky(const std::string& spec) {
     if (!data) {
         std::error_code ec;
         if (!std::filesystem::exists(spec, ec))
-            return inputError(fmt::format("--sky '{}': no such file (or 'gradient')", spec));
+            return inputError(
+                fmt::format("--sky '{}': file not found (a PNG/JPEG map, or 'gradient')", spec));
         return inputError(fmt::format("--sky '{}': not a PNG or JPEG image ({})", spec,
                                       stbi_failure_reason() ? stbi_failure_reason() : "?"));
     }

@@ -15,9 +15,8 @@ void StereoSurfaceOptions::addTo(CLI::App* app) {
                   "nearer than the screen is seen by one eye only (width from the rig and the "
                   "nearest such depth). Off-axis rigs; needs a depth buffer");
     app->add_option("--letterbox", letterbox,
-                    "Two black bands, each PCT % of the height, at the convergence depth "
-                    "(out-of-screen objects overdraw them). Needs a depth buffer")
-        ->type_name("PCT");
+                    "Two black bands, each this percentage of the height, at the convergence depth "
+                    "(out-of-screen objects overdraw them). Needs a depth buffer");
     app->add_option("--label", labels,
                     "Text at a depth: 'TEXT@x,y[,distance]', x,y fractions of the view (0,0 = top "
                     "left), distance = eye-space distance (default: the convergence, on the "
