@@ -26,6 +26,7 @@
 
 #include "compose_options.h"
 #include "options.h"
+#include "stereo_options.h"
 
 #include "mvr/backends.h"
 #include "mvr/composite/compose.h"
@@ -337,6 +338,8 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     app.add_option("--format", formats)->check(CLI::IsMember(composite::formatNames()));
     app.add_option("-o,--output", outDir);
     cli::addComposeOptions(&app, compose);
+    cli::StereoSurfaceOptions surfaceOptions;  // sky=, floating_window=, letterbox=, label=…
+    surfaceOptions.addTo(&app);
     std::vector<std::string> args;
     keywordsToArgs(app, "render", kwargs, args);
     const std::vector<std::string> paths = modelPaths(models);
@@ -354,6 +357,8 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     {
         py::gil_scoped_release release;
         prepared = scene.prepare();
+        Result<StereoSurfaces> surfaces = surfaceOptions.build();
+        if (prepared && !surfaces) prepared = surfaces.status();
         if (prepared) {
             if (auto entry = findBackend(backendName)) gpu = (*entry)->gpu;
             std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
@@ -370,6 +375,11 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
                     const auto start = std::chrono::steady_clock::now();
                     rendered =
                         backend->render(prepared->scene, prepared->rig, prepared->settings, method);
+                    if (rendered) {
+                        if (Status st = cli::applySurfaces(*surfaces, prepared->rig, *rendered);
+                            !st)
+                            rendered = st;
+                    }
                     ms = std::chrono::duration<double, std::milli>(
                              std::chrono::steady_clock::now() - start)
                              .count();

@@ -16,6 +16,10 @@ CASES = [
     ({"views": 2, "rig": "parallel", "separation": 0.05, "shading": "flat", "method": "multipass"},
      ["--views", "2", "--rig", "parallel", "--separation", "0.05", "--shading", "flat",
       "--method", "multipass"]),
+    ({"sky": "gradient", "floating_window": True, "letterbox": 8, "label": ["HI@0.5,0.3,3"],
+      "label_anchor": "A@0,0.5,0"},
+     ["--sky", "gradient", "--floating-window", "--letterbox", "8", "--label", "HI@0.5,0.3,3",
+      "--label-anchor", "A@0,0.5,0"]),
 ]
 
 
@@ -96,6 +100,13 @@ def test_smoke_shape():
     r = mvr.render(views=2, size=(320, 240))
     assert r.color.shape == (2, 240, 320, 4)
     assert len(r) == 2 and "2 views of 320x240" in repr(r)
+
+
+def test_stereo_surfaces_errors():
+    with pytest.raises(FileNotFoundError, match="nosuch.png"):
+        mvr.render(size=(32, 24), sky="nosuch.png")
+    with pytest.raises(ValueError, match="--label 'bad'"):
+        mvr.render(size=(32, 24), label="bad")
 
 
 def test_load_mesh_and_info(model):

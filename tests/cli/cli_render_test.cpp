@@ -424,5 +424,25 @@ TEST_F(Cli, DocsQuoteTheDefaultCameraArtifacts) {
     }
 }
 
+// Issue 15: the stereo surfaces from the command line (their numbers: tests/core/
+// stereo_surfaces_test.cpp). The letterbox's top band lies over the sky (behind the screen),
+// the floating window masks the left edge of view 0 where the floor comes out of the screen.
+TEST_F(Cli, StereoSurfaces) {
+    const CliRun r =
+        run("render --size 160x120 --sky gradient --letterbox 10 --floating-window "
+            "--label 'HI@0.5,0.5,3' --label-anchor 'A@0,0,0' -o out -q");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto left = readPng(mDir / "out/view-0.png");
+    ASSERT_TRUE(left);
+    EXPECT_EQ(left->at(80, 0), (Rgba8{0, 0, 0, 255}));  // letterbox
+    EXPECT_EQ(left->at(80, 11), (Rgba8{0, 0, 0, 255}));
+    EXPECT_NE(left->at(80, 12), (Rgba8{0, 0, 0, 255}));  // sky below the band
+    EXPECT_EQ(left->at(0, 60), (Rgba8{0, 0, 0, 255}));   // floating window
+    expectError("render --size 64x48 --sky nosuch.png -o out", 2, "--sky 'nosuch.png'");
+    expectError("render --size 64x48 --letterbox 60 -o out", 1, "--letterbox 60");
+    expectError("render --size 64x48 --label bad -o out", 1, "--label 'bad'");
+    expectError("render --size 64x48 --rig toein --floating-window -o out", 3, "off-axis");
+}
+
 }  // namespace
 }  // namespace mvr

@@ -11,6 +11,7 @@
 #include "command.h"
 #include "compose_options.h"
 #include "options.h"
+#include "stereo_options.h"
 
 #include "mvr/backends.h"
 #include "mvr/composite/compose.h"
@@ -28,6 +29,7 @@ struct RenderOptions {
     bool quiet = false;
     bool check = false;
     composite::ComposeOptions compose;
+    StereoSurfaceOptions surfaces;  ///< --sky, --floating-window, --letterbox, --label…
 };
 
 /// `--check`: renders the reference — the backend's multipass, or the registry's first
@@ -71,6 +73,8 @@ int runRender(const RenderOptions& o) {
         return fail(Status(s.code(), fmt::format("--method {}: {}", method, s.message())));
     }
     const Prepared& p = *prepared;
+    auto surfaces = o.surfaces.build();
+    if (!surfaces) return fail(surfaces.status());
 
     std::error_code ec;
     std::filesystem::create_directories(o.outDir, ec);
@@ -89,6 +93,7 @@ int runRender(const RenderOptions& o) {
     if (!rendered) return fail(rendered.status());
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (Status s = applySurfaces(*surfaces, p.rig, *rendered); !s) return fail(s);
     const RenderOutput& out = *rendered;
     if (int(out.color.size()) != p.rig.viewCount()) {
         return fail(internalError(fmt::format("backend returned {} images for {} views",
@@ -192,6 +197,7 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
                     "Also write composites: DIR/<format>.png (.mpo, .jps); repeatable")
         ->check(CLI::IsMember(composite::formatNames()));
     addComposeOptions(app, o->compose);
+    o->surfaces.addTo(app);
     return [o] { return runRender(*o); };
 });
 

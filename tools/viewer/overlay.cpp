@@ -5,12 +5,7 @@
 #include <string>
 #include <vector>
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#include <stb_easy_font.h>
-#pragma GCC diagnostic pop
+#include "mvr/core/stereo_surfaces.h"
 
 namespace mvr::viewer {
 namespace {
@@ -30,35 +25,14 @@ void fillRect(Image& image, int x0, int y0, int x1, int y1, Rgba8 c) {
     }
 }
 
-// One stb_easy_font vertex: x, y, z as floats and an RGBA colour (16 bytes).
-struct EasyFontVertex {
-    float x, y, z;
-    unsigned char color[4];
-};
-
 }  // namespace
 
-glm::ivec2 textSize(std::string_view text, int scale) {
-    std::string s(text);
-    // stb_easy_font_height() counts 12 pixels per line break plus the last line's glyph height.
-    return {stb_easy_font_width(s.data()) * scale, stb_easy_font_height(s.data()) * scale};
-}
+// The HUD is 2D at the screen's depth (zero parallax): the library's text (stereo_surfaces.h),
+// drawn at the same pixels in every eye, without a depth test.
+glm::ivec2 textSize(std::string_view text, int scale) { return mvr::textSize(text, scale); }
 
 void drawText(Image& image, int x, int y, std::string_view text, Rgba8 color, int scale) {
-    if (text.empty() || image.empty()) return;
-    std::string s(text);
-    // ~270 bytes of vertices per character at most (stb_easy_font's README); quads are axis
-    // aligned rectangles (4 vertices: top-left, top-right, bottom-right, bottom-left).
-    std::vector<EasyFontVertex> vertices(s.size() * 64 + 64);
-    unsigned char rgba[4] = {color.r, color.g, color.b, color.a};
-    const int quads = stb_easy_font_print(0.0f, 0.0f, s.data(), rgba, vertices.data(),
-                                          int(vertices.size() * sizeof(EasyFontVertex)));
-    for (int q = 0; q < quads; ++q) {
-        const EasyFontVertex& a = vertices[std::size_t(q) * 4];
-        const EasyFontVertex& c = vertices[std::size_t(q) * 4 + 2];
-        fillRect(image, x + int(std::lround(a.x * scale)), y + int(std::lround(a.y * scale)),
-                 x + int(std::lround(c.x * scale)), y + int(std::lround(c.y * scale)), color);
-    }
+    mvr::drawText(image, x, y, text, color, scale);
 }
 
 void darkenRect(Image& image, int x0, int y0, int x1, int y1, float keep) {

@@ -9,7 +9,8 @@
 // position its 3D point projects to in that eye, so it has the parallax of the surface under
 // the mouse and sits on it.
 //
-// Coordinates: image pixels, row 0 at the top (image.h), x to the right. Text is
+// Coordinates: image pixels, row 0 at the top (image.h), x to the right. Text is the library's
+// (mvr/core/stereo_surfaces.h: 2D at depth, here at the screen's depth), that is
 // stb_easy_font's (public domain, Sean Barrett): a 6×7 pixel font at scale 1, drawn as
 // axis-aligned rectangles.
 #pragma once

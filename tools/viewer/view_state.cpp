@@ -5,6 +5,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "mvr/core/stereo_surfaces.h"
+
 namespace mvr::viewer {
 
 StereoCamera StereoCamera::fromRig(const Rig& rig, float sceneRadius) {
@@ -168,11 +170,17 @@ CursorPlacement placeCursor(const Rig& rig, const DepthImage& depth0, glm::vec2 
         if (!out.onSurface) w = rig.convergence;
     }
     out.distance = w;
-    out.world = pointOnRay(camera, ndc, w);
+    // The cursor is a 2D element at depth w (mvr/core/stereo_surfaces.h): the library's 2D-to-3D
+    // conversion places it, and each eye draws it where the point projects there.
+    Label at;
+    at.screen = screenPx / glm::vec2(float(width), float(height));
+    at.distance = w;
+    out.world = labelPoint(rig, at);
     Projected p[2];
     for (int v = 0; v < 2 && v < rig.viewCount(); ++v) {
         p[v] = project(rig.views[v], out.world);
-        out.viewPx[v] = pixelFromNdc(p[v].ndc, width, height);
+        if (auto px = projectToPixel(rig.views[v], out.world, width, height))
+            out.viewPx[v] = glm::vec2(*px);
     }
     out.parallax = (p[1].ndc.x - p[0].ndc.x) * 0.5f;
     return out;
