@@ -9,7 +9,7 @@ import mvr
 USAGE = [
     (dict(views=0), "view count 0 is out of range"),
     (dict(views=-3), "out of range"),
-    (dict(views=65), "out of range"),
+    (dict(views=129), "out of range"),
     (dict(size=(-1, 5)), "--size '-1x5' is out of range"),
     (dict(size=(0, 0)), "out of range"),
     (dict(size="abc"), "is not of the form WxH"),

@@ -162,7 +162,7 @@ std::vector<BadRequest> badRequests() {
     out.push_back(
         {"zero size", oneTriangle(), stereoRig(), RenderSettings{.width = 0, .height = 24}});
     {
-        // 65 views: more than kMaxViews.
+        // kMaxViews + 1 views: more than kMaxViews.
         BadRequest r{"too many views", oneTriangle(), stereoRig(), small()};
         while (r.rig.viewCount() <= kMaxViews) r.rig.views.push_back(r.rig.views[0]);
         out.push_back(r);

@@ -144,7 +144,7 @@ TEST(FramingGeometry, BadParametersAreUsageErrorsNamingThem) {
     expectBad(with([](FramingParams& p) { p.convergence = 0.0f; }), "convergence");
     expectBad(with([](FramingParams& p) { p.interaxial = 0.1f, p.separation = 0.02f; }),
               "separation");
-    expectBad(with([](FramingParams& p) { p.columns = 9, p.rows = 8; }), "views");
+    expectBad(with([](FramingParams& p) { p.columns = 12, p.rows = 11; }), "views");
     EXPECT_FALSE(frameScene(Scene{}, FramingParams{}));
 }
 

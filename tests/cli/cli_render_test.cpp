@@ -170,7 +170,7 @@ TEST_F(Cli, BunnyEyesOffsetHorizontallyOnly) {
 
 TEST_F(Cli, BadNumbersAreUsageErrors) {
     expectError("render --views 0", 1, "view count");
-    expectError("render --views 65", 1, "view count");
+    expectError("render --views 129", 1, "view count");
     expectError("render --view-grid 3by3", 1, "--view-grid");
     expectError("render --size 0x10", 1, "--size");
     expectError("render --size -5x5", 1, "--size");
@@ -254,8 +254,8 @@ TEST_F(Cli, EveryRefusalNamesItsCulprit) {
         {"--fov 200", 1, "--fov 200 is out of range"},
         {"--size 0x5", 1, "--size '0x5' is out of range"},
         {"--size 20", 1, "--size '20' is not of the form WxH"},
-        {"--views 65", 1, "--views 65: view count 65 is out of range (expected 1..64)"},
-        {"--view-grid 9x9", 1, "--view-grid 9x9: view count 81 is out of range"},
+        {"--views 129", 1, "--views 129: view count 129 is out of range (expected 1..128)"},
+        {"--view-grid 12x11", 1, "--view-grid 12x11: view count 132 is out of range"},
         {"--view-grid 3y3", 1, "--view-grid '3y3' is not of the form CxR"},
         {"--grid 3", 1, "--grid 3 needs a model file"},
         {"--shading toon", 1, "--shading toon: unknown shading 'toon'"},

@@ -246,7 +246,7 @@ TEST(Rig, RejectsBadParameters) {
     RigParams p;
     p.columns = 0;
     EXPECT_EQ(makeRig(camera, p).status().code(), ErrorCode::Usage);
-    p.columns = 65;
+    p.columns = kMaxViews + 1;
     EXPECT_NE(makeRig(camera, p).status().message().find("out of range"), std::string::npos);
     p.columns = 2;
     p.interaxial = std::nanf("");

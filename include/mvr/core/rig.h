@@ -37,7 +37,7 @@
 
 namespace mvr {
 
-inline constexpr int kMaxViews = 64;
+inline constexpr int kMaxViews = 128;
 
 /// The mono (center) camera: where the viewer is and what it sees.
 struct Camera {
