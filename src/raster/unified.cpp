@@ -39,6 +39,9 @@ namespace {
 /// lane count, then ~7 ns per view, against ~20–25 ns per view for the scalar walk: it wins
 /// from two views on.
 constexpr int kMinSimdViews = MVR_MIN_SIMD_VIEWS;
+/// setupViews returns one bit per view in a std::uint64_t: families of more views (kMaxViews is
+/// 128) are set up 64 views at a time.
+constexpr int kSetupChunk = 64;
 
 /// Views sharing (y, z, w): an off-axis row (same shear.y), or a single unsheared view.
 struct Family {
@@ -104,6 +107,10 @@ struct UnifiedData : MethodScratch {
 };
 
 void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, UnifiedData& d) {
+    // The previous frame's families give their per-vertex arrays to this frame's: at many views
+    // sxv alone is tens of MB (past glibc's mmap threshold), and allocating it anew every frame
+    // cost its page faults and zero fill again (100 views of 208k triangles: ~200 ms a frame).
+    std::vector<Family> previous = std::move(d.families);
     d.families.clear();
     d.views.resize(std::size_t(rig.viewCount()));
     d.anySheared = false;
@@ -124,6 +131,12 @@ void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, Uni
         if (fam < 0) {
             fam = int(d.families.size());
             Family f;
+            if (std::size_t(fam) < previous.size()) {
+                Family& old = previous[std::size_t(fam)];
+                f.y = std::move(old.y), f.z = std::move(old.z), f.w = std::move(old.w);
+                f.q = std::move(old.q), f.zw = std::move(old.zw), f.sy = std::move(old.sy);
+                f.code = std::move(old.code), f.sxv = std::move(old.sxv);
+            }
             f.sheared = view.clipShear.has_value();
             f.shearY = f.sheared ? view.clipShear->y : 0.0f;
             f.shearXMin = f.shearXMax = f.sheared ? view.clipShear->x : 0.0f;
@@ -615,18 +628,24 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
     }
     fill(b.frag);
     flushLanes(b);
-    // More views than a queue block: one setupViews pass over the family's views.
-    for (std::uint64_t lanes = b.f.kernels.setupViews(ys, x0, x1, x2, nv, width, b.views); lanes;
-         lanes &= lanes - 1) {
-        const int k = std::countr_zero(lanes);
-        const std::int32_t m = b.views.mask[k];
-        if (culled(k)) continue;
-        FragmentSink<S> sink = b.sinks[std::size_t(fam.views[std::size_t(k)])];  // in registers
-        if (m > 0) {
-            emitSmall(b.views, k, ys.rowMin, sink);
-        } else {
-            const std::int32_t xk[3] = {x0[k], x1[k], x2[k]};
-            rasterTriangle(ys, xk, width, sink);
+    // More views than a queue block: setupViews passes over the family's views, at most
+    // kSetupChunk at a time (its lane mask has 64 bits).
+    for (int base = 0; base < nv; base += kSetupChunk) {
+        const int n = std::min(kSetupChunk, nv - base);
+        for (std::uint64_t lanes =
+                 b.f.kernels.setupViews(ys, x0 + base, x1 + base, x2 + base, n, width, b.views);
+             lanes; lanes &= lanes - 1) {
+            const int k = std::countr_zero(lanes);
+            const int kv = base + k;  // the view's position in the family
+            const std::int32_t m = b.views.mask[k];
+            if (culled(kv)) continue;
+            FragmentSink<S> sink = b.sinks[std::size_t(views[kv])];  // in registers
+            if (m > 0) {
+                emitSmall(b.views, k, ys.rowMin, sink);
+            } else {
+                const std::int32_t xk[3] = {x0[kv], x1[kv], x2[kv]};
+                rasterTriangle(ys, xk, width, sink);
+            }
         }
     }
 }
@@ -709,17 +728,21 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
         const ViewData& vd = d.views[std::size_t(active[k])];
         x[0][k] = vd.sx[v[0]], x[1][k] = vd.sx[v[1]], x[2][k] = vd.sx[v[2]];
     }
-    f.kernels.setupViews(ys, x[0], x[1], x[2], activeCount, width, b.views);
-    for (int k = 0; k < activeCount; ++k) {
-        const std::int32_t m = b.views.mask[k];
-        if (m == 0) continue;
-        auto& sink = b.sinks[std::size_t(active[k])];
-        if (m > 0) {
-            emitSmall(b.views, k, ys.rowMin, sink);
-        } else {
-            const ViewData& vd = d.views[std::size_t(active[k])];
-            const std::int32_t xk[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
-            rasterTriangle(ys, xk, width, sink);
+    for (int base = 0; base < activeCount; base += kSetupChunk) {
+        const int n = std::min(kSetupChunk, activeCount - base);
+        f.kernels.setupViews(ys, x[0] + base, x[1] + base, x[2] + base, n, width, b.views);
+        for (int k = 0; k < n; ++k) {
+            const std::int32_t m = b.views.mask[k];
+            if (m == 0) continue;
+            const int view = active[base + k];
+            auto& sink = b.sinks[std::size_t(view)];
+            if (m > 0) {
+                emitSmall(b.views, k, ys.rowMin, sink);
+            } else {
+                const ViewData& vd = d.views[std::size_t(view)];
+                const std::int32_t xk[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
+                rasterTriangle(ys, xk, width, sink);
+            }
         }
     }
 }

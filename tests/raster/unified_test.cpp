@@ -1,6 +1,6 @@
 // Differential tests: the unified N-view pipeline equals N single-view renders (multipass) BIT
 // FOR BIT, color and depth, over rigs (off-axis rows and grids, toe-in, parallel, lists), view
-// counts 1..9, shading modes, culling, wireframe, models and random triangle soups (crossing the
+// counts 1..9 and long rows / big grids up to 100 views, shading modes, culling, wireframe, models and random triangle soups (crossing the
 // near plane, the screen edges and the guard band); and the SIMD paths equal the scalar path.
 #include <cstdlib>
 #include <cstring>
@@ -306,6 +306,104 @@ TEST(UnifiedEqualsMultipass, GridViewsInAnyOrder) {
         }
     }
     EXPECT_GT(stats.covered, stats.renders * 500);
+}
+
+TEST(UnifiedEqualsMultipass, LongRowsAndBigGrids) {
+    // Light-field panels: off-axis rows of 16..100 views and grids up to 9x9 (issue 12), every
+    // shading, culling on and off, wireframe, on small random soups (near plane, guard band).
+    auto backend = makeSoftBackend();
+    std::mt19937 rng(4512);
+    Stats stats;
+    const std::vector<std::pair<int, int>> shapes = {{16, 1},  {45, 1}, {48, 1}, {66, 1}, {72, 1},
+                                                     {100, 1}, {4, 4},  {8, 6},  {9, 9}};
+    int i = 0;
+    for (auto [c, r] : shapes) {
+        for (int mode = 0; mode < 7; ++mode, ++i) {
+            SCOPED_TRACE(fmt::format("{}x{} mode {}", c, r, mode));
+            const Scene scene = randomSoup(rng, 12 + int(rng() % 12));
+            RenderSettings s;
+            s.width = 24 + int(rng() % 16), s.height = 16 + int(rng() % 12);
+            s.shading = static_cast<Shading>(mode % 3);
+            s.cullBackFaces = mode >= 3 && mode < 6;
+            s.wireframe = mode == 6;
+            Camera cam;
+            cam.position = {0.0f, 0.0f, 3.0f};
+            cam.target = {0.2f, -0.1f, 0.0f};
+            cam.near = 0.3f, cam.far = 30.0f;
+            cam.aspect = float(s.width) / float(s.height);
+            RigParams p;
+            p.kind = RigKind::OffAxis, p.columns = c, p.rows = r;
+            p.convergence = 3.0f, p.interaxial = 3.0f * (0.005f + 0.02f * float(rng() % 4));
+            auto rig = makeRig(cam, p);
+            ASSERT_TRUE(rig) << rig.status().message();
+            ASSERT_EQ(rig->viewCount(), c * r);
+            expectSame(*backend, scene, *rig, s, stats);
+        }
+    }
+    EXPECT_GT(stats.covered, stats.renders * 200);
+}
+
+TEST(UnifiedEqualsMultipass, BunnyAtHundredViews) {
+    // Real geometry (most triangles below a pixel) on a 100-view row, low resolution.
+    const auto path = modelsDir() / "stanford-bunny.obj";
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+    auto mesh = loadMesh(path);
+    ASSERT_TRUE(mesh) << mesh.status().message();
+    const Scene scene = makeGridScene({std::move(mesh).value()}, 1);
+    const Bounds b = scene.bounds();
+    auto backend = makeSoftBackend();
+    Stats stats;
+    RenderSettings s;
+    s.width = 42, s.height = 56;
+    Camera cam;
+    cam.target = b.center();
+    cam.position = b.center() + glm::vec3(0.0f, 0.0f, 2.5f * b.radius());
+    cam.near = 0.5f * b.radius(), cam.far = 10.0f * b.radius();
+    cam.aspect = float(s.width) / float(s.height);
+    RigParams p;
+    p.kind = RigKind::OffAxis, p.columns = 100, p.rows = 1;
+    p.convergence = 2.5f * b.radius(), p.interaxial = p.convergence / 60.0f;
+    auto rig = makeRig(cam, p);
+    ASSERT_TRUE(rig) << rig.status().message();
+    for (int mode = 0; mode < 3; ++mode) {
+        s.shading = static_cast<Shading>(mode);
+        s.cullBackFaces = mode == 1;
+        expectSame(*backend, scene, *rig, s, stats);
+    }
+    EXPECT_GT(stats.covered, stats.renders * 100 * 200);
+}
+
+TEST(UnifiedEqualsMultipass, ManyViewsAreCheckedForMemoryUpFront) {
+    // kMaxViews (128) views render; their images are checked against kMaxFramebufferBytes before
+    // anything is allocated: a clear Status naming the views, the size and the GiB.
+    static_assert(kMaxViews >= 128);
+    auto backend = makeSoftBackend();
+    std::mt19937 rng(5);
+    const Scene scene = randomSoup(rng, 8);
+    Camera cam;
+    cam.position = {0.0f, 0.0f, 3.0f};
+    RigParams p;
+    p.columns = kMaxViews, p.rows = 1, p.convergence = 3.0f, p.interaxial = 0.01f;
+    auto rig = makeRig(cam, p);
+    ASSERT_TRUE(rig) << rig.status().message();
+    RenderSettings s;
+    s.width = 16, s.height = 12;
+    for (const char* method : {"multipass", "unified"}) {
+        auto r = backend->render(scene, *rig, s, method);
+        ASSERT_TRUE(r) << r.status().message();
+        EXPECT_EQ(r->color.size(), std::size_t(kMaxViews));
+    }
+    s.width = 4096, s.height = 4096;  // 128 x 4096 x 4096 x 8 bytes = 16 GiB > 8 GiB
+    for (const char* method : {"multipass", "unified"}) {
+        auto r = backend->render(scene, *rig, s, method);
+        ASSERT_FALSE(r);
+        EXPECT_EQ(r.status().code(), ErrorCode::Unsupported);
+        EXPECT_NE(r.status().message().find("128 views of 4096x4096 need 16.0 GiB"),
+                  std::string::npos)
+            << r.status().message();
+    }
+    p.columns = kMaxViews + 1;
+    EXPECT_FALSE(makeRig(cam, p));
 }
 
 TEST(UnifiedEqualsMultipass, ScalarPathEqualsSimdPath) {

@@ -130,7 +130,7 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
     app->add_option("--grid", grid,
                     "Lay out K copies of the model(s) in a grid (sorbier2008: 1, 3, 5, 9)")
         ->default_val(grid);
-    auto* views_ = app->add_option("--views", views, "Number of views in a horizontal row (1..64)")
+    auto* views_ = app->add_option("--views", views, "Number of views in a horizontal row (1..128)")
                        ->default_val(views);
     app->add_option("--view-grid", viewGrid,
                     "CxR grid of views, numbered left to right, top to bottom")
