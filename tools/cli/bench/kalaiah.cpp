@@ -163,7 +163,8 @@ int runKalaiah(const KalaiahOptions& o) {
                     return std::vector<std::string>{fmt::format("{} ({})", r.model, r.triangles),
                                                     r.config};
                 },
-            .column = [](const RenderRow& r) { return r.spec(); }});
+            .column = [](const RenderRow& r) { return r.spec(); },
+            .cell = {}});
     }
     // One panel per model, fps against the number of views, one line per method (first size).
     const auto [w0, h0] = sizes[0];
@@ -177,7 +178,9 @@ int runKalaiah(const KalaiahOptions& o) {
             [](const RenderRow& r) {
                 return fmt::format("{} ({} triangles)", r.model, r.triangles);
             },
-        .x = [](const RenderRow& r) { return double(r.views); }};
+        .x = [](const RenderRow& r) { return double(r.views); },
+        .y = {},
+        .ylabel = {}};
     return printRenderReport(report, o.common);
 }
 

@@ -148,7 +148,8 @@ int runSorbier(const SorbierOptions& o) {
                 [](const RenderRow& r) {
                     return std::vector<std::string>{r.shading, r.spec()};
                 },
-            .column = [](const RenderRow& r) { return fmt::format("{} tris", r.triangles); }});
+            .column = [](const RenderRow& r) { return fmt::format("{} tris", r.triangles); },
+            .cell = {}});
     }
     // One panel per shading, fps against triangles, one line per method (first size).
     const auto [w0, h0] = sizes[0];
@@ -158,7 +159,9 @@ int runSorbier(const SorbierOptions& o) {
         .filter = [w0 = w0,
                    h0 = h0](const RenderRow& r) { return r.width == w0 && r.height == h0; },
         .panel = [](const RenderRow& r) { return r.shading + " shading"; },
-        .x = [](const RenderRow& r) { return double(r.triangles); }};
+        .x = [](const RenderRow& r) { return double(r.triangles); },
+        .y = {},
+        .ylabel = {}};
     return printRenderReport(report, o.common);
 }
 
