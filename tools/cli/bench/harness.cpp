@@ -159,6 +159,15 @@ Result<std::vector<Job>> resolveJobs(const std::vector<std::string>& entries, Ba
     return jobs;
 }
 
+Result<std::vector<Job>> resolvePaperJobs(const std::vector<std::string>& entries,
+                                          BackendSet& backends, std::vector<Skipped>& skipped) {
+    auto jobs =
+        resolveJobs(entries, backends,
+                    {.addBaseline = true, .skipUnavailable = true, .allowAuto = false}, &skipped);
+    if (jobs && jobs->empty()) return unsupportedError("none of the --methods can run here");
+    return jobs;
+}
+
 std::vector<std::string> defaultMethodList() {
     const std::span<const BackendEntry> all = backends();
     if (all.empty()) return {};

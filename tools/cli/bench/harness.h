@@ -94,6 +94,11 @@ Result<std::vector<Job>> resolveJobs(const std::vector<std::string>& entries, Ba
                                      const JobRules& rules,
                                      std::vector<Skipped>* skipped = nullptr);
 
+/// The jobs of a paper bench: resolveJobs with each backend's multipass baseline first,
+/// unavailable methods in `skipped`, no "auto"; Unsupported when none of them can run here.
+Result<std::vector<Job>> resolvePaperJobs(const std::vector<std::string>& entries,
+                                          BackendSet& backends, std::vector<Skipped>& skipped);
+
 /// The default --methods of `mvr bench`: the first registered backend's baseline and its
 /// default method ("soft:multipass,soft:unified").
 std::vector<std::string> defaultMethodList();

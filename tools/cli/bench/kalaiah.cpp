@@ -104,12 +104,9 @@ int runKalaiah(const KalaiahOptions& o) {
     const std::vector<ModelSpec> models = std::move(modelsR).value();
     BackendSet backends({.threads = o.common.threads});
     std::vector<Skipped> skipped;
-    auto jobsR =
-        resolveJobs(o.methods, backends,
-                    {.addBaseline = true, .skipUnavailable = true, .allowAuto = false}, &skipped);
+    auto jobsR = resolvePaperJobs(o.methods, backends, skipped);
     if (!jobsR) return fail(jobsR.status());
     const std::vector<Job> jobs = std::move(jobsR).value();
-    if (jobs.empty()) return fail(unsupportedError("none of the --methods can run here"));
     const Machine machine = describeMachine(backends);
 
     Progress progress(int(sizes.size() * models.size() * configs.size() * jobs.size()),

@@ -84,12 +84,9 @@ int runSorbier(const SorbierOptions& o) {
         return fail(usageError("--shadings is empty (expected flat,vertex,pixel)"));
     BackendSet backends({.threads = o.common.threads});
     std::vector<Skipped> skipped;
-    auto jobsR =
-        resolveJobs(o.methods, backends,
-                    {.addBaseline = true, .skipUnavailable = true, .allowAuto = false}, &skipped);
+    auto jobsR = resolvePaperJobs(o.methods, backends, skipped);
     if (!jobsR) return fail(jobsR.status());
     const std::vector<Job> jobs = std::move(jobsR).value();
-    if (jobs.empty()) return fail(unsupportedError("none of the --methods can run here"));
     auto model = findModel(o.model, "stanford-bunny.obj");
     if (!model) return fail(model.status());
     const std::string modelName = fs::path(*model).filename().string();

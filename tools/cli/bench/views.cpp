@@ -71,12 +71,9 @@ int runViews(const ViewsOptions& o) {
     if (auto shading = parseShading(o.shading); !shading) return fail(shading.status());
     BackendSet backends({.threads = o.common.threads});
     std::vector<Skipped> skipped;
-    auto jobsR =
-        resolveJobs(o.methods, backends,
-                    {.addBaseline = true, .skipUnavailable = true, .allowAuto = false}, &skipped);
+    auto jobsR = resolvePaperJobs(o.methods, backends, skipped);
     if (!jobsR) return fail(jobsR.status());
     const std::vector<Job> jobs = std::move(jobsR).value();
-    if (jobs.empty()) return fail(unsupportedError("none of the --methods can run here"));
     const Machine machine = describeMachine(backends);
     // A bare name that is not a file here is one of the shared models (stanford-bunny.obj).
     std::vector<std::string> models;
