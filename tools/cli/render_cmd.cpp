@@ -11,6 +11,7 @@
 #include "command.h"
 #include "compose_options.h"
 #include "options.h"
+#include "sequence.h"
 
 #include "mvr/backends.h"
 #include "mvr/composite/compose.h"
@@ -28,6 +29,7 @@ struct RenderOptions {
     bool quiet = false;
     bool check = false;
     composite::ComposeOptions compose;
+    SequenceOptions sequence;  ///< --frames, --orbit, ...: sequence.cpp owns the frame loop
 };
 
 /// `--check`: renders the reference — the backend's multipass, or the registry's first
@@ -77,6 +79,12 @@ int runRender(const RenderOptions& o) {
     if (ec || !std::filesystem::is_directory(o.outDir)) {
         return fail(outputError(fmt::format("cannot create output directory '{}': {}", o.outDir,
                                             ec ? ec.message() : "not a directory")));
+    }
+
+    if (o.sequence.active()) {
+        SequenceJob job{&p,        backend->get(), o.backend, method, o.outDir,
+                        o.formats, o.compose,      o.depth,   o.quiet};
+        return runSequence(o.sequence, job);
     }
 
     const auto start = std::chrono::steady_clock::now();
@@ -192,6 +200,7 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
                     "Also write composites: DIR/<format>.png (.mpo, .jps); repeatable")
         ->check(CLI::IsMember(composite::formatNames()));
     addComposeOptions(app, o->compose);
+    addSequenceOptions(app, o->sequence);
     return [o] { return runRender(*o); };
 });
 
