@@ -15,6 +15,7 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include "distribute.h"
 #include "video.h"
 
 #include "mvr/backends.h"
@@ -233,7 +234,8 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
     const std::filesystem::path dir(job.outDir);
     FrameProgress progress(int(todo.size()), job.quiet);
     const int digits = std::max(4, int(std::to_string(frames - 1).size()));
-    for (int f : todo) {
+    // Renders views [v0, v1) of frame f (the rig moving with the camera).
+    auto renderViews = [&](int f, int v0, int v1) -> Result<RenderOutput> {
         Camera camera = p.rig.camera;
         if (o.orbit != 0.0) {
             camera = orbitCamera(camera, p.rig.camera.target, orbitDegrees(o.orbit, f, frames));
@@ -241,32 +243,39 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
             camera = cameraAt(*path, f / o.fps, p.rig.camera);
         }
         auto rig = rigAt(p.rig, camera);
-        if (!rig)
-            return fail(Status(rig.status().code(),
-                               fmt::format("frame {}: {}", f, rig.status().message())));
+        if (!rig) {
+            return Status(rig.status().code(),
+                          fmt::format("frame {}: {}", f, rig.status().message()));
+        }
+        if (v0 > 0 || v1 < rig->viewCount()) {
+            // A share of the views: the culling frustum still encloses all of them.
+            rig->views = std::vector<View>(rig->views.begin() + v0, rig->views.begin() + v1);
+        }
         auto rendered = job.backend->render(p.scene, *rig, p.settings, job.method);
         if (!rendered) {
-            return fail(Status(rendered.status().code(),
-                               fmt::format("frame {}: {}", f, rendered.status().message())));
+            return Status(rendered.status().code(),
+                          fmt::format("frame {}: {}", f, rendered.status().message()));
         }
-        const RenderOutput& out = *rendered;
+        return rendered;
+    };
+    auto emitFrame = [&](int f, const RenderOutput& out) -> Status {
         const std::string name = fmt::format("frame-{:0{}}", f, digits);
         const std::filesystem::path part = dir / (name + ".part"), final = dir / name;
         std::error_code ec;
         std::filesystem::remove_all(part, ec);
         std::filesystem::create_directories(part, ec);
         if (ec) {
-            return fail(
+            return (
                 outputError(fmt::format("cannot create '{}': {}", part.string(), ec.message())));
         }
         for (int v = 0; v < int(out.color.size()); ++v) {
             if (Status s = writePng(part / fmt::format("view-{}.png", v), out.color[v]); !s) {
-                return fail(s);
+                return (s);
             }
             if (job.depth && v < int(out.depth.size())) {
                 if (Status s = writeDepthPng(part / fmt::format("depth-{}.png", v), out.depth[v]);
                     !s) {
-                    return fail(s);
+                    return (s);
                 }
             }
         }
@@ -275,21 +284,21 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
             auto info = composite::findFormat(format);
             if (info->extension == ".png") {
                 auto fileName = composite::compositeFileName(format, out.color, compose);
-                if (!fileName) return fail(fileName.status());
+                if (!fileName) return (fileName.status());
                 auto image = composeFor(*job.backend, format, out.color, compose);
-                if (!image) return fail(image.status());
-                if (Status s = writePng(part / *fileName, *image); !s) return fail(s);
+                if (!image) return (image.status());
+                if (Status s = writePng(part / *fileName, *image); !s) return (s);
                 if (format == videoFormat) videoImage = std::move(image).value();
                 continue;
             }
             auto written = composite::writeComposite(format, out.color, compose, part);
-            if (!written) return fail(written.status());
+            if (!written) return (written.status());
         }
         std::filesystem::remove_all(final, ec);
         std::filesystem::rename(part, final, ec);
         if (ec) {
-            return fail(outputError(fmt::format("cannot rename '{}' to '{}': {}", part.string(),
-                                                final.string(), ec.message())));
+            return (outputError(fmt::format("cannot rename '{}' to '{}': {}", part.string(),
+                                            final.string(), ec.message())));
         }
         if (!o.video.empty()) {
             const Image& first = videoImage ? *videoImage : out.color[0];
@@ -298,19 +307,24 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
                 auto opened = VideoWriter::open(
                     o.video, streams, first.width, first.height, o.fps,
                     videoImage ? matroskaStereoMode(videoFormat, compose.swapEyes) : std::string());
-                if (!opened) return fail(opened.status());
+                if (!opened) return (opened.status());
                 video = std::move(opened).value();
             }
             if (videoImage) {
-                if (Status s = video->add(0, *videoImage); !s) return fail(s);
+                if (Status s = video->add(0, *videoImage); !s) return (s);
             } else {
                 for (int v = 0; v < int(out.color.size()); ++v) {
-                    if (Status s = video->add(v, out.color[v]); !s) return fail(s);
+                    if (Status s = video->add(v, out.color[v]); !s) return (s);
                 }
             }
         }
         progress.done(f);
+        return {};
+    };
+    if (Status s = distributeFrames(todo, p.rig.viewCount(), renderViews, emitFrame); !s) {
+        return fail(s);
     }
+    if (!isRankZero()) return 0;
     if (video) {
         if (Status s = video->finish(); !s) return fail(s);
     }

@@ -1,6 +1,9 @@
 #include "video.h"
 
+#include <unistd.h>
+
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <map>
 
@@ -37,6 +40,17 @@ std::string matroskaStereoMode(const std::string& format, bool swapped) {
     auto it = kModes.find(format);
     if (it == kModes.end()) return {};
     return swapped ? it->second.second : it->second.first;
+}
+
+namespace {
+char sUnfinished[4096] = {};  ///< the temporary file of the video being written
+}  // namespace
+
+bool removeUnfinishedVideo() {
+    if (!sUnfinished[0]) return false;
+    ::unlink(sUnfinished);
+    sUnfinished[0] = 0;
+    return true;
 }
 
 #ifndef MVR_WITH_VIDEO
@@ -83,6 +97,7 @@ public:
             avformat_free_context(mFc);
         }
         if (!mFinished && !mTemp.empty()) {
+            sUnfinished[0] = 0;
             std::error_code ec;
             std::filesystem::remove(mTemp, ec);
         }
@@ -161,6 +176,9 @@ public:
             if (!s.sws) return internalError("--video: no RGBA to YUV 4:2:0 conversion");
             mStreams.push_back(s);
         }
+        if (mTemp.size() < sizeof sUnfinished) {
+            std::memcpy(sUnfinished, mTemp.c_str(), mTemp.size() + 1);
+        }
         if ((rc = avio_open(&mFc->pb, mTemp.c_str(), AVIO_FLAG_WRITE)) < 0) {
             return outputError(
                 fmt::format("--video {}: cannot write '{}': {}", path, mTemp, averr(rc)));
@@ -217,6 +235,7 @@ public:
                 fmt::format("--video {}: cannot rename '{}': {}", mPath, mTemp, ec.message()));
         }
         mFinished = true;
+        sUnfinished[0] = 0;
         return {};
     }
 
