@@ -104,10 +104,16 @@ Status coordinator(int workers, const std::vector<int>& frames, int views,
     int stopped = 0;
     while (stopped < workers) {
         MPI_Status st;
-        if (MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &st) != MPI_SUCCESS) {
-            return internalError(
-                fmt::format("a rank stopped ({} of {} frames written): it failed or was killed",
-                            emitted, frames.size()));
+        // Polls with short sleeps: rank 0 does not render, and must not take a core from the
+        // workers by spinning in MPI_Probe.
+        for (int flag = 0; !flag;) {
+            if (MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st) !=
+                MPI_SUCCESS) {
+                return internalError(
+                    fmt::format("a rank stopped ({} of {} frames written): it failed or was killed",
+                                emitted, frames.size()));
+            }
+            if (!flag) ::usleep(200);
         }
         const int src = st.MPI_SOURCE;
         if (st.MPI_TAG == kReady) {

@@ -6,11 +6,13 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 #include <regex>
+#include <thread>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -40,6 +42,10 @@ void addSequenceOptions(CLI::App* app, SequenceOptions& o) {
                     "job array");
     app->add_option("--fps", o.fps, "Frames per second (camera path times, video)")
         ->default_val(o.fps);
+    app->add_option("--threads", o.threads,
+                    "CPU threads of a sequence's backend per process (0: the cores, divided by "
+                    "the MPI ranks on this node less one for rank 0)")
+        ->default_val(o.threads);
     app->add_option("--video", o.video,
                     "Also write a video (.mkv or .mp4, H.264) of the first --format that is one "
                     "image per frame, or of every view (one stream each) without one");
@@ -230,6 +236,27 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
                 o.video, size.width, size.height)));
         }
     }
+    // Threads per process: the cores shared by the ranks of this node, so they do not fight.
+    int threads = o.threads;
+    if (threads < 0 || threads > 1024) {
+        return fail(usageError(fmt::format("--threads {} is out of range (0..1024)", threads)));
+    }
+    if (threads == 0) {
+        if (const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE")) {
+            // Rank 0 only composes and writes: it does not count (one rank per node plus rank 0
+            // on the first node gives every node's worker all its cores).
+            const int ranks = std::max(1, std::atoi(local) - 1);
+            threads = std::max(1, int(std::thread::hardware_concurrency()) / ranks);
+        }
+    }
+    std::unique_ptr<Backend> ownBackend;
+    if (threads > 0) {
+        auto made = makeBackend(job.backendName, {threads});
+        if (!made) return fail(made.status());
+        ownBackend = std::move(made).value();
+    }
+    Backend& backend = ownBackend ? *ownBackend : *job.backend;
+
     std::unique_ptr<VideoWriter> video;
     const std::filesystem::path dir(job.outDir);
     FrameProgress progress(int(todo.size()), job.quiet);
@@ -251,7 +278,7 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
             // A share of the views: the culling frustum still encloses all of them.
             rig->views = std::vector<View>(rig->views.begin() + v0, rig->views.begin() + v1);
         }
-        auto rendered = job.backend->render(p.scene, *rig, p.settings, job.method);
+        auto rendered = backend.render(p.scene, *rig, p.settings, job.method);
         if (!rendered) {
             return Status(rendered.status().code(),
                           fmt::format("frame {}: {}", f, rendered.status().message()));
@@ -285,7 +312,7 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
             if (info->extension == ".png") {
                 auto fileName = composite::compositeFileName(format, out.color, compose);
                 if (!fileName) return (fileName.status());
-                auto image = composeFor(*job.backend, format, out.color, compose);
+                auto image = composeFor(backend, format, out.color, compose);
                 if (!image) return (image.status());
                 if (Status s = writePng(part / *fileName, *image); !s) return (s);
                 if (format == videoFormat) videoImage = std::move(image).value();
