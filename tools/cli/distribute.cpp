@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <map>
@@ -62,24 +64,31 @@ struct Item {
 };
 
 void worker(const RenderViewsFn& render) {
+    int ready = 0;
+    Item item{};
+    MPI_Send(&ready, 1, MPI_INT, 0, kReady, MPI_COMM_WORLD);
+    MPI_Recv(&item, 3, MPI_INT, 0, kItem, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     for (;;) {
-        int ready = 0;
-        MPI_Send(&ready, 1, MPI_INT, 0, kReady, MPI_COMM_WORLD);
-        Item item{};
-        MPI_Recv(&item, 3, MPI_INT, 0, kItem, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
         if (item.frame < 0) return;
+        // Asks for the next item before rendering this one: rank 0 answers between writing
+        // frames, so the worker never waits for a write to finish.
+        MPI_Send(&ready, 1, MPI_INT, 0, kReady, MPI_COMM_WORLD);
         auto out = render(item.frame, item.v0, item.v1);
         if (!out) {
             const std::string msg = out.status().message();
             MPI_Send(msg.data(), int(msg.size()), MPI_CHAR, 0, kError, MPI_COMM_WORLD);
             return;
         }
-        for (int v = 0; v < item.v1 - item.v0; ++v) {
-            const Image& im = out->color.at(std::size_t(v));
-            int header[5] = {item.frame, item.v0 + v, im.width, im.height, 0};
-            MPI_Send(header, 5, MPI_INT, 0, kHeader, MPI_COMM_WORLD);
-            MPI_Send(im.rgba.data(), int(im.rgba.size()), MPI_BYTE, 0, kPixels, MPI_COMM_WORLD);
-        }
+        // One message for the item's views (one per view costs a round trip each).
+        const Image& first = out->color.at(0);
+        const std::size_t bytes = first.rgba.size();
+        std::vector<std::uint8_t> all;
+        all.reserve(bytes * out->color.size());
+        for (const Image& im : out->color) all.insert(all.end(), im.rgba.begin(), im.rgba.end());
+        int header[5] = {item.frame, item.v0, item.v1, first.width, first.height};
+        MPI_Send(header, 5, MPI_INT, 0, kHeader, MPI_COMM_WORLD);
+        MPI_Send(all.data(), int(all.size()), MPI_BYTE, 0, kPixels, MPI_COMM_WORLD);
+        MPI_Recv(&item, 3, MPI_INT, 0, kItem, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     }
 }
 
@@ -102,7 +111,7 @@ Status coordinator(int workers, const std::vector<int>& frames, int views,
     std::map<int, Pending> pending;
     std::size_t next = 0, emitted = 0;
     int stopped = 0;
-    while (stopped < workers) {
+    while (stopped < workers || emitted < frames.size()) {
         MPI_Status st;
         // Polls with short sleeps: rank 0 does not render, and must not take a core from the
         // workers by spinning in MPI_Probe.
@@ -135,9 +144,10 @@ Status coordinator(int workers, const std::vector<int>& frames, int views,
         } else if (st.MPI_TAG == kHeader) {
             int h[5];
             MPI_Recv(h, 5, MPI_INT, src, kHeader, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-            Image im(h[2], h[3]);
-            if (MPI_Recv(im.rgba.data(), int(im.rgba.size()), MPI_BYTE, src, kPixels,
-                         MPI_COMM_WORLD, MPI_STATUS_IGNORE) != MPI_SUCCESS) {
+            const std::size_t bytes = std::size_t(h[3]) * std::size_t(h[4]) * 4;
+            std::vector<std::uint8_t> all(bytes * std::size_t(h[2] - h[1]));
+            if (MPI_Recv(all.data(), int(all.size()), MPI_BYTE, src, kPixels, MPI_COMM_WORLD,
+                         MPI_STATUS_IGNORE) != MPI_SUCCESS) {
                 return internalError(fmt::format(
                     "rank {} stopped while sending frame {}: it failed or was killed", src, h[0]));
             }
@@ -146,8 +156,12 @@ Status coordinator(int workers, const std::vector<int>& frames, int views,
                 it->second.out.color.resize(std::size_t(views));
                 it->second.missing = views;
             }
-            it->second.out.color.at(std::size_t(h[1])) = std::move(im);
-            --it->second.missing;
+            for (int v = h[1]; v < h[2]; ++v) {
+                Image im(h[3], h[4]);
+                std::copy_n(all.begin() + long(bytes) * (v - h[1]), bytes, im.rgba.begin());
+                it->second.out.color.at(std::size_t(v)) = std::move(im);
+                --it->second.missing;
+            }
             // Emit the frames in order as they complete.
             while (emitted < frames.size()) {
                 auto ready = pending.find(frames[emitted]);
