@@ -14,6 +14,9 @@ packages=(
     libpng-dev libjpeg-dev libstb-dev
     libassimp-dev libmeshoptimizer-dev
     libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev
+    # sequences: video files (FFmpeg's libraries, ffprobe for the tests) and MPI (Open MPI)
+    ffmpeg libavcodec-dev libavformat-dev libswscale-dev libavutil-dev
+    libopenmpi-dev openmpi-bin
     # tests and benchmarks
     googletest libgtest-dev libbenchmark-dev
     xvfb xauth libimage-exiftool-perl gnuplot-nox

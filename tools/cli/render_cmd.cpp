@@ -12,6 +12,7 @@
 #include "compose_options.h"
 #include "options.h"
 #include "stereo_options.h"
+#include "sequence.h"
 
 #include "mvr/backends.h"
 #include "mvr/composite/compose.h"
@@ -30,6 +31,7 @@ struct RenderOptions {
     bool check = false;
     composite::ComposeOptions compose;
     StereoSurfaceOptions surfaces;  ///< --sky, --floating-window, --letterbox, --label…
+    SequenceOptions sequence;       ///< --frames, --orbit, ...: sequence.cpp owns the frame loop
 };
 
 /// `--check`: renders the reference — the backend's multipass, or the registry's first
@@ -81,6 +83,12 @@ int runRender(const RenderOptions& o) {
     if (ec || !std::filesystem::is_directory(o.outDir)) {
         return fail(outputError(fmt::format("cannot create output directory '{}': {}", o.outDir,
                                             ec ? ec.message() : "not a directory")));
+    }
+
+    if (o.sequence.active()) {
+        SequenceJob job{&p,        backend->get(), o.backend, method,  o.outDir,
+                        o.formats, o.compose,      o.depth,   o.quiet, &*surfaces};
+        return runSequence(o.sequence, job);
     }
 
     const auto start = std::chrono::steady_clock::now();
@@ -198,6 +206,7 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
         ->check(CLI::IsMember(composite::formatNames()));
     addComposeOptions(app, o->compose);
     o->surfaces.addTo(app);
+    addSequenceOptions(app, o->sequence);
     return [o] { return runRender(*o); };
 });
 

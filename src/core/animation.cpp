@@ -1,0 +1,186 @@
+#include "mvr/core/animation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/core.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace mvr {
+
+Camera orbitCamera(const Camera& camera, const glm::vec3& centre, double degrees) {
+    glm::vec3 axis = camera.up;
+    if (glm::length(axis) <= 0.0f || !std::isfinite(glm::length(axis))) axis = {0, 1, 0};
+    axis = glm::normalize(axis);
+    const glm::mat4 turn = glm::rotate(glm::mat4(1.0f), float(glm::radians(degrees)), axis);
+    Camera out = camera;
+    out.position = centre + glm::vec3(turn * glm::vec4(camera.position - centre, 0.0f));
+    out.target = centre + glm::vec3(turn * glm::vec4(camera.target - centre, 0.0f));
+    return out;
+}
+
+double orbitDegrees(double degrees, int frame, int frames) {
+    return frames > 0 ? degrees * double(frame) / double(frames) : 0.0;
+}
+
+namespace {
+bool finite3(const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+}  // namespace
+
+Status validateCameraPath(const CameraPath& path) {
+    if (path.keys.empty()) return usageError("camera path: no keys");
+    for (std::size_t i = 0; i < path.keys.size(); ++i) {
+        const CameraKey& k = path.keys[i];
+        if (!std::isfinite(k.time) || k.time < 0.0) {
+            return usageError(
+                fmt::format("camera path: key {}: time {} is not a finite "
+                            "number >= 0",
+                            i, k.time));
+        }
+        if (i > 0 && k.time <= path.keys[i - 1].time) {
+            return usageError(fmt::format(
+                "camera path: key {}: time {} does not follow key {}'s {} (times must increase)", i,
+                k.time, i - 1, path.keys[i - 1].time));
+        }
+        if (!finite3(k.position) || !finite3(k.target)) {
+            return usageError(fmt::format("camera path: key {}: non-finite position or target", i));
+        }
+        if (glm::length(k.position - k.target) <= 0.0f) {
+            return usageError(fmt::format("camera path: key {}: position equals target", i));
+        }
+        if (k.fovYDegrees && !(*k.fovYDegrees > 0.0f && *k.fovYDegrees < 180.0f)) {
+            return usageError(
+                fmt::format("camera path: key {}: fov {} is out of range (expected 0 < fov < 180)",
+                            i, *k.fovYDegrees));
+        }
+    }
+    return {};
+}
+
+Camera cameraAt(const CameraPath& path, double time, const Camera& base) {
+    Camera out = base;
+    const auto& keys = path.keys;
+    auto apply = [&](const CameraKey& k) {
+        out.position = k.position;
+        out.target = k.target;
+        if (k.fovYDegrees) out.fovYDegrees = *k.fovYDegrees;
+    };
+    if (keys.empty()) return out;
+    if (time <= keys.front().time) {
+        apply(keys.front());
+        return out;
+    }
+    if (time >= keys.back().time) {
+        apply(keys.back());
+        return out;
+    }
+    const auto next = std::upper_bound(keys.begin(), keys.end(), time,
+                                       [](double t, const CameraKey& k) { return t < k.time; });
+    const CameraKey& b = *next;
+    const CameraKey& a = *(next - 1);
+    const float s = float((time - a.time) / (b.time - a.time));
+    out.position = glm::mix(a.position, b.position, s);
+    out.target = glm::mix(a.target, b.target, s);
+    const float fa = a.fovYDegrees.value_or(base.fovYDegrees);
+    const float fb = b.fovYDegrees.value_or(base.fovYDegrees);
+    out.fovYDegrees = fa + (fb - fa) * s;
+    return out;
+}
+
+Result<Rig> rigAt(const Rig& rig, const Camera& camera) {
+    RigParams params;
+    params.kind = rig.kind;
+    params.columns = rig.columns;
+    params.rows = rig.rows;
+    params.interaxial = rig.interaxial;
+    params.interaxialY = rig.interaxialY;
+    params.convergence = rig.convergence;
+    return makeRig(camera, params);
+}
+
+Status validateSampler(const Sampler& s) {
+    if (s.input.empty()) return usageError("sampler: no keys");
+    if (s.components < 1 || s.components > 16) {
+        return usageError(fmt::format("sampler: {} components (expected 1..16)", s.components));
+    }
+    if (s.rotation && s.components != 4) {
+        return usageError(
+            fmt::format("sampler: a rotation needs 4 components (got {})", s.components));
+    }
+    if (s.output.size() != s.input.size() * std::size_t(s.components)) {
+        return usageError(fmt::format("sampler: {} output values for {} keys of {} components",
+                                      s.output.size(), s.input.size(), s.components));
+    }
+    for (std::size_t i = 0; i < s.input.size(); ++i) {
+        if (!std::isfinite(s.input[i]) || (i > 0 && s.input[i] <= s.input[i - 1])) {
+            return usageError(fmt::format(
+                "sampler: key {}: time {} is not finite or does not increase", i, s.input[i]));
+        }
+    }
+    for (float v : s.output) {
+        if (!std::isfinite(v)) return usageError("sampler: a non-finite output value");
+    }
+    return {};
+}
+
+namespace {
+glm::quat quatAt(const Sampler& s, std::size_t key) {
+    const float* q = &s.output[key * 4];
+    return glm::normalize(glm::quat(q[3], q[0], q[1], q[2]));  // glm: w first; glTF: x y z w
+}
+}  // namespace
+
+std::vector<float> sample(const Sampler& s, double time) {
+    const std::size_t n = s.input.size();
+    const std::size_t c = std::size_t(s.components);
+    auto keyValue = [&](std::size_t k) {
+        if (s.rotation) {
+            const glm::quat q = quatAt(s, k);
+            return std::vector<float>{q.x, q.y, q.z, q.w};
+        }
+        return std::vector<float>(s.output.begin() + long(k * c),
+                                  s.output.begin() + long((k + 1) * c));
+    };
+    if (n == 0) return std::vector<float>(c, 0.0f);
+    if (time <= s.input.front()) return keyValue(0);
+    if (time >= s.input.back()) return keyValue(n - 1);
+    const std::size_t b = std::size_t(
+        std::upper_bound(s.input.begin(), s.input.end(), float(time)) - s.input.begin());
+    const std::size_t a = b - 1;
+    if (s.interpolation == Interpolation::Step) return keyValue(a);
+    const float t = float((time - s.input[a]) / (s.input[b] - s.input[a]));
+    if (s.rotation) {
+        glm::quat qa = quatAt(s, a), qb = quatAt(s, b);
+        if (glm::dot(qa, qb) < 0.0f) qb = -qb;  // the shorter arc
+        const glm::quat q = glm::normalize(glm::slerp(qa, qb, t));
+        return {q.x, q.y, q.z, q.w};
+    }
+    std::vector<float> out(c);
+    for (std::size_t i = 0; i < c; ++i) {
+        out[i] = s.output[a * c + i] + (s.output[b * c + i] - s.output[a * c + i]) * t;
+    }
+    return out;
+}
+
+glm::vec3 sampleVec3(const Sampler& s, double time) {
+    const std::vector<float> v = sample(s, time);
+    return {v.size() > 0 ? v[0] : 0.0f, v.size() > 1 ? v[1] : 0.0f, v.size() > 2 ? v[2] : 0.0f};
+}
+
+glm::quat sampleRotation(const Sampler& s, double time) {
+    const std::vector<float> v = sample(s, time);
+    if (v.size() < 4) return {1.0f, 0.0f, 0.0f, 0.0f};
+    return glm::normalize(glm::quat(v[3], v[0], v[1], v[2]));
+}
+
+glm::mat4 nodeMatrixAt(const NodeAnimation& node, double time) {
+    const glm::vec3 t =
+        node.translation ? sampleVec3(*node.translation, time) : node.restTranslation;
+    const glm::quat r = node.rotation ? sampleRotation(*node.rotation, time) : node.restRotation;
+    const glm::vec3 sc = node.scale ? sampleVec3(*node.scale, time) : node.restScale;
+    return glm::translate(glm::mat4(1.0f), t) * glm::mat4_cast(r) * glm::scale(glm::mat4(1.0f), sc);
+}
+
+}  // namespace mvr

@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# Sequences end to end: frame folders, --frame-range, --shard shares adding up to the whole,
+# video files read back with ffprobe (frame count, size, codec, StereoMode), refusals.
+# Usage: sequence_test.sh MVR
+set -euo pipefail
+mvr=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+common=(--views 4 --size 32x24 --orbit 360 --frames 6 -q --format quilt --quilt 2x2)
+
+"$mvr" render "${common[@]}" -o "$tmp/whole"
+[[ $(ls "$tmp/whole" | grep -c '^frame-') == 6 ]] || fail "expected 6 frame folders"
+[[ -f $tmp/whole/frame-0005/view-3.png ]] || fail "no frame-0005/view-3.png"
+ls "$tmp/whole/frame-0002" | grep -q '^quilt' || fail "no quilt in frame-0002"
+cmp -s "$tmp/whole/frame-0000/view-0.png" "$tmp/whole/frame-0001/view-0.png" &&
+    fail "the orbit does not move the camera"
+[[ -z $(ls "$tmp/whole" | grep '\.part$' || true) ]] || fail "a .part folder was left"
+
+# --shard I/N: the shares add up to the whole, byte for byte.
+for i in 0 1 2; do "$mvr" render "${common[@]}" --shard $i/3 -o "$tmp/shards"; done
+diff -r "$tmp/whole" "$tmp/shards" || fail "--shard shares differ from the whole"
+"$mvr" render "${common[@]}" --shard 1/4 -o "$tmp/one"
+[[ $(ls "$tmp/one" | tr '\n' ' ') == "frame-0001 frame-0005 " ]] || fail "--shard 1/4 frames: $(ls "$tmp/one")"
+
+# --frame-range A:B
+"$mvr" render "${common[@]}" --frame-range 2:4 -o "$tmp/range"
+[[ $(ls "$tmp/range" | tr '\n' ' ') == "frame-0002 frame-0003 " ]] || fail "--frame-range 2:4: $(ls "$tmp/range")"
+diff -r "$tmp/range/frame-0003" "$tmp/whole/frame-0003" || fail "--frame-range frame differs"
+
+# The stereo surfaces (--sky, --label) are drawn into every frame of a sequence, as into a
+# single render: frame 3 of the sequence equals the single render of that frame's camera.
+"$mvr" render "${common[@]}" --sky gradient --label "HI@0.5,0.5" -o "$tmp/sky"
+cmp -s "$tmp/sky/frame-0003/view-1.png" "$tmp/whole/frame-0003/view-1.png" &&
+    fail "--sky/--label were not drawn into the frames of a sequence"
+"$mvr" render "${common[@]}" --sky gradient --label "HI@0.5,0.5" --frame-range 3:4 -o "$tmp/sky3"
+diff -r "$tmp/sky/frame-0003" "$tmp/sky3/frame-0003" || fail "--sky frame differs by range"
+
+# A camera path (docs/animation.md)
+cat >"$tmp/path.json" <<'JSON'
+{"keys": [{"time": 0, "position": [0, 0, 6], "target": [0, 0, 0], "fov": 40},
+          {"time": 1, "position": [3, 1, 5], "target": [0, 0, 0]}]}
+JSON
+"$mvr" render --views 2 --size 32x24 -q --camera-path "$tmp/path.json" --fps 4 -o "$tmp/path"
+[[ $(ls "$tmp/path" | grep -c '^frame-') == 5 ]] || fail "camera path of 1 s at 4 fps: 5 frames"
+
+# Refusals: one error line, non-zero exit.
+expect_error() {
+    local want=$1; shift
+    if out=$("$mvr" render "$@" 2>&1); then fail "accepted: $*"; fi
+    grep -q "^error: .*$want" <<<"$out" || fail "for $*: expected '$want', got: $out"
+}
+expect_error "--frame-range" --frames 4 --frame-range 3:9 -o "$tmp/bad"
+expect_error "--shard" --frames 4 --shard 4/4 -o "$tmp/bad"
+expect_error "--frames" --orbit 90 -o "$tmp/bad"
+echo '{"keys": [{"time": 1, "position": [0,0,5], "target": [0,0,0]}, {"time": 0.5, "position": [0,0,6], "target": [0,0,0]}]}' >"$tmp/back.json"
+expect_error "key 1" --camera-path "$tmp/back.json" -o "$tmp/bad"
+
+# Video (when this mvr has FFmpeg and ffprobe is here).
+if "$mvr" render --frames 1 --size 32x24 -q --video "$tmp/probe.mkv" -o "$tmp/probe" 2>/dev/null &&
+    command -v ffprobe >/dev/null; then
+    probe() { ffprobe -v error -count_frames -select_streams v:0 -show_entries \
+        "stream=codec_name,width,height,nb_read_frames:stream_tags=stereo_mode:stream_side_data=type" \
+        -of default=nw=1 "$1"; }
+    "$mvr" render --views 2 --size 32x24 --orbit 360 --frames 5 -q --format sbs --video "$tmp/sbs.mkv" -o "$tmp/v"
+    p=$(probe "$tmp/sbs.mkv")
+    for want in codec_name=h264 width=64 height=24 nb_read_frames=5 TAG:stereo_mode=left_right; do
+        grep -qx "$want" <<<"$p" || fail "sbs.mkv: no $want in: $p"
+    done
+    "$mvr" render --views 2 --size 32x24 --frames 3 -q --format tb --video "$tmp/tb.mp4" -o "$tmp/v"
+    p=$(probe "$tmp/tb.mp4")
+    for want in width=32 height=48 nb_read_frames=3 "type=top and bottom"; do
+        grep -qx "$want" <<<"$p" || fail "tb.mp4: no $want in: $p"
+    done
+    "$mvr" render --views 3 --size 32x24 --frames 2 -q --video "$tmp/views.mkv" -o "$tmp/v"
+    [[ $(ffprobe -v error -show_entries stream=index -of csv=p=0 "$tmp/views.mkv" | wc -l) == 3 ]] ||
+        fail "views.mkv: expected 3 streams"
+    expect_error "even width" --size 33x24 --frames 2 --video "$tmp/odd.mkv" -o "$tmp/odd"
+    [[ -z $(ls "$tmp/odd" 2>/dev/null) ]] || fail "a refused video still rendered frames"
+    expect_error ".mkv or .mp4" --frames 2 --video "$tmp/x.avi" -o "$tmp/bad"
+    [[ -z $(ls "$tmp" | grep '\.part\.' || true) ]] || fail "a .part video was left"
+else
+    echo "sequence_test: no FFmpeg in this mvr or no ffprobe: video checks skipped"
+fi
+echo "sequence_test: ok"

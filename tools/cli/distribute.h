@@ -1,0 +1,27 @@
+// tools/cli/distribute.h — the frames of a sequence over MPI ranks (Open MPI, when the build
+// found it: MVR_WITH_MPI). Run under mpirun with more than one rank, rank 0 hands out work
+// items (a frame, or a share of a frame's views when there are fewer frames than workers)
+// as workers ask for them, gathers the views and emits the frames in order (it writes every
+// file); without mpirun, or with one rank, the frames are rendered here one after the other.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "mvr/core/render.h"
+#include "mvr/core/status.h"
+
+namespace mvr::cli {
+
+using RenderViewsFn = std::function<Result<RenderOutput>(int frame, int v0, int v1)>;
+using EmitFrameFn = std::function<Status(int frame, const RenderOutput& out)>;
+
+/// Renders `frames` (each of `views` views) and emits each frame once, in order, on rank 0.
+/// A worker's failure stops the run with rank 0 printing "error: rank R: ..." (exit non-zero).
+Status distributeFrames(const std::vector<int>& frames, int views, const RenderViewsFn& render,
+                        const EmitFrameFn& emit);
+
+/// False on the MPI workers (they write nothing and print nothing).
+bool isRankZero();
+
+}  // namespace mvr::cli

@@ -1,0 +1,272 @@
+#include "video.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <map>
+
+#include <fmt/core.h>
+
+#ifdef MVR_WITH_VIDEO
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/opt.h>
+#include <libavutil/stereo3d.h>
+#include <libswscale/swscale.h>
+}
+#endif
+
+namespace mvr::cli {
+
+std::string matroskaStereoMode(const std::string& format, bool swapped) {
+    // The names FFmpeg's matroska muxer maps to StereoMode (libavformat/matroska.c).
+    static const std::map<std::string, std::pair<std::string, std::string>> kModes = {
+        {"sbs", {"left_right", "right_left"}},
+        {"sbs-half", {"left_right", "right_left"}},
+        {"tb", {"top_bottom", "bottom_top"}},
+        {"tb-half", {"top_bottom", "bottom_top"}},
+        {"rows", {"row_interleaved_lr", "row_interleaved_rl"}},
+        {"columns", {"col_interleaved_lr", "col_interleaved_rl"}},
+        {"checkerboard", {"checkerboard_lr", "checkerboard_rl"}},
+        {"anaglyph-color", {"anaglyph_cyan_red", "anaglyph_cyan_red"}},
+        {"anaglyph-half-color", {"anaglyph_cyan_red", "anaglyph_cyan_red"}},
+        {"anaglyph-gray", {"anaglyph_cyan_red", "anaglyph_cyan_red"}},
+        {"anaglyph-dubois", {"anaglyph_cyan_red", "anaglyph_cyan_red"}},
+        {"anaglyph-dubois-gm", {"anaglyph_green_magenta", "anaglyph_green_magenta"}},
+    };
+    auto it = kModes.find(format);
+    if (it == kModes.end()) return {};
+    return swapped ? it->second.second : it->second.first;
+}
+
+namespace {
+char sUnfinished[4096] = {};  ///< the temporary file of the video being written
+}  // namespace
+
+bool removeUnfinishedVideo() {
+    if (!sUnfinished[0]) return false;
+    ::unlink(sUnfinished);
+    sUnfinished[0] = 0;
+    return true;
+}
+
+#ifndef MVR_WITH_VIDEO
+
+bool videoAvailable() { return false; }
+
+Result<std::unique_ptr<VideoWriter>> VideoWriter::open(const std::string& path, int, int, int,
+                                                       double, const std::string&) {
+    return unsupportedError(fmt::format(
+        "--video {}: this mvr was built without FFmpeg (libavcodec, libavformat, libswscale)",
+        path));
+}
+
+#else
+
+bool videoAvailable() { return true; }
+
+namespace {
+
+std::string averr(int code) {
+    char buf[AV_ERROR_MAX_STRING_SIZE] = {};
+    av_strerror(code, buf, sizeof buf);
+    return buf;
+}
+
+struct Stream {
+    AVStream* st = nullptr;
+    AVCodecContext* ctx = nullptr;
+    AVFrame* frame = nullptr;
+    SwsContext* sws = nullptr;
+    long pts = 0;
+};
+
+class FfmpegWriter final : public VideoWriter {
+public:
+    ~FfmpegWriter() override {
+        for (Stream& s : mStreams) {
+            sws_freeContext(s.sws);
+            av_frame_free(&s.frame);
+            avcodec_free_context(&s.ctx);
+        }
+        if (mFc) {
+            if (mFc->pb) avio_closep(&mFc->pb);
+            avformat_free_context(mFc);
+        }
+        if (!mFinished && !mTemp.empty()) {
+            sUnfinished[0] = 0;
+            std::error_code ec;
+            std::filesystem::remove(mTemp, ec);
+        }
+        av_packet_free(&mPacket);
+    }
+
+    Status init(const std::string& path, int streams, int width, int height, double fps,
+                const std::string& stereoMode) {
+        mPath = path;
+        const std::filesystem::path p(path);
+        mTemp = (p.parent_path() / (p.stem().string() + ".part" + p.extension().string())).string();
+        int rc = avformat_alloc_output_context2(&mFc, nullptr, nullptr, mTemp.c_str());
+        if (rc < 0 || !mFc) return outputError(fmt::format("--video {}: {}", path, averr(rc)));
+        mFc->flags |= AVFMT_FLAG_BITEXACT;  // no dates or library versions: reproducible files
+        mFc->strict_std_compliance = FF_COMPLIANCE_UNOFFICIAL;  // MP4: st3d is "unofficial"
+        const AVCodec* codec = avcodec_find_encoder_by_name("libx264");
+        if (!codec) codec = avcodec_find_encoder(AV_CODEC_ID_H264);
+        if (!codec) return unsupportedError(fmt::format("--video {}: no H.264 encoder", path));
+        const AVRational rate = av_d2q(fps, 1000);
+        mPacket = av_packet_alloc();
+        for (int i = 0; i < streams; ++i) {
+            Stream s;
+            s.st = avformat_new_stream(mFc, nullptr);
+            s.ctx = avcodec_alloc_context3(codec);
+            if (!s.st || !s.ctx) return internalError("--video: out of memory");
+            s.ctx->width = width;
+            s.ctx->height = height;
+            s.ctx->pix_fmt = AV_PIX_FMT_YUV420P;
+            s.ctx->time_base = av_inv_q(rate);
+            s.ctx->framerate = rate;
+            s.ctx->gop_size = 24;
+            s.ctx->thread_count = 1;  // same bytes on every run
+            s.ctx->flags |= AV_CODEC_FLAG_BITEXACT;
+            if (mFc->oformat->flags & AVFMT_GLOBALHEADER) {
+                s.ctx->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+            }
+            av_opt_set(s.ctx->priv_data, "preset", "fast", 0);
+            av_opt_set(s.ctx->priv_data, "crf", "18", 0);
+            if ((rc = avcodec_open2(s.ctx, codec, nullptr)) < 0) {
+                return unsupportedError(
+                    fmt::format("--video {}: cannot open {}: {}", path, codec->name, averr(rc)));
+            }
+            avcodec_parameters_from_context(s.st->codecpar, s.ctx);
+            s.st->time_base = s.ctx->time_base;
+            s.st->avg_frame_rate = rate;
+            if (i == 0 && !stereoMode.empty()) {
+                // Matroska: the muxer turns this tag into the StereoMode element.
+                av_dict_set(&s.st->metadata, "stereo_mode", stereoMode.c_str(), 0);
+                // MP4: the stereo3d side data becomes an st3d box (side by side, top bottom).
+                int type = -1;
+                if (stereoMode == "left_right" || stereoMode == "right_left") {
+                    type = AV_STEREO3D_SIDEBYSIDE;
+                } else if (stereoMode == "top_bottom" || stereoMode == "bottom_top") {
+                    type = AV_STEREO3D_TOPBOTTOM;
+                }
+                if (type >= 0 && std::string(mFc->oformat->name).find("mp4") != std::string::npos) {
+                    auto* s3d = reinterpret_cast<AVStereo3D*>(
+                        av_stream_new_side_data(s.st, AV_PKT_DATA_STEREO3D, sizeof(AVStereo3D)));
+                    if (s3d) {
+                        *s3d = AVStereo3D{};
+                        s3d->type = AVStereo3DType(type);
+                        if (stereoMode == "right_left" || stereoMode == "bottom_top") {
+                            s3d->flags = AV_STEREO3D_FLAG_INVERT;
+                        }
+                    }
+                }
+            }
+            s.frame = av_frame_alloc();
+            s.frame->format = AV_PIX_FMT_YUV420P;
+            s.frame->width = width;
+            s.frame->height = height;
+            if (av_frame_get_buffer(s.frame, 0) < 0) return internalError("--video: out of memory");
+            s.sws = sws_getContext(
+                width, height, AV_PIX_FMT_RGBA, width, height, AV_PIX_FMT_YUV420P,
+                SWS_BICUBIC | SWS_BITEXACT | SWS_ACCURATE_RND, nullptr, nullptr, nullptr);
+            if (!s.sws) return internalError("--video: no RGBA to YUV 4:2:0 conversion");
+            mStreams.push_back(s);
+        }
+        if (mTemp.size() < sizeof sUnfinished) {
+            std::memcpy(sUnfinished, mTemp.c_str(), mTemp.size() + 1);
+        }
+        if ((rc = avio_open(&mFc->pb, mTemp.c_str(), AVIO_FLAG_WRITE)) < 0) {
+            return outputError(
+                fmt::format("--video {}: cannot write '{}': {}", path, mTemp, averr(rc)));
+        }
+        if ((rc = avformat_write_header(mFc, nullptr)) < 0) {
+            return outputError(fmt::format("--video {}: {}", path, averr(rc)));
+        }
+        return {};
+    }
+
+    Status drain(Stream& s) {
+        for (;;) {
+            int rc = avcodec_receive_packet(s.ctx, mPacket);
+            if (rc == AVERROR(EAGAIN) || rc == AVERROR_EOF) return {};
+            if (rc < 0) return internalError(fmt::format("--video {}: {}", mPath, averr(rc)));
+            av_packet_rescale_ts(mPacket, s.ctx->time_base, s.st->time_base);
+            mPacket->stream_index = s.st->index;
+            rc = av_interleaved_write_frame(mFc, mPacket);
+            if (rc < 0) return outputError(fmt::format("--video {}: {}", mPath, averr(rc)));
+        }
+    }
+
+    Status add(int stream, const Image& image) override {
+        Stream& s = mStreams.at(std::size_t(stream));
+        if (image.width != s.ctx->width || image.height != s.ctx->height) {
+            return internalError(fmt::format("--video {}: frame of {}x{} for a {}x{} stream", mPath,
+                                             image.width, image.height, s.ctx->width,
+                                             s.ctx->height));
+        }
+        if (av_frame_make_writable(s.frame) < 0) return internalError("--video: out of memory");
+        const uint8_t* src[1] = {reinterpret_cast<const uint8_t*>(image.rgba.data())};
+        const int stride[1] = {image.width * 4};
+        sws_scale(s.sws, src, stride, 0, image.height, s.frame->data, s.frame->linesize);
+        s.frame->pts = s.pts++;
+        if (int rc = avcodec_send_frame(s.ctx, s.frame); rc < 0) {
+            return internalError(fmt::format("--video {}: {}", mPath, averr(rc)));
+        }
+        return drain(s);
+    }
+
+    Status finish() override {
+        for (Stream& s : mStreams) {
+            avcodec_send_frame(s.ctx, nullptr);
+            if (Status st = drain(s); !st) return st;
+        }
+        if (int rc = av_write_trailer(mFc); rc < 0) {
+            return outputError(fmt::format("--video {}: {}", mPath, averr(rc)));
+        }
+        avio_closep(&mFc->pb);
+        std::error_code ec;
+        std::filesystem::rename(mTemp, mPath, ec);
+        if (ec) {
+            return outputError(
+                fmt::format("--video {}: cannot rename '{}': {}", mPath, mTemp, ec.message()));
+        }
+        mFinished = true;
+        sUnfinished[0] = 0;
+        return {};
+    }
+
+private:
+    std::string mPath, mTemp;
+    AVFormatContext* mFc = nullptr;
+    AVPacket* mPacket = nullptr;
+    std::vector<Stream> mStreams;
+    bool mFinished = false;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<VideoWriter>> VideoWriter::open(const std::string& path, int streams,
+                                                       int width, int height, double fps,
+                                                       const std::string& stereoMode) {
+    const std::string ext = std::filesystem::path(path).extension().string();
+    if (ext != ".mkv" && ext != ".mp4") {
+        return usageError(fmt::format("--video {}: expected a .mkv or .mp4 file", path));
+    }
+    if (width % 2 || height % 2) {
+        return usageError(fmt::format(
+            "--video {}: H.264 4:2:0 needs an even width and height (the frames are {}x{})", path,
+            width, height));
+    }
+    av_log_set_level(AV_LOG_ERROR);
+    auto w = std::make_unique<FfmpegWriter>();
+    if (Status s = w->init(path, streams, width, height, fps, stereoMode); !s) return s;
+    return std::unique_ptr<VideoWriter>(std::move(w));
+}
+
+#endif
+
+}  // namespace mvr::cli

@@ -1,0 +1,40 @@
+// tools/cli/video.h — video files of a sequence through FFmpeg's libraries (libavformat,
+// libavcodec, libswscale; H.264 through libx264), when the build found them (MVR_WITH_VIDEO).
+// The file is written under "<stem>.part<ext>" and renamed when finished; a failed or
+// interrupted run leaves no file under the final name.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mvr/core/image.h"
+#include "mvr/core/status.h"
+
+namespace mvr::cli {
+
+/// Matroska StereoMode name of a composite format ("left_right" for sbs, ...); empty if none.
+std::string matroskaStereoMode(const std::string& format, bool swapped);
+
+class VideoWriter {
+public:
+    /// Opens `path` (.mkv or .mp4) for `streams` streams of width×height at `fps`.
+    /// `stereoMode`: Matroska StereoMode name for stream 0 ("" none). Errors: Usage (extension,
+    /// odd size), Unsupported (no FFmpeg in this build, no H.264 encoder), Output.
+    static Result<std::unique_ptr<VideoWriter>> open(const std::string& path, int streams,
+                                                     int width, int height, double fps,
+                                                     const std::string& stereoMode);
+    virtual ~VideoWriter() = default;
+    /// Encodes one frame of stream `stream`.
+    virtual Status add(int stream, const Image& image) = 0;
+    /// Flushes, writes the trailer and renames the file into place.
+    virtual Status finish() = 0;
+};
+
+bool videoAvailable();
+
+/// Removes the temporary file of a video being written, if any (async-signal-safe: for the
+/// handler that stops a run when mpirun ends it). Returns whether there was one.
+bool removeUnfinishedVideo();
+
+}  // namespace mvr::cli
