@@ -218,3 +218,34 @@ TEST(Adelson, SavingsMeasures) {
 
 }  // namespace
 }  // namespace mvr::adelson
+
+// ---- the village as an mvr::Scene (`mvr render --scene village`) ----------------------------
+#include "mvr/adelson/village_scene.h"
+
+namespace mvr::adelson {
+namespace {
+
+TEST(VillageScene, IsAValidRightHandedSceneInFrontOfTheViewer) {
+    const Scene s = makeVillageScene();
+    ASSERT_TRUE(validateScene(s)) << validateScene(s).message();
+    // Every polygon fanned: 1136 polygons of 4+ vertices give more triangles than polygons.
+    std::size_t polys = 0, tris = 0;
+    for (const Polygon3& p : makeVillage()) {
+        ++polys;
+        tris += p.v.size() - 2;
+    }
+    EXPECT_EQ(polys, 1136u);
+    EXPECT_EQ(s.triangleCount(), tris);
+    const Bounds b = s.bounds();
+    EXPECT_LT(b.max.z, 0.0f);  // all of it down -z, in front of the viewer at the origin
+    ASSERT_TRUE(s.viewpoint);
+    EXPECT_EQ(s.viewpoint->position, glm::vec3(0.0f));
+    // Front faces wind counter-clockwise seen from the viewer: the ground faces up.
+    int upward = 0;
+    for (const Mesh& m : s.meshes)
+        for (const glm::vec3& n : m.normals) upward += n.y > 0.99f;
+    EXPECT_GT(upward, 0);
+}
+
+}  // namespace
+}  // namespace mvr::adelson

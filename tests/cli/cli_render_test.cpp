@@ -109,6 +109,17 @@ TEST_F(Cli, DefaultSceneWritesViewsAndAnaglyph) {
     EXPECT_GT(compareImages(*left, *right).differingPixels, 100);  // two different eyes
 }
 
+TEST_F(Cli, VillageSceneRendersLikeAnyScene) {
+    const CliRun r = run("render --scene village --size 160x120 -o out");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto left = readPng(mDir / "out/view-0.png");
+    auto def = run("render --size 160x120 -o def");
+    ASSERT_EQ(def.exitCode, 0) << def.err;
+    auto other = readPng(mDir / "def/view-0.png");
+    ASSERT_TRUE(left && other);
+    EXPECT_GT(compareImages(*left, *other).differingPixels, 1000);  // not the default scene
+}
+
 TEST_F(Cli, ViewGridNamesViewsInOrder) {
     const CliRun r = run("render --size 64x48 --view-grid 3x2 -o grid");
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -258,6 +269,10 @@ TEST_F(Cli, EveryRefusalNamesItsCulprit) {
         {"--view-grid 12x11", 1, "--view-grid 12x11: view count 132 is out of range"},
         {"--view-grid 3y3", 1, "--view-grid '3y3' is not of the form CxR"},
         {"--grid 3", 1, "--grid 3 needs a model file"},
+        {"--scene town", 1, "--scene town is not a known scene (expected default or village)"},
+        {"--scene village --grid 3", 1, "--grid 3 needs a model file (the village scene"},
+        {"--scene village '" + nanObj + "'", 1,
+         "--scene village cannot be combined with model files"},
         {"--shading toon", 1, "--shading toon: unknown shading 'toon'"},
         {"--rig fisheye", 1, "--rig fisheye: unknown rig 'fisheye'"},
         {"--backend vulkan", 1, "--backend vulkan: unknown backend 'vulkan'"},

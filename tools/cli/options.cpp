@@ -11,6 +11,7 @@
 
 #include <fmt/core.h>
 
+#include "mvr/adelson/village_scene.h"
 #include "mvr/core/framing.h"
 
 namespace mvr::cli {
@@ -127,6 +128,10 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
         app->add_option("models", models,
                         "Model files (OBJ, PLY, glTF 2.0). None: the procedural default scene");
     }
+    app->add_option("--scene", namedScene,
+                    "Procedural scene when no model is given: default, or village (adelson1991's "
+                    "eight buildings)")
+        ->default_val(namedScene);
     app->add_option("--grid", grid,
                     "Lay out K copies of the model(s) in a grid (sorbier2008: 1, 3, 5, 9)")
         ->default_val(grid);
@@ -210,7 +215,22 @@ Result<Prepared> SceneOptions::prepare() const {
     }
 
     // The scene.
-    if (models.empty()) {
+    if (namedScene != "default" && namedScene != "village") {
+        return usageError(fmt::format(
+            "--scene {} is not a known scene (expected default or village)", namedScene));
+    }
+    if (namedScene != "default" && !models.empty()) {
+        return usageError(
+            fmt::format("--scene {} cannot be combined with model files", namedScene));
+    }
+    if (models.empty() && namedScene == "village") {
+        out.scene = adelson::makeVillageScene();
+        out.sceneName = "village scene";
+        if (grid != 1) {
+            return usageError(fmt::format(
+                "--grid {} needs a model file (the village scene is not gridded)", grid));
+        }
+    } else if (models.empty()) {
         out.scene = makeDefaultScene();
         out.sceneName = "default scene";
         if (grid != 1) {

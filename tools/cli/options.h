@@ -33,6 +33,7 @@ struct Prepared {
 struct SceneOptions {
     std::vector<std::string> models;
     int grid = 1;
+    std::string namedScene = "default";  ///< --scene: default | village (without models)
     int views = 2;
     std::string viewGrid;  ///< "CxR", overrides --views
     std::string rig = "offaxis";
