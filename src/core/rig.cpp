@@ -114,6 +114,17 @@ Result<Rig> makeRig(const Camera& camera, const RigParams& p) {
     rig.interaxial = p.interaxial;
     rig.interaxialY = p.interaxialY < 0.0f ? p.interaxial : p.interaxialY;
     rig.convergence = p.convergence;
+    const bool cone =
+        p.viewConeDegrees > 0.0f && p.kind == RigKind::OffAxis && p.rows == 1 && p.columns > 1;
+    if (p.viewConeDegrees != 0.0f && (!std::isfinite(p.viewConeDegrees) ||
+                                      p.viewConeDegrees < 0.0f || p.viewConeDegrees >= 180.0f))
+        return usageError("view cone must be in [0, 180) degrees");
+    if (cone) {
+        // Mean spacing of the outer views, for the separation and the comfort report.
+        rig.interaxial = 2.0f * p.convergence * std::tan(glm::radians(p.viewConeDegrees) * 0.5f) /
+                         static_cast<float>(p.columns - 1);
+        rig.interaxialY = rig.interaxial;
+    }
 
     const Frame frame = cameraFrame(camera);
     const glm::mat4 monoView = camera.viewFromWorld();
@@ -128,7 +139,12 @@ Result<Rig> makeRig(const Camera& camera, const RigParams& p) {
     for (int row = 0; row < p.rows; ++row) {
         for (int col = 0; col < p.columns; ++col) {
             // Views numbered left to right, then top to bottom: row 0 is the top row.
-            const float ox = (col - (p.columns - 1) * 0.5f) * rig.interaxial;
+            const float ox =
+                cone
+                    ? p.convergence *
+                          std::tan(glm::radians(p.viewConeDegrees *
+                                                (static_cast<float>(col) / (p.columns - 1) - 0.5f)))
+                    : (col - (p.columns - 1) * 0.5f) * rig.interaxial;
             const float oy = ((p.rows - 1) * 0.5f - row) * rig.interaxialY;
             View v;
             v.eyeWorld = camera.position + ox * frame.right + oy * frame.up;

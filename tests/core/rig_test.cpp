@@ -279,5 +279,33 @@ TEST(Rig, ParallaxRangeComfort) {
     EXPECT_FALSE(parallaxRange(*rig, 3.0f, 500.0f).comfortable);  // beyond 100 x convergence
 }
 
+// View-cone rig (issue 13): view 0 leftmost, zero parallax on the focal plane, outer views at
+// ±cone/2 to the focal-plane centre (computed here from the eye positions, not the rig code).
+TEST(Rig, ViewConeSpreadsViewsEvenlyInAngle) {
+    Camera camera;
+    camera.position = glm::vec3(0.0f, 0.0f, 10.0f);
+    camera.aspect = 0.75f;
+    RigParams p;
+    p.columns = 48;
+    p.convergence = 10.0f;
+    p.viewConeDegrees = 40.0f;
+    Result<Rig> rig = makeRig(camera, p);
+    ASSERT_TRUE(rig);
+    ASSERT_EQ(rig->viewCount(), 48);
+    const glm::vec3 focal(0.0f);
+    for (int i = 0; i < 48; ++i) {
+        const glm::vec3 e = rig->views[i].eyeWorld;
+        const float angle = glm::degrees(std::atan2(e.x, e.z - focal.z));
+        EXPECT_NEAR(angle, -20.0f + 40.0f * i / 47.0f, 1e-3f) << i;
+        if (i > 0) EXPECT_LT(rig->views[i - 1].eyeWorld.x, e.x);
+        for (const glm::vec3 q : {glm::vec3(1.0f, 0.5f, 0.0f), glm::vec3(-2.0f, -1.0f, 0.0f)})
+            EXPECT_NEAR(parallax(*rig, q, 0, i), 0.0f, 1e-5f);
+    }
+    EXPECT_LT(parallax(*rig, glm::vec3(0.0f, 0.0f, -5.0f), 0, 47), 0.0f + 1.0f);
+    EXPECT_GT(parallax(*rig, glm::vec3(0.0f, 0.0f, -5.0f), 0, 47), 0.0f);
+    p.viewConeDegrees = 200.0f;
+    EXPECT_FALSE(makeRig(camera, p));
+}
+
 }  // namespace
 }  // namespace mvr

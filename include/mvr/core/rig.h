@@ -110,6 +110,11 @@ struct RigParams {
     float interaxial = 0.065f;  ///< eye spacing, world units
     float interaxialY = -1.0f;  ///< vertical spacing for grids; < 0: same as interaxial
     float convergence = 5.0f;   ///< zero-parallax distance, > near
+    /// View-cone rig (Looking Glass camera model, issue 13): when > 0 with an off-axis single
+    /// row, the N views are spread evenly in angle over this total cone (degrees): view i sits
+    /// at angle θ_i = −cone/2 + cone·i/(N−1) as seen from the focal-plane centre, i.e. shifted
+    /// sideways by convergence·tan(θ_i); `interaxial` is ignored. 0: uniform interaxial.
+    float viewConeDegrees = 0.0f;
 };
 
 /// Checks parameters (finite, positive where needed, views within kMaxViews, convergence
