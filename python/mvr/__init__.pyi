@@ -79,6 +79,7 @@ def render(
     rig: Literal["offaxis", "toein", "parallel"] = ...,
     interaxial: float = ...,
     separation: float = ...,
+    view_cone: float = ...,
     convergence: float = ...,
     fov: float = ...,
     size: _Pair = ...,

@@ -52,6 +52,9 @@ Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params
     if (params.convergence && *params.convergence <= 0.0f) {
         return usageError("convergence 0 is out of range (expected a distance > 0)");
     }
+    if (params.viewConeDegrees != 0.0f && (params.interaxial || params.separation)) {
+        return usageError("view cone and interaxial/separation both given (expected one of them)");
+    }
     if (params.interaxial && params.separation) {
         return usageError("interaxial and separation both given (expected one of them)");
     }
@@ -73,6 +76,7 @@ Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params
     } else {
         rig.interaxial = params.interaxial.value_or(rig.convergence / 30.0f);
     }
+    rig.viewConeDegrees = params.viewConeDegrees;
     auto made = makeRig(camera, rig);
     if (!made) return made.status();
     RenderRequest out{std::move(made).value(), settings};

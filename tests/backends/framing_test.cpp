@@ -116,6 +116,43 @@ TEST(FramingGeometry, FitsTheBoundingSphereFromPlusZ) {
     EXPECT_EQ(req->settings.clearColor, s.background);
 }
 
+// The Looking Glass camera (their Unity pipeline's LookingGlassUtil: angle of view i =
+// -cone/2 + cone*i/(N-1), offset D*tan(angle) at the focal distance D): the outer eyes of a
+// 48-view, 40 degree cone seen from the centre of the convergence plane make -20 and +20 degrees,
+// computed here from the eye positions, and a projected point on that plane has one x in all views.
+TEST(FramingGeometry, AViewConeSpreadsTheRowOverItsAngle) {
+    const Scene s = makeDefaultScene();
+    FramingParams params;
+    params.columns = 48;
+    params.viewConeDegrees = 40.0f;
+    auto req = frameScene(s, params, RenderSettings{.width = 42, .height = 56});
+    ASSERT_TRUE(req) << req.status().message();
+    const Rig& rig = req->rig;
+    ASSERT_EQ(rig.viewCount(), 48);
+    const glm::vec3 fwd = glm::normalize(rig.camera.target - rig.camera.position);
+    const glm::vec3 focal = rig.camera.position + fwd * rig.convergence;
+    const glm::vec3 right = glm::normalize(glm::cross(fwd, rig.camera.up));
+    auto angleOf = [&](int v) {
+        const glm::vec3 d = rig.views[std::size_t(v)].eyeWorld - focal;
+        return glm::degrees(std::atan2(glm::dot(d, right), -glm::dot(d, fwd)));
+    };
+    EXPECT_NEAR(angleOf(0), -20.0f, 1e-2f);
+    EXPECT_NEAR(angleOf(47), 20.0f, 1e-2f);
+    EXPECT_NEAR(angleOf(12), -20.0f + 40.0f * 12.0f / 47.0f, 1e-2f);
+    const glm::vec3 onPlane = focal + right * 0.3f;
+    float x0 = 0.0f;
+    for (int v = 0; v < 48; ++v) {
+        const glm::vec4 c = rig.views[std::size_t(v)].clipFromView *
+                            rig.views[std::size_t(v)].viewFromWorld * glm::vec4(onPlane, 1.0f);
+        if (v == 0) x0 = c.x / c.w;
+        EXPECT_NEAR(c.x / c.w, x0, 1e-4f) << v;
+    }
+    params.interaxial = 0.1f;
+    auto both = frameScene(s, params, RenderSettings{.width = 42, .height = 56});
+    ASSERT_FALSE(both);
+    EXPECT_NE(both.status().message().find("view cone"), std::string::npos);
+}
+
 TEST(FramingGeometry, TheSceneViewpointWins) {
     const Scene s = makeDefaultScene();
     ASSERT_TRUE(s.viewpoint);

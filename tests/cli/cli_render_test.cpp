@@ -182,6 +182,12 @@ TEST_F(Cli, BunnyEyesOffsetHorizontallyOnly) {
 TEST_F(Cli, BadNumbersAreUsageErrors) {
     expectError("render --views 0", 1, "view count");
     expectError("render --views 129", 1, "view count");
+    expectError("render --views 4 --view-cone 180", 1, "--view-cone 180 is out of range");
+    expectError("render --views 4 --view-cone 40 --interaxial 0.1", 1,
+                "--interaxial excludes --view-cone");
+    expectError("render --views 4 --view-cone 40 --separation 0.1", 1,
+                "--view-cone 40 excludes --separation");
+    expectError("render --view-grid 3x3 --view-cone 40", 1, "needs an off-axis row");
     expectError("render --view-grid 3by3", 1, "--view-grid");
     expectError("render --size 0x10", 1, "--size");
     expectError("render --size -5x5", 1, "--size");

@@ -297,7 +297,9 @@ TEST(Rig, ViewConeSpreadsViewsEvenlyInAngle) {
         const glm::vec3 e = rig->views[i].eyeWorld;
         const float angle = glm::degrees(std::atan2(e.x, e.z - focal.z));
         EXPECT_NEAR(angle, -20.0f + 40.0f * i / 47.0f, 1e-3f) << i;
-        if (i > 0) EXPECT_LT(rig->views[i - 1].eyeWorld.x, e.x);
+        if (i > 0) {
+            EXPECT_LT(rig->views[i - 1].eyeWorld.x, e.x);
+        }
         for (const glm::vec3 q : {glm::vec3(1.0f, 0.5f, 0.0f), glm::vec3(-2.0f, -1.0f, 0.0f)})
             EXPECT_NEAR(parallax(*rig, q, 0, i), 0.0f, 1e-5f);
     }

@@ -106,7 +106,9 @@ TEST(Lanes, SimdPathsEqualScalar) {
             ++compared;
         }
     }
-    if (best != SimdPath::Scalar) EXPECT_GT(compared, 0);  // a SIMD path was really compared
+    if (best != SimdPath::Scalar) {
+        EXPECT_GT(compared, 0);  // a SIMD path was really compared
+    }
 }
 
 }  // namespace

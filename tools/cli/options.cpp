@@ -149,6 +149,11 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
            "--separation", separation,
            "Interaxial as a fraction of the screen width at the convergence plane (nvidia-gtc2010)")
         ->excludes(ia);
+    app->add_option("--view-cone", viewCone,
+                    "Spread a row of views evenly in angle over this cone, degrees (the Looking "
+                    "Glass camera: view i at angle -cone/2 + cone*i/(N-1) seen from the "
+                    "convergence plane; e.g. 40); excludes --interaxial and --separation")
+        ->excludes(ia);
     app->add_option(
         "--convergence", convergence,
         "Distance of the zero-parallax plane, world units (default: distance to the scene center)");
@@ -210,6 +215,21 @@ Result<Prepared> SceneOptions::prepare() const {
                 fmt::format("{} {} is out of range (expected a finite value >= 0)", name, *value));
         }
     }
+    if (viewCone) {
+        if (!std::isfinite(*viewCone) || *viewCone <= 0.0 || *viewCone >= 180.0) {
+            return usageError(fmt::format(
+                "--view-cone {} is out of range (expected 0 < cone < 180 degrees)", *viewCone));
+        }
+        if (interaxial || separation) {
+            return usageError(fmt::format("--view-cone {} excludes --{}", *viewCone,
+                                          interaxial ? "interaxial" : "separation"));
+        }
+        if (!viewGrid.empty() || *kind != RigKind::OffAxis) {
+            return usageError(fmt::format(
+                "--view-cone {} needs an off-axis row of views (--views N, --rig offaxis)",
+                *viewCone));
+        }
+    }
     if (convergence && *convergence <= 0.0) {
         return usageError("--convergence 0 is out of range (expected a distance > 0)");
     }
@@ -254,6 +274,7 @@ Result<Prepared> SceneOptions::prepare() const {
     if (interaxial) params.interaxial = static_cast<float>(*interaxial);
     if (separation) params.separation = static_cast<float>(*separation);
     if (convergence) params.convergence = static_cast<float>(*convergence);
+    if (viewCone) params.viewConeDegrees = static_cast<float>(*viewCone);
     auto framed = frameScene(out.scene, params, out.settings);
     if (!framed && framed.status().code() == ErrorCode::Usage) {
         // The rig is a product of the options and the scene: name the options that shaped it
@@ -265,6 +286,7 @@ Result<Prepared> SceneOptions::prepare() const {
         if (interaxial) add(fmt::format("--interaxial {}", *interaxial));
         if (separation) add(fmt::format("--separation {}", *separation));
         if (convergence) add(fmt::format("--convergence {}", *convergence));
+        if (viewCone) add(fmt::format("--view-cone {}", *viewCone));
         if (fov != 45.0) add(fmt::format("--fov {}", fov));
         if (culprit.empty()) culprit = out.sceneName;
         return Status(framed.status().code(),

@@ -39,6 +39,7 @@ struct SceneOptions {
     std::string rig = "offaxis";
     std::optional<double> interaxial;
     std::optional<double> separation;
+    std::optional<double> viewCone;  ///< --view-cone DEG
     std::optional<double> convergence;
     double fov = 45.0;
     std::string size = "1024x768";

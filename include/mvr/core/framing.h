@@ -22,12 +22,15 @@ namespace mvr {
 
 struct FramingParams {
     RigKind kind = RigKind::OffAxis;
-    int columns = 2;                      ///< views per row
-    int rows = 1;                         ///< rows of views
-    float fovYDegrees = 45.0f;            ///< vertical field of view, (0, 180)
-    std::optional<float> interaxial;      ///< world units, >= 0; default convergence / 30
-    std::optional<float> separation;      ///< fraction of the screen width; excludes interaxial
-    std::optional<float> convergence;     ///< world units, > 0; default: distance to the target
+    int columns = 2;                   ///< views per row
+    int rows = 1;                      ///< rows of views
+    float fovYDegrees = 45.0f;         ///< vertical field of view, (0, 180)
+    std::optional<float> interaxial;   ///< world units, >= 0; default convergence / 30
+    std::optional<float> separation;   ///< fraction of the screen width; excludes interaxial
+    std::optional<float> convergence;  ///< world units, > 0; default: distance to the target
+    /// Degrees, [0, 180): an off-axis row spread evenly in angle over this view cone (the
+    /// Looking Glass camera, RigParams::viewConeDegrees); 0: interaxial/separation spacing.
+    float viewConeDegrees = 0.0f;
     std::optional<glm::vec3> clearColor;  ///< default: Scene::background
 };
 
