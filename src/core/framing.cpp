@@ -71,6 +71,15 @@ Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params
     rig.rows = params.rows;
     rig.convergence = params.convergence.value_or(distance);
     if (rig.convergence <= camera.near) camera.near = rig.convergence * 0.5f;
+    // Beyond the far plane the zero-parallax plane is outside the scene's depth: every point
+    // of the scene is nearer than the screen, and the default spacing (convergence / 30) puts
+    // the views so far apart that they see nothing of it — refused rather than black images.
+    if (params.kind != RigKind::Parallel && rig.convergence > camera.far) {
+        return usageError(fmt::format(
+            "convergence {} is beyond the far plane ({}): the zero-parallax plane must lie "
+            "within the scene's depth (expected 0 < convergence <= {})",
+            rig.convergence, camera.far, camera.far));
+    }
     if (params.separation) {
         rig.interaxial = interaxialFromSeparation(camera, *params.separation, rig.convergence);
     } else {

@@ -179,6 +179,7 @@ TEST(FramingGeometry, BadParametersAreUsageErrorsNamingThem) {
     expectBad(with([](FramingParams& p) { p.interaxial = -1.0f; }), "interaxial");
     expectBad(with([](FramingParams& p) { p.separation = INFINITY; }), "separation");
     expectBad(with([](FramingParams& p) { p.convergence = 0.0f; }), "convergence");
+    expectBad(with([](FramingParams& p) { p.convergence = 1e6f; }), "beyond the far plane");
     expectBad(with([](FramingParams& p) { p.interaxial = 0.1f, p.separation = 0.02f; }),
               "separation");
     expectBad(with([](FramingParams& p) { p.columns = 13, p.rows = 10; }), "views");

@@ -182,6 +182,8 @@ TEST_F(Cli, BunnyEyesOffsetHorizontallyOnly) {
 TEST_F(Cli, BadNumbersAreUsageErrors) {
     expectError("render --views 0", 1, "view count");
     expectError("render --views 129", 1, "view count");
+    expectError("render --convergence 1000", 1,
+                "--convergence 1000: convergence 1000 is beyond the far plane");
     expectError("render --views 4 --view-cone 180", 1, "--view-cone 180 is out of range");
     expectError("render --views 4 --view-cone 40 --interaxial 0.1", 1,
                 "--interaxial excludes --view-cone");
