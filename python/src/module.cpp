@@ -430,6 +430,7 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
         comfort["nearest_distance"] = c->range.nearestDistance;
         comfort["farthest_distance"] = c->range.farthestDistance;
         comfort["comfortable"] = c->range.comfortable;
+        comfort["why"] = c->range.why;
         comfort["text"] = c->line;
     }
     r.comfort = comfort;

@@ -288,7 +288,16 @@ ParallaxRange parallaxRange(const Rig& rig, float nearestW, float farthestW) {
     r.farthestDistance = farthestW;
     r.minParallax = sep * (1.0f - rig.convergence / nearestW);
     r.maxParallax = sep * (1.0f - rig.convergence / farthestW);
-    r.comfortable = nearestW >= rig.convergence * 0.5f && farthestW <= rig.convergence * 100.0f;
+    if (nearestW < rig.convergence * 0.5f) {
+        r.why = "scene reaches closer than convergence/2";
+    } else if (farthestW > rig.convergence * 100.0f) {
+        r.why = "scene reaches beyond 100 x convergence";
+    }
+    if (std::abs(r.minParallax) > 1.0f || std::abs(r.maxParallax) > 1.0f) {
+        r.why += std::string(r.why.empty() ? "" : "; ") +
+                 "parallax beyond one screen width (the separation is far too large)";
+    }
+    r.comfortable = r.why.empty();
     return r;
 }
 

@@ -179,6 +179,18 @@ TEST_F(Cli, BunnyEyesOffsetHorizontallyOnly) {
               -2.0);  // parallel rig: everything in front of the screen
 }
 
+// The comfort line says why a rig is uncomfortable, and --separation 50 (5000 % of the screen
+// width: parallax of several screen widths) is not "comfortable" (issue 13's measured case).
+TEST_F(Cli, TheComfortLineFlagsAnAbsurdSeparation) {
+    const CliRun fine = run("render --size 64x48 -o fine");
+    ASSERT_EQ(fine.exitCode, 0) << fine.err;
+    EXPECT_NE(fine.out.find("(comfortable: "), std::string::npos) << fine.out;
+    const CliRun wide = run("render --size 64x48 --separation 50 -o wide");
+    ASSERT_EQ(wide.exitCode, 0) << wide.err;
+    EXPECT_NE(wide.out.find("uncomfortable: parallax beyond one screen width"), std::string::npos)
+        << wide.out;
+}
+
 TEST_F(Cli, BadNumbersAreUsageErrors) {
     expectError("render --views 0", 1, "view count");
     expectError("render --views 129", 1, "view count");

@@ -277,6 +277,20 @@ TEST(Rig, ParallaxRangeComfort) {
     EXPECT_GT(ok.maxParallax, 0.0f);
     EXPECT_FALSE(parallaxRange(*rig, 1.0f, 10.0f).comfortable);   // closer than convergence/2
     EXPECT_FALSE(parallaxRange(*rig, 3.0f, 500.0f).comfortable);  // beyond 100 x convergence
+    EXPECT_TRUE(ok.why.empty());
+    EXPECT_EQ(parallaxRange(*rig, 1.0f, 10.0f).why, "scene reaches closer than convergence/2");
+    // A separation of 5000 % of the screen width (--separation 50): the parallax at w = 3 is
+    // 50 * (1 - 4/3) = -16.7 screen widths, computed here by hand.
+    p.interaxial =
+        50.0f * 2.0f * 4.0f * camera.aspect * std::tan(glm::radians(camera.fovYDegrees) * 0.5f);
+    auto huge = makeRig(camera, p);
+    ASSERT_TRUE(huge);
+    const ParallaxRange bad = parallaxRange(*huge, 3.0f, 10.0f);
+    EXPECT_NEAR(huge->separation(), 50.0f, 1e-3f);
+    EXPECT_NEAR(bad.minParallax, 50.0f * (1.0f - 4.0f / 3.0f), 1e-2f);
+    EXPECT_LT(bad.minParallax, -1.0f);
+    EXPECT_FALSE(bad.comfortable);
+    EXPECT_NE(bad.why.find("parallax beyond one screen width"), std::string::npos) << bad.why;
 }
 
 // View-cone rig (issue 13): view 0 leftmost, zero parallax on the focal plane, outer views at

@@ -85,9 +85,8 @@ std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& o
     report.line = fmt::format(
         "parallax between outer views: {:+.2f}% .. {:+.2f}% of screen width ({})",
         100.0 * r.minParallax, 100.0 * r.maxParallax,
-        r.comfortable
-            ? "comfortable: all within [convergence/2, 100 x convergence]"
-            : "uncomfortable: scene reaches closer than convergence/2 or beyond 100 x convergence");
+        r.comfortable ? std::string("comfortable: all within [convergence/2, 100 x convergence]")
+                      : "uncomfortable: " + r.why);
     return report;
 }
 

@@ -162,7 +162,10 @@ struct ParallaxRange {
     float minParallax = 0.0f;  ///< most negative (nearest, out of the screen)
     float maxParallax = 0.0f;  ///< most positive (farthest, into the screen)
     float nearestDistance = 0.0f, farthestDistance = 0.0f;  ///< eye-space distances seen
-    bool comfortable = true;  ///< everything within [convergence/2, 100·convergence]
+    /// Everything within [convergence/2, 100·convergence] and no parallax beyond one screen
+    /// width (|parallax| > 1: no display can show that to two eyes; e.g. --separation 50).
+    bool comfortable = true;
+    std::string why;  ///< empty when comfortable, else the rule broken, in words
 };
 
 /// Comfort report over eye-space distances `w` actually rendered (nvidia-gtc2010 "Parallax
