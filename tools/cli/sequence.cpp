@@ -2,6 +2,7 @@
 // (frame-0000/view-3.png and its composites), written under frame-0000.part and renamed when
 // complete, optionally a video file of one composite (or one stream per view).
 #include "sequence.h"
+#include "stereo_options.h"
 
 #include <unistd.h>
 
@@ -283,17 +284,17 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
             return Status(rendered.status().code(),
                           fmt::format("frame {}: {}", f, rendered.status().message()));
         }
-        if (job.surfaces && job.surfaces->any()) {
-            // Sky, labels and letterbox are per view; the floating window's strips depend on
-            // the outermost views of the row, which a share of the views does not hold.
-            if (job.surfaces->floatingWindow && int(rig->views.size()) != p.rig.viewCount()) {
-                return usageError(
-                    "--floating-window needs every view of a frame in one rank: give at least "
-                    "as many frames as worker ranks");
-            }
-            if (auto s = applyStereoSurfaces(*job.surfaces, *rig, *rendered); !s) {
-                return Status(s.status().code(),
-                              fmt::format("frame {}: {}", f, s.status().message()));
+        if (job.surfaces && job.surfaces->floatingWindow &&
+            int(rig->views.size()) != p.rig.viewCount()) {
+            // The floating window's strips depend on the outermost views of the row, which a
+            // share of the views does not hold (sky, labels and letterbox are per view).
+            return usageError(
+                "--floating-window needs every view of a frame in one rank: give at least as "
+                "many frames as worker ranks");
+        }
+        if (job.surfaces) {
+            if (Status s = applySurfaces(*job.surfaces, *rig, *rendered); !s) {
+                return Status(s.code(), fmt::format("frame {}: {}", f, s.message()));
             }
         }
         return rendered;
