@@ -163,6 +163,42 @@ Scene makeDefaultScene() {
     return s;
 }
 
+Texture makeCheckerTexture(int size, int checks, Rgba8 a, Rgba8 b, const std::string& name) {
+    Texture t;
+    t.name = name;
+    t.image = Image(size, size);
+    const int cell = std::max(1, size / std::max(1, checks));
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            const int cx = x / cell, cy = y / cell;
+            Rgba8 c = ((cx + cy) & 1) ? b : a;
+            // A border on the square's top and left edges, red-ish top, blue-ish left: the
+            // image's orientation (and a flipped v) is visible in renders.
+            if (y % cell < std::max(1, cell / 16)) c = {230, 60, 40, 255};
+            if (x % cell < std::max(1, cell / 16)) c = {40, 80, 230, 255};
+            t.image.set(x, y, c);
+        }
+    }
+    return t;
+}
+
+Scene makeTexturedScene() {
+    Scene s = makeDefaultScene();
+    s.textures.push_back(
+        makeCheckerTexture(256, 8, {235, 235, 225, 255}, {60, 60, 70, 255}, "checker (generated)"));
+    s.textures.push_back(
+        makeCheckerTexture(128, 4, {250, 200, 60, 255}, {40, 140, 90, 255}, "tiles (generated)"));
+    // Ground: the texture repeats 4 times across (texcoords scaled), minified toward the back.
+    for (glm::vec2& uv : s.meshes[0].texcoords) uv *= 4.0f;
+    for (std::size_t i = 0; i < s.instances.size(); ++i) {
+        Material& m = s.instances[i].material;
+        m.albedo = glm::vec3(1.0f);
+        m.baseColorTexture = (i == 0 || i == 2) ? 0 : 1;
+        m.name = fmt::format("textured {}", i);
+    }
+    return s;
+}
+
 Scene makeGridScene(std::vector<Mesh> meshes, int copies) {
     Scene s;
     s.lights = defaultLights();
@@ -204,6 +240,24 @@ Status validateScene(const Scene& scene) {
     }
     for (const Mesh& m : scene.meshes) {
         if (Status st = validateMesh(m, fmt::format("mesh '{}'", m.name)); !st) return st;
+    }
+    for (const Instance& inst : scene.instances) {
+        const int t = inst.material.baseColorTexture;
+        if (t < 0) continue;
+        if (std::size_t(t) >= scene.textures.size()) {
+            return inputError(fmt::format("material '{}' refers to texture {} of {}",
+                                          inst.material.name, t, scene.textures.size()));
+        }
+        if (scene.textures[t].image.empty()) {
+            return inputError(fmt::format("texture '{}' of material '{}' is empty",
+                                          scene.textures[t].name, inst.material.name));
+        }
+        if (scene.meshes[inst.mesh].texcoords.size() != scene.meshes[inst.mesh].positions.size()) {
+            return inputError(
+                fmt::format("mesh '{}' has a texture (material '{}') but no texture "
+                            "coordinates",
+                            scene.meshes[inst.mesh].name, inst.material.name));
+        }
     }
     return {};
 }

@@ -128,8 +128,8 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
                         "Model files (OBJ, PLY, glTF 2.0). None: the procedural default scene");
     }
     app->add_option("--scene", namedScene,
-                    "Procedural scene when no model is given: default, or village (adelson1991's "
-                    "eight buildings)")
+                    "Procedural scene when no model is given: default, village (adelson1991's "
+                    "eight buildings) or textured (the default scene with generated textures)")
         ->default_val(namedScene);
     app->add_option("--grid", grid,
                     "Lay out K copies of the model(s) in a grid (sorbier2008: 1, 3, 5, 9)")
@@ -234,9 +234,9 @@ Result<Prepared> SceneOptions::prepare() const {
     }
 
     // The scene.
-    if (namedScene != "default" && namedScene != "village") {
+    if (namedScene != "default" && namedScene != "village" && namedScene != "textured") {
         return usageError(fmt::format(
-            "--scene {} is not a known scene (expected default or village)", namedScene));
+            "--scene {} is not a known scene (expected default, village or textured)", namedScene));
     }
     if (namedScene != "default" && !models.empty()) {
         return usageError(
@@ -248,6 +248,13 @@ Result<Prepared> SceneOptions::prepare() const {
         if (grid != 1) {
             return usageError(fmt::format(
                 "--grid {} needs a model file (the village scene is not gridded)", grid));
+        }
+    } else if (models.empty() && namedScene == "textured") {
+        out.scene = makeTexturedScene();
+        out.sceneName = "textured scene";
+        if (grid != 1) {
+            return usageError(fmt::format(
+                "--grid {} needs a model file (the textured scene is not gridded)", grid));
         }
     } else if (models.empty()) {
         out.scene = makeDefaultScene();

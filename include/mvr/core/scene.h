@@ -1,7 +1,9 @@
-// mvr/core/scene.h — scenes: meshes placed by transforms, a material each, and lights.
+// mvr/core/scene.h — scenes: meshes placed by transforms, a material each (optionally with a
+// base color texture), lights, and optionally a camera from the file.
 //
-// World space is right-handed, +Y up. Lights are directional, given in world space as the
-// unit direction TOWARD the light. See lighting.h for the shading model every backend uses.
+// World space is right-handed, +Y up. A light's `towardLight` is the world-space unit
+// direction TOWARD the light (directional lights); point and spot lights also have a position
+// (glTF KHR_lights_punctual). See lighting.h for the shading model every backend uses.
 #pragma once
 
 #include <optional>
@@ -9,14 +11,49 @@
 
 #include <glm/glm.hpp>
 
+#include "mvr/core/image.h"
 #include "mvr/core/mesh.h"
 
 namespace mvr {
 
+enum class TextureFilter { Nearest, Linear };
+enum class TextureWrap { Repeat, ClampToEdge, MirroredRepeat };
+
+/// How a texture is sampled (glTF samplers; OBJ map_Kd gets the defaults).
+struct TextureSampler {
+    TextureFilter magFilter = TextureFilter::Linear;
+    TextureFilter minFilter = TextureFilter::Linear;
+    bool mipmaps = true;  ///< minification between mip levels (trilinear when both Linear)
+    TextureWrap wrapS = TextureWrap::Repeat;
+    TextureWrap wrapT = TextureWrap::Repeat;
+};
+
+/// A base color texture: 8-bit RGBA, sRGB-encoded color (decoded to linear when sampled),
+/// straight alpha. Texture coordinate (0, 0) is the top-left of the image (row 0), as in glTF;
+/// loaders of other conventions (OBJ: v up) flip v when they load.
+struct Texture {
+    std::string name;  ///< the file, or "FILE: image N" for embedded images (for messages)
+    Image image;
+};
+
+enum class AlphaMode { Opaque, Mask, Blend };
+
 struct Material {
-    glm::vec3 albedo{0.8f, 0.8f, 0.8f};  ///< diffuse color, linear [0, 1]
+    Material() = default;
+    Material(glm::vec3 albedo_, float specular_ = 0.25f, float shininess_ = 32.0f)
+        : albedo(albedo_), specular(specular_), shininess(shininess_) {}
+
+    glm::vec3 albedo{0.8f, 0.8f, 0.8f};  ///< diffuse color, linear [0, 1] (glTF baseColorFactor)
     float specular = 0.25f;              ///< specular intensity
     float shininess = 32.0f;             ///< Blinn-Phong exponent
+    // Appended for textured scenes (issue 14); the defaults keep untextured scenes unchanged.
+    float alpha = 1.0f;         ///< baseColorFactor's alpha
+    int baseColorTexture = -1;  ///< index into Scene::textures, or -1; multiplies albedo/alpha
+    TextureSampler sampler;
+    AlphaMode alphaMode = AlphaMode::Opaque;
+    float alphaCutoff = 0.5f;  ///< AlphaMode::Mask: fragments with alpha < cutoff are discarded
+    bool doubleSided = false;  ///< back faces are drawn (with the normal flipped) when culling
+    std::string name;          ///< for messages
 };
 
 struct Instance {
@@ -25,10 +62,23 @@ struct Instance {
     Material material;
 };
 
-struct DirectionalLight {
+enum class LightType { Directional, Point, Spot };
+
+/// A light. Directional by default (the only kind the built-in scenes use); files may add
+/// point and spot lights (KHR_lights_punctual). For a spot, `towardLight` is the negated spot
+/// axis (the axis points from the light into the scene).
+struct Light {
     glm::vec3 towardLight{0.0f, 0.0f, 1.0f};  ///< unit, world space
-    glm::vec3 color{1.0f};
+    glm::vec3 color{1.0f};                    ///< linear, intensity already applied
+    // Appended for lights from files and shadows (issues 14, 15).
+    LightType type = LightType::Directional;
+    glm::vec3 position{0.0f};          ///< Point / Spot: world space
+    float range = 0.0f;                ///< Point / Spot: 0 = infinite (glTF's range)
+    float innerConeCos = 1.0f;         ///< Spot: cos(innerConeAngle)
+    float outerConeCos = 0.70710678f;  ///< Spot: cos(outerConeAngle), glTF default π/4
+    bool castsShadow = false;          ///< --shadows (issue 15)
 };
+using DirectionalLight = Light;  ///< the name every backend used before point and spot lights
 
 inline constexpr int kMaxLights = 4;
 
@@ -38,6 +88,17 @@ struct SceneViewpoint {
     glm::vec3 target{0.0f};
 };
 
+/// A camera from the file (glTF's first camera of the scene, perspective): becomes the rig's
+/// centre camera unless the command line overrides it.
+struct SceneCamera {
+    glm::mat4 worldFromCamera{1.0f};  ///< the camera looks down its −Z, +Y up
+    float yfovRadians = 0.8f;
+    float aspect = 0.0f;  ///< 0 = not given (the output size's aspect is used)
+    float znear = 0.1f;
+    float zfar = 0.0f;  ///< 0 = infinite / not given (framing chooses)
+    std::string name;
+};
+
 struct Scene {
     std::vector<Mesh> meshes;
     std::vector<Instance> instances;
@@ -45,6 +106,8 @@ struct Scene {
     glm::vec3 ambient{0.12f};
     glm::vec3 background{0.08f};              ///< clear colour, linear [0, 1]
     std::optional<SceneViewpoint> viewpoint;  ///< absent: framing fits the bounds (framing.h)
+    std::vector<Texture> textures;            ///< Material::baseColorTexture indexes these
+    std::optional<SceneCamera> camera;        ///< from the file, if it has one
 
     std::size_t triangleCount() const;  ///< over all instances
     Bounds bounds() const;              ///< world-space bounds of all instances
@@ -57,6 +120,15 @@ std::vector<DirectionalLight> defaultLights();
 /// spread in depth around the origin (some in front of, some behind a convergence plane
 /// through the origin), lit by defaultLights().
 Scene makeDefaultScene();
+
+/// A procedural textured scene that needs no data files (for tests and benches of textured
+/// shading): a checker-textured ground, a textured sphere and boxes (generated textures with
+/// texture coordinates that exercise wrap and minification), lit by defaultLights().
+Scene makeTexturedScene();
+
+/// A generated RGBA8 checker texture: `size`×`size`, `checks`×`checks` squares alternating
+/// between two colors, with a thin colored border on each square (so orientation is visible).
+Texture makeCheckerTexture(int size, int checks, Rgba8 a, Rgba8 b, const std::string& name);
 
 /// Lays out `copies` copies of the given meshes (all of them form one "model", placed side by
 /// side) in a near-square grid on the XY plane, as sorbier2008 did with 1, 3, 5 and 9 bunnies.
