@@ -36,6 +36,15 @@ using SetupViewsFn = std::uint64_t (*)(const YSetup& ys, const std::int32_t* x0,
                                        const std::int32_t* x1, const std::int32_t* x2, int n,
                                        int width, ViewsSetup& out);
 
+/// setupViews for n <= 64 views of a sheared row whose x is derived, not stored: view k's x of
+/// vertex j is snapX(shearClipWc(t.cx[j], shears[k], t.wc[j]), t.q[j], width), written to
+/// x.x[j][k]; then setupViews of those x. Groups of lanes (8 or 16) in which no view has a
+/// pixel-center column are not set up at all (their bits are 0; `out` and `x` are unspecified
+/// there except x, which is always written). Returns setupViews' bits. `shears` must be
+/// readable for n floats.
+using SetupShearedFn = std::uint64_t (*)(const YSetup& ys, const ShearedTri& t, const float* shears,
+                                         int n, int width, ViewsSetup& out, ViewsX& x);
+
 /// Vertex lighting (Shading::Vertex) of n vertices: world position transformPoint(worldFromModel,
 /// p), normal transformDir(normalFromModel, normal), color shadeBlinnPhong(ctx, material, normal,
 /// world) — 3 floats per vertex into `color`. SIMD paths: the same float operations in the same
@@ -62,7 +71,8 @@ struct Kernels {
     ShadeVerticesFn shadeVertices;
     TransformPointsFn transformPoints;
     SpecularPowFn specularPow;
-    SetupLanesFn setupLanes;  ///< lanes.h: (triangle, view) pairs side by side
+    SetupLanesFn setupLanes;      ///< lanes.h: (triangle, view) pairs side by side
+    SetupShearedFn setupSheared;  ///< long sheared rows: x derived from the center per view
 };
 
 /// The kernel table of a path (resolved first, so always a valid table).

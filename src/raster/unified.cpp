@@ -46,6 +46,10 @@ constexpr int kSetupChunk = 64;
 /// Views sharing (y, z, w): an off-axis row (same shear.y), or a single unsheared view.
 struct Family {
     bool sheared = false;
+    /// A sheared row of more than kLaneBlock views (issue 12): its views' x is not stored per
+    /// vertex but derived per triangle from the center clip x and `shears` (setupSheared).
+    bool many = false;
+    std::vector<float> shears;  ///< many: shear.x of views[k], padded to a multiple of 16
     float shearY = 0.0f;
     float shearXMin = 0.0f, shearXMax = 0.0f;
     std::vector<int> views;
@@ -71,6 +75,7 @@ struct ViewData {
     int family = 0;
     float shearX = 0.0f;
     int twin = -1;
+    bool derived = false;  ///< a view of a `many` family: x, sx, code are nullptr (derive them)
     std::vector<float> xStore;
     std::vector<std::int32_t> sxStore;
     std::vector<std::uint8_t> codeStore;
@@ -104,6 +109,19 @@ struct UnifiedData : MethodScratch {
     float* famQ(Family& f) { return f.sheared ? cq.data() : f.q.data(); }
     float* famZW(Family& f) { return f.sheared ? czw.data() : f.zw.data(); }
     const float* famW(const Family& f) const { return f.sheared ? cw.data() : f.w.data(); }
+    float convergence = 0.0f, width = 0.0f;
+    /// A view's clip x, outcodeX and snapped x of vertex i: stored, or (views of a `many`
+    /// family) derived from the center with the operations the vertex stage would have used.
+    float viewX(const ViewData& vd, std::uint32_t i) const {
+        return vd.derived ? shearClip(cx[i], vd.shearX, cw[i], convergence) : vd.x[i];
+    }
+    std::uint8_t viewCode(const ViewData& vd, std::uint32_t i) const {
+        return vd.derived ? outcodeX(viewX(vd, i), cw[i]) : vd.code[i];
+    }
+    /// Only where the view's code has no kClipX bit (projectX stores 0 there).
+    std::int32_t viewSx(const ViewData& vd, std::uint32_t i) const {
+        return vd.derived ? snapX(viewX(vd, i), cq[i], width) : vd.sx[i];
+    }
 };
 
 void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, UnifiedData& d) {
@@ -136,6 +154,8 @@ void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, Uni
                 f.y = std::move(old.y), f.z = std::move(old.z), f.w = std::move(old.w);
                 f.q = std::move(old.q), f.zw = std::move(old.zw), f.sy = std::move(old.sy);
                 f.code = std::move(old.code), f.sxv = std::move(old.sxv);
+                f.shears = std::move(old.shears);
+                f.shears.clear();
             }
             f.sheared = view.clipShear.has_value();
             f.shearY = f.sheared ? view.clipShear->y : 0.0f;
@@ -150,13 +170,21 @@ void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, Uni
         f.shearXMin = std::min(f.shearXMin, vd.shearX);
         f.shearXMax = std::max(f.shearXMax, vd.shearX);
     }
-    // Column twins: a sheared view whose shear.x has the bits of an earlier sheared view's.
+    for (Family& f : d.families) {
+        f.many = f.sheared && f.views.size() > std::size_t(kLaneBlock);
+        if (!f.many) continue;
+        for (int v : f.views) f.shears.push_back(d.views[std::size_t(v)].shearX);
+        f.shears.resize((f.shears.size() + 15) / 16 * 16, 0.0f);
+    }
+    for (ViewData& vd : d.views) vd.derived = d.families[std::size_t(vd.family)].many;
+    // Column twins: a sheared view whose shear.x has the bits of an earlier sheared view's
+    // (views of `many` families store no x: neither twins nor twinned).
     for (std::size_t v = 0; v < d.views.size(); ++v) {
         ViewData& vd = d.views[v];
         vd.twin = -1;
-        if (!rig.views[v].clipShear) continue;
+        if (!rig.views[v].clipShear || vd.derived) continue;
         for (std::size_t u = 0; u < v && vd.twin < 0; ++u) {
-            if (rig.views[u].clipShear && d.views[u].twin < 0 &&
+            if (rig.views[u].clipShear && !d.views[u].derived && d.views[u].twin < 0 &&
                 std::bit_cast<std::uint32_t>(d.views[u].shearX) ==
                     std::bit_cast<std::uint32_t>(vd.shearX)) {
                 vd.twin = int(u);
@@ -168,7 +196,7 @@ void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, Uni
     for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
         Family& f = d.families[fi];
         f.sxvTwin = -1;
-        for (std::size_t fj = 0; fj < fi && f.sxvTwin < 0 && f.sheared; ++fj) {
+        for (std::size_t fj = 0; fj < fi && f.sxvTwin < 0 && f.sheared && !f.many; ++fj) {
             const Family& g = d.families[fj];
             bool same = g.sheared && g.sxvTwin < 0 && g.views.size() == f.views.size();
             for (std::size_t k = 0; same && k < f.views.size(); ++k) {
@@ -185,17 +213,21 @@ void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, Uni
         f.y.resize(n), f.sy.resize(n), f.code.resize(n);
         if (!f.sheared) f.q.resize(n), f.zw.resize(n);
         // + padding: addLanes reads 8 at a time
-        f.sxv.resize(f.sxvTwin < 0 ? n * f.views.size() + kLaneBlock : 0);
+        f.sxv.resize(f.sxvTwin < 0 && !f.many ? n * f.views.size() + kLaneBlock : 0);
         if (!f.sheared) f.z.resize(n), f.w.resize(n);
     }
     for (Family& f : d.families) {
         f.sxvData = f.sxvTwin < 0 ? f.sxv.data() : d.families[std::size_t(f.sxvTwin)].sxv.data();
     }
     for (ViewData& vd : d.views) {
-        const std::size_t own = vd.twin < 0 ? n : 0;
+        const std::size_t own = vd.twin < 0 && !vd.derived ? n : 0;
         vd.xStore.resize(own), vd.sxStore.resize(own), vd.codeStore.resize(own);
     }
     for (ViewData& vd : d.views) {
+        if (vd.derived) {
+            vd.x = nullptr, vd.sx = nullptr, vd.code = nullptr;
+            continue;
+        }
         const ViewData& src = vd.twin < 0 ? vd : d.views[std::size_t(vd.twin)];
         vd.x = const_cast<float*>(src.xStore.data());
         vd.sx = const_cast<std::int32_t*>(src.sxStore.data());
@@ -267,7 +299,7 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                     y[k] = shearClip(cy[k], fam.shearY, cw[k], conv);
                 for (int v : fam.views) {
                     ViewData& vd = d.views[std::size_t(v)];
-                    if (vd.twin >= 0) continue;  // its column's first view computes x
+                    if (vd.twin >= 0 || vd.derived) continue;  // twin: its column's first view
                     float* x = &vd.x[g];
                     for (std::uint32_t k = 0; k < count; ++k)
                         x[k] = shearClip(cx[k], vd.shearX, cw[k], conv);
@@ -278,8 +310,24 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 f.kernels.projectYZW(&fam.y[g], &d.famZ(fam)[g], &d.famW(fam)[g], count, height,
                                      &fam.code[g], d.famQ(fam) + g, &fam.sy[g], d.famZW(fam) + g);
             }
+            for (Family& fam : d.families) {
+                if (!fam.many) continue;
+                // x is monotone in the shear (a float multiply and add are), so the outermost
+                // views' guard-band bits are the OR over all the row's views.
+                const float* cx = &d.cx[g];
+                const float* cw = &d.cw[g];
+                std::uint8_t* any = &d.anyClipX[g];
+                const float lo = fam.shearXMin, hi = fam.shearXMax;
+                for (std::uint32_t k = 0; k < count; ++k) {
+                    const float wc = cw[k] - conv;
+                    any[k] |= (outcodeX(shearClipWc(cx[k], lo, wc), cw[k]) |
+                               outcodeX(shearClipWc(cx[k], hi, wc), cw[k])) &
+                              kClipX;
+                }
+            }
             for (ViewData& vd : d.views) {
-                if (vd.twin >= 0) continue;  // the same x, code and sx as its twin, computed there
+                // twin: the same x, code and sx as its twin, computed there; derived: none
+                if (vd.twin >= 0 || vd.derived) continue;
                 const Family& fam = d.families[std::size_t(vd.family)];
                 f.kernels.projectX(&vd.x[g], &d.famW(fam)[g], d.famQ(fam) + g, count, width,
                                    &vd.code[g], &vd.sx[g]);
@@ -287,7 +335,7 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                     d.anyClipX[g + k] |= vd.code[g + k] & kClipX;
             }
             for (Family& fam : d.families) {
-                if (fam.sxvTwin >= 0) continue;  // its twin's sxv is the same
+                if (fam.sxvTwin >= 0 || fam.many) continue;  // twin: its twin's sxv is the same
                 const std::size_t nv = fam.views.size();
                 for (std::size_t lane = 0; lane < nv; ++lane) {
                     const std::int32_t* sx = &d.views[std::size_t(fam.views[lane])].sx[g];
@@ -440,6 +488,7 @@ struct BandContext {
     std::vector<FragmentSink<S>> sinks;  ///< per view, all pointing at `frag`
     int attrCount = attributeCount(S);
     ViewsSetup views{};    ///< the current triangle's per-view x setup (L1)
+    ViewsX xs{};           ///< a long row's derived snapped x of the current triangle
     LaneQueue<S> queue{};  ///< small families' (triangle, view) lanes waiting for setupLanes
 };
 
@@ -463,7 +512,7 @@ void drawFamilyClipped(BandContext<S>& b, const Family& fam, const std::uint32_t
         poly.y[j] = fam.y[v[j]], poly.z[j] = z[v[j]], poly.w[j] = w[v[j]];
         std::copy_n(d.attrOf(v[j]), b.attrCount, poly.a[j]);
         for (int k = 0; k < activeCount; ++k)
-            poly.x[j][k] = d.views[std::size_t(active[k])].x[v[j]];
+            poly.x[j][k] = d.viewX(d.views[std::size_t(active[k])], v[j]);
     }
     clipShared(poly, famPlanes, b.attrCount, activeCount, tmp);
     if (poly.n < 3) return;
@@ -483,7 +532,7 @@ void drawFamilyClipped(BandContext<S>& b, const Family& fam, const std::uint32_t
     for (int k = 0; k < activeCount; ++k) {
         const int view = active[k];
         const ViewData& vd = d.views[std::size_t(view)];
-        const std::uint8_t orX = vd.code[v[0]] | vd.code[v[1]] | vd.code[v[2]];
+        const std::uint8_t orX = d.viewCode(vd, v[0]) | d.viewCode(vd, v[1]) | d.viewCode(vd, v[2]);
         if (orX & kClipX) {
             // This view leaves the guard band: continue with left/right on its own copy.
             ClipVertex cv[kMaxPolyVerts];
@@ -532,7 +581,7 @@ void drawFamilyWireframe(BandContext<S>& b, const Family& fam, const std::uint32
         e.a[0] = d.attrOf(i0), e.a[1] = d.attrOf(i1);
         for (int k = 0; k < activeCount; ++k) {
             const ViewData& vd = d.views[std::size_t(active[k])];
-            e.x[0][k] = vd.x[i0], e.x[1][k] = vd.x[i1];
+            e.x[0][k] = d.viewX(vd, i0), e.x[1][k] = d.viewX(vd, i1);
         }
         float attr[2][kMaxAttrs];
         if (!clipLineNearFar(e, activeCount, b.attrCount, attr)) continue;
@@ -628,6 +677,33 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
     }
     fill(b.frag);
     flushLanes(b);
+    if (fam.many) {
+        // A long row: the views' x derived from the center here (setupSheared), nothing stored.
+        ShearedTri t;
+        for (int j = 0; j < 3; ++j) {
+            t.cx[j] = d.cx[v[j]];
+            t.wc[j] = d.cw[v[j]] - d.convergence;
+            t.q[j] = q[v[j]];
+        }
+        for (int base = 0; base < nv; base += kSetupChunk) {
+            const int n = std::min(kSetupChunk, nv - base);
+            for (std::uint64_t lanes = b.f.kernels.setupSheared(ys, t, fam.shears.data() + base, n,
+                                                                width, b.views, b.xs);
+                 lanes; lanes &= lanes - 1) {
+                const int k = std::countr_zero(lanes);
+                const int kv = base + k;
+                if (culled(kv)) continue;
+                FragmentSink<S> sink = b.sinks[std::size_t(views[kv])];  // in registers
+                if (b.views.mask[k] > 0) {
+                    emitSmall(b.views, k, ys.rowMin, sink);
+                } else {
+                    const std::int32_t xk[3] = {b.xs.x[0][k], b.xs.x[1][k], b.xs.x[2][k]};
+                    rasterTriangle(ys, xk, width, sink);
+                }
+            }
+        }
+        return;
+    }
     // More views than a queue block: setupViews passes over the family's views, at most
     // kSetupChunk at a time (its lane mask has 64 bits).
     for (int base = 0; base < nv; base += kSetupChunk) {
@@ -683,10 +759,12 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
     bool anyClipX = false;
     for (int view : fam.views) {
         const ViewData& vd = d.views[std::size_t(view)];
-        const std::uint8_t a0 = vd.code[v[0]], a1 = vd.code[v[1]], a2 = vd.code[v[2]];
+        const std::uint8_t a0 = d.viewCode(vd, v[0]), a1 = d.viewCode(vd, v[1]),
+                           a2 = d.viewCode(vd, v[2]);
         if (a0 & a1 & a2 & kRejectX) continue;
         const bool viewClipX = ((a0 | a1 | a2) & kClipX) != 0;
-        if (testColumns && !viewClipX && noColumns(vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]], width)) {
+        if (testColumns && !viewClipX &&
+            noColumns(d.viewSx(vd, v[0]), d.viewSx(vd, v[1]), d.viewSx(vd, v[2]), width)) {
             continue;
         }
         if (faces == FaceClass::Mixed && shearedDet(det, vd.shearX, fam.shearY) < 0.0f) continue;
@@ -717,7 +795,7 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
         // Too few lanes to pay for the vector setup: one view at a time (same result).
         for (int k = 0; k < activeCount; ++k) {
             const ViewData& vd = d.views[std::size_t(active[k])];
-            const std::int32_t xk[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
+            const std::int32_t xk[3] = {d.viewSx(vd, v[0]), d.viewSx(vd, v[1]), d.viewSx(vd, v[2])};
             FragmentSink<S> sink = b.sinks[std::size_t(active[k])];  // in registers
             rasterTriangle(ys, xk, width, sink);
         }
@@ -726,7 +804,7 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
     std::int32_t x[3][kMaxViews];
     for (int k = 0; k < activeCount; ++k) {
         const ViewData& vd = d.views[std::size_t(active[k])];
-        x[0][k] = vd.sx[v[0]], x[1][k] = vd.sx[v[1]], x[2][k] = vd.sx[v[2]];
+        x[0][k] = d.viewSx(vd, v[0]), x[1][k] = d.viewSx(vd, v[1]), x[2][k] = d.viewSx(vd, v[2]);
     }
     for (int base = 0; base < activeCount; base += kSetupChunk) {
         const int n = std::min(kSetupChunk, activeCount - base);
@@ -740,7 +818,8 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
                 emitSmall(b.views, k, ys.rowMin, sink);
             } else {
                 const ViewData& vd = d.views[std::size_t(view)];
-                const std::int32_t xk[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
+                const std::int32_t xk[3] = {d.viewSx(vd, v[0]), d.viewSx(vd, v[1]),
+                                            d.viewSx(vd, v[2])};
                 rasterTriangle(ys, xk, width, sink);
             }
         }
@@ -852,6 +931,7 @@ void renderUnified(FrameContext& f, std::span<const Target> targets, StageTimes&
     UnifiedData& d = static_cast<UnifiedData&>(*scratch);
     StageClock clock;
     buildFamilies(f.rig, f.settings.shading, f.draw.vertexCount, d);
+    d.convergence = f.rig.convergence, d.width = float(f.settings.width);
     vertexStage(f, d);
     times.vertexMs += clock.lap();
     binStage(f, d);

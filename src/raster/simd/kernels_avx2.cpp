@@ -195,6 +195,46 @@ std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::in
     return lanes;
 }
 
+/// setupSheared, 8 views per pass: x derived (shearClipWc, snap: the scalar order), and
+/// setupCore only for passes with a view that has a pixel-center column.
+std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
+                           int width, ViewsSetup& o, ViewsX& xs) {
+    const __m256i Y[3] = {_mm256_set1_epi32(ys.y[0]), _mm256_set1_epi32(ys.y[1]),
+                          _mm256_set1_epi32(ys.y[2])};
+    const __m256i rowMin = _mm256_set1_epi32(ys.rowMin), rowMax = _mm256_set1_epi32(ys.rowMax);
+    const __m256 wd = _mm256_set1_ps(float(width));
+    const __m256i half = _mm256_set1_epi32(kHalfSubpixel);
+    const __m256 cx[3] = {_mm256_set1_ps(t.cx[0]), _mm256_set1_ps(t.cx[1]),
+                          _mm256_set1_ps(t.cx[2])};
+    const __m256 wc[3] = {_mm256_set1_ps(t.wc[0]), _mm256_set1_ps(t.wc[1]),
+                          _mm256_set1_ps(t.wc[2])};
+    const __m256 q[3] = {_mm256_set1_ps(t.q[0]), _mm256_set1_ps(t.q[1]), _mm256_set1_ps(t.q[2])};
+    std::uint64_t lanes = 0;
+    for (int k = 0; k < n; k += 8) {
+        const __m256i live = liveLanes(n, k);
+        const __m256 s = _mm256_maskload_ps(shears + k, live);
+        __m256i X[3];
+        for (int j = 0; j < 3; ++j) {
+            X[j] = snap(_mm256_add_ps(cx[j], _mm256_mul_ps(s, wc[j])), q[j], wd);
+            store(xs.x[j] + k, X[j]);
+        }
+        // A pixel-center column in some live view? (setupCore's colMin <= colMax)
+        const __m256i xlo = _mm256_min_epi32(X[0], _mm256_min_epi32(X[1], X[2]));
+        const __m256i xhi = _mm256_max_epi32(X[0], _mm256_max_epi32(X[1], X[2]));
+        const __m256i colMin = _mm256_max_epi32(
+            _mm256_setzero_si256(),
+            _mm256_srai_epi32(
+                _mm256_add_epi32(_mm256_sub_epi32(xlo, half), _mm256_set1_epi32(kSubpixel - 1)),
+                kSubpixelBits));
+        const __m256i colMax =
+            _mm256_min_epi32(_mm256_set1_epi32(width - 1),
+                             _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
+        if (_mm256_testz_si256(cmple(colMin, colMax), live)) continue;
+        lanes |= setupCore(X[0], X[1], X[2], Y, rowMin, rowMax, live, width, o, k);
+    }
+    return lanes;
+}
+
 /// setupLanes: two passes of 8 lanes.
 std::uint32_t setupLanes(TriangleLanes& l, int n, int width) {
     std::uint64_t lanes = 0;
@@ -366,7 +406,7 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 
 const Kernels* avx2Kernels() {
     static const Kernels k{&projectYZW,      &projectX,     &setupViews, &shadeVertices,
-                           &transformPoints, &specularPowN, &setupLanes};
+                           &transformPoints, &specularPowN, &setupLanes, &setupSheared};
     return &k;
 }
 

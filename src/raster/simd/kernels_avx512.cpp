@@ -178,6 +178,47 @@ std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::in
     return lanes;
 }
 
+/// setupSheared, 16 views per pass: x derived (shearClipWc, snap: the scalar order), and
+/// setupCore only for passes with a view that has a pixel-center column.
+std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
+                           int width, ViewsSetup& o, ViewsX& xs) {
+    const __m512i Y[3] = {_mm512_set1_epi32(ys.y[0]), _mm512_set1_epi32(ys.y[1]),
+                          _mm512_set1_epi32(ys.y[2])};
+    const __m512i rowMin = _mm512_set1_epi32(ys.rowMin), rowMax = _mm512_set1_epi32(ys.rowMax);
+    const __m512 wd = _mm512_set1_ps(float(width));
+    const __m512i half = _mm512_set1_epi32(kHalfSubpixel);
+    const __m512 cx[3] = {_mm512_set1_ps(t.cx[0]), _mm512_set1_ps(t.cx[1]),
+                          _mm512_set1_ps(t.cx[2])};
+    const __m512 wc[3] = {_mm512_set1_ps(t.wc[0]), _mm512_set1_ps(t.wc[1]),
+                          _mm512_set1_ps(t.wc[2])};
+    const __m512 q[3] = {_mm512_set1_ps(t.q[0]), _mm512_set1_ps(t.q[1]), _mm512_set1_ps(t.q[2])};
+    std::uint64_t lanes = 0;
+    for (int k = 0; k < n; k += 16) {
+        const __mmask16 live = n - k >= 16 ? __mmask16(0xffff) : __mmask16((1u << (n - k)) - 1u);
+        const __m512 s = _mm512_maskz_loadu_ps(live, shears + k);
+        __m512i X[3];
+        for (int j = 0; j < 3; ++j) {
+            X[j] = snap(_mm512_add_ps(cx[j], _mm512_mul_ps(s, wc[j])), q[j], wd);
+            _mm512_storeu_si512(xs.x[j] + k, X[j]);
+        }
+        // A pixel-center column in some live view? (setupCore's colMin <= colMax)
+        const __m512i xlo = _mm512_min_epi32(X[0], _mm512_min_epi32(X[1], X[2]));
+        const __m512i xhi = _mm512_max_epi32(X[0], _mm512_max_epi32(X[1], X[2]));
+        const __m512i colMin = _mm512_max_epi32(
+            _mm512_setzero_si512(),
+            _mm512_srai_epi32(
+                _mm512_add_epi32(_mm512_sub_epi32(xlo, half), _mm512_set1_epi32(kSubpixel - 1)),
+                kSubpixelBits));
+        const __m512i colMax =
+            _mm512_min_epi32(_mm512_set1_epi32(width - 1),
+                             _mm512_srai_epi32(_mm512_sub_epi32(xhi, half), kSubpixelBits));
+        if (!(_mm512_cmple_epi32_mask(colMin, colMax) & live)) continue;
+        lanes |= std::uint64_t(setupCore(X[0], X[1], X[2], Y, rowMin, rowMax, live, width, o, k))
+                 << k;
+    }
+    return lanes;
+}
+
 /// setupLanes: all 16 lanes in one pass.
 std::uint32_t setupLanes(TriangleLanes& l, int n, int width) {
     const __mmask16 live = n >= kLaneCount ? __mmask16(0xffff) : __mmask16((1u << n) - 1u);
@@ -394,7 +435,7 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 
 const Kernels* avx512Kernels() {
     static const Kernels k{&projectYZW,      &projectX,     &setupViews, &shadeVertices,
-                           &transformPoints, &specularPowN, &setupLanes};
+                           &transformPoints, &specularPowN, &setupLanes, &setupSheared};
     return &k;
 }
 

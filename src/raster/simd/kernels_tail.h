@@ -103,6 +103,16 @@ inline std::uint64_t setupViewsTail(const YSetup& ys, const std::int32_t* x0,
     return lanes;
 }
 
+/// Views [begin, n) of setupSheared: x derived per view, then setupViewsTail (the reference).
+inline std::uint64_t setupShearedTail(const YSetup& ys, const ShearedTri& t, const float* shears,
+                                      int begin, int n, int width, ViewsSetup& o, ViewsX& x) {
+    for (int k = begin; k < n; ++k) {
+        for (int j = 0; j < 3; ++j)
+            x.x[j][k] = snapX(shearClipWc(t.cx[j], shears[k], t.wc[j]), t.q[j], float(width));
+    }
+    return setupViewsTail(ys, x.x[0], x.x[1], x.x[2], begin, n, width, o);
+}
+
 /// setupLanes, lane by lane through setupViewsTail: the reference of the SIMD paths.
 inline std::uint32_t setupLanesTail(TriangleLanes& l, int n, int width) {
     std::uint32_t lanes = 0;
