@@ -36,11 +36,12 @@ using SetupViewsFn = std::uint64_t (*)(const YSetup& ys, const std::int32_t* x0,
                                        const std::int32_t* x1, const std::int32_t* x2, int n,
                                        int width, ViewsSetup& out);
 
-/// setupViews for n <= 64 views of a sheared row whose x is derived, not stored: view k's x of
-/// vertex j is snapX(shearClipWc(t.cx[j], shears[k], t.wc[j]), t.q[j], width), written to
-/// x.x[j][k]; then setupViews of those x. Groups of lanes (8 or 16) in which no view has a
-/// pixel-center column are not set up at all (their bits are 0; `out` and `x` are unspecified
-/// there except x, which is always written). Returns setupViews' bits. `shears` must be
+/// The x setup of one triangle in n <= 64 views of a sheared row whose x is derived, not stored
+/// (issue 12): view k's x of vertex j is snapX(shearClipWc(t.cx[j], shears[k], t.wc[j]), t.q[j],
+/// width). Only the views with a pixel-center column in their x extent (setupViews' colMin <=
+/// colMax; a sub-pixel triangle has none in most views) are set up: they are packed in view
+/// order, x.view[i] = k and x.x[j][i] = its x, and setupViews' results for them are in column i
+/// of `out`. Returns the packed positions whose mask is not 0 (bit i). `shears` must be
 /// readable for n floats.
 using SetupShearedFn = std::uint64_t (*)(const YSetup& ys, const ShearedTri& t, const float* shears,
                                          int n, int width, ViewsSetup& out, ViewsX& x);

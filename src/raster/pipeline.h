@@ -395,9 +395,11 @@ struct ShearedTri {
     float wc[3];  ///< clip w − convergence
     float q[3];   ///< 1/w
 };
-/// Snapped window x per view of a triangle's three vertices (setupSheared's output).
+/// setupSheared's output besides its ViewsSetup: the views that have a pixel-center column in
+/// the triangle's x extent, packed (view[i]: position in the call's views), and their snapped x.
 struct ViewsX {
     alignas(64) std::int32_t x[3][kMaxViews];
+    std::uint8_t view[kMaxViews + 16];  ///< + room for a whole register's store
 };
 
 /// Emits view k's covered 2×2 centers from a ViewsSetup (mask[k] > 0).

@@ -690,8 +690,8 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
             for (std::uint64_t lanes = b.f.kernels.setupSheared(ys, t, fam.shears.data() + base, n,
                                                                 width, b.views, b.xs);
                  lanes; lanes &= lanes - 1) {
-                const int k = std::countr_zero(lanes);
-                const int kv = base + k;
+                const int k = std::countr_zero(lanes);  // packed position
+                const int kv = base + b.xs.view[k];     // the view's position in the family
                 if (culled(kv)) continue;
                 FragmentSink<S> sink = b.sinks[std::size_t(views[kv])];  // in registers
                 if (b.views.mask[k] > 0) {

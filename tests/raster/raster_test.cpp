@@ -617,11 +617,21 @@ TEST(Kernels, SetupShearedSimdEqualsScalar) {
         detail::ViewsX refX, gotX;
         const std::uint64_t refLanes =
             detail::scalarKernels().setupSheared(ys, t, shears, n, 1024, ref, refX);
+        // The views with a pixel-center column, packed in view order, with their x.
+        int m = 0;
         for (int k = 0; k < n; ++k) {
+            std::int32_t x[3];
             for (int j = 0; j < 3; ++j) {
-                const float x = detail::shearClip(t.cx[j], shears[k], t.wc[j] + conv, conv);
-                ASSERT_EQ(refX.x[j][k], detail::snapX(x, t.q[j], 1024.0f));
+                x[j] = detail::snapX(detail::shearClip(t.cx[j], shears[k], t.wc[j] + conv, conv),
+                                     t.q[j], 1024.0f);
             }
+            if (detail::noColumns(x[0], x[1], x[2], 1024)) continue;
+            ASSERT_EQ(refX.view[m], k);
+            for (int j = 0; j < 3; ++j) ASSERT_EQ(refX.x[j][m], x[j]);
+            ++m;
+        }
+        if (m < 64) {
+            ASSERT_EQ(refLanes >> m, 0u);
         }
         for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
             if (!k) continue;
@@ -630,7 +640,8 @@ TEST(Kernels, SetupShearedSimdEqualsScalar) {
             if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar)
                 continue;
             ASSERT_EQ(k->setupSheared(ys, t, shears, n, 1024, got, gotX), refLanes) << iter;
-            for (int v = 0; v < n; ++v) {
+            for (int v = 0; v < m; ++v) {
+                ASSERT_EQ(gotX.view[v], refX.view[v]);
                 for (int j = 0; j < 3; ++j) ASSERT_EQ(gotX.x[j][v], refX.x[j][v]);
                 if (!((refLanes >> v) & 1u)) continue;
                 ASSERT_EQ(got.mask[v], ref.mask[v]) << iter << " view " << v;

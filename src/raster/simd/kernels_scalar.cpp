@@ -18,7 +18,7 @@ const Kernels& scalarKernels() {
                            &setupLanesTail,
                            [](const YSetup& ys, const ShearedTri& t, const float* shears, int n,
                               int width, ViewsSetup& out, ViewsX& x) {
-                               return setupShearedTail(ys, t, shears, 0, n, width, out, x);
+                               return setupShearedTail(ys, t, shears, n, width, out, x);
                            }};
     return k;
 }

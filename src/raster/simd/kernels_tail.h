@@ -103,14 +103,20 @@ inline std::uint64_t setupViewsTail(const YSetup& ys, const std::int32_t* x0,
     return lanes;
 }
 
-/// Views [begin, n) of setupSheared: x derived per view, then setupViewsTail (the reference).
+/// setupSheared one view at a time: x derived, the views with a column packed, then
+/// setupViewsTail of the packed views (the reference).
 inline std::uint64_t setupShearedTail(const YSetup& ys, const ShearedTri& t, const float* shears,
-                                      int begin, int n, int width, ViewsSetup& o, ViewsX& x) {
-    for (int k = begin; k < n; ++k) {
+                                      int n, int width, ViewsSetup& o, ViewsX& x) {
+    int m = 0;
+    for (int k = 0; k < n; ++k) {
+        std::int32_t xk[3];
         for (int j = 0; j < 3; ++j)
-            x.x[j][k] = snapX(shearClipWc(t.cx[j], shears[k], t.wc[j]), t.q[j], float(width));
+            xk[j] = snapX(shearClipWc(t.cx[j], shears[k], t.wc[j]), t.q[j], float(width));
+        if (noColumns(xk[0], xk[1], xk[2], width)) continue;
+        for (int j = 0; j < 3; ++j) x.x[j][m] = xk[j];
+        x.view[m++] = std::uint8_t(k);
     }
-    return setupViewsTail(ys, x.x[0], x.x[1], x.x[2], begin, n, width, o);
+    return setupViewsTail(ys, x.x[0], x.x[1], x.x[2], 0, m, width, o);
 }
 
 /// setupLanes, lane by lane through setupViewsTail: the reference of the SIMD paths.
