@@ -208,12 +208,8 @@ std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* s
         const __m512i colMax =
             _mm512_min_epi32(_mm512_set1_epi32(width - 1),
                              _mm512_srai_epi32(_mm512_sub_epi32(xhi, half), kSubpixelBits));
-        __mmask16 keep = _mm512_cmple_epi32_mask(colMin, colMax) & live;
+        const __mmask16 keep = _mm512_cmple_epi32_mask(colMin, colMax) & live;
         if (!keep) continue;
-#ifdef MVR_NOPACK_AB
-        keep = live;
-        m = k;
-#endif
         for (int j = 0; j < 3; ++j)
             _mm512_storeu_si512(xs.x[j] + m, _mm512_maskz_compress_epi32(keep, X[j]));
         const __m512i idx = _mm512_add_epi32(iota, _mm512_set1_epi32(k));
