@@ -100,8 +100,13 @@ inline glm::vec3 transformDir(const glm::mat3& m, const glm::vec3& n) {
     return r;
 }
 /// The off-axis shear of kalaiah2007/nvidia-gtc2010: clip.x += shear · (clip.w − convergence).
+/// shearClip with w − convergence already formed (one subtraction per vertex for all views):
+/// the same operations, so the same bits.
+inline float shearClipWc(float centerClip, float shear, float wMinusConvergence) {
+    return centerClip + shear * wMinusConvergence;
+}
 inline float shearClip(float centerClip, float shear, float w, float convergence) {
-    return centerClip + shear * (w - convergence);
+    return shearClipWc(centerClip, shear, w - convergence);
 }
 
 /// Per-vertex shading attributes (the view-independent vertex outputs of kalaiah2007).
@@ -379,6 +384,22 @@ inline void rasterTriangle(const YSetup& ys, const std::int32_t x[3], int width,
 struct ViewsSetup {
     std::int32_t mask[kMaxViews], colMin[kMaxViews], area[kMaxViews];
     std::int32_t e[3][kMaxViews], sx[3][kMaxViews], sy[3][kMaxViews], bias[3][kMaxViews];
+};
+
+/// What a long sheared row derives its views' x from, per vertex of one triangle (issue 12: x is
+/// not stored per view): view k's snapped x of vertex j is
+/// snapX(shearClipWc(cx[j], shear[k], wc[j]), q[j], width) — the bits the vertex stage's
+/// shearClip + projectX would have stored.
+struct ShearedTri {
+    float cx[3];  ///< center clip x
+    float wc[3];  ///< clip w − convergence
+    float q[3];   ///< 1/w
+};
+/// setupSheared's output besides its ViewsSetup: the views that have a pixel-center column in
+/// the triangle's x extent, packed (view[i]: position in the call's views), and their snapped x.
+struct ViewsX {
+    alignas(64) std::int32_t x[3][kMaxViews];
+    std::uint8_t view[kMaxViews + 16];  ///< + room for a whole register's store
 };
 
 /// Emits view k's covered 2×2 centers from a ViewsSetup (mask[k] > 0).

@@ -88,10 +88,18 @@ public:
 
     Result<RenderOutput> render(const Scene& scene, const Rig& rig, const RenderSettings& settings,
                                 const std::string& method) override {
+        RenderOutput out;
+        if (Status s = renderInto(scene, rig, settings, method, out); !s) return s;
+        return out;
+    }
+
+    Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& settings,
+                      const std::string& method, RenderOutput& out) override {
         if (Status s = validateRequest(scene, rig, settings); !s) return s;
         if (Status s = supports(method); !s) return s;
         try {
-            return renderChecked(scene, rig, settings, method);
+            renderChecked(scene, rig, settings, method, out);
+            return {};
         } catch (const std::bad_alloc&) {
             return internalError(
                 fmt::format("soft backend: out of memory rendering {} views of {}x{}",
@@ -100,13 +108,16 @@ public:
     }
 
 private:
-    Result<RenderOutput> renderChecked(const Scene& scene, const Rig& rig,
-                                       const RenderSettings& settings, const std::string& method) {
+    /// Renders into `out`, keeping its images' storage where the view count and size match
+    /// (allocateOutputs: then only the clear).
+    void renderChecked(const Scene& scene, const Rig& rig, const RenderSettings& settings,
+                       const std::string& method, RenderOutput& out) {
         std::lock_guard lock(mMutex);  // one render at a time per backend (shared pool, scratch)
         const auto start = std::chrono::steady_clock::now();
         detail::ThreadPool& pool = this->pool();
-        RenderOutput out;
         out.method = method;
+        out.note.clear();
+        out.stages = {};
         detail::StageClock clock;
         detail::FrameContext f{scene,
                                rig,
@@ -132,7 +143,6 @@ private:
         stats.drawWallMs = stats.totalWallMs;
         std::lock_guard statsLock(mStatsMutex);
         mStats = stats;
-        return out;
     }
 
     int threadCount() const {

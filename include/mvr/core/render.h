@@ -74,6 +74,18 @@ public:
     virtual Result<RenderOutput> render(const Scene& scene, const Rig& rig,
                                         const RenderSettings& settings,
                                         const std::string& method) = 0;
+    /// render() into `out`: the same images, stats and errors, but a backend may reuse the
+    /// storage of out's images when they already have the request's view count and size (the
+    /// soft backend does: no allocation and no page faults, only the clear), so a caller that
+    /// renders frame after frame keeps one RenderOutput. On error `out` is unspecified. The
+    /// default: out = render(…).
+    virtual Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& settings,
+                              const std::string& method, RenderOutput& out) {
+        auto r = render(scene, rig, settings, method);
+        if (!r) return r.status();
+        out = std::move(r).value();
+        return {};
+    }
     /// Lines for `mvr info` (limits, driver strings).
     virtual std::vector<std::string> info() const { return {}; }
     /// Timings of the last successful render(); nullopt before the first.
