@@ -284,11 +284,33 @@ ParallaxRange parallaxRange(const Rig& rig, float nearestW, float farthestW) {
     ParallaxRange r;
     // Between the outermost views of a row: their offset is (columns − 1) · interaxial.
     const float sep = (rig.columns - 1) * rig.separation();
+    const float halfBaseline = 0.5f * (rig.columns - 1) * rig.interaxial;
+    const float tanHalfX =
+        rig.camera.aspect * std::tan(glm::radians(rig.camera.fovYDegrees) * 0.5f);
+    // The parallax of a point on the axis at distance w, each rig its own formula:
+    auto parallaxAt = [&](float w) {
+        switch (rig.kind) {
+            case RigKind::Parallel:
+                // Symmetric frustums, eyes ±h: ndc.x = (x ∓ h) / (w·tanHalfX), so the parallax
+                // is −2h / (2·w·tanHalfX) = −sep·convergence / w: negative everywhere, zero only
+                // at infinity (the off-axis formula minus sep).
+                return -sep * rig.convergence / w;
+            case RigKind::ToeIn:
+                // Each outer eye at ±h turned by atan(h/C) towards the axis point at C: the point
+                // at w is seen atan(h/C) − atan(h/w) off its axis.
+                return std::tan(std::atan(halfBaseline / rig.convergence) -
+                                std::atan(halfBaseline / w)) /
+                       tanHalfX;
+            default: return sep * (1.0f - rig.convergence / w);
+        }
+    };
     r.nearestDistance = nearestW;
     r.farthestDistance = farthestW;
-    r.minParallax = sep * (1.0f - rig.convergence / nearestW);
-    r.maxParallax = sep * (1.0f - rig.convergence / farthestW);
-    if (nearestW < rig.convergence * 0.5f) {
+    r.minParallax = parallaxAt(nearestW);
+    r.maxParallax = parallaxAt(farthestW);
+    if (rig.kind == RigKind::Parallel) {
+        // No convergence plane: the [convergence/2, 100 x convergence] rule does not apply.
+    } else if (nearestW < rig.convergence * 0.5f) {
         r.why = "scene reaches closer than convergence/2";
     } else if (farthestW > rig.convergence * 100.0f) {
         r.why = "scene reaches beyond 100 x convergence";

@@ -169,7 +169,10 @@ struct ParallaxRange {
 };
 
 /// Comfort report over eye-space distances `w` actually rendered (nvidia-gtc2010 "Parallax
-/// budget"): parallax = separation · (1 − convergence / w) between the outermost eyes.
+/// budget"), between the outermost eyes (total separation s, half baseline h), each rig its own
+/// formula for a point on the axis at w: off-axis s · (1 − convergence / w); parallel
+/// −s · convergence / w (zero only at infinity; no [convergence/2, 100 x convergence] rule);
+/// toe-in tan(atan(h / convergence) − atan(h / w)) / tan(fovX / 2).
 ParallaxRange parallaxRange(const Rig& rig, float nearestW, float farthestW);
 
 }  // namespace mvr
