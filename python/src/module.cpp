@@ -397,9 +397,10 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     const cli::Prepared& p = check(std::move(prepared));
     RenderOutput out = check(std::move(rendered));
     if (p.display) {  // display=: the preset's outputs, as `mvr render --display`
-        cli::displayOutputs(*p.display, app.get_option("--lenticular-calibration")->count() > 0,
-                            app.get_option("--quilt")->count() > 0, p.rig.camera.aspect, formats,
-                            compose);
+        cli::displayOutputs(
+            *p.display, app.get_option("--lenticular-calibration")->count() > 0,
+            app.get_option("--quilt")->count() > 0 || p.rig.viewCount() != p.display->views,
+            p.rig.camera.aspect, formats, compose);
     }
     if (int(out.color.size()) != p.rig.viewCount())
         throwStatus(internalError(fmt::format("backend returned {} images for {} views",

@@ -154,6 +154,22 @@ TEST_F(Displays, ExplicitOptionsOverrideThePreset) {
     EXPECT_EQ(jsonNumber(slurp(mDir / "c.json"), "view_cone"), 20.0);
 }
 
+// With a visual.json (no screen size in it), a light-field preset also writes the lenticular
+// image at the panel's resolution; fewer views than the preset: the most square quilt.
+TEST_F(Displays, ACalibrationAddsTheLenticularImage) {
+    std::ofstream(mDir / "visual.json") << R"({"pitch": {"value": 52.59}, "slope": {"value": -7.08},
+        "center": {"value": 0.82}, "DPI": {"value": 324.0}})";
+    const ToolRun r =
+        run("render pyramid.obj --display portrait --views 4 --size 42x56 "
+            "--lenticular-calibration visual.json -q -o len");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto len = readPng(mDir / "len/lenticular.png");
+    ASSERT_TRUE(len);
+    EXPECT_EQ(len->width, 1536);
+    EXPECT_EQ(len->height, 2048);
+    EXPECT_TRUE(std::filesystem::exists(mDir / "len/quilt_qs2x2a0.75.png"));
+}
+
 TEST_F(Displays, AnUnknownDisplayListsTheValidNames) {
     expectError("render --display nosuch", 1, "--display nosuch: unknown display 'nosuch'");
     const ToolRun r = run("render --display nosuch");

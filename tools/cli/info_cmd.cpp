@@ -25,7 +25,7 @@ int runDisplays() {
         const std::string output = d.quiltColumns > 0
                                        ? fmt::format("quilt_qs{}x{}a{}.png", d.quiltColumns,
                                                      d.quiltRows, aspectText(d.aspect))
-                                       : std::string(d.format);
+                                       : std::string(d.format) + ".png";
         fmt::print("  {:<25} {:>5}  {:<6} {:<10} {:<9} {:<7} {:>5}  {:<10} {}\n", d.name, d.views,
                    quilt, quiltSize, fmt::format("{}x{}", d.viewWidth, d.viewHeight),
                    aspectText(d.aspect), cone, fmt::format("{}x{}", d.panelWidth, d.panelHeight),

@@ -97,7 +97,7 @@ std::vector<std::string> renderWarnings(const Prepared& p, const RenderOutput& o
                                         const std::optional<ComfortReport>& range,
                                         const std::optional<ScreenComfortReport>& screen);
 /// A display preset's outputs: its format (if not already asked for), the quilt grid unless
-/// --quilt was given, the quilt name's aspect (the camera's: `cameraAspect`), and lenticular
+/// --quilt was given (or --views changed the count: then the most square quilt), the quilt name's aspect (the camera's: `cameraAspect`), and lenticular
 /// when a calibration was given (its panel size unless the calibration names one).
 void displayOutputs(const DisplayPreset& d, bool calibrationGiven, bool quiltGiven,
                     float cameraAspect, std::vector<std::string>& formats,

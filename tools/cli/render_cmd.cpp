@@ -72,8 +72,9 @@ int runRender(const RenderOptions& given) {
     RenderOptions o = given;  // a display preset adds its outputs
     if (prepared->display) {
         displayOutputs(*prepared->display, o.calibrationOption && o.calibrationOption->count() > 0,
-                       o.quiltOption && o.quiltOption->count() > 0, prepared->rig.camera.aspect,
-                       o.formats, o.compose);
+                       (o.quiltOption && o.quiltOption->count() > 0) ||
+                           prepared->rig.viewCount() != prepared->display->views,
+                       prepared->rig.camera.aspect, o.formats, o.compose);
     }
     for (const std::string& note : prepared->notes) fmt::print(stderr, "{}\n", note);
     auto backend = makeBackend(o.backend);
