@@ -76,7 +76,9 @@ int runRender(const RenderOptions& given) {
                            prepared->rig.viewCount() != prepared->display->views,
                        prepared->rig.camera.aspect, o.formats, o.compose);
     }
-    for (const std::string& note : prepared->notes) fmt::print(stderr, "{}\n", note);
+    for (const std::string& note : prepared->notes) {  // -q keeps the warnings only
+        if (!o.quiet || note.rfind("note: ", 0) != 0) fmt::print(stderr, "{}\n", note);
+    }
     auto backend = makeBackend(o.backend);
     if (!backend) {
         return fail(Status(backend.status().code(),
