@@ -315,9 +315,16 @@ ParallaxRange parallaxRange(const Rig& rig, float nearestW, float farthestW) {
     } else if (farthestW > rig.convergence * 100.0f) {
         r.why = "scene reaches beyond 100 x convergence";
     }
-    if (std::abs(r.minParallax) > 1.0f || std::abs(r.maxParallax) > 1.0f) {
+    // Beyond one screen width between views two eyes can see together no display shows it. A
+    // stereo pair: the outer views; a row of N > 2 views (a light field: the eyes see views k
+    // apart, never the outermost pair): adjacent views, 1 / (N − 1) of the outer parallax.
+    const float pairShare = rig.columns > 2 ? 1.0f / float(rig.columns - 1) : 1.0f;
+    if (std::max(std::abs(r.minParallax), std::abs(r.maxParallax)) * pairShare > 1.0f) {
         r.why += std::string(r.why.empty() ? "" : "; ") +
-                 "parallax beyond one screen width (the separation is far too large)";
+                 (rig.columns > 2 ? "parallax beyond one screen width between adjacent views "
+                                    "(the spacing is far too large)"
+                                  : "parallax beyond one screen width (the separation is far too "
+                                    "large)");
     }
     r.comfortable = r.why.empty();
     return r;

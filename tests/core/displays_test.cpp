@@ -153,6 +153,23 @@ TEST(Displays, ScreenComfortFlagsEachBrokenRuleAndNothingElse) {
     }
 }
 
+// A light-field row is judged by the views the eyes see together (adjacent), not its outer pair.
+TEST(Displays, ARowOfViewsIsJudgedByAdjacentViews) {
+    const float c = 8.0f;
+    const float screenWorld = 2.0f * c * (4.0f / 3.0f) * std::tan(glm::radians(22.5f));
+    // 48 views, adjacent separation 5 %: the outer views 47 × 5 % = 235 % apart in separation;
+    // at w = 6: outer parallax 2.35 (1 - 8/6) = -78 %, at w = 30: +172 %; adjacent +3.7 %.
+    const Rig row = rigOf(RigKind::OffAxis, 48, 0.05f * screenWorld, c);
+    const ParallaxRange r = parallaxRange(row, 6.0f, 30.0f);
+    EXPECT_GT(r.maxParallax, 1.0f);
+    EXPECT_TRUE(r.comfortable) << r.why;
+    // Adjacent views a screen width and more apart: flagged.
+    const Rig absurd = rigOf(RigKind::OffAxis, 48, 2.0f * screenWorld, c);
+    const ParallaxRange a = parallaxRange(absurd, 6.0f, 30.0f);
+    EXPECT_FALSE(a.comfortable);
+    EXPECT_NE(a.why.find("between adjacent views"), std::string::npos) << a.why;
+}
+
 // A row of N views: the eyes see views k apart, k = the eyes' angle over the views' spacing.
 TEST(Displays, TheEyesSeeViewsOfTheConeApart) {
     const Rig rig = rigOf(RigKind::OffAxis, 48, 0.1f, 8.0f);

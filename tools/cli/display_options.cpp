@@ -215,12 +215,11 @@ std::vector<std::string> renderWarnings(const Prepared& p, const RenderOutput& o
                 "between the eyes' views, {:.1f} x the {:.2f} cm budget (try --separation auto)",
                 100.0 * p.rig.separation(), worst, worst / budgetCm, budgetCm));
         }
-    } else if (range && (std::abs(range->range.minParallax) > 1.0f ||
-                         std::abs(range->range.maxParallax) > 1.0f)) {
+    } else if (range && range->range.why.find("beyond one screen width") != std::string::npos) {
         w.push_back(fmt::format(
             "warning: separation {:.2f}% is far too large: parallax beyond one screen width "
-            "between the outer views (give --screen-width for the budget, or --separation auto)",
-            100.0 * p.rig.separation()));
+            "between {} (give --screen-width for the budget, or --separation auto)",
+            100.0 * p.rig.separation(), p.rig.columns > 2 ? "adjacent views" : "the two views"));
     }
     return w;
 }

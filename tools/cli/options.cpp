@@ -77,9 +77,14 @@ std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& o
         parallaxRange(rig, distanceFromWindowDepth(dMin, rig.camera.near, rig.camera.far),
                       distanceFromWindowDepth(dMax, rig.camera.near, rig.camera.far));
     const ParallaxRange& r = report.range;
+    const std::string adjacent = rig.columns > 2
+                                     ? fmt::format(", between adjacent views {:+.2f}% .. {:+.2f}%",
+                                                   100.0 * r.minParallax / (rig.columns - 1),
+                                                   100.0 * r.maxParallax / (rig.columns - 1))
+                                     : std::string();
     report.line = fmt::format(
-        "parallax between outer views: {:+.2f}% .. {:+.2f}% of screen width ({})",
-        100.0 * r.minParallax, 100.0 * r.maxParallax,
+        "parallax between outer views: {:+.2f}% .. {:+.2f}% of screen width{} ({})",
+        100.0 * r.minParallax, 100.0 * r.maxParallax, adjacent,
         r.comfortable ? std::string("comfortable: all within [convergence/2, 100 x convergence]")
                       : "uncomfortable: " + r.why);
     return report;

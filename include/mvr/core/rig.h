@@ -163,7 +163,8 @@ struct ParallaxRange {
     float maxParallax = 0.0f;  ///< most positive (farthest, into the screen)
     float nearestDistance = 0.0f, farthestDistance = 0.0f;  ///< eye-space distances seen
     /// Everything within [convergence/2, 100·convergence] and no parallax beyond one screen
-    /// width (|parallax| > 1: no display can show that to two eyes; e.g. --separation 50).
+    /// width between views two eyes see together (|parallax| > 1: no display can show that;
+    /// e.g. --separation 50): a pair's two views; for N > 2 views, adjacent views.
     bool comfortable = true;
     std::string why;  ///< empty when comfortable, else the rule broken, in words
 };
