@@ -12,6 +12,7 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
@@ -123,6 +124,10 @@ std::string word(const std::string& key, const std::string& type, const py::hand
                 fmt::format("{}: expected an integer, got {}", key,
                             std::string(py::str(py::type::handle_of(v).attr("__name__")))));
         return py::str(py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr())));
+    }
+    if (type == "FLOAT|auto") {  // --convergence, --separation: a number or "auto"
+        if (PyUnicode_Check(v.ptr())) return py::str(v);
+        return word(key, "FLOAT", v);
     }
     if (type == "FLOAT") {
         if (PyIndex_Check(v.ptr()))
@@ -338,6 +343,8 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     app.add_option("--format", formats)->check(CLI::IsMember(composite::formatNames()));
     app.add_option("-o,--output", outDir);
     cli::addComposeOptions(&app, compose);
+    std::string reportJson;  // report_json=: the comfort report (docs/displays.md)
+    app.add_option("--report-json", reportJson)->type_name("FILE_OUT");
     cli::StereoSurfaceOptions surfaceOptions;  // sky=, floating_window=, letterbox=, label=…
     surfaceOptions.addTo(&app);
     std::vector<std::string> args;
@@ -389,6 +396,12 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     }
     const cli::Prepared& p = check(std::move(prepared));
     RenderOutput out = check(std::move(rendered));
+    if (p.display) {  // display=: the preset's outputs, as `mvr render --display`
+        cli::displayOutputs(
+            *p.display, app.get_option("--lenticular-calibration")->count() > 0,
+            app.get_option("--quilt")->count() > 0 || p.rig.viewCount() != p.display->views,
+            p.rig.camera.aspect, formats, compose);
+    }
     if (int(out.color.size()) != p.rig.viewCount())
         throwStatus(internalError(fmt::format("backend returned {} images for {} views",
                                               out.color.size(), p.rig.viewCount())));
@@ -433,7 +446,41 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
         comfort["why"] = c->range.why;
         comfort["text"] = c->line;
     }
+    const std::optional<cli::ComfortReport> range = cli::comfortReport(rig, out);
+    const std::optional<cli::ScreenComfortReport> screen = cli::screenComfortReport(p, range);
+    if (screen) {  // screen_width= (and viewing_distance=): the report against the screen
+        const ScreenComfort& s = screen->comfort;
+        py::dict sd;
+        sd["width_cm"] = s.screen.widthCm;
+        sd["viewing_distance_cm"] = s.screen.viewingDistanceCm;
+        sd["budget"] = s.budget.fraction;
+        sd["budget_cm"] = s.budget.fraction * s.screen.widthCm;
+        sd["desktop"] = s.budget.desktop;
+        sd["pair_views"] = s.pairViews;
+        sd["min_parallax_cm"] = s.minParallaxCm;
+        sd["max_parallax_cm"] = s.maxParallaxCm;
+        sd["nearest_vergence_deg"] = s.nearestVergenceDeg;
+        sd["farthest_vergence_deg"] = s.farthestVergenceDeg;
+        sd["screen_vergence_deg"] = s.screenVergenceDeg;
+        sd["comfortable"] = s.comfortable;
+        sd["why"] = s.why;
+        sd["text"] = screen->line;
+        comfort["screen"] = sd;
+    }
     r.comfort = comfort;
+    py::list notes;
+    for (const std::string& n : p.notes) notes.append(n);
+    for (const std::string& w : cli::renderWarnings(p, out, range, screen)) notes.append(w);
+    rd["notes"] = notes;  // what --convergence/--separation auto chose, and warnings
+    rd["view_cone"] = p.viewConeDegrees;
+    if (!reportJson.empty()) {
+        const std::string json = cli::comfortJson(p, range, screen);
+        std::FILE* f = std::fopen(reportJson.c_str(), "wb");
+        const bool ok = f && std::fwrite(json.data(), 1, json.size(), f) == json.size();
+        if (f && std::fclose(f) != 0 && ok)
+            throwStatus(outputError("report_json: cannot write " + reportJson));
+        if (!ok) throwStatus(outputError("report_json: cannot write " + reportJson));
+    }
 
     // Composites first (they read the views), then the views leave as arrays.
     compose.baseline = rig.interaxial;

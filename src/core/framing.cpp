@@ -62,8 +62,12 @@ Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params
     if (Status s = validateScene(scene); !s) return s;
 
     settings.clearColor = params.clearColor.value_or(scene.background);
+    if (params.aspect && (!std::isfinite(*params.aspect) || *params.aspect <= 0.0f)) {
+        return usageError(fmt::format("aspect {} is out of range (expected > 0)", *params.aspect));
+    }
     Camera camera =
-        frameCamera(scene, params.fovYDegrees, float(settings.width) / float(settings.height));
+        frameCamera(scene, params.fovYDegrees,
+                    params.aspect.value_or(float(settings.width) / float(settings.height)));
     const float distance = glm::length(camera.position - camera.target);
     RigParams rig;
     rig.kind = params.kind;

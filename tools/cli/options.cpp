@@ -12,7 +12,10 @@
 #include <fmt/core.h>
 
 #include "mvr/adelson/village_scene.h"
+#include "mvr/core/displays.h"
 #include "mvr/core/framing.h"
+
+#include "display_options.h"
 
 namespace mvr::cli {
 
@@ -59,14 +62,6 @@ void TerminalProgress::stop() {
     mThread.join();
 }
 
-namespace {
-/// Eye-space distance w of a window depth d in [0, 1) for a perspective near/far.
-float distanceFromWindowDepth(float d, float near, float far) {
-    const float z = 2.0f * d - 1.0f;
-    return 2.0f * near * far / ((far + near) - z * (far - near));
-}
-}  // namespace
-
 std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& out) {
     if (out.depth.empty() || rig.columns <= 1) return std::nullopt;
     float dMin = 1.0f, dMax = 0.0f;
@@ -82,9 +77,14 @@ std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& o
         parallaxRange(rig, distanceFromWindowDepth(dMin, rig.camera.near, rig.camera.far),
                       distanceFromWindowDepth(dMax, rig.camera.near, rig.camera.far));
     const ParallaxRange& r = report.range;
+    const std::string adjacent = rig.columns > 2
+                                     ? fmt::format(", between adjacent views {:+.2f}% .. {:+.2f}%",
+                                                   100.0 * r.minParallax / (rig.columns - 1),
+                                                   100.0 * r.maxParallax / (rig.columns - 1))
+                                     : std::string();
     report.line = fmt::format(
-        "parallax between outer views: {:+.2f}% .. {:+.2f}% of screen width ({})",
-        100.0 * r.minParallax, 100.0 * r.maxParallax,
+        "parallax between outer views: {:+.2f}% .. {:+.2f}% of screen width{} ({})",
+        100.0 * r.minParallax, 100.0 * r.maxParallax, adjacent,
         r.comfortable ? std::string("comfortable: all within [convergence/2, 100 x convergence]")
                       : "uncomfortable: " + r.why);
     return report;
@@ -122,6 +122,71 @@ Result<std::pair<int, int>> parseSize(const std::string& text, const char* what)
     return std::pair<int, int>{int(w), int(h)};
 }
 
+namespace {
+
+/// --convergence auto / --separation auto (docs/displays.md): a depth pre-pass of the centre
+/// view; the convergence balances the parallax in and out of the screen (balancedConvergence),
+/// the separation fills 95 % of the screen's budget with the parallax between the eyes' views.
+Status chooseAutoRig(Prepared& out, FramingParams& params, bool convergenceAuto,
+                     bool separationAuto) {
+    const char* what = convergenceAuto ? "--convergence auto" : "--separation auto";
+    const float aspect =
+        params.aspect.value_or(float(out.settings.width) / float(out.settings.height));
+    const Camera camera = frameCamera(out.scene, params.fovYDegrees, aspect);
+    auto depth = centreDepthPrepass(out.scene, camera, out.settings);
+    if (!depth) return depth.status();
+    if (!*depth) {
+        return usageError(
+            fmt::format("{}: the centre view sees nothing of {} (its depth pre-pass is empty)",
+                        what, out.sceneName));
+    }
+    const DepthPercentiles& d = **depth;
+    if (convergenceAuto) {
+        const float c = balancedConvergence(d.nearest, d.farthest);
+        params.convergence = c;
+        out.notes.push_back(fmt::format(
+            "note: --convergence auto chose {:.4g}: the harmonic mean of the distances the "
+            "centre view sees ({:.4g} .. {:.4g}, 1st .. 99th percentile), which balances the "
+            "parallax in and out of the screen",
+            c, d.nearest, d.farthest));
+    }
+    if (separationAuto) {
+        FramingParams trial = params;
+        trial.interaxial.reset();
+        trial.viewConeDegrees = 0.0f;
+        trial.separation = 0.01f;
+        auto framed = frameScene(out.scene, trial, out.settings);
+        if (!framed) return framed.status();
+        const Rig& rig = framed->rig;
+        if (rig.columns < 2) {
+            return usageError("--separation auto needs a row of at least two views");
+        }
+        const ParallaxRange r = parallaxRange(rig, d.minimum, d.maximum);
+        const float share = 1.0f / float(rig.columns - 1);  // adjacent views: the eyes' pair
+        const float worst = std::max(std::abs(r.minParallax), std::abs(r.maxParallax)) * share;
+        const ParallaxBudget budget = parallaxBudget(*out.screen);
+        if (worst > 0.0f && std::isfinite(worst)) {
+            const float s = 0.01f * 0.95f * budget.fraction / worst;
+            params.separation = s;
+            params.interaxial.reset();
+            params.viewConeDegrees = 0.0f;
+            out.notes.push_back(fmt::format(
+                "note: --separation auto chose {:.3g}% of the screen width: the largest parallax "
+                "between adjacent views is then 95% of the {:.2f} cm budget ({} eye separation "
+                "on a {:.4g} cm screen)",
+                100.0 * s, budget.fraction * out.screen->widthCm,
+                budget.desktop ? "half the" : "the", out.screen->widthCm));
+        } else {
+            out.notes.push_back(
+                "note: --separation auto: the scene lies on the convergence plane (no parallax "
+                "at any separation); the default spacing is kept");
+        }
+    }
+    return {};
+}
+
+}  // namespace
+
 void SceneOptions::addTo(CLI::App* app, bool withModels) {
     if (withModels) {
         app->add_option("models", models,
@@ -136,28 +201,71 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
         ->default_val(grid);
     auto* views_ = app->add_option("--views", views, "Number of views in a horizontal row (1..128)")
                        ->default_val(views);
-    app->add_option("--view-grid", viewGrid,
-                    "CxR grid of views, numbered left to right, top to bottom")
-        ->excludes(views_);
+    viewsOption = views_;
+    viewGridOption = app->add_option("--view-grid", viewGrid,
+                                     "CxR grid of views, numbered left to right, top to bottom")
+                         ->excludes(views_);
     app->add_option("--rig", rig, "Rig: offaxis (asymmetric frustums), toein or parallel")
         ->default_val(rig);
     auto* ia =
         app->add_option("--interaxial", interaxial,
                         "Distance between adjacent eyes, world units (default: convergence / 30)");
-    app->add_option(
-           "--separation", separation,
-           "Interaxial as a fraction of the screen width at the convergence plane (nvidia-gtc2010)")
+    // A number or `auto` (--convergence and --separation): the number goes to the optional
+    // double (prepare() checks its range), `auto` to the flag.
+    auto numberOrAuto = [](const char* name, std::optional<double>& value, bool& isAuto) {
+        return [name, &value, &isAuto](const std::string& text) {
+            if (text == "auto") {
+                isAuto = true;
+                value.reset();
+                return;
+            }
+            try {
+                std::size_t used = 0;
+                const double v = std::stod(text, &used);
+                if (used != text.size()) throw std::invalid_argument(text);
+                value = v;
+                isAuto = false;
+            } catch (const std::exception&) {
+                throw CLI::ValidationError(
+                    name, fmt::format("'{}' is not a number (expected a number or auto)", text));
+            }
+        };
+    };
+    app->add_option_function<std::string>(
+           "--separation", numberOrAuto("--separation", separation, separationAuto),
+           "Interaxial as a fraction of the screen width at the convergence plane "
+           "(nvidia-gtc2010); auto: the largest that keeps the parallax between the eyes' views "
+           "within the screen's budget (needs --screen-width; docs/displays.md)")
+        ->type_name("FLOAT|auto")
         ->excludes(ia);
-    app->add_option("--view-cone", viewCone,
-                    "Spread a row of views evenly in angle over this cone, degrees (the Looking "
-                    "Glass camera: view i at angle -cone/2 + cone*i/(N-1) seen from the "
-                    "convergence plane; e.g. 40); excludes --interaxial and --separation")
-        ->excludes(ia);
-    app->add_option(
-        "--convergence", convergence,
-        "Distance of the zero-parallax plane, world units (default: distance to the scene center)");
+    viewConeOption =
+        app->add_option(
+               "--view-cone", viewCone,
+               "Spread a row of views evenly in angle over this cone, degrees (the Looking "
+               "Glass camera: view i at angle -cone/2 + cone*i/(N-1) seen from the "
+               "convergence plane; e.g. 40); excludes --interaxial and --separation")
+            ->excludes(ia);
+    app->add_option_function<std::string>(
+           "--convergence", numberOrAuto("--convergence", convergence, convergenceAuto),
+           "Distance of the zero-parallax plane, world units (default: distance to the scene "
+           "center); auto: from a depth pre-pass of the centre view, the harmonic mean of the "
+           "1st and 99th percentile distances (balances the parallax in and out of the screen)")
+        ->type_name("FLOAT|auto");
     app->add_option("--fov", fov, "Vertical field of view, degrees")->default_val(fov);
-    app->add_option("--size", size, "Size of one view, WxH pixels")->default_val(size);
+    sizeOption = app->add_option("--size", size, "Size of one view, WxH pixels")->default_val(size);
+    std::string displayHelp =
+        "Render for a display (`mvr info --displays` lists them): its views, view size, view "
+        "cone and output (a quilt; with --lenticular-calibration also lenticular). Options given "
+        "on the command line (--views, --size, --view-cone, --quilt, spacing) override the "
+        "preset's. One of:";
+    for (const std::string& n : displayNames()) displayHelp += " " + n;
+    app->add_option("--display", display, displayHelp);
+    app->add_option("--screen-width", screenWidthCm,
+                    "Width of the picture on the screen, cm: the comfort report in cm against the "
+                    "6.5 cm interocular budget (docs/displays.md)");
+    app->add_option("--viewing-distance", viewingDistanceCm,
+                    "Eyes to screen, cm (with --screen-width): vergence angles; nearer than 100 "
+                    "cm the budget is half the eye separation (desktop, nvidia-gtc2010)");
     app->add_option("--shading", shading, "Shading: flat, vertex (Gouraud) or pixel (per-fragment)")
         ->default_val(shading);
     app->add_flag("--cull", cullBackFaces, "Cull back faces");
@@ -166,8 +274,51 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
 
 Result<Prepared> SceneOptions::prepare() const {
     Prepared out;
+    // A display preset fills in what the command line did not give (displays.h).
+    auto given = [](const CLI::Option* o) { return o != nullptr && o->count() > 0; };
+    int nViews = views;
+    std::string viewSize = size;
+    std::optional<double> cone = viewCone;
+    std::optional<float> aspect;
+    if (!display.empty()) {
+        auto d = findDisplay(display);
+        if (!d) return usageError(fmt::format("--display {}: {}", display, d.status().message()));
+        out.display = *d;
+        if (!given(viewsOption) && !given(viewGridOption)) nViews = d->views;
+        if (!given(sizeOption)) {
+            viewSize = fmt::format("{}x{}", d->viewWidth, d->viewHeight);
+            aspect = d->aspect;
+        }
+        if (!given(viewConeOption) && d->viewConeDegrees > 0.0f && !interaxial && !separation &&
+            !separationAuto && viewGrid.empty() && rig == "offaxis")
+            cone = d->viewConeDegrees;
+    }
+    for (const auto& [name, value] : {std::pair{"--screen-width", screenWidthCm},
+                                      std::pair{"--viewing-distance", viewingDistanceCm}}) {
+        if (value && (!std::isfinite(*value) || *value <= 0.0 || *value > 1e6)) {
+            return usageError(fmt::format(
+                "{} {} is out of range (expected a length in cm, 0 < cm <= 1e6)", name, *value));
+        }
+    }
+    if (viewingDistanceCm && !screenWidthCm) {
+        return usageError("--viewing-distance needs --screen-width (the screen's width in cm)");
+    }
+    if (screenWidthCm) {
+        ScreenGeometry screen;
+        screen.widthCm = float(*screenWidthCm);
+        if (viewingDistanceCm) screen.viewingDistanceCm = float(*viewingDistanceCm);
+        out.screen = screen;
+    }
+    if (separationAuto && !screenWidthCm) {
+        return usageError(
+            "--separation auto needs --screen-width CM (the budget is the 6.5 cm eye separation "
+            "over the screen width)");
+    }
+    if (separationAuto && cone && given(viewConeOption)) {
+        return usageError(fmt::format("--view-cone {} excludes --separation", *cone));
+    }
     // Numbers first: they are cheap to check and the model may be large.
-    auto sz = parseSize(size, "--size");
+    auto sz = parseSize(viewSize, "--size");
     if (!sz) return sz.status();
     out.settings.width = sz->first;
     out.settings.height = sz->second;
@@ -190,13 +341,13 @@ Result<Prepared> SceneOptions::prepare() const {
         params.columns = std::stoi(m[1].str());
         params.rows = std::stoi(m[2].str());
     } else {
-        params.columns = views;
+        params.columns = nViews;
         params.rows = 1;
     }
     if (params.columns < 1 || params.rows < 1 || params.columns * params.rows > kMaxViews) {
         return usageError(fmt::format("{} {}: view count {} is out of range (expected 1..{})",
                                       viewGrid.empty() ? "--views" : "--view-grid",
-                                      viewGrid.empty() ? fmt::format("{}", views) : viewGrid,
+                                      viewGrid.empty() ? fmt::format("{}", nViews) : viewGrid,
                                       params.columns * params.rows, kMaxViews));
     }
     if (grid < 1 || grid > 1024) {
@@ -214,19 +365,18 @@ Result<Prepared> SceneOptions::prepare() const {
                 fmt::format("{} {} is out of range (expected a finite value >= 0)", name, *value));
         }
     }
-    if (viewCone) {
-        if (!std::isfinite(*viewCone) || *viewCone <= 0.0 || *viewCone >= 180.0) {
+    if (cone) {
+        if (!std::isfinite(*cone) || *cone <= 0.0 || *cone >= 180.0) {
             return usageError(fmt::format(
-                "--view-cone {} is out of range (expected 0 < cone < 180 degrees)", *viewCone));
+                "--view-cone {} is out of range (expected 0 < cone < 180 degrees)", *cone));
         }
         if (interaxial || separation) {
-            return usageError(fmt::format("--view-cone {} excludes --{}", *viewCone,
+            return usageError(fmt::format("--view-cone {} excludes --{}", *cone,
                                           interaxial ? "interaxial" : "separation"));
         }
         if (!viewGrid.empty() || *kind != RigKind::OffAxis) {
             return usageError(fmt::format(
-                "--view-cone {} needs an off-axis row of views (--views N, --rig offaxis)",
-                *viewCone));
+                "--view-cone {} needs an off-axis row of views (--views N, --rig offaxis)", *cone));
         }
     }
     if (convergence && *convergence <= 0.0) {
@@ -277,10 +427,14 @@ Result<Prepared> SceneOptions::prepare() const {
 
     // The camera, near/far, convergence and spacing: the library's framing (framing.h).
     params.fovYDegrees = static_cast<float>(fov);
+    params.aspect = aspect;
     if (interaxial) params.interaxial = static_cast<float>(*interaxial);
     if (separation) params.separation = static_cast<float>(*separation);
     if (convergence) params.convergence = static_cast<float>(*convergence);
-    if (viewCone) params.viewConeDegrees = static_cast<float>(*viewCone);
+    if (cone) params.viewConeDegrees = static_cast<float>(*cone);
+    if (convergenceAuto || separationAuto) {
+        if (Status s = chooseAutoRig(out, params, convergenceAuto, separationAuto); !s) return s;
+    }
     auto framed = frameScene(out.scene, params, out.settings);
     if (!framed && framed.status().code() == ErrorCode::Usage) {
         // The rig is a product of the options and the scene: name the options that shaped it
@@ -292,7 +446,7 @@ Result<Prepared> SceneOptions::prepare() const {
         if (interaxial) add(fmt::format("--interaxial {}", *interaxial));
         if (separation) add(fmt::format("--separation {}", *separation));
         if (convergence) add(fmt::format("--convergence {}", *convergence));
-        if (viewCone) add(fmt::format("--view-cone {}", *viewCone));
+        if (cone) add(fmt::format("--view-cone {}", *cone));
         if (fov != 45.0) add(fmt::format("--fov {}", fov));
         if (culprit.empty()) culprit = out.sceneName;
         return Status(framed.status().code(),
@@ -301,6 +455,24 @@ Result<Prepared> SceneOptions::prepare() const {
     if (!framed) return framed.status();  // the memory budget: its message names views and size
     out.rig = std::move(framed->rig);
     out.settings = framed->settings;
+    out.viewConeDegrees = params.viewConeDegrees;
+    // No silent nonsense: a scene outside every view's frustum would give empty images.
+    const std::vector<int> missing = viewsMissingScene(out.scene, out.rig);
+    if (!missing.empty() && int(missing.size()) == out.rig.viewCount()) {
+        return usageError(fmt::format(
+            "{}: the scene lies entirely outside the frustum of every view (nothing would be "
+            "drawn; check --separation / --interaxial / --convergence and the scene's camera)",
+            out.sceneName));
+    }
+    if (!missing.empty()) {
+        std::string list;
+        for (std::size_t i = 0; i < missing.size() && i < 8; ++i)
+            list += (i ? ", " : "") + std::to_string(missing[i]);
+        if (missing.size() > 8) list += ", ...";
+        out.notes.push_back(
+            fmt::format("warning: {} of {} views see nothing of the scene (view{} {})",
+                        missing.size(), out.rig.viewCount(), missing.size() == 1 ? "" : "s", list));
+    }
     return out;
 }
 

@@ -32,6 +32,9 @@ struct FramingParams {
     /// Looking Glass camera, RigParams::viewConeDegrees); 0: interaxial/separation spacing.
     float viewConeDegrees = 0.0f;
     std::optional<glm::vec3> clearColor;  ///< default: Scene::background
+    /// Width / height of the picture one view shows (the camera's aspect); default: the view's
+    /// pixel aspect. A display preset whose panel stretches its quilt tiles sets it (displays.h).
+    std::optional<float> aspect;
 };
 
 /// A rig and settings ready for Backend::render().
