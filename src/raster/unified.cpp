@@ -106,7 +106,8 @@ struct UnifiedData : MethodScratch {
     const float* famW(const Family& f) const { return f.sheared ? cw.data() : f.w.data(); }
 };
 
-void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, UnifiedData& d) {
+void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t vertexCount,
+                   UnifiedData& d) {
     // The previous frame's families give their per-vertex arrays to this frame's: at many views
     // sxv alone is tens of MB (past glibc's mmap threshold), and allocating it anew every frame
     // cost its page faults and zero fill again (100 views of 208k triangles: ~200 ms a frame).
@@ -201,7 +202,7 @@ void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, Uni
         vd.sx = const_cast<std::int32_t*>(src.sxStore.data());
         vd.code = const_cast<std::uint8_t*>(src.codeStore.data());
     }
-    d.attrStride = std::size_t(attributeCount(shading));
+    d.attrStride = std::size_t(attributeCount(shading, textured));
     d.world.resize(shading == Shading::Flat ? n : 0), d.attr.resize(n * d.attrStride),
         d.anyClipX.resize(n);
     if (d.anySheared)
@@ -224,11 +225,23 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 }
             }
             const std::uint32_t g = item.vertexBase + begin, count = end - begin;
-            // View-independent outputs, once (Vertex: lit below, a chunk at a time).
-            for (std::uint32_t i = begin; i < end && shading != Shading::Vertex; ++i) {
+            // View-independent outputs, once (Vertex: lit below, a chunk at a time, unless
+            // the frame or item needs the scalar path: textures, point lights, double-sided).
+            const bool scalarLit = f.scalarVertexPath(item);
+            for (std::uint32_t i = begin; i < end && (shading != Shading::Vertex || scalarLit);
+                 ++i) {
                 const std::uint32_t gi = item.vertexBase + i;
                 const glm::vec3& p = item.mesh->positions[i];
-                if (shading == Shading::Flat) {
+                if (f.textured) {
+                    const glm::vec3 world =
+                        glm::vec3(transformPoint(item.instance->worldFromModel, p));
+                    if (shading == Shading::Flat) d.world[gi] = world;
+                    texturedVertexAttributes(
+                        shading, f.shading, item.instance->material, world,
+                        transformDir(item.normalFromModel, item.mesh->normals[i]),
+                        item.mesh->texcoords.empty() ? glm::vec2(0.0f) : item.mesh->texcoords[i],
+                        d.attr.data() + gi * d.attrStride);
+                } else if (shading == Shading::Flat) {
                     d.world[gi] = glm::vec3(transformPoint(item.instance->worldFromModel, p));
                 } else {
                     vertexAttributes(shading, f.shading, item.instance->material,
@@ -251,7 +264,7 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                                           &d.views[std::size_t(fam.views[0])].x[g], &fam.y[g],
                                           &fam.z[g], &fam.w[g]);
             }
-            if (shading == Shading::Vertex) {
+            if (shading == Shading::Vertex && !scalarLit) {
                 f.kernels.shadeVertices(&item.mesh->positions[begin], &item.mesh->normals[begin],
                                         count, item.instance->worldFromModel, item.normalFromModel,
                                         f.shading, item.instance->material,
@@ -345,14 +358,15 @@ void binStage(FrameContext& f, UnifiedData& d) {
         forTriangles(f.draw, begin, end, [&](std::uint32_t t, const TriangleRef& tri) {
             const std::uint32_t* v = tri.i;
             ShearDet det;
-            if (cull && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
+            const bool cullTri = cull && !tri.item->instance->material.doubleSided;
+            if (cullTri && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
             int rowMin = height, rowMax = -1;
             for (const Family& fam : d.families) {
                 const std::uint8_t* code = fam.code.data();
                 const std::uint8_t c0 = code[v[0]], c1 = code[v[1]], c2 = code[v[2]];
                 if (c0 & c1 & c2 & kRejectYZW) continue;
-                if (cull && (fam.sheared ? classify(fam, det) == FaceClass::AllBack
-                                         : ownViewCulled(d, fam, v))) {
+                if (cullTri && (fam.sheared ? classify(fam, det) == FaceClass::AllBack
+                                            : ownViewCulled(d, fam, v))) {
                     continue;
                 }
                 if ((c0 | c1 | c2) & (kClipYZW | kClipX)) {  // kClipX: any view's, see anyClipX
@@ -438,7 +452,8 @@ struct BandContext {
     int rowLo, rowHi;
     FragmentTri frag{};
     std::vector<FragmentSink<S>> sinks;  ///< per view, all pointing at `frag`
-    int attrCount = attributeCount(S);
+    int attrCount = attributeCount(S, f.textured);
+    bool cull = false;     ///< back-face culling for the current draw item (not double-sided)
     ViewsSetup views{};    ///< the current triangle's per-view x setup (L1)
     LaneQueue<S> queue{};  ///< small families' (triangle, view) lanes waiting for setupLanes
 };
@@ -575,6 +590,7 @@ inline int queueSlot(BandContext<S>& b, const YSetup& ys, const std::uint32_t v[
         frag.attr[j] = attr + v[j] * stride;
     }
     frag.flat = b.frag.flat;
+    frag.flatD = b.frag.flatD;
     return slot;
 }
 
@@ -641,6 +657,10 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
             if (culled(kv)) continue;
             FragmentSink<S> sink = b.sinks[std::size_t(views[kv])];  // in registers
             if (m > 0) {
+                if (sink.shade.texture) {
+                    const std::int32_t xk[3] = {x0[kv], x1[kv], x2[kv]};
+                    sink.setTriangle(xk, ys.y);
+                }
                 emitSmall(b.views, k, ys.rowMin, sink);
             } else {
                 const std::int32_t xk[3] = {x0[kv], x1[kv], x2[kv]};
@@ -658,7 +678,7 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
                         const ShearDet& det) {
     FrameContext& f = b.f;
     const UnifiedData& d = b.d;
-    const bool cull = f.settings.cullBackFaces;
+    const bool cull = b.cull;
     const int width = f.settings.width;
     const std::uint8_t c0 = fam.code[v[0]], c1 = fam.code[v[1]], c2 = fam.code[v[2]];
     if (c0 & c1 & c2 & kRejectYZW) return;
@@ -737,6 +757,11 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
             const int view = active[base + k];
             auto& sink = b.sinks[std::size_t(view)];
             if (m > 0) {
+                if (sink.shade.texture) {
+                    const ViewData& vd = d.views[std::size_t(view)];
+                    const std::int32_t xk[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
+                    sink.setTriangle(xk, ys.y);
+                }
                 emitSmall(b.views, k, ys.rowMin, sink);
             } else {
                 const ViewData& vd = d.views[std::size_t(view)];
@@ -806,13 +831,15 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
     auto onItem = [&](const DrawItem& it) {
         flushLanes(b);  // the queued triangles shade with the previous material
         material = &it.instance->material;
-        for (auto& sink : b.sinks) sink.shade.material = material;
+        b.cull = f.settings.cullBackFaces && !material->doubleSided;
+        const MipChain* texture = f.textureOf(*material);
+        for (auto& sink : b.sinks) sink.shade.material = material, sink.shade.texture = texture;
     };
     forBandTriangles(f.draw, bins, band, f.bands.count, onItem, [&](const std::uint32_t v[3]) {
         if constexpr (S == Shading::Flat) {
             // View-independent: once for every view.
-            b.frag.flat =
-                flatColor(f.shading, *material, d.world[v[0]], d.world[v[1]], d.world[v[2]]);
+            setFlat(b.frag, f.textured, f.shading, *material, d.world[v[0]], d.world[v[1]],
+                    d.world[v[2]]);
         }
         if (!fast) {
             drawTriangle(b, v);
@@ -832,7 +859,7 @@ void rasterStage(FrameContext& f, const UnifiedData& d, std::span<const Target> 
         BandContext<S> b{f, d, f.bands.rowBegin(band), f.bands.rowEnd(band) - 1, {}, {}};
         b.sinks.reserve(targets.size());
         for (const Target& t : targets)
-            b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr}});
+            b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr, f.textured}});
         rasterBand(b, d.bins, band);
         flushLanes(b);
     });
@@ -851,7 +878,7 @@ void renderUnified(FrameContext& f, std::span<const Target> targets, StageTimes&
     if (!dynamic_cast<UnifiedData*>(scratch.get())) scratch = std::make_unique<UnifiedData>();
     UnifiedData& d = static_cast<UnifiedData&>(*scratch);
     StageClock clock;
-    buildFamilies(f.rig, f.settings.shading, f.draw.vertexCount, d);
+    buildFamilies(f.rig, f.settings.shading, f.textured, f.draw.vertexCount, d);
     vertexStage(f, d);
     times.vertexMs += clock.lap();
     binStage(f, d);

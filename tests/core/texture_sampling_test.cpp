@@ -55,24 +55,24 @@ TEST(TextureSampling, NearestAndBilinearAtKnownCoordinates) {
     // Texel (2, 1)'s centre is uv ((2 + ½)/4, (1 + ½)/4): nearest and bilinear both give it.
     const glm::vec2 c(2.5f / 4, 1.5f / 4);
     const glm::vec4 n = sampleNearest(chain.levels[0], c, s);
-    EXPECT_FLOAT_EQ(n.r, float(srgbRef(2 * 16 + 8)));
-    EXPECT_FLOAT_EQ(n.g, float(srgbRef(1 * 16 + 8)));
-    EXPECT_FLOAT_EQ(n.a, 1.0f);
+    EXPECT_FLOAT_EQ(n.x, float(srgbRef(2 * 16 + 8)));
+    EXPECT_FLOAT_EQ(n.y, float(srgbRef(1 * 16 + 8)));
+    EXPECT_FLOAT_EQ(n.w, 1.0f);
     const glm::vec4 b = sampleBilinear(chain.levels[0], c, s);
-    EXPECT_NEAR(b.r, srgbRef(40), 1e-6);
+    EXPECT_NEAR(b.x, srgbRef(40), 1e-6);
     // Halfway between texel columns 1 and 2, row 1: the mean of their linear values.
     const glm::vec4 h = sampleBilinear(chain.levels[0], glm::vec2(2.0f / 4, 1.5f / 4), s);
-    EXPECT_NEAR(h.r, 0.5 * (srgbRef(24) + srgbRef(40)), 1e-6);
+    EXPECT_NEAR(h.x, 0.5 * (srgbRef(24) + srgbRef(40)), 1e-6);
     // Repeat across the u = 0 edge: between column 3 and column 0.
     const glm::vec4 e = sampleBilinear(chain.levels[0], glm::vec2(0.0f, 1.5f / 4), s);
-    EXPECT_NEAR(e.r, 0.5 * (srgbRef(56) + srgbRef(8)), 1e-6);
+    EXPECT_NEAR(e.x, 0.5 * (srgbRef(56) + srgbRef(8)), 1e-6);
     // ClampToEdge at the same place: column 0 alone.
     s.wrapS = TextureWrap::ClampToEdge;
     const glm::vec4 k = sampleBilinear(chain.levels[0], glm::vec2(0.0f, 1.5f / 4), s);
-    EXPECT_NEAR(k.r, srgbRef(8), 1e-6);
+    EXPECT_NEAR(k.x, srgbRef(8), 1e-6);
     // Nearest, u = 1.1 repeats to texel column 0 (floor(4.4) = 4 → 0).
     s.wrapS = TextureWrap::Repeat;
-    EXPECT_FLOAT_EQ(sampleNearest(chain.levels[0], glm::vec2(1.1f, 0.1f), s).r, float(srgbRef(8)));
+    EXPECT_FLOAT_EQ(sampleNearest(chain.levels[0], glm::vec2(1.1f, 0.1f), s).x, float(srgbRef(8)));
 }
 
 TEST(TextureSampling, MipChainBoxFiltersInLinearSpace) {
@@ -84,8 +84,8 @@ TEST(TextureSampling, MipChainBoxFiltersInLinearSpace) {
     const MipChain chain = buildMipChain(im, true);
     ASSERT_EQ(chain.levels.size(), 2u);
     EXPECT_EQ(chain.levels[1].width, 1);
-    EXPECT_FLOAT_EQ(chain.levels[1].texels[0].r, 0.5f);   // linear mean of 1, 0, 0, 1
-    EXPECT_FLOAT_EQ(chain.levels[1].texels[0].a, 0.75f);  // straight alpha mean
+    EXPECT_FLOAT_EQ(chain.levels[1].texels[0].x, 0.5f);   // linear mean of 1, 0, 0, 1
+    EXPECT_FLOAT_EQ(chain.levels[1].texels[0].w, 0.75f);  // straight alpha mean
     // 5×3: levels 5×3, 2×1, 1×1 (GL sizes floor(w/2), at least 1).
     const MipChain odd = buildMipChain(gradientImage(5, 3), true);
     ASSERT_EQ(odd.levels.size(), 3u);
@@ -137,14 +137,14 @@ TEST(TextureSampling, TrilinearMixesLevels) {
     const glm::vec4 l0 = sampleBilinear(chain.levels[0], uv, s);
     const glm::vec4 l1 = sampleBilinear(chain.levels[1], uv, s);
     const glm::vec4 t = sampleTexture(chain, s, uv, 0.25f);
-    EXPECT_NEAR(t.r, 0.75 * l0.r + 0.25 * l1.r, 1e-6);
+    EXPECT_NEAR(t.x, 0.75 * l0.x + 0.25 * l1.x, 1e-6);
     // λ beyond the last level: the 1×1 level, the mean of all 16 linear texels.
     double mean = 0;
     for (int i = 0; i < 4; ++i) mean += srgbRef(i * 16 + 8);
-    EXPECT_NEAR(sampleTexture(chain, s, uv, 9.0f).r, mean / 4, 1e-6);
+    EXPECT_NEAR(sampleTexture(chain, s, uv, 9.0f).x, mean / 4, 1e-6);
     // Magnification (λ < 0) uses level 0 with the mag filter.
     s.magFilter = TextureFilter::Nearest;
-    EXPECT_FLOAT_EQ(sampleTexture(chain, s, glm::vec2(0.1f, 0.1f), -1.0f).r, float(srgbRef(8)));
+    EXPECT_FLOAT_EQ(sampleTexture(chain, s, glm::vec2(0.1f, 0.1f), -1.0f).x, float(srgbRef(8)));
 }
 
 TEST(Lights, PointAndSpotFollowKhrLightsPunctual) {
@@ -185,11 +185,11 @@ TEST(Lights, PointAndSpotFollowKhrLightsPunctual) {
     ctx.lights = lights;
     Material m(glm::vec3(0.5f));
     const glm::vec3 c = shadeFlat(ctx, m, glm::vec3(0, 1, 0), glm::vec3(0.0f));
-    EXPECT_NEAR(c.r, 0.1 * 0.5 + 1.0 * 0.25 * 0.5, 1e-6);
+    EXPECT_NEAR(c.x, 0.1 * 0.5 + 1.0 * 0.25 * 0.5, 1e-6);
     // The textured form gives the same for a white texel.
     const glm::vec3 tc =
         shadeTextured(m.albedo, flatTerms(ctx, m, glm::vec3(0, 1, 0), glm::vec3(0.0f)));
-    EXPECT_NEAR(tc.r, c.r, 1e-6);
+    EXPECT_NEAR(tc.x, c.x, 1e-6);
 }
 
 TEST(Lights, DoubleSidedFlipsTowardTheCenterEye) {
