@@ -129,6 +129,7 @@ private:
                                detail::makeBands(settings.height, pool.size()),
                                detail::centerClipFromWorld(rig),
                                detail::kernels(mSimd)};
+        detail::prepareTextures(f);
         std::vector<detail::Target> targets;
         detail::allocateOutputs(pool, out, rig.viewCount(), settings, targets);
         out.stages.fillMs = clock.lap();

@@ -88,14 +88,15 @@ void binStage(FrameContext& f, UnifiedData& d) {
         forTriangles(f.draw, begin, end, [&](std::uint32_t t, const TriangleRef& tri) {
             const std::uint32_t* v = tri.i;
             ShearDet det;
-            if (cull && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
+            const bool cullTri = cull && !tri.item->instance->material.doubleSided;
+            if (cullTri && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
             int rowMin = height, rowMax = -1;
             for (const Family& fam : d.families) {
                 const std::uint8_t* code = fam.code.data();
                 const std::uint8_t c0 = code[v[0]], c1 = code[v[1]], c2 = code[v[2]];
                 if (c0 & c1 & c2 & kRejectYZW) continue;
-                if (cull && (fam.sheared ? classify(fam, det) == FaceClass::AllBack
-                                         : ownViewCulled(d, fam, v))) {
+                if (cullTri && (fam.sheared ? classify(fam, det) == FaceClass::AllBack
+                                            : ownViewCulled(d, fam, v))) {
                     continue;
                 }
                 if ((c0 | c1 | c2) & (kClipYZW | kClipX)) {  // kClipX: any view's, see anyClipX
@@ -181,7 +182,8 @@ struct BandContext {
     int rowLo, rowHi;
     FragmentTri frag{};
     std::vector<FragmentSink<S>> sinks;  ///< per view, all pointing at `frag`
-    int attrCount = attributeCount(S);
+    int attrCount = attributeCount(S, f.textured);
+    bool cull = false;     ///< back-face culling for the current draw item (not double-sided)
     ViewsSetup views{};    ///< the current triangle's per-view x setup (L1)
     ViewsX xs{};           ///< a long row's derived snapped x of the current triangle
     LaneQueue<S> queue{};  ///< small families' (triangle, view) lanes waiting for setupLanes
@@ -319,6 +321,7 @@ inline int queueSlot(BandContext<S>& b, const YSetup& ys, const std::uint32_t v[
         frag.attr[j] = attr + v[j] * stride;
     }
     frag.flat = b.frag.flat;
+    frag.flatD = b.frag.flatD;
     return slot;
 }
 
@@ -412,6 +415,10 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
             if (culled(kv)) continue;
             FragmentSink<S> sink = b.sinks[std::size_t(views[kv])];  // in registers
             if (m > 0) {
+                if (sink.shade.texture) {
+                    const std::int32_t xk[3] = {x0[kv], x1[kv], x2[kv]};
+                    sink.setTriangle(xk, ys.y);
+                }
                 emitSmall(b.views, k, ys.rowMin, sink);
             } else {
                 const std::int32_t xk[3] = {x0[kv], x1[kv], x2[kv]};
@@ -429,7 +436,7 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
                         const ShearDet& det) {
     FrameContext& f = b.f;
     const UnifiedData& d = b.d;
-    const bool cull = f.settings.cullBackFaces;
+    const bool cull = b.cull;
     const int width = f.settings.width;
     const std::uint8_t c0 = fam.code[v[0]], c1 = fam.code[v[1]], c2 = fam.code[v[2]];
     if (c0 & c1 & c2 & kRejectYZW) return;
@@ -510,6 +517,10 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
             const int view = active[base + k];
             auto& sink = b.sinks[std::size_t(view)];
             if (m > 0) {
+                if (sink.shade.texture) {
+                    const std::int32_t xk[3] = {x[0][base + k], x[1][base + k], x[2][base + k]};
+                    sink.setTriangle(xk, ys.y);
+                }
                 emitSmall(b.views, k, ys.rowMin, sink);
             } else {
                 const ViewData& vd = d.views[std::size_t(view)];
@@ -580,13 +591,15 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
     auto onItem = [&](const DrawItem& it) {
         flushLanes(b);  // the queued triangles shade with the previous material
         material = &it.instance->material;
-        for (auto& sink : b.sinks) sink.shade.material = material;
+        b.cull = f.settings.cullBackFaces && !material->doubleSided;
+        const MipChain* texture = f.textureOf(*material);
+        for (auto& sink : b.sinks) sink.shade.material = material, sink.shade.texture = texture;
     };
     forBandTriangles(f.draw, bins, band, f.bands.count, onItem, [&](const std::uint32_t v[3]) {
         if constexpr (S == Shading::Flat) {
             // View-independent: once for every view.
-            b.frag.flat =
-                flatColor(f.shading, *material, d.world[v[0]], d.world[v[1]], d.world[v[2]]);
+            setFlat(b.frag, f.textured, f.shading, *material, d.world[v[0]], d.world[v[1]],
+                    d.world[v[2]]);
         }
         if (!fast) {
             drawTriangle(b, v);
@@ -606,7 +619,7 @@ void rasterStage(FrameContext& f, const UnifiedData& d, std::span<const Target> 
         BandContext<S> b{f, d, f.bands.rowBegin(band), f.bands.rowEnd(band) - 1, {}, {}};
         b.sinks.reserve(targets.size());
         for (const Target& t : targets)
-            b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr}});
+            b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr, f.textured}});
         rasterBand(b, d.bins, band);
         flushLanes(b);
     });
@@ -625,8 +638,7 @@ void renderUnified(FrameContext& f, std::span<const Target> targets, StageTimes&
     if (!dynamic_cast<UnifiedData*>(scratch.get())) scratch = std::make_unique<UnifiedData>();
     UnifiedData& d = static_cast<UnifiedData&>(*scratch);
     StageClock clock;
-    buildFamilies(f.rig, f.settings.shading, f.draw.vertexCount, d);
-    d.convergence = f.rig.convergence, d.width = float(f.settings.width);
+    buildFamilies(f.rig, f.settings.shading, f.textured, f.draw.vertexCount, d);
     vertexStage(f, d);
     times.vertexMs += clock.lap();
     binStage(f, d);

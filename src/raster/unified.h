@@ -91,7 +91,8 @@ struct UnifiedData : MethodScratch {
 };
 
 /// This frame's families and views from the rig, reusing the previous frame's arrays.
-void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, UnifiedData& d);
+void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t vertexCount,
+                   UnifiedData& d);
 /// Vertex stage: attributes, center clip position, per family y/z/w projection, per stored view
 /// x, and the guard-band bits of all views folded into the families' codes.
 void vertexStage(FrameContext& f, UnifiedData& d);

@@ -7,7 +7,8 @@
 
 namespace mvr::raster::detail {
 
-void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, UnifiedData& d) {
+void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t vertexCount,
+                   UnifiedData& d) {
     // The previous frame's families give their per-vertex arrays to this frame's: at many views
     // sxv alone is tens of MB (past glibc's mmap threshold), and allocating it anew every frame
     // cost its page faults and zero fill again (100 views of 208k triangles: ~200 ms a frame).
@@ -116,7 +117,7 @@ void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, Uni
         vd.sx = const_cast<std::int32_t*>(src.sxStore.data());
         vd.code = const_cast<std::uint8_t*>(src.codeStore.data());
     }
-    d.attrStride = std::size_t(attributeCount(shading));
+    d.attrStride = std::size_t(attributeCount(shading, textured));
     d.world.resize(shading == Shading::Flat ? n : 0), d.attr.resize(n * d.attrStride),
         d.anyClipX.resize(n);
     if (d.anySheared)
@@ -139,11 +140,23 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 }
             }
             const std::uint32_t g = item.vertexBase + begin, count = end - begin;
-            // View-independent outputs, once (Vertex: lit below, a chunk at a time).
-            for (std::uint32_t i = begin; i < end && shading != Shading::Vertex; ++i) {
+            // View-independent outputs, once (Vertex: lit below, a chunk at a time, unless
+            // the frame or item needs the scalar path: textures, point lights, double-sided).
+            const bool scalarLit = f.scalarVertexPath(item);
+            for (std::uint32_t i = begin; i < end && (shading != Shading::Vertex || scalarLit);
+                 ++i) {
                 const std::uint32_t gi = item.vertexBase + i;
                 const glm::vec3& p = item.mesh->positions[i];
-                if (shading == Shading::Flat) {
+                if (f.textured) {
+                    const glm::vec3 world =
+                        glm::vec3(transformPoint(item.instance->worldFromModel, p));
+                    if (shading == Shading::Flat) d.world[gi] = world;
+                    texturedVertexAttributes(
+                        shading, f.shading, item.instance->material, world,
+                        transformDir(item.normalFromModel, item.mesh->normals[i]),
+                        item.mesh->texcoords.empty() ? glm::vec2(0.0f) : item.mesh->texcoords[i],
+                        d.attr.data() + gi * d.attrStride);
+                } else if (shading == Shading::Flat) {
                     d.world[gi] = glm::vec3(transformPoint(item.instance->worldFromModel, p));
                 } else {
                     vertexAttributes(shading, f.shading, item.instance->material,
@@ -166,7 +179,7 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                                           &d.views[std::size_t(fam.views[0])].x[g], &fam.y[g],
                                           &fam.z[g], &fam.w[g]);
             }
-            if (shading == Shading::Vertex) {
+            if (shading == Shading::Vertex && !scalarLit) {
                 f.kernels.shadeVertices(&item.mesh->positions[begin], &item.mesh->normals[begin],
                                         count, item.instance->worldFromModel, item.normalFromModel,
                                         f.shading, item.instance->material,
