@@ -36,18 +36,37 @@ std::uint64_t hashMesh(const Mesh& m) {
     h = hashBytes(h, m.positions.data(), m.positions.size() * sizeof(glm::vec3));
     h = hashBytes(h, m.normals.data(), m.normals.size() * sizeof(glm::vec3));
     h = hashBytes(h, m.indices.data(), m.indices.size() * sizeof(std::uint32_t));
+    h = hashBytes(h, m.texcoords.data(), m.texcoords.size() * sizeof(glm::vec2));
     return h;
 }
 
-void bindVertexArray(GLuint vao, GLuint positions, GLuint normals, GLuint indices) {
+// Attributes 0 position, 1 normal, 2 texture coordinate, 3 (flat arrays) the face's centroid.
+void bindVertexArray(GLuint vao, GLuint positions, GLuint normals, GLuint texcoords, GLuint indices,
+                     GLuint centers = 0) {
     glVertexArrayVertexBuffer(vao, 0, positions, 0, sizeof(glm::vec3));
     glVertexArrayVertexBuffer(vao, 1, normals, 0, sizeof(glm::vec3));
+    glVertexArrayVertexBuffer(vao, 2, texcoords, 0, sizeof(glm::vec2));
     glVertexArrayElementBuffer(vao, indices);
-    for (GLuint a = 0; a < 2; ++a) {
+    for (GLuint a = 0; a < 3; ++a) {
         glEnableVertexArrayAttrib(vao, a);
-        glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, 0);
+        glVertexArrayAttribFormat(vao, a, a == 2 ? 2 : 3, GL_FLOAT, GL_FALSE, 0);
         glVertexArrayAttribBinding(vao, a, a);
     }
+    if (centers) {
+        glVertexArrayVertexBuffer(vao, 3, centers, 0, sizeof(glm::vec3));
+        glEnableVertexArrayAttrib(vao, 3);
+        glVertexArrayAttribFormat(vao, 3, 3, GL_FLOAT, GL_FALSE, 0);
+        glVertexArrayAttribBinding(vao, 3, 3);
+    }
+}
+
+template <class T>
+Buffer makeBuffer(const std::vector<T>& data) {
+    Buffer b = createBuffer();
+    // Zero-sized storage is an error; an empty array gets one element's worth.
+    glNamedBufferStorage(b.get(), std::max<std::size_t>(data.size(), 1) * sizeof(T),
+                         data.empty() ? nullptr : data.data(), 0);
+    return b;
 }
 
 }  // namespace
@@ -60,7 +79,11 @@ Renderer::~Renderer() {
             m.positions.release();
             m.normals.release();
             m.indices.release();
+            m.texcoords.release();
             m.vao.release();
+            m.flatTexcoords.release();
+            m.flatCenters.release();
+            m.kalaiahTexcoords.release();
             m.flatPositions.release();
             m.flatNormals.release();
             m.flatIndices.release();
@@ -70,6 +93,8 @@ Renderer::~Renderer() {
             m.kalaiahDummy.release();
         }
         for (auto& [k, p] : mPrograms) p.release();
+        for (auto& [k, t] : mTextures) t.texture.release();
+        for (auto& [k, smp] : mSamplers) smp.release();
         mFrameUbo.release();
         mTimer.release();
         mEmptyVao.release();
@@ -86,6 +111,8 @@ Renderer::~Renderer() {
         return;
     }
     mMeshes.clear();
+    mTextures.clear();
+    mSamplers.clear();
     mPrograms.clear();
     mFrameUbo.reset();
     mTimer.reset();
@@ -244,14 +271,20 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
                                  src.normals.data(), 0);
             glNamedBufferStorage(g.indices.get(), src.indices.size() * sizeof(std::uint32_t),
                                  src.indices.data(), 0);
+            std::vector<glm::vec2> uv = src.texcoords;
+            uv.resize(src.positions.size(), glm::vec2(0.0f));
+            g.texcoords = makeBuffer(uv);
             g.vao = createVertexArray();
-            bindVertexArray(g.vao.get(), g.positions.get(), g.normals.get(), g.indices.get());
+            bindVertexArray(g.vao.get(), g.positions.get(), g.normals.get(), g.texcoords.get(),
+                            g.indices.get());
 
             // Provoking-vertex arrays for flat shading: rotate each triangle (keeping its
             // winding) so that its last vertex is one no earlier triangle used as provoking
             // vertex; duplicate a vertex when all three are taken.
             std::vector<glm::vec3> pos = src.positions;
             std::vector<glm::vec3> face(pos.size(), glm::vec3(0.0f));
+            std::vector<glm::vec2> flatUv = uv;
+            std::vector<glm::vec3> centers(pos.size(), glm::vec3(0.0f));
             std::vector<char> used(pos.size(), 0);
             std::vector<std::uint32_t> idx(src.indices.size());
             for (std::size_t t = 0; t < src.triangleCount(); ++t) {
@@ -263,6 +296,8 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
                 if (pick < 0) {
                     v[2] = static_cast<std::uint32_t>(pos.size());
                     pos.push_back(src.positions[src.indices[3 * t + 2]]);
+                    flatUv.push_back(uv[src.indices[3 * t + 2]]);
+                    centers.emplace_back(0.0f);
                     face.emplace_back(0.0f);
                     used.push_back(0);
                     pick = 2;
@@ -270,6 +305,8 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
                 const std::uint32_t r[3] = {v[(pick + 1) % 3], v[(pick + 2) % 3], v[pick]};
                 used[r[2]] = 1;
                 face[r[2]] = n;
+                centers[r[2]] =
+                    (src.positions[v[0]] + src.positions[v[1]] + src.positions[v[2]]) / 3.0f;
                 std::copy(r, r + 3, idx.begin() + static_cast<std::ptrdiff_t>(3 * t));
             }
             g.flatPositions = createBuffer();
@@ -281,9 +318,11 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
                                  0);
             glNamedBufferStorage(g.flatIndices.get(), idx.size() * sizeof(std::uint32_t),
                                  idx.data(), 0);
+            g.flatTexcoords = makeBuffer(flatUv);
+            g.flatCenters = makeBuffer(centers);
             g.flatVao = createVertexArray();
             bindVertexArray(g.flatVao.get(), g.flatPositions.get(), g.flatNormals.get(),
-                            g.flatIndices.get());
+                            g.flatTexcoords.get(), g.flatIndices.get(), g.flatCenters.get());
             if (Status s = checkGlError("uploading a mesh"); !s) return s;
             it = mMeshes.emplace(key, std::move(g)).first;
         }
@@ -291,7 +330,7 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
         frame.meshes[i] = &it->second;
     }
     sceneKey ^= scene.instances.size() * 0x9E3779B1ull;
-    return Status::ok();
+    return prepareTextures(scene, frame, sceneKey);
 }
 
 Status Renderer::ensureKalaiahBuffers(GpuMesh& g, const Mesh& src, int views) {
@@ -318,6 +357,20 @@ Status Renderer::ensureKalaiahBuffers(GpuMesh& g, const Mesh& src, int views) {
             glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE,
                                       (a - 1) * static_cast<GLuint>(sizeof(glm::vec3)));
             glVertexArrayAttribBinding(vao, a, 1);
+        }
+        // Per triangle: t0 t1 t2 (attributes 7–9).
+        std::vector<glm::vec2> uv(src.triangleCount() * 3, glm::vec2(0.0f));
+        if (!src.texcoords.empty()) {
+            for (std::size_t k = 0; k < uv.size(); ++k) uv[k] = src.texcoords[src.indices[k]];
+        }
+        g.kalaiahTexcoords = makeBuffer(uv);
+        glVertexArrayVertexBuffer(vao, 2, g.kalaiahTexcoords.get(), 0, 3 * sizeof(glm::vec2));
+        glVertexArrayBindingDivisor(vao, 2, 1);
+        for (GLuint a = 7; a <= 9; ++a) {
+            glEnableVertexArrayAttrib(vao, a);
+            glVertexArrayAttribFormat(vao, a, 2, GL_FLOAT, GL_FALSE,
+                                      (a - 7) * static_cast<GLuint>(sizeof(glm::vec2)));
+            glVertexArrayAttribBinding(vao, a, 2);
         }
         glEnableVertexArrayAttrib(vao, 0);
         glVertexArrayAttribIFormat(vao, 0, 2, GL_INT, 0);
@@ -359,6 +412,12 @@ void Renderer::uploadFrameBlock(const Frame& f) {
     for (std::size_t i = 0; i < lights.size() && i < kMaxLights; ++i) {
         b.lightDir[i] = glm::vec4(lights[i].towardLight, 0.0f);
         b.lightColor[i] = glm::vec4(lights[i].color, 0.0f);
+        const float type = lights[i].type == LightType::Point  ? 1.0f
+                           : lights[i].type == LightType::Spot ? 2.0f
+                                                               : 0.0f;
+        b.lightPos[i] = glm::vec4(lights[i].position, type);
+        b.lightCone[i] =
+            glm::vec4(lights[i].range, lights[i].innerConeCos, lights[i].outerConeCos, 0.0f);
     }
     b.ambient = glm::vec4(f.scene->ambient, 0.0f);
     b.centerEye = glm::vec4(f.rig->centerEye(), 1.0f);
@@ -395,6 +454,13 @@ void Renderer::setInstanceUniforms(GLuint prog, const Instance& inst) {
     glProgramUniform4f(prog, 4, inst.material.albedo.x, inst.material.albedo.y,
                        inst.material.albedo.z, inst.material.specular);
     glProgramUniform1f(prog, 5, inst.material.shininess);
+    const Material& mat = inst.material;
+    const int mode = mat.alphaMode == AlphaMode::Mask    ? 1
+                     : mat.alphaMode == AlphaMode::Blend ? 2
+                                                         : 0;
+    glProgramUniform4i(prog, 6, mat.baseColorTexture >= 0 ? 1 : 0, mode, mat.doubleSided ? 1 : 0,
+                       0);
+    glProgramUniform2f(prog, 7, mat.alpha, mat.alphaCutoff);
 }
 
 void Renderer::setCommonState(const RenderSettings& s) {
@@ -424,6 +490,7 @@ void Renderer::drawScene(const Frame& f, GLuint prog, int instances) {
         const Instance& inst = f.scene->instances[static_cast<std::size_t>(idx)];
         GpuMesh& g = *f.meshes[static_cast<std::size_t>(inst.mesh)];
         setInstanceUniforms(prog, inst);
+        setInstanceState(f, inst);
         glBindVertexArray(f.flatProvoking ? g.flatVao.get() : g.vao.get());
         if (instances > 1) {
             glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, GL_UNSIGNED_INT, nullptr,
@@ -432,6 +499,7 @@ void Renderer::drawScene(const Frame& f, GLuint prog, int instances) {
             glDrawElements(GL_TRIANGLES, g.indexCount, GL_UNSIGNED_INT, nullptr);
         }
     }
+    endInstanceState(f);
 }
 
 // ---- targets ---------------------------------------------------------------------------------
@@ -566,8 +634,7 @@ Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
     f.views = views;
     f.targetViews = perPass;
     if (Status st = prepareScene(scene, f, mLastSceneKey); !st) return st;
-    f.order.resize(scene.instances.size());
-    for (std::size_t i = 0; i < f.order.size(); ++i) f.order[i] = static_cast<int>(i);
+    f.order = drawOrder(scene);
     f.flatProvoking = s.shading == Shading::Flat && method.flatProvoking;
 
     RenderOutput out;
