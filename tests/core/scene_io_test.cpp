@@ -110,6 +110,138 @@ TEST_P(GltfLayouts, HierarchyMaterialsCameraLights) {
     EXPECT_NEAR(glm::length(lamp->position - glm::vec3(0, 3, 2)), 0.0f, 1e-5f);
 }
 
+// A quad per material: "Tex" (map_Kd) on the left, "Plain" (Kd 0.2 0.4 0.6, d 0.5) right.
+constexpr const char* kQuadsObj = R"(mtllib quads.mtl
+v -2 0 0
+v -1 0 0
+v -1 1 0
+v -2 1 0
+v 1 0 0
+v 2 0 0
+v 2 1 0
+v 1 1 0
+vt 0 0
+vt 1 0
+vt 1 1
+vt 0 1
+usemtl Tex
+f 1/1 2/2 3/3 4/4
+usemtl Plain
+f 5/1 6/2 7/3 8/4
+)";
+
+TEST(LoadSceneObj, UsemtlKdAndMapKdWithVFlipped) {
+    test::TempDir dir("mvr-scene-io");
+    dir.write("quads.obj", kQuadsObj);
+    dir.write("quads.mtl",
+              "newmtl Tex\nKd 1 1 1\nmap_Kd tex.png\nnewmtl Plain\nKd 0.2 0.4 0.6\nd 0.5\n");
+    ASSERT_TRUE(writePng(dir.path() / "tex.png", test::fixtureTexture()));
+    SceneLoadInfo info;
+    auto scene = loadScene(dir.path() / "quads.obj", &info);
+    ASSERT_TRUE(scene) << scene.status().message();
+    EXPECT_TRUE(info.fromMaterials);
+    ASSERT_EQ(scene->instances.size(), 2u);
+    ASSERT_EQ(scene->textures.size(), 1u);
+    EXPECT_EQ(scene->textures[0].image, test::fixtureTexture());
+    int textured = 0;
+    for (const Instance& inst : scene->instances) {
+        const Mesh& m = scene->meshes[inst.mesh];
+        if (inst.material.baseColorTexture >= 0) {
+            ++textured;
+            EXPECT_EQ(inst.material.name, "Tex");
+            // OBJ's vt (0, 1) is the top-left: Texture's uv (0, 0) at the vertex (-2, 1).
+            for (std::size_t v = 0; v < m.positions.size(); ++v) {
+                if (glm::length(m.positions[v] - glm::vec3(-2, 1, 0)) < 1e-6f) {
+                    EXPECT_NEAR(m.texcoords[v].x, 0.0f, 1e-6f);
+                    EXPECT_NEAR(m.texcoords[v].y, 0.0f, 1e-6f);
+                }
+            }
+        } else {
+            EXPECT_EQ(inst.material.name, "Plain");
+            EXPECT_NEAR(inst.material.albedo.y, 0.4f, 1e-6f);
+            EXPECT_NEAR(inst.material.alpha, 0.5f, 1e-6f);
+            EXPECT_EQ(inst.material.alphaMode, AlphaMode::Blend);
+        }
+    }
+    EXPECT_EQ(textured, 1);
+    EXPECT_EQ(scene->lights.size(), defaultLights().size());  // the file has no lights
+}
+
+TEST(LoadSceneObj, WithoutMtllibIsThePlainMergedMesh) {
+    test::TempDir dir("mvr-scene-io");
+    std::string obj = kQuadsObj;
+    obj = obj.substr(obj.find('\n') + 1);
+    const auto path = dir.write("plain.obj", obj);
+    SceneLoadInfo info;
+    auto scene = loadScene(path, &info);
+    ASSERT_TRUE(scene) << scene.status().message();
+    EXPECT_FALSE(info.fromMaterials);
+    ASSERT_EQ(scene->instances.size(), 1u);
+    auto mesh = loadMesh(path);
+    ASSERT_TRUE(mesh);
+    EXPECT_EQ(scene->meshes[0].positions, mesh->positions);
+}
+
+// The choice (scene_io.h): a bad texture is an error naming the model, material and image.
+TEST(LoadSceneBadTexture, MissingCorruptAndTruncatedTexturesNameFileAndMaterial) {
+    test::TempDir dir("mvr-scene-io");
+    const std::string notPng = "this is not an image";
+    auto path = test::writeGltfFixture(dir.path(), "bad", GltfLayout::External, &notPng);
+    auto scene = loadScene(path);
+    ASSERT_FALSE(scene);
+    EXPECT_EQ(scene.status().code(), ErrorCode::Input);
+    EXPECT_NE(scene.status().message().find(path.string() + ": material 'Checker': texture "
+                                                            "'bad.png': not a readable PNG"),
+              std::string::npos)
+        << scene.status().message();
+
+    std::filesystem::remove(dir.path() / "bad.png");
+    scene = loadScene(path);
+    ASSERT_FALSE(scene);
+    EXPECT_NE(
+        scene.status().message().find("material 'Checker': texture 'bad.png': file not found"),
+        std::string::npos)
+        << scene.status().message();
+
+    // A truncated PNG inside a .glb.
+    ASSERT_TRUE(writePng(dir.path() / "t.png", test::fixtureTexture()));
+    const std::string truncated = test::readBytes(dir.path() / "t.png").substr(0, 40);
+    path = test::writeGltfFixture(dir.path(), "cut", GltfLayout::Glb, &truncated);
+    scene = loadScene(path);
+    ASSERT_FALSE(scene);
+    EXPECT_NE(scene.status().message().find(path.string() + ": material 'Checker': texture '*0'"),
+              std::string::npos)
+        << scene.status().message();
+    EXPECT_NE(scene.status().message().find("PNG"), std::string::npos) << scene.status().message();
+
+    // OBJ: map_Kd names a missing file.
+    dir.write("q.obj", std::string(kQuadsObj).replace(7, 5, "q"));
+    dir.write("q.mtl", "newmtl Tex\nmap_Kd nothere.png\nnewmtl Plain\nKd 1 0 0\n");
+    scene = loadScene(dir.path() / "q.obj");
+    ASSERT_FALSE(scene);
+    EXPECT_NE(
+        scene.status().message().find("material 'Tex': texture 'nothere.png': file not found"),
+        std::string::npos)
+        << scene.status().message();
+}
+
+TEST(LoadScenePlacement, MatrixAndTransformScene) {
+    Placement p;
+    p.position = {1, 2, 3};
+    p.scale = 2;
+    p.yawDegrees = 90;
+    const glm::vec3 x = glm::vec3(p.matrix() * glm::vec4(1, 0, 0, 1));
+    EXPECT_NEAR(glm::length(x - glm::vec3(1, 2, 1)), 0.0f, 1e-5f);  // +X turns to -Z, doubled
+    Scene s;
+    s.lights = {Light{}};
+    s.camera = SceneCamera{};
+    s.instances.push_back({0, glm::mat4(1), Material{}});
+    transformScene(s, p.matrix());
+    EXPECT_TRUE(near(s.instances[0].worldFromModel, p.matrix()));
+    EXPECT_NEAR(glm::length(s.lights[0].towardLight - glm::vec3(1, 0, 0)), 0.0f, 1e-5f);
+    EXPECT_NEAR(glm::length(glm::vec3(s.camera->worldFromCamera[3]) - p.position), 0.0f, 1e-5f);
+}
+
 INSTANTIATE_TEST_SUITE_P(Layouts, GltfLayouts,
                          ::testing::Values(GltfLayout::External, GltfLayout::DataUri,
                                            GltfLayout::Glb));
