@@ -295,8 +295,14 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
     bool objHasMtl = false;
     if (loader.isObj) {
         auto mtl = loadObjMaterials(path);
-        if (!mtl) return Status(mtl.status().code(), loader.what + ": " + mtl.status().message());
-        loader.mtl = std::move(mtl).value();
+        // An OBJ whose material library is missing or malformed still loads, as before
+        // scenes (loadMesh() never read it): plain, with a warning.
+        if (!mtl) {
+            out.warnings.push_back(
+                fmt::format("{}: materials not used: {}", loader.what, mtl.status().message()));
+        } else {
+            loader.mtl = std::move(mtl).value();
+        }
         objHasMtl = !loader.mtl.empty();
     }
     const bool gltf = ext == ".gltf" || ext == ".glb";
@@ -427,6 +433,7 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
         }
         scene.lights.push_back(light);
     }
+    out.lightsFromFile = !scene.lights.empty();
     if (scene.lights.empty()) scene.lights = defaultLights();
     if (Status s = validateScene(scene); !s)
         return Status(s.code(), fmt::format("{}: {}", loader.what, s.message()));

@@ -46,6 +46,10 @@ struct SceneOptions {
     std::string shading = "vertex";
     bool cullBackFaces = false;
     bool wireframe = false;
+    // Appended (issue 14): a model file's camera is the centre camera unless --no-file-camera;
+    // its yfov unless --fov is given (fovGiven).
+    bool fovGiven = false;
+    bool noFileCamera = false;
 
     /// Adds the options to a subcommand. `withModels`: also the positional MODEL... list.
     void addTo(CLI::App* app, bool withModels = true);

@@ -34,7 +34,8 @@ namespace mvr {
 
 struct SceneLoadInfo {
     std::vector<std::string> warnings;  ///< one line each, no newline (dropped lights, ...)
-    bool fromMaterials = false;  ///< the file has materials of its own (glTF, OBJ with mtllib)
+    bool fromMaterials = false;   ///< the file has materials of its own (glTF, OBJ with mtllib)
+    bool lightsFromFile = false;  ///< Scene::lights are the file's (else defaultLights())
 };
 
 /// Loads a model file as a scene (see above). Errors: ErrorCode::Input — loadMesh()'s
