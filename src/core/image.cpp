@@ -173,4 +173,37 @@ Result<Image> readPng(const std::filesystem::path& path) {
     return out;
 }
 
+Result<Image> decodePng(std::span<const std::uint8_t> data, const std::string& what) {
+    if (data.empty()) return inputError(fmt::format("{}: empty (expected a PNG)", what));
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_memory(&image, data.data(), data.size())) {
+        const std::string why = image.message;
+        png_image_free(&image);
+        return inputError(fmt::format("{}: not a readable PNG ({})", what, why));
+    }
+    if (image.width == 0 || image.height == 0 || image.width > 65536 || image.height > 65536) {
+        png_image_free(&image);
+        return inputError(
+            fmt::format("{}: unsupported PNG size {}x{}", what, image.width, image.height));
+    }
+    // As readPng(): a header that claims more than the bytes can hold is refused first.
+    const double rawBytes = double(image.height) * (1.0 + std::ceil(double(image.width) / 8.0));
+    if (rawBytes > double(data.size()) * 1032.0 + 65536.0) {
+        png_image_free(&image);
+        return inputError(fmt::format(
+            "{}: PNG header claims {}x{} pixels but its {} bytes cannot hold them (truncated or "
+            "corrupt?)",
+            what, image.width, image.height, data.size()));
+    }
+    image.format = PNG_FORMAT_RGBA;
+    Image out(static_cast<int>(image.width), static_cast<int>(image.height));
+    if (!png_image_finish_read(&image, nullptr, out.rgba.data(), 0, nullptr)) {
+        const std::string why = image.message;
+        png_image_free(&image);
+        return inputError(fmt::format("{}: corrupt or truncated PNG ({})", what, why));
+    }
+    return out;
+}
+
 }  // namespace mvr

@@ -7,13 +7,17 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <regex>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <fmt/core.h>
 
 #include "mvr/adelson/village_scene.h"
 #include "mvr/core/displays.h"
 #include "mvr/core/framing.h"
+#include "mvr/core/scene_io.h"
 
 #include "display_options.h"
 
@@ -189,8 +193,12 @@ Status chooseAutoRig(Prepared& out, FramingParams& params, bool convergenceAuto,
 
 void SceneOptions::addTo(CLI::App* app, bool withModels) {
     if (withModels) {
-        app->add_option("models", models,
-                        "Model files (OBJ, PLY, glTF 2.0). None: the procedural default scene");
+        app->add_option(
+            "models", models,
+            "Model files (OBJ, PLY, glTF 2.0 .gltf/.glb; glTF and OBJ+MTL keep their nodes, "
+            "materials, textures, lights and camera), each optionally placed: "
+            "FILE@X,Y,Z[,SCALE[,YAW]] (position, uniform scale, degrees about +Y; e.g. "
+            "chair.glb@2,0,-1,0.5,90). None: the procedural default scene");
     }
     app->add_option("--scene", namedScene,
                     "Procedural scene when no model is given: default, village (adelson1991's "
@@ -251,7 +259,12 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
            "center); auto: from a depth pre-pass of the centre view, the harmonic mean of the "
            "1st and 99th percentile distances (balances the parallax in and out of the screen)")
         ->type_name("FLOAT|auto");
-    app->add_option("--fov", fov, "Vertical field of view, degrees")->default_val(fov);
+    app->add_option("--fov", fov,
+                    "Vertical field of view, degrees (default: a model file's camera's, else 45)")
+        ->default_val(fov)
+        ->each([this](const std::string&) { fovGiven = true; });
+    app->add_flag("--no-file-camera", noFileCamera,
+                  "Frame the scene's bounds instead of using the model file's camera");
     sizeOption = app->add_option("--size", size, "Size of one view, WxH pixels")->default_val(size);
     std::string displayHelp =
         "Render for a display (`mvr info --displays` lists them): its views, view size, view "
@@ -271,6 +284,120 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
     app->add_flag("--cull", cullBackFaces, "Cull back faces");
     app->add_flag("--wireframe", wireframe, "Draw triangle edges only");
 }
+
+namespace {
+
+/// FILE@X,Y,Z[,SCALE[,YAW]]: a file that exists under the whole name is never split.
+Result<std::pair<std::string, std::optional<Placement>>> parseModelArg(const std::string& arg) {
+    std::error_code ec;
+    const std::size_t at = arg.rfind('@');
+    if (at == std::string::npos || std::filesystem::exists(arg, ec))
+        return std::pair<std::string, std::optional<Placement>>{arg, std::nullopt};
+    const std::string file = arg.substr(0, at), spec = arg.substr(at + 1);
+    static const std::regex kNumber(R"(\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*)");
+    std::vector<double> values;
+    std::size_t start = 0;
+    bool ok = true;
+    for (;;) {
+        const std::size_t comma = spec.find(',', start);
+        const std::string part = spec.substr(start, comma - start);
+        if (!std::regex_match(part, kNumber)) {
+            ok = false;
+            break;
+        }
+        values.push_back(std::strtod(part.c_str(), nullptr));
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    const auto bad = [&](const std::string& why) {
+        return usageError(
+            fmt::format("model '{}': placement '{}' {} (expected "
+                        "FILE@X,Y,Z[,SCALE[,YAW]], e.g. model.obj@1,0,-2,0.5,90)",
+                        arg, spec, why));
+    };
+    if (!ok) return bad("is not a list of numbers");
+    if (values.size() < 3 || values.size() > 5)
+        return bad(fmt::format("has {} numbers", values.size()));
+    for (double v : values)
+        if (!std::isfinite(v) || std::abs(v) > 1e30) return bad("has a number out of range");
+    Placement p;
+    p.position = glm::vec3(float(values[0]), float(values[1]), float(values[2]));
+    if (values.size() > 3) p.scale = float(values[3]);
+    if (values.size() > 4) p.yawDegrees = float(values[4]);
+    if (!(p.scale > 0.0f)) return bad("has a scale that is not > 0");
+    return std::pair<std::string, std::optional<Placement>>{file, p};
+}
+
+/// The models of the command line as one scene. Models without materials of their own (PLY,
+/// OBJ without mtllib) and without placements keep the old path exactly: one merged mesh each,
+/// laid out together by makeGridScene(). Otherwise each file is its scene (scene_io.h), placed,
+/// and --grid K lays out K copies of the whole combined scene (the file camera is then not
+/// used: it framed one copy).
+Result<Scene> loadModels(const std::vector<std::string>& args, int grid, std::string& name) {
+    std::vector<Scene> scenes;
+    std::vector<std::optional<Placement>> placements;
+    std::vector<SceneLoadInfo> infos;
+    bool plain = true;
+    for (const std::string& arg : args) {
+        auto parsed = parseModelArg(arg);
+        if (!parsed) return parsed.status();
+        SceneLoadInfo info;
+        auto scene = loadScene(parsed->first, &info);
+        if (!scene) return scene.status();
+        for (const std::string& w : info.warnings) fmt::print(stderr, "warning: {}\n", w);
+        plain = plain && !info.fromMaterials && !parsed->second;
+        scenes.push_back(std::move(scene).value());
+        placements.push_back(parsed->second);
+        infos.push_back(std::move(info));
+        name += (name.empty() ? "" : " + ") + parsed->first;
+    }
+    if (plain) {
+        std::vector<Mesh> meshes;
+        for (Scene& s : scenes) meshes.push_back(std::move(s.meshes[0]));
+        return makeGridScene(std::move(meshes), grid);
+    }
+    Scene combined;
+    std::vector<Light> fileLights;
+    for (std::size_t i = 0; i < scenes.size(); ++i) {
+        Scene& s = scenes[i];
+        if (!infos[i].fromMaterials) {  // a plain mesh among scenes: the grid's first color
+            for (Instance& inst : s.instances) inst.material = Material{{0.85f, 0.75f, 0.6f}, 0.3f};
+        }
+        if (infos[i].lightsFromFile)
+            fileLights.insert(fileLights.end(), s.lights.begin(), s.lights.end());
+        s.lights.clear();
+        if (placements[i]) transformScene(s, placements[i]->matrix());
+        appendScene(combined, std::move(s));
+    }
+    if (fileLights.size() > std::size_t(kMaxLights)) {
+        fmt::print(stderr, "warning: {} lights in the models: the first {} are used\n",
+                   fileLights.size(), kMaxLights);
+        fileLights.resize(kMaxLights);
+    }
+    combined.lights = fileLights.empty() ? defaultLights() : fileLights;
+    if (grid > 1) {
+        const Bounds b = combined.bounds();
+        const glm::vec3 size = b.max - b.min;
+        const float spacing = std::max({size.x, size.y, 1e-6f}) * 1.1f;
+        const int columns = static_cast<int>(std::ceil(std::sqrt(double(grid))));
+        const int rows = (grid + columns - 1) / columns;
+        const std::vector<Instance> one = combined.instances;
+        combined.instances.clear();
+        for (int k = 0; k < grid; ++k) {
+            const glm::vec3 offset((k % columns - (columns - 1) * 0.5f) * spacing,
+                                   ((rows - 1) * 0.5f - k / columns) * spacing, 0.0f);
+            const glm::mat4 xf = glm::translate(glm::mat4(1.0f), offset - b.center());
+            for (Instance inst : one) {
+                inst.worldFromModel = xf * inst.worldFromModel;
+                combined.instances.push_back(std::move(inst));
+            }
+        }
+        combined.camera.reset();
+    }
+    return combined;
+}
+
+}  // namespace
 
 Result<Prepared> SceneOptions::prepare() const {
     Prepared out;
@@ -414,20 +541,17 @@ Result<Prepared> SceneOptions::prepare() const {
                 "--grid {} needs a model file (the default scene is not gridded)", grid));
         }
     } else {
-        std::vector<Mesh> meshes;
-        for (const std::string& path : models) {
-            auto mesh = loadMesh(path);
-            if (!mesh) return mesh.status();
-            meshes.push_back(std::move(mesh).value());
-            out.sceneName += (out.sceneName.empty() ? "" : " + ") + path;
-        }
-        out.scene = makeGridScene(std::move(meshes), grid);
+        auto loaded = loadModels(models, grid, out.sceneName);
+        if (!loaded) return loaded.status();
+        out.scene = std::move(loaded).value();
     }
     if (Status s = validateScene(out.scene); !s) return s;
 
     // The camera, near/far, convergence and spacing: the library's framing (framing.h).
     params.fovYDegrees = static_cast<float>(fov);
     params.aspect = aspect;
+    params.fovOverridesSceneCamera = fovGiven;
+    params.useSceneCamera = !noFileCamera;
     if (interaxial) params.interaxial = static_cast<float>(*interaxial);
     if (separation) params.separation = static_cast<float>(*separation);
     if (convergence) params.convergence = static_cast<float>(*convergence);

@@ -63,6 +63,10 @@ struct SceneOptions {
     /// the preset's value. Null (SceneOptions filled in by code): never given.
     CLI::Option *viewsOption = nullptr, *viewGridOption = nullptr, *sizeOption = nullptr,
                 *viewConeOption = nullptr;
+    // Appended (issue 14): a model file's camera is the centre camera unless --no-file-camera;
+    // its yfov unless --fov is given (fovGiven).
+    bool fovGiven = false;
+    bool noFileCamera = false;
 
     /// Adds the options to a subcommand. `withModels`: also the positional MODEL... list.
     void addTo(CLI::App* app, bool withModels = true);

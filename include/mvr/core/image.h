@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,10 @@ Status writePng(const std::filesystem::path& path, const Image& image);
 /// Reads a PNG file (any bit depth / color type, converted to RGBA8) through libpng.
 /// Errors: ErrorCode::Input naming the path and the problem (missing, not a PNG, truncated).
 Result<Image> readPng(const std::filesystem::path& path);
+
+/// Decodes PNG bytes in memory (any bit depth / color type, converted to RGBA8) through
+/// libpng, as readPng(). Errors: ErrorCode::Input, "WHAT: not a readable PNG (...)" / ...
+Result<Image> decodePng(std::span<const std::uint8_t> data, const std::string& what);
 
 /// Writes a depth image as a 16-bit grayscale PNG (0 = near, 65535 = far / empty), for looking at.
 Status writeDepthPng(const std::filesystem::path& path, const DepthImage& depth);
