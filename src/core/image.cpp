@@ -11,6 +11,20 @@
 
 namespace mvr {
 
+void Image::reset(int w, int h, std::pmr::memory_resource* memory) {
+    std::destroy_at(&rgba);
+    std::construct_at(&rgba, memory ? memory : std::pmr::get_default_resource());
+    width = w, height = h;
+    rgba.resize(static_cast<std::size_t>(w) * h * 4);
+}
+
+void DepthImage::reset(int w, int h, float fill, std::pmr::memory_resource* memory) {
+    std::destroy_at(&depth);
+    std::construct_at(&depth, memory ? memory : std::pmr::get_default_resource());
+    width = w, height = h;
+    depth.assign(static_cast<std::size_t>(w) * h, fill);
+}
+
 Image::Image(int w, int h, Rgba8 fill) : width(w), height(h) {
     rgba.resize(static_cast<std::size_t>(w) * h * 4);
     for (std::size_t i = 0; i < rgba.size(); i += 4) {

@@ -550,9 +550,24 @@ void Renderer::ensureTiled(int w, int h) {
 
 namespace {
 
-// Reads a w×h region of one layer, flipping rows (GL row 0 = bottom, image row 0 = top).
-void readRegion(GLuint tex, int x, int y, int layer, int w, int h, Image& img) {
-    img = Image(w, h);
+// The caller's memory for view `view` of `views` (RenderSettings::output), or nullptr (heap).
+OutputBlock* blockFor(const RenderSettings& s, std::size_t views, int w, int h) {
+    OutputBlock* b = s.output;
+    return b && std::size_t(b->views()) == views && b->width() == w && b->height() == h ? b
+                                                                                        : nullptr;
+}
+std::pmr::memory_resource* colorMemory(OutputBlock* b, std::size_t view) {
+    return b ? b->colorMemory(int(view)) : nullptr;
+}
+std::pmr::memory_resource* depthMemory(OutputBlock* b, std::size_t view) {
+    return b ? b->depthMemory(int(view)) : nullptr;
+}
+
+// Reads a w×h region of one layer, flipping rows (GL row 0 = bottom, image row 0 = top), into
+// an image allocated from `memory` (nullptr: the heap).
+void readRegion(GLuint tex, int x, int y, int layer, int w, int h, Image& img,
+                std::pmr::memory_resource* memory) {
+    img.reset(w, h, memory);
     std::vector<std::uint8_t> tmp(static_cast<std::size_t>(w) * h * 4);
     glGetTextureSubImage(tex, 0, x, y, layer, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
                          static_cast<GLsizei>(tmp.size()), tmp.data());
@@ -562,8 +577,9 @@ void readRegion(GLuint tex, int x, int y, int layer, int w, int h, Image& img) {
     }
 }
 
-void readDepthRegion(GLuint tex, int x, int y, int layer, int w, int h, DepthImage& img) {
-    img = DepthImage(w, h);
+void readDepthRegion(GLuint tex, int x, int y, int layer, int w, int h, DepthImage& img,
+                     std::pmr::memory_resource* memory) {
+    img.reset(w, h, 1.0f, memory);
     std::vector<float> tmp(static_cast<std::size_t>(w) * h);
     glGetTextureSubImage(tex, 0, x, y, layer, w, h, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
                          static_cast<GLsizei>(tmp.size() * sizeof(float)), tmp.data());
@@ -577,31 +593,38 @@ void readDepthRegion(GLuint tex, int x, int y, int layer, int w, int h, DepthIma
 
 void Renderer::readLayered(RenderOutput& out, const Frame& f, bool depth) {
     const int w = f.settings->width, h = f.settings->height;
+    OutputBlock* block = blockFor(*f.settings, out.color.size(), w, h);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     for (int v = 0; v < f.views; ++v) {
         const auto i = static_cast<std::size_t>(f.firstView + v);
-        readRegion(mLayered.color.get(), 0, 0, v, w, h, out.color[i]);
-        if (depth) readDepthRegion(mLayered.depth.get(), 0, 0, v, w, h, out.depth[i]);
+        readRegion(mLayered.color.get(), 0, 0, v, w, h, out.color[i], colorMemory(block, i));
+        if (depth)
+            readDepthRegion(mLayered.depth.get(), 0, 0, v, w, h, out.depth[i],
+                            depthMemory(block, i));
     }
 }
 
 void Renderer::readTiled(RenderOutput& out, const Frame& f) {
     const TileLayout& t = *f.tiles;
+    OutputBlock* block = blockFor(*f.settings, out.color.size(), t.width, t.height);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     for (int v = 0; v < f.views; ++v) {
         const glm::ivec2 o = t.origin(v);
         const auto i = static_cast<std::size_t>(f.firstView + v);
-        readRegion(mTiled.color.get(), o.x, o.y, 0, t.width, t.height, out.color[i]);
-        readDepthRegion(mTiled.depth.get(), o.x, o.y, 0, t.width, t.height, out.depth[i]);
+        readRegion(mTiled.color.get(), o.x, o.y, 0, t.width, t.height, out.color[i],
+                   colorMemory(block, i));
+        readDepthRegion(mTiled.depth.get(), o.x, o.y, 0, t.width, t.height, out.depth[i],
+                        depthMemory(block, i));
     }
 }
 
 void Renderer::readMrt(RenderOutput& out, const Frame& f) {
     out.color.resize(2);
+    OutputBlock* block = blockFor(*f.settings, 2, f.settings->width, f.settings->height);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     for (int v = 0; v < 2; ++v) {
         readRegion(mMrt.color[v].get(), 0, 0, 0, f.settings->width, f.settings->height,
-                   out.color[static_cast<std::size_t>(v)]);
+                   out.color[static_cast<std::size_t>(v)], colorMemory(block, std::size_t(v)));
     }
 }
 

@@ -62,14 +62,15 @@ void allocateOutputs(ThreadPool& pool, RenderOutput& out, int views, const Rende
     // (a new vector is zero-filled: depth is constructed at its clear value in that one pass;
     // color is zero-filled, then filled with the clear color while it is still in cache).
     pool.run(views, [&](int v, int) {
+        // Into the caller's block when it gave one (RenderSettings::output), else the heap.
+        const bool block = s.output && s.output->views() == views && s.output->width() == s.width &&
+                           s.output->height() == s.height;
         Image& c = out.color[std::size_t(v)];
-        c.width = s.width, c.height = s.height;
-        c.rgba.resize(n * 4);
+        c.reset(s.width, s.height, block ? s.output->colorMemory(v) : nullptr);
         auto* color = reinterpret_cast<std::uint32_t*>(c.rgba.data());
         std::fill_n(color, n, clear);
         DepthImage& d = out.depth[std::size_t(v)];
-        d.width = s.width, d.height = s.height;
-        d.depth.assign(n, 1.0f);
+        d.reset(s.width, s.height, 1.0f, block ? s.output->depthMemory(v) : nullptr);
         targets[std::size_t(v)] = Target{color, d.depth.data(), s.width, s.height};
     });
 }

@@ -28,6 +28,43 @@ struct RenderSettings {
     bool cullBackFaces = false;              ///< cull clockwise (back) faces
     bool wireframe = false;                  ///< draw triangle edges instead of filled triangles
     glm::vec3 clearColor{0.0f, 0.0f, 0.0f};  ///< background, linear [0,1]; alpha is 1
+    /// Where the views' pixels go, when the caller owns that memory (zero copy: the Python
+    /// module renders into the numpy arrays it returns); nullptr: the images own their memory.
+    /// Backends build view v's images with OutputBlock::colorMemory(v) / depthMemory(v); a
+    /// backend that does not is still correct (the caller copies what is not in place).
+    class OutputBlock* output = nullptr;
+};
+
+/// Caller-owned memory for the images of one render: `views` colour images of width×height
+/// RGBA8 back to back (view v at color() + v·width·height·4), and as many float depth images.
+/// Each view's slice is handed out once, to a vector of exactly its size, by a memory resource
+/// of its own; anything else (another size, a second allocation) comes from the heap, so a
+/// backend or a post-process that reallocates stays correct and inPlace() tells the caller.
+/// Not copyable or movable (the resources point into it); thread-safe per view.
+class OutputBlock {
+public:
+    OutputBlock(int views, int width, int height);
+    ~OutputBlock();
+    OutputBlock(const OutputBlock&) = delete;
+    OutputBlock& operator=(const OutputBlock&) = delete;
+
+    int views() const { return views_; }
+    int width() const { return width_; }
+    int height() const { return height_; }
+    std::uint8_t* color() { return color_; }
+    float* depth() { return depth_; }
+    std::pmr::memory_resource* colorMemory(int view);
+    std::pmr::memory_resource* depthMemory(int view);
+    /// Whether the image's pixels are view v's slice of the block.
+    bool inPlace(const Image& image, int view) const;
+    bool inPlace(const DepthImage& image, int view) const;
+
+private:
+    class Slice;
+    int views_, width_, height_;
+    std::uint8_t* color_ = nullptr;
+    float* depth_ = nullptr;
+    std::vector<std::unique_ptr<Slice>> slices_;  ///< [2v] color, [2v + 1] depth
 };
 
 /// Wall-clock time per pipeline stage of one render, where a backend measures it (soft does:
