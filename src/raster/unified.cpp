@@ -639,6 +639,7 @@ void renderUnified(FrameContext& f, std::span<const Target> targets, StageTimes&
     UnifiedData& d = static_cast<UnifiedData&>(*scratch);
     StageClock clock;
     buildFamilies(f.rig, f.settings.shading, f.textured, f.draw.vertexCount, d);
+    d.convergence = f.rig.convergence, d.width = float(f.settings.width);
     vertexStage(f, d);
     times.vertexMs += clock.lap();
     binStage(f, d);
