@@ -615,7 +615,9 @@ Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
 Status Renderer::drawPass(Frame& f, RenderOutput& out, GlFrameStats& stats) {
     const GlMethod& method = *f.method;
     const RenderSettings& s = *f.settings;
-    Result<GLuint> prog = program(method.name, methodProgram(method, mCaps, s.shading, f.views));
+    ProgramDesc desc = methodProgram(method, mCaps, s.shading, f.views);
+    if (mShadows) addDefine(desc, "SHADOWS");  // issue 15: shadow_maps.cpp
+    Result<GLuint> prog = program(method.name, desc);
     if (!prog) return prog.status();
     if (method.prepare) {
         if (Status st = (this->*method.prepare)(f); !st) return st;
@@ -623,6 +625,7 @@ Status Renderer::drawPass(Frame& f, RenderOutput& out, GlFrameStats& stats) {
     uploadFrameBlock(f);
     setCommonState(s);
     glUseProgram(*prog);
+    if (mShadows) setShadowUniforms(*prog);
     if (Status st = checkGlError("setting up the frame"); !st) return st;
 
     const auto tDraw = Clock::now();

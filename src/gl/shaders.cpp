@@ -29,12 +29,59 @@ layout(location = 3) uniform mat4 uCofactor;         // det * inverse transpose:
 layout(location = 4) uniform vec4 uMaterial;         // albedo rgb, specular
 layout(location = 5) uniform float uShininess;
 
-// lighting.h shadeFlat()
-vec3 shadeFlat(vec3 faceNormal) {
+#ifdef SHADOWS
+// shadows.h shadowFactor() (issue 15): linear distances in an R32F array, one layer per map.
+layout(binding = 2) uniform sampler2DArray uShadowMaps;
+layout(location = 8) uniform mat4 uShadowClip[MAX_LIGHTS];    // light clipFromWorld
+layout(location = 12) uniform vec4 uShadowInfo[MAX_LIGHTS];   // layer (< 0: none), persp, near, far
+layout(location = 16) uniform vec4 uShadowTexel[MAX_LIGHTS];  // texelWorld, size
+layout(location = 20) uniform vec4 uLightPos[MAX_LIGHTS];     // xyz, w = 1: positional
+float shadowFactor(int i, vec3 p, vec3 normal) {
+    if (uShadowInfo[i].x < 0.0) return 1.0;
+    vec4 c = uShadowClip[i] * vec4(p, 1.0);
+    if (!(c.w > 0.0)) return 1.0;
+    float iw = 1.0 / c.w;
+    float nx = c.x * iw, ny = c.y * iw, nz = c.z * iw;
+    if (!(abs(nx) <= 1.0 && abs(ny) <= 1.0 && nz <= 1.0)) return 1.0;
+    bool persp = uShadowInfo[i].y > 0.5;
+    float r = persp ? c.w : uShadowInfo[i].z + (nz * 0.5 + 0.5) * (uShadowInfo[i].w - uShadowInfo[i].z);
+    float fs = uShadowTexel[i].y;
+    int size = int(fs), layer = int(uShadowInfo[i].x);
+    int tx = clamp(int(floor((nx * 0.5 + 0.5) * fs)), 0, size - 1);
+    int ty = clamp(int(floor((ny * 0.5 + 0.5) * fs)), 0, size - 1);
+    float len = length(normal);
+    vec3 n = len > 0.0 ? normal / len : normal;
+    vec3 l = uLightDir[i].xyz;
+    if (uLightPos[i].w > 0.5) {
+        vec3 d = uLightPos[i].xyz - p;
+        float dl = length(d);
+        if (dl > 0.0) l = d / dl;
+    }
+    float cosT = clamp(dot(n, l), 1e-3, 1.0);
+    float tanT = min(sqrt(1.0 - cosT * cosT) / cosT, 8.0);
+    float texel = persp ? uShadowTexel[i].x * r : uShadowTexel[i].x;
+    float ref = r - texel * (1.0 + 1.5 * tanT);
+    int lit = 0;
+    for (int j = -1; j <= 1; ++j) {
+        int y = clamp(ty + j, 0, size - 1);
+        for (int k = -1; k <= 1; ++k) {
+            int x = clamp(tx + k, 0, size - 1);
+            lit += texelFetch(uShadowMaps, ivec3(x, y, layer), 0).r >= ref ? 1 : 0;
+        }
+    }
+    return float(lit) * (1.0 / 9.0);
+}
+#else
+float shadowFactor(int i, vec3 p, vec3 n) { return 1.0; }
+#endif
+
+// lighting.h shadeFlat(); worldPos: where the shadow factor is looked up (the centroid).
+vec3 shadeFlat(vec3 faceNormal, vec3 worldPos) {
     vec3 albedo = uMaterial.rgb;
     vec3 c = uAmbient.rgb * albedo;
     for (int i = 0; i < uCounts.x; ++i) {
-        c += max(dot(faceNormal, uLightDir[i].xyz), 0.0) * albedo * uLightColor[i].rgb;
+        c += (max(dot(faceNormal, uLightDir[i].xyz), 0.0) * albedo * uLightColor[i].rgb) *
+             shadowFactor(i, worldPos, faceNormal);
     }
     return clamp(c, 0.0, 1.0);
 }
@@ -51,7 +98,7 @@ vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
         if (nl > 0.0) {
             vec3 h = normalize(l + v);
             float spec = uMaterial.w * pow(max(dot(n, h), 0.0), uShininess);
-            c += (nl * albedo + vec3(spec)) * uLightColor[i].rgb;
+            c += ((nl * albedo + vec3(spec)) * uLightColor[i].rgb) * shadowFactor(i, worldPos, n);
         }
     }
     return clamp(c, 0.0, 1.0);
@@ -116,11 +163,12 @@ void main() {
     vec3 w0 = (uWorldFromModel * vec4(aP0, 1.0)).xyz;
     vec3 w1 = (uWorldFromModel * vec4(aP1, 1.0)).xyz;
     vec3 w2 = (uWorldFromModel * vec4(aP2, 1.0)).xyz;
-    oColor = shadeFlat(normalize(cross(w1 - w0, w2 - w0)));
+    oColor = shadeFlat(normalize(cross(w1 - w0, w2 - w0)), (w0 + w1 + w2) * (1.0 / 3.0));
 #elif defined(SHADING_FLAT) && defined(FLAT_PROVOKING)
     // Only the provoking vertex's value is used: its "normal" is the face's model-space edge
     // cross product; the cofactor matrix maps it to the world-space edge cross product.
-    oColor = shadeFlat(normalize(mat3(uCofactor) * n));
+    // Shadows: looked up at the provoking vertex (the centroid is not known here).
+    oColor = shadeFlat(normalize(mat3(uCofactor) * n), world.xyz);
 #endif
 #endif
 
@@ -206,7 +254,8 @@ void main() {
     vec3 faceColor = vec3(0.0);
 #ifdef SHADING_FLAT
     // Shaded once per triangle for every view (view-independent work).
-    faceColor = shadeFlat(normalize(cross(gWorld[1] - gWorld[0], gWorld[2] - gWorld[0])));
+    faceColor = shadeFlat(normalize(cross(gWorld[1] - gWorld[0], gWorld[2] - gWorld[0])),
+                          (gWorld[0] + gWorld[1] + gWorld[2]) * (1.0 / 3.0));
 #endif
 #ifdef GS_INVOCATIONS
     emitView(gl_InvocationID, w, faceColor);

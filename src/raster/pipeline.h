@@ -21,6 +21,7 @@
 
 #include "mvr/core/lighting.h"
 #include "mvr/core/render.h"
+#include "mvr/core/shadows.h"
 
 namespace mvr::raster::detail {
 
@@ -109,7 +110,10 @@ inline float shearClip(float centerClip, float shear, float w, float convergence
 inline void vertexAttributes(Shading shading, const ShadingContext& ctx, const Material& material,
                              const glm::vec3& worldPos, const glm::vec3& worldNormal, float* out) {
     if (shading == Shading::Vertex) {
-        const glm::vec3 c = shadeBlinnPhong(ctx, material, worldNormal, worldPos);
+        float sh[kMaxLights];
+        const glm::vec3 c =
+            shadeBlinnPhong(ctx, material, worldNormal, worldPos,
+                            shadowFactors(ctx.shadows, ctx.lights, worldPos, worldNormal, sh));
         out[0] = c.x, out[1] = c.y, out[2] = c.z;
     } else if (shading == Shading::Pixel) {
         out[0] = worldNormal.x, out[1] = worldNormal.y, out[2] = worldNormal.z;
@@ -128,7 +132,29 @@ inline std::uint32_t flatColor(const ShadingContext& ctx, const Material& materi
     const glm::vec3 n = glm::cross(p1 - p0, p2 - p0);
     const float len = glm::length(n);
     const glm::vec3 unit = (len > 0.0f && std::isfinite(len)) ? n / len : glm::vec3(0.0f);
-    return packColor(shadeFlat(ctx, material, unit));
+    // Shadows (issue 15): one factor per triangle, at its centroid (flat = one color).
+    float sh[kMaxLights];
+    const float* shadow = ctx.shadows ? shadowFactors(ctx.shadows, ctx.lights,
+                                                      (p0 + p1 + p2) * (1.0f / 3.0f), unit, sh)
+                                      : nullptr;
+    return packColor(shadeFlat(ctx, material, unit, shadow));
+}
+
+/// Vertex lighting with shadows (issue 15): the Kernels::shadeVertices of a frame with shadow
+/// maps (scalar: the lookup is not vectorized), the same for every method.
+inline void shadeVerticesShadowed(const glm::vec3* positions, const glm::vec3* normals,
+                                  std::size_t n, const glm::mat4& worldFromModel,
+                                  const glm::mat3& normalFromModel, const ShadingContext& ctx,
+                                  const Material& material, float* color) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec3 world = glm::vec3(transformPoint(worldFromModel, positions[i]));
+        const glm::vec3 normal = transformDir(normalFromModel, normals[i]);
+        float sh[kMaxLights];
+        const glm::vec3 c =
+            shadeBlinnPhong(ctx, material, normal, world,
+                            shadowFactors(ctx.shadows, ctx.lights, world, normal, sh));
+        color[3 * i] = c.x, color[3 * i + 1] = c.y, color[3 * i + 2] = c.z;
+    }
 }
 
 // ---- back faces ----------------------------------------------------------------------------
@@ -450,7 +476,10 @@ struct FragmentSink {
             } else {
                 const glm::vec3 n(at(0), at(1), at(2));
                 const glm::vec3 p(at(3), at(4), at(5));
-                target.color[i] = packColor(shadeBlinnPhong(*shade.ctx, *shade.material, n, p));
+                float sh[kMaxLights];
+                target.color[i] = packColor(shadeBlinnPhong(
+                    *shade.ctx, *shade.material, n, p,
+                    shadowFactors(shade.ctx->shadows, shade.ctx->lights, p, n, sh)));
             }
         }
     }

@@ -10,6 +10,7 @@
 
 #include "cpu.h"
 #include "mvr/core/platform.h"
+#include "mvr/core/shadows.h"
 #include "methods.h"
 
 namespace mvr::raster {
@@ -91,7 +92,16 @@ public:
         if (Status s = validateRequest(scene, rig, settings); !s) return s;
         if (Status s = supports(method); !s) return s;
         try {
-            return renderChecked(scene, rig, settings, method);
+            // Shadows (issue 15): the casters' maps once for all views, as one multi-view
+            // render whose views are the lights, with the same method.
+            ShadowSet shadows;
+            if (settings.shadows) {
+                Result<ShadowSet> set =
+                    renderShadowSet(*this, scene, settings.shadowMapSize, method);
+                if (!set) return set.status();
+                shadows = std::move(*set);
+            }
+            return renderChecked(scene, rig, settings, method, shadows);
         } catch (const std::bad_alloc&) {
             return internalError(
                 fmt::format("soft backend: out of memory rendering {} views of {}x{}",
@@ -101,7 +111,8 @@ public:
 
 private:
     Result<RenderOutput> renderChecked(const Scene& scene, const Rig& rig,
-                                       const RenderSettings& settings, const std::string& method) {
+                                       const RenderSettings& settings, const std::string& method,
+                                       const ShadowSet& shadows) {
         std::lock_guard lock(mMutex);  // one render at a time per backend (shared pool, scratch)
         const auto start = std::chrono::steady_clock::now();
         detail::ThreadPool& pool = this->pool();
@@ -118,11 +129,21 @@ private:
                                detail::makeBands(settings.height, pool.size()),
                                detail::centerClipFromWorld(rig),
                                detail::kernels(mSimd)};
+        detail::Kernels shadowKernels = f.kernels;
+        std::optional<detail::FrameContext> shadowed;
+        if (!shadows.empty()) {
+            f.shading.shadows = &shadows;
+            shadowKernels.shadeVertices = detail::shadeVerticesShadowed;
+            shadowed.emplace(detail::FrameContext{f.scene, f.rig, f.settings, f.pool, f.shading,
+                                                  std::move(f.draw), f.bands, f.centerClip,
+                                                  shadowKernels});
+        }
+        detail::FrameContext& frame = shadowed ? *shadowed : f;
         std::vector<detail::Target> targets;
         detail::allocateOutputs(pool, out, rig.viewCount(), settings, targets);
         out.stages.fillMs = clock.lap();
         const auto row = static_cast<std::size_t>(findMethod(method));  // supports() passed
-        kMethods[row].render(f, targets, out.stages, mScratch[row]);
+        kMethods[row].render(frame, targets, out.stages, mScratch[row]);
         RenderStats stats;
         stats.method = method;
         stats.stages = out.stages;

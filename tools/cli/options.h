@@ -46,6 +46,10 @@ struct SceneOptions {
     std::string shading = "vertex";
     bool cullBackFaces = false;
     bool wireframe = false;
+    bool shadows = false;      ///< --shadows (issue 15, shadows.h)
+    int shadowMapSize = 1024;  ///< --shadow-map-size
+    int billboards = 0;        ///< --billboards N (billboards.h)
+    double billboardSize = 0;  ///< --billboard-size; 0: 3 % of the scene's radius
 
     /// Adds the options to a subcommand. `withModels`: also the positional MODEL... list.
     void addTo(CLI::App* app, bool withModels = true);

@@ -29,13 +29,16 @@
 
 namespace mvr {
 
+struct ShadowSet;  // shadows.h
+
 enum class Shading { Flat, Vertex, Pixel };
 
 /// Everything shading needs that does not depend on the view.
 struct ShadingContext {
     std::span<const DirectionalLight> lights;
     glm::vec3 ambient{0.12f};
-    glm::vec3 centerEye{0.0f};  ///< world-space eye used for the specular view vector
+    glm::vec3 centerEye{0.0f};           ///< world-space eye used for the specular view vector
+    const ShadowSet* shadows = nullptr;  ///< issue 15: shadow maps, or none (every light lit)
 };
 
 /// Constants of specularPow (shared with the soft backend's SIMD kernels, which evaluate the
@@ -98,19 +101,23 @@ inline float specularPow(float x, float s) {
 }
 
 /// Flat: ambient + Σ max(dot(n, l), 0) · albedo · lightColor. `faceNormal` unit, world space.
-inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal) {
+/// `shadow` (issue 15): per light, the factor (shadows.h) multiplying its term; null = lit.
+inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal,
+                           const float* shadow = nullptr) {
     glm::vec3 c = ctx.ambient * m.albedo;
     for (const DirectionalLight& l : ctx.lights) {
-        c += std::max(glm::dot(faceNormal, l.towardLight), 0.0f) * m.albedo * l.color;
+        const float s = shadow ? shadow[&l - ctx.lights.data()] : 1.0f;
+        c += (std::max(glm::dot(faceNormal, l.towardLight), 0.0f) * m.albedo * l.color) * s;
     }
     return glm::clamp(c, 0.0f, 1.0f);
 }
 
 /// Blinn-Phong: ambient + Σ [max(n·l, 0) · albedo + specular · max(n·h, 0)^shininess (only
 /// where n·l > 0)] · lightColor, with h = normalize(l + v), v = normalize(centerEye − p).
-/// `normal` need not be unit (it is normalized here).
+/// `normal` need not be unit (it is normalized here). `shadow` (issue 15): per light, the
+/// factor (shadows.h) multiplying its diffuse + specular; null = lit.
 inline glm::vec3 shadeBlinnPhong(const ShadingContext& ctx, const Material& m, glm::vec3 normal,
-                                 glm::vec3 worldPos) {
+                                 glm::vec3 worldPos, const float* shadow = nullptr) {
     const glm::vec3 n = glm::normalize(normal);
     const glm::vec3 v = glm::normalize(ctx.centerEye - worldPos);
     glm::vec3 c = ctx.ambient * m.albedo;
@@ -120,7 +127,8 @@ inline glm::vec3 shadeBlinnPhong(const ShadingContext& ctx, const Material& m, g
             const glm::vec3 h = glm::normalize(l.towardLight + v);
             const float spec =
                 m.specular * specularPow(std::max(glm::dot(n, h), 0.0f), m.shininess);
-            c += (nl * m.albedo + glm::vec3(spec)) * l.color;
+            const float s = shadow ? shadow[&l - ctx.lights.data()] : 1.0f;
+            c += ((nl * m.albedo + glm::vec3(spec)) * l.color) * s;
         }
     }
     return glm::clamp(c, 0.0f, 1.0f);
