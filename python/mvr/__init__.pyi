@@ -28,6 +28,8 @@ class Rig(TypedDict):
     near: float
     far: float
     eyes: list[tuple[float, float, float]]
+    view_cone: float
+    notes: list[str]  # what convergence/separation "auto" chose, warnings
 
 class Comfort(TypedDict, total=False):
     min_parallax: float
@@ -37,7 +39,9 @@ class Comfort(TypedDict, total=False):
     nearest_distance: float
     farthest_distance: float
     comfortable: bool
+    why: str
     text: str
+    screen: dict[str, Any]  # with screen_width=: the report against the screen (docs/displays.md)
 
 class RenderResult:
     @property
@@ -61,6 +65,8 @@ class RenderResult:
     @property
     def triangles(self) -> int: ...
     @property
+    def copied_views(self) -> int: ...  # images copied into color/depth (0: zero copy)
+    @property
     def size(self) -> tuple[int, int]: ...
     @property
     def shading(self) -> str: ...
@@ -78,9 +84,13 @@ def render(
     view_grid: _Pair = ...,
     rig: Literal["offaxis", "toein", "parallel"] = ...,
     interaxial: float = ...,
-    separation: float = ...,
+    separation: float | Literal["auto"] = ...,
     view_cone: float = ...,
-    convergence: float = ...,
+    convergence: float | Literal["auto"] = ...,
+    display: str = ...,
+    screen_width: float = ...,
+    viewing_distance: float = ...,
+    report_json: _Path = ...,
     fov: float = ...,
     size: _Pair = ...,
     shading: Literal["flat", "vertex", "pixel"] = ...,

@@ -4,14 +4,17 @@
 // are turned into those options' command-line words and parsed by the CLI's own option tables
 // (SceneOptions::addTo, addComposeOptions), so the scene, the rig and the validation are the
 // CLI's (SceneOptions::prepare → frameScene), and so are the images. Images leave as numpy arrays
-// whose base is a capsule owning the C++ buffer (no copy for one view; N views are gathered into
-// one (N, H, W, 4) block, each view freed as soon as it is in). The GIL is released while a
+// whose base is a capsule owning the C++ memory the backend rendered into: render() hands the
+// backend an OutputBlock (RenderSettings::output), N views back to back, and returns it as the
+// (N, H, W, 4) and (N, H, W) arrays without a copy (RenderResult.copied_views counts views a
+// backend left elsewhere and that were copied in: none on the backends of this build). The GIL is released while a
 // scene loads, renders and composes; every call makes its own backend, and renders on a GPU
 // backend (one driver context per thread) are serialised.
 #include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
@@ -73,26 +76,50 @@ T check(Result<T>&& r) {
 }
 
 // ---- arrays that own C++ buffers -------------------------------------------------------------
-template <class E>
-py::array adopt(std::vector<E>&& data, std::vector<py::ssize_t> shape) {
-    auto* owner = new std::vector<E>(std::move(data));
-    py::capsule base(owner, [](void* p) { delete static_cast<std::vector<E>*>(p); });
+template <class V>
+py::array adopt(V&& data, std::vector<py::ssize_t> shape) {
+    using E = typename std::decay_t<V>::value_type;
+    auto* owner = new std::decay_t<V>(std::move(data));
+    py::capsule base(owner, [](void* p) { delete static_cast<std::decay_t<V>*>(p); });
     return py::array_t<E>(shape, owner->data(), base);
 }
 
-/// Gathers the views' buffers into one block, freeing each as it goes (one view: moved).
-template <class E, class Img, class Member>
-std::vector<E> gather(std::vector<Img>& views, Member member) {
-    if (views.size() == 1) return std::move(views[0].*member);
-    std::size_t total = 0;
-    for (const Img& v : views) total += (v.*member).size();
-    std::vector<E> all;
-    all.reserve(total);
-    for (Img& v : views) {
-        all.insert(all.end(), (v.*member).begin(), (v.*member).end());
-        std::vector<E>().swap(v.*member);
+/// An array over the caller-owned block the backend rendered into (RenderSettings::output):
+/// its base is a capsule holding the block, so the pixels are never copied on the way out.
+template <class E>
+py::array adoptBlock(const std::shared_ptr<OutputBlock>& block, E* data,
+                     std::vector<py::ssize_t> shape) {
+    auto* owner = new std::shared_ptr<OutputBlock>(block);
+    py::capsule base(owner, [](void* p) { delete static_cast<std::shared_ptr<OutputBlock>*>(p); });
+    return py::array_t<E>(shape, data, base);
+}
+
+/// Puts every view the backend (or a post-process) left outside the block into its place and
+/// frees the images (their in-place memory is the block's; freeing it is a no-op). Returns how
+/// many views had to be copied (0 on every backend of this build; the tests check it).
+template <class Img>
+int settle(std::vector<Img>& views, OutputBlock& block) {
+    int copied = 0;
+    const std::size_t n = std::size_t(block.width()) * std::size_t(block.height());
+    if (views.size() != std::size_t(block.views()))
+        throwStatus(internalError(
+            fmt::format("backend returned {} images for {} views", views.size(), block.views())));
+    for (std::size_t v = 0; v < views.size(); ++v) {
+        if (!block.inPlace(views[v], int(v))) {
+            if (views[v].width != block.width() || views[v].height != block.height())
+                throwStatus(internalError(fmt::format("backend returned view {} of {}x{} for {}x{}",
+                                                      v, views[v].width, views[v].height,
+                                                      block.width(), block.height())));
+            ++copied;
+            if constexpr (std::is_same_v<Img, Image>) {
+                std::memcpy(block.color() + v * n * 4, views[v].rgba.data(), n * 4);
+            } else {
+                std::memcpy(block.depth() + v * n, views[v].depth.data(), n * sizeof(float));
+            }
+        }
     }
-    return all;
+    views.clear();
+    return copied;
 }
 
 py::array imageArray(Image&& image) {
@@ -123,6 +150,10 @@ std::string word(const std::string& key, const std::string& type, const py::hand
                 fmt::format("{}: expected an integer, got {}", key,
                             std::string(py::str(py::type::handle_of(v).attr("__name__")))));
         return py::str(py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr())));
+    }
+    if (type == "FLOAT|auto") {  // --convergence, --separation: a number or "auto"
+        if (PyUnicode_Check(v.ptr())) return py::str(v);
+        return word(key, "FLOAT", v);
     }
     if (type == "FLOAT") {
         if (PyIndex_Check(v.ptr()))
@@ -245,6 +276,7 @@ std::mutex& gpuMutex() {
 struct RenderResult {
     py::object color, depth, method, note, backend, rig, comfort, composites, scene, triangles;
     py::object size, shading, elapsedMs, written;
+    int copiedViews = 0;  ///< images the backend left outside the output block (copied in)
 };
 
 /// Composes `views` as `format`: an array for image formats, bytes for jps / mpo.
@@ -338,6 +370,8 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     app.add_option("--format", formats)->check(CLI::IsMember(composite::formatNames()));
     app.add_option("-o,--output", outDir);
     cli::addComposeOptions(&app, compose);
+    std::string reportJson;  // report_json=: the comfort report (docs/displays.md)
+    app.add_option("--report-json", reportJson)->type_name("FILE_OUT");
     cli::StereoSurfaceOptions surfaceOptions;  // sky=, floating_window=, letterbox=, label=…
     surfaceOptions.addTo(&app);
     std::vector<std::string> args;
@@ -350,6 +384,7 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     parse(app, std::move(args));
 
     Result<cli::Prepared> prepared = usageError("");
+    std::shared_ptr<OutputBlock> block;
     Result<RenderOutput> rendered = usageError("");
     std::unique_ptr<Backend> backend;
     double ms = 0.0;
@@ -357,6 +392,14 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     {
         py::gil_scoped_release release;
         prepared = scene.prepare();
+        // The views are rendered straight into the memory the arrays will own (zero copy),
+        // when the request is within the budget every backend checks first.
+        if (prepared && framebufferBytes(prepared->rig.viewCount(), prepared->settings.width,
+                                         prepared->settings.height) <= kMaxFramebufferBytes) {
+            block = std::make_shared<OutputBlock>(
+                prepared->rig.viewCount(), prepared->settings.width, prepared->settings.height);
+            prepared->settings.output = block.get();
+        }
         Result<StereoSurfaces> surfaces = surfaceOptions.build();
         if (prepared && !surfaces) prepared = surfaces.status();
         if (prepared) {
@@ -389,6 +432,12 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     }
     const cli::Prepared& p = check(std::move(prepared));
     RenderOutput out = check(std::move(rendered));
+    if (p.display) {  // display=: the preset's outputs, as `mvr render --display`
+        cli::displayOutputs(
+            *p.display, app.get_option("--lenticular-calibration")->count() > 0,
+            app.get_option("--quilt")->count() > 0 || p.rig.viewCount() != p.display->views,
+            p.rig.camera.aspect, formats, compose);
+    }
     if (int(out.color.size()) != p.rig.viewCount())
         throwStatus(internalError(fmt::format("backend returned {} images for {} views",
                                               out.color.size(), p.rig.viewCount())));
@@ -433,7 +482,41 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
         comfort["why"] = c->range.why;
         comfort["text"] = c->line;
     }
+    const std::optional<cli::ComfortReport> range = cli::comfortReport(rig, out);
+    const std::optional<cli::ScreenComfortReport> screen = cli::screenComfortReport(p, range);
+    if (screen) {  // screen_width= (and viewing_distance=): the report against the screen
+        const ScreenComfort& s = screen->comfort;
+        py::dict sd;
+        sd["width_cm"] = s.screen.widthCm;
+        sd["viewing_distance_cm"] = s.screen.viewingDistanceCm;
+        sd["budget"] = s.budget.fraction;
+        sd["budget_cm"] = s.budget.fraction * s.screen.widthCm;
+        sd["desktop"] = s.budget.desktop;
+        sd["pair_views"] = s.pairViews;
+        sd["min_parallax_cm"] = s.minParallaxCm;
+        sd["max_parallax_cm"] = s.maxParallaxCm;
+        sd["nearest_vergence_deg"] = s.nearestVergenceDeg;
+        sd["farthest_vergence_deg"] = s.farthestVergenceDeg;
+        sd["screen_vergence_deg"] = s.screenVergenceDeg;
+        sd["comfortable"] = s.comfortable;
+        sd["why"] = s.why;
+        sd["text"] = screen->line;
+        comfort["screen"] = sd;
+    }
     r.comfort = comfort;
+    py::list notes;
+    for (const std::string& n : p.notes) notes.append(n);
+    for (const std::string& w : cli::renderWarnings(p, out, range, screen)) notes.append(w);
+    rd["notes"] = notes;  // what --convergence/--separation auto chose, and warnings
+    rd["view_cone"] = p.viewConeDegrees;
+    if (!reportJson.empty()) {
+        const std::string json = cli::comfortJson(p, range, screen);
+        std::FILE* f = std::fopen(reportJson.c_str(), "wb");
+        const bool ok = f && std::fwrite(json.data(), 1, json.size(), f) == json.size();
+        if (f && std::fclose(f) != 0 && ok)
+            throwStatus(outputError("report_json: cannot write " + reportJson));
+        if (!ok) throwStatus(outputError("report_json: cannot write " + reportJson));
+    }
 
     // Composites first (they read the views), then the views leave as arrays.
     compose.baseline = rig.interaxial;
@@ -462,16 +545,15 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     }
     const py::ssize_t n = py::ssize_t(out.color.size()), h = p.settings.height,
                       w = p.settings.width;
-    std::vector<std::uint8_t> color;
-    std::vector<float> depthData;
     const bool hasDepth = int(out.depth.size()) == n;
+    if (!block) throwStatus(internalError("no output block for the views"));
     {
         py::gil_scoped_release release;
-        color = gather<std::uint8_t>(out.color, &Image::rgba);
-        if (hasDepth) depthData = gather<float>(out.depth, &DepthImage::depth);
+        r.copiedViews = settle(out.color, *block);
+        if (hasDepth) r.copiedViews += settle(out.depth, *block);
     }
-    r.color = adopt(std::move(color), {n, h, w, 4});
-    r.depth = hasDepth ? py::object(adopt(std::move(depthData), {n, h, w})) : py::none();
+    r.color = adoptBlock(block, block->color(), {n, h, w, 4});
+    r.depth = hasDepth ? py::object(adoptBlock(block, block->depth(), {n, h, w})) : py::none();
     return r;
 }
 
@@ -771,6 +853,10 @@ PYBIND11_MODULE(_core, m) {
         .def_readonly("composites", &RenderResult::composites,
                       "format name -> array (bytes for mpo / jps), for format=[...]")
         .def_readonly("scene", &RenderResult::scene)
+        .def_readonly("copied_views", &RenderResult::copiedViews,
+                      "How many view images (colour and depth) were copied into the returned "
+                      "arrays because the backend did not render them in place; 0 means the "
+                      "arrays are the memory the backend rendered into (no copy).")
         .def_readonly("triangles", &RenderResult::triangles)
         .def_readonly("size", &RenderResult::size, "(width, height) of one view")
         .def_readonly("shading", &RenderResult::shading)

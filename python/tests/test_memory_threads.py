@@ -25,6 +25,27 @@ def test_arrays_own_cpp_buffers():
     assert color.sum() > 0
 
 
+def test_views_are_rendered_in_place():
+    # Every method of every backend here renders the N views straight into the block the
+    # arrays own: nothing is copied in (copied_views counts images that had to be).
+    backends = [b for b in mvr.info()["backends"] if b["available"]]
+    assert backends
+    for b in backends:
+        for m in b["methods"]:
+            if not m["supported"]:
+                continue
+            try:
+                views = 5
+                r = mvr.render(views=views, size=(48, 36), backend=b["name"], method=m["name"])
+            except (ValueError, RuntimeError):  # stereo-only methods (gs-mrt, gs-depthmap)
+                views = 2
+                r = mvr.render(views=views, size=(48, 36), backend=b["name"], method=m["name"])
+            assert r.copied_views == 0, (b["name"], m["name"], r.copied_views)
+            assert r.color.shape == (views, 36, 48, 4)
+            # Each view is its own picture (not one view repeated, not a stale block).
+            assert not np.array_equal(r.color[0], r.color[-1]), (b["name"], m["name"])
+
+
 def test_peak_memory_not_doubled():
     # In a fresh interpreter: the rise of the peak RSS over a render of 8 views of 1024x768 stays
     # well under twice what the arrays hold, and numpy allocates none of it (tracemalloc).
@@ -43,7 +64,7 @@ def test_peak_memory_not_doubled():
                          env={**__import__("os").environ})
     rise, held, traced = map(int, out.stdout.split())
     assert held == 8 * 1024 * 768 * (4 + 4)
-    assert rise < 1.6 * held, (rise, held)
+    # The backend renders into the arrays' memory: the peak rises by what they hold, plus\n    # the renderer's own working memory (bins, per-vertex arrays), not by a second copy.\n    assert rise < 1.3 * held, (rise, held)
     assert traced < held / 100, traced
 
 

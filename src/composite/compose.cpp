@@ -398,6 +398,12 @@ Result<std::string> compositeFileName(std::string_view format, std::span<const I
     if (info->name == "quilt") {
         Result<std::pair<int, int>> grid = quiltGridFor(views, options, who.c_str());
         if (!grid) return grid.status();
+        if (options.quiltAspect > 0.0) {
+            std::string a = fmt::format("{:.4f}", options.quiltAspect);
+            while (!a.empty() && a.back() == '0') a.pop_back();
+            if (!a.empty() && a.back() == '.') a.pop_back();
+            return fmt::format("quilt_qs{}x{}a{}.png", grid->first, grid->second, a);
+        }
         return fmt::format("quilt_qs{}x{}a{}.png", grid->first, grid->second,
                            formatAspect(views[0].width, views[0].height));
     }

@@ -30,6 +30,35 @@ Camera frameCamera(const Scene& scene, float fovYDegrees, float aspect) {
     return camera;
 }
 
+Camera cameraFromScene(const SceneCamera& file, const Scene& scene,
+                       std::optional<float> fovYDegrees, float aspect) {
+    Camera camera;
+    const glm::mat3 axes(file.worldFromCamera);
+    camera.position = glm::vec3(file.worldFromCamera[3]);
+    glm::vec3 forward = axes * glm::vec3(0.0f, 0.0f, -1.0f);
+    glm::vec3 up = axes * glm::vec3(0.0f, 1.0f, 0.0f);
+    forward = glm::length(forward) > 0.0f ? glm::normalize(forward) : glm::vec3(0, 0, -1);
+    up = glm::length(up) > 0.0f ? glm::normalize(up) : glm::vec3(0, 1, 0);
+    camera.up = up;
+    camera.aspect = aspect;
+    camera.fovYDegrees = fovYDegrees.value_or(glm::degrees(file.yfovRadians));
+    const Bounds bounds = scene.bounds();
+    const float radius = std::max(bounds.radius(), 1e-4f);
+    float depth = glm::dot(bounds.center() - camera.position, forward);
+    float farthest = 0.0f;
+    for (int c = 0; c < 8; ++c) {
+        const glm::vec3 corner((c & 1) ? bounds.max.x : bounds.min.x,
+                               (c & 2) ? bounds.max.y : bounds.min.y,
+                               (c & 4) ? bounds.max.z : bounds.min.z);
+        farthest = std::max(farthest, glm::dot(corner - camera.position, forward));
+    }
+    if (!(depth > file.znear)) depth = std::max(radius, file.znear * 2.0f);  // behind: ahead
+    camera.target = camera.position + forward * depth;
+    camera.near = file.znear;
+    camera.far = file.zfar > file.znear ? file.zfar : std::max(farthest * 1.05f, depth * 2.0f);
+    return camera;
+}
+
 Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params,
                                  RenderSettings settings) {
     if (!std::isfinite(params.fovYDegrees) || params.fovYDegrees <= 0.0f ||
@@ -62,8 +91,17 @@ Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params
     if (Status s = validateScene(scene); !s) return s;
 
     settings.clearColor = params.clearColor.value_or(scene.background);
-    Camera camera =
-        frameCamera(scene, params.fovYDegrees, float(settings.width) / float(settings.height));
+    if (params.aspect && (!std::isfinite(*params.aspect) || *params.aspect <= 0.0f)) {
+        return usageError(fmt::format("aspect {} is out of range (expected > 0)", *params.aspect));
+    }
+    const float aspect = params.aspect.value_or(float(settings.width) / float(settings.height));
+    Camera camera = params.useSceneCamera && scene.camera
+                        ? cameraFromScene(*scene.camera, scene,
+                                          params.fovOverridesSceneCamera
+                                              ? std::optional<float>(params.fovYDegrees)
+                                              : std::nullopt,
+                                          aspect)
+                        : frameCamera(scene, params.fovYDegrees, aspect);
     const float distance = glm::length(camera.position - camera.target);
     RigParams rig;
     rig.kind = params.kind;

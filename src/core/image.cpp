@@ -11,6 +11,20 @@
 
 namespace mvr {
 
+void Image::reset(int w, int h, std::pmr::memory_resource* memory) {
+    std::destroy_at(&rgba);
+    std::construct_at(&rgba, memory ? memory : std::pmr::get_default_resource());
+    width = w, height = h;
+    rgba.resize(static_cast<std::size_t>(w) * h * 4);
+}
+
+void DepthImage::reset(int w, int h, float fill, std::pmr::memory_resource* memory) {
+    std::destroy_at(&depth);
+    std::construct_at(&depth, memory ? memory : std::pmr::get_default_resource());
+    width = w, height = h;
+    depth.assign(static_cast<std::size_t>(w) * h, fill);
+}
+
 Image::Image(int w, int h, Rgba8 fill) : width(w), height(h) {
     rgba.resize(static_cast<std::size_t>(w) * h * 4);
     for (std::size_t i = 0; i < rgba.size(); i += 4) {
@@ -169,6 +183,39 @@ Result<Image> readPng(const std::filesystem::path& path) {
         png_image_free(&image);
         return inputError(
             fmt::format("mvr::readPng(): {}: corrupt or truncated PNG ({})", path.string(), why));
+    }
+    return out;
+}
+
+Result<Image> decodePng(std::span<const std::uint8_t> data, const std::string& what) {
+    if (data.empty()) return inputError(fmt::format("{}: empty (expected a PNG)", what));
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_memory(&image, data.data(), data.size())) {
+        const std::string why = image.message;
+        png_image_free(&image);
+        return inputError(fmt::format("{}: not a readable PNG ({})", what, why));
+    }
+    if (image.width == 0 || image.height == 0 || image.width > 65536 || image.height > 65536) {
+        png_image_free(&image);
+        return inputError(
+            fmt::format("{}: unsupported PNG size {}x{}", what, image.width, image.height));
+    }
+    // As readPng(): a header that claims more than the bytes can hold is refused first.
+    const double rawBytes = double(image.height) * (1.0 + std::ceil(double(image.width) / 8.0));
+    if (rawBytes > double(data.size()) * 1032.0 + 65536.0) {
+        png_image_free(&image);
+        return inputError(fmt::format(
+            "{}: PNG header claims {}x{} pixels but its {} bytes cannot hold them (truncated or "
+            "corrupt?)",
+            what, image.width, image.height, data.size()));
+    }
+    image.format = PNG_FORMAT_RGBA;
+    Image out(static_cast<int>(image.width), static_cast<int>(image.height));
+    if (!png_image_finish_read(&image, nullptr, out.rgba.data(), 0, nullptr)) {
+        const std::string why = image.message;
+        png_image_free(&image);
+        return inputError(fmt::format("{}: corrupt or truncated PNG ({})", what, why));
     }
     return out;
 }

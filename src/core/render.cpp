@@ -1,6 +1,9 @@
 #include "mvr/core/render.h"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <new>
 
 #include <fmt/core.h>
 
@@ -88,6 +91,79 @@ const char* shadingName(Shading shading) {
         case Shading::Pixel: return "pixel";
     }
     return "?";
+}
+
+}  // namespace mvr
+
+namespace mvr {
+
+/// Hands out one slice, once, to an allocation of exactly its size; the rest from the heap.
+class OutputBlock::Slice final : public std::pmr::memory_resource {
+public:
+    Slice(void* p, std::size_t bytes) : p_(p), bytes_(bytes) {}
+
+private:
+    void* do_allocate(std::size_t bytes, std::size_t align) override {
+        if (bytes == bytes_ && !taken_.exchange(true)) return p_;
+        return std::pmr::new_delete_resource()->allocate(bytes, align);
+    }
+    void do_deallocate(void* p, std::size_t bytes, std::size_t align) override {
+        if (p == p_) {
+            taken_ = false;
+            return;
+        }
+        std::pmr::new_delete_resource()->deallocate(p, bytes, align);
+    }
+    bool do_is_equal(const std::pmr::memory_resource& o) const noexcept override {
+        return this == &o;
+    }
+    void* p_;
+    std::size_t bytes_;
+    std::atomic<bool> taken_{false};
+};
+
+namespace {
+constexpr std::align_val_t kBlockAlign{64};
+}
+
+OutputBlock::OutputBlock(int views, int width, int height)
+    : views_(views), width_(width), height_(height) {
+    const std::size_t n = std::size_t(width) * std::size_t(height);
+    const std::size_t views_n = std::size_t(std::max(views, 0));
+    color_ = static_cast<std::uint8_t*>(
+        ::operator new(std::max<std::size_t>(n * 4 * views_n, 1), kBlockAlign));
+    depth_ = static_cast<float*>(
+        ::operator new(std::max<std::size_t>(n * sizeof(float) * views_n, 1), kBlockAlign));
+    slices_.reserve(2 * views_n);
+    for (std::size_t v = 0; v < views_n; ++v) {
+        slices_.push_back(std::make_unique<Slice>(color_ + v * n * 4, n * 4));
+        slices_.push_back(std::make_unique<Slice>(depth_ + v * n, n * sizeof(float)));
+    }
+}
+
+OutputBlock::~OutputBlock() {
+    ::operator delete(color_, kBlockAlign);
+    ::operator delete(depth_, kBlockAlign);
+}
+
+std::pmr::memory_resource* OutputBlock::colorMemory(int view) {
+    return view >= 0 && view < views_ ? slices_[std::size_t(view) * 2].get() : nullptr;
+}
+
+std::pmr::memory_resource* OutputBlock::depthMemory(int view) {
+    return view >= 0 && view < views_ ? slices_[std::size_t(view) * 2 + 1].get() : nullptr;
+}
+
+bool OutputBlock::inPlace(const Image& image, int view) const {
+    const std::size_t n = std::size_t(width_) * std::size_t(height_);
+    return view >= 0 && view < views_ && image.width == width_ && image.height == height_ &&
+           image.rgba.size() == n * 4 && image.rgba.data() == color_ + std::size_t(view) * n * 4;
+}
+
+bool OutputBlock::inPlace(const DepthImage& image, int view) const {
+    const std::size_t n = std::size_t(width_) * std::size_t(height_);
+    return view >= 0 && view < views_ && image.width == width_ && image.height == height_ &&
+           image.depth.size() == n && image.depth.data() == depth_ + std::size_t(view) * n;
 }
 
 }  // namespace mvr

@@ -284,18 +284,47 @@ ParallaxRange parallaxRange(const Rig& rig, float nearestW, float farthestW) {
     ParallaxRange r;
     // Between the outermost views of a row: their offset is (columns − 1) · interaxial.
     const float sep = (rig.columns - 1) * rig.separation();
+    const float halfBaseline = 0.5f * (rig.columns - 1) * rig.interaxial;
+    const float tanHalfX =
+        rig.camera.aspect * std::tan(glm::radians(rig.camera.fovYDegrees) * 0.5f);
+    // The parallax of a point on the axis at distance w, each rig its own formula:
+    auto parallaxAt = [&](float w) {
+        switch (rig.kind) {
+            case RigKind::Parallel:
+                // Symmetric frustums, eyes ±h: ndc.x = (x ∓ h) / (w·tanHalfX), so the parallax
+                // is −2h / (2·w·tanHalfX) = −sep·convergence / w: negative everywhere, zero only
+                // at infinity (the off-axis formula minus sep).
+                return -sep * rig.convergence / w;
+            case RigKind::ToeIn:
+                // Each outer eye at ±h turned by atan(h/C) towards the axis point at C: the point
+                // at w is seen atan(h/C) − atan(h/w) off its axis.
+                return std::tan(std::atan(halfBaseline / rig.convergence) -
+                                std::atan(halfBaseline / w)) /
+                       tanHalfX;
+            default: return sep * (1.0f - rig.convergence / w);
+        }
+    };
     r.nearestDistance = nearestW;
     r.farthestDistance = farthestW;
-    r.minParallax = sep * (1.0f - rig.convergence / nearestW);
-    r.maxParallax = sep * (1.0f - rig.convergence / farthestW);
-    if (nearestW < rig.convergence * 0.5f) {
+    r.minParallax = parallaxAt(nearestW);
+    r.maxParallax = parallaxAt(farthestW);
+    if (rig.kind == RigKind::Parallel) {
+        // No convergence plane: the [convergence/2, 100 x convergence] rule does not apply.
+    } else if (nearestW < rig.convergence * 0.5f) {
         r.why = "scene reaches closer than convergence/2";
     } else if (farthestW > rig.convergence * 100.0f) {
         r.why = "scene reaches beyond 100 x convergence";
     }
-    if (std::abs(r.minParallax) > 1.0f || std::abs(r.maxParallax) > 1.0f) {
+    // Beyond one screen width between views two eyes can see together no display shows it. A
+    // stereo pair: the outer views; a row of N > 2 views (a light field: the eyes see views k
+    // apart, never the outermost pair): adjacent views, 1 / (N − 1) of the outer parallax.
+    const float pairShare = rig.columns > 2 ? 1.0f / float(rig.columns - 1) : 1.0f;
+    if (std::max(std::abs(r.minParallax), std::abs(r.maxParallax)) * pairShare > 1.0f) {
         r.why += std::string(r.why.empty() ? "" : "; ") +
-                 "parallax beyond one screen width (the separation is far too large)";
+                 (rig.columns > 2 ? "parallax beyond one screen width between adjacent views "
+                                    "(the spacing is far too large)"
+                                  : "parallax beyond one screen width (the separation is far too "
+                                    "large)");
     }
     r.comfortable = r.why.empty();
     return r;

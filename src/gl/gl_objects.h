@@ -44,6 +44,7 @@ inline void deleteFramebuffer(GLuint n) { glDeleteFramebuffers(1, &n); }
 inline void deleteProgram(GLuint n) { glDeleteProgram(n); }
 inline void deleteShader(GLuint n) { glDeleteShader(n); }
 inline void deleteQuery(GLuint n) { glDeleteQueries(1, &n); }
+inline void deleteSampler(GLuint n) { glDeleteSamplers(1, &n); }
 
 using Buffer = GlHandle<deleteBuffer>;
 using VertexArray = GlHandle<deleteVertexArray>;
@@ -52,6 +53,7 @@ using Framebuffer = GlHandle<deleteFramebuffer>;
 using Program = GlHandle<deleteProgram>;
 using Shader = GlHandle<deleteShader>;
 using Query = GlHandle<deleteQuery>;
+using Sampler = GlHandle<deleteSampler>;
 
 inline Buffer createBuffer() {
     GLuint n = 0;
@@ -72,6 +74,11 @@ inline Framebuffer createFramebuffer() {
     GLuint n = 0;
     glCreateFramebuffers(1, &n);
     return Framebuffer(n);
+}
+inline Sampler createSampler() {
+    GLuint n = 0;
+    glCreateSamplers(1, &n);
+    return Sampler(n);
 }
 inline Query createQuery(GLenum target) {
     GLuint n = 0;

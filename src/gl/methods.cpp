@@ -124,9 +124,11 @@ Status Renderer::drawKalaiah(const Frame& f, GLuint prog) {
         const Instance& inst = f.scene->instances[static_cast<std::size_t>(idx)];
         GpuMesh& g = *f.meshes[static_cast<std::size_t>(inst.mesh)];
         setInstanceUniforms(prog, inst);
+        setInstanceState(f, inst);
         glBindVertexArray(g.kalaiahVao.get());
         glDrawArraysInstanced(GL_TRIANGLES, 0, 3 * f.views, g.triangleCount);
     }
+    endInstanceState(f);
     for (int i = 0; i < 4; ++i) glDisable(GL_CLIP_DISTANCE0 + i);
     return Status::ok();
 }

@@ -36,18 +36,37 @@ std::uint64_t hashMesh(const Mesh& m) {
     h = hashBytes(h, m.positions.data(), m.positions.size() * sizeof(glm::vec3));
     h = hashBytes(h, m.normals.data(), m.normals.size() * sizeof(glm::vec3));
     h = hashBytes(h, m.indices.data(), m.indices.size() * sizeof(std::uint32_t));
+    h = hashBytes(h, m.texcoords.data(), m.texcoords.size() * sizeof(glm::vec2));
     return h;
 }
 
-void bindVertexArray(GLuint vao, GLuint positions, GLuint normals, GLuint indices) {
+// Attributes 0 position, 1 normal, 2 texture coordinate, 3 (flat arrays) the face's centroid.
+void bindVertexArray(GLuint vao, GLuint positions, GLuint normals, GLuint texcoords, GLuint indices,
+                     GLuint centers = 0) {
     glVertexArrayVertexBuffer(vao, 0, positions, 0, sizeof(glm::vec3));
     glVertexArrayVertexBuffer(vao, 1, normals, 0, sizeof(glm::vec3));
+    glVertexArrayVertexBuffer(vao, 2, texcoords, 0, sizeof(glm::vec2));
     glVertexArrayElementBuffer(vao, indices);
-    for (GLuint a = 0; a < 2; ++a) {
+    for (GLuint a = 0; a < 3; ++a) {
         glEnableVertexArrayAttrib(vao, a);
-        glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, 0);
+        glVertexArrayAttribFormat(vao, a, a == 2 ? 2 : 3, GL_FLOAT, GL_FALSE, 0);
         glVertexArrayAttribBinding(vao, a, a);
     }
+    if (centers) {
+        glVertexArrayVertexBuffer(vao, 3, centers, 0, sizeof(glm::vec3));
+        glEnableVertexArrayAttrib(vao, 3);
+        glVertexArrayAttribFormat(vao, 3, 3, GL_FLOAT, GL_FALSE, 0);
+        glVertexArrayAttribBinding(vao, 3, 3);
+    }
+}
+
+template <class T>
+Buffer makeBuffer(const std::vector<T>& data) {
+    Buffer b = createBuffer();
+    // Zero-sized storage is an error; an empty array gets one element's worth.
+    glNamedBufferStorage(b.get(), std::max<std::size_t>(data.size(), 1) * sizeof(T),
+                         data.empty() ? nullptr : data.data(), 0);
+    return b;
 }
 
 }  // namespace
@@ -60,7 +79,11 @@ Renderer::~Renderer() {
             m.positions.release();
             m.normals.release();
             m.indices.release();
+            m.texcoords.release();
             m.vao.release();
+            m.flatTexcoords.release();
+            m.flatCenters.release();
+            m.kalaiahTexcoords.release();
             m.flatPositions.release();
             m.flatNormals.release();
             m.flatIndices.release();
@@ -70,6 +93,8 @@ Renderer::~Renderer() {
             m.kalaiahDummy.release();
         }
         for (auto& [k, p] : mPrograms) p.release();
+        for (auto& [k, t] : mTextures) t.texture.release();
+        for (auto& [k, smp] : mSamplers) smp.release();
         mFrameUbo.release();
         mTimer.release();
         mEmptyVao.release();
@@ -86,6 +111,8 @@ Renderer::~Renderer() {
         return;
     }
     mMeshes.clear();
+    mTextures.clear();
+    mSamplers.clear();
     mPrograms.clear();
     mFrameUbo.reset();
     mTimer.reset();
@@ -244,14 +271,20 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
                                  src.normals.data(), 0);
             glNamedBufferStorage(g.indices.get(), src.indices.size() * sizeof(std::uint32_t),
                                  src.indices.data(), 0);
+            std::vector<glm::vec2> uv = src.texcoords;
+            uv.resize(src.positions.size(), glm::vec2(0.0f));
+            g.texcoords = makeBuffer(uv);
             g.vao = createVertexArray();
-            bindVertexArray(g.vao.get(), g.positions.get(), g.normals.get(), g.indices.get());
+            bindVertexArray(g.vao.get(), g.positions.get(), g.normals.get(), g.texcoords.get(),
+                            g.indices.get());
 
             // Provoking-vertex arrays for flat shading: rotate each triangle (keeping its
             // winding) so that its last vertex is one no earlier triangle used as provoking
             // vertex; duplicate a vertex when all three are taken.
             std::vector<glm::vec3> pos = src.positions;
             std::vector<glm::vec3> face(pos.size(), glm::vec3(0.0f));
+            std::vector<glm::vec2> flatUv = uv;
+            std::vector<glm::vec3> centers(pos.size(), glm::vec3(0.0f));
             std::vector<char> used(pos.size(), 0);
             std::vector<std::uint32_t> idx(src.indices.size());
             for (std::size_t t = 0; t < src.triangleCount(); ++t) {
@@ -259,10 +292,15 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
                                       src.indices[3 * t + 2]};
                 const glm::vec3 n = glm::cross(src.positions[v[1]] - src.positions[v[0]],
                                                src.positions[v[2]] - src.positions[v[0]]);
+                // Before v[2] may be replaced by a duplicate's index (past src.positions).
+                const glm::vec3 center =
+                    (src.positions[v[0]] + src.positions[v[1]] + src.positions[v[2]]) / 3.0f;
                 int pick = !used[v[2]] ? 2 : !used[v[0]] ? 0 : !used[v[1]] ? 1 : -1;
                 if (pick < 0) {
                     v[2] = static_cast<std::uint32_t>(pos.size());
                     pos.push_back(src.positions[src.indices[3 * t + 2]]);
+                    flatUv.push_back(uv[src.indices[3 * t + 2]]);
+                    centers.emplace_back(0.0f);
                     face.emplace_back(0.0f);
                     used.push_back(0);
                     pick = 2;
@@ -270,6 +308,7 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
                 const std::uint32_t r[3] = {v[(pick + 1) % 3], v[(pick + 2) % 3], v[pick]};
                 used[r[2]] = 1;
                 face[r[2]] = n;
+                centers[r[2]] = center;
                 std::copy(r, r + 3, idx.begin() + static_cast<std::ptrdiff_t>(3 * t));
             }
             g.flatPositions = createBuffer();
@@ -281,9 +320,11 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
                                  0);
             glNamedBufferStorage(g.flatIndices.get(), idx.size() * sizeof(std::uint32_t),
                                  idx.data(), 0);
+            g.flatTexcoords = makeBuffer(flatUv);
+            g.flatCenters = makeBuffer(centers);
             g.flatVao = createVertexArray();
             bindVertexArray(g.flatVao.get(), g.flatPositions.get(), g.flatNormals.get(),
-                            g.flatIndices.get());
+                            g.flatTexcoords.get(), g.flatIndices.get(), g.flatCenters.get());
             if (Status s = checkGlError("uploading a mesh"); !s) return s;
             it = mMeshes.emplace(key, std::move(g)).first;
         }
@@ -291,7 +332,7 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
         frame.meshes[i] = &it->second;
     }
     sceneKey ^= scene.instances.size() * 0x9E3779B1ull;
-    return Status::ok();
+    return prepareTextures(scene, frame, sceneKey);
 }
 
 Status Renderer::ensureKalaiahBuffers(GpuMesh& g, const Mesh& src, int views) {
@@ -318,6 +359,20 @@ Status Renderer::ensureKalaiahBuffers(GpuMesh& g, const Mesh& src, int views) {
             glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE,
                                       (a - 1) * static_cast<GLuint>(sizeof(glm::vec3)));
             glVertexArrayAttribBinding(vao, a, 1);
+        }
+        // Per triangle: t0 t1 t2 (attributes 7–9).
+        std::vector<glm::vec2> uv(src.triangleCount() * 3, glm::vec2(0.0f));
+        if (!src.texcoords.empty()) {
+            for (std::size_t k = 0; k < uv.size(); ++k) uv[k] = src.texcoords[src.indices[k]];
+        }
+        g.kalaiahTexcoords = makeBuffer(uv);
+        glVertexArrayVertexBuffer(vao, 2, g.kalaiahTexcoords.get(), 0, 3 * sizeof(glm::vec2));
+        glVertexArrayBindingDivisor(vao, 2, 1);
+        for (GLuint a = 7; a <= 9; ++a) {
+            glEnableVertexArrayAttrib(vao, a);
+            glVertexArrayAttribFormat(vao, a, 2, GL_FLOAT, GL_FALSE,
+                                      (a - 7) * static_cast<GLuint>(sizeof(glm::vec2)));
+            glVertexArrayAttribBinding(vao, a, 2);
         }
         glEnableVertexArrayAttrib(vao, 0);
         glVertexArrayAttribIFormat(vao, 0, 2, GL_INT, 0);
@@ -359,6 +414,12 @@ void Renderer::uploadFrameBlock(const Frame& f) {
     for (std::size_t i = 0; i < lights.size() && i < kMaxLights; ++i) {
         b.lightDir[i] = glm::vec4(lights[i].towardLight, 0.0f);
         b.lightColor[i] = glm::vec4(lights[i].color, 0.0f);
+        const float type = lights[i].type == LightType::Point  ? 1.0f
+                           : lights[i].type == LightType::Spot ? 2.0f
+                                                               : 0.0f;
+        b.lightPos[i] = glm::vec4(lights[i].position, type);
+        b.lightCone[i] =
+            glm::vec4(lights[i].range, lights[i].innerConeCos, lights[i].outerConeCos, 0.0f);
     }
     b.ambient = glm::vec4(f.scene->ambient, 0.0f);
     b.centerEye = glm::vec4(f.rig->centerEye(), 1.0f);
@@ -395,6 +456,13 @@ void Renderer::setInstanceUniforms(GLuint prog, const Instance& inst) {
     glProgramUniform4f(prog, 4, inst.material.albedo.x, inst.material.albedo.y,
                        inst.material.albedo.z, inst.material.specular);
     glProgramUniform1f(prog, 5, inst.material.shininess);
+    const Material& mat = inst.material;
+    const int mode = mat.alphaMode == AlphaMode::Mask    ? 1
+                     : mat.alphaMode == AlphaMode::Blend ? 2
+                                                         : 0;
+    glProgramUniform4i(prog, 6, mat.baseColorTexture >= 0 ? 1 : 0, mode, mat.doubleSided ? 1 : 0,
+                       0);
+    glProgramUniform2f(prog, 7, mat.alpha, mat.alphaCutoff);
 }
 
 void Renderer::setCommonState(const RenderSettings& s) {
@@ -424,6 +492,7 @@ void Renderer::drawScene(const Frame& f, GLuint prog, int instances) {
         const Instance& inst = f.scene->instances[static_cast<std::size_t>(idx)];
         GpuMesh& g = *f.meshes[static_cast<std::size_t>(inst.mesh)];
         setInstanceUniforms(prog, inst);
+        setInstanceState(f, inst);
         glBindVertexArray(f.flatProvoking ? g.flatVao.get() : g.vao.get());
         if (instances > 1) {
             glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, GL_UNSIGNED_INT, nullptr,
@@ -432,6 +501,7 @@ void Renderer::drawScene(const Frame& f, GLuint prog, int instances) {
             glDrawElements(GL_TRIANGLES, g.indexCount, GL_UNSIGNED_INT, nullptr);
         }
     }
+    endInstanceState(f);
 }
 
 // ---- targets ---------------------------------------------------------------------------------
@@ -482,9 +552,24 @@ void Renderer::ensureTiled(int w, int h) {
 
 namespace {
 
-// Reads a w×h region of one layer, flipping rows (GL row 0 = bottom, image row 0 = top).
-void readRegion(GLuint tex, int x, int y, int layer, int w, int h, Image& img) {
-    img = Image(w, h);
+// The caller's memory for view `view` of `views` (RenderSettings::output), or nullptr (heap).
+OutputBlock* blockFor(const RenderSettings& s, std::size_t views, int w, int h) {
+    OutputBlock* b = s.output;
+    return b && std::size_t(b->views()) == views && b->width() == w && b->height() == h ? b
+                                                                                        : nullptr;
+}
+std::pmr::memory_resource* colorMemory(OutputBlock* b, std::size_t view) {
+    return b ? b->colorMemory(int(view)) : nullptr;
+}
+std::pmr::memory_resource* depthMemory(OutputBlock* b, std::size_t view) {
+    return b ? b->depthMemory(int(view)) : nullptr;
+}
+
+// Reads a w×h region of one layer, flipping rows (GL row 0 = bottom, image row 0 = top), into
+// an image allocated from `memory` (nullptr: the heap).
+void readRegion(GLuint tex, int x, int y, int layer, int w, int h, Image& img,
+                std::pmr::memory_resource* memory) {
+    img.reset(w, h, memory);
     std::vector<std::uint8_t> tmp(static_cast<std::size_t>(w) * h * 4);
     glGetTextureSubImage(tex, 0, x, y, layer, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
                          static_cast<GLsizei>(tmp.size()), tmp.data());
@@ -494,8 +579,9 @@ void readRegion(GLuint tex, int x, int y, int layer, int w, int h, Image& img) {
     }
 }
 
-void readDepthRegion(GLuint tex, int x, int y, int layer, int w, int h, DepthImage& img) {
-    img = DepthImage(w, h);
+void readDepthRegion(GLuint tex, int x, int y, int layer, int w, int h, DepthImage& img,
+                     std::pmr::memory_resource* memory) {
+    img.reset(w, h, 1.0f, memory);
     std::vector<float> tmp(static_cast<std::size_t>(w) * h);
     glGetTextureSubImage(tex, 0, x, y, layer, w, h, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
                          static_cast<GLsizei>(tmp.size() * sizeof(float)), tmp.data());
@@ -509,31 +595,38 @@ void readDepthRegion(GLuint tex, int x, int y, int layer, int w, int h, DepthIma
 
 void Renderer::readLayered(RenderOutput& out, const Frame& f, bool depth) {
     const int w = f.settings->width, h = f.settings->height;
+    OutputBlock* block = blockFor(*f.settings, out.color.size(), w, h);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     for (int v = 0; v < f.views; ++v) {
         const auto i = static_cast<std::size_t>(f.firstView + v);
-        readRegion(mLayered.color.get(), 0, 0, v, w, h, out.color[i]);
-        if (depth) readDepthRegion(mLayered.depth.get(), 0, 0, v, w, h, out.depth[i]);
+        readRegion(mLayered.color.get(), 0, 0, v, w, h, out.color[i], colorMemory(block, i));
+        if (depth)
+            readDepthRegion(mLayered.depth.get(), 0, 0, v, w, h, out.depth[i],
+                            depthMemory(block, i));
     }
 }
 
 void Renderer::readTiled(RenderOutput& out, const Frame& f) {
     const TileLayout& t = *f.tiles;
+    OutputBlock* block = blockFor(*f.settings, out.color.size(), t.width, t.height);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     for (int v = 0; v < f.views; ++v) {
         const glm::ivec2 o = t.origin(v);
         const auto i = static_cast<std::size_t>(f.firstView + v);
-        readRegion(mTiled.color.get(), o.x, o.y, 0, t.width, t.height, out.color[i]);
-        readDepthRegion(mTiled.depth.get(), o.x, o.y, 0, t.width, t.height, out.depth[i]);
+        readRegion(mTiled.color.get(), o.x, o.y, 0, t.width, t.height, out.color[i],
+                   colorMemory(block, i));
+        readDepthRegion(mTiled.depth.get(), o.x, o.y, 0, t.width, t.height, out.depth[i],
+                        depthMemory(block, i));
     }
 }
 
 void Renderer::readMrt(RenderOutput& out, const Frame& f) {
     out.color.resize(2);
+    OutputBlock* block = blockFor(*f.settings, 2, f.settings->width, f.settings->height);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     for (int v = 0; v < 2; ++v) {
         readRegion(mMrt.color[v].get(), 0, 0, 0, f.settings->width, f.settings->height,
-                   out.color[static_cast<std::size_t>(v)]);
+                   out.color[static_cast<std::size_t>(v)], colorMemory(block, std::size_t(v)));
     }
 }
 
@@ -566,8 +659,7 @@ Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
     f.views = views;
     f.targetViews = perPass;
     if (Status st = prepareScene(scene, f, mLastSceneKey); !st) return st;
-    f.order.resize(scene.instances.size());
-    for (std::size_t i = 0; i < f.order.size(); ++i) f.order[i] = static_cast<int>(i);
+    f.order = drawOrder(scene);
     f.flatProvoking = s.shading == Shading::Flat && method.flatProvoking;
 
     RenderOutput out;

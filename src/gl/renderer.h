@@ -30,17 +30,20 @@ namespace mvr::gl::detail {
 /// again (bench loops) is not uploaded again, and a changed mesh is.
 struct GpuMesh {
     Buffer positions, normals, indices;
+    Buffer texcoords;  ///< one per position (zeros when the mesh has none)
     VertexArray vao;
     GLsizei indexCount = 0;
     // Flat shading without a geometry shader, as glShadeModel(GL_FLAT) did it: every
     // triangle's last (provoking) vertex is its own, carrying the model-space face normal
     // (edge cross product); the vertex shader shades it and the colour is `flat`.
     Buffer flatPositions, flatNormals, flatIndices;
+    Buffer flatTexcoords, flatCenters;  ///< per flat vertex; the centre: its face's centroid
     VertexArray flatVao;
     GLsizei triangleCount = 0;
     Bounds bounds;
     // kalaiah2007 emulation: per-triangle corners + normals (divisor 1) and the dummy array.
     Buffer kalaiahTriangles;
+    Buffer kalaiahTexcoords;  ///< per triangle: t0 t1 t2
     VertexArray kalaiahVao;
     int kalaiahViews = 0;
     Buffer kalaiahDummy;
@@ -56,6 +59,10 @@ struct FrameBlock {
     glm::vec4 ambient;
     glm::vec4 centerEye;
     glm::ivec4 counts;
+    // Appended (point / spot lights): xyz position, w type (0 directional, 1 point, 2 spot);
+    // x range, y cos inner cone, z cos outer cone.
+    glm::vec4 lightPos[kMaxLights];
+    glm::vec4 lightCone[kMaxLights];
 };
 // std140: mat4 arrays have a 64-byte stride, vec4 / ivec4 arrays and members 16 bytes, no padding.
 static_assert(std::extent_v<decltype(FrameBlock::clipFromWorld)> == kMaxViews);
@@ -69,7 +76,15 @@ static_assert(offsetof(FrameBlock, lightColor) == 80 * kMaxViews + 16 * kMaxLigh
 static_assert(offsetof(FrameBlock, ambient) == 80 * kMaxViews + 32 * kMaxLights);
 static_assert(offsetof(FrameBlock, centerEye) == 80 * kMaxViews + 32 * kMaxLights + 16);
 static_assert(offsetof(FrameBlock, counts) == 80 * kMaxViews + 32 * kMaxLights + 32);
-static_assert(sizeof(FrameBlock) == 80 * kMaxViews + 32 * kMaxLights + 48);
+static_assert(offsetof(FrameBlock, lightPos) == 80 * kMaxViews + 32 * kMaxLights + 48);
+static_assert(sizeof(FrameBlock) == 80 * kMaxViews + 64 * kMaxLights + 48);
+
+/// One scene texture on the GPU (GL_SRGB8_ALPHA8 with its full mip chain), keyed by a hash of
+/// its pixels so a scene rendered again uploads nothing.
+struct GpuTexture {
+    Texture texture;
+    std::uint64_t lastUse = 0;
+};
 
 /// Where each view lies in a tiled (partitioned / side-by-side) target.
 struct TileLayout {
@@ -91,10 +106,15 @@ struct Frame {
     int firstView = 0;                ///< the request's index of this pass's view 0
     int targetViews = 0;              ///< views the target holds: the largest pass's
     std::vector<GpuMesh*> meshes;     ///< per scene mesh
-    std::vector<int> order;           ///< instance draw order
+    std::vector<int> order;           ///< instance draw order (AlphaMode::Blend ones last)
+    std::vector<GLuint> textures;     ///< per scene texture: its GL texture
     bool flatProvoking = false;       ///< draw the provoking-vertex flat arrays
     std::optional<TileLayout> tiles;  ///< where the views lie in a TargetKind::Tiled target
 };
+
+/// The order instances are drawn in (lighting.h): opaque and masked ones in scene order, then
+/// the AlphaMode::Blend ones, in scene order too (unsorted, as the soft backend draws them).
+std::vector<int> drawOrder(const Scene& scene);
 
 class Renderer {
 public:
@@ -140,10 +160,20 @@ private:
     Result<RenderOutput> renderAuto(const Scene& scene, const Rig& rig, const RenderSettings& s);
 
     Status prepareScene(const Scene& scene, Frame& frame, std::uint64_t& sceneKey);
+    /// Uploads the scene's textures not on the GPU yet (materials.cpp); frame.textures.
+    Status prepareTextures(const Scene& scene, Frame& frame, std::uint64_t& sceneKey);
     void uploadFrameBlock(const Frame& frame);
     /// The program of `desc`, built once; build errors say "gl: LABEL: …".
     Result<GLuint> program(const std::string& label, const ProgramDesc& desc);
     void setInstanceUniforms(GLuint program, const Instance& instance);
+    /// The instance's material state: its texture and sampler bound (unit 2), culling off
+    /// when double-sided, blending with depth writes off for AlphaMode::Blend.
+    void setInstanceState(const Frame& f, const Instance& instance);
+    /// Back to the frame's state after the instances (depth writes on, no blending, culling
+    /// as the settings say).
+    void endInstanceState(const Frame& f);
+    /// The GL sampler object for `s`, made once.
+    GLuint sampler(const TextureSampler& s);
     void setCommonState(const RenderSettings& s);
     Status ensureKalaiahBuffers(GpuMesh& mesh, const Mesh& source, int views);
     Result<TileLayout> tileLayout(const Rig& rig, int width, int height) const;
@@ -174,6 +204,8 @@ private:
     std::optional<Status> mContextStatus;
     GlCaps mCaps;
     std::map<std::uint64_t, GpuMesh> mMeshes;
+    std::map<std::uint64_t, GpuTexture> mTextures;
+    std::map<int, Sampler> mSamplers;
     std::uint64_t mUseCounter = 0;
     std::map<std::string, Program> mPrograms;
     std::map<std::string, Status> mProgramErrors;

@@ -16,11 +16,13 @@ const char* const kCommon = R"glsl(
 layout(std140, binding = 0) uniform Frame {
     mat4 uClipFromWorld[MAX_VIEWS];
     vec4 uTile[MAX_VIEWS];      // kalaiah: clip.xy' = clip.xy * uTile.xy + clip.w * uTile.zw
-    vec4 uLightDir[MAX_LIGHTS]; // unit, toward the light, world space
+    vec4 uLightDir[MAX_LIGHTS]; // unit, toward the light, world space (spot: −axis)
     vec4 uLightColor[MAX_LIGHTS];
     vec4 uAmbient;
     vec4 uCenterEye;            // specular view vector target (lighting.h)
     ivec4 uCounts;              // x: lights, y: views, zw: per-view target size in pixels
+    vec4 uLightPos[MAX_LIGHTS];  // xyz: position (point / spot), w: 0 directional, 1 point, 2 spot
+    vec4 uLightCone[MAX_LIGHTS]; // x: range (0 = infinite), y: cos inner, z: cos outer
 };
 layout(location = 0) uniform int uView;
 layout(location = 1) uniform mat4 uWorldFromModel;
@@ -28,14 +30,15 @@ layout(location = 2) uniform mat4 uNormalFromModel;  // inverse transpose (upper
 layout(location = 3) uniform mat4 uCofactor;         // det * inverse transpose: model edge cross -> world edge cross
 layout(location = 4) uniform vec4 uMaterial;         // albedo rgb, specular
 layout(location = 5) uniform float uShininess;
+layout(location = 6) uniform ivec4 uMatFlags;        // x: textured, y: alpha mode (0 opaque, 1 mask, 2 blend), z: double-sided
+layout(location = 7) uniform vec2 uAlphaCutoff;      // x: material alpha, y: mask cutoff
 
 #ifdef SHADOWS
 // shadows.h shadowFactor() (issue 15): linear distances in an R32F array, one layer per map.
-layout(binding = 2) uniform sampler2DArray uShadowMaps;
+layout(binding = 3) uniform sampler2DArray uShadowMaps;  // unit 2: the base color
 layout(location = 8) uniform mat4 uShadowClip[MAX_LIGHTS];    // light clipFromWorld
 layout(location = 12) uniform vec4 uShadowInfo[MAX_LIGHTS];   // layer (< 0: none), persp, near, far
 layout(location = 16) uniform vec4 uShadowTexel[MAX_LIGHTS];  // texelWorld, size
-layout(location = 20) uniform vec4 uLightPos[MAX_LIGHTS];     // xyz, w = 1: positional
 float shadowFactor(int i, vec3 p, vec3 normal) {
     if (uShadowInfo[i].x < 0.0) return 1.0;
     vec4 c = uShadowClip[i] * vec4(p, 1.0);
@@ -52,7 +55,7 @@ float shadowFactor(int i, vec3 p, vec3 normal) {
     float len = length(normal);
     vec3 n = len > 0.0 ? normal / len : normal;
     vec3 l = uLightDir[i].xyz;
-    if (uLightPos[i].w > 0.5) {
+    if (uLightPos[i].w > 0.5) {  // Frame block: point / spot
         vec3 d = uLightPos[i].xyz - p;
         float dl = length(d);
         if (dl > 0.0) l = d / dl;
@@ -75,13 +78,51 @@ float shadowFactor(int i, vec3 p, vec3 normal) {
 float shadowFactor(int i, vec3 p, vec3 n) { return 1.0; }
 #endif
 
-// lighting.h shadeFlat(); worldPos: where the shadow factor is looked up (the centroid).
-vec3 shadeFlat(vec3 faceNormal, vec3 worldPos) {
+// lighting.h lightAt(): the direction toward light i from p and the light's color arriving
+// there (directional: uLightDir, uLightColor unchanged; point / spot: KHR_lights_punctual's
+// range falloff max(min(1 − (d/range)^4, 1), 0) / d² and the spot's squared cone ramp).
+vec3 lightAt(int i, vec3 p, out vec3 l) {
+    if (uLightPos[i].w == 0.0) {
+        l = uLightDir[i].xyz;
+        return uLightColor[i].rgb;
+    }
+    vec3 d = uLightPos[i].xyz - p;
+    float d2 = dot(d, d);
+    l = d2 > 0.0 ? d / sqrt(d2) : uLightDir[i].xyz;
+    float dd = max(d2, 1e-8);
+    float att = 1.0 / dd;
+    float range = uLightCone[i].x;
+    if (range > 0.0) {
+        float r = dd / (range * range);
+        att = clamp(1.0 - r * r, 0.0, 1.0) / dd;
+    }
+    if (uLightPos[i].w == 2.0) {
+        float scale = 1.0 / max(0.001, uLightCone[i].y - uLightCone[i].z);
+        float offset = -uLightCone[i].z * scale;
+        float t = clamp(dot(uLightDir[i].xyz, l) * scale + offset, 0.0, 1.0);
+        att *= t * t;
+    }
+    return uLightColor[i].rgb * att;
+}
+
+// lighting.h facingNormal(): a double-sided material's normal is flipped where it faces away
+// from the centre eye (view-independent, like the rest of shading).
+vec3 facingNormal(vec3 n, vec3 p) {
+    return (uMatFlags.z != 0 && dot(n, uCenterEye.xyz - p) < 0.0) ? -n : n;
+}
+
+// lighting.h shadeFlat() (p: the triangle's centroid, for point / spot lights)
+// Shadows (issue 15): each light's term × shadowFactor at p, with the unflipped normal (as the
+// soft backend's shadowFactors).
+vec3 shadeFlat(vec3 faceNormal, vec3 p) {
+    vec3 n0 = faceNormal;
+    faceNormal = facingNormal(faceNormal, p);
     vec3 albedo = uMaterial.rgb;
     vec3 c = uAmbient.rgb * albedo;
     for (int i = 0; i < uCounts.x; ++i) {
-        c += (max(dot(faceNormal, uLightDir[i].xyz), 0.0) * albedo * uLightColor[i].rgb) *
-             shadowFactor(i, worldPos, faceNormal);
+        vec3 l;
+        vec3 lc = lightAt(i, p, l);
+        c += (max(dot(faceNormal, l), 0.0) * albedo * lc) * shadowFactor(i, p, n0);
     }
     return clamp(c, 0.0, 1.0);
 }
@@ -89,19 +130,56 @@ vec3 shadeFlat(vec3 faceNormal, vec3 worldPos) {
 // lighting.h shadeBlinnPhong()
 vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
     vec3 albedo = uMaterial.rgb;
-    vec3 n = normalize(normal);
+    vec3 n = normalize(facingNormal(normal, worldPos));
     vec3 v = normalize(uCenterEye.xyz - worldPos);
     vec3 c = uAmbient.rgb * albedo;
     for (int i = 0; i < uCounts.x; ++i) {
-        vec3 l = uLightDir[i].xyz;
+        vec3 l;
+        vec3 lc = lightAt(i, worldPos, l);
         float nl = dot(n, l);
         if (nl > 0.0) {
             vec3 h = normalize(l + v);
             float spec = uMaterial.w * pow(max(dot(n, h), 0.0), uShininess);
-            c += ((nl * albedo + vec3(spec)) * uLightColor[i].rgb) * shadowFactor(i, worldPos, n);
+            c += ((nl * albedo + vec3(spec)) * lc) * shadowFactor(i, worldPos, normal);
         }
     }
     return clamp(c, 0.0, 1.0);
+}
+
+// Textured surfaces (lighting.h LightTerms): the texel varies across the triangle, so the
+// lighting is kept as D (ambient + Σ max(n·l, 0) · light, multiplies the base color albedo ×
+// texel) and S (the specular sum, added): clamp(base · D + S), in the fragment shader.
+// lighting.h flatTerms(): D only.
+vec3 flatDiffuse(vec3 faceNormal, vec3 p) {
+    vec3 n0 = faceNormal;
+    faceNormal = facingNormal(faceNormal, p);
+    vec3 d = uAmbient.rgb;
+    for (int i = 0; i < uCounts.x; ++i) {
+        vec3 l;
+        vec3 lc = lightAt(i, p, l);
+        d += (max(dot(faceNormal, l), 0.0) * lc) * shadowFactor(i, p, n0);
+    }
+    return d;
+}
+
+// lighting.h blinnPhongTerms()
+void blinnPhongTerms(vec3 normal, vec3 worldPos, out vec3 diffuse, out vec3 specular) {
+    vec3 n = normalize(facingNormal(normal, worldPos));
+    vec3 v = normalize(uCenterEye.xyz - worldPos);
+    diffuse = uAmbient.rgb;
+    specular = vec3(0.0);
+    for (int i = 0; i < uCounts.x; ++i) {
+        vec3 l;
+        vec3 lc = lightAt(i, worldPos, l);
+        float nl = dot(n, l);
+        if (nl > 0.0) {
+            vec3 h = normalize(l + v);
+            float spec = uMaterial.w * pow(max(dot(n, h), 0.0), uShininess);
+            lc *= shadowFactor(i, worldPos, normal);
+            diffuse += nl * lc;
+            specular += spec * lc;
+        }
+    }
 }
 )glsl";
 
@@ -122,10 +200,15 @@ layout(location = 3) in vec3 aP2;
 layout(location = 4) in vec3 aN0;
 layout(location = 5) in vec3 aN1;
 layout(location = 6) in vec3 aN2;
+layout(location = 7) in vec2 aT0;
+layout(location = 8) in vec2 aT1;
+layout(location = 9) in vec2 aT2;
 out float gl_ClipDistance[4];
 #else
 layout(location = 0) in vec3 aPosition;
 layout(location = 1) in vec3 aNormal;
+layout(location = 2) in vec2 aTexcoord;
+layout(location = 3) in vec3 aFaceCenter;  // FLAT_PROVOKING: the face's model-space centroid
 #endif
 
 #if !defined(DEPTH_ONLY)
@@ -133,10 +216,13 @@ layout(location = 0) out vec3 oWorld;
 layout(location = 1) out vec3 oNormal;
 #if defined(SHADING_FLAT) && (defined(VS_KALAIAH) || defined(FLAT_PROVOKING))
 layout(location = 2) flat out vec3 oColor;
+layout(location = 6) flat out vec3 oSpecular;
 #else
 layout(location = 2) out vec3 oColor;
+layout(location = 6) out vec3 oSpecular;
 #endif
 #endif
+layout(location = 5) out vec2 oTexcoord;
 
 #ifdef VS_MULTIVIEW
 layout(num_views = NUM_VIEWS) in;
@@ -148,27 +234,37 @@ void main() {
     int view = aDummy.y;
     vec3 p = corner == 0 ? aP0 : (corner == 1 ? aP1 : aP2);
     vec3 n = corner == 0 ? aN0 : (corner == 1 ? aN1 : aN2);
+    oTexcoord = corner == 0 ? aT0 : (corner == 1 ? aT1 : aT2);
 #else
     vec3 p = aPosition;
     vec3 n = aNormal;
+    oTexcoord = aTexcoord;
 #endif
     vec4 world = uWorldFromModel * vec4(p, 1.0);
 #if !defined(DEPTH_ONLY)
     oWorld = world.xyz;
     oNormal = mat3(uNormalFromModel) * n;
     oColor = vec3(0.0);
+    oSpecular = vec3(0.0);
 #if defined(SHADING_VERTEX)
-    oColor = shadeBlinnPhong(oNormal, world.xyz);
+    if (uMatFlags.x != 0) {
+        blinnPhongTerms(oNormal, world.xyz, oColor, oSpecular);
+    } else {
+        oColor = shadeBlinnPhong(oNormal, world.xyz);
+    }
 #elif defined(SHADING_FLAT) && defined(VS_KALAIAH)
     vec3 w0 = (uWorldFromModel * vec4(aP0, 1.0)).xyz;
     vec3 w1 = (uWorldFromModel * vec4(aP1, 1.0)).xyz;
     vec3 w2 = (uWorldFromModel * vec4(aP2, 1.0)).xyz;
-    oColor = shadeFlat(normalize(cross(w1 - w0, w2 - w0)), (w0 + w1 + w2) * (1.0 / 3.0));
+    vec3 centre = (w0 + w1 + w2) / 3.0;
+    vec3 fn = normalize(cross(w1 - w0, w2 - w0));
+    oColor = uMatFlags.x != 0 ? flatDiffuse(fn, centre) : shadeFlat(fn, centre);
 #elif defined(SHADING_FLAT) && defined(FLAT_PROVOKING)
     // Only the provoking vertex's value is used: its "normal" is the face's model-space edge
     // cross product; the cofactor matrix maps it to the world-space edge cross product.
-    // Shadows: looked up at the provoking vertex (the centroid is not known here).
-    oColor = shadeFlat(normalize(mat3(uCofactor) * n), world.xyz);
+    vec3 fn = normalize(mat3(uCofactor) * n);
+    vec3 centre = (uWorldFromModel * vec4(aFaceCenter, 1.0)).xyz;
+    oColor = uMatFlags.x != 0 ? flatDiffuse(fn, centre) : shadeFlat(fn, centre);
 #endif
 #endif
 
@@ -207,14 +303,18 @@ layout(triangle_strip, max_vertices = GS_MAX_VERTICES) out;
 layout(location = 0) in vec3 gWorld[];
 layout(location = 1) in vec3 gNormal[];
 layout(location = 2) in vec3 gColor[];
+layout(location = 5) in vec2 gTexcoord[];
+layout(location = 6) in vec3 gSpecular[];
 
 #if defined(SHADING_PIXEL)
 layout(location = 0) out vec3 oWorld;
 layout(location = 1) out vec3 oNormal;
 #elif defined(SHADING_FLAT)
 layout(location = 2) flat out vec3 oColor;
+layout(location = 6) flat out vec3 oSpecular;
 #else
 layout(location = 2) out vec3 oColor;
+layout(location = 6) out vec3 oSpecular;
 #endif
 #ifdef DEPTHMAP
 layout(location = 3) out vec4 oLeftClip;
@@ -222,17 +322,21 @@ layout(location = 3) out vec4 oLeftClip;
 #ifdef GS_OUT_FLAG
 layout(location = 4) flat out int oFlag;
 #endif
+layout(location = 5) out vec2 oTexcoord;
 
 void emitView(int view, vec4 w[3], vec3 faceColor) {
     for (int i = 0; i < 3; ++i) {
         gl_Position = uClipFromWorld[view] * w[i];
+        oTexcoord = gTexcoord[i];
 #if defined(SHADING_PIXEL)
         oWorld = gWorld[i];
         oNormal = gNormal[i];
 #elif defined(SHADING_FLAT)
         oColor = faceColor;
+        oSpecular = vec3(0.0);
 #else
         oColor = gColor[i];
+        oSpecular = gSpecular[i];
 #endif
 #ifdef DEPTHMAP
         oLeftClip = uClipFromWorld[0] * w[i];
@@ -254,8 +358,9 @@ void main() {
     vec3 faceColor = vec3(0.0);
 #ifdef SHADING_FLAT
     // Shaded once per triangle for every view (view-independent work).
-    faceColor = shadeFlat(normalize(cross(gWorld[1] - gWorld[0], gWorld[2] - gWorld[0])),
-                          (gWorld[0] + gWorld[1] + gWorld[2]) * (1.0 / 3.0));
+    vec3 fn = normalize(cross(gWorld[1] - gWorld[0], gWorld[2] - gWorld[0]));
+    vec3 centre = (gWorld[0] + gWorld[1] + gWorld[2]) / 3.0;
+    faceColor = uMatFlags.x != 0 ? flatDiffuse(fn, centre) : shadeFlat(fn, centre);
 #endif
 #ifdef GS_INVOCATIONS
     emitView(gl_InvocationID, w, faceColor);
@@ -266,13 +371,17 @@ void main() {
 )glsl";
 
 const char* const kFragment = R"glsl(
+layout(location = 5) in vec2 iTexcoord;
+layout(binding = 2) uniform sampler2D uBaseColor;  // sRGB texture: sampled in linear
 #if !defined(DEPTH_ONLY)
 layout(location = 0) in vec3 iWorld;
 layout(location = 1) in vec3 iNormal;
 #if defined(SHADING_FLAT)
 layout(location = 2) flat in vec3 iColor;
+layout(location = 6) flat in vec3 iSpecular;
 #else
 layout(location = 2) in vec3 iColor;
+layout(location = 6) in vec3 iSpecular;
 #endif
 #ifdef DEPTHMAP
 layout(location = 3) in vec4 iLeftClip;
@@ -286,6 +395,12 @@ layout(location = 0) out vec4 oColor0;
 #endif
 
 void main() {
+    // The base color texture (sampled in uniform control flow: its derivatives choose the
+    // mip level) times the material's color and alpha.
+    vec4 tex = uMatFlags.x != 0 ? texture(uBaseColor, iTexcoord) : vec4(1.0);
+    float alpha = uAlphaCutoff.x * tex.a;
+    if (uMatFlags.y == 1 && alpha < uAlphaCutoff.y) discard;
+    alpha = uMatFlags.y == 2 ? alpha : 1.0;
 #if !defined(DEPTH_ONLY)
 #ifdef DEPTHMAP
     // sorbier2008 §5.2. Left fragments: the depth map at their own pixel. Right fragments:
@@ -312,22 +427,29 @@ void main() {
 #endif
     vec3 c;
 #if defined(SHADING_PIXEL)
-    c = shadeBlinnPhong(iNormal, iWorld);
+    if (uMatFlags.x != 0) {
+        vec3 d, sp;
+        blinnPhongTerms(iNormal, iWorld, d, sp);
+        c = clamp(uMaterial.rgb * tex.rgb * d + sp, 0.0, 1.0);
+    } else {
+        c = shadeBlinnPhong(iNormal, iWorld);
+    }
 #else
-    c = iColor;
+    // lighting.h shadeTextured(): base = albedo × texel.
+    c = uMatFlags.x != 0 ? clamp(uMaterial.rgb * tex.rgb * iColor + iSpecular, 0.0, 1.0) : iColor;
 #endif
 #ifdef GS_OUT_FLAG
     // sorbier2008 §4.2: every fragment is written to both MRT attachments; the other eye's
     // gets alpha 0, which the SRC_ALPHA / ONE_MINUS_SRC_ALPHA blend turns into "no change".
     if (iFlag == 0) {
-        oColor0 = vec4(c, 1.0);
+        oColor0 = vec4(c, alpha);
         oColor1 = vec4(0.0);
     } else {
         oColor0 = vec4(0.0);
-        oColor1 = vec4(c, 1.0);
+        oColor1 = vec4(c, alpha);
     }
 #else
-    oColor0 = vec4(c, 1.0);
+    oColor0 = vec4(c, alpha);
 #endif
 #endif
 }

@@ -33,17 +33,11 @@ std::string Renderer::shadowPassMethod(const std::string& method) const {
 
 void Renderer::setShadowUniforms(GLuint prog) const {
     glm::mat4 clip[kMaxLights];
-    glm::vec4 info[kMaxLights], texel[kMaxLights], pos[kMaxLights];
-    const auto& lights = mShadowLights;
+    glm::vec4 info[kMaxLights], texel[kMaxLights];
     for (int k = 0; k < kMaxLights; ++k) {
         clip[k] = glm::mat4(1.0f);
         info[k] = glm::vec4(-1.0f, 0.0f, 0.0f, 1.0f);
         texel[k] = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
-        pos[k] = glm::vec4(0.0f);
-        if (k < int(lights.size())) {
-            const Light& l = lights[std::size_t(k)];
-            pos[k] = glm::vec4(l.position, l.type == LightType::Directional ? 0.0f : 1.0f);
-        }
         const int m = mShadows->mapOfLight[std::size_t(k)];
         if (m < 0) continue;
         const ShadowMap& sm = mShadows->maps[std::size_t(m)];
@@ -54,8 +48,8 @@ void Renderer::setShadowUniforms(GLuint prog) const {
     glProgramUniformMatrix4fv(prog, 8, kMaxLights, GL_FALSE, &clip[0][0][0]);
     glProgramUniform4fv(prog, 12, kMaxLights, &info[0][0]);
     glProgramUniform4fv(prog, 16, kMaxLights, &texel[0][0]);
-    glProgramUniform4fv(prog, 20, kMaxLights, &pos[0][0]);
-    glBindTextureUnit(2, mShadowMaps.get());
+    // The lights' positions come from the Frame block (uLightPos); unit 2 is the base color.
+    glBindTextureUnit(3, mShadowMaps.get());
 }
 
 }  // namespace mvr::gl::detail

@@ -36,6 +36,16 @@ using SetupViewsFn = std::uint64_t (*)(const YSetup& ys, const std::int32_t* x0,
                                        const std::int32_t* x1, const std::int32_t* x2, int n,
                                        int width, ViewsSetup& out);
 
+/// The x setup of one triangle in n <= 64 views of a sheared row whose x is derived, not stored
+/// (issue 12): view k's x of vertex j is snapX(shearClipWc(t.cx[j], shears[k], t.wc[j]), t.q[j],
+/// width). Only the views with a pixel-center column in their x extent (setupViews' colMin <=
+/// colMax; a sub-pixel triangle has none in most views) are set up: they are packed in view
+/// order, x.view[i] = k and x.x[j][i] = its x, and setupViews' results for them are in column i
+/// of `out`. Returns the packed positions whose mask is not 0 (bit i). `shears` must be
+/// readable for n floats.
+using SetupShearedFn = std::uint64_t (*)(const YSetup& ys, const ShearedTri& t, const float* shears,
+                                         int n, int width, ViewsSetup& out, ViewsX& x);
+
 /// Vertex lighting (Shading::Vertex) of n vertices: world position transformPoint(worldFromModel,
 /// p), normal transformDir(normalFromModel, normal), color shadeBlinnPhong(ctx, material, normal,
 /// world) — 3 floats per vertex into `color`. SIMD paths: the same float operations in the same
@@ -62,7 +72,8 @@ struct Kernels {
     ShadeVerticesFn shadeVertices;
     TransformPointsFn transformPoints;
     SpecularPowFn specularPow;
-    SetupLanesFn setupLanes;  ///< lanes.h: (triangle, view) pairs side by side
+    SetupLanesFn setupLanes;      ///< lanes.h: (triangle, view) pairs side by side
+    SetupShearedFn setupSheared;  ///< long sheared rows: x derived from the center per view
 };
 
 /// The kernel table of a path (resolved first, so always a valid table).

@@ -6,7 +6,14 @@ namespace mvr::raster::detail {
 
 DrawList makeDrawList(const Scene& scene) {
     DrawList list;
-    for (const Instance& inst : scene.instances) {
+    // Opaque and masked instances first, blended ones after them (each group in instance order).
+    std::vector<const Instance*> order;
+    for (const Instance& inst : scene.instances)
+        if (inst.material.alphaMode != AlphaMode::Blend) order.push_back(&inst);
+    for (const Instance& inst : scene.instances)
+        if (inst.material.alphaMode == AlphaMode::Blend) order.push_back(&inst);
+    for (const Instance* instp : order) {
+        const Instance& inst = *instp;
         const Mesh& mesh = scene.meshes[static_cast<std::size_t>(inst.mesh)];
         DrawItem item{&mesh, &inst, list.vertexCount, list.triangleCount,
                       glm::transpose(glm::inverse(glm::mat3(inst.worldFromModel)))};
@@ -55,15 +62,42 @@ void allocateOutputs(ThreadPool& pool, RenderOutput& out, int views, const Rende
     // (a new vector is zero-filled: depth is constructed at its clear value in that one pass;
     // color is zero-filled, then filled with the clear color while it is still in cache).
     pool.run(views, [&](int v, int) {
+        // Into the caller's block when it gave one (RenderSettings::output), else the heap.
+        const bool block = s.output && s.output->views() == views && s.output->width() == s.width &&
+                           s.output->height() == s.height;
         Image& c = out.color[std::size_t(v)];
-        c.width = s.width, c.height = s.height;
-        c.rgba.resize(n * 4);
+        c.reset(s.width, s.height, block ? s.output->colorMemory(v) : nullptr);
         auto* color = reinterpret_cast<std::uint32_t*>(c.rgba.data());
         std::fill_n(color, n, clear);
         DepthImage& d = out.depth[std::size_t(v)];
-        d.width = s.width, d.height = s.height;
-        d.depth.assign(n, 1.0f);
+        d.reset(s.width, s.height, 1.0f, block ? s.output->depthMemory(v) : nullptr);
         targets[std::size_t(v)] = Target{color, d.depth.data(), s.width, s.height};
+    });
+}
+
+}  // namespace mvr::raster::detail
+
+namespace mvr::raster::detail {
+
+void prepareTextures(FrameContext& f) {
+    f.textured = false;
+    for (const Instance& inst : f.scene.instances) {
+        const Material& m = inst.material;
+        f.textured = f.textured || m.baseColorTexture >= 0 || m.alphaMode != AlphaMode::Opaque;
+    }
+    f.punctualLights = false;
+    for (const Light& l : f.scene.lights)
+        f.punctualLights = f.punctualLights || l.type != LightType::Directional;
+    f.mips.assign(f.textured ? f.scene.textures.size() : 0, MipChain{});
+    if (f.mips.empty()) return;
+    f.pool.run(int(f.mips.size()), [&](int t, int) {
+        const Texture& tex = f.scene.textures[std::size_t(t)];
+        // Mip levels are built when any material sampling this texture wants them.
+        bool mipmaps = false;
+        for (const Instance& inst : f.scene.instances)
+            mipmaps =
+                mipmaps || (inst.material.baseColorTexture == t && inst.material.sampler.mipmaps);
+        f.mips[std::size_t(t)] = buildMipChain(tex.image, mipmaps);
     });
 }
 

@@ -18,7 +18,8 @@
 namespace mvr::raster::detail {
 
 /// One instance of the scene with its vertex and triangle offsets in the frame's global
-/// numbering (triangles are drawn in instance order, then mesh order, by both methods).
+/// numbering (triangles are drawn in instance order, then mesh order, by both methods; instances
+/// with AlphaMode::Blend come after all others, in instance order, unsorted — lighting.h).
 struct DrawItem {
     const Mesh* mesh;
     const Instance* instance;
@@ -174,7 +175,26 @@ struct FrameContext {
     BandLayout bands;
     glm::mat4 centerClip;
     const Kernels& kernels;
+    /// Textured attribute layout (pipeline.h kMaxAttrs): some material has a base color texture
+    /// or an alpha mode other than Opaque. Untextured scenes keep the old layout and images.
+    bool textured = false;
+    bool punctualLights = false;  ///< some light is a point or spot light
+    std::vector<MipChain> mips;   ///< per Scene::textures, built once per render (not per view)
+
+    const MipChain* textureOf(const Material& m) const {
+        return m.baseColorTexture >= 0 && std::size_t(m.baseColorTexture) < mips.size()
+                   ? &mips[std::size_t(m.baseColorTexture)]
+                   : nullptr;
+    }
+    /// Vertex lighting through the scalar lighting.h functions instead of the SIMD kernel
+    /// (which implements directional, single-sided Blinn-Phong only).
+    bool scalarVertexPath(const DrawItem& item) const {
+        return textured || punctualLights || item.instance->material.doubleSided;
+    }
 };
+
+/// Sets FrameContext::textured, punctualLights and builds the mip chains (in parallel).
+void prepareTextures(FrameContext& f);
 
 /// The rasterization stage of a polygon (a triangle, or what the shared planes left of one) whose
 /// clip positions need clipping: clip against `planes`, project, and draw the fan for one view.

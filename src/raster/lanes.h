@@ -90,6 +90,10 @@ struct LaneQueue {
             FragmentSink<S> sink = sinkFor(laneView[k]);  // in registers
             sink.tri = &slotFrag[laneSlot[k]];
             if (lanes.out.mask[k] > 0) {
+                if (sink.shade.texture) {
+                    const std::int32_t xk[3] = {lanes.x[0][k], lanes.x[1][k], lanes.x[2][k]};
+                    sink.setTriangle(xk, slotYs[laneSlot[k]].y);
+                }
                 emitSmall(lanes.out, k, lanes.rowMin[k], sink);
             } else {
                 const std::int32_t xk[3] = {lanes.x[0][k], lanes.x[1][k], lanes.x[2][k]};

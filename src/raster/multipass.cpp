@@ -26,9 +26,9 @@ struct ViewVertexData : MethodScratch {
     std::vector<glm::vec3> world;              // world positions (Flat's face normal)
     Bins bins;
 
-    void resize(std::size_t n, Shading shading) {
+    void resize(std::size_t n, Shading shading, bool textured) {
         for (auto* v : {&x, &y, &z, &w, &cx, &cy, &zw, &q}) v->resize(n);
-        attrStride = std::size_t(attributeCount(shading));
+        attrStride = std::size_t(attributeCount(shading, textured));
         sx.resize(n), sy.resize(n), codeYZW.resize(n), codeX.resize(n), attr.resize(n * attrStride);
         world.resize(shading == Shading::Flat ? n : 0);
     }
@@ -69,12 +69,22 @@ void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
                 for (std::uint32_t k = 0; k < count; ++k)
                     y[k] = shearClip(cy[k], shear.y, cw[k], conv);
             }
-            for (std::uint32_t i = begin; i < end && shading != Shading::Vertex;
-                 ++i) {  // Vertex: below
+            // Vertex: below, unless the frame or item needs the scalar path (textures, point
+            // lights, double-sided).
+            const bool scalarLit = f.scalarVertexPath(item);
+            for (std::uint32_t i = begin; i < end && (shading != Shading::Vertex || scalarLit);
+                 ++i) {
                 const std::uint32_t gi = item.vertexBase + i;
                 const glm::vec3& p = item.mesh->positions[i];
                 const glm::vec3 world = glm::vec3(transformPoint(item.instance->worldFromModel, p));
-                if (shading == Shading::Flat) {
+                if (f.textured) {
+                    if (shading == Shading::Flat) d.world[gi] = world;
+                    texturedVertexAttributes(
+                        shading, f.shading, item.instance->material, world,
+                        transformDir(item.normalFromModel, item.mesh->normals[i]),
+                        item.mesh->texcoords.empty() ? glm::vec2(0.0f) : item.mesh->texcoords[i],
+                        d.attr.data() + gi * d.attrStride);
+                } else if (shading == Shading::Flat) {
                     d.world[gi] = world;
                 } else {
                     vertexAttributes(shading, f.shading, item.instance->material, world,
@@ -82,7 +92,7 @@ void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
                                      d.attr.data() + gi * d.attrStride);
                 }
             }
-            if (shading == Shading::Vertex) {
+            if (shading == Shading::Vertex && !scalarLit) {
                 f.kernels.shadeVertices(&item.mesh->positions[begin], &item.mesh->normals[begin],
                                         count, item.instance->worldFromModel, item.normalFromModel,
                                         f.shading, item.instance->material,
@@ -104,7 +114,7 @@ TriCodes triCodes(const ViewVertexData& d, const std::uint32_t v[3]) {
 /// Back-face test: true when the triangle is culled in this view.
 bool culled(const FrameContext& f, const View& view, const ViewVertexData& d,
             const TriangleRef& t) {
-    if (!f.settings.cullBackFaces) return false;
+    if (!f.settings.cullBackFaces || t.item->instance->material.doubleSided) return false;
     const float w[3] = {d.w[t.i[0]], d.w[t.i[1]], d.w[t.i[2]]};
     float det;
     if (view.clipShear) {
@@ -150,7 +160,7 @@ void binStage(FrameContext& f, const View& view, const ViewVertexData& d, Bins& 
 template <class SinkT>
 void drawWireframe(const FrameContext& f, const ViewVertexData& d, const std::uint32_t v[3],
                    const Target& target, int rowLo, int rowHi, SinkT& sink, FragmentTri& frag) {
-    const int attrCount = attributeCount(f.settings.shading);
+    const int attrCount = attributeCount(f.settings.shading, f.textured);
     const float width = float(target.width), height = float(target.height);
     for (int edge = 0; edge < 3; ++edge) {
         const std::uint32_t i0 = v[edge], i1 = v[edge == 2 ? 0 : edge + 1];
@@ -180,11 +190,11 @@ void drawWireframe(const FrameContext& f, const ViewVertexData& d, const std::ui
 
 template <Shading S>
 void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, const Target& target) {
-    const int attrCount = attributeCount(S);
+    const int attrCount = attributeCount(S, f.textured);
     f.pool.run(f.bands.count, [&](int band, int) {
         const int rowLo = f.bands.rowBegin(band), rowHi = f.bands.rowEnd(band) - 1;
         FragmentTri frag{};
-        FragmentSink<S> sink{target, &frag, {&f.shading, nullptr}};
+        FragmentSink<S> sink{target, &frag, {&f.shading, nullptr, f.textured}};
         // Small triangles wait in a queue and are set up 16 at a time (lanes.h), as in unified;
         // everything drawn directly flushes the queue first (submission order).
         LaneQueue<S> queue;
@@ -195,11 +205,12 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
         auto onItem = [&](const DrawItem& it) {
             flush();  // the queued triangles shade with the previous material
             sink.shade.material = material = &it.instance->material;
+            sink.shade.texture = f.textureOf(*material);
         };
         forBandTriangles(f.draw, bins, band, f.bands.count, onItem, [&](const std::uint32_t v[3]) {
             if constexpr (S == Shading::Flat) {
-                frag.flat =
-                    flatColor(f.shading, *material, d.world[v[0]], d.world[v[1]], d.world[v[2]]);
+                setFlat(frag, f.textured, f.shading, *material, d.world[v[0]], d.world[v[1]],
+                        d.world[v[2]]);
             }
             if (f.settings.wireframe) {
                 flush();
@@ -239,7 +250,7 @@ void renderMultipass(FrameContext& f, std::span<const Target> targets, StageTime
                      std::unique_ptr<MethodScratch>& scratch) {
     if (!dynamic_cast<ViewVertexData*>(scratch.get())) scratch = std::make_unique<ViewVertexData>();
     ViewVertexData& d = static_cast<ViewVertexData&>(*scratch);
-    d.resize(f.draw.vertexCount, f.settings.shading);
+    d.resize(f.draw.vertexCount, f.settings.shading, f.textured);
     Bins& bins = d.bins;
     for (int v = 0; v < f.rig.viewCount(); ++v) {
         const View& view = f.rig.views[std::size_t(v)];

@@ -22,6 +22,7 @@
 #include "mvr/core/lighting.h"
 #include "mvr/core/render.h"
 #include "mvr/core/shadows.h"
+#include "mvr/core/texture_sampling.h"
 
 namespace mvr::raster::detail {
 
@@ -30,14 +31,19 @@ inline constexpr int kSubpixel = 1 << kSubpixelBits;
 inline constexpr int kHalfSubpixel = kSubpixel / 2;
 /// Guard band in NDC units: triangles are clipped against |x|, |y| ≤ kGuardBand·w only.
 inline constexpr float kGuardBand = 64.0f;
-/// Attributes interpolated per fragment: Vertex = color (3), Pixel = normal + world position (6).
-inline constexpr int kMaxAttrs = 6;
+/// Attributes interpolated per fragment: Vertex = color (3), Pixel = normal + world position (6);
+/// in a textured frame (FrameContext::textured) Flat = uv (2), Vertex = LightTerms D, S + uv (8),
+/// Pixel = normal + world position + uv (8).
+inline constexpr int kMaxAttrs = 8;
 /// A triangle clipped by 6 planes has at most 3 + 6 vertices.
 inline constexpr int kMaxPolyVerts = 9;
 
-inline int attributeCount(Shading s) {
+inline int attributeCount(Shading s, bool textured = false) {
+    if (textured) return s == Shading::Flat ? 2 : 8;
     return s == Shading::Vertex ? 3 : s == Shading::Pixel ? 6 : 0;
 }
+/// Where the texture coordinates start in a textured frame's attributes.
+inline constexpr int uvAttribute(Shading s) { return s == Shading::Flat ? 0 : 6; }
 
 // ---- outcodes --------------------------------------------------------------------------------
 // Clip planes, in the order the clipper applies them. Near, far, bottom and top involve only
@@ -101,8 +107,13 @@ inline glm::vec3 transformDir(const glm::mat3& m, const glm::vec3& n) {
     return r;
 }
 /// The off-axis shear of kalaiah2007/nvidia-gtc2010: clip.x += shear · (clip.w − convergence).
+/// shearClip with w − convergence already formed (one subtraction per vertex for all views):
+/// the same operations, so the same bits.
+inline float shearClipWc(float centerClip, float shear, float wMinusConvergence) {
+    return centerClip + shear * wMinusConvergence;
+}
 inline float shearClip(float centerClip, float shear, float w, float convergence) {
-    return centerClip + shear * (w - convergence);
+    return shearClipWc(centerClip, shear, w - convergence);
 }
 
 /// Per-vertex shading attributes (the view-independent vertex outputs of kalaiah2007).
@@ -121,23 +132,50 @@ inline void vertexAttributes(Shading shading, const ShadingContext& ctx, const M
     }
 }
 
+/// A textured frame's vertex attributes (see kMaxAttrs): Vertex: blinnPhongTerms' D and S;
+/// Pixel: the normal and world position; then the texture coordinates (all modes).
+inline void texturedVertexAttributes(Shading shading, const ShadingContext& ctx,
+                                     const Material& material, const glm::vec3& worldPos,
+                                     const glm::vec3& worldNormal, glm::vec2 uv, float* out) {
+    if (shading == Shading::Vertex) {
+        float sh[kMaxLights];
+        const LightTerms t =
+            blinnPhongTerms(ctx, material, worldNormal, worldPos,
+                            shadowFactors(ctx.shadows, ctx.lights, worldPos, worldNormal, sh));
+        out[0] = t.diffuse.x, out[1] = t.diffuse.y, out[2] = t.diffuse.z;
+        out[3] = t.specular.x, out[4] = t.specular.y, out[5] = t.specular.z;
+    } else if (shading == Shading::Pixel) {
+        out[0] = worldNormal.x, out[1] = worldNormal.y, out[2] = worldNormal.z;
+        out[3] = worldPos.x, out[4] = worldPos.y, out[5] = worldPos.z;
+    }
+    const int k = uvAttribute(shading);
+    out[k] = uv.x, out[k + 1] = uv.y;
+}
+
 inline std::uint32_t packColor(const glm::vec3& c) {
     return std::uint32_t(quantizeUnorm8(c.x)) | (std::uint32_t(quantizeUnorm8(c.y)) << 8) |
            (std::uint32_t(quantizeUnorm8(c.z)) << 16) | 0xff000000u;
 }
 
+/// The triangle's world-space unit face normal (0 for a degenerate one).
+inline glm::vec3 faceNormal(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2) {
+    const glm::vec3 n = glm::cross(p1 - p0, p2 - p0);
+    const float len = glm::length(n);
+    return (len > 0.0f && std::isfinite(len)) ? n / len : glm::vec3(0.0f);
+}
+/// The triangle's centroid: where Flat evaluates point and spot lights (lighting.h).
+inline glm::vec3 centroid(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2) {
+    return ((p0 + p1) + p2) * (1.0f / 3.0f);
+}
 /// Flat shading: one color per triangle from its world-space face normal (lighting.h).
 inline std::uint32_t flatColor(const ShadingContext& ctx, const Material& material,
                                const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2) {
-    const glm::vec3 n = glm::cross(p1 - p0, p2 - p0);
-    const float len = glm::length(n);
-    const glm::vec3 unit = (len > 0.0f && std::isfinite(len)) ? n / len : glm::vec3(0.0f);
+    const glm::vec3 unit = faceNormal(p0, p1, p2);
+    const glm::vec3 c = centroid(p0, p1, p2);
     // Shadows (issue 15): one factor per triangle, at its centroid (flat = one color).
     float sh[kMaxLights];
-    const float* shadow = ctx.shadows ? shadowFactors(ctx.shadows, ctx.lights,
-                                                      (p0 + p1 + p2) * (1.0f / 3.0f), unit, sh)
-                                      : nullptr;
-    return packColor(shadeFlat(ctx, material, unit, shadow));
+    const float* shadow = shadowFactors(ctx.shadows, ctx.lights, c, unit, sh);
+    return packColor(shadeFlat(ctx, material, unit, c, shadow));
 }
 
 /// Vertex lighting with shadows (issue 15): the Kernels::shadeVertices of a frame with shadow
@@ -355,6 +393,7 @@ inline bool noColumns(std::int32_t x0, std::int32_t x1, std::int32_t x2, int wid
 /// that the orientation fix-up for clockwise triangles does not change any float result.
 template <class Sink>
 inline void rasterTriangle(const YSetup& ys, const std::int32_t x[3], int width, Sink& sink) {
+    if constexpr (requires { sink.setTriangle(x, ys.y); }) sink.setTriangle(x, ys.y);
     if (ys.rowMin > ys.rowMax) return;
     // Column range first: most triangles of a dense mesh are smaller than a pixel, and many have
     // no pixel center in their box at all.
@@ -407,6 +446,22 @@ struct ViewsSetup {
     std::int32_t e[3][kMaxViews], sx[3][kMaxViews], sy[3][kMaxViews], bias[3][kMaxViews];
 };
 
+/// What a long sheared row derives its views' x from, per vertex of one triangle (issue 12: x is
+/// not stored per view): view k's snapped x of vertex j is
+/// snapX(shearClipWc(cx[j], shear[k], wc[j]), q[j], width) — the bits the vertex stage's
+/// shearClip + projectX would have stored.
+struct ShearedTri {
+    float cx[3];  ///< center clip x
+    float wc[3];  ///< clip w − convergence
+    float q[3];   ///< 1/w
+};
+/// setupSheared's output besides its ViewsSetup: the views that have a pixel-center column in
+/// the triangle's x extent, packed (view[i]: position in the call's views), and their snapped x.
+struct ViewsX {
+    alignas(64) std::int32_t x[3][kMaxViews];
+    std::uint8_t view[kMaxViews + 16];  ///< + room for a whole register's store
+};
+
 /// Emits view k's covered 2×2 centers from a ViewsSetup (mask[k] > 0).
 template <class Sink>
 inline void emitSmall(const ViewsSetup& s, int k, int rowMin, Sink& sink) {
@@ -442,11 +497,46 @@ struct FragmentTri {
     float q[3];              ///< 1/w
     const float* attr[3];    ///< kMaxAttrs-strided attributes
     std::uint32_t flat = 0;  ///< Flat: the triangle's packed color
+    glm::vec3 flatD{0.0f};   ///< Flat in a textured frame: the triangle's flatTerms D
 };
+
+/// Flat's per-triangle fragment input (view-independent): the packed color, or in a textured
+/// frame the diffuse term the texel multiplies.
+inline void setFlat(FragmentTri& frag, bool textured, const ShadingContext& ctx,
+                    const Material& material, const glm::vec3& p0, const glm::vec3& p1,
+                    const glm::vec3& p2) {
+    if (textured) {
+        const glm::vec3 n = faceNormal(p0, p1, p2), c = centroid(p0, p1, p2);
+        float sh[kMaxLights];  // shadows (issue 15): one factor per triangle, at its centroid
+        frag.flatD =
+            flatTerms(ctx, material, n, c, shadowFactors(ctx.shadows, ctx.lights, c, n, sh))
+                .diffuse;
+    } else {
+        frag.flat = flatColor(ctx, material, p0, p1, p2);
+    }
+}
+
+/// Gradients of the screen barycentrics l_i per window pixel, from the triangle's snapped
+/// window coordinates in one view (1/256 px): with A = 2·signed area, ∂l_0/∂x = (y1 − y2)·256/A,
+/// ∂l_0/∂y = (x2 − x1)·256/A, cyclically for l_1, l_2. The per-VIEW input of the texture level
+/// of detail: both methods call it with the same integers, so λ agrees bit for bit.
+inline void screenGradients(const std::int32_t x[3], const std::int32_t y[3], float gx[3],
+                            float gy[3]) {
+    const std::int64_t area =
+        std::int64_t(x[1] - x[0]) * (y[2] - y[0]) - std::int64_t(x[2] - x[0]) * (y[1] - y[0]);
+    const float inv = area != 0 ? float(kSubpixel) / float(area) : 0.0f;
+    for (int i = 0; i < 3; ++i) {
+        const int a = i == 2 ? 0 : i + 1, b = a == 2 ? 0 : a + 1;
+        gx[i] = float(y[a] - y[b]) * inv;
+        gy[i] = float(x[b] - x[a]) * inv;
+    }
+}
 
 struct ShadeInputs {
     const ShadingContext* ctx = nullptr;
     const Material* material = nullptr;
+    bool textured = false;              ///< the frame's textured attribute layout (kMaxAttrs)
+    const MipChain* texture = nullptr;  ///< the material's base color texture, or none
 };
 
 /// Depth test (LESS) and shading of one fragment; the screen barycentrics l0..l2 come from
@@ -456,11 +546,22 @@ struct FragmentSink {
     Target target;
     const FragmentTri* tri;
     ShadeInputs shade;
+    float gx[3] = {0, 0, 0}, gy[3] = {0, 0, 0};  ///< screenGradients of the current triangle
+
+    /// Called by the rasterizers before a triangle's fragments in this view (snapped window
+    /// coordinates); lines never call it, so wireframe samples with zero derivatives (level 0).
+    void setTriangle(const std::int32_t x[3], const std::int32_t y[3]) {
+        if (shade.texture) screenGradients(x, y, gx, gy);
+    }
 
     void operator()(int x, int y, float l0, float l1, float l2) const {
         const float z = (l0 * tri->z[0] + l1 * tri->z[1]) + l2 * tri->z[2];
         const std::size_t i = target.index(x, y);
         if (!(z < target.depth[i])) return;
+        if (shade.textured) {
+            texturedFragment(i, z, l0, l1, l2);
+            return;
+        }
         target.depth[i] = z;
         if constexpr (S == Shading::Flat) {
             target.color[i] = tri->flat;
@@ -482,6 +583,55 @@ struct FragmentSink {
                     shadowFactors(shade.ctx->shadows, shade.ctx->lights, p, n, sh)));
             }
         }
+    }
+
+    /// A textured frame's fragment (lighting.h's textured shading, texture_sampling.h's
+    /// sample): base = (albedo, alpha) × texel; Mask discards below the cutoff (no depth
+    /// write); Blend mixes with the framebuffer and writes no depth.
+    void texturedFragment(std::size_t i, float z, float l0, float l1, float l2) const {
+        const float p0 = l0 * tri->q[0], p1 = l1 * tri->q[1], p2 = l2 * tri->q[2];
+        const float inv = 1.0f / ((p0 + p1) + p2);
+        const float* a0 = tri->attr[0];
+        const float* a1 = tri->attr[1];
+        const float* a2 = tri->attr[2];
+        auto at = [&](int k) { return ((p0 * a0[k] + p1 * a1[k]) + p2 * a2[k]) * inv; };
+        const Material& m = *shade.material;
+        glm::vec4 texel(1.0f);
+        if (shade.texture && !shade.texture->levels.empty()) {
+            constexpr int k = uvAttribute(S);
+            const glm::vec2 uv(at(k), at(k + 1));
+            const glm::vec2 uvi[3] = {{a0[k], a0[k + 1]}, {a1[k], a1[k + 1]}, {a2[k], a2[k + 1]}};
+            const UvDerivatives d = uvDerivatives(gx, gy, tri->q, uvi, uv, inv);
+            const MipLevel& base = shade.texture->levels[0];
+            texel = sampleTexture(*shade.texture, m.sampler, uv,
+                                  textureLod(d, base.width, base.height));
+        }
+        const glm::vec4 base = baseColor(m, texel);
+        if (m.alphaMode == AlphaMode::Mask && base.w < m.alphaCutoff) return;
+        LightTerms terms;
+        if constexpr (S == Shading::Flat) {
+            terms.diffuse = tri->flatD;
+        } else if constexpr (S == Shading::Vertex) {
+            terms.diffuse = glm::vec3(at(0), at(1), at(2));
+            terms.specular = glm::vec3(at(3), at(4), at(5));
+        } else {
+            const glm::vec3 n(at(0), at(1), at(2));
+            const glm::vec3 p(at(3), at(4), at(5));
+            float sh[kMaxLights];
+            terms = blinnPhongTerms(*shade.ctx, m, n, p,
+                                    shadowFactors(shade.ctx->shadows, shade.ctx->lights, p, n, sh));
+        }
+        glm::vec3 c = shadeTextured(glm::vec3(base), terms);
+        if (m.alphaMode == AlphaMode::Blend) {
+            const float a = std::clamp(base.w, 0.0f, 1.0f);
+            const std::uint32_t dst = target.color[i];
+            const glm::vec3 d(float(dst & 0xffu) / 255.0f, float((dst >> 8) & 0xffu) / 255.0f,
+                              float((dst >> 16) & 0xffu) / 255.0f);
+            c = c * a + d * (1.0f - a);
+        } else {
+            target.depth[i] = z;
+        }
+        target.color[i] = packColor(c);
     }
 };
 

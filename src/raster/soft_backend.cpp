@@ -89,6 +89,13 @@ public:
 
     Result<RenderOutput> render(const Scene& scene, const Rig& rig, const RenderSettings& settings,
                                 const std::string& method) override {
+        RenderOutput out;
+        if (Status s = renderInto(scene, rig, settings, method, out); !s) return s;
+        return out;
+    }
+
+    Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& settings,
+                      const std::string& method, RenderOutput& out) override {
         if (Status s = validateRequest(scene, rig, settings); !s) return s;
         if (Status s = supports(method); !s) return s;
         try {
@@ -101,7 +108,8 @@ public:
                 if (!set) return set.status();
                 shadows = std::move(*set);
             }
-            return renderChecked(scene, rig, settings, method, shadows);
+            renderChecked(scene, rig, settings, method, shadows, out);
+            return {};
         } catch (const std::bad_alloc&) {
             return internalError(
                 fmt::format("soft backend: out of memory rendering {} views of {}x{}",
@@ -110,14 +118,17 @@ public:
     }
 
 private:
-    Result<RenderOutput> renderChecked(const Scene& scene, const Rig& rig,
-                                       const RenderSettings& settings, const std::string& method,
-                                       const ShadowSet& shadows) {
+    /// Renders into `out`, keeping its images' storage where the view count and size match
+    /// (allocateOutputs: then only the clear). `shadows`: the frame's shadow maps (issue 15),
+    /// or an empty set.
+    void renderChecked(const Scene& scene, const Rig& rig, const RenderSettings& settings,
+                       const std::string& method, const ShadowSet& shadows, RenderOutput& out) {
         std::lock_guard lock(mMutex);  // one render at a time per backend (shared pool, scratch)
         const auto start = std::chrono::steady_clock::now();
         detail::ThreadPool& pool = this->pool();
-        RenderOutput out;
         out.method = method;
+        out.note.clear();
+        out.stages = {};
         detail::StageClock clock;
         detail::FrameContext f{scene,
                                rig,
@@ -129,14 +140,17 @@ private:
                                detail::makeBands(settings.height, pool.size()),
                                detail::centerClipFromWorld(rig),
                                detail::kernels(mSimd)};
+        detail::prepareTextures(f);
         detail::Kernels shadowKernels = f.kernels;
         std::optional<detail::FrameContext> shadowed;
         if (!shadows.empty()) {
+            // Shadows (issue 15): every lighting path looks the factors up (shadows.h); the
+            // vertex kernel is replaced by the scalar shadowed one.
             f.shading.shadows = &shadows;
             shadowKernels.shadeVertices = detail::shadeVerticesShadowed;
-            shadowed.emplace(detail::FrameContext{f.scene, f.rig, f.settings, f.pool, f.shading,
-                                                  std::move(f.draw), f.bands, f.centerClip,
-                                                  shadowKernels});
+            shadowed.emplace(detail::FrameContext{
+                f.scene, f.rig, f.settings, f.pool, f.shading, std::move(f.draw), f.bands,
+                f.centerClip, shadowKernels, f.textured, f.punctualLights, std::move(f.mips)});
         }
         detail::FrameContext& frame = shadowed ? *shadowed : f;
         std::vector<detail::Target> targets;
@@ -153,7 +167,6 @@ private:
         stats.drawWallMs = stats.totalWallMs;
         std::lock_guard statsLock(mStatsMutex);
         mStats = stats;
-        return out;
     }
 
     int threadCount() const {

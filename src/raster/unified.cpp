@@ -24,6 +24,7 @@
 #include <bit>
 
 #include "methods.h"
+#include "unified.h"
 #include "wireframe.h"
 
 #ifndef MVR_MIN_SIMD_VIEWS
@@ -42,264 +43,6 @@ constexpr int kMinSimdViews = MVR_MIN_SIMD_VIEWS;
 /// setupViews returns one bit per view in a std::uint64_t: families of more views (kMaxViews is
 /// 128) are set up 64 views at a time.
 constexpr int kSetupChunk = 64;
-
-/// Views sharing (y, z, w): an off-axis row (same shear.y), or a single unsheared view.
-struct Family {
-    bool sheared = false;
-    float shearY = 0.0f;
-    float shearXMin = 0.0f, shearXMax = 0.0f;
-    std::vector<int> views;
-    std::uint8_t views8[kLaneBlock] = {};  ///< views as bytes, padded (LaneQueue::addLanes)
-    // Per vertex: clip y (z, w: the center's for sheared families, else own), projection.
-    std::vector<float> y, z, w, q, zw;
-    std::vector<std::int32_t> sy;
-    std::vector<std::uint8_t> code;
-    /// Snapped window x of every view of the family, interleaved per vertex
-    /// (sxv[vertex · views.size() + k]): the raster stage's x setup loads a triangle's x for all
-    /// the family's views as three contiguous rows, without a per-view gather.
-    std::vector<std::int32_t> sxv;
-    /// Another family with the same views' x (the rows of a grid share their columns' x):
-    /// its sxv is this family's, and this family's is not filled. −1: none.
-    int sxvTwin = -1;
-    const std::int32_t* sxvData = nullptr;  ///< sxv, or the twin's
-};
-
-/// One view's clip x, snapped window x and left/right outcodes per vertex. Sheared views with the
-/// same shear.x (the views of one column of a grid) have the same x bit for bit: the later ones
-/// point at the first one's arrays (`twin`) instead of computing them again.
-struct ViewData {
-    int family = 0;
-    float shearX = 0.0f;
-    int twin = -1;
-    std::vector<float> xStore;
-    std::vector<std::int32_t> sxStore;
-    std::vector<std::uint8_t> codeStore;
-    float* x = nullptr;
-    std::int32_t* sx = nullptr;
-    std::uint8_t* code = nullptr;
-};
-
-struct UnifiedData : MethodScratch {
-    std::vector<Family> families;
-    std::vector<ViewData> views;
-    bool anySheared = false;
-    // Per vertex, view-independent: world position, attributes, center clip position.
-    std::vector<glm::vec3> world;
-    std::vector<float> attr;     ///< attrStride floats per vertex
-    std::size_t attrStride = 0;  ///< attributeCount(shading): only what is interpolated
-    std::vector<float> cx, cy, cz, cw;
-    /// OR over all views of the left/right guard-band bits; the vertex stage also ORs it into
-    /// every family's code (bits kClipX are free there), so the bin and raster stages read one
-    /// byte per vertex for both questions.
-    std::vector<std::uint8_t> anyClipX;
-    Bins bins;
-
-    const float* attrOf(std::uint32_t v) const { return attr.data() + v * attrStride; }
-    const float* famZ(const Family& f) const { return f.sheared ? cz.data() : f.z.data(); }
-    /// 1/w and window depth: functions of (z, w) only, so every sheared family (every row of a
-    /// grid) shares one array — the fragment inputs of a triangle are the same for all its rows.
-    std::vector<float> cq, czw;
-    const float* famQ(const Family& f) const { return f.sheared ? cq.data() : f.q.data(); }
-    const float* famZW(const Family& f) const { return f.sheared ? czw.data() : f.zw.data(); }
-    float* famQ(Family& f) { return f.sheared ? cq.data() : f.q.data(); }
-    float* famZW(Family& f) { return f.sheared ? czw.data() : f.zw.data(); }
-    const float* famW(const Family& f) const { return f.sheared ? cw.data() : f.w.data(); }
-};
-
-void buildFamilies(const Rig& rig, Shading shading, std::size_t vertexCount, UnifiedData& d) {
-    // The previous frame's families give their per-vertex arrays to this frame's: at many views
-    // sxv alone is tens of MB (past glibc's mmap threshold), and allocating it anew every frame
-    // cost its page faults and zero fill again (100 views of 208k triangles: ~200 ms a frame).
-    std::vector<Family> previous = std::move(d.families);
-    d.families.clear();
-    d.views.resize(std::size_t(rig.viewCount()));
-    d.anySheared = false;
-    for (int v = 0; v < rig.viewCount(); ++v) {
-        const View& view = rig.views[std::size_t(v)];
-        int fam = -1;
-        if (view.clipShear) {
-            d.anySheared = true;
-            for (std::size_t i = 0; i < d.families.size(); ++i) {
-                const Family& f = d.families[i];
-                // Bitwise equality: the family's y must be the very bits each view would compute.
-                if (f.sheared && std::bit_cast<std::uint32_t>(f.shearY) ==
-                                     std::bit_cast<std::uint32_t>(view.clipShear->y)) {
-                    fam = int(i);
-                }
-            }
-        }
-        if (fam < 0) {
-            fam = int(d.families.size());
-            Family f;
-            if (std::size_t(fam) < previous.size()) {
-                Family& old = previous[std::size_t(fam)];
-                f.y = std::move(old.y), f.z = std::move(old.z), f.w = std::move(old.w);
-                f.q = std::move(old.q), f.zw = std::move(old.zw), f.sy = std::move(old.sy);
-                f.code = std::move(old.code), f.sxv = std::move(old.sxv);
-            }
-            f.sheared = view.clipShear.has_value();
-            f.shearY = f.sheared ? view.clipShear->y : 0.0f;
-            f.shearXMin = f.shearXMax = f.sheared ? view.clipShear->x : 0.0f;
-            d.families.push_back(std::move(f));
-        }
-        Family& f = d.families[std::size_t(fam)];
-        f.views.push_back(v);
-        ViewData& vd = d.views[std::size_t(v)];
-        vd.family = fam;
-        vd.shearX = view.clipShear ? view.clipShear->x : 0.0f;
-        f.shearXMin = std::min(f.shearXMin, vd.shearX);
-        f.shearXMax = std::max(f.shearXMax, vd.shearX);
-    }
-    // Column twins: a sheared view whose shear.x has the bits of an earlier sheared view's.
-    for (std::size_t v = 0; v < d.views.size(); ++v) {
-        ViewData& vd = d.views[v];
-        vd.twin = -1;
-        if (!rig.views[v].clipShear) continue;
-        for (std::size_t u = 0; u < v && vd.twin < 0; ++u) {
-            if (rig.views[u].clipShear && d.views[u].twin < 0 &&
-                std::bit_cast<std::uint32_t>(d.views[u].shearX) ==
-                    std::bit_cast<std::uint32_t>(vd.shearX)) {
-                vd.twin = int(u);
-            }
-        }
-    }
-    // Family twins: the same number of views, each the twin of the other family's view in
-    // the same position (a grid's rows).
-    for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
-        Family& f = d.families[fi];
-        f.sxvTwin = -1;
-        for (std::size_t fj = 0; fj < fi && f.sxvTwin < 0 && f.sheared; ++fj) {
-            const Family& g = d.families[fj];
-            bool same = g.sheared && g.sxvTwin < 0 && g.views.size() == f.views.size();
-            for (std::size_t k = 0; same && k < f.views.size(); ++k) {
-                same = d.views[std::size_t(f.views[k])].twin == g.views[k];
-            }
-            if (same) f.sxvTwin = int(fj);
-        }
-    }
-    const std::size_t n = vertexCount;
-    for (Family& f : d.families) {
-        for (std::size_t k = 0; k < f.views.size() && k < std::size_t(kLaneBlock); ++k) {
-            f.views8[k] = std::uint8_t(f.views[k]);
-        }
-        f.y.resize(n), f.sy.resize(n), f.code.resize(n);
-        if (!f.sheared) f.q.resize(n), f.zw.resize(n);
-        // + padding: addLanes reads 8 at a time
-        f.sxv.resize(f.sxvTwin < 0 ? n * f.views.size() + kLaneBlock : 0);
-        if (!f.sheared) f.z.resize(n), f.w.resize(n);
-    }
-    for (Family& f : d.families) {
-        f.sxvData = f.sxvTwin < 0 ? f.sxv.data() : d.families[std::size_t(f.sxvTwin)].sxv.data();
-    }
-    for (ViewData& vd : d.views) {
-        const std::size_t own = vd.twin < 0 ? n : 0;
-        vd.xStore.resize(own), vd.sxStore.resize(own), vd.codeStore.resize(own);
-    }
-    for (ViewData& vd : d.views) {
-        const ViewData& src = vd.twin < 0 ? vd : d.views[std::size_t(vd.twin)];
-        vd.x = const_cast<float*>(src.xStore.data());
-        vd.sx = const_cast<std::int32_t*>(src.sxStore.data());
-        vd.code = const_cast<std::uint8_t*>(src.codeStore.data());
-    }
-    d.attrStride = std::size_t(attributeCount(shading));
-    d.world.resize(shading == Shading::Flat ? n : 0), d.attr.resize(n * d.attrStride),
-        d.anyClipX.resize(n);
-    if (d.anySheared)
-        d.cx.resize(n), d.cy.resize(n), d.cz.resize(n), d.cw.resize(n), d.cq.resize(n),
-            d.czw.resize(n);
-}
-
-void vertexStage(FrameContext& f, UnifiedData& d) {
-    const Shading shading = f.settings.shading;
-    const float width = float(f.settings.width), height = float(f.settings.height);
-    const float conv = f.rig.convergence;
-    forVertexChunks(
-        f.draw, f.pool, [&](const DrawItem& item, std::uint32_t begin, std::uint32_t end) {
-            const glm::mat4 centerFromModel = f.centerClip * item.instance->worldFromModel;
-            std::array<glm::mat4, kMaxViews> ownFromModel;
-            for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
-                if (!d.families[fi].sheared) {
-                    const View& view = f.rig.views[std::size_t(d.families[fi].views[0])];
-                    ownFromModel[fi] = view.clipFromWorld() * item.instance->worldFromModel;
-                }
-            }
-            const std::uint32_t g = item.vertexBase + begin, count = end - begin;
-            // View-independent outputs, once (Vertex: lit below, a chunk at a time).
-            for (std::uint32_t i = begin; i < end && shading != Shading::Vertex; ++i) {
-                const std::uint32_t gi = item.vertexBase + i;
-                const glm::vec3& p = item.mesh->positions[i];
-                if (shading == Shading::Flat) {
-                    d.world[gi] = glm::vec3(transformPoint(item.instance->worldFromModel, p));
-                } else {
-                    vertexAttributes(shading, f.shading, item.instance->material,
-                                     glm::vec3(transformPoint(item.instance->worldFromModel, p)),
-                                     transformDir(item.normalFromModel, item.mesh->normals[i]),
-                                     d.attr.data() + gi * d.attrStride);
-                }
-            }
-            // View-specific positions: one shared center transform (the shears follow below, per
-            // family and view); views without a shear transform with their own matrix.
-            const glm::vec3* positions = &item.mesh->positions[begin];
-            if (d.anySheared) {
-                f.kernels.transformPoints(positions, count, centerFromModel, &d.cx[g], &d.cy[g],
-                                          &d.cz[g], &d.cw[g]);
-            }
-            for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
-                Family& fam = d.families[fi];
-                if (fam.sheared) continue;
-                f.kernels.transformPoints(positions, count, ownFromModel[fi],
-                                          &d.views[std::size_t(fam.views[0])].x[g], &fam.y[g],
-                                          &fam.z[g], &fam.w[g]);
-            }
-            if (shading == Shading::Vertex) {
-                f.kernels.shadeVertices(&item.mesh->positions[begin], &item.mesh->normals[begin],
-                                        count, item.instance->worldFromModel, item.normalFromModel,
-                                        f.shading, item.instance->material,
-                                        d.attr.data() + g * d.attrStride);
-            }
-            for (Family& fam : d.families) {
-                if (!fam.sheared) continue;
-                const float* cx = &d.cx[g];
-                const float* cy = &d.cy[g];
-                const float* cw = &d.cw[g];
-                float* y = &fam.y[g];
-                for (std::uint32_t k = 0; k < count; ++k)
-                    y[k] = shearClip(cy[k], fam.shearY, cw[k], conv);
-                for (int v : fam.views) {
-                    ViewData& vd = d.views[std::size_t(v)];
-                    if (vd.twin >= 0) continue;  // its column's first view computes x
-                    float* x = &vd.x[g];
-                    for (std::uint32_t k = 0; k < count; ++k)
-                        x[k] = shearClip(cx[k], vd.shearX, cw[k], conv);
-                }
-            }
-            std::fill_n(&d.anyClipX[g], count, std::uint8_t(0));
-            for (Family& fam : d.families) {
-                f.kernels.projectYZW(&fam.y[g], &d.famZ(fam)[g], &d.famW(fam)[g], count, height,
-                                     &fam.code[g], d.famQ(fam) + g, &fam.sy[g], d.famZW(fam) + g);
-            }
-            for (ViewData& vd : d.views) {
-                if (vd.twin >= 0) continue;  // the same x, code and sx as its twin, computed there
-                const Family& fam = d.families[std::size_t(vd.family)];
-                f.kernels.projectX(&vd.x[g], &d.famW(fam)[g], d.famQ(fam) + g, count, width,
-                                   &vd.code[g], &vd.sx[g]);
-                for (std::uint32_t k = 0; k < count; ++k)
-                    d.anyClipX[g + k] |= vd.code[g + k] & kClipX;
-            }
-            for (Family& fam : d.families) {
-                if (fam.sxvTwin >= 0) continue;  // its twin's sxv is the same
-                const std::size_t nv = fam.views.size();
-                for (std::size_t lane = 0; lane < nv; ++lane) {
-                    const std::int32_t* sx = &d.views[std::size_t(fam.views[lane])].sx[g];
-                    std::int32_t* sxv = &fam.sxv[std::size_t(g) * nv + lane];
-                    for (std::uint32_t k = 0; k < count; ++k) sxv[k * nv] = sx[k];
-                }
-            }
-            for (Family& fam : d.families) {
-                for (std::uint32_t k = 0; k < count; ++k) fam.code[g + k] |= d.anyClipX[g + k];
-            }
-        });
-}
 
 /// Back-face classification of a family's views for one triangle (adelson1991): all culled,
 /// all kept, or mixed (then per view).
@@ -345,14 +88,15 @@ void binStage(FrameContext& f, UnifiedData& d) {
         forTriangles(f.draw, begin, end, [&](std::uint32_t t, const TriangleRef& tri) {
             const std::uint32_t* v = tri.i;
             ShearDet det;
-            if (cull && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
+            const bool cullTri = cull && !tri.item->instance->material.doubleSided;
+            if (cullTri && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
             int rowMin = height, rowMax = -1;
             for (const Family& fam : d.families) {
                 const std::uint8_t* code = fam.code.data();
                 const std::uint8_t c0 = code[v[0]], c1 = code[v[1]], c2 = code[v[2]];
                 if (c0 & c1 & c2 & kRejectYZW) continue;
-                if (cull && (fam.sheared ? classify(fam, det) == FaceClass::AllBack
-                                         : ownViewCulled(d, fam, v))) {
+                if (cullTri && (fam.sheared ? classify(fam, det) == FaceClass::AllBack
+                                            : ownViewCulled(d, fam, v))) {
                     continue;
                 }
                 if ((c0 | c1 | c2) & (kClipYZW | kClipX)) {  // kClipX: any view's, see anyClipX
@@ -438,8 +182,10 @@ struct BandContext {
     int rowLo, rowHi;
     FragmentTri frag{};
     std::vector<FragmentSink<S>> sinks;  ///< per view, all pointing at `frag`
-    int attrCount = attributeCount(S);
+    int attrCount = attributeCount(S, f.textured);
+    bool cull = false;     ///< back-face culling for the current draw item (not double-sided)
     ViewsSetup views{};    ///< the current triangle's per-view x setup (L1)
+    ViewsX xs{};           ///< a long row's derived snapped x of the current triangle
     LaneQueue<S> queue{};  ///< small families' (triangle, view) lanes waiting for setupLanes
 };
 
@@ -463,7 +209,7 @@ void drawFamilyClipped(BandContext<S>& b, const Family& fam, const std::uint32_t
         poly.y[j] = fam.y[v[j]], poly.z[j] = z[v[j]], poly.w[j] = w[v[j]];
         std::copy_n(d.attrOf(v[j]), b.attrCount, poly.a[j]);
         for (int k = 0; k < activeCount; ++k)
-            poly.x[j][k] = d.views[std::size_t(active[k])].x[v[j]];
+            poly.x[j][k] = d.viewX(d.views[std::size_t(active[k])], v[j]);
     }
     clipShared(poly, famPlanes, b.attrCount, activeCount, tmp);
     if (poly.n < 3) return;
@@ -483,7 +229,7 @@ void drawFamilyClipped(BandContext<S>& b, const Family& fam, const std::uint32_t
     for (int k = 0; k < activeCount; ++k) {
         const int view = active[k];
         const ViewData& vd = d.views[std::size_t(view)];
-        const std::uint8_t orX = vd.code[v[0]] | vd.code[v[1]] | vd.code[v[2]];
+        const std::uint8_t orX = d.viewCode(vd, v[0]) | d.viewCode(vd, v[1]) | d.viewCode(vd, v[2]);
         if (orX & kClipX) {
             // This view leaves the guard band: continue with left/right on its own copy.
             ClipVertex cv[kMaxPolyVerts];
@@ -532,7 +278,7 @@ void drawFamilyWireframe(BandContext<S>& b, const Family& fam, const std::uint32
         e.a[0] = d.attrOf(i0), e.a[1] = d.attrOf(i1);
         for (int k = 0; k < activeCount; ++k) {
             const ViewData& vd = d.views[std::size_t(active[k])];
-            e.x[0][k] = vd.x[i0], e.x[1][k] = vd.x[i1];
+            e.x[0][k] = d.viewX(vd, i0), e.x[1][k] = d.viewX(vd, i1);
         }
         float attr[2][kMaxAttrs];
         if (!clipLineNearFar(e, activeCount, b.attrCount, attr)) continue;
@@ -575,6 +321,7 @@ inline int queueSlot(BandContext<S>& b, const YSetup& ys, const std::uint32_t v[
         frag.attr[j] = attr + v[j] * stride;
     }
     frag.flat = b.frag.flat;
+    frag.flatD = b.frag.flatD;
     return slot;
 }
 
@@ -628,6 +375,33 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
     }
     fill(b.frag);
     flushLanes(b);
+    if (fam.many) {
+        // A long row: the views' x derived from the center here (setupSheared), nothing stored.
+        ShearedTri t;
+        for (int j = 0; j < 3; ++j) {
+            t.cx[j] = d.cx[v[j]];
+            t.wc[j] = d.cw[v[j]] - d.convergence;
+            t.q[j] = q[v[j]];
+        }
+        for (int base = 0; base < nv; base += kSetupChunk) {
+            const int n = std::min(kSetupChunk, nv - base);
+            for (std::uint64_t lanes = b.f.kernels.setupSheared(ys, t, fam.shears.data() + base, n,
+                                                                width, b.views, b.xs);
+                 lanes; lanes &= lanes - 1) {
+                const int k = std::countr_zero(lanes);  // packed position
+                const int kv = base + b.xs.view[k];     // the view's position in the family
+                if (culled(kv)) continue;
+                FragmentSink<S> sink = b.sinks[std::size_t(views[kv])];  // in registers
+                if (b.views.mask[k] > 0) {
+                    emitSmall(b.views, k, ys.rowMin, sink);
+                } else {
+                    const std::int32_t xk[3] = {b.xs.x[0][k], b.xs.x[1][k], b.xs.x[2][k]};
+                    rasterTriangle(ys, xk, width, sink);
+                }
+            }
+        }
+        return;
+    }
     // More views than a queue block: setupViews passes over the family's views, at most
     // kSetupChunk at a time (its lane mask has 64 bits).
     for (int base = 0; base < nv; base += kSetupChunk) {
@@ -641,6 +415,10 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
             if (culled(kv)) continue;
             FragmentSink<S> sink = b.sinks[std::size_t(views[kv])];  // in registers
             if (m > 0) {
+                if (sink.shade.texture) {
+                    const std::int32_t xk[3] = {x0[kv], x1[kv], x2[kv]};
+                    sink.setTriangle(xk, ys.y);
+                }
                 emitSmall(b.views, k, ys.rowMin, sink);
             } else {
                 const std::int32_t xk[3] = {x0[kv], x1[kv], x2[kv]};
@@ -658,7 +436,7 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
                         const ShearDet& det) {
     FrameContext& f = b.f;
     const UnifiedData& d = b.d;
-    const bool cull = f.settings.cullBackFaces;
+    const bool cull = b.cull;
     const int width = f.settings.width;
     const std::uint8_t c0 = fam.code[v[0]], c1 = fam.code[v[1]], c2 = fam.code[v[2]];
     if (c0 & c1 & c2 & kRejectYZW) return;
@@ -683,10 +461,12 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
     bool anyClipX = false;
     for (int view : fam.views) {
         const ViewData& vd = d.views[std::size_t(view)];
-        const std::uint8_t a0 = vd.code[v[0]], a1 = vd.code[v[1]], a2 = vd.code[v[2]];
+        const std::uint8_t a0 = d.viewCode(vd, v[0]), a1 = d.viewCode(vd, v[1]),
+                           a2 = d.viewCode(vd, v[2]);
         if (a0 & a1 & a2 & kRejectX) continue;
         const bool viewClipX = ((a0 | a1 | a2) & kClipX) != 0;
-        if (testColumns && !viewClipX && noColumns(vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]], width)) {
+        if (testColumns && !viewClipX &&
+            noColumns(d.viewSx(vd, v[0]), d.viewSx(vd, v[1]), d.viewSx(vd, v[2]), width)) {
             continue;
         }
         if (faces == FaceClass::Mixed && shearedDet(det, vd.shearX, fam.shearY) < 0.0f) continue;
@@ -717,7 +497,7 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
         // Too few lanes to pay for the vector setup: one view at a time (same result).
         for (int k = 0; k < activeCount; ++k) {
             const ViewData& vd = d.views[std::size_t(active[k])];
-            const std::int32_t xk[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
+            const std::int32_t xk[3] = {d.viewSx(vd, v[0]), d.viewSx(vd, v[1]), d.viewSx(vd, v[2])};
             FragmentSink<S> sink = b.sinks[std::size_t(active[k])];  // in registers
             rasterTriangle(ys, xk, width, sink);
         }
@@ -726,7 +506,7 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
     std::int32_t x[3][kMaxViews];
     for (int k = 0; k < activeCount; ++k) {
         const ViewData& vd = d.views[std::size_t(active[k])];
-        x[0][k] = vd.sx[v[0]], x[1][k] = vd.sx[v[1]], x[2][k] = vd.sx[v[2]];
+        x[0][k] = d.viewSx(vd, v[0]), x[1][k] = d.viewSx(vd, v[1]), x[2][k] = d.viewSx(vd, v[2]);
     }
     for (int base = 0; base < activeCount; base += kSetupChunk) {
         const int n = std::min(kSetupChunk, activeCount - base);
@@ -737,10 +517,15 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
             const int view = active[base + k];
             auto& sink = b.sinks[std::size_t(view)];
             if (m > 0) {
+                if (sink.shade.texture) {
+                    const std::int32_t xk[3] = {x[0][base + k], x[1][base + k], x[2][base + k]};
+                    sink.setTriangle(xk, ys.y);
+                }
                 emitSmall(b.views, k, ys.rowMin, sink);
             } else {
                 const ViewData& vd = d.views[std::size_t(view)];
-                const std::int32_t xk[3] = {vd.sx[v[0]], vd.sx[v[1]], vd.sx[v[2]]};
+                const std::int32_t xk[3] = {d.viewSx(vd, v[0]), d.viewSx(vd, v[1]),
+                                            d.viewSx(vd, v[2])};
                 rasterTriangle(ys, xk, width, sink);
             }
         }
@@ -806,13 +591,15 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
     auto onItem = [&](const DrawItem& it) {
         flushLanes(b);  // the queued triangles shade with the previous material
         material = &it.instance->material;
-        for (auto& sink : b.sinks) sink.shade.material = material;
+        b.cull = f.settings.cullBackFaces && !material->doubleSided;
+        const MipChain* texture = f.textureOf(*material);
+        for (auto& sink : b.sinks) sink.shade.material = material, sink.shade.texture = texture;
     };
     forBandTriangles(f.draw, bins, band, f.bands.count, onItem, [&](const std::uint32_t v[3]) {
         if constexpr (S == Shading::Flat) {
             // View-independent: once for every view.
-            b.frag.flat =
-                flatColor(f.shading, *material, d.world[v[0]], d.world[v[1]], d.world[v[2]]);
+            setFlat(b.frag, f.textured, f.shading, *material, d.world[v[0]], d.world[v[1]],
+                    d.world[v[2]]);
         }
         if (!fast) {
             drawTriangle(b, v);
@@ -832,7 +619,7 @@ void rasterStage(FrameContext& f, const UnifiedData& d, std::span<const Target> 
         BandContext<S> b{f, d, f.bands.rowBegin(band), f.bands.rowEnd(band) - 1, {}, {}};
         b.sinks.reserve(targets.size());
         for (const Target& t : targets)
-            b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr}});
+            b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr, f.textured}});
         rasterBand(b, d.bins, band);
         flushLanes(b);
     });
@@ -851,7 +638,7 @@ void renderUnified(FrameContext& f, std::span<const Target> targets, StageTimes&
     if (!dynamic_cast<UnifiedData*>(scratch.get())) scratch = std::make_unique<UnifiedData>();
     UnifiedData& d = static_cast<UnifiedData&>(*scratch);
     StageClock clock;
-    buildFamilies(f.rig, f.settings.shading, f.draw.vertexCount, d);
+    buildFamilies(f.rig, f.settings.shading, f.textured, f.draw.vertexCount, d);
     vertexStage(f, d);
     times.vertexMs += clock.lap();
     binStage(f, d);

@@ -189,18 +189,42 @@ TEST_F(BenchCli, SorbierTableAddsTheMultipassBaseline) {
 TEST_F(BenchCli, SorbierCsvAndProgressLines) {
     const CliRun r =
         run(fmt::format("bench sorbier '{}' --sizes 64x48 --copies 1 --frames 1 --warmup 0 "
-                        "--methods soft:unified --shadings vertex --csv --progress",
+                        "--methods soft:unified --shadings vertex --csv --progress "
+                        "--textured-model none",
                         model("suzanne.obj")));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     std::istringstream in(r.out);
     std::string line;
     std::vector<std::string> lines;
     while (std::getline(in, line)) lines.push_back(line);
+    // (without the textured row: --textured-model none)
     ASSERT_EQ(lines.size(), 4u) << r.out;  // # machine, header, multipass, unified
     EXPECT_EQ(lines[0].rfind("# machine: ", 0), 0u);
     EXPECT_EQ(lines[1].rfind("bench,backend,method,", 0), 0u);
     EXPECT_EQ(lines[2].rfind("sorbier2008,soft,multipass,", 0), 0u);
     EXPECT_NE(r.err.find("[2/2]"), std::string::npos) << r.err;
+}
+
+// The textured row (issue 14): spot.obj with a generated texture, marked "textured" in JSON,
+// after the untextured rows (which say "textured": false).
+TEST_F(BenchCli, SorbierTexturedRow) {
+    const nlohmann::json j = runJson(
+        fmt::format("bench sorbier '{}' --textured-model '{}' --sizes 64x48 --copies 1 --frames 1 "
+                    "--warmup 0 --methods soft:unified --shadings pixel --json",
+                    model("suzanne.obj"), model("spot.obj")));
+    int textured = 0, plain = 0;
+    for (const auto& r : j["results"]) {
+        if (r["textured"] == true) {
+            ++textured;
+            EXPECT_EQ(r["model"], "spot.obj (textured)");
+            EXPECT_FALSE(r.contains("error")) << r.dump();
+        } else {
+            ++plain;
+            EXPECT_EQ(r["model"], "suzanne.obj");
+        }
+    }
+    EXPECT_EQ(textured, 2);  // soft:multipass (the baseline) and soft:unified
+    EXPECT_EQ(plain, 2);
 }
 
 TEST_F(BenchCli, KalaiahJsonViewsShareTheBuffer) {

@@ -482,3 +482,141 @@ TEST_F(Cli, StereoSurfaces) {
 
 }  // namespace
 }  // namespace mvr
+
+// ---- scenes from files (issue 14): the glTF fixture's nodes where their transforms put them,
+// the file's camera, placements ----------------------------------------------------------------
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "../core/gltf_fixture.h"
+
+namespace mvr {
+namespace {
+
+/// The pixel rectangle [x0, x1] x [y0, y1] (row 0 at the top) that the box `lo..hi` under
+/// `world` covers seen by a camera at `eye` looking down -Z with vertical fov `yfov`.
+glm::vec4 projectBox(const glm::mat4& world, glm::vec3 lo, glm::vec3 hi, glm::vec3 eye, float yfov,
+                     int w, int h) {
+    const glm::mat4 view = glm::lookAt(eye, eye + glm::vec3(0, 0, -1), glm::vec3(0, 1, 0));
+    const glm::mat4 proj = glm::perspective(yfov, float(w) / float(h), 0.1f, 100.0f);
+    glm::vec4 r(1e9f, 1e9f, -1e9f, -1e9f);
+    for (int c = 0; c < 8; ++c) {
+        const glm::vec3 p((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+        const glm::vec4 clip = proj * view * world * glm::vec4(p, 1.0f);
+        const float x = (clip.x / clip.w * 0.5f + 0.5f) * w,
+                    y = (0.5f - clip.y / clip.w * 0.5f) * h;
+        r = glm::vec4(std::min(r.x, x), std::min(r.y, y), std::max(r.z, x), std::max(r.w, y));
+    }
+    return r;
+}
+
+bool isBackground(Rgba8 c, Rgba8 bg) {
+    return std::abs(c.r - bg.r) <= 2 && std::abs(c.g - bg.g) <= 2 && std::abs(c.b - bg.b) <= 2;
+}
+
+TEST_F(Cli, GltfNodesRenderWhereTheirTransformsPutThemSeenByTheFileCamera) {
+    using test::GltfFixtureTruth;
+    for (auto layout : {test::GltfLayout::External, test::GltfLayout::Glb}) {
+        const auto model = test::writeGltfFixture(mDir, "scene", layout);
+        const int w = 150, h = 100;
+        const CliRun r = run(fmt::format("render '{}' --backend soft --views 1 --size {}x{} -o o",
+                                         model.string(), w, h));
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        auto img = readPng(mDir / "o/view-0.png");
+        ASSERT_TRUE(img) << img.status().message();
+        const Rgba8 bg = img->at(0, 0);
+        // Each node: its two primitives' boxes (the cube and the small cube above it).
+        std::vector<glm::vec4> rects;
+        for (const glm::mat4& world : {GltfFixtureTruth::parent() * GltfFixtureTruth::childA(),
+                                       GltfFixtureTruth::parent() * GltfFixtureTruth::childB()}) {
+            rects.push_back(projectBox(world, glm::vec3(-0.5f), glm::vec3(0.5f),
+                                       GltfFixtureTruth::cameraPosition(), GltfFixtureTruth::kYfov,
+                                       w, h));
+            rects.push_back(
+                projectBox(world, glm::vec3(-0.25f, 0.75f, -0.25f), glm::vec3(0.25f, 1.25f, 0.25f),
+                           GltfFixtureTruth::cameraPosition(), GltfFixtureTruth::kYfov, w, h));
+        }
+        // Inside: each box's projected centre is covered. Outside every box (1 px margin):
+        // background.
+        for (const glm::vec4& rc : rects) {
+            const int cx = int((rc.x + rc.z) / 2), cy = int((rc.y + rc.w) / 2);
+            EXPECT_FALSE(isBackground(img->at(cx, cy), bg)) << cx << "," << cy;
+        }
+        long stray = 0, covered = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                bool inside = false;
+                for (const glm::vec4& rc : rects)
+                    inside = inside || (x + 0.5f >= rc.x - 1 && x + 0.5f <= rc.z + 1 &&
+                                        y + 0.5f >= rc.y - 1 && y + 0.5f <= rc.w + 1);
+                const bool bgPixel = isBackground(img->at(x, y), bg);
+                if (!inside && !bgPixel) ++stray;
+                if (!bgPixel) ++covered;
+            }
+        EXPECT_EQ(stray, 0);
+        EXPECT_GT(covered, 300);
+        // Framing the bounds instead (--no-file-camera) is another picture.
+        const CliRun other =
+            run(fmt::format("render '{}' --backend soft --views 1 --size {}x{} --no-file-camera "
+                            "-o n",
+                            model.string(), w, h));
+        ASSERT_EQ(other.exitCode, 0) << other.err;
+        auto img2 = readPng(mDir / "n/view-0.png");
+        ASSERT_TRUE(img2);
+        EXPECT_GT(compareImages(*img, *img2).differingPixels, 200);
+    }
+}
+
+TEST_F(Cli, GltfSceneWithGridAndStereo) {
+    const auto model = test::writeGltfFixture(mDir, "scene", test::GltfLayout::DataUri);
+    const CliRun r = run(fmt::format("render '{}' --grid 3 --size 96x64 -o g", model.string()));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(readPng(mDir / "g/view-1.png"));
+}
+
+TEST_F(Cli, ModelsArePlacedFromTheCommandLine) {
+    const auto model = write("tri.obj", "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n");
+    const int w = 160, h = 80;
+    // Two copies side by side, the right one half size and turned; --no-file-camera is moot.
+    const CliRun r =
+        run(fmt::format("render '{0}@-3,0,0' '{0}@3,0,0,0.5,30' --backend soft "
+                        "--views 1 --size {1}x{2} -o p",
+                        model.string(), w, h));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto img = readPng(mDir / "p/view-0.png");
+    ASSERT_TRUE(img);
+    const Rgba8 bg = img->at(0, 0);
+    long left = 0, right = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (!isBackground(img->at(x, y), bg)) ++(x < w / 2 ? left : right);
+    EXPECT_GT(left, 100);
+    EXPECT_GT(right, 20);
+    EXPECT_LT(right, left);  // half size (and turned): a smaller picture
+    // A file whose name contains '@' is read under its whole name.
+    const auto at = write("a@1,2,3.obj", "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n");
+    EXPECT_EQ(run(fmt::format("render '{}' --size 32x32 -o a", at.string())).exitCode, 0);
+    // Bad placements.
+    expectError(fmt::format("render '{}@1,2'", model.string()), 1,
+                "placement '1,2' has 2 numbers (expected FILE@X,Y,Z[,SCALE[,YAW]]");
+    expectError(fmt::format("render '{}@1,2,x'", model.string()), 1,
+                "placement '1,2,x' is not a list of numbers");
+    expectError(fmt::format("render '{}@1,2,3,0'", model.string()), 1,
+                "placement '1,2,3,0' has a scale that is not > 0");
+    expectError(fmt::format("render '{}@1,2,3,1,2,3'", model.string()), 1,
+                "placement '1,2,3,1,2,3' has 6 numbers");
+    expectError(fmt::format("render '{}@1e99,0,0'", model.string()), 1,
+                "has a number out of range");
+    expectError(fmt::format("render '{}@1,2,3'", (mDir / "missing.obj").string()), 2,
+                "missing.obj: file not found");
+}
+
+TEST_F(Cli, BadTextureIsOneErrorLineNamingFileAndMaterial) {
+    const std::string junk = "not a png";
+    const auto model = test::writeGltfFixture(mDir, "bad", test::GltfLayout::External, &junk);
+    expectError(fmt::format("render '{}' --size 32x32", model.string()), 2,
+                "material 'Checker': texture 'bad.png': not a readable PNG");
+}
+
+}  // namespace
+}  // namespace mvr

@@ -18,8 +18,8 @@ namespace {
 TEST(AnaglyphGl, MatchesTheCpuAnaglyphForEveryMethod) {
     constexpr int kW = 64, kH = 64;
     std::vector<Image> views = {Image(kW, kH), Image(kW, kH)};
-    std::vector<std::uint8_t>& left = views[0].rgba;
-    std::vector<std::uint8_t>& right = views[1].rgba;
+    auto& left = views[0].rgba;
+    auto& right = views[1].rgba;
     for (int i = 0; i < kW * kH; ++i)
         for (int c = 0; c < 4; ++c) {
             left[i * 4 + c] = static_cast<std::uint8_t>(i * 7 + c * 91);
@@ -35,7 +35,7 @@ TEST(AnaglyphGl, MatchesTheCpuAnaglyphForEveryMethod) {
         if (!composed && composed.status().code() == ErrorCode::Unsupported)
             GTEST_SKIP() << composed.status().message();
         ASSERT_TRUE(composed) << composed.status().message();
-        const std::vector<std::uint8_t>& gpu = composed->rgba;
+        const auto& gpu = composed->rgba;
         ASSERT_EQ(gpu.size(), left.size());
         int worst = 0;
         for (int i = 0; i < kW * kH; ++i) {

@@ -85,6 +85,20 @@ inline constexpr Bound kGlVsSoft = within(2, atMost(0.01), std::nullopt, 1e-5f, 
 // into its tile and its clip distances; flat normals by two routes move a channel by ≤ 1/255).
 // Measured: 0 pixels for filled triangles, 1–2 pixels in wireframe.
 inline constexpr Bound kGlExact = within(2, atMost(0.002), std::nullopt, 1e-6f, atMost(0.002));
+// Textured gl vs soft (issue 14): the texel decode (sRGB → linear before filtering) and the
+// bilinear weights agree up to llvmpipe's 8-bit filter weights (≤ 1–2/255: magnified surfaces
+// stay within kGlVsSoft), but minified ones differ in two documented ways: (1) GL takes the
+// level of detail λ per 2×2 quad from finite differences of the texture coordinates (§8.14.1
+// lets it approximate ρ), texture_sampling.h per pixel from exact derivatives, so on a receding
+// checker the trilinear mix frac(λ) differs by up to ~½ level; (2) glGenerateMipmap stores
+// each level re-encoded to 8-bit sRGB, texture_sampling.h keeps float levels. A pixel is off
+// when a channel is more than 8/255 away; at most 2 % of a view's pixels (the minified ground)
+// may be. Measured with the soft backend of branch softtex (7bde148) merged: 0 pixels > 8/255
+// in every exact method and shading, max channel delta 6/255 (gs-mrt 1.06 %, gs-depthmap
+// 0.16 %: their painter's-order / disocclusion errors). Until soft samples textures the cases
+// skip, saying so.
+inline constexpr Bound kTexturedGlVsSoft =
+    within(8, atMost(0.02), std::nullopt, 1e-5f, atMost(0.01));
 
 inline constexpr Tolerance kTolerances[] = {
     {"soft",
@@ -108,6 +122,21 @@ inline constexpr Tolerance kTolerances[] = {
      "kalaiah2007's unified pipeline with adelson1991's shared setup does the same snapped "
      "int64 edge functions and the same float operations in the same order per view: bit for "
      "bit, colour and depth (tests/raster/unified_test.cpp covers many more rigs)"},
+    {"gl", "gs-mrt", "textured", 2, Depth::None, within(8, atMost(0.08)), "multipass",
+     within(2, below(0.30)),
+     "sorbier2008 §4's painter's order on the textured scene (kTexturedGlVsSoft's sampling "
+     "differences plus the default scene's painter's-order errors; measured 1.06 % vs soft, "
+     "1.09 % vs gl:multipass); vs gl:multipass as the untextured gs-mrt row"},
+    {"gl", "gs-depthmap", "textured", 2, Depth::None, within(8, atMost(0.06), below(0.08)),
+     "multipass", within(2, atMost(0.002), below(0.05)),
+     "sorbier2008 §5.2 on the textured scene: kTexturedGlVsSoft plus the right eye's "
+     "disocclusions (measured 0.16 % vs soft and vs gl:multipass); vs gl:multipass as the "
+     "untextured row"},
+    {"gl", "*", "textured", 0, Depth::PerView, kTexturedGlVsSoft, "multipass", kGlExact,
+     "textured shading (issue 14): every exact gl method samples the same GL texture with the "
+     "same shaders as gl:multipass (kGlExact; measured 0 pixels in tests/gl/"
+     "textured_gl_test.cpp, every method and shading); vs soft, kTexturedGlVsSoft: the "
+     "hardware's level of detail and mip chain differ from texture_sampling.h's model"},
     {"gl", "gs-mrt", "octahedra", 2, Depth::None, within(2, atMost(0.012)), "multipass",
      within(2, atMost(0.002)),
      "sorbier2008 §4 on separate convex objects with culling, listed front to back: painter's "

@@ -586,5 +586,80 @@ TEST(Kernels, SetupViewsSimdEqualsScalar) {
     EXPECT_GT(generalSeen, 1000);
 }
 
+TEST(Kernels, SetupShearedSimdEqualsScalar) {
+    // Small and large triangles of a long sheared row (x derived per view from the center):
+    // the derived x of every view, and every setup field the caller reads.
+    std::mt19937 rng(777);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    int seen = 0;
+    for (int iter = 0; iter < 2000; ++iter) {
+        const int n = 1 + int(rng() % 64);
+        const float w0 = 2.0f + 3.0f * (unit(rng) + 1.0f), conv = 4.0f;
+        const bool big = iter % 4 == 0;
+        detail::ShearedTri t;
+        float y[3];
+        const float cx = unit(rng) * w0 * 0.8f, cy = unit(rng) * w0 * 0.8f;
+        for (int j = 0; j < 3; ++j) {
+            const float w = w0 + unit(rng) * (big ? 1.0f : 0.01f);
+            t.cx[j] = cx + unit(rng) * (big ? 0.3f : 0.004f) * w;
+            t.wc[j] = w - conv;
+            t.q[j] = 1.0f / w;
+            y[j] = cy + unit(rng) * (big ? 0.3f : 0.004f) * w;
+        }
+        float shears[kMaxViews];
+        const float step = unit(rng) * 0.02f;
+        for (int k = 0; k < n; ++k) shears[k] = (float(k) - 0.5f * float(n - 1)) * step;
+        detail::YSetup ys;
+        detail::setupY(ys, detail::snapY(y[0], t.q[0], 768.0f), detail::snapY(y[1], t.q[1], 768.0f),
+                       detail::snapY(y[2], t.q[2], 768.0f), 0, 767);
+        if (ys.rowMin > ys.rowMax) continue;
+        detail::ViewsSetup ref, got;
+        detail::ViewsX refX, gotX;
+        const std::uint64_t refLanes =
+            detail::scalarKernels().setupSheared(ys, t, shears, n, 1024, ref, refX);
+        // The views with a pixel-center column, packed in view order, with their x.
+        int m = 0;
+        for (int k = 0; k < n; ++k) {
+            std::int32_t x[3];
+            for (int j = 0; j < 3; ++j) {
+                x[j] = detail::snapX(detail::shearClip(t.cx[j], shears[k], t.wc[j] + conv, conv),
+                                     t.q[j], 1024.0f);
+            }
+            if (detail::noColumns(x[0], x[1], x[2], 1024)) continue;
+            ASSERT_EQ(refX.view[m], k);
+            for (int j = 0; j < 3; ++j) ASSERT_EQ(refX.x[j][m], x[j]);
+            ++m;
+        }
+        if (m < 64) {
+            ASSERT_EQ(refLanes >> m, 0u);
+        }
+        for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
+            if (!k) continue;
+            if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512)
+                continue;
+            if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar)
+                continue;
+            ASSERT_EQ(k->setupSheared(ys, t, shears, n, 1024, got, gotX), refLanes) << iter;
+            for (int v = 0; v < m; ++v) {
+                ASSERT_EQ(gotX.view[v], refX.view[v]);
+                for (int j = 0; j < 3; ++j) ASSERT_EQ(gotX.x[j][v], refX.x[j][v]);
+                if (!((refLanes >> v) & 1u)) continue;
+                ASSERT_EQ(got.mask[v], ref.mask[v]) << iter << " view " << v;
+                ASSERT_EQ(got.colMin[v], ref.colMin[v]);
+                if (ref.mask[v] < 0) continue;
+                ASSERT_EQ(got.area[v], ref.area[v]);
+                for (int i = 0; i < 3; ++i) {
+                    ASSERT_EQ(got.e[i][v], ref.e[i][v]);
+                    ASSERT_EQ(got.sx[i][v], ref.sx[i][v]);
+                    ASSERT_EQ(got.sy[i][v], ref.sy[i][v]);
+                    ASSERT_EQ(got.bias[i][v], ref.bias[i][v]);
+                }
+            }
+        }
+        seen += std::popcount(refLanes);
+    }
+    EXPECT_GT(seen, 1000);
+}
+
 }  // namespace
 }  // namespace mvr::raster

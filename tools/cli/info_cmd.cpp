@@ -1,4 +1,6 @@
 // `mvr info`: the backends, their methods (and whether each runs here), and driver limits.
+#include <memory>
+
 #include <fmt/core.h>
 
 #include "command.h"
@@ -6,6 +8,32 @@
 
 namespace mvr::cli {
 namespace {
+
+/// `mvr info --displays`: the display presets (include/mvr/core/displays.h).
+int runDisplays() {
+    fmt::print(
+        "display presets (mvr render --display NAME; docs/displays.md cites the figures):\n");
+    fmt::print("  {:<25} {:>5}  {:<6} {:<10} {:<9} {:<7} {:>5}  {:<10} {}\n", "name", "views",
+               "quilt", "quilt size", "view", "aspect", "cone", "panel", "output");
+    for (const DisplayPreset& d : displayPresets()) {
+        const std::string quilt =
+            d.quiltColumns > 0 ? fmt::format("{}x{}", d.quiltColumns, d.quiltRows) : "-";
+        const std::string quiltSize =
+            d.quiltColumns > 0 ? fmt::format("{}x{}", d.quiltWidth, d.quiltHeight) : "-";
+        const std::string cone =
+            d.viewConeDegrees > 0.0f ? fmt::format("{:g}", d.viewConeDegrees) : "-";
+        const std::string output = d.quiltColumns > 0
+                                       ? fmt::format("quilt_qs{}x{}a{}.png", d.quiltColumns,
+                                                     d.quiltRows, aspectText(d.aspect))
+                                       : std::string(d.format) + ".png";
+        fmt::print("  {:<25} {:>5}  {:<6} {:<10} {:<9} {:<7} {:>5}  {:<10} {}\n", d.name, d.views,
+                   quilt, quiltSize, fmt::format("{}x{}", d.viewWidth, d.viewHeight),
+                   aspectText(d.aspect), cone, fmt::format("{}x{}", d.panelWidth, d.panelHeight),
+                   output);
+        fmt::print("  {:<25} {}\n", "", d.description);
+    }
+    return 0;
+}
 
 int runInfo() {
     fmt::print("mvr {} — multiple-viewpoint rendering\n", MVR_VERSION);
@@ -30,9 +58,13 @@ int runInfo() {
 }
 
 const CommandRegistrar kInfo(90, [](CLI::App& root) -> std::function<int()> {
-    root.add_subcommand("info",
-                        "List backends, methods (and whether each runs here) and driver limits");
-    return runInfo;
+    CLI::App* app = root.add_subcommand(
+        "info", "List backends, methods (and whether each runs here) and driver limits");
+    auto displays = std::make_shared<bool>(false);
+    app->add_flag("--displays", *displays,
+                  "List the display presets instead (--display NAME): views, quilt columns x rows "
+                  "and size, view size, per-view aspect, view cone, panel resolution, output");
+    return [displays] { return *displays ? runDisplays() : runInfo(); };
 });
 
 }  // namespace

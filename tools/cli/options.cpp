@@ -7,13 +7,20 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <regex>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <fmt/core.h>
 
 #include "mvr/adelson/village_scene.h"
 #include "mvr/core/billboards.h"
+#include "mvr/core/displays.h"
 #include "mvr/core/framing.h"
+#include "mvr/core/scene_io.h"
+
+#include "display_options.h"
 
 namespace mvr::cli {
 
@@ -60,14 +67,6 @@ void TerminalProgress::stop() {
     mThread.join();
 }
 
-namespace {
-/// Eye-space distance w of a window depth d in [0, 1) for a perspective near/far.
-float distanceFromWindowDepth(float d, float near, float far) {
-    const float z = 2.0f * d - 1.0f;
-    return 2.0f * near * far / ((far + near) - z * (far - near));
-}
-}  // namespace
-
 std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& out) {
     if (out.depth.empty() || rig.columns <= 1) return std::nullopt;
     float dMin = 1.0f, dMax = 0.0f;
@@ -83,9 +82,14 @@ std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& o
         parallaxRange(rig, distanceFromWindowDepth(dMin, rig.camera.near, rig.camera.far),
                       distanceFromWindowDepth(dMax, rig.camera.near, rig.camera.far));
     const ParallaxRange& r = report.range;
+    const std::string adjacent = rig.columns > 2
+                                     ? fmt::format(", between adjacent views {:+.2f}% .. {:+.2f}%",
+                                                   100.0 * r.minParallax / (rig.columns - 1),
+                                                   100.0 * r.maxParallax / (rig.columns - 1))
+                                     : std::string();
     report.line = fmt::format(
-        "parallax between outer views: {:+.2f}% .. {:+.2f}% of screen width ({})",
-        100.0 * r.minParallax, 100.0 * r.maxParallax,
+        "parallax between outer views: {:+.2f}% .. {:+.2f}% of screen width{} ({})",
+        100.0 * r.minParallax, 100.0 * r.maxParallax, adjacent,
         r.comfortable ? std::string("comfortable: all within [convergence/2, 100 x convergence]")
                       : "uncomfortable: " + r.why);
     return report;
@@ -123,10 +127,79 @@ Result<std::pair<int, int>> parseSize(const std::string& text, const char* what)
     return std::pair<int, int>{int(w), int(h)};
 }
 
+namespace {
+
+/// --convergence auto / --separation auto (docs/displays.md): a depth pre-pass of the centre
+/// view; the convergence balances the parallax in and out of the screen (balancedConvergence),
+/// the separation fills 95 % of the screen's budget with the parallax between the eyes' views.
+Status chooseAutoRig(Prepared& out, FramingParams& params, bool convergenceAuto,
+                     bool separationAuto) {
+    const char* what = convergenceAuto ? "--convergence auto" : "--separation auto";
+    const float aspect =
+        params.aspect.value_or(float(out.settings.width) / float(out.settings.height));
+    const Camera camera = frameCamera(out.scene, params.fovYDegrees, aspect);
+    auto depth = centreDepthPrepass(out.scene, camera, out.settings);
+    if (!depth) return depth.status();
+    if (!*depth) {
+        return usageError(
+            fmt::format("{}: the centre view sees nothing of {} (its depth pre-pass is empty)",
+                        what, out.sceneName));
+    }
+    const DepthPercentiles& d = **depth;
+    if (convergenceAuto) {
+        const float c = balancedConvergence(d.nearest, d.farthest);
+        params.convergence = c;
+        out.notes.push_back(fmt::format(
+            "note: --convergence auto chose {:.4g}: the harmonic mean of the distances the "
+            "centre view sees ({:.4g} .. {:.4g}, 1st .. 99th percentile), which balances the "
+            "parallax in and out of the screen",
+            c, d.nearest, d.farthest));
+    }
+    if (separationAuto) {
+        FramingParams trial = params;
+        trial.interaxial.reset();
+        trial.viewConeDegrees = 0.0f;
+        trial.separation = 0.01f;
+        auto framed = frameScene(out.scene, trial, out.settings);
+        if (!framed) return framed.status();
+        const Rig& rig = framed->rig;
+        if (rig.columns < 2) {
+            return usageError("--separation auto needs a row of at least two views");
+        }
+        const ParallaxRange r = parallaxRange(rig, d.minimum, d.maximum);
+        const float share = 1.0f / float(rig.columns - 1);  // adjacent views: the eyes' pair
+        const float worst = std::max(std::abs(r.minParallax), std::abs(r.maxParallax)) * share;
+        const ParallaxBudget budget = parallaxBudget(*out.screen);
+        if (worst > 0.0f && std::isfinite(worst)) {
+            const float s = 0.01f * 0.95f * budget.fraction / worst;
+            params.separation = s;
+            params.interaxial.reset();
+            params.viewConeDegrees = 0.0f;
+            out.notes.push_back(fmt::format(
+                "note: --separation auto chose {:.3g}% of the screen width: the largest parallax "
+                "between adjacent views is then 95% of the {:.2f} cm budget ({} eye separation "
+                "on a {:.4g} cm screen)",
+                100.0 * s, budget.fraction * out.screen->widthCm,
+                budget.desktop ? "half the" : "the", out.screen->widthCm));
+        } else {
+            out.notes.push_back(
+                "note: --separation auto: the scene lies on the convergence plane (no parallax "
+                "at any separation); the default spacing is kept");
+        }
+    }
+    return {};
+}
+
+}  // namespace
+
 void SceneOptions::addTo(CLI::App* app, bool withModels) {
     if (withModels) {
-        app->add_option("models", models,
-                        "Model files (OBJ, PLY, glTF 2.0). None: the procedural default scene");
+        app->add_option(
+            "models", models,
+            "Model files (OBJ, PLY, glTF 2.0 .gltf/.glb; glTF and OBJ+MTL keep their nodes, "
+            "materials, textures, lights and camera), each optionally placed: "
+            "FILE@X,Y,Z[,SCALE[,YAW]] (position, uniform scale, degrees about +Y; e.g. "
+            "chair.glb@2,0,-1,0.5,90). None: the procedural default scene");
     }
     app->add_option("--scene", namedScene,
                     "Procedural scene when no model is given: default, village (adelson1991's "
@@ -137,28 +210,76 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
         ->default_val(grid);
     auto* views_ = app->add_option("--views", views, "Number of views in a horizontal row (1..128)")
                        ->default_val(views);
-    app->add_option("--view-grid", viewGrid,
-                    "CxR grid of views, numbered left to right, top to bottom")
-        ->excludes(views_);
+    viewsOption = views_;
+    viewGridOption = app->add_option("--view-grid", viewGrid,
+                                     "CxR grid of views, numbered left to right, top to bottom")
+                         ->excludes(views_);
     app->add_option("--rig", rig, "Rig: offaxis (asymmetric frustums), toein or parallel")
         ->default_val(rig);
     auto* ia =
         app->add_option("--interaxial", interaxial,
                         "Distance between adjacent eyes, world units (default: convergence / 30)");
-    app->add_option(
-           "--separation", separation,
-           "Interaxial as a fraction of the screen width at the convergence plane (nvidia-gtc2010)")
+    // A number or `auto` (--convergence and --separation): the number goes to the optional
+    // double (prepare() checks its range), `auto` to the flag.
+    auto numberOrAuto = [](const char* name, std::optional<double>& value, bool& isAuto) {
+        return [name, &value, &isAuto](const std::string& text) {
+            if (text == "auto") {
+                isAuto = true;
+                value.reset();
+                return;
+            }
+            try {
+                std::size_t used = 0;
+                const double v = std::stod(text, &used);
+                if (used != text.size()) throw std::invalid_argument(text);
+                value = v;
+                isAuto = false;
+            } catch (const std::exception&) {
+                throw CLI::ValidationError(
+                    name, fmt::format("'{}' is not a number (expected a number or auto)", text));
+            }
+        };
+    };
+    app->add_option_function<std::string>(
+           "--separation", numberOrAuto("--separation", separation, separationAuto),
+           "Interaxial as a fraction of the screen width at the convergence plane "
+           "(nvidia-gtc2010); auto: the largest that keeps the parallax between the eyes' views "
+           "within the screen's budget (needs --screen-width; docs/displays.md)")
+        ->type_name("FLOAT|auto")
         ->excludes(ia);
-    app->add_option("--view-cone", viewCone,
-                    "Spread a row of views evenly in angle over this cone, degrees (the Looking "
-                    "Glass camera: view i at angle -cone/2 + cone*i/(N-1) seen from the "
-                    "convergence plane; e.g. 40); excludes --interaxial and --separation")
-        ->excludes(ia);
-    app->add_option(
-        "--convergence", convergence,
-        "Distance of the zero-parallax plane, world units (default: distance to the scene center)");
-    app->add_option("--fov", fov, "Vertical field of view, degrees")->default_val(fov);
-    app->add_option("--size", size, "Size of one view, WxH pixels")->default_val(size);
+    viewConeOption =
+        app->add_option(
+               "--view-cone", viewCone,
+               "Spread a row of views evenly in angle over this cone, degrees (the Looking "
+               "Glass camera: view i at angle -cone/2 + cone*i/(N-1) seen from the "
+               "convergence plane; e.g. 40); excludes --interaxial and --separation")
+            ->excludes(ia);
+    app->add_option_function<std::string>(
+           "--convergence", numberOrAuto("--convergence", convergence, convergenceAuto),
+           "Distance of the zero-parallax plane, world units (default: distance to the scene "
+           "center); auto: from a depth pre-pass of the centre view, the harmonic mean of the "
+           "1st and 99th percentile distances (balances the parallax in and out of the screen)")
+        ->type_name("FLOAT|auto");
+    app->add_option("--fov", fov,
+                    "Vertical field of view, degrees (default: a model file's camera's, else 45)")
+        ->default_val(fov)
+        ->each([this](const std::string&) { fovGiven = true; });
+    app->add_flag("--no-file-camera", noFileCamera,
+                  "Frame the scene's bounds instead of using the model file's camera");
+    sizeOption = app->add_option("--size", size, "Size of one view, WxH pixels")->default_val(size);
+    std::string displayHelp =
+        "Render for a display (`mvr info --displays` lists them): its views, view size, view "
+        "cone and output (a quilt; with --lenticular-calibration also lenticular). Options given "
+        "on the command line (--views, --size, --view-cone, --quilt, spacing) override the "
+        "preset's. One of:";
+    for (const std::string& n : displayNames()) displayHelp += " " + n;
+    app->add_option("--display", display, displayHelp);
+    app->add_option("--screen-width", screenWidthCm,
+                    "Width of the picture on the screen, cm: the comfort report in cm against the "
+                    "6.5 cm interocular budget (docs/displays.md)");
+    app->add_option("--viewing-distance", viewingDistanceCm,
+                    "Eyes to screen, cm (with --screen-width): vergence angles; nearer than 100 "
+                    "cm the budget is half the eye separation (desktop, nvidia-gtc2010)");
     app->add_option("--shading", shading, "Shading: flat, vertex (Gouraud) or pixel (per-fragment)")
         ->default_val(shading);
     app->add_flag("--cull", cullBackFaces, "Cull back faces");
@@ -178,10 +299,167 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
                     "Side of each billboard, world units (default: 3 % of the scene's radius)");
 }
 
+namespace {
+
+/// FILE@X,Y,Z[,SCALE[,YAW]]: a file that exists under the whole name is never split.
+Result<std::pair<std::string, std::optional<Placement>>> parseModelArg(const std::string& arg) {
+    std::error_code ec;
+    const std::size_t at = arg.rfind('@');
+    if (at == std::string::npos || std::filesystem::exists(arg, ec))
+        return std::pair<std::string, std::optional<Placement>>{arg, std::nullopt};
+    const std::string file = arg.substr(0, at), spec = arg.substr(at + 1);
+    static const std::regex kNumber(R"(\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*)");
+    std::vector<double> values;
+    std::size_t start = 0;
+    bool ok = true;
+    for (;;) {
+        const std::size_t comma = spec.find(',', start);
+        const std::string part = spec.substr(start, comma - start);
+        if (!std::regex_match(part, kNumber)) {
+            ok = false;
+            break;
+        }
+        values.push_back(std::strtod(part.c_str(), nullptr));
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    const auto bad = [&](const std::string& why) {
+        return usageError(
+            fmt::format("model '{}': placement '{}' {} (expected "
+                        "FILE@X,Y,Z[,SCALE[,YAW]], e.g. model.obj@1,0,-2,0.5,90)",
+                        arg, spec, why));
+    };
+    if (!ok) return bad("is not a list of numbers");
+    if (values.size() < 3 || values.size() > 5)
+        return bad(fmt::format("has {} numbers", values.size()));
+    for (double v : values)
+        if (!std::isfinite(v) || std::abs(v) > 1e30) return bad("has a number out of range");
+    Placement p;
+    p.position = glm::vec3(float(values[0]), float(values[1]), float(values[2]));
+    if (values.size() > 3) p.scale = float(values[3]);
+    if (values.size() > 4) p.yawDegrees = float(values[4]);
+    if (!(p.scale > 0.0f)) return bad("has a scale that is not > 0");
+    return std::pair<std::string, std::optional<Placement>>{file, p};
+}
+
+/// The models of the command line as one scene. Models without materials of their own (PLY,
+/// OBJ without mtllib) and without placements keep the old path exactly: one merged mesh each,
+/// laid out together by makeGridScene(). Otherwise each file is its scene (scene_io.h), placed,
+/// and --grid K lays out K copies of the whole combined scene (the file camera is then not
+/// used: it framed one copy).
+Result<Scene> loadModels(const std::vector<std::string>& args, int grid, std::string& name) {
+    std::vector<Scene> scenes;
+    std::vector<std::optional<Placement>> placements;
+    std::vector<SceneLoadInfo> infos;
+    bool plain = true;
+    for (const std::string& arg : args) {
+        auto parsed = parseModelArg(arg);
+        if (!parsed) return parsed.status();
+        SceneLoadInfo info;
+        auto scene = loadScene(parsed->first, &info);
+        if (!scene) return scene.status();
+        for (const std::string& w : info.warnings) fmt::print(stderr, "warning: {}\n", w);
+        plain = plain && !info.fromMaterials && !parsed->second;
+        scenes.push_back(std::move(scene).value());
+        placements.push_back(parsed->second);
+        infos.push_back(std::move(info));
+        name += (name.empty() ? "" : " + ") + parsed->first;
+    }
+    if (plain) {
+        std::vector<Mesh> meshes;
+        for (Scene& s : scenes) meshes.push_back(std::move(s.meshes[0]));
+        return makeGridScene(std::move(meshes), grid);
+    }
+    Scene combined;
+    std::vector<Light> fileLights;
+    for (std::size_t i = 0; i < scenes.size(); ++i) {
+        Scene& s = scenes[i];
+        if (!infos[i].fromMaterials) {  // a plain mesh among scenes: the grid's first color
+            for (Instance& inst : s.instances) inst.material = Material{{0.85f, 0.75f, 0.6f}, 0.3f};
+        }
+        if (infos[i].lightsFromFile)
+            fileLights.insert(fileLights.end(), s.lights.begin(), s.lights.end());
+        s.lights.clear();
+        if (placements[i]) transformScene(s, placements[i]->matrix());
+        appendScene(combined, std::move(s));
+    }
+    if (fileLights.size() > std::size_t(kMaxLights)) {
+        fmt::print(stderr, "warning: {} lights in the models: the first {} are used\n",
+                   fileLights.size(), kMaxLights);
+        fileLights.resize(kMaxLights);
+    }
+    combined.lights = fileLights.empty() ? defaultLights() : fileLights;
+    if (grid > 1) {
+        const Bounds b = combined.bounds();
+        const glm::vec3 size = b.max - b.min;
+        const float spacing = std::max({size.x, size.y, 1e-6f}) * 1.1f;
+        const int columns = static_cast<int>(std::ceil(std::sqrt(double(grid))));
+        const int rows = (grid + columns - 1) / columns;
+        const std::vector<Instance> one = combined.instances;
+        combined.instances.clear();
+        for (int k = 0; k < grid; ++k) {
+            const glm::vec3 offset((k % columns - (columns - 1) * 0.5f) * spacing,
+                                   ((rows - 1) * 0.5f - k / columns) * spacing, 0.0f);
+            const glm::mat4 xf = glm::translate(glm::mat4(1.0f), offset - b.center());
+            for (Instance inst : one) {
+                inst.worldFromModel = xf * inst.worldFromModel;
+                combined.instances.push_back(std::move(inst));
+            }
+        }
+        combined.camera.reset();
+    }
+    return combined;
+}
+
+}  // namespace
+
 Result<Prepared> SceneOptions::prepare() const {
     Prepared out;
+    // A display preset fills in what the command line did not give (displays.h).
+    auto given = [](const CLI::Option* o) { return o != nullptr && o->count() > 0; };
+    int nViews = views;
+    std::string viewSize = size;
+    std::optional<double> cone = viewCone;
+    std::optional<float> aspect;
+    if (!display.empty()) {
+        auto d = findDisplay(display);
+        if (!d) return usageError(fmt::format("--display {}: {}", display, d.status().message()));
+        out.display = *d;
+        if (!given(viewsOption) && !given(viewGridOption)) nViews = d->views;
+        if (!given(sizeOption)) {
+            viewSize = fmt::format("{}x{}", d->viewWidth, d->viewHeight);
+            aspect = d->aspect;
+        }
+        if (!given(viewConeOption) && d->viewConeDegrees > 0.0f && !interaxial && !separation &&
+            !separationAuto && viewGrid.empty() && rig == "offaxis")
+            cone = d->viewConeDegrees;
+    }
+    for (const auto& [name, value] : {std::pair{"--screen-width", screenWidthCm},
+                                      std::pair{"--viewing-distance", viewingDistanceCm}}) {
+        if (value && (!std::isfinite(*value) || *value <= 0.0 || *value > 1e6)) {
+            return usageError(fmt::format(
+                "{} {} is out of range (expected a length in cm, 0 < cm <= 1e6)", name, *value));
+        }
+    }
+    if (viewingDistanceCm && !screenWidthCm) {
+        return usageError("--viewing-distance needs --screen-width (the screen's width in cm)");
+    }
+    if (screenWidthCm) {
+        ScreenGeometry screen;
+        screen.widthCm = float(*screenWidthCm);
+        if (viewingDistanceCm) screen.viewingDistanceCm = float(*viewingDistanceCm);
+        out.screen = screen;
+    }
+    if (separationAuto && !screenWidthCm) {
+        return usageError(
+            "--separation auto needs --screen-width CM (the budget is the 6.5 cm eye separation "
+            "over the screen width)");
+    }
+    if (separationAuto && cone && given(viewConeOption)) {
+        return usageError(fmt::format("--view-cone {} excludes --separation", *cone));
+    }
     // Numbers first: they are cheap to check and the model may be large.
-    auto sz = parseSize(size, "--size");
+    auto sz = parseSize(viewSize, "--size");
     if (!sz) return sz.status();
     out.settings.width = sz->first;
     out.settings.height = sz->second;
@@ -210,13 +488,13 @@ Result<Prepared> SceneOptions::prepare() const {
         params.columns = std::stoi(m[1].str());
         params.rows = std::stoi(m[2].str());
     } else {
-        params.columns = views;
+        params.columns = nViews;
         params.rows = 1;
     }
     if (params.columns < 1 || params.rows < 1 || params.columns * params.rows > kMaxViews) {
         return usageError(fmt::format("{} {}: view count {} is out of range (expected 1..{})",
                                       viewGrid.empty() ? "--views" : "--view-grid",
-                                      viewGrid.empty() ? fmt::format("{}", views) : viewGrid,
+                                      viewGrid.empty() ? fmt::format("{}", nViews) : viewGrid,
                                       params.columns * params.rows, kMaxViews));
     }
     if (grid < 1 || grid > 1024) {
@@ -234,19 +512,18 @@ Result<Prepared> SceneOptions::prepare() const {
                 fmt::format("{} {} is out of range (expected a finite value >= 0)", name, *value));
         }
     }
-    if (viewCone) {
-        if (!std::isfinite(*viewCone) || *viewCone <= 0.0 || *viewCone >= 180.0) {
+    if (cone) {
+        if (!std::isfinite(*cone) || *cone <= 0.0 || *cone >= 180.0) {
             return usageError(fmt::format(
-                "--view-cone {} is out of range (expected 0 < cone < 180 degrees)", *viewCone));
+                "--view-cone {} is out of range (expected 0 < cone < 180 degrees)", *cone));
         }
         if (interaxial || separation) {
-            return usageError(fmt::format("--view-cone {} excludes --{}", *viewCone,
+            return usageError(fmt::format("--view-cone {} excludes --{}", *cone,
                                           interaxial ? "interaxial" : "separation"));
         }
         if (!viewGrid.empty() || *kind != RigKind::OffAxis) {
             return usageError(fmt::format(
-                "--view-cone {} needs an off-axis row of views (--views N, --rig offaxis)",
-                *viewCone));
+                "--view-cone {} needs an off-axis row of views (--views N, --rig offaxis)", *cone));
         }
     }
     if (convergence && *convergence <= 0.0) {
@@ -284,23 +561,24 @@ Result<Prepared> SceneOptions::prepare() const {
                 "--grid {} needs a model file (the default scene is not gridded)", grid));
         }
     } else {
-        std::vector<Mesh> meshes;
-        for (const std::string& path : models) {
-            auto mesh = loadMesh(path);
-            if (!mesh) return mesh.status();
-            meshes.push_back(std::move(mesh).value());
-            out.sceneName += (out.sceneName.empty() ? "" : " + ") + path;
-        }
-        out.scene = makeGridScene(std::move(meshes), grid);
+        auto loaded = loadModels(models, grid, out.sceneName);
+        if (!loaded) return loaded.status();
+        out.scene = std::move(loaded).value();
     }
     if (Status s = validateScene(out.scene); !s) return s;
 
     // The camera, near/far, convergence and spacing: the library's framing (framing.h).
     params.fovYDegrees = static_cast<float>(fov);
+    params.aspect = aspect;
+    params.fovOverridesSceneCamera = fovGiven;
+    params.useSceneCamera = !noFileCamera;
     if (interaxial) params.interaxial = static_cast<float>(*interaxial);
     if (separation) params.separation = static_cast<float>(*separation);
     if (convergence) params.convergence = static_cast<float>(*convergence);
-    if (viewCone) params.viewConeDegrees = static_cast<float>(*viewCone);
+    if (cone) params.viewConeDegrees = static_cast<float>(*cone);
+    if (convergenceAuto || separationAuto) {
+        if (Status s = chooseAutoRig(out, params, convergenceAuto, separationAuto); !s) return s;
+    }
     auto framed = frameScene(out.scene, params, out.settings);
     if (!framed && framed.status().code() == ErrorCode::Usage) {
         // The rig is a product of the options and the scene: name the options that shaped it
@@ -312,7 +590,7 @@ Result<Prepared> SceneOptions::prepare() const {
         if (interaxial) add(fmt::format("--interaxial {}", *interaxial));
         if (separation) add(fmt::format("--separation {}", *separation));
         if (convergence) add(fmt::format("--convergence {}", *convergence));
-        if (viewCone) add(fmt::format("--view-cone {}", *viewCone));
+        if (cone) add(fmt::format("--view-cone {}", *cone));
         if (fov != 45.0) add(fmt::format("--fov {}", fov));
         if (culprit.empty()) culprit = out.sceneName;
         return Status(framed.status().code(),
@@ -336,6 +614,24 @@ Result<Prepared> SceneOptions::prepare() const {
         const auto list = scatterBillboards(b, billboards, side);
         appendBillboards(out.scene, list, out.rig.camera);
         if (Status s = validateScene(out.scene); !s) return s;
+    }
+    out.viewConeDegrees = params.viewConeDegrees;
+    // No silent nonsense: a scene outside every view's frustum would give empty images.
+    const std::vector<int> missing = viewsMissingScene(out.scene, out.rig);
+    if (!missing.empty() && int(missing.size()) == out.rig.viewCount()) {
+        return usageError(fmt::format(
+            "{}: the scene lies entirely outside the frustum of every view (nothing would be "
+            "drawn; check --separation / --interaxial / --convergence and the scene's camera)",
+            out.sceneName));
+    }
+    if (!missing.empty()) {
+        std::string list;
+        for (std::size_t i = 0; i < missing.size() && i < 8; ++i)
+            list += (i ? ", " : "") + std::to_string(missing[i]);
+        if (missing.size() > 8) list += ", ...";
+        out.notes.push_back(
+            fmt::format("warning: {} of {} views see nothing of the scene (view{} {})",
+                        missing.size(), out.rig.viewCount(), missing.size() == 1 ? "" : "s", list));
     }
     return out;
 }

@@ -15,6 +15,8 @@
 #include <CLI/CLI.hpp>
 
 #include "mvr/backends.h"
+#include "mvr/composite/compose.h"
+#include "mvr/core/displays.h"
 #include "mvr/core/render.h"
 #include "mvr/core/rig.h"
 #include "mvr/core/scene.h"
@@ -27,7 +29,13 @@ struct Prepared {
     Scene scene;
     Rig rig;
     RenderSettings settings;
-    std::string sceneName;  ///< "default scene" or the model file names
+    std::string sceneName;                 ///< "default scene" or the model file names
+    std::optional<DisplayPreset> display;  ///< --display NAME (its outputs: displayOutputs())
+    std::optional<ScreenGeometry> screen;  ///< --screen-width (and --viewing-distance)
+    float viewConeDegrees = 0.0f;          ///< the rig's view cone (0: none)
+    /// One-line notes for stderr: what --convergence auto / --separation auto chose ("note: …")
+    /// and warnings ("warning: …", e.g. views that see nothing of the scene).
+    std::vector<std::string> notes;
 };
 
 struct SceneOptions {
@@ -46,10 +54,23 @@ struct SceneOptions {
     std::string shading = "vertex";
     bool cullBackFaces = false;
     bool wireframe = false;
-    bool shadows = false;      ///< --shadows (issue 15, shadows.h)
-    int shadowMapSize = 1024;  ///< --shadow-map-size
-    int billboards = 0;        ///< --billboards N (billboards.h)
-    double billboardSize = 0;  ///< --billboard-size; 0: 3 % of the scene's radius
+    bool shadows = false;                     ///< --shadows (issue 15, shadows.h)
+    int shadowMapSize = 1024;                 ///< --shadow-map-size
+    int billboards = 0;                       ///< --billboards N (billboards.h)
+    double billboardSize = 0;                 ///< --billboard-size; 0: 3 % of the scene's radius
+    std::string display;                      ///< --display NAME (displays.h); "" = none
+    std::optional<double> screenWidthCm;      ///< --screen-width CM
+    std::optional<double> viewingDistanceCm;  ///< --viewing-distance CM
+    bool convergenceAuto = false;             ///< --convergence auto
+    bool separationAuto = false;              ///< --separation auto
+    /// The options a preset fills in; one given on the command line (count() > 0) overrides
+    /// the preset's value. Null (SceneOptions filled in by code): never given.
+    CLI::Option *viewsOption = nullptr, *viewGridOption = nullptr, *sizeOption = nullptr,
+                *viewConeOption = nullptr;
+    // Appended (issue 14): a model file's camera is the centre camera unless --no-file-camera;
+    // its yfov unless --fov is given (fovGiven).
+    bool fovGiven = false;
+    bool noFileCamera = false;
 
     /// Adds the options to a subcommand. `withModels`: also the positional MODEL... list.
     void addTo(CLI::App* app, bool withModels = true);
@@ -65,6 +86,30 @@ struct ComfortReport {
     std::string line;  ///< "parallax between outer views: ... (comfortable: ...)", no newline
 };
 std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& out);
+
+/// The comfort report against a screen (--screen-width / --viewing-distance), after
+/// comfortReport(): the parallax between the views the eyes see in cm and degrees of vergence
+/// against the interocular budget (displays.h), and its line. The JSON of --report-json.
+struct ScreenComfortReport {
+    ScreenComfort comfort;
+    std::string line;  ///< "on a 12 cm screen at 40 cm: ... (comfortable | uncomfortable: why)"
+};
+std::optional<ScreenComfortReport> screenComfortReport(const Prepared& p,
+                                                       const std::optional<ComfortReport>& range);
+/// The --report-json document (fields in docs/displays.md).
+std::string comfortJson(const Prepared& p, const std::optional<ComfortReport>& range,
+                        const std::optional<ScreenComfortReport>& screen);
+/// Warnings after a render (stderr lines, "warning: ..."): no view drew anything; parallax far
+/// above the budget (twice it with a screen, one screen width without).
+std::vector<std::string> renderWarnings(const Prepared& p, const RenderOutput& out,
+                                        const std::optional<ComfortReport>& range,
+                                        const std::optional<ScreenComfortReport>& screen);
+/// A display preset's outputs: its format (if not already asked for), the quilt grid unless
+/// --quilt was given (or --views changed the count: then the most square quilt), the quilt name's aspect (the camera's: `cameraAspect`), and lenticular
+/// when a calibration was given (its panel size unless the calibration names one).
+void displayOutputs(const DisplayPreset& d, bool calibrationGiven, bool quiltGiven,
+                    float cameraAspect, std::vector<std::string>& formats,
+                    composite::ComposeOptions& compose);
 
 /// Parses "WxH" (both 1..16384). Errors: ErrorCode::Usage.
 Result<std::pair<int, int>> parseSize(const std::string& text, const char* what);

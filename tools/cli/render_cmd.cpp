@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 
@@ -32,6 +33,9 @@ struct RenderOptions {
     composite::ComposeOptions compose;
     StereoSurfaceOptions surfaces;  ///< --sky, --floating-window, --letterbox, --label…
     SequenceOptions sequence;       ///< --frames, --orbit, ...: sequence.cpp owns the frame loop
+    std::string reportJson;         ///< --report-json FILE: the comfort report (docs/displays.md)
+    CLI::Option* calibrationOption = nullptr;  ///< --lenticular-calibration (a preset's lenticular)
+    CLI::Option* quiltOption = nullptr;        ///< --quilt (overrides a preset's grid)
 };
 
 /// `--check`: renders the reference — the backend's multipass, or the registry's first
@@ -62,9 +66,19 @@ Status checkAgainstReference(const std::string& backendName, const std::string& 
     return {};
 }
 
-int runRender(const RenderOptions& o) {
-    auto prepared = o.scene.prepare();
+int runRender(const RenderOptions& given) {
+    auto prepared = given.scene.prepare();
     if (!prepared) return fail(prepared.status());
+    RenderOptions o = given;  // a display preset adds its outputs
+    if (prepared->display) {
+        displayOutputs(*prepared->display, o.calibrationOption && o.calibrationOption->count() > 0,
+                       (o.quiltOption && o.quiltOption->count() > 0) ||
+                           prepared->rig.viewCount() != prepared->display->views,
+                       prepared->rig.camera.aspect, o.formats, o.compose);
+    }
+    for (const std::string& note : prepared->notes) {  // -q keeps the warnings only
+        if (!o.quiet || note.rfind("note: ", 0) != 0) fmt::print(stderr, "{}\n", note);
+    }
     auto backend = makeBackend(o.backend);
     if (!backend) {
         return fail(Status(backend.status().code(),
@@ -154,6 +168,24 @@ int runRender(const RenderOptions& o) {
         written.push_back(path->string());
     }
     progress.reset();
+    const std::optional<ComfortReport> comfort = comfortReport(p.rig, out);
+    const std::optional<ScreenComfortReport> screenComfort = screenComfortReport(p, comfort);
+    for (const std::string& w : renderWarnings(p, out, comfort, screenComfort))
+        fmt::print(stderr, "{}\n", w);
+    if (!o.reportJson.empty()) {
+        std::FILE* f = std::fopen(o.reportJson.c_str(), "wb");
+        const std::string json = comfortJson(p, comfort, screenComfort);
+        if (!f || std::fwrite(json.data(), 1, json.size(), f) != json.size()) {
+            if (f) std::fclose(f);
+            return fail(
+                outputError(fmt::format("--report-json {}: cannot write the file", o.reportJson)));
+        }
+        if (std::fclose(f) != 0) {
+            return fail(
+                outputError(fmt::format("--report-json {}: cannot write the file", o.reportJson)));
+        }
+        written.push_back(o.reportJson);
+    }
     if (!o.quiet) {
         fmt::print(
             "rendered {} ({} triangles) from {} view{} at {}x{}, {} shading, {}:{}{} in {:.1f} ms\n",
@@ -165,7 +197,8 @@ int runRender(const RenderOptions& o) {
             "rig: {} {}x{}, interaxial {:.4g}, convergence {:.4g}, separation {:.2f}% of screen width\n",
             rigKindName(p.rig.kind), p.rig.columns, p.rig.rows, p.rig.interaxial, p.rig.convergence,
             100.0 * p.rig.separation());
-        if (auto comfort = comfortReport(p.rig, out)) fmt::print("{}\n", comfort->line);
+        if (comfort) fmt::print("{}\n", comfort->line);
+        if (screenComfort) fmt::print("{}\n", screenComfort->line);
         fmt::print("wrote:\n");
         for (const std::string& w : written) fmt::print("  {}\n", w);
     }
@@ -205,6 +238,12 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
                     "Also write composites: DIR/<format>.png (.mpo, .jps); repeatable")
         ->check(CLI::IsMember(composite::formatNames()));
     addComposeOptions(app, o->compose);
+    o->calibrationOption = app->get_option("--lenticular-calibration");
+    o->quiltOption = app->get_option("--quilt");
+    app->add_option("--report-json", o->reportJson,
+                    "Write the comfort report (parallax range, the screen's budget, the rules "
+                    "broken; fields in docs/displays.md) to FILE as JSON")
+        ->type_name("FILE");
     o->surfaces.addTo(app);
     addSequenceOptions(app, o->sequence);
     return [o] { return runRender(*o); };

@@ -86,6 +86,10 @@ struct ComposeOptions {
     double convergence = 0.0;
     /// mpo: 1-based number of the base (reference) viewpoint; 0 = (N + 1) / 2 (1 for stereo).
     int baseViewpoint = 0;
+    /// quilt: the aspect its file name writes (`quilt_qsCxRaA.png`): the width / height of the
+    /// picture a view shows on the panel; 0 = the views' pixel aspect. A display preset sets it
+    /// when the panel stretches its tiles (include/mvr/core/displays.h).
+    double quiltAspect = 0.0;
 };
 
 /// How a format's output size follows from its views' size W×H (FormatInfo::size).

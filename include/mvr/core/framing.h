@@ -32,6 +32,16 @@ struct FramingParams {
     /// Looking Glass camera, RigParams::viewConeDegrees); 0: interaxial/separation spacing.
     float viewConeDegrees = 0.0f;
     std::optional<glm::vec3> clearColor;  ///< default: Scene::background
+    /// Width / height of the picture one view shows (the camera's aspect); default: the view's
+    /// pixel aspect. A display preset whose panel stretches its quilt tiles sets it (displays.h).
+    std::optional<float> aspect;
+    // Appended (issue 14): a camera from the file (Scene::camera) is the centre camera: its
+    // position and orientation, its yfov unless fovOverridesSceneCamera (then fovYDegrees),
+    // its znear / zfar (zfar absent: 1.05 × the farthest bounds corner along the view axis);
+    // the target (and default convergence) is the bounds' centre's depth along its axis.
+    // The output size's aspect is used, not the file's aspectRatio (yfov is kept).
+    bool useSceneCamera = true;
+    bool fovOverridesSceneCamera = false;
 };
 
 /// A rig and settings ready for Backend::render().
@@ -42,6 +52,10 @@ struct RenderRequest {
 
 /// The centre camera for `scene` seen at `aspect` (width / height of one view).
 Camera frameCamera(const Scene& scene, float fovYDegrees, float aspect);
+
+/// The centre camera from a file's camera (see FramingParams::useSceneCamera).
+Camera cameraFromScene(const SceneCamera& fileCamera, const Scene& scene,
+                       std::optional<float> fovYDegrees, float aspect);
 
 /// Frames `scene` for views of `settings`' size (its clear colour is replaced by
 /// params.clearColor or the scene's background). Errors: Usage naming the parameter (fov,

@@ -9,6 +9,9 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
+#include <memory_resource>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -25,10 +28,16 @@ struct Rgba8 {
 struct Image {
     int width = 0;
     int height = 0;
-    std::vector<std::uint8_t> rgba;  ///< width * height * 4 bytes
+    /// width * height * 4 bytes. A pmr vector so that a caller may hand a backend the memory
+    /// the pixels go to (OutputBlock, render.h: zero copy out of a render); by default it is
+    /// the global heap, as a std::vector's.
+    std::pmr::vector<std::uint8_t> rgba;
 
     Image() = default;
     Image(int w, int h, Rgba8 fill = {0, 0, 0, 255});
+    /// Reallocates as w×h (bytes zero) from `memory` (nullptr: the default resource), building
+    /// the vector anew so that it keeps `memory` (assignment would keep the old allocator).
+    void reset(int w, int h, std::pmr::memory_resource* memory);
 
     bool empty() const { return width <= 0 || height <= 0; }
     Rgba8 at(int x, int y) const;
@@ -44,12 +53,14 @@ struct Image {
 struct DepthImage {
     int width = 0;
     int height = 0;
-    std::vector<float> depth;  ///< width * height values
+    std::pmr::vector<float> depth;  ///< width * height values (pmr: see Image::rgba)
 
     DepthImage() = default;
     DepthImage(int w, int h, float fill = 1.0f)
         : width(w), height(h), depth(static_cast<std::size_t>(w) * h, fill) {}
     float at(int x, int y) const { return depth[static_cast<std::size_t>(y) * width + x]; }
+    /// Reallocates as w×h filled with `fill`, from `memory` (see Image::reset).
+    void reset(int w, int h, float fill, std::pmr::memory_resource* memory);
     friend bool operator==(const DepthImage&, const DepthImage&) = default;
 };
 
@@ -70,6 +81,10 @@ Status writePng(const std::filesystem::path& path, const Image& image);
 /// Reads a PNG file (any bit depth / color type, converted to RGBA8) through libpng.
 /// Errors: ErrorCode::Input naming the path and the problem (missing, not a PNG, truncated).
 Result<Image> readPng(const std::filesystem::path& path);
+
+/// Decodes PNG bytes in memory (any bit depth / color type, converted to RGBA8) through
+/// libpng, as readPng(). Errors: ErrorCode::Input, "WHAT: not a readable PNG (...)" / ...
+Result<Image> decodePng(std::span<const std::uint8_t> data, const std::string& what);
 
 /// Writes a depth image as a 16-bit grayscale PNG (0 = near, 65535 = far / empty), for looking at.
 Status writeDepthPng(const std::filesystem::path& path, const DepthImage& depth);

@@ -15,6 +15,37 @@
 // pass or multipass, produces the same colors.
 // Output is linear [0, 1] per channel, clamped, alpha 1; quantized to 8 bits as
 // uint8(clamp(c, 0, 1) * 255 + 0.5).
+//
+// Lights (issue 14, glTF KHR_lights_punctual semantics): a directional light shines along
+// −towardLight with no falloff (the functions below are bit for bit what they were before point
+// and spot lights). Point and spot lights: l = normalize(position − p), scaled by
+//   range attenuation  max(min(1 − (d / range)^4, 1), 0) / d²   (range > 0; 1 / d² when range
+//                      = 0, i.e. infinite), d = ‖position − p‖, d² at least 1e-8 — the formula
+//                      KHR_lights_punctual's README recommends ("Range Property");
+//   spot attenuation   t = saturate(cd · scale + offset), t², with cd = dot(−towardLight, −l)
+//                      (the cosine between the spot axis and the direction to p), scale =
+//                      1 / max(0.001, innerConeCos − outerConeCos), offset = −outerConeCos ·
+//                      scale — the spec's reference implementation ("Inner and Outer Cone
+//                      Angles"); 0 outside the outer cone, 1 inside the inner one, a squared
+//                      ramp between (the spec's choice; not GLSL smoothstep).
+// Flat shading evaluates point / spot lights at the triangle's CENTROID (world space, the mean
+// of its three vertices): one position per triangle, like its one normal.
+//
+// Textures (issue 14): the base color is albedo × texel (texel: texture_sampling.h's linear RGBA)
+// and it multiplies the DIFFUSE and ambient terms only (specular stays white), i.e. the
+// textured color is clamp(base ⊙ D + S) with LightTerms D (ambient + Σ att·max(n·l, 0)·color)
+// and S (Σ att·specular·max(n·h, 0)^shininess·color, Blinn-Phong only). Flat: D from the face
+// normal at the centroid, per triangle, S = 0. Vertex: D and S at each vertex, interpolated
+// perspective-correctly, combined with the texel per fragment. Pixel: D and S per fragment.
+// Alpha = material.alpha × texel alpha: AlphaMode::Mask discards alpha < alphaCutoff (the
+// fragment writes neither color nor depth); Blend: color = src·alpha + dst·(1 − alpha) over
+// the framebuffer's value, depth tested but not written; blended instances are drawn after
+// all others, in instance order, unsorted (the backends' draw order).
+// Double-sided materials (Material::doubleSided): never back-face culled; the normal used for
+// lighting is flipped when it faces away from the rig's CENTER eye (facingNormal) — a
+// view-independent rule like the rest of shading, so vertex lighting is still done once for
+// all views. Single-sided materials keep their normal (back faces are only drawn when culling
+// is off).
 #pragma once
 
 #include <algorithm>
@@ -100,38 +131,172 @@ inline float specularPow(float x, float s) {
     return res + (x - x);  // + 0, or NaN for x = NaN / inf
 }
 
-/// Flat: ambient + Σ max(dot(n, l), 0) · albedo · lightColor. `faceNormal` unit, world space.
+/// Direction toward a light from `worldPos` and the light's attenuation there (1 for
+/// directional lights; range × spot attenuation for point / spot lights, see the header).
+struct LightSample {
+    glm::vec3 toLight{0.0f, 0.0f, 1.0f};  ///< unit
+    float attenuation = 1.0f;
+};
+
+/// KHR_lights_punctual's recommended range falloff: max(min(1 − (d/range)^4, 1), 0) / d²;
+/// 1 / d² for range ≤ 0 (infinite). d² is taken at least 1e-8.
+inline float rangeAttenuation(float distance2, float range) {
+    const float d2 = std::max(distance2, 1e-8f);
+    if (!(range > 0.0f)) return 1.0f / d2;
+    const float r = d2 / (range * range);  // (d / range)²
+    const float f = std::clamp(1.0f - r * r, 0.0f, 1.0f);
+    return f / d2;
+}
+
+/// KHR_lights_punctual's spot cone falloff: saturate(cd · scale + offset)², scale = 1 /
+/// max(0.001, innerCos − outerCos), offset = −outerCos · scale; cd = cos(angle to the axis).
+inline float spotAttenuation(float cd, float innerConeCos, float outerConeCos) {
+    const float scale = 1.0f / std::max(0.001f, innerConeCos - outerConeCos);
+    const float offset = -outerConeCos * scale;
+    const float t = std::clamp(cd * scale + offset, 0.0f, 1.0f);
+    return t * t;
+}
+
+inline LightSample lightAt(const Light& l, glm::vec3 worldPos) {
+    LightSample s;
+    if (l.type == LightType::Directional) {
+        s.toLight = l.towardLight;
+        return s;
+    }
+    const glm::vec3 d = l.position - worldPos;
+    const float d2 = glm::dot(d, d);
+    s.toLight = d2 > 0.0f ? d / std::sqrt(d2) : l.towardLight;
+    s.attenuation = rangeAttenuation(d2, l.range);
+    if (l.type == LightType::Spot) {
+        // the spot axis is −towardLight; the direction from the light to p is −toLight
+        s.attenuation *=
+            spotAttenuation(glm::dot(l.towardLight, s.toLight), l.innerConeCos, l.outerConeCos);
+    }
+    return s;
+}
+
+/// The normal lighting uses: `n` itself, or −n for a double-sided material when n faces away
+/// from the center eye (dot(n, centerEye − p) < 0). `n` need not be unit.
+inline glm::vec3 facingNormal(const ShadingContext& ctx, const Material& m, glm::vec3 n,
+                              glm::vec3 worldPos) {
+    if (m.doubleSided && glm::dot(n, ctx.centerEye - worldPos) < 0.0f) return -n;
+    return n;
+}
+
+/// Light `l`'s shadow factor (issue 15, shadows.h) in the per-light array `shadow` (indexed like
+/// ctx.lights); 1 (lit) when `shadow` is null.
+inline float shadowFactor(const ShadingContext& ctx, const DirectionalLight& l,
+                          const float* shadow) {
+    return shadow ? shadow[&l - ctx.lights.data()] : 1.0f;
+}
+
+/// Flat at `worldPos` (the triangle's centroid; only point / spot lights use it): ambient +
+/// Σ att · max(dot(n, l), 0) · albedo · lightColor. `faceNormal` unit, world space.
 /// `shadow` (issue 15): per light, the factor (shadows.h) multiplying its term; null = lit.
 inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal,
-                           const float* shadow = nullptr) {
+                           glm::vec3 worldPos, const float* shadow = nullptr) {
+    faceNormal = facingNormal(ctx, m, faceNormal, worldPos);
     glm::vec3 c = ctx.ambient * m.albedo;
     for (const DirectionalLight& l : ctx.lights) {
-        const float s = shadow ? shadow[&l - ctx.lights.data()] : 1.0f;
-        c += (std::max(glm::dot(faceNormal, l.towardLight), 0.0f) * m.albedo * l.color) * s;
+        const float sf = shadowFactor(ctx, l, shadow);
+        if (l.type == LightType::Directional) {
+            c += (std::max(glm::dot(faceNormal, l.towardLight), 0.0f) * m.albedo * l.color) * sf;
+        } else {
+            const LightSample s = lightAt(l, worldPos);
+            c += (std::max(glm::dot(faceNormal, s.toLight), 0.0f) * m.albedo *
+                  (l.color * s.attenuation)) *
+                 sf;
+        }
     }
     return glm::clamp(c, 0.0f, 1.0f);
 }
+/// Flat with directional lights only (the position is not needed).
+inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal,
+                           const float* shadow = nullptr) {
+    return shadeFlat(ctx, m, faceNormal, glm::vec3(0.0f), shadow);
+}
 
-/// Blinn-Phong: ambient + Σ [max(n·l, 0) · albedo + specular · max(n·h, 0)^shininess (only
-/// where n·l > 0)] · lightColor, with h = normalize(l + v), v = normalize(centerEye − p).
+/// Blinn-Phong: ambient + Σ att · [max(n·l, 0) · albedo + specular · max(n·h, 0)^shininess
+/// (only where n·l > 0)] · lightColor, with h = normalize(l + v), v = normalize(centerEye − p).
 /// `normal` need not be unit (it is normalized here). `shadow` (issue 15): per light, the
 /// factor (shadows.h) multiplying its diffuse + specular; null = lit.
 inline glm::vec3 shadeBlinnPhong(const ShadingContext& ctx, const Material& m, glm::vec3 normal,
                                  glm::vec3 worldPos, const float* shadow = nullptr) {
-    const glm::vec3 n = glm::normalize(normal);
+    const glm::vec3 n = glm::normalize(facingNormal(ctx, m, normal, worldPos));
     const glm::vec3 v = glm::normalize(ctx.centerEye - worldPos);
     glm::vec3 c = ctx.ambient * m.albedo;
     for (const DirectionalLight& l : ctx.lights) {
-        const float nl = glm::dot(n, l.towardLight);
+        const LightSample s = lightAt(l, worldPos);
+        const float nl = glm::dot(n, s.toLight);
         if (nl > 0.0f) {
-            const glm::vec3 h = glm::normalize(l.towardLight + v);
+            const glm::vec3 h = glm::normalize(s.toLight + v);
             const float spec =
                 m.specular * specularPow(std::max(glm::dot(n, h), 0.0f), m.shininess);
-            const float s = shadow ? shadow[&l - ctx.lights.data()] : 1.0f;
-            c += ((nl * m.albedo + glm::vec3(spec)) * l.color) * s;
+            const float sf = shadowFactor(ctx, l, shadow);
+            if (l.type == LightType::Directional) {
+                c += ((nl * m.albedo + glm::vec3(spec)) * l.color) * sf;
+            } else {
+                c += ((nl * m.albedo + glm::vec3(spec)) * (l.color * s.attenuation)) * sf;
+            }
         }
     }
     return glm::clamp(c, 0.0f, 1.0f);
+}
+
+/// The lighting of a textured surface before its base color is known: `diffuse` D multiplies
+/// the base color (albedo × texel), `specular` S is added (see the header). Not clamped.
+struct LightTerms {
+    glm::vec3 diffuse{0.0f};
+    glm::vec3 specular{0.0f};
+};
+
+/// Flat's terms: D = ambient + Σ att · max(n·l, 0) · lightColor at `worldPos` (the centroid),
+/// S = 0. `faceNormal` unit. `shadow`: per-light factors (issue 15), null = lit.
+inline LightTerms flatTerms(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal,
+                            glm::vec3 worldPos, const float* shadow = nullptr) {
+    faceNormal = facingNormal(ctx, m, faceNormal, worldPos);
+    LightTerms t;
+    t.diffuse = ctx.ambient;
+    for (const DirectionalLight& l : ctx.lights) {
+        const LightSample s = lightAt(l, worldPos);
+        t.diffuse += (std::max(glm::dot(faceNormal, s.toLight), 0.0f) * (l.color * s.attenuation)) *
+                     shadowFactor(ctx, l, shadow);
+    }
+    return t;
+}
+
+/// Blinn-Phong's terms: D = ambient + Σ att · max(n·l, 0) · lightColor, S = Σ att · specular ·
+/// max(n·h, 0)^shininess · lightColor (where n·l > 0). `normal` need not be unit. `shadow`:
+/// per-light factors (issue 15) multiplying each light's D and S terms, null = lit.
+inline LightTerms blinnPhongTerms(const ShadingContext& ctx, const Material& m, glm::vec3 normal,
+                                  glm::vec3 worldPos, const float* shadow = nullptr) {
+    const glm::vec3 n = glm::normalize(facingNormal(ctx, m, normal, worldPos));
+    const glm::vec3 v = glm::normalize(ctx.centerEye - worldPos);
+    LightTerms t;
+    t.diffuse = ctx.ambient;
+    for (const DirectionalLight& l : ctx.lights) {
+        const LightSample s = lightAt(l, worldPos);
+        const float nl = glm::dot(n, s.toLight);
+        if (nl > 0.0f) {
+            const glm::vec3 h = glm::normalize(s.toLight + v);
+            const float spec =
+                m.specular * specularPow(std::max(glm::dot(n, h), 0.0f), m.shininess);
+            const glm::vec3 lc = l.color * s.attenuation * shadowFactor(ctx, l, shadow);
+            t.diffuse += nl * lc;
+            t.specular += spec * lc;
+        }
+    }
+    return t;
+}
+
+/// A textured surface's color: clamp(base ⊙ D + S, 0, 1), base = albedo × texel (linear).
+inline glm::vec3 shadeTextured(glm::vec3 base, const LightTerms& t) {
+    return glm::clamp(base * t.diffuse + t.specular, 0.0f, 1.0f);
+}
+
+/// The base color and alpha of a fragment: (albedo, alpha) × texel (linear RGBA).
+inline glm::vec4 baseColor(const Material& m, glm::vec4 texel) {
+    return glm::vec4(m.albedo, m.alpha) * texel;
 }
 
 inline std::uint8_t quantizeUnorm8(float c) {

@@ -32,6 +32,43 @@ struct RenderSettings {
     // views and sampled by every view.
     bool shadows = false;
     int shadowMapSize = 1024;  ///< texels per side (kDefaultShadowMapSize)
+    /// Where the views' pixels go, when the caller owns that memory (zero copy: the Python
+    /// module renders into the numpy arrays it returns); nullptr: the images own their memory.
+    /// Backends build view v's images with OutputBlock::colorMemory(v) / depthMemory(v); a
+    /// backend that does not is still correct (the caller copies what is not in place).
+    class OutputBlock* output = nullptr;
+};
+
+/// Caller-owned memory for the images of one render: `views` colour images of width×height
+/// RGBA8 back to back (view v at color() + v·width·height·4), and as many float depth images.
+/// Each view's slice is handed out once, to a vector of exactly its size, by a memory resource
+/// of its own; anything else (another size, a second allocation) comes from the heap, so a
+/// backend or a post-process that reallocates stays correct and inPlace() tells the caller.
+/// Not copyable or movable (the resources point into it); thread-safe per view.
+class OutputBlock {
+public:
+    OutputBlock(int views, int width, int height);
+    ~OutputBlock();
+    OutputBlock(const OutputBlock&) = delete;
+    OutputBlock& operator=(const OutputBlock&) = delete;
+
+    int views() const { return views_; }
+    int width() const { return width_; }
+    int height() const { return height_; }
+    std::uint8_t* color() { return color_; }
+    float* depth() { return depth_; }
+    std::pmr::memory_resource* colorMemory(int view);
+    std::pmr::memory_resource* depthMemory(int view);
+    /// Whether the image's pixels are view v's slice of the block.
+    bool inPlace(const Image& image, int view) const;
+    bool inPlace(const DepthImage& image, int view) const;
+
+private:
+    class Slice;
+    int views_, width_, height_;
+    std::uint8_t* color_ = nullptr;
+    float* depth_ = nullptr;
+    std::vector<std::unique_ptr<Slice>> slices_;  ///< [2v] color, [2v + 1] depth
 };
 
 /// Wall-clock time per pipeline stage of one render, where a backend measures it (soft does:
@@ -78,6 +115,18 @@ public:
     virtual Result<RenderOutput> render(const Scene& scene, const Rig& rig,
                                         const RenderSettings& settings,
                                         const std::string& method) = 0;
+    /// render() into `out`: the same images, stats and errors, but a backend may reuse the
+    /// storage of out's images when they already have the request's view count and size (the
+    /// soft backend does: no allocation and no page faults, only the clear), so a caller that
+    /// renders frame after frame keeps one RenderOutput. On error `out` is unspecified. The
+    /// default: out = render(…).
+    virtual Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& settings,
+                              const std::string& method, RenderOutput& out) {
+        auto r = render(scene, rig, settings, method);
+        if (!r) return r.status();
+        out = std::move(r).value();
+        return {};
+    }
     /// Lines for `mvr info` (limits, driver strings).
     virtual std::vector<std::string> info() const { return {}; }
     /// Timings of the last successful render(); nullopt before the first.

@@ -163,13 +163,17 @@ struct ParallaxRange {
     float maxParallax = 0.0f;  ///< most positive (farthest, into the screen)
     float nearestDistance = 0.0f, farthestDistance = 0.0f;  ///< eye-space distances seen
     /// Everything within [convergence/2, 100·convergence] and no parallax beyond one screen
-    /// width (|parallax| > 1: no display can show that to two eyes; e.g. --separation 50).
+    /// width between views two eyes see together (|parallax| > 1: no display can show that;
+    /// e.g. --separation 50): a pair's two views; for N > 2 views, adjacent views.
     bool comfortable = true;
     std::string why;  ///< empty when comfortable, else the rule broken, in words
 };
 
 /// Comfort report over eye-space distances `w` actually rendered (nvidia-gtc2010 "Parallax
-/// budget"): parallax = separation · (1 − convergence / w) between the outermost eyes.
+/// budget"), between the outermost eyes (total separation s, half baseline h), each rig its own
+/// formula for a point on the axis at w: off-axis s · (1 − convergence / w); parallel
+/// −s · convergence / w (zero only at infinity; no [convergence/2, 100 x convergence] rule);
+/// toe-in tan(atan(h / convergence) − atan(h / w)) / tan(fovX / 2).
 ParallaxRange parallaxRange(const Rig& rig, float nearestW, float farthestW);
 
 }  // namespace mvr

@@ -1,6 +1,7 @@
 // AVX2 kernels (compiled with -mavx2 -mfma; no FMA is formed: -ffp-contract=off). Same operations
 // and order as the scalar loops in kernels_tail.h.
 #include <algorithm>
+#include <array>
 
 #include <immintrin.h>
 
@@ -195,6 +196,75 @@ std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::in
     return lanes;
 }
 
+/// setupSheared: x derived 8 views per pass (shearClipWc, snap: the scalar order), the views
+/// with a column packed (a permutation from a table of the 256 masks), then setupCore 8 packed
+/// views a pass.
+std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
+                           int width, ViewsSetup& o, ViewsX& xs) {
+    // kPack[mask]: the lanes of mask's set bits first, in order (3 bits each).
+    static const auto kPack = [] {
+        std::array<std::uint32_t, 256> table{};
+        for (unsigned mask = 0; mask < 256; ++mask) {
+            std::uint32_t packed = 0;
+            int slot = 0;
+            for (unsigned lane = 0; lane < 8; ++lane) {
+                if (mask & (1u << lane)) packed |= lane << (3 * slot++);
+            }
+            table[mask] = packed;
+        }
+        return table;
+    }();
+    const __m256 wd = _mm256_set1_ps(float(width));
+    const __m256i half = _mm256_set1_epi32(kHalfSubpixel);
+    const __m256 cx[3] = {_mm256_set1_ps(t.cx[0]), _mm256_set1_ps(t.cx[1]),
+                          _mm256_set1_ps(t.cx[2])};
+    const __m256 wc[3] = {_mm256_set1_ps(t.wc[0]), _mm256_set1_ps(t.wc[1]),
+                          _mm256_set1_ps(t.wc[2])};
+    const __m256 q[3] = {_mm256_set1_ps(t.q[0]), _mm256_set1_ps(t.q[1]), _mm256_set1_ps(t.q[2])};
+    const __m256i shifts = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
+    int m = 0;
+    for (int k = 0; k < n; k += 8) {
+        const __m256i live = liveLanes(n, k);
+        const __m256 s = _mm256_maskload_ps(shears + k, live);
+        __m256i X[3];
+        for (int j = 0; j < 3; ++j)
+            X[j] = snap(_mm256_add_ps(cx[j], _mm256_mul_ps(s, wc[j])), q[j], wd);
+        // A pixel-center column (setupCore's colMin <= colMax)?
+        const __m256i xlo = _mm256_min_epi32(X[0], _mm256_min_epi32(X[1], X[2]));
+        const __m256i xhi = _mm256_max_epi32(X[0], _mm256_max_epi32(X[1], X[2]));
+        const __m256i colMin = _mm256_max_epi32(
+            _mm256_setzero_si256(),
+            _mm256_srai_epi32(
+                _mm256_add_epi32(_mm256_sub_epi32(xlo, half), _mm256_set1_epi32(kSubpixel - 1)),
+                kSubpixelBits));
+        const __m256i colMax =
+            _mm256_min_epi32(_mm256_set1_epi32(width - 1),
+                             _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
+        const unsigned keep = unsigned(
+            _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_and_si256(cmple(colMin, colMax), live))));
+        if (!keep) continue;
+        const __m256i perm = _mm256_and_si256(
+            _mm256_srlv_epi32(_mm256_set1_epi32(std::int32_t(kPack[keep])), shifts),
+            _mm256_set1_epi32(7));
+        for (int j = 0; j < 3; ++j) store(xs.x[j] + m, _mm256_permutevar8x32_epi32(X[j], perm));
+        const std::uint32_t lanesPacked = kPack[keep];
+        const int count = __builtin_popcount(keep);
+        for (int i = 0; i < count; ++i)
+            xs.view[m + i] = std::uint8_t(k + int((lanesPacked >> (3 * i)) & 7u));
+        m += count;
+    }
+    const __m256i Y[3] = {_mm256_set1_epi32(ys.y[0]), _mm256_set1_epi32(ys.y[1]),
+                          _mm256_set1_epi32(ys.y[2])};
+    const __m256i rowMin = _mm256_set1_epi32(ys.rowMin), rowMax = _mm256_set1_epi32(ys.rowMax);
+    std::uint64_t lanes = 0;
+    for (int i = 0; i < m; i += 8) {
+        const __m256i live = liveLanes(m, i);
+        lanes |= setupCore(loadLanes(xs.x[0] + i, live), loadLanes(xs.x[1] + i, live),
+                           loadLanes(xs.x[2] + i, live), Y, rowMin, rowMax, live, width, o, i);
+    }
+    return lanes;
+}
+
 /// setupLanes: two passes of 8 lanes.
 std::uint32_t setupLanes(TriangleLanes& l, int n, int width) {
     std::uint64_t lanes = 0;
@@ -366,7 +436,7 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 
 const Kernels* avx2Kernels() {
     static const Kernels k{&projectYZW,      &projectX,     &setupViews, &shadeVertices,
-                           &transformPoints, &specularPowN, &setupLanes};
+                           &transformPoints, &specularPowN, &setupLanes, &setupSheared};
     return &k;
 }
 

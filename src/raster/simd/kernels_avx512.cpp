@@ -178,6 +178,59 @@ std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::in
     return lanes;
 }
 
+/// setupSheared: x derived 16 views per pass (shearClipWc, snap: the scalar order), the views
+/// with a column packed with vpcompressd (register form), then setupCore 16 packed views a pass.
+std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
+                           int width, ViewsSetup& o, ViewsX& xs) {
+    const __m512 wd = _mm512_set1_ps(float(width));
+    const __m512i half = _mm512_set1_epi32(kHalfSubpixel);
+    const __m512 cx[3] = {_mm512_set1_ps(t.cx[0]), _mm512_set1_ps(t.cx[1]),
+                          _mm512_set1_ps(t.cx[2])};
+    const __m512 wc[3] = {_mm512_set1_ps(t.wc[0]), _mm512_set1_ps(t.wc[1]),
+                          _mm512_set1_ps(t.wc[2])};
+    const __m512 q[3] = {_mm512_set1_ps(t.q[0]), _mm512_set1_ps(t.q[1]), _mm512_set1_ps(t.q[2])};
+    const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    int m = 0;
+    for (int k = 0; k < n; k += 16) {
+        const __mmask16 live = n - k >= 16 ? __mmask16(0xffff) : __mmask16((1u << (n - k)) - 1u);
+        const __m512 s = _mm512_maskz_loadu_ps(live, shears + k);
+        __m512i X[3];
+        for (int j = 0; j < 3; ++j)
+            X[j] = snap(_mm512_add_ps(cx[j], _mm512_mul_ps(s, wc[j])), q[j], wd);
+        // A pixel-center column (setupCore's colMin <= colMax)?
+        const __m512i xlo = _mm512_min_epi32(X[0], _mm512_min_epi32(X[1], X[2]));
+        const __m512i xhi = _mm512_max_epi32(X[0], _mm512_max_epi32(X[1], X[2]));
+        const __m512i colMin = _mm512_max_epi32(
+            _mm512_setzero_si512(),
+            _mm512_srai_epi32(
+                _mm512_add_epi32(_mm512_sub_epi32(xlo, half), _mm512_set1_epi32(kSubpixel - 1)),
+                kSubpixelBits));
+        const __m512i colMax =
+            _mm512_min_epi32(_mm512_set1_epi32(width - 1),
+                             _mm512_srai_epi32(_mm512_sub_epi32(xhi, half), kSubpixelBits));
+        const __mmask16 keep = _mm512_cmple_epi32_mask(colMin, colMax) & live;
+        if (!keep) continue;
+        for (int j = 0; j < 3; ++j)
+            _mm512_storeu_si512(xs.x[j] + m, _mm512_maskz_compress_epi32(keep, X[j]));
+        const __m512i idx = _mm512_add_epi32(iota, _mm512_set1_epi32(k));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(xs.view + m),
+                         _mm512_cvtepi32_epi8(_mm512_maskz_compress_epi32(keep, idx)));
+        m += __builtin_popcount(unsigned(keep));
+    }
+    const __m512i Y[3] = {_mm512_set1_epi32(ys.y[0]), _mm512_set1_epi32(ys.y[1]),
+                          _mm512_set1_epi32(ys.y[2])};
+    const __m512i rowMin = _mm512_set1_epi32(ys.rowMin), rowMax = _mm512_set1_epi32(ys.rowMax);
+    std::uint64_t lanes = 0;
+    for (int i = 0; i < m; i += 16) {
+        const __mmask16 live = m - i >= 16 ? __mmask16(0xffff) : __mmask16((1u << (m - i)) - 1u);
+        lanes |= std::uint64_t(setupCore(
+                     _mm512_loadu_si512(xs.x[0] + i), _mm512_loadu_si512(xs.x[1] + i),
+                     _mm512_loadu_si512(xs.x[2] + i), Y, rowMin, rowMax, live, width, o, i))
+                 << i;
+    }
+    return lanes;
+}
+
 /// setupLanes: all 16 lanes in one pass.
 std::uint32_t setupLanes(TriangleLanes& l, int n, int width) {
     const __mmask16 live = n >= kLaneCount ? __mmask16(0xffff) : __mmask16((1u << n) - 1u);
@@ -394,7 +447,7 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 
 const Kernels* avx512Kernels() {
     static const Kernels k{&projectYZW,      &projectX,     &setupViews, &shadeVertices,
-                           &transformPoints, &specularPowN, &setupLanes};
+                           &transformPoints, &specularPowN, &setupLanes, &setupSheared};
     return &k;
 }
 

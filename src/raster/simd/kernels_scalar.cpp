@@ -15,7 +15,11 @@ const Kernels& scalarKernels() {
                            &shadeVerticesTail,
                            &transformPointsTail,
                            &specularPowTail,
-                           &setupLanesTail};
+                           &setupLanesTail,
+                           [](const YSetup& ys, const ShearedTri& t, const float* shears, int n,
+                              int width, ViewsSetup& out, ViewsX& x) {
+                               return setupShearedTail(ys, t, shears, n, width, out, x);
+                           }};
     return k;
 }
 

@@ -103,6 +103,22 @@ inline std::uint64_t setupViewsTail(const YSetup& ys, const std::int32_t* x0,
     return lanes;
 }
 
+/// setupSheared one view at a time: x derived, the views with a column packed, then
+/// setupViewsTail of the packed views (the reference).
+inline std::uint64_t setupShearedTail(const YSetup& ys, const ShearedTri& t, const float* shears,
+                                      int n, int width, ViewsSetup& o, ViewsX& x) {
+    int m = 0;
+    for (int k = 0; k < n; ++k) {
+        std::int32_t xk[3];
+        for (int j = 0; j < 3; ++j)
+            xk[j] = snapX(shearClipWc(t.cx[j], shears[k], t.wc[j]), t.q[j], float(width));
+        if (noColumns(xk[0], xk[1], xk[2], width)) continue;
+        for (int j = 0; j < 3; ++j) x.x[j][m] = xk[j];
+        x.view[m++] = std::uint8_t(k);
+    }
+    return setupViewsTail(ys, x.x[0], x.x[1], x.x[2], 0, m, width, o);
+}
+
 /// setupLanes, lane by lane through setupViewsTail: the reference of the SIMD paths.
 inline std::uint32_t setupLanesTail(TriangleLanes& l, int n, int width) {
     std::uint32_t lanes = 0;

@@ -219,6 +219,9 @@ std::vector<Measured> measure(std::span<const Job> jobs, const Prepared& p, cons
                               const MeasureProgress& progress) {
     using Clock = std::chrono::steady_clock;
     std::vector<Measured> out(jobs.size());
+    // One output per job, rendered into frame after frame (Backend::renderInto): an application
+    // keeps its images, so a frame's time does not include allocating them.
+    std::vector<RenderOutput> images(jobs.size());
     const int total = rounds.warmup + rounds.frames;
     for (int round = 0; round < total; ++round) {
         for (std::size_t j = 0; j < jobs.size(); ++j) {
@@ -231,17 +234,18 @@ std::vector<Measured> measure(std::span<const Job> jobs, const Prepared& p, cons
             }
             const double cpu0 = processCpuMs();
             const auto t0 = Clock::now();
-            auto r = jobs[j].backend->render(p.scene, p.rig, p.settings, jobs[j].spec.method);
+            const Status r = jobs[j].backend->renderInto(p.scene, p.rig, p.settings,
+                                                         jobs[j].spec.method, images[j]);
             const double wall =
                 std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
             const double cpu = processCpuMs() - cpu0;
             if (!r) {
-                m.error = r.status();
+                m.error = r;
                 if (rounds.stopAtFirstError) return out;
                 continue;
             }
             RenderStats stats;
-            stats.method = r->method;
+            stats.method = images[j].method;
             if (auto last = jobs[j].backend->lastStats()) stats = *last;
             m.ran = stats.method;
             if (round < rounds.warmup) continue;

@@ -57,6 +57,8 @@ struct RenderRow {
     /// views in (RenderStats::passes; 0: not recorded).
     double timesOne = 0;
     int passes = 0;
+    /// sorbier: the textured row (a base color texture sampled with mipmaps, issue 14).
+    bool textured = false;
     std::string spec() const { return backend + ":" + method; }
 };
 /// The row of one measured job: what every render bench records; the bench adds its columns.

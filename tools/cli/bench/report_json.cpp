@@ -98,6 +98,7 @@ Status emitJson(const RenderReport& report, const CommonOptions& o) {
                   {"copies", r.copies},   {"triangles", r.triangles}, {"shading", r.shading},
                   {"views", r.views},     {"config", r.config},       {"width", r.width},
                   {"height", r.height}};
+        e["textured"] = r.textured;
         if (!r.error.empty()) {
             e["error"] = r.error;
         } else {

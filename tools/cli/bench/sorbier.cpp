@@ -20,6 +20,7 @@ namespace fs = std::filesystem;
 struct SorbierOptions {
     CommonOptions common;
     std::string model;
+    std::string texturedModel;  ///< the textured row's model ("none": no textured row)
     std::vector<int> copies{1, 3, 5, 9};
     std::vector<std::string> shadings{"flat", "vertex", "pixel"};
     std::vector<std::string> sizes{"1024x768"};
@@ -90,9 +91,21 @@ int runSorbier(const SorbierOptions& o) {
     auto model = findModel(o.model, "stanford-bunny.obj");
     if (!model) return fail(model.status());
     const std::string modelName = fs::path(*model).filename().string();
+    std::optional<std::string> texturedModel;
+    if (o.texturedModel != "none") {
+        auto t = findModel(o.texturedModel, "spot.obj");
+        if (t) {
+            texturedModel = *t;
+        } else if (!o.texturedModel.empty()) {
+            return fail(t.status());
+        } else {
+            skipped.push_back({"textured row", t.status().message()});
+        }
+    }
     const Machine machine = describeMachine(backends);
 
-    Progress progress(int(sizes.size() * o.copies.size() * shadings.size() * jobs.size()),
+    const int configs = int(o.copies.size()) + (texturedModel ? 1 : 0);
+    Progress progress(int(sizes.size()) * configs * int(shadings.size() * jobs.size()),
                       o.common.machineReadable(), o.common.progress);
     RenderReport report;
     report.bench = "sorbier2008", report.machine = &machine, report.skipped = skipped;
@@ -128,6 +141,47 @@ int runSorbier(const SorbierOptions& o) {
             }
         }
     }
+    // The textured row (issue 14): one copy of a shared model with texture coordinates (spot),
+    // a checker texture generated here (512², 16×16 squares, mipmapped, repeated), each shading.
+    if (texturedModel) {
+        const std::string texName = fs::path(*texturedModel).filename().string() + " (textured)";
+        for (const auto& [w, h] : sizes) {
+            SceneOptions so;
+            so.models = {*texturedModel};
+            so.size = fmt::format("{}x{}", w, h);
+            so.views = 2;
+            auto prepared = so.prepare();
+            if (!prepared) return fail(prepared.status());
+            Prepared& p = *prepared;
+            p.scene.textures = {makeCheckerTexture(512, 16, {235, 225, 200, 255},
+                                                   {60, 90, 150, 255}, "checker (generated)")};
+            for (Instance& inst : p.scene.instances) {
+                inst.material.albedo = glm::vec3(1.0f);
+                inst.material.baseColorTexture = 0;
+            }
+            if (Status st = validateScene(p.scene); !st) return fail(st);
+            for (std::size_t si = 0; si < shadings.size(); ++si) {
+                p.settings.shading = shadings[si];
+                const std::string label = fmt::format("{}x{} {} textured {} tris", w, h,
+                                                      o.shadings[si], p.scene.triangleCount());
+                const std::vector<Measured> m =
+                    measure(jobs, p, {.warmup = o.common.warmup, .frames = o.common.frames},
+                            {.progress = &progress, .label = label});
+                const std::size_t first = report.rows.size();
+                for (std::size_t j = 0; j < jobs.size(); ++j) {
+                    RenderRow r = renderRow(jobs[j], m[j], p.scene.triangleCount());
+                    r.shading = shadingName(shadings[si]);
+                    r.model = texName;
+                    r.copies = 1, r.views = 2, r.width = w, r.height = h;
+                    r.config = "2x1";
+                    r.textured = true;
+                    report.rows.push_back(r);
+                }
+                fillSpeedups(report.rows, first);
+                fillArtifacts(jobs, m, p, report.rows, first);
+            }
+        }
+    }
     progress.done();
 
     // One table per size: a line per shading and method, a column per triangle count.
@@ -140,7 +194,27 @@ int runSorbier(const SorbierOptions& o) {
                 "than 2/255 off that multipass for this camera",
                 modelName, o.copies.back(), w, h, o.common.frames, o.common.warmup),
             .rowHeads = {"shading", "method"},
-            .filter = [w = w, h = h](const RenderRow& r) { return r.width == w && r.height == h; },
+            .filter =
+                [w = w, h = h](const RenderRow& r) {
+                    return r.width == w && r.height == h && !r.textured;
+                },
+            .rowLabels =
+                [](const RenderRow& r) {
+                    return std::vector<std::string>{r.shading, r.spec()};
+                },
+            .column = [](const RenderRow& r) { return fmt::format("{} tris", r.triangles); },
+            .cell = {}});
+        if (!texturedModel) continue;
+        report.tables.push_back(PivotTable{
+            .caption = fmt::format(
+                "Textured (issue 14) — {}, one copy, a generated 512² checker texture (sRGB, "
+                "mipmapped, trilinear), {}x{}, 2 views; cells as above",
+                fs::path(*texturedModel).filename().string(), w, h),
+            .rowHeads = {"shading", "method"},
+            .filter =
+                [w = w, h = h](const RenderRow& r) {
+                    return r.width == w && r.height == h && r.textured;
+                },
             .rowLabels =
                 [](const RenderRow& r) {
                     return std::vector<std::string>{r.shading, r.spec()};
@@ -153,8 +227,10 @@ int runSorbier(const SorbierOptions& o) {
     report.plot = RenderPlot{
         .title = fmt::format("sorbier2008 Tables 1-2 on this machine: {}x{}, 2 views", w0, h0),
         .xlabel = "triangles",
-        .filter = [w0 = w0,
-                   h0 = h0](const RenderRow& r) { return r.width == w0 && r.height == h0; },
+        .filter =
+            [w0 = w0, h0 = h0](const RenderRow& r) {
+                return r.width == w0 && r.height == h0 && !r.textured;
+            },
         .panel = [](const RenderRow& r) { return r.shading + " shading"; },
         .x = [](const RenderRow& r) { return double(r.triangles); },
         .y = {},
@@ -171,6 +247,9 @@ PaperBench addSorbier(CLI::App* bench) {
         "sorbier2008 Tables 1-2: flat/vertex/pixel shading x 1,3,5,9 bunnies (70k-630k triangles), "
         "2 views, multipass vs every one-pass method: fps and speed-up");
     s->add_option("model", o->model, "Model (default: $MVR_SHARED_DIR/models/stanford-bunny.obj)");
+    s->add_option("--textured-model", o->texturedModel,
+                  "Model of the textured row (with texture coordinates; a checker texture is "
+                  "generated), or none (default: $MVR_SHARED_DIR/models/spot.obj)");
     s->add_option("--copies", o->copies, "Copies of the model in a grid, comma separated")
         ->delimiter(',')
         ->default_str("1,3,5,9");

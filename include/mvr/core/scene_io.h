@@ -1,0 +1,61 @@
+// mvr/core/scene_io.h — model files as whole scenes (issue 14): glTF 2.0 (.gltf with external
+// or data-URI buffers and images, .glb) with its node hierarchy, materials, base color
+// textures, first camera and KHR_lights_punctual lights; OBJ with its MTL (usemtl: Kd, d,
+// map_Kd); PLY and anything else assimp reads as plain meshes. loadMesh() (mesh.h) stays for
+// callers that want one merged mesh. Library mvr::scene_io (it decodes JPEG textures through
+// mvr::composite's libjpeg-turbo decoder, PNG through core's libpng reader).
+//
+// Mapping (docs/architecture.md, "Scenes from files"):
+// - every mesh instance of a node → one Instance per primitive, worldFromModel = the node's
+//   world transform; each primitive → one Mesh (shared by the nodes that instance it).
+// - baseColorFactor → Material::albedo + alpha; baseColorTexture (TEXCOORD_0) → a Texture and
+//   its sampler (filters, wrap); alphaMode / alphaCutoff; doubleSided. metallic/roughness are
+//   not used: specular 0.25 / shininess 32 as every built-in material.
+// - texture coordinates follow Texture's convention (uv (0, 0) = top-left): glTF's as written,
+//   OBJ's v flipped.
+// - the first camera (perspective: yfov, aspectRatio, znear, zfar) → Scene::camera.
+// - KHR_lights_punctual: color × intensity → Light::color (directional: lux read as a unitless
+//   scale, 1 = the color at full strength; point / spot: candela, attenuated by the shading's
+//   1/d²); direction = the node's −Z; spot cone angles → cosines. range is not carried by
+//   assimp (0 = infinite). A file without lights gets defaultLights(); lights past kMaxLights
+//   are dropped with a warning.
+// - a missing, unreadable or corrupt texture is an error naming the model, the material and
+//   the image (no silent fallback to the base color).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mvr/core/scene.h"
+#include "mvr/core/status.h"
+
+namespace mvr {
+
+struct SceneLoadInfo {
+    std::vector<std::string> warnings;  ///< one line each, no newline (dropped lights, ...)
+    bool fromMaterials = false;   ///< the file has materials of its own (glTF, OBJ with mtllib)
+    bool lightsFromFile = false;  ///< Scene::lights are the file's (else defaultLights())
+};
+
+/// Loads a model file as a scene (see above). Errors: ErrorCode::Input — loadMesh()'s
+/// messages with "mvr::loadScene(): PATH" in front; "PATH: material 'M': texture 'T': ..."
+/// for a bad texture; "PATH: has no triangles".
+Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info = nullptr);
+
+/// A model's placement in the scene: translation, uniform scale and rotation about +Y.
+struct Placement {
+    glm::vec3 position{0.0f};
+    float scale = 1.0f;
+    float yawDegrees = 0.0f;
+    glm::mat4 matrix() const;  ///< T(position) · R_y(yaw) · S(scale)
+};
+
+/// Applies `worldFromScene` to every instance, light and the camera of `scene`.
+void transformScene(Scene& scene, const glm::mat4& worldFromScene);
+
+/// Appends `other`'s meshes, textures, instances (indices remapped) and lights to `scene`;
+/// the camera is kept from `scene` when it has one, else taken from `other`.
+void appendScene(Scene& scene, Scene other);
+
+}  // namespace mvr

@@ -1,0 +1,443 @@
+// scene_io.cpp — model files as scenes (see scene_io.h).
+//
+// assimp (Debian libassimp 5.2.5, already mvr's model loader) reads the files: it exposes the
+// node hierarchy, one aiMesh per glTF primitive, the glTF material keys (base color, alpha
+// mode and cutoff, double-sided, texture samplers), embedded images (GLB, data URIs),
+// cameras and KHR_lights_punctual lights, so no second glTF parser is needed (cgltf is not
+// packaged in Debian 12). The file first goes through loadMesh(), whose guards keep assimp's
+// known faults (model_guard.h, ply.cpp) from being reached and whose messages name the
+// problem; OBJ materials come from mvr's own MTL reader (mtl.h), never assimp's.
+#include "mvr/core/scene_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <map>
+
+#include <assimp/GltfMaterial.h>
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <fmt/core.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "model_guard.h"
+#include "mvr/composite/jpeg.h"
+#include "mvr/core/mtl.h"
+
+namespace mvr {
+namespace {
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return s;
+}
+
+glm::mat4 toGlm(const aiMatrix4x4& m) {
+    // assimp is row-major (a1..a4 is the first row); glm is column-major.
+    return glm::mat4(m.a1, m.b1, m.c1, m.d1, m.a2, m.b2, m.c2, m.d2, m.a3, m.b3, m.c3, m.d3, m.a4,
+                     m.b4, m.c4, m.d4);
+}
+
+void collectWorld(const aiNode& node, const glm::mat4& parent,
+                  std::map<std::string, glm::mat4>& byName,
+                  std::vector<std::pair<const aiNode*, glm::mat4>>& order) {
+    const glm::mat4 world = parent * toGlm(node.mTransformation);
+    byName.emplace(node.mName.C_Str(), world);
+    order.emplace_back(&node, world);
+    for (unsigned c = 0; c < node.mNumChildren; ++c)
+        collectWorld(*node.mChildren[c], world, byName, order);
+}
+
+/// `%20`-style escapes in glTF URIs.
+std::string uriDecode(const std::string& s) {
+    std::string out;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        if (s[i] == '%' && i + 2 < s.size() && std::isxdigit((unsigned char)s[i + 1]) &&
+            std::isxdigit((unsigned char)s[i + 2])) {
+            out.push_back(char(std::stoi(s.substr(i + 1, 2), nullptr, 16)));
+            i += 2;
+        } else {
+            out.push_back(s[i]);
+        }
+    }
+    return out;
+}
+
+bool isJpegBytes(std::span<const std::uint8_t> d) {
+    return d.size() >= 3 && d[0] == 0xFF && d[1] == 0xD8 && d[2] == 0xFF;
+}
+
+Result<Image> decodeImageBytes(std::span<const std::uint8_t> data, const std::string& what) {
+    if (isJpegBytes(data)) return composite::decodeJpeg(data, what);
+    return decodePng(data, what);
+}
+
+Result<Image> readImageFile(const std::filesystem::path& path, const std::string& what) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+        return inputError(fmt::format("{}: file not found", what));
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec) return inputError(fmt::format("{}: cannot be read", what));
+    if (size > (std::uintmax_t(256) << 20))
+        return inputError(fmt::format("{}: is larger than 256 MiB", what));
+    std::ifstream in(path, std::ios::binary);
+    std::vector<std::uint8_t> bytes(size);
+    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
+    if (!in) return inputError(fmt::format("{}: cannot be read", what));
+    return decodeImageBytes(bytes, what);
+}
+
+TextureWrap wrapFrom(int mode) {
+    switch (mode) {
+        case aiTextureMapMode_Clamp: return TextureWrap::ClampToEdge;
+        case aiTextureMapMode_Mirror: return TextureWrap::MirroredRepeat;
+        default: return TextureWrap::Repeat;
+    }
+}
+
+struct Loader {
+    std::filesystem::path path;
+    std::string what;
+    const aiScene* ai = nullptr;
+    Scene scene;
+    std::map<std::string, int> textureByKey;  ///< one Texture per image, however many users
+    std::vector<MtlMaterial> mtl;             ///< OBJ only
+    bool isObj = false;
+
+    Result<int> texture(const std::string& key, const std::string& materialName) {
+        if (auto it = textureByKey.find(key); it != textureByKey.end()) return it->second;
+        const std::string where =
+            fmt::format("{}: material '{}': texture '{}'", what, materialName, key);
+        Result<Image> image = inputError("unset");
+        std::string name;
+        const aiTexture* embedded = ai ? ai->GetEmbeddedTexture(key.c_str()) : nullptr;
+        if (embedded) {
+            name = fmt::format("{}: image {}", path.filename().string(), key);
+            if (embedded->mHeight == 0) {
+                image = decodeImageBytes(
+                    std::span(reinterpret_cast<const std::uint8_t*>(embedded->pcData),
+                              embedded->mWidth),
+                    where);
+            } else {  // raw BGRA texels
+                Image img(int(embedded->mWidth), int(embedded->mHeight));
+                for (unsigned y = 0; y < embedded->mHeight; ++y)
+                    for (unsigned x = 0; x < embedded->mWidth; ++x) {
+                        const aiTexel& t = embedded->pcData[y * embedded->mWidth + x];
+                        img.set(int(x), int(y), {t.r, t.g, t.b, t.a});
+                    }
+                image = std::move(img);
+            }
+        } else if (!key.empty() && key[0] == '*') {
+            return inputError(fmt::format("{}: no such embedded image", where));
+        } else {
+            const std::filesystem::path file = path.parent_path() / uriDecode(key);
+            name = file.string();
+            image = readImageFile(file, where);
+        }
+        if (!image) return image.status();
+        const int index = int(scene.textures.size());
+        scene.textures.push_back({name, std::move(*image)});
+        textureByKey.emplace(key, index);
+        return index;
+    }
+
+    Result<Material> material(const aiMaterial& m) {
+        Material out;
+        aiString name;
+        if (m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS) out.name = name.C_Str();
+        aiColor4D base(0.8f, 0.8f, 0.8f, 1.0f);
+        if (m.Get(AI_MATKEY_BASE_COLOR, base) == AI_SUCCESS ||
+            m.Get(AI_MATKEY_COLOR_DIFFUSE, base) == AI_SUCCESS) {
+            out.albedo = glm::clamp(glm::vec3(base.r, base.g, base.b), 0.0f, 1.0f);
+            out.alpha = std::clamp(base.a, 0.0f, 1.0f);
+        }
+        if (isObj) {
+            // assimp never sees the MTL (model_guard.h): usemtl names its material.
+            const MtlMaterial* mm = findMtl(mtl, out.name);
+            out.albedo = mm ? mm->diffuse : glm::vec3(0.8f);
+            out.alpha = mm ? mm->dissolve : 1.0f;
+            if (out.alpha < 1.0f) out.alphaMode = AlphaMode::Blend;
+            if (mm && !mm->diffuseMap.empty()) {
+                auto t = texture(mm->diffuseMap, out.name);
+                if (!t) return t.status();
+                out.baseColorTexture = *t;
+            }
+            return out;
+        }
+        aiString mode;
+        if (m.Get(AI_MATKEY_GLTF_ALPHAMODE, mode) == AI_SUCCESS) {
+            const std::string s = mode.C_Str();
+            out.alphaMode = s == "MASK"    ? AlphaMode::Mask
+                            : s == "BLEND" ? AlphaMode::Blend
+                                           : AlphaMode::Opaque;
+        }
+        float cutoff = 0.5f;
+        if (m.Get(AI_MATKEY_GLTF_ALPHACUTOFF, cutoff) == AI_SUCCESS && std::isfinite(cutoff))
+            out.alphaCutoff = cutoff;
+        int twoSided = 0;
+        if (m.Get(AI_MATKEY_TWOSIDED, twoSided) == AI_SUCCESS) out.doubleSided = twoSided != 0;
+        for (aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}) {
+            if (m.GetTextureCount(type) == 0) continue;
+            aiString file;
+            unsigned uvIndex = 0;
+            aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+            if (m.GetTexture(type, 0, &file, nullptr, &uvIndex, nullptr, nullptr, modes) !=
+                AI_SUCCESS)
+                continue;
+            if (uvIndex != 0) break;  // only TEXCOORD_0 is carried
+            auto t = texture(file.C_Str(), out.name);
+            if (!t) return t.status();
+            out.baseColorTexture = *t;
+            int wrapU = modes[0], wrapV = modes[1];
+            m.Get(AI_MATKEY_MAPPINGMODE_U(type, 0), wrapU);
+            m.Get(AI_MATKEY_MAPPINGMODE_V(type, 0), wrapV);
+            out.sampler.wrapS = wrapFrom(wrapU);
+            out.sampler.wrapT = wrapFrom(wrapV);
+            int mag = 0, min = 0;
+            if (m.Get(AI_MATKEY_GLTF_MAPPINGFILTER_MAG(type, 0), mag) == AI_SUCCESS)
+                out.sampler.magFilter =
+                    mag == 9728 ? TextureFilter::Nearest : TextureFilter::Linear;
+            if (m.Get(AI_MATKEY_GLTF_MAPPINGFILTER_MIN(type, 0), min) == AI_SUCCESS) {
+                // 9728 NEAREST, 9729 LINEAR, 9984..9987 {NEAREST,LINEAR}_MIPMAP_{NEAREST,LINEAR}
+                out.sampler.minFilter = (min == 9728 || min == 9984 || min == 9986)
+                                            ? TextureFilter::Nearest
+                                            : TextureFilter::Linear;
+                out.sampler.mipmaps = min >= 9984 && min <= 9987;
+            }
+            break;
+        }
+        return out;
+    }
+};
+
+/// One aiMesh as a Mesh: triangles only, smooth normals where the file has none.
+std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name) {
+    if (!(in.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return std::nullopt;
+    Mesh mesh;
+    mesh.name = name;
+    const bool hasUv = in.HasTextureCoords(0);
+    for (unsigned v = 0; v < in.mNumVertices; ++v) {
+        mesh.positions.emplace_back(in.mVertices[v].x, in.mVertices[v].y, in.mVertices[v].z);
+        if (in.HasNormals())
+            mesh.normals.emplace_back(in.mNormals[v].x, in.mNormals[v].y, in.mNormals[v].z);
+        if (hasUv)
+            mesh.texcoords.emplace_back(in.mTextureCoords[0][v].x, in.mTextureCoords[0][v].y);
+    }
+    for (unsigned f = 0; f < in.mNumFaces; ++f) {
+        const aiFace& face = in.mFaces[f];
+        if (face.mNumIndices != 3) continue;
+        for (int k = 0; k < 3; ++k) mesh.indices.push_back(face.mIndices[k]);
+    }
+    if (mesh.indices.empty()) return std::nullopt;
+    bool normalsUsable = mesh.normals.size() == mesh.positions.size();
+    for (glm::vec3& n : mesh.normals) {
+        const float len = glm::length(n);
+        normalsUsable = normalsUsable && std::isfinite(len) && len > 0.5f;
+        if (normalsUsable) n /= len;
+    }
+    if (!normalsUsable) computeSmoothNormals(mesh);
+    return mesh;
+}
+
+}  // namespace
+
+glm::mat4 Placement::matrix() const {
+    return glm::translate(glm::mat4(1.0f), position) *
+           glm::rotate(glm::mat4(1.0f), glm::radians(yawDegrees), glm::vec3(0, 1, 0)) *
+           glm::scale(glm::mat4(1.0f), glm::vec3(scale));
+}
+
+void transformScene(Scene& scene, const glm::mat4& worldFromScene) {
+    for (Instance& inst : scene.instances)
+        inst.worldFromModel = worldFromScene * inst.worldFromModel;
+    const glm::mat3 linear(worldFromScene);
+    for (Light& l : scene.lights) {
+        const glm::vec3 d = linear * l.towardLight;
+        if (glm::length(d) > 0.0f) l.towardLight = glm::normalize(d);
+        l.position = glm::vec3(worldFromScene * glm::vec4(l.position, 1.0f));
+    }
+    if (scene.camera)
+        scene.camera->worldFromCamera = worldFromScene * scene.camera->worldFromCamera;
+    if (scene.viewpoint) {
+        scene.viewpoint->position =
+            glm::vec3(worldFromScene * glm::vec4(scene.viewpoint->position, 1));
+        scene.viewpoint->target = glm::vec3(worldFromScene * glm::vec4(scene.viewpoint->target, 1));
+    }
+}
+
+void appendScene(Scene& scene, Scene other) {
+    const int meshBase = int(scene.meshes.size()), textureBase = int(scene.textures.size());
+    for (Mesh& m : other.meshes) scene.meshes.push_back(std::move(m));
+    for (Texture& t : other.textures) scene.textures.push_back(std::move(t));
+    for (Instance inst : other.instances) {
+        inst.mesh += meshBase;
+        if (inst.material.baseColorTexture >= 0) inst.material.baseColorTexture += textureBase;
+        scene.instances.push_back(std::move(inst));
+    }
+    for (const Light& l : other.lights) scene.lights.push_back(l);
+    if (!scene.camera) scene.camera = other.camera;
+}
+
+Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) {
+    SceneLoadInfo localInfo;
+    SceneLoadInfo& out = info ? *info : localInfo;
+    // loadMesh()'s checks first: its guards around assimp and its messages (mesh.cpp).
+    auto merged = loadMesh(path);
+    if (!merged) return merged.status();
+    const std::string ext = lower(path.extension().string());
+    Loader loader;
+    loader.path = path;
+    loader.what = fmt::format("mvr::loadScene(): {}", path.string());
+    loader.isObj = ext == ".obj";
+    bool objHasMtl = false;
+    if (loader.isObj) {
+        auto mtl = loadObjMaterials(path);
+        // An OBJ whose material library is missing or malformed still loads, as before
+        // scenes (loadMesh() never read it): plain, with a warning.
+        if (!mtl) {
+            out.warnings.push_back(
+                fmt::format("{}: materials not used: {}", loader.what, mtl.status().message()));
+        } else {
+            loader.mtl = std::move(mtl).value();
+        }
+        objHasMtl = !loader.mtl.empty();
+    }
+    const bool gltf = ext == ".gltf" || ext == ".glb";
+    if (!gltf && !objHasMtl) {
+        // PLY, OBJ without materials, ...: the merged mesh, default material, default lights.
+        Scene s;
+        s.meshes.push_back(std::move(merged).value());
+        s.instances.push_back({0, glm::mat4(1.0f), Material{}});
+        s.lights = defaultLights();
+        return s;
+    }
+    out.fromMaterials = true;
+
+    Assimp::Importer importer;
+    importer.SetIOHandler(new detail::ModelIOSystem(path));
+    // FlipUVs: assimp hands out v up (OpenGL); Texture wants (0, 0) = top-left (glTF, image row 0).
+    const aiScene* ai = importer.ReadFile(
+        path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                           aiProcess_SortByPType | aiProcess_ValidateDataStructure |
+                           aiProcess_FindInvalidData | aiProcess_FlipUVs);
+    if (!ai || !ai->mRootNode) {
+        std::string why = importer.GetErrorString();
+        return inputError(fmt::format("{}: not a readable model (assimp: {})", loader.what,
+                                      why.empty() ? "unknown error" : why));
+    }
+    loader.ai = ai;
+    Scene& scene = loader.scene;
+
+    // Meshes: one per aiMesh (a glTF primitive); -1 for those with no triangles.
+    std::vector<int> meshIndex(ai->mNumMeshes, -1);
+    for (unsigned m = 0; m < ai->mNumMeshes; ++m) {
+        const aiMesh& am = *ai->mMeshes[m];
+        std::string name = am.mName.length ? am.mName.C_Str() : fmt::format("mesh {}", m);
+        auto mesh = convertMesh(am, fmt::format("{}: {}", path.filename().string(), name));
+        if (!mesh) continue;
+        if (Status s = validateMesh(*mesh, fmt::format("{}: mesh '{}'", loader.what, name)); !s) {
+            if (s.message().find("degenerate") != std::string::npos) continue;
+            return s;
+        }
+        optimizeMeshLocality(*mesh);
+        meshIndex[m] = int(scene.meshes.size());
+        scene.meshes.push_back(std::move(*mesh));
+    }
+    // Materials, decoded lazily: only those an instance uses.
+    std::vector<std::optional<Material>> materials(ai->mNumMaterials);
+    std::map<std::string, glm::mat4> worldByName;
+    std::vector<std::pair<const aiNode*, glm::mat4>> nodes;
+    collectWorld(*ai->mRootNode, glm::mat4(1.0f), worldByName, nodes);
+    for (const auto& [node, world] : nodes) {
+        for (unsigned k = 0; k < node->mNumMeshes; ++k) {
+            const unsigned m = node->mMeshes[k];
+            if (m >= ai->mNumMeshes || meshIndex[m] < 0) continue;
+            const unsigned mi = ai->mMeshes[m]->mMaterialIndex;
+            Material mat;
+            if (mi < ai->mNumMaterials) {
+                if (!materials[mi]) {
+                    auto made = loader.material(*ai->mMaterials[mi]);
+                    if (!made) return made.status();
+                    materials[mi] = std::move(*made);
+                }
+                mat = *materials[mi];
+            }
+            if (mat.baseColorTexture >= 0 && scene.meshes[meshIndex[m]].texcoords.empty()) {
+                out.warnings.push_back(fmt::format(
+                    "{}: material '{}': its texture is not drawn on mesh '{}' (no texture "
+                    "coordinates)",
+                    loader.what, mat.name, scene.meshes[meshIndex[m]].name));
+                mat.baseColorTexture = -1;
+            }
+            scene.instances.push_back({meshIndex[m], world, std::move(mat)});
+        }
+    }
+    if (scene.instances.empty()) return inputError(loader.what + ": has no triangles");
+
+    auto nodeWorld = [&](const aiString& name) {
+        auto it = worldByName.find(name.C_Str());
+        return it == worldByName.end() ? glm::mat4(1.0f) : it->second;
+    };
+    if (ai->mNumCameras > 0) {
+        const aiCamera& c = *ai->mCameras[0];
+        const glm::mat4 world = nodeWorld(c.mName);
+        // glTF: the camera sits at its node's origin looking down the node's -Z, +Y up.
+        // (assimp 5.2.5 also copies the node's translation into mPosition: not used.)
+        SceneCamera cam;
+        cam.worldFromCamera = world;
+        cam.aspect = std::isfinite(c.mAspect) && c.mAspect > 0.0f ? c.mAspect : 0.0f;
+        // assimp 5.2.5 stores mHorizontalFOV = yfov × (aspectRatio, or 1 when absent).
+        if (std::isfinite(c.mHorizontalFOV) && c.mHorizontalFOV > 0.0f)
+            cam.yfovRadians = c.mHorizontalFOV / (cam.aspect > 0.0f ? cam.aspect : 1.0f);
+        if (std::isfinite(c.mClipPlaneNear) && c.mClipPlaneNear > 0.0f)
+            cam.znear = c.mClipPlaneNear;
+        if (std::isfinite(c.mClipPlaneFar) && c.mClipPlaneFar > cam.znear)
+            cam.zfar = c.mClipPlaneFar;
+        cam.name = c.mName.C_Str();
+        if (std::isfinite(cam.yfovRadians) && cam.yfovRadians > 0.0f && cam.yfovRadians < 3.14f)
+            scene.camera = cam;
+    }
+    for (unsigned l = 0; l < ai->mNumLights; ++l) {
+        const aiLight& al = *ai->mLights[l];
+        if (al.mType != aiLightSource_DIRECTIONAL && al.mType != aiLightSource_POINT &&
+            al.mType != aiLightSource_SPOT)
+            continue;
+        if (scene.lights.size() >= std::size_t(kMaxLights)) {
+            out.warnings.push_back(fmt::format("{}: light '{}' dropped (at most {} lights)",
+                                               loader.what, al.mName.C_Str(), kMaxLights));
+            continue;
+        }
+        const glm::mat4 world = nodeWorld(al.mName);
+        Light light;
+        light.type = al.mType == aiLightSource_DIRECTIONAL ? LightType::Directional
+                     : al.mType == aiLightSource_POINT     ? LightType::Point
+                                                           : LightType::Spot;
+        light.color = glm::max(
+            glm::vec3(al.mColorDiffuse.r, al.mColorDiffuse.g, al.mColorDiffuse.b), glm::vec3(0.0f));
+        const glm::vec3 dir =
+            glm::mat3(world) * glm::vec3(al.mDirection.x, al.mDirection.y, al.mDirection.z);
+        light.towardLight = glm::length(dir) > 0.0f ? -glm::normalize(dir) : glm::vec3(0, 0, 1);
+        light.position =
+            glm::vec3(world * glm::vec4(al.mPosition.x, al.mPosition.y, al.mPosition.z, 1.0f));
+        if (light.type == LightType::Spot) {
+            light.innerConeCos = std::cos(al.mAngleInnerCone);
+            light.outerConeCos = std::cos(al.mAngleOuterCone);
+        }
+        if (!std::isfinite(light.color.x + light.color.y + light.color.z + light.position.x +
+                           light.position.y + light.position.z)) {
+            return inputError(fmt::format("{}: light '{}' has a non-finite color or position",
+                                          loader.what, al.mName.C_Str()));
+        }
+        scene.lights.push_back(light);
+    }
+    out.lightsFromFile = !scene.lights.empty();
+    if (scene.lights.empty()) scene.lights = defaultLights();
+    if (Status s = validateScene(scene); !s)
+        return Status(s.code(), fmt::format("{}: {}", loader.what, s.message()));
+    return std::move(scene);
+}
+
+}  // namespace mvr

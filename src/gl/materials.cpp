@@ -1,0 +1,155 @@
+// src/gl/materials.cpp — the gl backend's materials: scene textures on the GPU (sRGB, mip
+// chains), sampler objects, the per-instance state a material asks for (its texture and
+// sampler, double-sided culling, alpha blending) and the draw order that blending needs.
+#include <algorithm>
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "renderer.h"
+
+namespace mvr::gl::detail {
+
+namespace {
+
+std::uint64_t hashImage(const mvr::Texture& t) {
+    std::uint64_t h = 0x84222325CBF29CE4ull ^ (std::uint64_t(t.image.width) << 32) ^
+                      std::uint64_t(t.image.height);
+    const auto* p = reinterpret_cast<const unsigned char*>(t.image.rgba.data());
+    const std::size_t n = t.image.rgba.size();
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        std::uint64_t w;
+        std::memcpy(&w, p + i, 8);
+        h = (h ^ w) * 0x100000001B3ull;
+        h ^= h >> 29;
+    }
+    for (; i < n; ++i) h = (h ^ p[i]) * 0x100000001B3ull;
+    return h;
+}
+
+GLint wrapMode(TextureWrap w) {
+    switch (w) {
+        case TextureWrap::ClampToEdge: return GL_CLAMP_TO_EDGE;
+        case TextureWrap::MirroredRepeat: return GL_MIRRORED_REPEAT;
+        case TextureWrap::Repeat: break;
+    }
+    return GL_REPEAT;
+}
+
+int mipLevels(int w, int h) {
+    int levels = 1;
+    for (int s = std::max(w, h); s > 1; s >>= 1) ++levels;
+    return levels;
+}
+
+}  // namespace
+
+std::vector<int> drawOrder(const Scene& scene) {
+    std::vector<int> order, blended;
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        const bool blend = scene.instances[i].material.alphaMode == AlphaMode::Blend;
+        (blend ? blended : order).push_back(static_cast<int>(i));
+    }
+    order.insert(order.end(), blended.begin(), blended.end());
+    return order;
+}
+
+Status Renderer::prepareTextures(const Scene& scene, Frame& frame, std::uint64_t& sceneKey) {
+    frame.textures.assign(scene.textures.size(), 0);
+    for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+        const mvr::Texture& src = scene.textures[i];
+        const std::uint64_t key = hashImage(src);
+        sceneKey = (sceneKey ^ key) * 0x100000001B3ull;
+        auto it = mTextures.find(key);
+        if (it == mTextures.end()) {
+            while (mTextures.size() >= 64) {
+                auto lru = std::min_element(
+                    mTextures.begin(), mTextures.end(),
+                    [](auto& a, auto& b) { return a.second.lastUse < b.second.lastUse; });
+                mTextures.erase(lru);
+            }
+            const int w = src.image.width, h = src.image.height;
+            if (w <= 0 || h <= 0 || w > mCaps.maxTextureSize || h > mCaps.maxTextureSize) {
+                return unsupportedError(
+                    fmt::format("gl: texture '{}' is {}x{} (GL_MAX_TEXTURE_SIZE = {})", src.name, w,
+                                h, mCaps.maxTextureSize));
+            }
+            GpuTexture g;
+            g.texture = createTexture(GL_TEXTURE_2D);
+            // sRGB-encoded colour: the sampler decodes to linear before filtering; the mip
+            // chain is the driver's box filter (glGenerateMipmap).
+            glTextureStorage2D(g.texture.get(), mipLevels(w, h), GL_SRGB8_ALPHA8, w, h);
+            glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+            glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+            // Row 0 of the image = texture coordinate t = 0 (glTF's v = 0 is the top row).
+            glTextureSubImage2D(g.texture.get(), 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE,
+                                src.image.rgba.data());
+            glGenerateTextureMipmap(g.texture.get());
+            if (Status s = checkGlError("uploading a texture"); !s) return s;
+            it = mTextures.emplace(key, std::move(g)).first;
+        }
+        it->second.lastUse = mUseCounter;
+        frame.textures[i] = it->second.texture.get();
+    }
+    return Status::ok();
+}
+
+GLuint Renderer::sampler(const TextureSampler& s) {
+    const int key = int(s.magFilter) | int(s.minFilter) << 1 | int(s.mipmaps) << 2 |
+                    int(s.wrapS) << 3 | int(s.wrapT) << 5;
+    auto it = mSamplers.find(key);
+    if (it != mSamplers.end()) return it->second.get();
+    Sampler smp = createSampler();
+    const GLuint n = smp.get();
+    const bool linMin = s.minFilter == TextureFilter::Linear;
+    const GLint minFilter = !s.mipmaps
+                                ? (linMin ? GL_LINEAR : GL_NEAREST)
+                                : (linMin ? GL_LINEAR_MIPMAP_LINEAR : GL_NEAREST_MIPMAP_LINEAR);
+    glSamplerParameteri(n, GL_TEXTURE_MIN_FILTER, minFilter);
+    glSamplerParameteri(n, GL_TEXTURE_MAG_FILTER,
+                        s.magFilter == TextureFilter::Linear ? GL_LINEAR : GL_NEAREST);
+    glSamplerParameteri(n, GL_TEXTURE_WRAP_S, wrapMode(s.wrapS));
+    glSamplerParameteri(n, GL_TEXTURE_WRAP_T, wrapMode(s.wrapT));
+    mSamplers.emplace(key, std::move(smp));
+    return n;
+}
+
+void Renderer::setInstanceState(const Frame& f, const Instance& inst) {
+    const Material& m = inst.material;
+    if (m.baseColorTexture >= 0 &&
+        static_cast<std::size_t>(m.baseColorTexture) < f.textures.size()) {
+        glBindTextureUnit(2, f.textures[static_cast<std::size_t>(m.baseColorTexture)]);
+        glBindSampler(2, sampler(m.sampler));
+    }
+    if (f.settings->cullBackFaces && !m.doubleSided) {
+        glEnable(GL_CULL_FACE);
+    } else {
+        glDisable(GL_CULL_FACE);
+    }
+    // sorbier2008's MRT methods blend every fragment already (their eye flag is the alpha).
+    if (f.method->target == TargetKind::Mrt) return;
+    if (m.alphaMode == AlphaMode::Blend) {
+        glEnable(GL_BLEND);
+        glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+        glDepthMask(GL_FALSE);
+    } else {
+        glDisable(GL_BLEND);
+        glDepthMask(GL_TRUE);
+    }
+}
+
+void Renderer::endInstanceState(const Frame& f) {
+    if (f.settings->cullBackFaces) {
+        glEnable(GL_CULL_FACE);
+    } else {
+        glDisable(GL_CULL_FACE);
+    }
+    glBindSampler(2, 0);
+    glBindTextureUnit(2, 0);
+    if (f.method->target == TargetKind::Mrt) return;
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+}
+
+}  // namespace mvr::gl::detail

@@ -1,0 +1,100 @@
+// src/raster/unified.h — the unified method's per-frame data (families of views that share
+// y, z, w; per-view x where it is stored; the view-independent vertex outputs) and its vertex
+// stage (unified_vertex.cpp). The bin and raster stages are in unified.cpp.
+#pragma once
+
+#include <vector>
+
+#include "methods.h"
+
+namespace mvr::raster::detail {
+
+/// Views sharing (y, z, w): an off-axis row (same shear.y), or a single unsheared view.
+struct Family {
+    bool sheared = false;
+    /// A sheared row of more than kLaneBlock views (issue 12): its views' x is not stored per
+    /// vertex but derived per triangle from the center clip x and `shears` (setupSheared).
+    bool many = false;
+    std::vector<float> shears;  ///< many: shear.x of views[k], padded to a multiple of 16
+    float shearY = 0.0f;
+    float shearXMin = 0.0f, shearXMax = 0.0f;
+    std::vector<int> views;
+    std::uint8_t views8[kLaneBlock] = {};  ///< views as bytes, padded (LaneQueue::addLanes)
+    // Per vertex: clip y (z, w: the center's for sheared families, else own), projection.
+    std::vector<float> y, z, w, q, zw;
+    std::vector<std::int32_t> sy;
+    std::vector<std::uint8_t> code;
+    /// Snapped window x of every view of the family, interleaved per vertex
+    /// (sxv[vertex · views.size() + k]): the raster stage's x setup loads a triangle's x for all
+    /// the family's views as three contiguous rows, without a per-view gather.
+    std::vector<std::int32_t> sxv;
+    /// Another family with the same views' x (the rows of a grid share their columns' x):
+    /// its sxv is this family's, and this family's is not filled. −1: none.
+    int sxvTwin = -1;
+    const std::int32_t* sxvData = nullptr;  ///< sxv, or the twin's
+};
+
+/// One view's clip x, snapped window x and left/right outcodes per vertex. Sheared views with the
+/// same shear.x (the views of one column of a grid) have the same x bit for bit: the later ones
+/// point at the first one's arrays (`twin`) instead of computing them again.
+struct ViewData {
+    int family = 0;
+    float shearX = 0.0f;
+    int twin = -1;
+    bool derived = false;  ///< a view of a `many` family: x, sx, code are nullptr (derive them)
+    std::vector<float> xStore;
+    std::vector<std::int32_t> sxStore;
+    std::vector<std::uint8_t> codeStore;
+    float* x = nullptr;
+    std::int32_t* sx = nullptr;
+    std::uint8_t* code = nullptr;
+};
+
+struct UnifiedData : MethodScratch {
+    std::vector<Family> families;
+    std::vector<ViewData> views;
+    bool anySheared = false;
+    // Per vertex, view-independent: world position, attributes, center clip position.
+    std::vector<glm::vec3> world;
+    std::vector<float> attr;     ///< attrStride floats per vertex
+    std::size_t attrStride = 0;  ///< attributeCount(shading): only what is interpolated
+    std::vector<float> cx, cy, cz, cw;
+    /// OR over all views of the left/right guard-band bits; the vertex stage also ORs it into
+    /// every family's code (bits kClipX are free there), so the bin and raster stages read one
+    /// byte per vertex for both questions.
+    std::vector<std::uint8_t> anyClipX;
+    Bins bins;
+
+    const float* attrOf(std::uint32_t v) const { return attr.data() + v * attrStride; }
+    const float* famZ(const Family& f) const { return f.sheared ? cz.data() : f.z.data(); }
+    /// 1/w and window depth: functions of (z, w) only, so every sheared family (every row of a
+    /// grid) shares one array — the fragment inputs of a triangle are the same for all its rows.
+    std::vector<float> cq, czw;
+    const float* famQ(const Family& f) const { return f.sheared ? cq.data() : f.q.data(); }
+    const float* famZW(const Family& f) const { return f.sheared ? czw.data() : f.zw.data(); }
+    float* famQ(Family& f) { return f.sheared ? cq.data() : f.q.data(); }
+    float* famZW(Family& f) { return f.sheared ? czw.data() : f.zw.data(); }
+    const float* famW(const Family& f) const { return f.sheared ? cw.data() : f.w.data(); }
+    float convergence = 0.0f, width = 0.0f;
+    /// A view's clip x, outcodeX and snapped x of vertex i: stored, or (views of a `many`
+    /// family) derived from the center with the operations the vertex stage would have used.
+    float viewX(const ViewData& vd, std::uint32_t i) const {
+        return vd.derived ? shearClip(cx[i], vd.shearX, cw[i], convergence) : vd.x[i];
+    }
+    std::uint8_t viewCode(const ViewData& vd, std::uint32_t i) const {
+        return vd.derived ? outcodeX(viewX(vd, i), cw[i]) : vd.code[i];
+    }
+    /// Only where the view's code has no kClipX bit (projectX stores 0 there).
+    std::int32_t viewSx(const ViewData& vd, std::uint32_t i) const {
+        return vd.derived ? snapX(viewX(vd, i), cq[i], width) : vd.sx[i];
+    }
+};
+
+/// This frame's families and views from the rig, reusing the previous frame's arrays.
+void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t vertexCount,
+                   UnifiedData& d);
+/// Vertex stage: attributes, center clip position, per family y/z/w projection, per stored view
+/// x, and the guard-band bits of all views folded into the families' codes.
+void vertexStage(FrameContext& f, UnifiedData& d);
+
+}  // namespace mvr::raster::detail

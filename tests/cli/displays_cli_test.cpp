@@ -1,0 +1,317 @@
+// `mvr render --display`, `mvr info --displays`, the comfort report against a screen
+// (--screen-width, --viewing-distance, --report-json), --convergence auto / --separation auto
+// and the warnings of issue 13, end to end (docs/displays.md).
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+
+#include "mvr/core/image.h"
+
+namespace mvr {
+namespace {
+
+std::filesystem::path mvrBinary() {
+    const char* bin = std::getenv("MVR_BINARY_DIR");
+    return std::filesystem::path(bin ? bin : MVR_TEST_BINARY_DIR) / "tools" / "cli" / "mvr";
+}
+
+std::filesystem::path sharedModels() {
+    const char* dir = std::getenv("MVR_SHARED_DIR");
+    return std::filesystem::path(dir ? dir : MVR_TEST_SHARED_DIR) / "models";
+}
+
+struct ToolRun {
+    int exitCode = -1;
+    std::string out, err;
+};
+
+std::string slurp(const std::filesystem::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+/// The number after `"key": ` in a JSON text (the first one after `after`, if given).
+double jsonNumber(const std::string& json, const std::string& key, const std::string& after = "") {
+    std::size_t from = after.empty() ? 0 : json.find("\"" + after + "\"");
+    if (from == std::string::npos) return NAN;
+    const std::size_t at = json.find("\"" + key + "\": ", from);
+    if (at == std::string::npos) return NAN;
+    return std::strtod(json.c_str() + at + key.size() + 4, nullptr);
+}
+
+class Displays : public ::testing::Test {
+protected:
+    void SetUp() override {
+        mDir = std::filesystem::temp_directory_path() /
+               fmt::format("mvr-displays-test-{}-{}", ::getpid(),
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        std::filesystem::create_directories(mDir);
+        // A square pyramid (5 vertices, 6 triangles): quick to render 48 times.
+        std::ofstream(mDir / "pyramid.obj")
+            << "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nv 0 1.5 0\n"
+               "f 1 2 3\nf 1 3 4\nf 1 5 2\nf 2 5 3\nf 3 5 4\nf 4 5 1\n";
+    }
+    void TearDown() override { std::filesystem::remove_all(mDir); }
+
+    ToolRun run(const std::string& args) const {
+        const auto outFile = mDir / "stdout.txt", errFile = mDir / "stderr.txt";
+        const std::string cmd =
+            fmt::format("cd '{}' && '{}' {} >'{}' 2>'{}' </dev/null", mDir.string(),
+                        mvrBinary().string(), args, outFile.string(), errFile.string());
+        const int status = std::system(cmd.c_str());
+        ToolRun r;
+        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+        r.out = slurp(outFile);
+        r.err = slurp(errFile);
+        return r;
+    }
+
+    void expectError(const std::string& args, int code, const std::string& needle) const {
+        const ToolRun r = run(args);
+        EXPECT_EQ(r.exitCode, code) << args << "\n" << r.err;
+        EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << args << ": " << r.err;
+        const std::string firstLine = r.err.substr(0, r.err.find('\n'));
+        EXPECT_NE(firstLine.find(needle), std::string::npos) << args << ": " << r.err;
+        EXPECT_LE(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;
+    }
+
+    std::filesystem::path mDir;
+};
+
+// The done-when of issue 13: 48 views of 420x560 and quilt_qs8x6a0.75.png of 3360x3360, the
+// quilt's tiles the views (view 0 bottom left), the rig a 40-degree view cone.
+TEST_F(Displays, PortraitWritesFortyEightViewsAndItsQuilt) {
+    const ToolRun r = run("render pyramid.obj --display portrait --report-json rig.json -o lg");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::vector<Image> views;
+    for (int v = 0; v < 48; ++v) {
+        auto img = readPng(mDir / fmt::format("lg/view-{}.png", v));
+        ASSERT_TRUE(img) << v;
+        EXPECT_EQ(img->width, 420);
+        EXPECT_EQ(img->height, 560);
+        views.push_back(std::move(img).value());
+    }
+    EXPECT_FALSE(std::filesystem::exists(mDir / "lg/view-48.png"));
+    auto quilt = readPng(mDir / "lg/quilt_qs8x6a0.75.png");
+    ASSERT_TRUE(quilt) << r.out;
+    EXPECT_EQ(quilt->width, 3360);
+    EXPECT_EQ(quilt->height, 3360);
+    for (int v : {0, 7, 8, 47}) {  // view v: column v % 8, row v / 8 counted from the bottom
+        const int x0 = (v % 8) * 420, y0 = (5 - v / 8) * 560;
+        long differ = 0;
+        for (int y = 0; y < 560; y += 7) {
+            for (int x = 0; x < 420; x += 5) {
+                const auto* q = &quilt->rgba[(std::size_t(y0 + y) * 3360 + x0 + x) * 4];
+                const auto* p = &views[v].rgba[(std::size_t(y) * 420 + x) * 4];
+                differ += q[0] != p[0] || q[1] != p[1] || q[2] != p[2];
+            }
+        }
+        EXPECT_EQ(differ, 0) << "tile of view " << v;
+    }
+    // The view cone: mean spacing of adjacent views 2 D tan(cone/2) / (N - 1), D = convergence.
+    const std::string json = slurp(mDir / "rig.json");
+    const double d = jsonNumber(json, "convergence"), ia = jsonNumber(json, "interaxial");
+    EXPECT_NEAR(ia, 2.0 * d * std::tan(20.0 * M_PI / 180.0) / 47.0, 1e-4 * d) << json;
+    EXPECT_EQ(jsonNumber(json, "view_cone"), 40.0) << json;
+    EXPECT_EQ(jsonNumber(json, "views"), 48.0) << json;
+    EXPECT_NE(json.find("\"display\": \"portrait\""), std::string::npos) << json;
+    // The outer views see the focal plane from -cone/2 and +cone/2: the parallax between them
+    // at w is 2 tan(cone/2) D / W (1 - D/w), W = 2 D aspect tan(fov/2).
+    const double w = jsonNumber(json, "nearest_distance");
+    const double expected = 2.0 * std::tan(20.0 * M_PI / 180.0) /
+                            (2.0 * 0.75 * std::tan(22.5 * M_PI / 180.0)) * (1.0 - d / w);
+    EXPECT_NEAR(jsonNumber(json, "min", "parallax"), expected, 1e-3) << json;
+}
+
+// A preset's values give way to the command line's; the quilt name follows the views.
+TEST_F(Displays, ExplicitOptionsOverrideThePreset) {
+    const ToolRun r =
+        run("render pyramid.obj --display portrait --views 4 --size 64x48 --quilt 2x2 -o small");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(std::filesystem::exists(mDir / "small/view-3.png"));
+    EXPECT_FALSE(std::filesystem::exists(mDir / "small/view-4.png"));
+    auto v = readPng(mDir / "small/view-0.png");
+    ASSERT_TRUE(v);
+    EXPECT_EQ(v->width, 64);
+    auto quilt = readPng(mDir / "small/quilt_qs2x2a1.3333.png");
+    ASSERT_TRUE(quilt) << r.out;
+    EXPECT_EQ(quilt->width, 128);
+    // Without --view-cone the preset's cone stays; an explicit one replaces it.
+    const ToolRun cone =
+        run("render pyramid.obj --display portrait --views 3 --size 30x40 --view-cone 20 -q "
+            "--report-json c.json -o cone");
+    ASSERT_EQ(cone.exitCode, 0) << cone.err;
+    EXPECT_EQ(jsonNumber(slurp(mDir / "c.json"), "view_cone"), 20.0);
+}
+
+// With a visual.json (no screen size in it), a light-field preset also writes the lenticular
+// image at the panel's resolution; fewer views than the preset: the most square quilt.
+TEST_F(Displays, ACalibrationAddsTheLenticularImage) {
+    std::ofstream(mDir / "visual.json") << R"({"pitch": {"value": 52.59}, "slope": {"value": -7.08},
+        "center": {"value": 0.82}, "DPI": {"value": 324.0}})";
+    const ToolRun r =
+        run("render pyramid.obj --display portrait --views 4 --size 42x56 "
+            "--lenticular-calibration visual.json -q -o len");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto len = readPng(mDir / "len/lenticular.png");
+    ASSERT_TRUE(len);
+    EXPECT_EQ(len->width, 1536);
+    EXPECT_EQ(len->height, 2048);
+    EXPECT_TRUE(std::filesystem::exists(mDir / "len/quilt_qs2x2a0.75.png"));
+}
+
+TEST_F(Displays, AnUnknownDisplayListsTheValidNames) {
+    expectError("render --display nosuch", 1, "--display nosuch: unknown display 'nosuch'");
+    const ToolRun r = run("render --display nosuch");
+    for (const char* name : {"portrait", "go", "lkg-16", "lkg-65", "3dtv", "sbs-half", "barrier"})
+        EXPECT_NE(r.err.find(name), std::string::npos) << name << ": " << r.err;
+}
+
+TEST_F(Displays, InfoListsTheDisplays) {
+    const ToolRun r = run("info --displays");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::regex portrait(
+        R"(portrait\s+48\s+8x6\s+3360x3360\s+420x560\s+0\.75\s+40\s+1536x2048\s+quilt_qs8x6a0\.75\.png)");
+    EXPECT_TRUE(std::regex_search(r.out, portrait)) << r.out;
+    EXPECT_TRUE(std::regex_search(
+        r.out, std::regex(R"(go\s+66\s+11x6\s+4092x4092\s+372x682\s+0\.5625\s+54)")))
+        << r.out;
+    EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(lkg-65\s+72\s+8x9\s+8192x8192)"))) << r.out;
+    EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(3dtv\s+2\s+-\s+-\s+1920x1080)"))) << r.out;
+    // `mvr info` itself is unchanged.
+    EXPECT_EQ(run("info").out.find("display presets"), std::string::npos);
+}
+
+// The stereo presets map to the compose formats.
+TEST_F(Displays, StereoPresetsWriteTheirFormats) {
+    const ToolRun tv = run("render pyramid.obj --display 3dtv -q -o tv");
+    ASSERT_EQ(tv.exitCode, 0) << tv.err;
+    auto hdmi = readPng(mDir / "tv/hdmi-frame-packing.png");
+    ASSERT_TRUE(hdmi);
+    EXPECT_EQ(hdmi->width, 1920);
+    EXPECT_EQ(hdmi->height, 2205);
+    for (const auto& [name, file, w, h] :
+         {std::tuple{"sbs-half", "sbs-half.png", 64, 48}, std::tuple{"headset", "sbs.png", 128, 48},
+          std::tuple{"barrier", "columns.png", 64, 48}}) {
+        const ToolRun r =
+            run(fmt::format("render pyramid.obj --display {} --size 64x48 -q -o {}", name, name));
+        ASSERT_EQ(r.exitCode, 0) << name << ": " << r.err;
+        auto img = readPng(mDir / name / file);
+        ASSERT_TRUE(img) << name;
+        EXPECT_EQ(img->width, w) << name;
+        EXPECT_EQ(img->height, h) << name;
+    }
+}
+
+// The report against a screen: parallax in cm (the fraction times the screen width), its
+// verdict, and the JSON; a separation far above the budget warns on stderr.
+TEST_F(Displays, TheScreenReportMeasuresInCentimetres) {
+    const ToolRun ok = run(
+        "render pyramid.obj --size 64x48 --separation 0.01 --screen-width 50 --viewing-distance "
+        "200 --report-json ok.json -o ok");
+    ASSERT_EQ(ok.exitCode, 0) << ok.err;
+    const std::string json = slurp(mDir / "ok.json");
+    const double minFrac = jsonNumber(json, "min", "parallax");
+    EXPECT_NEAR(jsonNumber(json, "min_parallax_cm"), 50.0 * minFrac, 1e-3) << json;
+    EXPECT_NEAR(jsonNumber(json, "budget_cm"), 6.5, 1e-4) << json;  // not desktop: 200 cm
+    const double vNear = jsonNumber(json, "nearest_vergence_deg");
+    EXPECT_NEAR(vNear, 2.0 * std::atan((6.5 - 50.0 * minFrac) / 400.0) * 180.0 / M_PI, 1e-3);
+    EXPECT_NE(ok.out.find("on a 50 cm screen at 200 cm"), std::string::npos) << ok.out;
+    EXPECT_NE(ok.out.find("(comfortable)"), std::string::npos) << ok.out;
+    EXPECT_NE(json.find("\"comfortable\": true"), std::string::npos) << json;
+    EXPECT_EQ(ok.err, "");
+
+    const ToolRun wide =
+        run("render pyramid.obj --size 64x48 --separation 0.5 --screen-width 50 --viewing-distance "
+            "60 --report-json bad.json -o bad");
+    ASSERT_EQ(wide.exitCode, 0) << wide.err;
+    EXPECT_NE(wide.out.find("uncomfortable: parallax"), std::string::npos) << wide.out;
+    EXPECT_NE(wide.err.find("warning: separation 50.00% is far above the budget"),
+              std::string::npos)
+        << wide.err;
+    const std::string bad = slurp(mDir / "bad.json");
+    EXPECT_NE(bad.find("\"desktop\": true"), std::string::npos) << bad;
+    EXPECT_NEAR(jsonNumber(bad, "budget_cm"), 3.25, 1e-4) << bad;
+    EXPECT_NE(bad.find("\"comfortable\": false"), std::string::npos) << bad;
+
+    expectError("render --viewing-distance 60", 1, "--viewing-distance needs --screen-width");
+    expectError("render --screen-width -3", 1, "--screen-width -3 is out of range");
+}
+
+// --convergence auto lands inside the depth range the centre view saw, for every shared model.
+TEST_F(Displays, AutoConvergenceLandsInsideTheScene) {
+    int models = 0;
+    for (const char* name : {"stanford-bunny.obj", "suzanne.obj", "teapot.obj", "spot.obj"}) {
+        const auto path = sharedModels() / name;
+        if (!std::filesystem::exists(path)) continue;
+        ++models;
+        const ToolRun r = run(
+            fmt::format("render '{}' --size 96x72 --convergence auto --report-json a.json -o auto",
+                        path.string()));
+        ASSERT_EQ(r.exitCode, 0) << name << ": " << r.err;
+        std::smatch m;
+        ASSERT_TRUE(
+            std::regex_search(r.err, m, std::regex(R"(note: --convergence auto chose (\S+):)")))
+            << r.err;
+        const double c = std::stod(m[1].str());
+        const std::string json = slurp(mDir / "a.json");
+        EXPECT_NEAR(jsonNumber(json, "convergence"), c, 1e-3 * c) << json;
+        const double nearest = jsonNumber(json, "nearest_distance");
+        const double farthest = jsonNumber(json, "farthest_distance");
+        EXPECT_GT(c, nearest) << name;
+        EXPECT_LT(c, farthest) << name;
+        // The balanced plane: the harmonic mean of the percentiles the note names, the parallax
+        // out of the screen and into it of opposite signs.
+        std::smatch p;
+        ASSERT_TRUE(std::regex_search(r.err, p, std::regex(R"(sees \((\S+) \.\. (\S+),)")))
+            << r.err;
+        const double a = std::stod(p[1].str()), b = std::stod(p[2].str());
+        EXPECT_NEAR(c, 2.0 / (1.0 / a + 1.0 / b), 1e-3 * c) << r.err;
+        EXPECT_LT(jsonNumber(json, "min", "parallax"), 0.0) << json;
+        EXPECT_GT(jsonNumber(json, "max", "parallax"), 0.0) << json;
+        EXPECT_NE(r.out.find("comfortable: all within"), std::string::npos) << r.out;
+    }
+    if (models == 0) GTEST_SKIP() << "no shared models in " << sharedModels();
+}
+
+// --separation auto fills the screen's budget (and needs the screen).
+TEST_F(Displays, AutoSeparationFitsTheBudget) {
+    const ToolRun r =
+        run("render pyramid.obj --size 96x72 --separation auto --screen-width 30 "
+            "--viewing-distance 60 --report-json s.json -o sep");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("note: --separation auto chose "), std::string::npos) << r.err;
+    const std::string json = slurp(mDir / "s.json");
+    const double worst = std::max(std::abs(jsonNumber(json, "min_parallax_cm")),
+                                  std::abs(jsonNumber(json, "max_parallax_cm")));
+    EXPECT_LE(worst, 3.25 * 1.001) << json;  // desktop: half of 6.5 cm
+    EXPECT_GT(worst, 3.25 * 0.8) << json;    // and uses most of it
+    EXPECT_NE(r.out.find("(comfortable)"), std::string::npos) << r.out;
+    expectError("render --separation auto", 1, "--separation auto needs --screen-width");
+    expectError("render --separation abc", 1, "--separation");
+    expectError("render --convergence soon", 1, "--convergence");
+}
+
+// No silent nonsense: a scene outside every view's frustum is an error, not black images.
+TEST_F(Displays, ASceneOutsideEveryViewIsAnError) {
+    expectError("render pyramid.obj --size 64x48 --rig parallel --separation 100", 1,
+                "the scene lies entirely outside the frustum of every view");
+    // Off-axis views all share the window on the convergence plane: never all outside.
+    const ToolRun wide = run("render pyramid.obj --size 64x48 --separation 50 -o wide");
+    ASSERT_EQ(wide.exitCode, 0) << wide.err;
+    EXPECT_NE(wide.err.find("warning: separation 5000.00% is far too large"), std::string::npos)
+        << wide.err;
+}
+
+}  // namespace
+}  // namespace mvr

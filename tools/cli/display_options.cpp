@@ -1,0 +1,227 @@
+// tools/cli/display_options.cpp — the CLI side of issue 13 (docs/displays.md): a display
+// preset's outputs, --convergence auto / --separation auto (a depth pre-pass of the centre
+// view), the comfort report against a screen (--screen-width, --viewing-distance,
+// --report-json) and the warnings of "no silent nonsense".
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/core.h>
+
+#include "display_options.h"
+#include "options.h"
+
+namespace mvr::cli {
+
+void displayOutputs(const DisplayPreset& d, bool calibrationGiven, bool quiltGiven,
+                    float cameraAspect, std::vector<std::string>& formats,
+                    composite::ComposeOptions& compose) {
+    auto want = [&](std::string_view f) {
+        if (std::find(formats.begin(), formats.end(), f) == formats.end()) formats.emplace_back(f);
+    };
+    want(d.format);
+    if (d.format == "quilt" && !quiltGiven) {
+        compose.quiltColumns = d.quiltColumns;
+        compose.quiltRows = d.quiltRows;
+    }
+    if (d.format == "quilt" && compose.quiltAspect <= 0.0) compose.quiltAspect = cameraAspect;
+    if (calibrationGiven && d.quiltColumns > 0) {
+        want("lenticular");
+        if (compose.lenticular.screenWidth == 0 || compose.lenticular.screenHeight == 0) {
+            compose.lenticular.screenWidth = d.panelWidth;
+            compose.lenticular.screenHeight = d.panelHeight;
+        }
+    }
+}
+
+namespace {
+
+/// The Gribb–Hartmann planes of one view's clip volume (inside: n·p + d ≥ 0, n unit).
+bool sphereOutsideView(const View& v, const glm::vec3& c, float r) {
+    const glm::mat4 m = v.clipFromWorld();
+    auto row = [&](int i) { return glm::vec4(m[0][i], m[1][i], m[2][i], m[3][i]); };
+    const glm::vec4 planes[6] = {row(3) + row(0), row(3) - row(0), row(3) + row(1),
+                                 row(3) - row(1), row(3) + row(2), row(3) - row(2)};
+    for (const glm::vec4& p : planes) {
+        const float len = glm::length(glm::vec3(p));
+        if (len <= 0.0f || !std::isfinite(len)) continue;
+        if ((glm::dot(glm::vec3(p), c) + p.w) / len < -r) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+std::vector<int> viewsMissingScene(const Scene& scene, const Rig& rig) {
+    const Bounds b = scene.bounds();
+    const glm::vec3 c = b.center();
+    const float r = std::max(b.radius(), 1e-6f);
+    std::vector<int> out;
+    for (int v = 0; v < rig.viewCount(); ++v) {
+        if (sphereOutsideView(rig.views[v], c, r)) out.push_back(v);
+    }
+    return out;
+}
+
+Result<std::optional<DepthPercentiles>> centreDepthPrepass(const Scene& scene, const Camera& camera,
+                                                           const RenderSettings& settings) {
+    // The centre camera alone, at most 256 pixels across (the histogram needs no more), on the
+    // registry's first backend (the CPU reference): its depth image.
+    RigParams one;
+    one.columns = 1;
+    one.rows = 1;
+    one.interaxial = 0.0f;
+    one.convergence = std::max(glm::length(camera.target - camera.position), camera.near * 1.01f);
+    auto rig = makeRig(camera, one);
+    if (!rig) return rig.status();
+    RenderSettings small = settings;
+    const float scale = std::min(1.0f, 256.0f / float(std::max(settings.width, settings.height)));
+    small.width = std::max(1, int(std::lround(settings.width * scale)));
+    small.height = std::max(1, int(std::lround(settings.height * scale)));
+    auto backend = makeBackend(backendNames().front());
+    if (!backend) return backend.status();
+    auto out = (*backend)->render(scene, *rig, small, (*backend)->defaultMethod());
+    if (!out) return out.status();
+    if (out->depth.empty()) return std::optional<DepthPercentiles>{};
+    return depthPercentiles(out->depth[0].depth, camera.near, camera.far);
+}
+
+std::optional<ScreenComfortReport> screenComfortReport(const Prepared& p,
+                                                       const std::optional<ComfortReport>& range) {
+    if (!p.screen || !range) return std::nullopt;
+    ScreenComfortReport r;
+    const int pair = eyePairViews(p.rig, p.viewConeDegrees, *p.screen);
+    r.comfort = screenComfort(p.rig, range->range, pair, *p.screen);
+    const ScreenComfort& c = r.comfort;
+    std::string where = fmt::format("on a {:.4g} cm screen", p.screen->widthCm);
+    if (p.screen->viewingDistanceCm > 0.0f)
+        where += fmt::format(" at {:.4g} cm", p.screen->viewingDistanceCm);
+    std::string vergence;
+    if (p.screen->viewingDistanceCm > 0.0f) {
+        vergence = fmt::format(", vergence {:.2f} .. {:.2f} deg (screen {:.2f} deg)",
+                               c.nearestVergenceDeg, c.farthestVergenceDeg, c.screenVergenceDeg);
+    }
+    r.line = fmt::format(
+        "{}: parallax between the eyes' views ({} apart) {:+.2f} .. {:+.2f} cm = {:+.2f}% .. "
+        "{:+.2f}%{}; budget {:.2f} cm ({}) ({})",
+        where, c.pairViews, c.minParallaxCm, c.maxParallaxCm, 100.0 * c.minParallax,
+        100.0 * c.maxParallax, vergence, c.budget.fraction * p.screen->widthCm,
+        c.budget.desktop ? "desktop: half the 6.5 cm eye separation" : "the eye separation",
+        c.comfortable ? std::string("comfortable") : "uncomfortable: " + c.why);
+    return r;
+}
+
+namespace {
+
+std::string jsonString(const std::string& s) {
+    std::string out = "\"";
+    for (char ch : s) {
+        if (ch == '"' || ch == '\\') {
+            out += '\\';
+            out += ch;
+        } else if (static_cast<unsigned char>(ch) < 0x20) {
+            out += fmt::format("\\u{:04x}", int(static_cast<unsigned char>(ch)));
+        } else {
+            out += ch;
+        }
+    }
+    return out + "\"";
+}
+
+std::string jsonNumber(double v) { return std::isfinite(v) ? fmt::format("{}", v) : "null"; }
+
+}  // namespace
+
+std::string comfortJson(const Prepared& p, const std::optional<ComfortReport>& range,
+                        const std::optional<ScreenComfortReport>& screen) {
+    const Rig& rig = p.rig;
+    std::string j = "{\n";
+    j += fmt::format(
+        "  \"rig\": {{\"kind\": {}, \"views\": {}, \"columns\": {}, \"rows\": {}, "
+        "\"interaxial\": {}, \"convergence\": {}, \"separation\": {}, "
+        "\"view_cone\": {}}},\n",
+        jsonString(rigKindName(rig.kind)), rig.viewCount(), rig.columns, rig.rows,
+        jsonNumber(rig.interaxial), jsonNumber(rig.convergence), jsonNumber(rig.separation()),
+        jsonNumber(p.viewConeDegrees));
+    j += fmt::format("  \"display\": {},\n",
+                     p.display ? jsonString(std::string(p.display->name)) : "null");
+    bool comfortable = true;
+    std::string why;
+    if (range) {
+        const ParallaxRange& r = range->range;
+        j += fmt::format(
+            "  \"parallax\": {{\"between\": \"outer views\", \"min\": {}, \"max\": {}, "
+            "\"min_percent\": {}, \"max_percent\": {}, \"nearest_distance\": {}, "
+            "\"farthest_distance\": {}, \"comfortable\": {}, \"why\": {}, \"text\": {}}},\n",
+            jsonNumber(r.minParallax), jsonNumber(r.maxParallax), jsonNumber(100.0 * r.minParallax),
+            jsonNumber(100.0 * r.maxParallax), jsonNumber(r.nearestDistance),
+            jsonNumber(r.farthestDistance), r.comfortable ? "true" : "false", jsonString(r.why),
+            jsonString(range->line));
+        comfortable = r.comfortable;
+        why = r.why;
+    } else {
+        j += "  \"parallax\": null,\n";
+    }
+    if (screen) {
+        const ScreenComfort& c = screen->comfort;
+        j += fmt::format(
+            "  \"screen\": {{\"width_cm\": {}, \"viewing_distance_cm\": {}, \"interocular_cm\": "
+            "{}, \"desktop\": {}, \"eye_separation\": {}, \"budget\": {}, \"budget_cm\": {}, "
+            "\"pair_views\": {}, \"min_parallax\": {}, \"max_parallax\": {}, "
+            "\"min_parallax_cm\": {}, \"max_parallax_cm\": {}, \"nearest_vergence_deg\": {}, "
+            "\"farthest_vergence_deg\": {}, \"screen_vergence_deg\": {}, \"comfortable\": {}, "
+            "\"why\": {}, \"text\": {}}},\n",
+            jsonNumber(c.screen.widthCm),
+            c.screen.viewingDistanceCm > 0.0f ? jsonNumber(c.screen.viewingDistanceCm) : "null",
+            jsonNumber(c.screen.interocularCm), c.budget.desktop ? "true" : "false",
+            jsonNumber(c.budget.eyeSeparation), jsonNumber(c.budget.fraction),
+            jsonNumber(c.budget.fraction * c.screen.widthCm), c.pairViews,
+            jsonNumber(c.minParallax), jsonNumber(c.maxParallax), jsonNumber(c.minParallaxCm),
+            jsonNumber(c.maxParallaxCm), jsonNumber(c.nearestVergenceDeg),
+            jsonNumber(c.farthestVergenceDeg), jsonNumber(c.screenVergenceDeg),
+            c.comfortable ? "true" : "false", jsonString(c.why), jsonString(screen->line));
+        comfortable = comfortable && c.comfortable;
+        if (!c.why.empty()) why += (why.empty() ? "" : "; ") + c.why;
+    } else {
+        j += "  \"screen\": null,\n";
+    }
+    std::string notes = "[";
+    for (const std::string& n : p.notes) notes += (notes.size() > 1 ? ", " : "") + jsonString(n);
+    j += fmt::format("  \"notes\": {}],\n", notes);
+    j += fmt::format("  \"comfortable\": {},\n  \"why\": {}\n}}\n",
+                     range ? (comfortable ? "true" : "false") : "null", jsonString(why));
+    return j;
+}
+
+std::vector<std::string> renderWarnings(const Prepared& p, const RenderOutput& out,
+                                        const std::optional<ComfortReport>& range,
+                                        const std::optional<ScreenComfortReport>& screen) {
+    std::vector<std::string> w;
+    if (!out.depth.empty() && int(out.depth.size()) == p.rig.viewCount()) {
+        bool any = false;
+        for (const DepthImage& d : out.depth) {
+            any = any ||
+                  std::any_of(d.depth.begin(), d.depth.end(), [](float z) { return z < 1.0f; });
+            if (any) break;
+        }
+        if (!any) w.push_back("warning: no view drew anything of the scene (empty images)");
+    }
+    if (screen) {
+        const ScreenComfort& c = screen->comfort;
+        const float budgetCm = c.budget.fraction * c.screen.widthCm;
+        const float worst = std::max(std::abs(c.minParallaxCm), std::abs(c.maxParallaxCm));
+        if (worst > 2.0f * budgetCm) {
+            w.push_back(fmt::format(
+                "warning: separation {:.2f}% is far above the budget: parallax up to {:.2f} cm "
+                "between the eyes' views, {:.1f} x the {:.2f} cm budget (try --separation auto)",
+                100.0 * p.rig.separation(), worst, worst / budgetCm, budgetCm));
+        }
+    } else if (range && range->range.why.find("beyond one screen width") != std::string::npos) {
+        w.push_back(fmt::format(
+            "warning: separation {:.2f}% is far too large: parallax beyond one screen width "
+            "between {} (give --screen-width for the budget, or --separation auto)",
+            100.0 * p.rig.separation(), p.rig.columns > 2 ? "adjacent views" : "the two views"));
+    }
+    return w;
+}
+
+}  // namespace mvr::cli
