@@ -1,5 +1,6 @@
 #include "mvr/gl/gl_backend.h"
 
+#include "mvr/core/shadows.h"
 #include "renderer.h"
 
 namespace mvr::gl {
@@ -14,7 +15,18 @@ public:
     Status supports(const std::string& method) const override { return mRenderer.supports(method); }
     Result<RenderOutput> render(const Scene& scene, const Rig& rig, const RenderSettings& settings,
                                 const std::string& method) override {
-        return mRenderer.render(scene, rig, settings, method);
+        if (!settings.shadows) return mRenderer.render(scene, rig, settings, method);
+        // Shadows (issue 15): the casters' maps once for all views, as one multi-view pass
+        // whose views are the lights (the same method where it returns per-view depth).
+        if (Status s = validateRequest(scene, rig, settings); !s) return s;
+        if (Status s = mRenderer.supports(method); !s) return s;
+        Result<ShadowSet> set = renderShadowSet(*this, scene, settings.shadowMapSize,
+                                                mRenderer.shadowPassMethod(method));
+        if (!set) return set.status();
+        mRenderer.setShadows(&*set, scene.lights);
+        Result<RenderOutput> out = mRenderer.render(scene, rig, settings, method);
+        mRenderer.setShadows(nullptr);
+        return out;
     }
     std::vector<std::string> info() const override { return mRenderer.info(); }
 

@@ -292,6 +292,9 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
                                       src.indices[3 * t + 2]};
                 const glm::vec3 n = glm::cross(src.positions[v[1]] - src.positions[v[0]],
                                                src.positions[v[2]] - src.positions[v[0]]);
+                // Before v[2] may be replaced by a duplicate's index (past src.positions).
+                const glm::vec3 center =
+                    (src.positions[v[0]] + src.positions[v[1]] + src.positions[v[2]]) / 3.0f;
                 int pick = !used[v[2]] ? 2 : !used[v[0]] ? 0 : !used[v[1]] ? 1 : -1;
                 if (pick < 0) {
                     v[2] = static_cast<std::uint32_t>(pos.size());
@@ -305,8 +308,7 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
                 const std::uint32_t r[3] = {v[(pick + 1) % 3], v[(pick + 2) % 3], v[pick]};
                 used[r[2]] = 1;
                 face[r[2]] = n;
-                centers[r[2]] =
-                    (src.positions[v[0]] + src.positions[v[1]] + src.positions[v[2]]) / 3.0f;
+                centers[r[2]] = center;
                 std::copy(r, r + 3, idx.begin() + static_cast<std::ptrdiff_t>(3 * t));
             }
             g.flatPositions = createBuffer();
@@ -705,7 +707,9 @@ Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
 Status Renderer::drawPass(Frame& f, RenderOutput& out, GlFrameStats& stats) {
     const GlMethod& method = *f.method;
     const RenderSettings& s = *f.settings;
-    Result<GLuint> prog = program(method.name, methodProgram(method, mCaps, s.shading, f.views));
+    ProgramDesc desc = methodProgram(method, mCaps, s.shading, f.views);
+    if (mShadows) addDefine(desc, "SHADOWS");  // issue 15: shadow_maps.cpp
+    Result<GLuint> prog = program(method.name, desc);
     if (!prog) return prog.status();
     if (method.prepare) {
         if (Status st = (this->*method.prepare)(f); !st) return st;
@@ -713,6 +717,7 @@ Status Renderer::drawPass(Frame& f, RenderOutput& out, GlFrameStats& stats) {
     uploadFrameBlock(f);
     setCommonState(s);
     glUseProgram(*prog);
+    if (mShadows) setShadowUniforms(*prog);
     if (Status st = checkGlError("setting up the frame"); !st) return st;
 
     const auto tDraw = Clock::now();

@@ -20,6 +20,7 @@
 #include "mvr/core/render.h"
 #include "mvr/core/rig.h"
 #include "mvr/core/scene.h"
+#include "mvr/core/shadows.h"
 #include "mvr/gl/gl_backend.h"
 #include "shaders.h"
 
@@ -138,6 +139,13 @@ public:
 
     const std::optional<GlFrameStats>& lastStats() const { return mLastStats; }
 
+    /// Shadows (issue 15): the maps the next renders sample (null or empty: none), uploaded
+    /// once into an R32F texture array (one layer per map). The caller keeps `set` alive.
+    void setShadows(const ShadowSet* set, const std::vector<Light>& lights = {});
+    /// The method the shadow pass of a render with `method` uses: `method` itself when it
+    /// returns per-view depth (an exact row), else the reference row (multipass).
+    std::string shadowPassMethod(const std::string& method) const;
+
 private:
     // The table's rows name the draw paths below.
     friend const std::vector<GlMethod>& glMethods();
@@ -228,6 +236,10 @@ private:
     std::map<std::string, AutoChoice> mAutoChoices;
     std::optional<GlFrameStats> mLastStats;
     std::uint64_t mLastSceneKey = 0;
+    const ShadowSet* mShadows = nullptr;
+    std::vector<Light> mShadowLights;
+    Texture mShadowMaps;
+    void setShadowUniforms(GLuint program) const;
 };
 
 }  // namespace mvr::gl::detail

@@ -33,6 +33,51 @@ layout(location = 5) uniform float uShininess;
 layout(location = 6) uniform ivec4 uMatFlags;        // x: textured, y: alpha mode (0 opaque, 1 mask, 2 blend), z: double-sided
 layout(location = 7) uniform vec2 uAlphaCutoff;      // x: material alpha, y: mask cutoff
 
+#ifdef SHADOWS
+// shadows.h shadowFactor() (issue 15): linear distances in an R32F array, one layer per map.
+layout(binding = 3) uniform sampler2DArray uShadowMaps;  // unit 2: the base color
+layout(location = 8) uniform mat4 uShadowClip[MAX_LIGHTS];    // light clipFromWorld
+layout(location = 12) uniform vec4 uShadowInfo[MAX_LIGHTS];   // layer (< 0: none), persp, near, far
+layout(location = 16) uniform vec4 uShadowTexel[MAX_LIGHTS];  // texelWorld, size
+float shadowFactor(int i, vec3 p, vec3 normal) {
+    if (uShadowInfo[i].x < 0.0) return 1.0;
+    vec4 c = uShadowClip[i] * vec4(p, 1.0);
+    if (!(c.w > 0.0)) return 1.0;
+    float iw = 1.0 / c.w;
+    float nx = c.x * iw, ny = c.y * iw, nz = c.z * iw;
+    if (!(abs(nx) <= 1.0 && abs(ny) <= 1.0 && nz <= 1.0)) return 1.0;
+    bool persp = uShadowInfo[i].y > 0.5;
+    float r = persp ? c.w : uShadowInfo[i].z + (nz * 0.5 + 0.5) * (uShadowInfo[i].w - uShadowInfo[i].z);
+    float fs = uShadowTexel[i].y;
+    int size = int(fs), layer = int(uShadowInfo[i].x);
+    int tx = clamp(int(floor((nx * 0.5 + 0.5) * fs)), 0, size - 1);
+    int ty = clamp(int(floor((ny * 0.5 + 0.5) * fs)), 0, size - 1);
+    float len = length(normal);
+    vec3 n = len > 0.0 ? normal / len : normal;
+    vec3 l = uLightDir[i].xyz;
+    if (uLightPos[i].w > 0.5) {  // Frame block: point / spot
+        vec3 d = uLightPos[i].xyz - p;
+        float dl = length(d);
+        if (dl > 0.0) l = d / dl;
+    }
+    float cosT = clamp(dot(n, l), 1e-3, 1.0);
+    float tanT = min(sqrt(1.0 - cosT * cosT) / cosT, 8.0);
+    float texel = persp ? uShadowTexel[i].x * r : uShadowTexel[i].x;
+    float ref = r - texel * (1.0 + 1.5 * tanT);
+    int lit = 0;
+    for (int j = -1; j <= 1; ++j) {
+        int y = clamp(ty + j, 0, size - 1);
+        for (int k = -1; k <= 1; ++k) {
+            int x = clamp(tx + k, 0, size - 1);
+            lit += texelFetch(uShadowMaps, ivec3(x, y, layer), 0).r >= ref ? 1 : 0;
+        }
+    }
+    return float(lit) * (1.0 / 9.0);
+}
+#else
+float shadowFactor(int i, vec3 p, vec3 n) { return 1.0; }
+#endif
+
 // lighting.h lightAt(): the direction toward light i from p and the light's color arriving
 // there (directional: uLightDir, uLightColor unchanged; point / spot: KHR_lights_punctual's
 // range falloff max(min(1 − (d/range)^4, 1), 0) / d² and the spot's squared cone ramp).
@@ -67,14 +112,17 @@ vec3 facingNormal(vec3 n, vec3 p) {
 }
 
 // lighting.h shadeFlat() (p: the triangle's centroid, for point / spot lights)
+// Shadows (issue 15): each light's term × shadowFactor at p, with the unflipped normal (as the
+// soft backend's shadowFactors).
 vec3 shadeFlat(vec3 faceNormal, vec3 p) {
+    vec3 n0 = faceNormal;
     faceNormal = facingNormal(faceNormal, p);
     vec3 albedo = uMaterial.rgb;
     vec3 c = uAmbient.rgb * albedo;
     for (int i = 0; i < uCounts.x; ++i) {
         vec3 l;
         vec3 lc = lightAt(i, p, l);
-        c += max(dot(faceNormal, l), 0.0) * albedo * lc;
+        c += (max(dot(faceNormal, l), 0.0) * albedo * lc) * shadowFactor(i, p, n0);
     }
     return clamp(c, 0.0, 1.0);
 }
@@ -92,7 +140,7 @@ vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
         if (nl > 0.0) {
             vec3 h = normalize(l + v);
             float spec = uMaterial.w * pow(max(dot(n, h), 0.0), uShininess);
-            c += (nl * albedo + vec3(spec)) * lc;
+            c += ((nl * albedo + vec3(spec)) * lc) * shadowFactor(i, worldPos, normal);
         }
     }
     return clamp(c, 0.0, 1.0);
@@ -103,12 +151,13 @@ vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
 // texel) and S (the specular sum, added): clamp(base · D + S), in the fragment shader.
 // lighting.h flatTerms(): D only.
 vec3 flatDiffuse(vec3 faceNormal, vec3 p) {
+    vec3 n0 = faceNormal;
     faceNormal = facingNormal(faceNormal, p);
     vec3 d = uAmbient.rgb;
     for (int i = 0; i < uCounts.x; ++i) {
         vec3 l;
         vec3 lc = lightAt(i, p, l);
-        d += max(dot(faceNormal, l), 0.0) * lc;
+        d += (max(dot(faceNormal, l), 0.0) * lc) * shadowFactor(i, p, n0);
     }
     return d;
 }
@@ -126,6 +175,7 @@ void blinnPhongTerms(vec3 normal, vec3 worldPos, out vec3 diffuse, out vec3 spec
         if (nl > 0.0) {
             vec3 h = normalize(l + v);
             float spec = uMaterial.w * pow(max(dot(n, h), 0.0), uShininess);
+            lc *= shadowFactor(i, worldPos, normal);
             diffuse += nl * lc;
             specular += spec * lc;
         }

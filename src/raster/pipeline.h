@@ -21,6 +21,7 @@
 
 #include "mvr/core/lighting.h"
 #include "mvr/core/render.h"
+#include "mvr/core/shadows.h"
 #include "mvr/core/texture_sampling.h"
 
 namespace mvr::raster::detail {
@@ -120,7 +121,10 @@ inline float shearClip(float centerClip, float shear, float w, float convergence
 inline void vertexAttributes(Shading shading, const ShadingContext& ctx, const Material& material,
                              const glm::vec3& worldPos, const glm::vec3& worldNormal, float* out) {
     if (shading == Shading::Vertex) {
-        const glm::vec3 c = shadeBlinnPhong(ctx, material, worldNormal, worldPos);
+        float sh[kMaxLights];
+        const glm::vec3 c =
+            shadeBlinnPhong(ctx, material, worldNormal, worldPos,
+                            shadowFactors(ctx.shadows, ctx.lights, worldPos, worldNormal, sh));
         out[0] = c.x, out[1] = c.y, out[2] = c.z;
     } else if (shading == Shading::Pixel) {
         out[0] = worldNormal.x, out[1] = worldNormal.y, out[2] = worldNormal.z;
@@ -134,7 +138,10 @@ inline void texturedVertexAttributes(Shading shading, const ShadingContext& ctx,
                                      const Material& material, const glm::vec3& worldPos,
                                      const glm::vec3& worldNormal, glm::vec2 uv, float* out) {
     if (shading == Shading::Vertex) {
-        const LightTerms t = blinnPhongTerms(ctx, material, worldNormal, worldPos);
+        float sh[kMaxLights];
+        const LightTerms t =
+            blinnPhongTerms(ctx, material, worldNormal, worldPos,
+                            shadowFactors(ctx.shadows, ctx.lights, worldPos, worldNormal, sh));
         out[0] = t.diffuse.x, out[1] = t.diffuse.y, out[2] = t.diffuse.z;
         out[3] = t.specular.x, out[4] = t.specular.y, out[5] = t.specular.z;
     } else if (shading == Shading::Pixel) {
@@ -163,7 +170,29 @@ inline glm::vec3 centroid(const glm::vec3& p0, const glm::vec3& p1, const glm::v
 /// Flat shading: one color per triangle from its world-space face normal (lighting.h).
 inline std::uint32_t flatColor(const ShadingContext& ctx, const Material& material,
                                const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2) {
-    return packColor(shadeFlat(ctx, material, faceNormal(p0, p1, p2), centroid(p0, p1, p2)));
+    const glm::vec3 unit = faceNormal(p0, p1, p2);
+    const glm::vec3 c = centroid(p0, p1, p2);
+    // Shadows (issue 15): one factor per triangle, at its centroid (flat = one color).
+    float sh[kMaxLights];
+    const float* shadow = shadowFactors(ctx.shadows, ctx.lights, c, unit, sh);
+    return packColor(shadeFlat(ctx, material, unit, c, shadow));
+}
+
+/// Vertex lighting with shadows (issue 15): the Kernels::shadeVertices of a frame with shadow
+/// maps (scalar: the lookup is not vectorized), the same for every method.
+inline void shadeVerticesShadowed(const glm::vec3* positions, const glm::vec3* normals,
+                                  std::size_t n, const glm::mat4& worldFromModel,
+                                  const glm::mat3& normalFromModel, const ShadingContext& ctx,
+                                  const Material& material, float* color) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec3 world = glm::vec3(transformPoint(worldFromModel, positions[i]));
+        const glm::vec3 normal = transformDir(normalFromModel, normals[i]);
+        float sh[kMaxLights];
+        const glm::vec3 c =
+            shadeBlinnPhong(ctx, material, normal, world,
+                            shadowFactors(ctx.shadows, ctx.lights, world, normal, sh));
+        color[3 * i] = c.x, color[3 * i + 1] = c.y, color[3 * i + 2] = c.z;
+    }
 }
 
 // ---- back faces ----------------------------------------------------------------------------
@@ -477,7 +506,11 @@ inline void setFlat(FragmentTri& frag, bool textured, const ShadingContext& ctx,
                     const Material& material, const glm::vec3& p0, const glm::vec3& p1,
                     const glm::vec3& p2) {
     if (textured) {
-        frag.flatD = flatTerms(ctx, material, faceNormal(p0, p1, p2), centroid(p0, p1, p2)).diffuse;
+        const glm::vec3 n = faceNormal(p0, p1, p2), c = centroid(p0, p1, p2);
+        float sh[kMaxLights];  // shadows (issue 15): one factor per triangle, at its centroid
+        frag.flatD =
+            flatTerms(ctx, material, n, c, shadowFactors(ctx.shadows, ctx.lights, c, n, sh))
+                .diffuse;
     } else {
         frag.flat = flatColor(ctx, material, p0, p1, p2);
     }
@@ -544,7 +577,10 @@ struct FragmentSink {
             } else {
                 const glm::vec3 n(at(0), at(1), at(2));
                 const glm::vec3 p(at(3), at(4), at(5));
-                target.color[i] = packColor(shadeBlinnPhong(*shade.ctx, *shade.material, n, p));
+                float sh[kMaxLights];
+                target.color[i] = packColor(shadeBlinnPhong(
+                    *shade.ctx, *shade.material, n, p,
+                    shadowFactors(shade.ctx->shadows, shade.ctx->lights, p, n, sh)));
             }
         }
     }
@@ -579,8 +615,11 @@ struct FragmentSink {
             terms.diffuse = glm::vec3(at(0), at(1), at(2));
             terms.specular = glm::vec3(at(3), at(4), at(5));
         } else {
-            terms = blinnPhongTerms(*shade.ctx, m, glm::vec3(at(0), at(1), at(2)),
-                                    glm::vec3(at(3), at(4), at(5)));
+            const glm::vec3 n(at(0), at(1), at(2));
+            const glm::vec3 p(at(3), at(4), at(5));
+            float sh[kMaxLights];
+            terms = blinnPhongTerms(*shade.ctx, m, n, p,
+                                    shadowFactors(shade.ctx->shadows, shade.ctx->lights, p, n, sh));
         }
         glm::vec3 c = shadeTextured(glm::vec3(base), terms);
         if (m.alphaMode == AlphaMode::Blend) {

@@ -10,6 +10,7 @@
 
 #include "cpu.h"
 #include "mvr/core/platform.h"
+#include "mvr/core/shadows.h"
 #include "methods.h"
 
 namespace mvr::raster {
@@ -98,7 +99,16 @@ public:
         if (Status s = validateRequest(scene, rig, settings); !s) return s;
         if (Status s = supports(method); !s) return s;
         try {
-            renderChecked(scene, rig, settings, method, out);
+            // Shadows (issue 15): the casters' maps once for all views, as one multi-view
+            // render whose views are the lights, with the same method.
+            ShadowSet shadows;
+            if (settings.shadows) {
+                Result<ShadowSet> set =
+                    renderShadowSet(*this, scene, settings.shadowMapSize, method);
+                if (!set) return set.status();
+                shadows = std::move(*set);
+            }
+            renderChecked(scene, rig, settings, method, shadows, out);
             return {};
         } catch (const std::bad_alloc&) {
             return internalError(
@@ -109,9 +119,10 @@ public:
 
 private:
     /// Renders into `out`, keeping its images' storage where the view count and size match
-    /// (allocateOutputs: then only the clear).
+    /// (allocateOutputs: then only the clear). `shadows`: the frame's shadow maps (issue 15),
+    /// or an empty set.
     void renderChecked(const Scene& scene, const Rig& rig, const RenderSettings& settings,
-                       const std::string& method, RenderOutput& out) {
+                       const std::string& method, const ShadowSet& shadows, RenderOutput& out) {
         std::lock_guard lock(mMutex);  // one render at a time per backend (shared pool, scratch)
         const auto start = std::chrono::steady_clock::now();
         detail::ThreadPool& pool = this->pool();
@@ -130,11 +141,23 @@ private:
                                detail::centerClipFromWorld(rig),
                                detail::kernels(mSimd)};
         detail::prepareTextures(f);
+        detail::Kernels shadowKernels = f.kernels;
+        std::optional<detail::FrameContext> shadowed;
+        if (!shadows.empty()) {
+            // Shadows (issue 15): every lighting path looks the factors up (shadows.h); the
+            // vertex kernel is replaced by the scalar shadowed one.
+            f.shading.shadows = &shadows;
+            shadowKernels.shadeVertices = detail::shadeVerticesShadowed;
+            shadowed.emplace(detail::FrameContext{
+                f.scene, f.rig, f.settings, f.pool, f.shading, std::move(f.draw), f.bands,
+                f.centerClip, shadowKernels, f.textured, f.punctualLights, std::move(f.mips)});
+        }
+        detail::FrameContext& frame = shadowed ? *shadowed : f;
         std::vector<detail::Target> targets;
         detail::allocateOutputs(pool, out, rig.viewCount(), settings, targets);
         out.stages.fillMs = clock.lap();
         const auto row = static_cast<std::size_t>(findMethod(method));  // supports() passed
-        kMethods[row].render(f, targets, out.stages, mScratch[row]);
+        kMethods[row].render(frame, targets, out.stages, mScratch[row]);
         RenderStats stats;
         stats.method = method;
         stats.stages = out.stages;

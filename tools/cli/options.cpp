@@ -15,6 +15,7 @@
 #include <fmt/core.h>
 
 #include "mvr/adelson/village_scene.h"
+#include "mvr/core/billboards.h"
 #include "mvr/core/displays.h"
 #include "mvr/core/framing.h"
 #include "mvr/core/scene_io.h"
@@ -283,6 +284,19 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
         ->default_val(shading);
     app->add_flag("--cull", cullBackFaces, "Cull back faces");
     app->add_flag("--wireframe", wireframe, "Draw triangle edges only");
+    app->add_flag("--shadows", shadows,
+                  "Shadows: the key directional light and spot lights (or the lights a file "
+                  "marks) cast shadows; one shadow map per light per frame, rendered once for "
+                  "all views, 3x3 percentage-closer filtering");
+    app->add_option("--shadow-map-size", shadowMapSize, "Shadow map texels per side (16..8192)")
+        ->default_val(shadowMapSize);
+    app->add_option("--billboards", billboards,
+                    "Scatter N camera-facing particle quads through the scene's bounds, in planes "
+                    "parallel to the screen (nvidia-gtc2010); textured with the scene's first "
+                    "texture when it has one")
+        ->default_val(billboards);
+    app->add_option("--billboard-size", billboardSize,
+                    "Side of each billboard, world units (default: 3 % of the scene's radius)");
 }
 
 namespace {
@@ -454,6 +468,12 @@ Result<Prepared> SceneOptions::prepare() const {
     out.settings.shading = *sh;
     out.settings.cullBackFaces = cullBackFaces;
     out.settings.wireframe = wireframe;
+    if (shadowMapSize < 16 || shadowMapSize > 8192) {
+        return usageError(
+            fmt::format("--shadow-map-size {} is out of range (expected 16..8192)", shadowMapSize));
+    }
+    out.settings.shadows = shadows;
+    out.settings.shadowMapSize = shadowMapSize;
     auto kind = parseRigKind(rig);
     if (!kind) return usageError(fmt::format("--rig {}: {}", rig, kind.status().message()));
     FramingParams params;
@@ -579,6 +599,22 @@ Result<Prepared> SceneOptions::prepare() const {
     if (!framed) return framed.status();  // the memory budget: its message names views and size
     out.rig = std::move(framed->rig);
     out.settings = framed->settings;
+    // Billboards (issue 15): after the framing (they do not move the camera), facing it.
+    if (billboards < 0 || billboards > 1000000) {
+        return usageError(
+            fmt::format("--billboards {} is out of range (expected 0..1000000)", billboards));
+    }
+    if (!std::isfinite(billboardSize) || billboardSize < 0.0) {
+        return usageError(fmt::format(
+            "--billboard-size {} is out of range (expected a finite size >= 0)", billboardSize));
+    }
+    if (billboards > 0) {
+        const Bounds b = out.scene.bounds();
+        const float side = billboardSize > 0.0 ? float(billboardSize) : 0.03f * b.radius();
+        const auto list = scatterBillboards(b, billboards, side);
+        appendBillboards(out.scene, list, out.rig.camera);
+        if (Status s = validateScene(out.scene); !s) return s;
+    }
     out.viewConeDegrees = params.viewConeDegrees;
     // No silent nonsense: a scene outside every view's frustum would give empty images.
     const std::vector<int> missing = viewsMissingScene(out.scene, out.rig);

@@ -54,6 +54,10 @@ struct SceneOptions {
     std::string shading = "vertex";
     bool cullBackFaces = false;
     bool wireframe = false;
+    bool shadows = false;                     ///< --shadows (issue 15, shadows.h)
+    int shadowMapSize = 1024;                 ///< --shadow-map-size
+    int billboards = 0;                       ///< --billboards N (billboards.h)
+    double billboardSize = 0;                 ///< --billboard-size; 0: 3 % of the scene's radius
     std::string display;                      ///< --display NAME (displays.h); "" = none
     std::optional<double> screenWidthCm;      ///< --screen-width CM
     std::optional<double> viewingDistanceCm;  ///< --viewing-distance CM

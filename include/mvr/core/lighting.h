@@ -60,13 +60,16 @@
 
 namespace mvr {
 
+struct ShadowSet;  // shadows.h
+
 enum class Shading { Flat, Vertex, Pixel };
 
 /// Everything shading needs that does not depend on the view.
 struct ShadingContext {
     std::span<const DirectionalLight> lights;
     glm::vec3 ambient{0.12f};
-    glm::vec3 centerEye{0.0f};  ///< world-space eye used for the specular view vector
+    glm::vec3 centerEye{0.0f};           ///< world-space eye used for the specular view vector
+    const ShadowSet* shadows = nullptr;  ///< issue 15: shadow maps, or none (every light lit)
 };
 
 /// Constants of specularPow (shared with the soft backend's SIMD kernels, which evaluate the
@@ -180,33 +183,45 @@ inline glm::vec3 facingNormal(const ShadingContext& ctx, const Material& m, glm:
     return n;
 }
 
+/// Light `l`'s shadow factor (issue 15, shadows.h) in the per-light array `shadow` (indexed like
+/// ctx.lights); 1 (lit) when `shadow` is null.
+inline float shadowFactor(const ShadingContext& ctx, const DirectionalLight& l,
+                          const float* shadow) {
+    return shadow ? shadow[&l - ctx.lights.data()] : 1.0f;
+}
+
 /// Flat at `worldPos` (the triangle's centroid; only point / spot lights use it): ambient +
 /// Σ att · max(dot(n, l), 0) · albedo · lightColor. `faceNormal` unit, world space.
+/// `shadow` (issue 15): per light, the factor (shadows.h) multiplying its term; null = lit.
 inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal,
-                           glm::vec3 worldPos) {
+                           glm::vec3 worldPos, const float* shadow = nullptr) {
     faceNormal = facingNormal(ctx, m, faceNormal, worldPos);
     glm::vec3 c = ctx.ambient * m.albedo;
     for (const DirectionalLight& l : ctx.lights) {
+        const float sf = shadowFactor(ctx, l, shadow);
         if (l.type == LightType::Directional) {
-            c += std::max(glm::dot(faceNormal, l.towardLight), 0.0f) * m.albedo * l.color;
+            c += (std::max(glm::dot(faceNormal, l.towardLight), 0.0f) * m.albedo * l.color) * sf;
         } else {
             const LightSample s = lightAt(l, worldPos);
-            c += std::max(glm::dot(faceNormal, s.toLight), 0.0f) * m.albedo *
-                 (l.color * s.attenuation);
+            c += (std::max(glm::dot(faceNormal, s.toLight), 0.0f) * m.albedo *
+                  (l.color * s.attenuation)) *
+                 sf;
         }
     }
     return glm::clamp(c, 0.0f, 1.0f);
 }
 /// Flat with directional lights only (the position is not needed).
-inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal) {
-    return shadeFlat(ctx, m, faceNormal, glm::vec3(0.0f));
+inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal,
+                           const float* shadow = nullptr) {
+    return shadeFlat(ctx, m, faceNormal, glm::vec3(0.0f), shadow);
 }
 
 /// Blinn-Phong: ambient + Σ att · [max(n·l, 0) · albedo + specular · max(n·h, 0)^shininess
 /// (only where n·l > 0)] · lightColor, with h = normalize(l + v), v = normalize(centerEye − p).
-/// `normal` need not be unit (it is normalized here).
+/// `normal` need not be unit (it is normalized here). `shadow` (issue 15): per light, the
+/// factor (shadows.h) multiplying its diffuse + specular; null = lit.
 inline glm::vec3 shadeBlinnPhong(const ShadingContext& ctx, const Material& m, glm::vec3 normal,
-                                 glm::vec3 worldPos) {
+                                 glm::vec3 worldPos, const float* shadow = nullptr) {
     const glm::vec3 n = glm::normalize(facingNormal(ctx, m, normal, worldPos));
     const glm::vec3 v = glm::normalize(ctx.centerEye - worldPos);
     glm::vec3 c = ctx.ambient * m.albedo;
@@ -217,10 +232,11 @@ inline glm::vec3 shadeBlinnPhong(const ShadingContext& ctx, const Material& m, g
             const glm::vec3 h = glm::normalize(s.toLight + v);
             const float spec =
                 m.specular * specularPow(std::max(glm::dot(n, h), 0.0f), m.shininess);
+            const float sf = shadowFactor(ctx, l, shadow);
             if (l.type == LightType::Directional) {
-                c += (nl * m.albedo + glm::vec3(spec)) * l.color;
+                c += ((nl * m.albedo + glm::vec3(spec)) * l.color) * sf;
             } else {
-                c += (nl * m.albedo + glm::vec3(spec)) * (l.color * s.attenuation);
+                c += ((nl * m.albedo + glm::vec3(spec)) * (l.color * s.attenuation)) * sf;
             }
         }
     }
@@ -235,23 +251,25 @@ struct LightTerms {
 };
 
 /// Flat's terms: D = ambient + Σ att · max(n·l, 0) · lightColor at `worldPos` (the centroid),
-/// S = 0. `faceNormal` unit.
+/// S = 0. `faceNormal` unit. `shadow`: per-light factors (issue 15), null = lit.
 inline LightTerms flatTerms(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal,
-                            glm::vec3 worldPos) {
+                            glm::vec3 worldPos, const float* shadow = nullptr) {
     faceNormal = facingNormal(ctx, m, faceNormal, worldPos);
     LightTerms t;
     t.diffuse = ctx.ambient;
     for (const DirectionalLight& l : ctx.lights) {
         const LightSample s = lightAt(l, worldPos);
-        t.diffuse += std::max(glm::dot(faceNormal, s.toLight), 0.0f) * (l.color * s.attenuation);
+        t.diffuse += (std::max(glm::dot(faceNormal, s.toLight), 0.0f) * (l.color * s.attenuation)) *
+                     shadowFactor(ctx, l, shadow);
     }
     return t;
 }
 
 /// Blinn-Phong's terms: D = ambient + Σ att · max(n·l, 0) · lightColor, S = Σ att · specular ·
-/// max(n·h, 0)^shininess · lightColor (where n·l > 0). `normal` need not be unit.
+/// max(n·h, 0)^shininess · lightColor (where n·l > 0). `normal` need not be unit. `shadow`:
+/// per-light factors (issue 15) multiplying each light's D and S terms, null = lit.
 inline LightTerms blinnPhongTerms(const ShadingContext& ctx, const Material& m, glm::vec3 normal,
-                                  glm::vec3 worldPos) {
+                                  glm::vec3 worldPos, const float* shadow = nullptr) {
     const glm::vec3 n = glm::normalize(facingNormal(ctx, m, normal, worldPos));
     const glm::vec3 v = glm::normalize(ctx.centerEye - worldPos);
     LightTerms t;
@@ -263,7 +281,7 @@ inline LightTerms blinnPhongTerms(const ShadingContext& ctx, const Material& m, 
             const glm::vec3 h = glm::normalize(s.toLight + v);
             const float spec =
                 m.specular * specularPow(std::max(glm::dot(n, h), 0.0f), m.shininess);
-            const glm::vec3 lc = l.color * s.attenuation;
+            const glm::vec3 lc = l.color * s.attenuation * shadowFactor(ctx, l, shadow);
             t.diffuse += nl * lc;
             t.specular += spec * lc;
         }

@@ -28,6 +28,10 @@ struct RenderSettings {
     bool cullBackFaces = false;              ///< cull clockwise (back) faces
     bool wireframe = false;                  ///< draw triangle edges instead of filled triangles
     glm::vec3 clearColor{0.0f, 0.0f, 0.0f};  ///< background, linear [0,1]; alpha is 1
+    // Appended (issue 15, shadows.h): the casters' shadow maps, rendered once per frame for all
+    // views and sampled by every view.
+    bool shadows = false;
+    int shadowMapSize = 1024;  ///< texels per side (kDefaultShadowMapSize)
     /// Where the views' pixels go, when the caller owns that memory (zero copy: the Python
     /// module renders into the numpy arrays it returns); nullptr: the images own their memory.
     /// Backends build view v's images with OutputBlock::colorMemory(v) / depthMemory(v); a

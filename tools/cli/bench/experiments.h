@@ -20,5 +20,6 @@ PaperBench addSorbier(CLI::App* bench);  ///< sorbier.cpp
 PaperBench addKalaiah(CLI::App* bench);  ///< kalaiah.cpp
 PaperBench addAdelson(CLI::App* bench);  ///< adelson.cpp
 PaperBench addViews(CLI::App* bench);    ///< views.cpp: N views, × one view
+PaperBench addShadows(CLI::App* bench);  ///< shadows.cpp: K lights' maps, one pass vs K
 
 }  // namespace mvr::cli::bench
