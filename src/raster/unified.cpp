@@ -393,6 +393,10 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
                 if (culled(kv)) continue;
                 FragmentSink<S> sink = b.sinks[std::size_t(views[kv])];  // in registers
                 if (b.views.mask[k] > 0) {
+                    if (sink.shade.texture) {  // the view's λ from its own snapped x
+                        const std::int32_t xk[3] = {b.xs.x[0][k], b.xs.x[1][k], b.xs.x[2][k]};
+                        sink.setTriangle(xk, ys.y);
+                    }
                     emitSmall(b.views, k, ys.rowMin, sink);
                 } else {
                     const std::int32_t xk[3] = {b.xs.x[0][k], b.xs.x[1][k], b.xs.x[2][k]};
