@@ -38,17 +38,20 @@ struct SceneCase {
     int columns = 2, rows = 1;
     Shading shading = Shading::Vertex;
     bool cull = false, wire = false;
+    bool shadows = false;  ///< RenderSettings::shadows (issue 15), maps of 512²
 
     int views() const { return columns * rows; }
     std::vector<std::string> tags() const {
         std::vector<std::string> t{scene};
         if (cull) t.push_back("cull");
         if (wire) t.push_back("wire");
+        if (shadows) t.push_back(shading == Shading::Flat ? "shadows-flat" : "shadows");
         return t;
     }
     std::string name() const {
-        std::string s = fmt::format("{}_{}_{}x{}{}{}", scene, shadingName(shading), columns, rows,
-                                    cull ? "_cull" : "", wire ? "_wire" : "");
+        std::string s = fmt::format("{}_{}_{}x{}{}{}{}", scene, shadingName(shading), columns,
+                                    rows, cull ? "_cull" : "", wire ? "_wire" : "",
+                                    shadows ? "_shadows" : "");
         for (char& c : s) c = (c == '-') ? '_' : c;
         return s;
     }
@@ -86,6 +89,12 @@ const std::vector<SceneCase>& sceneCases() {
         {"textured", 2, 1, Shading::Vertex},
         {"textured", 2, 1, Shading::Pixel},
         {"textured", 3, 2, Shading::Pixel},
+        // Issue 15: shadow maps rendered once for all views and sampled by every view.
+        {"default", 2, 1, Shading::Flat, false, false, true},
+        {"default", 2, 1, Shading::Vertex, false, false, true},
+        {"default", 2, 1, Shading::Pixel, false, false, true},
+        {"default", 3, 2, Shading::Pixel, false, false, true},
+        {"textured", 2, 1, Shading::Pixel, false, false, true},
     };
     return cases;
 }
@@ -110,6 +119,8 @@ RenderSettings settingsFor(const SceneCase& c) {
     s.cullBackFaces = c.cull;
     s.wireframe = c.wire;
     s.clearColor = kClear;
+    s.shadows = c.shadows;
+    s.shadowMapSize = 512;
     return s;
 }
 
