@@ -12,8 +12,10 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <map>
+#include <numbers>
 
 #include <assimp/GltfMaterial.h>
 #include <assimp/Importer.hpp>
@@ -21,6 +23,7 @@
 #include <assimp/scene.h>
 #include <fmt/core.h>
 #include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
 
 #include "model_guard.h"
 #include "mvr/composite/jpeg.h"
@@ -96,6 +99,81 @@ TextureWrap wrapFrom(int mode) {
         case aiTextureMapMode_Mirror: return TextureWrap::MirroredRepeat;
         default: return TextureWrap::Repeat;
     }
+}
+
+/// The JSON of a .gltf, or the JSON chunk of a .glb; null when it cannot be had (assimp has
+/// read the file already, so this only adds what assimp drops: see khrLights()).
+nlohmann::json gltfDocument(const std::filesystem::path& path, bool glb) {
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec || size > (std::uintmax_t(1) << 30)) return nullptr;
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes;
+    if (!glb) {
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    } else {
+        // Header (magic, version, length), then the first chunk: length, type "JSON", data.
+        char head[20] = {};
+        if (!in.read(head, sizeof head) || std::string_view(head + 16, 4) != "JSON")
+            return nullptr;
+        std::uint32_t length = 0;
+        std::memcpy(&length, head + 12, 4);  // little endian, as every platform mvr builds on
+        if (length > size - 20) return nullptr;
+        bytes.resize(length);
+        if (!in.read(bytes.data(), std::streamsize(length))) return nullptr;
+    }
+    nlohmann::json doc = nlohmann::json::parse(bytes, nullptr, /*allow_exceptions=*/false);
+    return doc.is_object() ? doc : nlohmann::json(nullptr);
+}
+
+/// One KHR_lights_punctual light as the file states it (the extension's defaults otherwise).
+struct KhrLight {
+    glm::vec3 color{1.0f};
+    float intensity = 1.0f;
+    float range = 0.0f;  ///< 0 = not given (infinite)
+    float innerConeAngle = 0.0f;
+    float outerConeAngle = std::numbers::pi_v<float> / 4.0f;
+};
+
+/// The file's lights array, index for index as assimp's aiLights (glTF2Importer creates
+/// mLights[i] from lights[i] and names it after the node that uses it). assimp 5.2.5 drops
+/// `range` (and folds intensity into the color), so range and the cone angles come from here.
+/// Empty when the file has no such array or one of its entries is malformed.
+std::vector<KhrLight> khrLights(const nlohmann::json& doc) {
+    std::vector<KhrLight> out;
+    if (!doc.is_object()) return out;
+    auto ext = doc.find("extensions");
+    if (ext == doc.end() || !ext->is_object()) return out;
+    auto khr = ext->find("KHR_lights_punctual");
+    if (khr == ext->end() || !khr->is_object()) return out;
+    auto lights = khr->find("lights");
+    if (lights == khr->end() || !lights->is_array()) return out;
+    auto number = [](const nlohmann::json& o, const char* key, float& value) {
+        auto it = o.find(key);
+        if (it == o.end()) return true;
+        if (!it->is_number()) return false;
+        value = it->get<float>();
+        return std::isfinite(value);
+    };
+    for (const nlohmann::json& l : *lights) {
+        if (!l.is_object()) return {};
+        KhrLight k;
+        if (!number(l, "intensity", k.intensity) || !number(l, "range", k.range)) return {};
+        if (auto c = l.find("color"); c != l.end()) {
+            if (!c->is_array() || c->size() != 3) return {};
+            for (int i = 0; i < 3; ++i) {
+                if (!(*c)[i].is_number()) return {};
+                k.color[i] = (*c)[i].get<float>();
+            }
+        }
+        if (auto spot = l.find("spot"); spot != l.end() && spot->is_object()) {
+            if (!number(*spot, "innerConeAngle", k.innerConeAngle) ||
+                !number(*spot, "outerConeAngle", k.outerConeAngle))
+                return {};
+        }
+        out.push_back(k);
+    }
+    return out;
 }
 
 struct Loader {
@@ -400,6 +478,11 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
         if (std::isfinite(cam.yfovRadians) && cam.yfovRadians > 0.0f && cam.yfovRadians < 3.14f)
             scene.camera = cam;
     }
+    // The lights as the file states them (range, the cone angles), when its JSON can be read
+    // and lines up with assimp's lights; assimp's values otherwise.
+    const std::vector<KhrLight> fileLights =
+        ai->mNumLights > 0 ? khrLights(gltfDocument(path, ext == ".glb")) : std::vector<KhrLight>{};
+    const bool useFileLights = gltf && fileLights.size() == ai->mNumLights;
     for (unsigned l = 0; l < ai->mNumLights; ++l) {
         const aiLight& al = *ai->mLights[l];
         if (al.mType != aiLightSource_DIRECTIONAL && al.mType != aiLightSource_POINT &&
@@ -425,6 +508,15 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
         if (light.type == LightType::Spot) {
             light.innerConeCos = std::cos(al.mAngleInnerCone);
             light.outerConeCos = std::cos(al.mAngleOuterCone);
+        }
+        if (useFileLights) {
+            const KhrLight& k = fileLights[l];
+            light.color = glm::max(k.color * k.intensity, glm::vec3(0.0f));
+            if (light.type != LightType::Directional && k.range > 0.0f) light.range = k.range;
+            if (light.type == LightType::Spot) {
+                light.innerConeCos = std::cos(k.innerConeAngle);
+                light.outerConeCos = std::cos(k.outerConeAngle);
+            }
         }
         if (!std::isfinite(light.color.x + light.color.y + light.color.z + light.position.x +
                            light.position.y + light.position.z)) {

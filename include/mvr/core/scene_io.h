@@ -16,9 +16,11 @@
 // - the first camera (perspective: yfov, aspectRatio, znear, zfar) → Scene::camera.
 // - KHR_lights_punctual: color × intensity → Light::color (directional: lux read as a unitless
 //   scale, 1 = the color at full strength; point / spot: candela, attenuated by the shading's
-//   1/d²); direction = the node's −Z; spot cone angles → cosines. range is not carried by
-//   assimp (0 = infinite). A file without lights gets defaultLights(); lights past kMaxLights
-//   are dropped with a warning.
+//   1/d²; no exposure: Blender's exporter writes 683 × W-based values, README); direction =
+//   the node's −Z; spot cone angles → cosines; range (absent: 0 = infinite). assimp 5.2.5
+//   drops range, so color, intensity, range and the cone angles are read from the file's JSON
+//   (nlohmann_json), light i of the extension being assimp's mLights[i]. A file without
+//   lights gets defaultLights(); lights past kMaxLights are dropped with a warning.
 // - a missing, unreadable or corrupt texture is an error naming the model, the material and
 //   the image (no silent fallback to the base color).
 #pragma once
