@@ -4,9 +4,9 @@
 // node hierarchy, one aiMesh per glTF primitive, the glTF material keys (base color, alpha
 // mode and cutoff, double-sided, texture samplers), embedded images (GLB, data URIs),
 // cameras and KHR_lights_punctual lights, so no second glTF parser is needed (cgltf is not
-// packaged in Debian 12). The file first goes through loadMesh(), whose guards keep assimp's
-// known faults (model_guard.h, ply.cpp) from being reached and whose messages name the
-// problem; OBJ materials come from mvr's own MTL reader (mtl.h), never assimp's.
+// packaged in Debian 12). The file first goes through loadMesh()'s checks (preflightModel,
+// model_guard.h), which keep assimp's known faults from being reached and whose messages name
+// the problem, and is then imported once (plain files through loadMesh() itself); OBJ materials come from mvr's own MTL reader (mtl.h), never assimp's.
 #include "mvr/core/scene_io.h"
 
 #include <algorithm>
@@ -362,15 +362,23 @@ void appendScene(Scene& scene, Scene other) {
 Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) {
     SceneLoadInfo localInfo;
     SceneLoadInfo& out = info ? *info : localInfo;
-    // loadMesh()'s checks first: its guards around assimp and its messages (mesh.cpp).
-    auto merged = loadMesh(path);
-    if (!merged) return merged.status();
     const std::string ext = lower(path.extension().string());
     Loader loader;
     loader.path = path;
     loader.what = fmt::format("mvr::loadScene(): {}", path.string());
     loader.isObj = ext == ".obj";
-    bool objHasMtl = false;
+    // PLY, OBJ without materials, ...: loadMesh()'s merged mesh (one read), default material,
+    // default lights.
+    auto plain = [](Result<Mesh> merged) -> Result<Scene> {
+        if (!merged) return merged.status();
+        Scene s;
+        s.meshes.push_back(std::move(merged).value());
+        s.instances.push_back({0, glm::mat4(1.0f), Material{}});
+        s.lights = defaultLights();
+        return s;
+    };
+    const bool gltf = ext == ".gltf" || ext == ".glb";
+    if (!gltf && !loader.isObj) return plain(loadMesh(path));
     if (loader.isObj) {
         auto mtl = loadObjMaterials(path);
         // An OBJ whose material library is missing or malformed still loads, as before
@@ -381,17 +389,12 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
         } else {
             loader.mtl = std::move(mtl).value();
         }
-        objHasMtl = !loader.mtl.empty();
+        if (loader.mtl.empty()) return plain(loadMesh(path));
     }
-    const bool gltf = ext == ".gltf" || ext == ".glb";
-    if (!gltf && !objHasMtl) {
-        // PLY, OBJ without materials, ...: the merged mesh, default material, default lights.
-        Scene s;
-        s.meshes.push_back(std::move(merged).value());
-        s.instances.push_back({0, glm::mat4(1.0f), Material{}});
-        s.lights = defaultLights();
-        return s;
-    }
+    // glTF and OBJ + MTL: loadMesh()'s checks (model_guard.h), then one import below.
+    auto pre = detail::preflightModel(path, loader.what);
+    if (!pre) return pre.status();
+    if (pre->ply) return plain(loadMesh(path));  // PLY content: mvr's reader, never assimp
     out.fromMaterials = true;
 
     Assimp::Importer importer;
@@ -402,6 +405,8 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
                            aiProcess_SortByPType | aiProcess_ValidateDataStructure |
                            aiProcess_FindInvalidData | aiProcess_FlipUVs);
     if (!ai || !ai->mRootNode) {
+        if (pre->objAllZeroArea)
+            return inputError(loader.what + ": is degenerate (every face has zero area)");
         std::string why = importer.GetErrorString();
         return inputError(fmt::format("{}: not a readable model (assimp: {})", loader.what,
                                       why.empty() ? "unknown error" : why));
@@ -411,13 +416,17 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
 
     // Meshes: one per aiMesh (a glTF primitive); -1 for those with no triangles.
     std::vector<int> meshIndex(ai->mNumMeshes, -1);
+    bool anyDegenerate = false;  // a mesh whose triangles all have zero area (skipped)
     for (unsigned m = 0; m < ai->mNumMeshes; ++m) {
         const aiMesh& am = *ai->mMeshes[m];
         std::string name = am.mName.length ? am.mName.C_Str() : fmt::format("mesh {}", m);
         auto mesh = convertMesh(am, fmt::format("{}: {}", path.filename().string(), name));
         if (!mesh) continue;
         if (Status s = validateMesh(*mesh, fmt::format("{}: mesh '{}'", loader.what, name)); !s) {
-            if (s.message().find("degenerate") != std::string::npos) continue;
+            if (s.message().find("degenerate") != std::string::npos) {
+                anyDegenerate = true;
+                continue;
+            }
             return s;
         }
         optimizeMeshLocality(*mesh);
@@ -453,7 +462,11 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
             scene.instances.push_back({meshIndex[m], world, std::move(mat)});
         }
     }
-    if (scene.instances.empty()) return inputError(loader.what + ": has no triangles");
+    if (scene.instances.empty()) {
+        return inputError(loader.what + (anyDegenerate
+                                             ? ": is degenerate (every triangle has zero area)"
+                                             : ": has no triangles"));
+    }
 
     auto nodeWorld = [&](const aiString& name) {
         auto it = worldByName.find(name.C_Str());

@@ -40,8 +40,10 @@ struct SceneLoadInfo {
     bool lightsFromFile = false;  ///< Scene::lights are the file's (else defaultLights())
 };
 
-/// Loads a model file as a scene (see above). Errors: ErrorCode::Input — loadMesh()'s
-/// messages with "mvr::loadScene(): PATH" in front; "PATH: material 'M': texture 'T': ..."
+/// Loads a model file as a scene (see above), importing it once: glTF and OBJ + MTL pass
+/// loadMesh()'s checks (its messages, "mvr::loadScene(): PATH" in front) and are read here;
+/// anything else is loadMesh()'s merged mesh (its messages as they are). Errors:
+/// ErrorCode::Input — those; "PATH: material 'M': texture 'T': ..."
 /// for a bad texture; "PATH: has no triangles".
 Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info = nullptr);
 
