@@ -19,8 +19,8 @@ Status checkGlbHeader(const std::filesystem::path& path, const std::string& what
 
 /// What preflightModel() learnt of a model file.
 struct ModelPreflight {
-    bool ply = false;              ///< PLY content: read by mvr's PLY reader (loadMesh), never assimp
-    bool objAllZeroArea = false;   ///< an OBJ whose faces all have zero area (for assimp's failure)
+    bool ply = false;  ///< PLY content: read by mvr's PLY reader (loadMesh), never assimp
+    bool objAllZeroArea = false;  ///< an OBJ whose faces all have zero area (for assimp's failure)
 };
 
 /// loadMesh()'s checks before assimp reads a file, shared with loadScene() so that each file is

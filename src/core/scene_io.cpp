@@ -114,8 +114,7 @@ nlohmann::json gltfDocument(const std::filesystem::path& path, bool glb) {
     } else {
         // Header (magic, version, length), then the first chunk: length, type "JSON", data.
         char head[20] = {};
-        if (!in.read(head, sizeof head) || std::string_view(head + 16, 4) != "JSON")
-            return nullptr;
+        if (!in.read(head, sizeof head) || std::string_view(head + 16, 4) != "JSON") return nullptr;
         std::uint32_t length = 0;
         std::memcpy(&length, head + 12, 4);  // little endian, as every platform mvr builds on
         if (length > size - 20) return nullptr;

@@ -603,17 +603,16 @@ TEST_P(CliGltfBackends, NodesWhereTheirTransformsPutThemAndTexelsAtTheirTextureC
             const glm::vec2 at = projectPoint(worldA, p, w, h);
             const Rgba8 c = img->at(int(at.x), int(at.y));
             const int r8 = c.r, g8 = c.g, b8 = c.b;
-            const std::string what =
-                fmt::format("{} texel {} at ({}, {}): {} {} {}", backend, t.name, int(at.x),
-                            int(at.y), r8, g8, b8);
+            const std::string what = fmt::format("{} texel {} at ({}, {}): {} {} {}", backend,
+                                                 t.name, int(at.x), int(at.y), r8, g8, b8);
             const std::string n = t.name;
             if (n == "red") EXPECT_TRUE(r8 > g8 + 60 && r8 > b8 + 60) << what;
             if (n == "green") EXPECT_TRUE(g8 > r8 + 60 && g8 > b8 + 60) << what;
             if (n == "blue") EXPECT_TRUE(b8 > r8 + 60 && b8 > g8 + 60) << what;
             if (n == "yellow") EXPECT_TRUE(r8 > b8 + 60 && g8 > b8 + 60) << what;
             if (n == "white")
-                EXPECT_TRUE(std::min({r8, g8, b8}) > 60 && std::max({r8, g8, b8}) -
-                                                                   std::min({r8, g8, b8}) < 60)
+                EXPECT_TRUE(std::min({r8, g8, b8}) > 60 &&
+                            std::max({r8, g8, b8}) - std::min({r8, g8, b8}) < 60)
                     << what;
         }
         // Framing the bounds instead (--no-file-camera) is another picture.
@@ -638,9 +637,8 @@ TEST_P(CliGltfBackends, BlenderExporterLayoutRendersAsItsHandWrittenEquivalent) 
     const int w = 192, h = 108;
     std::vector<Image> images;
     for (const auto& [model, out] : {std::pair{exported, "e"}, std::pair{hand, "h"}}) {
-        const CliRun r =
-            run(fmt::format("render '{}' --backend {} --views 2 --size {}x{} -o {}",
-                            model.string(), backend, w, h, out));
+        const CliRun r = run(fmt::format("render '{}' --backend {} --views 2 --size {}x{} -o {}",
+                                         model.string(), backend, w, h, out));
         if (backend != "soft" && r.exitCode == 3) GTEST_SKIP() << r.err;
         ASSERT_EQ(r.exitCode, 0) << r.err;
         EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
@@ -708,9 +706,10 @@ TEST_P(CliGltfBackends, PointLightRangeLeavesWhatLiesBeyondItUnlit) {
     const int w = 160, h = 120;
     auto render = [&](const std::string& file, float intensity, float r) -> std::optional<Image> {
         const auto model = write(file, planeWithPointLight(intensity, r));
-        const CliRun run1 = run(fmt::format("render '{}' --backend {} --views 1 --size {}x{} "
-                                            "--shading pixel -o '{}'",
-                                            model.string(), backend, w, h, file + ".out"));
+        const CliRun run1 =
+            run(fmt::format("render '{}' --backend {} --views 1 --size {}x{} "
+                            "--shading pixel -o '{}'",
+                            model.string(), backend, w, h, file + ".out"));
         if (run1.exitCode != 0) {
             ADD_FAILURE() << run1.err;
             return std::nullopt;
@@ -751,9 +750,9 @@ INSTANTIATE_TEST_SUITE_P(Backends, CliGltfBackends, ::testing::Values("soft", "g
 TEST_F(Cli, ConvergenceAutoMeasuresFromTheFileCamera) {
     using test::GltfFixtureTruth;
     const auto model = test::writeGltfFixture(mDir, "scene", test::GltfLayout::External);
-    const CliRun r = run(fmt::format(
-        "render '{}' --backend soft --views 2 --size 120x80 --convergence auto -o o",
-        model.string()));
+    const CliRun r = run(
+        fmt::format("render '{}' --backend soft --views 2 --size 120x80 --convergence auto -o o",
+                    model.string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto at = r.out.find(", convergence ");
     ASSERT_NE(at, std::string::npos) << r.out;
@@ -773,10 +772,10 @@ TEST_F(Cli, ConvergenceAutoMeasuresFromTheFileCamera) {
     EXPECT_LE(convergence, farthest) << r.out;
     EXPECT_NE((r.out + r.err).find("--convergence auto chose"), std::string::npos) << r.err;
     // Framing the bounds instead: the distances are measured from that camera.
-    const CliRun b = run(fmt::format(
-        "render '{}' --backend soft --views 2 --size 120x80 --convergence auto "
-        "--no-file-camera -o b",
-        model.string()));
+    const CliRun b =
+        run(fmt::format("render '{}' --backend soft --views 2 --size 120x80 --convergence auto "
+                        "--no-file-camera -o b",
+                        model.string()));
     ASSERT_EQ(b.exitCode, 0) << b.err;
     const auto bt = b.out.find(", convergence ");
     ASSERT_NE(bt, std::string::npos);

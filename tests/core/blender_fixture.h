@@ -58,7 +58,8 @@ struct BlenderTruth {
         glm::quat r{1, 0, 0, 0};
         glm::vec3 s{1.0f};
         glm::mat4 matrix() const {
-            return glm::translate(glm::mat4(1), t) * glm::mat4_cast(r) * glm::scale(glm::mat4(1), s);
+            return glm::translate(glm::mat4(1), t) * glm::mat4_cast(r) *
+                   glm::scale(glm::mat4(1), s);
         }
     };
     static glm::quat about(float degrees, glm::vec3 axis) {
@@ -68,7 +69,9 @@ struct BlenderTruth {
     static Trs childA() { return {{-1.2f, 0, 0}, glm::quat(1, 0, 0, 0), glm::vec3(1)}; }
     static Trs childB() { return {{1.2f, 0.3f, 0}, about(20, {0, 0, 1}), glm::vec3(0.6f)}; }
     static Trs camera() { return {{0, 1.5f, 7}, about(-12, {1, 0, 0}), glm::vec3(1)}; }
-    static Trs sun() { return {{0, 4, 0}, about(20, {0, 1, 0}) * about(-50, {1, 0, 0}), glm::vec3(1)}; }
+    static Trs sun() {
+        return {{0, 4, 0}, about(20, {0, 1, 0}) * about(-50, {1, 0, 0}), glm::vec3(1)};
+    }
     static Trs point() { return {{0.5f, 2, 1}, glm::quat(1, 0, 0, 0), glm::vec3(1)}; }
     static Trs spot() { return {{-1, 2.5f, 2}, about(-60, {1, 0, 0}), glm::vec3(1)}; }
 };
@@ -112,12 +115,12 @@ inline std::filesystem::path writeBlenderGltf(const std::filesystem::path& dir,
     (void)writePng(pngPath, fixtureTexture());
     const std::string png = readBytes(pngPath);
     if (!blender) std::filesystem::remove(pngPath);
-    const std::string views = fmt::format(
-        R"({{"buffer":0,"byteLength":288,"byteOffset":{},"target":34962}},)"
-        R"({{"buffer":0,"byteLength":288,"byteOffset":{},"target":34962}},)"
-        R"({{"buffer":0,"byteLength":192,"byteOffset":{},"target":34962}},)"
-        R"({{"buffer":0,"byteLength":72,"byteOffset":{},"target":34963}})",
-        p0, n0, u0, i0);
+    const std::string views =
+        fmt::format(R"({{"buffer":0,"byteLength":288,"byteOffset":{},"target":34962}},)"
+                    R"({{"buffer":0,"byteLength":288,"byteOffset":{},"target":34962}},)"
+                    R"({{"buffer":0,"byteLength":192,"byteOffset":{},"target":34962}},)"
+                    R"({{"buffer":0,"byteLength":72,"byteOffset":{},"target":34963}})",
+                    p0, n0, u0, i0);
     const std::string accessors =
         R"({"bufferView":0,"componentType":5126,"count":24,"max":[0.5,0.5,0.5],)"
         R"("min":[-0.5,-0.5,-0.5],"type":"VEC3"},)"
@@ -130,9 +133,9 @@ inline std::filesystem::path writeBlenderGltf(const std::filesystem::path& dir,
         std::ofstream(dir / (name + ".bin"), std::ios::binary) << bin;
         image = R"({"mimeType":"image/png","name":"checker","uri":"checker.png"})";
     } else {
-        buffer = fmt::format(
-            R"({{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}})", bin.size(),
-            base64(bin));
+        buffer =
+            fmt::format(R"({{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}})",
+                        bin.size(), base64(bin));
         image = fmt::format(R"({{"uri":"data:image/png;base64,{}"}})", base64(png));
     }
     auto node = [&](const char* nodeName, const T::Trs& trs, const std::string& more,
@@ -148,8 +151,8 @@ inline std::filesystem::path writeBlenderGltf(const std::filesystem::path& dir,
         return fmt::format("\"extensions\":{{\"KHR_lights_punctual\":{{\"light\":{}}}}}", i);
     };
     const std::string nodes =
-        node("Parent", T::parent(), "\"children\":[1,2]", R"({"prop":"parent","weight":2})") +
-        "," + node("CubeA", T::childA(), "\"mesh\":0", nullptr) + "," +
+        node("Parent", T::parent(), "\"children\":[1,2]", R"({"prop":"parent","weight":2})") + "," +
+        node("CubeA", T::childA(), "\"mesh\":0", nullptr) + "," +
         node("CubeB", T::childB(), "\"mesh\":0", R"({"tag":[1,2,3]})") + "," +
         node("Camera", T::camera(), "\"camera\":0", nullptr) + "," +
         node("Sun", T::sun(), lightRef(0), nullptr) + "," +
@@ -170,10 +173,9 @@ inline std::filesystem::path writeBlenderGltf(const std::filesystem::path& dir,
                   R"("metallicFactor":0,"roughnessFactor":0.5}})"
                 : R"({"doubleSided":true,"name":"Checker",)"
                   R"("pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})";
-    const std::string sampler = blender
-                                    ? R"({"magFilter":9729,"minFilter":9987})"
-                                    : R"({"magFilter":9729,"minFilter":9987,"wrapS":10497,)"
-                                      R"("wrapT":10497})";
+    const std::string sampler = blender ? R"({"magFilter":9729,"minFilter":9987})"
+                                        : R"({"magFilter":9729,"minFilter":9987,"wrapS":10497,)"
+                                          R"("wrapT":10497})";
     const std::string json = fmt::format(
         R"({{"asset":{{{}"version":"2.0"}},)"
         R"("extensionsUsed":["KHR_lights_punctual"{}],)"

@@ -255,8 +255,8 @@ TEST(LoadScenePlacement, MatrixAndTransformScene) {
 TEST(LoadSceneBlender, ExporterLayoutEqualsHandWrittenAndTheBlenderValues) {
     using T = test::BlenderTruth;
     test::TempDir dir;
-    const auto exported = test::writeBlenderGltf(dir.path(), "exported",
-                                                 test::BlenderLayout::Exporter);
+    const auto exported =
+        test::writeBlenderGltf(dir.path(), "exported", test::BlenderLayout::Exporter);
     const auto hand = test::writeBlenderGltf(dir.path(), "hand", test::BlenderLayout::HandWritten);
     SceneLoadInfo infoE, infoH;
     auto e = loadScene(exported, &infoE);
