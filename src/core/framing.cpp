@@ -59,6 +59,17 @@ Camera cameraFromScene(const SceneCamera& file, const Scene& scene,
     return camera;
 }
 
+Camera centreCamera(const Scene& scene, const FramingParams& params, float aspect) {
+    if (params.useSceneCamera && scene.camera) {
+        return cameraFromScene(*scene.camera, scene,
+                               params.fovOverridesSceneCamera
+                                   ? std::optional<float>(params.fovYDegrees)
+                                   : std::nullopt,
+                               aspect);
+    }
+    return frameCamera(scene, params.fovYDegrees, aspect);
+}
+
 Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params,
                                  RenderSettings settings) {
     if (!std::isfinite(params.fovYDegrees) || params.fovYDegrees <= 0.0f ||
@@ -95,13 +106,7 @@ Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params
         return usageError(fmt::format("aspect {} is out of range (expected > 0)", *params.aspect));
     }
     const float aspect = params.aspect.value_or(float(settings.width) / float(settings.height));
-    Camera camera = params.useSceneCamera && scene.camera
-                        ? cameraFromScene(*scene.camera, scene,
-                                          params.fovOverridesSceneCamera
-                                              ? std::optional<float>(params.fovYDegrees)
-                                              : std::nullopt,
-                                          aspect)
-                        : frameCamera(scene, params.fovYDegrees, aspect);
+    Camera camera = centreCamera(scene, params, aspect);
     const float distance = glm::length(camera.position - camera.target);
     RigParams rig;
     rig.kind = params.kind;

@@ -230,8 +230,8 @@ ObjScan scanObj(const std::string& text, const std::string& what) {
 
 }  // namespace
 
-Result<Mesh> loadMesh(const std::filesystem::path& path) {
-    const std::string what = fmt::format("mvr::loadMesh(): {}", path.string());
+Result<detail::ModelPreflight> detail::preflightModel(const std::filesystem::path& path,
+                                                      const std::string& what) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return inputError(what + ": file not found");
     if (!std::filesystem::is_regular_file(path, ec))
@@ -241,8 +241,10 @@ Result<Mesh> loadMesh(const std::filesystem::path& path) {
         if (!probe) return inputError(what + ": cannot open for reading");
     }
     if (std::filesystem::file_size(path, ec) == 0) return inputError(what + ": file is empty");
-
-    // PLY goes through mvr's own reader (assimp's hangs on truncated PLY headers: ply.cpp).
+    ModelPreflight out;
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     {
         std::ifstream in(path, std::ios::binary);
         char head[8] = {};
@@ -250,39 +252,43 @@ Result<Mesh> loadMesh(const std::filesystem::path& path) {
         const std::string start(head, static_cast<std::size_t>(in.gcount()));
         // Anything else assimp would take as PLY (by the extension or a "ply" start) would
         // reach its PLY reader, which hangs (found by fuzzing, tests/fuzz/regressions/ply/).
-        std::string ext = path.extension().string();
-        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
         if (!detail::looksLikePly(start) && (ext == ".ply" || start.rfind("ply", 0) == 0))
             return inputError(what + ": malformed PLY: the first line is not \"ply\"");
         if (detail::looksLikePly(start)) {
-            in.clear();
-            in.seekg(0);
-            const std::string data((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
-            auto mesh = detail::loadPly(data, what);
-            if (!mesh) return mesh.status();
-            mesh->name = path.filename().string();
-            if (Status s = validateMesh(*mesh, what); !s) return s;
-            optimizeMeshLocality(*mesh);
-            return mesh;
+            out.ply = true;
+            return out;
         }
     }
-
     // OBJ: name the line of a non-finite vertex, and a file whose faces all have zero area,
     // before assimp drops them and says only "No meshes remaining".
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    std::optional<ObjScan> obj;
     if (ext == ".obj") {
         std::ifstream in(path, std::ios::binary);
         const std::string text((std::istreambuf_iterator<char>(in)),
                                std::istreambuf_iterator<char>());
-        obj = scanObj(text, what);
-        if (!obj->status) return obj->status;
+        const ObjScan obj = scanObj(text, what);
+        if (!obj.status) return obj.status;
+        out.objAllZeroArea = obj.faces > 0 && !obj.anyArea;
+    }
+    if (Status s = detail::checkGlbHeader(path, what); !s) return s;
+    return out;
+}
+
+Result<Mesh> loadMesh(const std::filesystem::path& path) {
+    const std::string what = fmt::format("mvr::loadMesh(): {}", path.string());
+    auto pre = detail::preflightModel(path, what);
+    if (!pre) return pre.status();
+    if (pre->ply) {  // mvr's own reader (assimp's hangs on truncated PLY headers: ply.cpp)
+        std::ifstream in(path, std::ios::binary);
+        const std::string data((std::istreambuf_iterator<char>(in)),
+                               std::istreambuf_iterator<char>());
+        auto mesh = detail::loadPly(data, what);
+        if (!mesh) return mesh.status();
+        mesh->name = path.filename().string();
+        if (Status s = validateMesh(*mesh, what); !s) return s;
+        optimizeMeshLocality(*mesh);
+        return mesh;
     }
 
-    if (Status s = detail::checkGlbHeader(path, what); !s) return s;
     Assimp::Importer importer;
     importer.SetIOHandler(new detail::ModelIOSystem(path));  // no MTL files: model_guard.h
     // Points and lines are split into meshes of their own (SortByPType) and skipped below, so a
@@ -294,7 +300,7 @@ Result<Mesh> loadMesh(const std::filesystem::path& path) {
     if (!scene || !scene->mRootNode) {
         std::string why = importer.GetErrorString();
         if (why.empty()) why = "unknown error";
-        if (obj && obj->faces > 0 && !obj->anyArea) {
+        if (pre->objAllZeroArea) {
             return inputError(fmt::format("{}: is degenerate (every face has zero area)", what));
         }
         return inputError(fmt::format("{}: not a readable model (assimp: {})", what, why));

@@ -17,6 +17,19 @@ namespace mvr::detail {
 /// Errors: ErrorCode::Input, "WHAT: malformed GLB: ...".
 Status checkGlbHeader(const std::filesystem::path& path, const std::string& what);
 
+/// What preflightModel() learnt of a model file.
+struct ModelPreflight {
+    bool ply = false;  ///< PLY content: read by mvr's PLY reader (loadMesh), never assimp
+    bool objAllZeroArea = false;  ///< an OBJ whose faces all have zero area (for assimp's failure)
+};
+
+/// loadMesh()'s checks before assimp reads a file, shared with loadScene() so that each file is
+/// imported once: it exists, is a regular readable non-empty file; PLY content (or a .ply that
+/// is not) is recognised (assimp's PLY reader hangs on truncated headers); an OBJ's vertices are
+/// finite (the line is named); a GLB header fits the file (checkGlbHeader). Errors:
+/// ErrorCode::Input, "WHAT: ...".
+Result<ModelPreflight> preflightModel(const std::filesystem::path& path, const std::string& what);
+
 /// The file system assimp sees while it loads `model`: everything except OBJ material
 /// libraries (*.mtl). mvr draws no materials, and assimp's MTL parser writes out of bounds on
 /// malformed files (tests/fuzz/regressions/mtl/); without its MTL the OBJ loads with assimp's

@@ -4,16 +4,18 @@
 // node hierarchy, one aiMesh per glTF primitive, the glTF material keys (base color, alpha
 // mode and cutoff, double-sided, texture samplers), embedded images (GLB, data URIs),
 // cameras and KHR_lights_punctual lights, so no second glTF parser is needed (cgltf is not
-// packaged in Debian 12). The file first goes through loadMesh(), whose guards keep assimp's
-// known faults (model_guard.h, ply.cpp) from being reached and whose messages name the
-// problem; OBJ materials come from mvr's own MTL reader (mtl.h), never assimp's.
+// packaged in Debian 12). The file first goes through loadMesh()'s checks (preflightModel,
+// model_guard.h), which keep assimp's known faults from being reached and whose messages name
+// the problem, and is then imported once (plain files through loadMesh() itself); OBJ materials come from mvr's own MTL reader (mtl.h), never assimp's.
 #include "mvr/core/scene_io.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <map>
+#include <numbers>
 
 #include <assimp/GltfMaterial.h>
 #include <assimp/Importer.hpp>
@@ -21,6 +23,7 @@
 #include <assimp/scene.h>
 #include <fmt/core.h>
 #include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
 
 #include "model_guard.h"
 #include "mvr/composite/jpeg.h"
@@ -96,6 +99,80 @@ TextureWrap wrapFrom(int mode) {
         case aiTextureMapMode_Mirror: return TextureWrap::MirroredRepeat;
         default: return TextureWrap::Repeat;
     }
+}
+
+/// The JSON of a .gltf, or the JSON chunk of a .glb; null when it cannot be had (assimp has
+/// read the file already, so this only adds what assimp drops: see khrLights()).
+nlohmann::json gltfDocument(const std::filesystem::path& path, bool glb) {
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec || size > (std::uintmax_t(1) << 30)) return nullptr;
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes;
+    if (!glb) {
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    } else {
+        // Header (magic, version, length), then the first chunk: length, type "JSON", data.
+        char head[20] = {};
+        if (!in.read(head, sizeof head) || std::string_view(head + 16, 4) != "JSON") return nullptr;
+        std::uint32_t length = 0;
+        std::memcpy(&length, head + 12, 4);  // little endian, as every platform mvr builds on
+        if (length > size - 20) return nullptr;
+        bytes.resize(length);
+        if (!in.read(bytes.data(), std::streamsize(length))) return nullptr;
+    }
+    nlohmann::json doc = nlohmann::json::parse(bytes, nullptr, /*allow_exceptions=*/false);
+    return doc.is_object() ? doc : nlohmann::json(nullptr);
+}
+
+/// One KHR_lights_punctual light as the file states it (the extension's defaults otherwise).
+struct KhrLight {
+    glm::vec3 color{1.0f};
+    float intensity = 1.0f;
+    float range = 0.0f;  ///< 0 = not given (infinite)
+    float innerConeAngle = 0.0f;
+    float outerConeAngle = std::numbers::pi_v<float> / 4.0f;
+};
+
+/// The file's lights array, index for index as assimp's aiLights (glTF2Importer creates
+/// mLights[i] from lights[i] and names it after the node that uses it). assimp 5.2.5 drops
+/// `range` (and folds intensity into the color), so range and the cone angles come from here.
+/// Empty when the file has no such array or one of its entries is malformed.
+std::vector<KhrLight> khrLights(const nlohmann::json& doc) {
+    std::vector<KhrLight> out;
+    if (!doc.is_object()) return out;
+    auto ext = doc.find("extensions");
+    if (ext == doc.end() || !ext->is_object()) return out;
+    auto khr = ext->find("KHR_lights_punctual");
+    if (khr == ext->end() || !khr->is_object()) return out;
+    auto lights = khr->find("lights");
+    if (lights == khr->end() || !lights->is_array()) return out;
+    auto number = [](const nlohmann::json& o, const char* key, float& value) {
+        auto it = o.find(key);
+        if (it == o.end()) return true;
+        if (!it->is_number()) return false;
+        value = it->get<float>();
+        return std::isfinite(value);
+    };
+    for (const nlohmann::json& l : *lights) {
+        if (!l.is_object()) return {};
+        KhrLight k;
+        if (!number(l, "intensity", k.intensity) || !number(l, "range", k.range)) return {};
+        if (auto c = l.find("color"); c != l.end()) {
+            if (!c->is_array() || c->size() != 3) return {};
+            for (int i = 0; i < 3; ++i) {
+                if (!(*c)[i].is_number()) return {};
+                k.color[i] = (*c)[i].get<float>();
+            }
+        }
+        if (auto spot = l.find("spot"); spot != l.end() && spot->is_object()) {
+            if (!number(*spot, "innerConeAngle", k.innerConeAngle) ||
+                !number(*spot, "outerConeAngle", k.outerConeAngle))
+                return {};
+        }
+        out.push_back(k);
+    }
+    return out;
 }
 
 struct Loader {
@@ -284,15 +361,23 @@ void appendScene(Scene& scene, Scene other) {
 Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) {
     SceneLoadInfo localInfo;
     SceneLoadInfo& out = info ? *info : localInfo;
-    // loadMesh()'s checks first: its guards around assimp and its messages (mesh.cpp).
-    auto merged = loadMesh(path);
-    if (!merged) return merged.status();
     const std::string ext = lower(path.extension().string());
     Loader loader;
     loader.path = path;
     loader.what = fmt::format("mvr::loadScene(): {}", path.string());
     loader.isObj = ext == ".obj";
-    bool objHasMtl = false;
+    // PLY, OBJ without materials, ...: loadMesh()'s merged mesh (one read), default material,
+    // default lights.
+    auto plain = [](Result<Mesh> merged) -> Result<Scene> {
+        if (!merged) return merged.status();
+        Scene s;
+        s.meshes.push_back(std::move(merged).value());
+        s.instances.push_back({0, glm::mat4(1.0f), Material{}});
+        s.lights = defaultLights();
+        return s;
+    };
+    const bool gltf = ext == ".gltf" || ext == ".glb";
+    if (!gltf && !loader.isObj) return plain(loadMesh(path));
     if (loader.isObj) {
         auto mtl = loadObjMaterials(path);
         // An OBJ whose material library is missing or malformed still loads, as before
@@ -303,17 +388,12 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
         } else {
             loader.mtl = std::move(mtl).value();
         }
-        objHasMtl = !loader.mtl.empty();
+        if (loader.mtl.empty()) return plain(loadMesh(path));
     }
-    const bool gltf = ext == ".gltf" || ext == ".glb";
-    if (!gltf && !objHasMtl) {
-        // PLY, OBJ without materials, ...: the merged mesh, default material, default lights.
-        Scene s;
-        s.meshes.push_back(std::move(merged).value());
-        s.instances.push_back({0, glm::mat4(1.0f), Material{}});
-        s.lights = defaultLights();
-        return s;
-    }
+    // glTF and OBJ + MTL: loadMesh()'s checks (model_guard.h), then one import below.
+    auto pre = detail::preflightModel(path, loader.what);
+    if (!pre) return pre.status();
+    if (pre->ply) return plain(loadMesh(path));  // PLY content: mvr's reader, never assimp
     out.fromMaterials = true;
 
     Assimp::Importer importer;
@@ -324,6 +404,8 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
                            aiProcess_SortByPType | aiProcess_ValidateDataStructure |
                            aiProcess_FindInvalidData | aiProcess_FlipUVs);
     if (!ai || !ai->mRootNode) {
+        if (pre->objAllZeroArea)
+            return inputError(loader.what + ": is degenerate (every face has zero area)");
         std::string why = importer.GetErrorString();
         return inputError(fmt::format("{}: not a readable model (assimp: {})", loader.what,
                                       why.empty() ? "unknown error" : why));
@@ -333,13 +415,17 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
 
     // Meshes: one per aiMesh (a glTF primitive); -1 for those with no triangles.
     std::vector<int> meshIndex(ai->mNumMeshes, -1);
+    bool anyDegenerate = false;  // a mesh whose triangles all have zero area (skipped)
     for (unsigned m = 0; m < ai->mNumMeshes; ++m) {
         const aiMesh& am = *ai->mMeshes[m];
         std::string name = am.mName.length ? am.mName.C_Str() : fmt::format("mesh {}", m);
         auto mesh = convertMesh(am, fmt::format("{}: {}", path.filename().string(), name));
         if (!mesh) continue;
         if (Status s = validateMesh(*mesh, fmt::format("{}: mesh '{}'", loader.what, name)); !s) {
-            if (s.message().find("degenerate") != std::string::npos) continue;
+            if (s.message().find("degenerate") != std::string::npos) {
+                anyDegenerate = true;
+                continue;
+            }
             return s;
         }
         optimizeMeshLocality(*mesh);
@@ -375,7 +461,11 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
             scene.instances.push_back({meshIndex[m], world, std::move(mat)});
         }
     }
-    if (scene.instances.empty()) return inputError(loader.what + ": has no triangles");
+    if (scene.instances.empty()) {
+        return inputError(loader.what + (anyDegenerate
+                                             ? ": is degenerate (every triangle has zero area)"
+                                             : ": has no triangles"));
+    }
 
     auto nodeWorld = [&](const aiString& name) {
         auto it = worldByName.find(name.C_Str());
@@ -400,6 +490,11 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
         if (std::isfinite(cam.yfovRadians) && cam.yfovRadians > 0.0f && cam.yfovRadians < 3.14f)
             scene.camera = cam;
     }
+    // The lights as the file states them (range, the cone angles), when its JSON can be read
+    // and lines up with assimp's lights; assimp's values otherwise.
+    const std::vector<KhrLight> fileLights =
+        ai->mNumLights > 0 ? khrLights(gltfDocument(path, ext == ".glb")) : std::vector<KhrLight>{};
+    const bool useFileLights = gltf && fileLights.size() == ai->mNumLights;
     for (unsigned l = 0; l < ai->mNumLights; ++l) {
         const aiLight& al = *ai->mLights[l];
         if (al.mType != aiLightSource_DIRECTIONAL && al.mType != aiLightSource_POINT &&
@@ -425,6 +520,15 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
         if (light.type == LightType::Spot) {
             light.innerConeCos = std::cos(al.mAngleInnerCone);
             light.outerConeCos = std::cos(al.mAngleOuterCone);
+        }
+        if (useFileLights) {
+            const KhrLight& k = fileLights[l];
+            light.color = glm::max(k.color * k.intensity, glm::vec3(0.0f));
+            if (light.type != LightType::Directional && k.range > 0.0f) light.range = k.range;
+            if (light.type == LightType::Spot) {
+                light.innerConeCos = std::cos(k.innerConeAngle);
+                light.outerConeCos = std::cos(k.outerConeAngle);
+            }
         }
         if (!std::isfinite(light.color.x + light.color.y + light.color.z + light.position.x +
                            light.position.y + light.position.z)) {

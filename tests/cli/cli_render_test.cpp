@@ -3,9 +3,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include <fmt/core.h>
@@ -34,9 +36,10 @@ struct CliRun {
 class Cli : public ::testing::Test {
 protected:
     void SetUp() override {
+        std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+        std::replace(name.begin(), name.end(), '/', '_');  // parametrised tests: "Name/0"
         mDir = std::filesystem::temp_directory_path() /
-               fmt::format("mvr-cli-test-{}-{}", ::getpid(),
-                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+               fmt::format("mvr-cli-test-{}-{}", ::getpid(), name);
         std::filesystem::create_directories(mDir);
     }
     void TearDown() override { std::filesystem::remove_all(mDir); }
@@ -488,6 +491,7 @@ TEST_F(Cli, StereoSurfaces) {
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "../core/blender_fixture.h"
 #include "../core/gltf_fixture.h"
 
 namespace mvr {
@@ -514,21 +518,49 @@ bool isBackground(Rgba8 c, Rgba8 bg) {
     return std::abs(c.r - bg.r) <= 2 && std::abs(c.g - bg.g) <= 2 && std::abs(c.b - bg.b) <= 2;
 }
 
-TEST_F(Cli, GltfNodesRenderWhereTheirTransformsPutThemSeenByTheFileCamera) {
+/// Where a point of model space lands in a view of w x h pixels of the fixture's file camera
+/// (at GltfFixtureTruth::cameraPosition(), looking down -Z, yfov kYfov): window x, y (row 0 at
+/// the top).
+glm::vec2 projectPoint(const glm::mat4& world, glm::vec3 p, int w, int h) {
     using test::GltfFixtureTruth;
+    const glm::vec3 eye = GltfFixtureTruth::cameraPosition();
+    const glm::mat4 view = glm::lookAt(eye, eye + glm::vec3(0, 0, -1), glm::vec3(0, 1, 0));
+    const glm::mat4 proj =
+        glm::perspective(GltfFixtureTruth::kYfov, float(w) / float(h), 0.1f, 100.0f);
+    const glm::vec4 clip = proj * view * world * glm::vec4(p, 1.0f);
+    return {(clip.x / clip.w * 0.5f + 0.5f) * w, (0.5f - clip.y / clip.w * 0.5f) * h};
+}
+
+/// The done-when of issue 14 on each backend: the fixture (a parent node with two children
+/// that instance one mesh of two primitives, a camera node, a sun and a point light, a
+/// textured material) renders seen by the file camera with every node where its transform
+/// puts it (the projected boxes computed here, independently of the loader), and its texture
+/// visible where the texture coordinates put each texel. gl skips where it cannot run.
+class CliGltfBackends : public Cli, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(CliGltfBackends, NodesWhereTheirTransformsPutThemAndTexelsAtTheirTextureCoordinates) {
+    using test::GltfFixtureTruth;
+    const std::string backend = GetParam();
+    if (backend != "soft") {
+        const CliRun info = run("info");
+        if (info.out.find("backend " + backend) == std::string::npos)
+            GTEST_SKIP() << "no " << backend << " backend in this build";
+    }
+    const glm::mat4 worldA = GltfFixtureTruth::parent() * GltfFixtureTruth::childA();
+    const glm::mat4 worldB = GltfFixtureTruth::parent() * GltfFixtureTruth::childB();
     for (auto layout : {test::GltfLayout::External, test::GltfLayout::Glb}) {
         const auto model = test::writeGltfFixture(mDir, "scene", layout);
-        const int w = 150, h = 100;
-        const CliRun r = run(fmt::format("render '{}' --backend soft --views 1 --size {}x{} -o o",
-                                         model.string(), w, h));
+        const int w = 300, h = 200;
+        const CliRun r = run(fmt::format("render '{}' --backend {} --views 1 --size {}x{} -o o",
+                                         model.string(), backend, w, h));
+        if (backend != "soft" && r.exitCode == 3) GTEST_SKIP() << r.err;  // no EGL driver here
         ASSERT_EQ(r.exitCode, 0) << r.err;
         auto img = readPng(mDir / "o/view-0.png");
         ASSERT_TRUE(img) << img.status().message();
         const Rgba8 bg = img->at(0, 0);
         // Each node: its two primitives' boxes (the cube and the small cube above it).
         std::vector<glm::vec4> rects;
-        for (const glm::mat4& world : {GltfFixtureTruth::parent() * GltfFixtureTruth::childA(),
-                                       GltfFixtureTruth::parent() * GltfFixtureTruth::childB()}) {
+        for (const glm::mat4& world : {worldA, worldB}) {
             rects.push_back(projectBox(world, glm::vec3(-0.5f), glm::vec3(0.5f),
                                        GltfFixtureTruth::cameraPosition(), GltfFixtureTruth::kYfov,
                                        w, h));
@@ -540,7 +572,7 @@ TEST_F(Cli, GltfNodesRenderWhereTheirTransformsPutThemSeenByTheFileCamera) {
         // background.
         for (const glm::vec4& rc : rects) {
             const int cx = int((rc.x + rc.z) / 2), cy = int((rc.y + rc.w) / 2);
-            EXPECT_FALSE(isBackground(img->at(cx, cy), bg)) << cx << "," << cy;
+            EXPECT_FALSE(isBackground(img->at(cx, cy), bg)) << backend << " " << cx << "," << cy;
         }
         long stray = 0, covered = 0;
         for (int y = 0; y < h; ++y)
@@ -553,18 +585,201 @@ TEST_F(Cli, GltfNodesRenderWhereTheirTransformsPutThemSeenByTheFileCamera) {
                 if (!inside && !bgPixel) ++stray;
                 if (!bgPixel) ++covered;
             }
-        EXPECT_EQ(stray, 0);
-        EXPECT_GT(covered, 300);
+        EXPECT_EQ(stray, 0) << backend;
+        EXPECT_GT(covered, 1200) << backend;
+        // The texture at known texture coordinates: the big cube's +Z face of node A carries
+        // uv = ((x / h + 1) / 2, (1 - y / h) / 2) (gltf_fixture.h's box, h = 0.5), so texel
+        // (i, j) of the 4x4 texture (magnified, NEAREST) has its centre at model x = 0.5 *
+        // ((i + 0.5) / 2 - 1), y = 0.5 * (1 - (j + 0.5) / 2), z = 0.5. Row 0 is red, green,
+        // blue, white; the other rows yellow. Lit, each keeps its hue.
+        struct Texel {
+            int i, j;
+            const char* name;
+        };
+        for (const Texel& t : {Texel{0, 0, "red"}, Texel{1, 0, "green"}, Texel{2, 0, "blue"},
+                               Texel{3, 0, "white"}, Texel{1, 2, "yellow"}}) {
+            const glm::vec3 p(0.5f * ((t.i + 0.5f) / 2.0f - 1.0f),
+                              0.5f * (1.0f - (t.j + 0.5f) / 2.0f), 0.5f);
+            const glm::vec2 at = projectPoint(worldA, p, w, h);
+            const Rgba8 c = img->at(int(at.x), int(at.y));
+            const int r8 = c.r, g8 = c.g, b8 = c.b;
+            const std::string what = fmt::format("{} texel {} at ({}, {}): {} {} {}", backend,
+                                                 t.name, int(at.x), int(at.y), r8, g8, b8);
+            const std::string n = t.name;
+            if (n == "red") EXPECT_TRUE(r8 > g8 + 60 && r8 > b8 + 60) << what;
+            if (n == "green") EXPECT_TRUE(g8 > r8 + 60 && g8 > b8 + 60) << what;
+            if (n == "blue") EXPECT_TRUE(b8 > r8 + 60 && b8 > g8 + 60) << what;
+            if (n == "yellow") EXPECT_TRUE(r8 > b8 + 60 && g8 > b8 + 60) << what;
+            if (n == "white")
+                EXPECT_TRUE(std::min({r8, g8, b8}) > 60 &&
+                            std::max({r8, g8, b8}) - std::min({r8, g8, b8}) < 60)
+                    << what;
+        }
         // Framing the bounds instead (--no-file-camera) is another picture.
         const CliRun other =
-            run(fmt::format("render '{}' --backend soft --views 1 --size {}x{} --no-file-camera "
+            run(fmt::format("render '{}' --backend {} --views 1 --size {}x{} --no-file-camera "
                             "-o n",
-                            model.string(), w, h));
+                            model.string(), backend, w, h));
         ASSERT_EQ(other.exitCode, 0) << other.err;
         auto img2 = readPng(mDir / "n/view-0.png");
         ASSERT_TRUE(img2);
-        EXPECT_GT(compareImages(*img, *img2).differingPixels, 200);
+        EXPECT_GT(compareImages(*img, *img2).differingPixels, 800) << backend;
     }
+}
+
+// Blender's exporter layout renders as its hand-written equivalent (blender_fixture.h).
+TEST_P(CliGltfBackends, BlenderExporterLayoutRendersAsItsHandWrittenEquivalent) {
+    const std::string backend = GetParam();
+    if (backend != "soft" && run("info").out.find("backend " + backend) == std::string::npos)
+        GTEST_SKIP() << "no " << backend << " backend in this build";
+    const auto exported = test::writeBlenderGltf(mDir, "exported", test::BlenderLayout::Exporter);
+    const auto hand = test::writeBlenderGltf(mDir, "hand", test::BlenderLayout::HandWritten);
+    const int w = 192, h = 108;
+    std::vector<Image> images;
+    for (const auto& [model, out] : {std::pair{exported, "e"}, std::pair{hand, "h"}}) {
+        const CliRun r = run(fmt::format("render '{}' --backend {} --views 2 --size {}x{} -o {}",
+                                         model.string(), backend, w, h, out));
+        if (backend != "soft" && r.exitCode == 3) GTEST_SKIP() << r.err;
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+        for (int v = 0; v < 2; ++v) {
+            auto img = readPng(mDir / out / fmt::format("view-{}.png", v));
+            ASSERT_TRUE(img) << img.status().message();
+            images.push_back(std::move(*img));
+        }
+    }
+    for (int v = 0; v < 2; ++v) {
+        // TRS against matrices: the same transforms up to float rounding, so at most a few
+        // edge pixels may differ.
+        const ImageDiff d = compareImages(images[v], images[2 + v], 2);
+        EXPECT_LE(d.differingPixels, w * h / 500) << backend << " view " << v;
+    }
+    // Something of the scene is drawn, textured and lit: not one flat color.
+    const Rgba8 bg = images[0].at(0, 0);
+    long covered = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) covered += !isBackground(images[0].at(x, y), bg);
+    EXPECT_GT(covered, w * h / 20) << backend;
+}
+
+/// A plane z = 0 (8 x 8, albedo 0.8) seen from (0, 0, 6) down -Z (yfov 0.9) and one point light
+/// at (0, 0, 1) of `intensity` with `range` (0: not written). As a .gltf with data URIs.
+std::string planeWithPointLight(float intensity, float range) {
+    const float pos[] = {-4, -4, 0, 4, -4, 0, 4, 4, 0, -4, 4, 0};
+    const float nrm[] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+    const std::uint16_t idx[] = {0, 1, 2, 0, 2, 3};
+    std::string bin(reinterpret_cast<const char*>(pos), sizeof pos);
+    bin.append(reinterpret_cast<const char*>(nrm), sizeof nrm);
+    bin.append(reinterpret_cast<const char*>(idx), sizeof idx);
+    return fmt::format(
+        R"({{"asset":{{"version":"2.0"}},"extensionsUsed":["KHR_lights_punctual"],)"
+        R"("extensions":{{"KHR_lights_punctual":{{"lights":[{{"type":"point","intensity":{}{}}}]}}}},)"
+        R"("scene":0,"scenes":[{{"nodes":[0,1,2]}}],)"
+        R"("nodes":[{{"mesh":0}},{{"camera":0,"translation":[0,0,6]}},)"
+        R"({{"translation":[0,0,1],"extensions":{{"KHR_lights_punctual":{{"light":0}}}}}}],)"
+        R"("cameras":[{{"type":"perspective","perspective":{{"yfov":0.9,"znear":0.1,"zfar":50}}}}],)"
+        R"("materials":[{{"pbrMetallicRoughness":{{"baseColorFactor":[0.8,0.8,0.8,1]}}}}],)"
+        R"("meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1}},"indices":2,)"
+        R"("material":0}}]}}],)"
+        R"("accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3",)"
+        R"("min":[-4,-4,0],"max":[4,4,0]}},)"
+        R"({{"bufferView":1,"componentType":5126,"count":4,"type":"VEC3"}},)"
+        R"({{"bufferView":2,"componentType":5123,"count":6,"type":"SCALAR"}}],)"
+        R"("bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},)"
+        R"({{"buffer":0,"byteOffset":48,"byteLength":48}},)"
+        R"({{"buffer":0,"byteOffset":96,"byteLength":12}}],)"
+        R"("buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}]}})",
+        intensity, range > 0 ? fmt::format(",\"range\":{}", range) : "", bin.size(),
+        test::base64(bin));
+}
+
+// KHR_lights_punctual's range: a point light at height 1 over the plane with range 2 lights
+// the disc of radius sqrt(2² - 1²) around its foot and nothing beyond (computed here). A pixel
+// of the plane at radius 2.2 gets what an unlit render (intensity 0) gives it, exactly; at
+// radius 1.2 it is lit. Without the range both are lit.
+TEST_P(CliGltfBackends, PointLightRangeLeavesWhatLiesBeyondItUnlit) {
+    const std::string backend = GetParam();
+    if (backend != "soft" && run("info").out.find("backend " + backend) == std::string::npos)
+        GTEST_SKIP() << "no " << backend << " backend in this build";
+    const float height = 1.0f, range = 2.0f;
+    const float litRadius = std::sqrt(range * range - height * height);  // 1.732
+    const int w = 160, h = 120;
+    auto render = [&](const std::string& file, float intensity, float r) -> std::optional<Image> {
+        const auto model = write(file, planeWithPointLight(intensity, r));
+        const CliRun run1 =
+            run(fmt::format("render '{}' --backend {} --views 1 --size {}x{} "
+                            "--shading pixel -o '{}'",
+                            model.string(), backend, w, h, file + ".out"));
+        if (run1.exitCode != 0) {
+            ADD_FAILURE() << run1.err;
+            return std::nullopt;
+        }
+        auto img = readPng(mDir / (file + ".out") / "view-0.png");
+        if (!img) return std::nullopt;
+        return std::move(*img);
+    };
+    // Where a point (x, 0, 0) of the plane lands: the camera at (0, 0, 6), yfov 0.9.
+    auto pixel = [&](float x) {
+        const float ndc = x / (6.0f * std::tan(0.45f)) / (float(w) / float(h));
+        return glm::ivec2(int((ndc * 0.5f + 0.5f) * w), h / 2);
+    };
+    const glm::ivec2 inside = pixel(1.2f), beyond = pixel(2.2f);
+    ASSERT_LT(1.2f, litRadius);
+    ASSERT_GT(2.2f, litRadius);
+    const auto ranged = render("ranged.gltf", 1.0f, range);
+    if (!ranged) return;
+    const auto unlit = render("unlit.gltf", 0.0f, range);
+    const auto infinite = render("infinite.gltf", 1.0f, 0.0f);
+    ASSERT_TRUE(unlit && infinite);
+    auto value = [](const Image& img, glm::ivec2 p) {
+        const Rgba8 c = img.at(p.x, p.y);
+        return int(c.r) + c.g + c.b;
+    };
+    EXPECT_EQ(value(*ranged, beyond), value(*unlit, beyond)) << backend;
+    EXPECT_GT(value(*ranged, inside), value(*unlit, inside) + 15) << backend;
+    EXPECT_GT(value(*infinite, beyond), value(*unlit, beyond) + 15) << backend;
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, CliGltfBackends, ::testing::Values("soft", "gl"),
+                         [](const auto& info) { return std::string(info.param); });
+
+// --convergence auto measures the depths the rendered centre camera sees: the file's camera
+// (frameScene()'s choice), not a camera framing the bounds. The chosen distance must lie within
+// the depths of the fixture's geometry along the file camera's axis (computed here from the
+// node transforms); the bounds camera (about 1.9 units nearer) would land before the nearest.
+TEST_F(Cli, ConvergenceAutoMeasuresFromTheFileCamera) {
+    using test::GltfFixtureTruth;
+    const auto model = test::writeGltfFixture(mDir, "scene", test::GltfLayout::External);
+    const CliRun r = run(
+        fmt::format("render '{}' --backend soft --views 2 --size 120x80 --convergence auto -o o",
+                    model.string()));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto at = r.out.find(", convergence ");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    const float convergence = std::stof(r.out.substr(at + 14));
+    float nearest = 1e9f, farthest = 0.0f;
+    const float eyeZ = GltfFixtureTruth::cameraPosition().z;
+    for (const glm::mat4& world : {GltfFixtureTruth::parent() * GltfFixtureTruth::childA(),
+                                   GltfFixtureTruth::parent() * GltfFixtureTruth::childB()})
+        for (int c = 0; c < 8; ++c) {
+            const glm::vec3 p((c & 1) ? 0.5f : -0.5f, (c & 2) ? 1.25f : -0.5f,
+                              (c & 4) ? 0.5f : -0.5f);
+            const float d = eyeZ - (world * glm::vec4(p, 1.0f)).z;  // along the camera's -Z
+            nearest = std::min(nearest, d);
+            farthest = std::max(farthest, d);
+        }
+    EXPECT_GE(convergence, nearest) << r.out;
+    EXPECT_LE(convergence, farthest) << r.out;
+    EXPECT_NE((r.out + r.err).find("--convergence auto chose"), std::string::npos) << r.err;
+    // Framing the bounds instead: the distances are measured from that camera.
+    const CliRun b =
+        run(fmt::format("render '{}' --backend soft --views 2 --size 120x80 --convergence auto "
+                        "--no-file-camera -o b",
+                        model.string()));
+    ASSERT_EQ(b.exitCode, 0) << b.err;
+    const auto bt = b.out.find(", convergence ");
+    ASSERT_NE(bt, std::string::npos);
+    EXPECT_LT(std::stof(b.out.substr(bt + 14)), nearest) << b.out;
 }
 
 TEST_F(Cli, GltfSceneWithGridAndStereo) {

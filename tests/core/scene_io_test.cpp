@@ -1,11 +1,13 @@
-// Tests of loadScene() (scene_io.h) on files written here: the Blender-layout glTF fixture
-// (gltf_fixture.h) in its three layouts, OBJ + MTL, and bad textures.
+// Tests of loadScene() (scene_io.h) on files written here: the glTF fixture (gltf_fixture.h) in
+// its three layouts, the layout Blender's exporter writes against its hand-written equivalent
+// (blender_fixture.h), OBJ + MTL, and bad textures.
 #include "mvr/core/scene_io.h"
 
 #include <gtest/gtest.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "blender_fixture.h"
 #include "gltf_fixture.h"
 #include "test_files.h"
 
@@ -108,6 +110,10 @@ TEST_P(GltfLayouts, HierarchyMaterialsCameraLights) {
     EXPECT_NEAR(sun->color.y, 1.8f, 1e-5f);
     EXPECT_NEAR(lamp->color.z, 3.0f, 1e-5f);
     EXPECT_NEAR(glm::length(lamp->position - glm::vec3(0, 3, 2)), 0.0f, 1e-5f);
+    // KHR_lights_punctual's range (assimp 5.2.5 drops it: read from the file's JSON, also from
+    // a .glb's JSON chunk); the sun has none.
+    EXPECT_EQ(lamp->range, 20.0f);
+    EXPECT_EQ(sun->range, 0.0f);
 }
 
 // A quad per material: "Tex" (map_Kd) on the left, "Plain" (Kd 0.2 0.4 0.6, d 0.5) right.
@@ -240,6 +246,71 @@ TEST(LoadScenePlacement, MatrixAndTransformScene) {
     EXPECT_TRUE(near(s.instances[0].worldFromModel, p.matrix()));
     EXPECT_NEAR(glm::length(s.lights[0].towardLight - glm::vec3(1, 0, 0)), 0.0f, 1e-5f);
     EXPECT_NEAR(glm::length(glm::vec3(s.camera->worldFromCamera[3]) - p.position), 0.0f, 1e-5f);
+}
+
+// The layout Blender's exporter writes (TRS quaternions, a rotated camera node, lights in the
+// exporter's units, samplers 9729/9987 without wrap modes, external .bin and .png, extras,
+// KHR_materials_specular / _ior) loads as its hand-written equivalent (node matrices, data
+// URIs, nothing else), and both as the values computed here from the Blender scene.
+TEST(LoadSceneBlender, ExporterLayoutEqualsHandWrittenAndTheBlenderValues) {
+    using T = test::BlenderTruth;
+    test::TempDir dir;
+    const auto exported =
+        test::writeBlenderGltf(dir.path(), "exported", test::BlenderLayout::Exporter);
+    const auto hand = test::writeBlenderGltf(dir.path(), "hand", test::BlenderLayout::HandWritten);
+    SceneLoadInfo infoE, infoH;
+    auto e = loadScene(exported, &infoE);
+    auto h = loadScene(hand, &infoH);
+    ASSERT_TRUE(e) << e.status().message();
+    ASSERT_TRUE(h) << h.status().message();
+    EXPECT_TRUE(infoE.warnings.empty()) << infoE.warnings.front();
+    EXPECT_TRUE(infoE.lightsFromFile);
+    for (const Scene* s : {&*e, &*h}) {
+        // Two instances of the cube, where the parent's and children's TRS put them.
+        ASSERT_EQ(s->instances.size(), 2u);
+        for (const glm::mat4& world : {T::parent().matrix() * T::childA().matrix(),
+                                       T::parent().matrix() * T::childB().matrix()}) {
+            const Instance* inst = findInstance(*s, world, true);
+            ASSERT_NE(inst, nullptr);
+            EXPECT_TRUE(inst->material.doubleSided);
+            EXPECT_EQ(inst->material.sampler.magFilter, TextureFilter::Linear);
+            EXPECT_EQ(inst->material.sampler.minFilter, TextureFilter::Linear);
+            EXPECT_TRUE(inst->material.sampler.mipmaps);
+            EXPECT_EQ(inst->material.sampler.wrapS, TextureWrap::Repeat);
+            EXPECT_EQ(inst->material.sampler.wrapT, TextureWrap::Repeat);
+        }
+        ASSERT_EQ(s->textures.size(), 1u);
+        EXPECT_EQ(s->textures[0].image, test::fixtureTexture());
+        // The rotated camera: its node's transform, the yfov Blender's lens gives.
+        ASSERT_TRUE(s->camera);
+        EXPECT_TRUE(near(s->camera->worldFromCamera, T::camera().matrix()));
+        EXPECT_NEAR(s->camera->yfovRadians, T::yfov(), 1e-5f);
+        EXPECT_NEAR(s->camera->aspect, T::kAspect, 1e-5f);
+        // The lights: the exporter's W -> lux / candela, the point lamp's cutoff distance as
+        // range, the spot's cone from spot_size and spot_blend; directions along each node's -Z.
+        ASSERT_EQ(s->lights.size(), 3u);
+        const Light& sun = s->lights[0];
+        const Light& point = s->lights[1];
+        const Light& spot = s->lights[2];
+        EXPECT_EQ(sun.type, LightType::Directional);
+        EXPECT_EQ(point.type, LightType::Point);
+        EXPECT_EQ(spot.type, LightType::Spot);
+        EXPECT_NEAR(sun.color.x, 0.003f * 683.0f, 1e-4f);
+        EXPECT_NEAR(sun.color.z, 0.9f * 0.003f * 683.0f, 1e-4f);
+        const glm::vec3 sunAxis = glm::mat3(T::sun().matrix()) * glm::vec3(0, 0, -1);
+        EXPECT_NEAR(glm::length(sun.towardLight + sunAxis), 0.0f, 1e-5f);
+        EXPECT_NEAR(point.color.y, 0.06f / (4.0f * T::kPi) * 683.0f, 1e-4f);
+        EXPECT_NEAR(point.range, 6.0f, 1e-6f);
+        EXPECT_NEAR(glm::length(point.position - glm::vec3(0.5f, 2, 1)), 0.0f, 1e-5f);
+        EXPECT_NEAR(spot.color.z, 0.1f / (4.0f * T::kPi) * 683.0f, 1e-4f);
+        EXPECT_EQ(spot.range, 0.0f);  // no cutoff distance: infinite
+        const float outer = glm::radians(60.0f) / 2.0f, inner = outer * 0.75f;
+        EXPECT_NEAR(spot.outerConeCos, std::cos(outer), 1e-6f);
+        EXPECT_NEAR(spot.innerConeCos, std::cos(inner), 1e-6f);
+        const glm::vec3 spotAxis = glm::mat3(T::spot().matrix()) * glm::vec3(0, 0, -1);
+        EXPECT_NEAR(glm::length(spot.towardLight + spotAxis), 0.0f, 1e-5f);
+        EXPECT_NEAR(glm::length(spot.position - glm::vec3(-1, 2.5f, 2)), 0.0f, 1e-5f);
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Layouts, GltfLayouts,

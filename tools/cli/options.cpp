@@ -137,7 +137,7 @@ Status chooseAutoRig(Prepared& out, FramingParams& params, bool convergenceAuto,
     const char* what = convergenceAuto ? "--convergence auto" : "--separation auto";
     const float aspect =
         params.aspect.value_or(float(out.settings.width) / float(out.settings.height));
-    const Camera camera = frameCamera(out.scene, params.fovYDegrees, aspect);
+    const Camera camera = centreCamera(out.scene, params, aspect);  // frameScene()'s camera
     auto depth = centreDepthPrepass(out.scene, camera, out.settings);
     if (!depth) return depth.status();
     if (!*depth) {

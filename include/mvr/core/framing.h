@@ -57,6 +57,11 @@ Camera frameCamera(const Scene& scene, float fovYDegrees, float aspect);
 Camera cameraFromScene(const SceneCamera& fileCamera, const Scene& scene,
                        std::optional<float> fovYDegrees, float aspect);
 
+/// The centre camera frameScene() builds its rig around: cameraFromScene() of the file's
+/// camera when params.useSceneCamera and the scene has one, else frameCamera() of the bounds.
+/// `aspect`: width / height of one view. (Also what `--convergence auto`'s depth pre-pass sees.)
+Camera centreCamera(const Scene& scene, const FramingParams& params, float aspect);
+
 /// Frames `scene` for views of `settings`' size (its clear colour is replaced by
 /// params.clearColor or the scene's background). Errors: Usage naming the parameter (fov,
 /// interaxial, separation, convergence, views) and its range; validateRequest()'s errors.

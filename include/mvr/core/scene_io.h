@@ -16,9 +16,11 @@
 // - the first camera (perspective: yfov, aspectRatio, znear, zfar) → Scene::camera.
 // - KHR_lights_punctual: color × intensity → Light::color (directional: lux read as a unitless
 //   scale, 1 = the color at full strength; point / spot: candela, attenuated by the shading's
-//   1/d²); direction = the node's −Z; spot cone angles → cosines. range is not carried by
-//   assimp (0 = infinite). A file without lights gets defaultLights(); lights past kMaxLights
-//   are dropped with a warning.
+//   1/d²; no exposure: Blender's exporter writes 683 × W-based values, README); direction =
+//   the node's −Z; spot cone angles → cosines; range (absent: 0 = infinite). assimp 5.2.5
+//   drops range, so color, intensity, range and the cone angles are read from the file's JSON
+//   (nlohmann_json), light i of the extension being assimp's mLights[i]. A file without
+//   lights gets defaultLights(); lights past kMaxLights are dropped with a warning.
 // - a missing, unreadable or corrupt texture is an error naming the model, the material and
 //   the image (no silent fallback to the base color).
 #pragma once
@@ -38,8 +40,10 @@ struct SceneLoadInfo {
     bool lightsFromFile = false;  ///< Scene::lights are the file's (else defaultLights())
 };
 
-/// Loads a model file as a scene (see above). Errors: ErrorCode::Input — loadMesh()'s
-/// messages with "mvr::loadScene(): PATH" in front; "PATH: material 'M': texture 'T': ..."
+/// Loads a model file as a scene (see above), importing it once: glTF and OBJ + MTL pass
+/// loadMesh()'s checks (its messages, "mvr::loadScene(): PATH" in front) and are read here;
+/// anything else is loadMesh()'s merged mesh (its messages as they are). Errors:
+/// ErrorCode::Input — those; "PATH: material 'M': texture 'T': ..."
 /// for a bad texture; "PATH: has no triangles".
 Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info = nullptr);
 
