@@ -92,6 +92,8 @@ def render(
     viewing_distance: float = ...,
     report_json: _Path = ...,
     fov: float = ...,
+    no_file_camera: bool = ...,
+    exposure: float | Literal["auto"] = ...,
     size: _Pair = ...,
     shading: Literal["flat", "vertex", "pixel"] = ...,
     cull: bool = ...,

@@ -5,6 +5,8 @@
 
 #include <fmt/core.h>
 
+#include "mvr/core/lighting.h"
+
 namespace mvr {
 
 Camera frameCamera(const Scene& scene, float fovYDegrees, float aspect) {
@@ -134,6 +136,20 @@ Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params
     RenderRequest out{std::move(made).value(), settings};
     if (Status s = validateRequest(scene, out.rig, out.settings); !s) return s;
     return out;
+}
+
+float brightestLightAt(const Scene& scene, glm::vec3 point) {
+    float peak = 0.0f;
+    for (const Light& l : scene.lights) {
+        const float c = std::max({l.color.x, l.color.y, l.color.z});
+        peak = std::max(peak, c * lightAt(l, point).attenuation);
+    }
+    return peak;
+}
+
+void exposeLights(Scene& scene, float ev) {
+    const float factor = std::exp2(ev);
+    for (Light& l : scene.lights) l.color *= factor;
 }
 
 }  // namespace mvr

@@ -606,14 +606,16 @@ TEST_P(CliGltfBackends, NodesWhereTheirTransformsPutThemAndTexelsAtTheirTextureC
             const std::string what = fmt::format("{} texel {} at ({}, {}): {} {} {}", backend,
                                                  t.name, int(at.x), int(at.y), r8, g8, b8);
             const std::string n = t.name;
-            if (n == "red") EXPECT_TRUE(r8 > g8 + 60 && r8 > b8 + 60) << what;
-            if (n == "green") EXPECT_TRUE(g8 > r8 + 60 && g8 > b8 + 60) << what;
-            if (n == "blue") EXPECT_TRUE(b8 > r8 + 60 && b8 > g8 + 60) << what;
-            if (n == "yellow") EXPECT_TRUE(r8 > b8 + 60 && g8 > b8 + 60) << what;
-            if (n == "white")
-                EXPECT_TRUE(std::min({r8, g8, b8}) > 60 &&
-                            std::max({r8, g8, b8}) - std::min({r8, g8, b8}) < 60)
-                    << what;
+            bool expected = false;
+            if (n == "red") expected = r8 > g8 + 60 && r8 > b8 + 60;
+            if (n == "green") expected = g8 > r8 + 60 && g8 > b8 + 60;
+            if (n == "blue") expected = b8 > r8 + 60 && b8 > g8 + 60;
+            if (n == "yellow") expected = r8 > b8 + 60 && g8 > b8 + 60;
+            if (n == "white") {
+                expected = std::min({r8, g8, b8}) > 60 &&
+                           std::max({r8, g8, b8}) - std::min({r8, g8, b8}) < 60;
+            }
+            EXPECT_TRUE(expected) << what;
         }
         // Framing the bounds instead (--no-file-camera) is another picture.
         const CliRun other =
@@ -740,8 +742,55 @@ TEST_P(CliGltfBackends, PointLightRangeLeavesWhatLiesBeyondItUnlit) {
     EXPECT_GT(value(*infinite, beyond), value(*unlit, beyond) + 15) << backend;
 }
 
+// --exposure (framing.h's exposeLights): the plane's point light stands 1 unit above the
+// scene's centre, so it lights the centre at `intensity` x full colour (1/d², d = 1: computed
+// here). A file at 1000 saturates: a warning says so and names the cure; --exposure auto scales
+// it to 1 (the render equals the intensity-1 file's within 1/255: 2^-log2(1000) is 1/1000 up
+// to float rounding); --exposure -1 of an intensity-2 file is the intensity-1 file exactly.
+TEST_P(CliGltfBackends, ExposureScalesTheFilesLights) {
+    const std::string backend = GetParam();
+    if (backend != "soft" && run("info").out.find("backend " + backend) == std::string::npos)
+        GTEST_SKIP() << "no " << backend << " backend in this build";
+    auto render = [&](const std::string& file, float intensity, const std::string& extra,
+                      std::string* err) -> std::optional<Image> {
+        const auto model = write(file, planeWithPointLight(intensity, 0.0f));
+        const CliRun r = run(fmt::format("render '{}' --backend {} --views 1 --size 160x120 "
+                                         "--shading pixel {} -o '{}'",
+                                         model.string(), backend, extra, file + ".out"));
+        if (err) *err = r.err;
+        if (backend != "soft" && r.exitCode == 3) return std::nullopt;
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        auto img = readPng(mDir / (file + ".out") / "view-0.png");
+        if (!img) return std::nullopt;
+        return std::move(*img);
+    };
+    std::string err;
+    const auto one = render("one.gltf", 1.0f, "", &err);
+    if (!one) GTEST_SKIP() << err;
+    EXPECT_EQ(err.find("warning"), std::string::npos) << err;
+    const auto bright = render("bright.gltf", 1000.0f, "", &err);
+    ASSERT_TRUE(bright);
+    EXPECT_NE(err.find("warning: the lights of "), std::string::npos) << err;
+    EXPECT_NE(err.find("at 1e+03x full colour"), std::string::npos) << err;
+    EXPECT_NE(err.find("--exposure auto"), std::string::npos) << err;
+    EXPECT_GT(compareImages(*one, *bright, 2).differingPixels, 160 * 120 / 4) << backend;
+    const auto autoExposed = render("auto.gltf", 1000.0f, "--exposure auto", &err);
+    ASSERT_TRUE(autoExposed);
+    EXPECT_NE(err.find("note: --exposure auto chose -9.97 EV"), std::string::npos) << err;
+    EXPECT_EQ(compareImages(*one, *autoExposed, 1).differingPixels, 0) << backend;
+    const auto halved = render("two.gltf", 2.0f, "--exposure -1", &err);
+    ASSERT_TRUE(halved);
+    EXPECT_EQ(compareImages(*one, *halved, 0).differingPixels, 0) << backend;
+    EXPECT_EQ(one->rgba, halved->rgba) << backend;
+    // Nonsense is refused, naming the option.
+    const auto model = write("bad.gltf", planeWithPointLight(1.0f, 0.0f));
+    const CliRun bad = run(fmt::format("render '{}' --exposure 100 -o bad", model.string()));
+    EXPECT_EQ(bad.exitCode, 1);
+    EXPECT_NE(bad.err.find("error: --exposure 100 is out of range"), std::string::npos) << bad.err;
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, CliGltfBackends, ::testing::Values("soft", "gl"),
-                         [](const auto& info) { return std::string(info.param); });
+                         [](const auto& p) { return std::string(p.param); });
 
 // --convergence auto measures the depths the rendered centre camera sees: the file's camera
 // (frameScene()'s choice), not a camera framing the bounds. The chosen distance must lie within

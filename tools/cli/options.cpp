@@ -190,6 +190,39 @@ Status chooseAutoRig(Prepared& out, FramingParams& params, bool convergenceAuto,
     return {};
 }
 
+/// --exposure EV | auto (framing.h's exposeLights), and the warning for a model file's lights
+/// that saturate the scene's centre when no exposure is given.
+Status applyExposure(Prepared& out, std::optional<double> ev, bool isAuto, bool fromFiles) {
+    if (ev && (!std::isfinite(*ev) || std::abs(*ev) > 64.0)) {
+        return usageError(fmt::format(
+            "--exposure {} is out of range (expected -64..64 stops, or auto)", *ev));
+    }
+    const float peak = brightestLightAt(out.scene, out.scene.bounds().center());
+    if (isAuto) {
+        if (!(peak > 0.0f) || !std::isfinite(peak)) {
+            return usageError(fmt::format(
+                "--exposure auto: the lights of {} do not reach the scene's centre (nothing to "
+                "measure; give --exposure EV)",
+                out.sceneName));
+        }
+        const float chosen = -std::log2(peak);
+        exposeLights(out.scene, chosen);
+        out.notes.push_back(fmt::format(
+            "note: --exposure auto chose {:+.3g} EV: the brightest light lit the scene's centre "
+            "at {:.4g}x full colour, now 1x",
+            chosen, peak));
+    } else if (ev) {
+        exposeLights(out.scene, float(*ev));
+    } else if (fromFiles && peak > 8.0f && std::isfinite(peak)) {
+        out.notes.push_back(fmt::format(
+            "warning: the lights of {} light the scene's centre at {:.3g}x full colour "
+            "(photometric units, as Blender's exporter writes them?): surfaces saturate; "
+            "--exposure auto scales them to 1x, --exposure EV by 2^EV",
+            out.sceneName, peak));
+    }
+    return {};
+}
+
 }  // namespace
 
 void SceneOptions::addTo(CLI::App* app, bool withModels) {
@@ -266,6 +299,13 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
         ->each([this](const std::string&) { fovGiven = true; });
     app->add_flag("--no-file-camera", noFileCamera,
                   "Frame the scene's bounds instead of using the model file's camera");
+    app->add_option_function<std::string>(
+           "--exposure", numberOrAuto("--exposure", exposure, exposureAuto),
+           "Scale every light by 2^EV (stops). Lights are in glTF's units with no tone "
+           "mapping: 1 lux (1 cd at 1 unit) lights a surface at its full colour; files in "
+           "photometric units (Blender's exporter) saturate. auto: the brightest light lights "
+           "the scene's centre at full colour")
+        ->type_name("EV|auto");
     sizeOption = app->add_option("--size", size, "Size of one view, WxH pixels")->default_val(size);
     std::string displayHelp =
         "Render for a display (`mvr info --displays` lists them): its views, view size, view "
@@ -566,6 +606,7 @@ Result<Prepared> SceneOptions::prepare() const {
         out.scene = std::move(loaded).value();
     }
     if (Status s = validateScene(out.scene); !s) return s;
+    if (Status s = applyExposure(out, exposure, exposureAuto, !models.empty()); !s) return s;
 
     // The camera, near/far, convergence and spacing: the library's framing (framing.h).
     params.fovYDegrees = static_cast<float>(fov);

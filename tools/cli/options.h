@@ -62,6 +62,8 @@ struct SceneOptions {
     std::optional<double> screenWidthCm;      ///< --screen-width CM
     std::optional<double> viewingDistanceCm;  ///< --viewing-distance CM
     bool convergenceAuto = false;             ///< --convergence auto
+    std::optional<double> exposure;           ///< --exposure EV (stops; framing.h)
+    bool exposureAuto = false;                ///< --exposure auto
     bool separationAuto = false;              ///< --separation auto
     /// The options a preset fills in; one given on the command line (count() > 0) overrides
     /// the preset's value. Null (SceneOptions filled in by code): never given.

@@ -68,4 +68,18 @@ Camera centreCamera(const Scene& scene, const FramingParams& params, float aspec
 Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params,
                                  RenderSettings settings = {});
 
+// ---- exposure ----------------------------------------------------------------------------------
+// Lights from files are in KHR_lights_punctual's units (lux, candela) with no tone mapping: 1
+// lights a surface facing the light at its full colour. Files written in photometric units
+// (Blender's exporter: a 1000 W lamp is 54 000 cd) saturate; an exposure scales every light.
+
+/// How brightly the brightest of the scene's lights lights `point`, relative to full colour:
+/// the largest over the lights of (largest colour channel × lighting.h's lightAt() attenuation
+/// at `point`: 1 for directional lights, the range and cone falloff for point and spot lights).
+/// 0 when the scene has no light.
+float brightestLightAt(const Scene& scene, glm::vec3 point);
+
+/// Multiplies every light's colour by 2^ev (an exposure of `ev` stops).
+void exposeLights(Scene& scene, float ev);
+
 }  // namespace mvr
