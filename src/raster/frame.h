@@ -70,7 +70,9 @@ struct BandLayout {
     /// 0 <= δ < row / 2^40 < 1 / rows (row · rows < 2^40), too little to reach the next integer.
     int bandOf(int row) const { return int((std::uint64_t(row) * rowsReciprocal) >> 40); }
 };
-BandLayout makeBands(int height, int threads);
+/// bytesPerRow: what one row of the targets a band draws into occupies (width × 8 bytes × views),
+/// 0: no limit from it.
+BandLayout makeBands(int height, int threads, std::size_t bytesPerRow = 0);
 
 /// Triangle indices per (chunk of the triangle range, band). Reading a band's lists chunk by chunk
 /// gives its triangles in submission order, so depth ties resolve the same in every method.

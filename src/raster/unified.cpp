@@ -642,6 +642,9 @@ void renderUnified(FrameContext& f, std::span<const Target> targets, StageTimes&
     if (!dynamic_cast<UnifiedData*>(scratch.get())) scratch = std::make_unique<UnifiedData>();
     UnifiedData& d = static_cast<UnifiedData&>(*scratch);
     StageClock clock;
+    // Bands sized for all views' rows (a band spans every view): see makeBands.
+    f.bands = makeBands(f.settings.height, f.pool.size(),
+                        std::size_t(f.settings.width) * 8 * std::size_t(f.rig.viewCount()));
     buildFamilies(f.rig, f.settings.shading, f.textured, f.draw.vertexCount, d);
     d.convergence = f.rig.convergence, d.width = float(f.settings.width);
     vertexStage(f, d);
