@@ -3,8 +3,9 @@
 // assimp (Debian libassimp 5.2.5, already mvr's model loader) reads the files: it exposes the
 // node hierarchy, one aiMesh per glTF primitive, the glTF material keys (base color, alpha
 // mode and cutoff, double-sided, texture samplers), embedded images (GLB, data URIs),
-// cameras and KHR_lights_punctual lights, so no second glTF parser is needed (cgltf is not
-// packaged in Debian 12). The file first goes through loadMesh(), whose guards keep assimp's
+// cameras and KHR_lights_punctual lights, so no second glTF parser is needed for the scene
+// (cgltf is not packaged in Debian 12). Animations are the exception: assimp drops their
+// interpolation, so gltf_animation.cpp reads them from the JSON and buffers. The file first goes through loadMesh(), whose guards keep assimp's
 // known faults (model_guard.h, ply.cpp) from being reached and whose messages name the
 // problem; OBJ materials come from mvr's own MTL reader (mtl.h), never assimp's.
 #include "mvr/core/scene_io.h"
