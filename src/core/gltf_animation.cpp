@@ -175,7 +175,9 @@ struct Reader {
         const std::uint64_t stride = view.value("byteStride", std::uint64_t(0));
         const std::uint64_t step = stride ? stride : element;
         const std::uint64_t offset = a.value("byteOffset", std::uint64_t(0));
-        if (viewOffset + viewLength > (*buf)->size() ||
+        // glTF: byteStride 4..252; offsets within the 1 GiB a file may have (no overflow below).
+        if (stride > 252 || viewOffset > kMaxFile || viewLength > kMaxFile || offset > kMaxFile ||
+            viewOffset + viewLength > (*buf)->size() ||
             offset + (count - 1) * step + element > viewLength) {
             return inputError(fmt::format("{}: reads past its bufferView or buffer", where));
         }
@@ -236,9 +238,8 @@ Result<std::optional<GltfAnimationFile>> read(Reader& r) {
     std::function<Status(std::size_t, int, int)> visit = [&](std::size_t g, int parent,
                                                              int depth) -> Status {
         if (g >= n) return inputError(fmt::format("no node {}", g));
-        if (order[g] >= 0 || depth > 256) {
-            return inputError(fmt::format("node {} is reached twice (a cycle?)", g));
-        }
+        if (order[g] >= 0) return inputError(fmt::format("node {} is reached twice (a cycle?)", g));
+        if (depth > 256) return inputError(fmt::format("node {} is nested over 256 deep", g));
         const json& node = nodes.at(g);
         AnimatedNode a;
         a.name = node.value("name", std::string());
