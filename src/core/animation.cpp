@@ -109,9 +109,11 @@ Status validateSampler(const Sampler& s) {
         return usageError(
             fmt::format("sampler: a rotation needs 4 components (got {})", s.components));
     }
-    if (s.output.size() != s.input.size() * std::size_t(s.components)) {
-        return usageError(fmt::format("sampler: {} output values for {} keys of {} components",
-                                      s.output.size(), s.input.size(), s.components));
+    const std::size_t perKey = s.interpolation == Interpolation::CubicSpline ? 3 : 1;
+    if (s.output.size() != s.input.size() * std::size_t(s.components) * perKey) {
+        return usageError(fmt::format("sampler: {} output values for {} keys of {} components{}",
+                                      s.output.size(), s.input.size(), s.components,
+                                      perKey == 3 ? " (CUBICSPLINE: 3 per component)" : ""));
     }
     for (std::size_t i = 0; i < s.input.size(); ++i) {
         if (!std::isfinite(s.input[i]) || (i > 0 && s.input[i] <= s.input[i - 1])) {
@@ -126,8 +128,13 @@ Status validateSampler(const Sampler& s) {
 }
 
 namespace {
+/// Where key `key`'s value starts in `output` (CUBICSPLINE: after its in-tangent).
+std::size_t valueAt(const Sampler& s, std::size_t key) {
+    const std::size_t c = std::size_t(s.components);
+    return s.interpolation == Interpolation::CubicSpline ? (3 * key + 1) * c : key * c;
+}
 glm::quat quatAt(const Sampler& s, std::size_t key) {
-    const float* q = &s.output[key * 4];
+    const float* q = &s.output[valueAt(s, key)];
     return glm::normalize(glm::quat(q[3], q[0], q[1], q[2]));  // glm: w first; glTF: x y z w
 }
 }  // namespace
@@ -140,8 +147,8 @@ std::vector<float> sample(const Sampler& s, double time) {
             const glm::quat q = quatAt(s, k);
             return std::vector<float>{q.x, q.y, q.z, q.w};
         }
-        return std::vector<float>(s.output.begin() + long(k * c),
-                                  s.output.begin() + long((k + 1) * c));
+        return std::vector<float>(s.output.begin() + long(valueAt(s, k)),
+                                  s.output.begin() + long(valueAt(s, k) + c));
     };
     if (n == 0) return std::vector<float>(c, 0.0f);
     if (time <= s.input.front()) return keyValue(0);
@@ -151,6 +158,25 @@ std::vector<float> sample(const Sampler& s, double time) {
     const std::size_t a = b - 1;
     if (s.interpolation == Interpolation::Step) return keyValue(a);
     const float t = float((time - s.input[a]) / (s.input[b] - s.input[a]));
+    if (s.interpolation == Interpolation::CubicSpline) {
+        // glTF 2.0 Appendix C: p(t) = (2t³-3t²+1)v_a + (t³-2t²+t)Δ·b_a + (-2t³+3t²)v_b +
+        // (t³-t²)Δ·a_b, b_a the out-tangent of key a, a_b the in-tangent of key b.
+        const float dt = s.input[b] - s.input[a], t2 = t * t, t3 = t2 * t;
+        const float* va = &s.output[valueAt(s, a)];
+        const float* vb = &s.output[valueAt(s, b)];
+        const float* outA = va + c;  // key a's out-tangent
+        const float* inB = vb - c;   // key b's in-tangent
+        std::vector<float> out(c);
+        for (std::size_t i = 0; i < c; ++i) {
+            out[i] = (2 * t3 - 3 * t2 + 1) * va[i] + (t3 - 2 * t2 + t) * dt * outA[i] +
+                     (-2 * t3 + 3 * t2) * vb[i] + (t3 - t2) * dt * inB[i];
+        }
+        if (s.rotation) {
+            const glm::quat q = glm::normalize(glm::quat(out[3], out[0], out[1], out[2]));
+            return {q.x, q.y, q.z, q.w};
+        }
+        return out;
+    }
     if (s.rotation) {
         glm::quat qa = quatAt(s, a), qb = quatAt(s, b);
         if (glm::dot(qa, qb) < 0.0f) qb = -qb;  // the shorter arc
@@ -181,6 +207,75 @@ glm::mat4 nodeMatrixAt(const NodeAnimation& node, double time) {
     const glm::quat r = node.rotation ? sampleRotation(*node.rotation, time) : node.restRotation;
     const glm::vec3 sc = node.scale ? sampleVec3(*node.scale, time) : node.restScale;
     return glm::translate(glm::mat4(1.0f), t) * glm::mat4_cast(r) * glm::scale(glm::mat4(1.0f), sc);
+}
+
+Status validateSceneAnimation(const SceneAnimation& a) {
+    for (std::size_t i = 0; i < a.nodes.size(); ++i) {
+        const AnimatedNode& n = a.nodes[i];
+        const std::string where = fmt::format("animation '{}': node {} ('{}')", a.name, i, n.name);
+        if (n.parent < -1 || n.parent >= int(i)) {
+            return inputError(fmt::format("{}: its parent {} is not before it", where, n.parent));
+        }
+        if (!n.animation) continue;
+        for (const auto* s : {&n.animation->translation, &n.animation->rotation,
+                              &n.animation->scale}) {
+            if (!*s) continue;
+            if (Status st = validateSampler(**s); !st) {
+                return inputError(fmt::format("{}: {}", where, st.message()));
+            }
+        }
+    }
+    for (const SceneAnimation::Target& t : a.instances) {
+        if (t.node < 0 || t.node >= int(a.nodes.size()) || t.instance < 0) {
+            return inputError(fmt::format("animation '{}': instance {} has no node {}", a.name,
+                                          t.instance, t.node));
+        }
+    }
+    if (a.cameraNode >= int(a.nodes.size())) {
+        return inputError(fmt::format("animation '{}': no camera node {}", a.name, a.cameraNode));
+    }
+    return {};
+}
+
+std::vector<glm::mat4> nodeWorldsAt(const SceneAnimation& a, double time) {
+    std::vector<glm::mat4> world(a.nodes.size());
+    for (std::size_t i = 0; i < a.nodes.size(); ++i) {
+        const AnimatedNode& n = a.nodes[i];
+        const glm::mat4 local = n.animation ? nodeMatrixAt(*n.animation, time) : n.rest;
+        world[i] = n.parent >= 0 ? world[std::size_t(n.parent)] * local : local;
+    }
+    return world;
+}
+
+void animateScene(Scene& scene, const SceneAnimation& a, double time) {
+    const std::vector<glm::mat4> world = nodeWorldsAt(a, time);
+    for (const SceneAnimation::Target& t : a.instances) {
+        if (t.instance < int(scene.instances.size())) {
+            scene.instances[std::size_t(t.instance)].worldFromModel =
+                t.worldFromRoot * world[std::size_t(t.node)];
+        }
+    }
+    if (a.cameraNode >= 0 && scene.camera) {
+        scene.camera->worldFromCamera = a.cameraWorldFromRoot * world[std::size_t(a.cameraNode)];
+    }
+}
+
+Camera cameraFromNode(const glm::mat4& worldFromCamera, const Camera& base) {
+    Camera out = base;
+    const glm::mat3 axes(worldFromCamera);
+    glm::vec3 forward = axes * glm::vec3(0.0f, 0.0f, -1.0f);
+    glm::vec3 up = axes * glm::vec3(0.0f, 1.0f, 0.0f);
+    forward = glm::length(forward) > 0.0f ? glm::normalize(forward) : glm::vec3(0, 0, -1);
+    up = glm::length(up) > 0.0f ? glm::normalize(up) : glm::vec3(0, 1, 0);
+    out.position = glm::vec3(worldFromCamera[3]);
+    out.up = up;
+    out.target = out.position + forward * glm::length(base.target - base.position);
+    return out;
+}
+
+void transformAnimation(SceneAnimation& a, const glm::mat4& worldFromScene) {
+    for (SceneAnimation::Target& t : a.instances) t.worldFromRoot = worldFromScene * t.worldFromRoot;
+    a.cameraWorldFromRoot = worldFromScene * a.cameraWorldFromRoot;
 }
 
 }  // namespace mvr

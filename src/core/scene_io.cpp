@@ -3,10 +3,13 @@
 // assimp (Debian libassimp 5.2.5, already mvr's model loader) reads the files: it exposes the
 // node hierarchy, one aiMesh per glTF primitive, the glTF material keys (base color, alpha
 // mode and cutoff, double-sided, texture samplers), embedded images (GLB, data URIs),
-// cameras and KHR_lights_punctual lights, so no second glTF parser is needed (cgltf is not
-// packaged in Debian 12). The file first goes through loadMesh()'s checks (preflightModel,
+// cameras and KHR_lights_punctual lights, so no second glTF parser is needed for the scene
+// (cgltf is not packaged in Debian 12). Two things assimp 5.2.5 drops are read from the glTF
+// JSON itself: a light's range (khrLights below) and the animations' interpolation
+// (gltf_animation.cpp). The file first goes through loadMesh()'s checks (preflightModel,
 // model_guard.h), which keep assimp's known faults from being reached and whose messages name
-// the problem, and is then imported once (plain files through loadMesh() itself); OBJ materials come from mvr's own MTL reader (mtl.h), never assimp's.
+// the problem, and is then imported once (plain files through loadMesh() itself); OBJ
+// materials come from mvr's own MTL reader (mtl.h), never assimp's.
 #include "mvr/core/scene_io.h"
 
 #include <algorithm>
@@ -14,6 +17,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <numbers>
 
@@ -25,6 +29,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "gltf_animation.h"
 #include "model_guard.h"
 #include "mvr/composite/jpeg.h"
 #include "mvr/core/mtl.h"
@@ -319,6 +324,28 @@ std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name) {
     return mesh;
 }
 
+/// Binds the glTF nodes (depth first from the scene's roots) to assimp's: the same hierarchy
+/// walked in the same order (assimp adds one root above several scene roots). False when the
+/// two differ (then the animation cannot be placed).
+bool bindNodes(const aiNode& root, const detail::GltfAnimationFile& file,
+               std::map<const aiNode*, int>& out) {
+    std::function<bool(const aiNode&, int)> match = [&](const aiNode& ai, int node) {
+        const std::vector<int>& kids = file.children[std::size_t(node)];
+        const std::string& name = file.animation.nodes[std::size_t(node)].name;
+        if (ai.mNumChildren != kids.size()) return false;
+        if (!name.empty() && name != ai.mName.C_Str()) return false;
+        out[&ai] = node;
+        for (unsigned c = 0; c < ai.mNumChildren; ++c)
+            if (!match(*ai.mChildren[c], kids[c])) return false;
+        return true;
+    };
+    if (file.roots.size() == 1) return match(root, file.roots[0]);
+    if (root.mNumChildren != file.roots.size()) return false;
+    for (unsigned c = 0; c < root.mNumChildren; ++c)
+        if (!match(*root.mChildren[c], file.roots[c])) return false;
+    return true;
+}
+
 }  // namespace
 
 glm::mat4 Placement::matrix() const {
@@ -437,6 +464,25 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
     std::map<std::string, glm::mat4> worldByName;
     std::vector<std::pair<const aiNode*, glm::mat4>> nodes;
     collectWorld(*ai->mRootNode, glm::mat4(1.0f), worldByName, nodes);
+    // glTF animations (gltf_animation.h): read from the file, bound to assimp's nodes.
+    std::optional<detail::GltfAnimationFile> animation;
+    std::map<const aiNode*, int> animNode;
+    if (gltf) {
+        auto read = detail::readGltfAnimation(path, loader.what);
+        if (!read) return read.status();
+        animation = std::move(read).value();
+        if (animation) {
+            for (const std::string& w : animation->warnings)
+                out.warnings.push_back(fmt::format("{}: {}", loader.what, w));
+            if (!bindNodes(*ai->mRootNode, *animation, animNode)) {
+                out.warnings.push_back(fmt::format(
+                    "{}: animation '{}' is not played (assimp's node hierarchy differs from the "
+                    "file's)",
+                    loader.what, animation->animation.name));
+                animation.reset();
+            }
+        }
+    }
     for (const auto& [node, world] : nodes) {
         for (unsigned k = 0; k < node->mNumMeshes; ++k) {
             const unsigned m = node->mMeshes[k];
@@ -457,6 +503,12 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
                     "coordinates)",
                     loader.what, mat.name, scene.meshes[meshIndex[m]].name));
                 mat.baseColorTexture = -1;
+            }
+            if (animation) {
+                if (auto it = animNode.find(node); it != animNode.end()) {
+                    animation->animation.instances.push_back(
+                        {int(scene.instances.size()), it->second, glm::mat4(1.0f)});
+                }
             }
             scene.instances.push_back({meshIndex[m], world, std::move(mat)});
         }
@@ -487,8 +539,14 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
         if (std::isfinite(c.mClipPlaneFar) && c.mClipPlaneFar > cam.znear)
             cam.zfar = c.mClipPlaneFar;
         cam.name = c.mName.C_Str();
-        if (std::isfinite(cam.yfovRadians) && cam.yfovRadians > 0.0f && cam.yfovRadians < 3.14f)
+        if (std::isfinite(cam.yfovRadians) && cam.yfovRadians > 0.0f && cam.yfovRadians < 3.14f) {
             scene.camera = cam;
+            if (animation) {
+                const aiNode* node = ai->mRootNode->FindNode(c.mName);
+                if (auto it = animNode.find(node); node && it != animNode.end())
+                    animation->animation.cameraNode = it->second;
+            }
+        }
     }
     // The lights as the file states them (range, the cone angles), when its JSON can be read
     // and lines up with assimp's lights; assimp's values otherwise.
@@ -541,6 +599,11 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
     if (scene.lights.empty()) scene.lights = defaultLights();
     if (Status s = validateScene(scene); !s)
         return Status(s.code(), fmt::format("{}: {}", loader.what, s.message()));
+    if (animation) {
+        if (Status s = validateSceneAnimation(animation->animation); !s)
+            return Status(s.code(), fmt::format("{}: {}", loader.what, s.message()));
+        out.animation = std::move(animation->animation);
+    }
     return std::move(scene);
 }
 

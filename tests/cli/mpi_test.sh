@@ -42,6 +42,19 @@ run 3 "$mvr" render --views 2 --size 32x24 --orbit 90 --frames 5 -q -o "$tmp/q3"
 "$mvr" render --views 2 --size 32x24 --orbit 90 --frames 5 -q -o "$tmp/q1"
 diff -r "$tmp/q1" "$tmp/q3" || fail "3 ranks differ"
 
+# An animated glTF (nodes and camera) with --depth: frames over 3 ranks, and one frame's views
+# split over 4 ranks, equal the one-process run (depth images gathered too).
+python3 "$(dirname "$0")/animated_gltf.py" "$tmp/anim.gltf"
+anim=(--size 48x48 -q --fps 4 --depth)
+"$mvr" render "$tmp/anim.gltf" "${anim[@]}" --views 3 --frames 6 -o "$tmp/a1"
+run 3 "$mvr" render "$tmp/anim.gltf" "${anim[@]}" --views 3 --frames 6 -o "$tmp/a3"
+diff -r "$tmp/a1" "$tmp/a3" || fail "an animated glTF over 3 ranks differs from one process"
+[[ -f $tmp/a3/frame-0005/depth-2.png ]] || fail "no depth image gathered under MPI"
+"$mvr" render "$tmp/anim.gltf" "${anim[@]}" --frames 1 --views 9 -o "$tmp/d1"
+run 4 "$mvr" render "$tmp/anim.gltf" "${anim[@]}" --frames 1 --views 9 -o "$tmp/d4"
+diff -r "$tmp/d1" "$tmp/d4" || fail "one frame's views and depth over 4 ranks differ"
+[[ $(ls "$tmp/d4/frame-0000" | grep -c '^depth-') == 9 ]] || fail "expected 9 depth images"
+
 # A rank killed mid-run: an error line from rank 0, a non-zero exit, no video under its name.
 long=(--views 48 --size 128x96 --orbit 360 --frames 400 --format quilt -q)
 [[ $video == 1 ]] && long+=(--video "$tmp/k/quilt.mkv")

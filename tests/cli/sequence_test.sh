@@ -44,6 +44,26 @@ JSON
 "$mvr" render --views 2 --size 32x24 -q --camera-path "$tmp/path.json" --fps 4 -o "$tmp/path"
 [[ $(ls "$tmp/path" | grep -c '^frame-') == 5 ]] || fail "camera path of 1 s at 4 fps: 5 frames"
 
+# A glTF file's animation (docs/animation.md): nodes (LINEAR, STEP, a parent and its child)
+# and the camera move with t = frame / fps; past the last key the last one holds; the shares
+# add up to the whole; --orbit wins over the file's animated camera (the nodes still move).
+python3 "$(dirname "$0")/animated_gltf.py" "$tmp/anim.gltf"
+anim=(--views 3 --size 48x48 -q --frames 8 --fps 4)
+"$mvr" render "$tmp/anim.gltf" "${anim[@]}" -o "$tmp/anim"
+[[ $(ls "$tmp/anim" | grep -c '^frame-') == 8 ]] || fail "animated glTF: expected 8 frames"
+cmp -s "$tmp/anim/frame-0000/view-1.png" "$tmp/anim/frame-0002/view-1.png" &&
+    fail "the glTF animation does not move anything"
+# frames 4..7 are at t = 1, 1.25, 1.5, 1.75 s: past the last key (1 s) everything holds.
+for f in 5 6 7; do
+    diff -r "$tmp/anim/frame-0004" "$tmp/anim/frame-000$f" >/dev/null ||
+        fail "frame $f past the animation's end differs from frame 4 (the last key holds)"
+done
+for i in 0 1; do "$mvr" render "$tmp/anim.gltf" "${anim[@]}" --shard $i/2 -o "$tmp/anim-sh"; done
+diff -r "$tmp/anim" "$tmp/anim-sh" || fail "animated glTF: --shard shares differ from the whole"
+"$mvr" render "$tmp/anim.gltf" "${anim[@]}" --orbit 90 -o "$tmp/anim-orbit"
+cmp -s "$tmp/anim-orbit/frame-0002/view-1.png" "$tmp/anim/frame-0002/view-1.png" &&
+    fail "--orbit did not take over from the file's animated camera"
+
 # Refusals: one error line, non-zero exit.
 expect_error() {
     local want=$1; shift

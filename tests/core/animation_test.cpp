@@ -114,6 +114,26 @@ TEST(Animation, RotationSlerpsAlongTheShorterArc) {
     EXPECT_NEAR(glm::degrees(glm::angle(sampleRotation(r, 0.5))), 0.0f, 1e-3f);
 }
 
+TEST(Animation, CubicSplineSamplerIsGltfsHermite) {
+    // Keys (0 s: value 1, out-tangent 2) and (2 s: in-tangent -1, value 3); per key the output
+    // holds in-tangent, value, out-tangent.
+    Sampler s;
+    s.components = 1;
+    s.interpolation = Interpolation::CubicSpline;
+    s.input = {0.0f, 2.0f};
+    s.output = {9.0f, 1.0f, 2.0f, -1.0f, 3.0f, 9.0f};
+    ASSERT_TRUE(validateSampler(s));
+    // At 0.5 s, u = 0.25: the Hermite basis by hand is h00 = 0.84375, h10 = 0.140625,
+    // h01 = 0.15625, h11 = -0.046875, so p = 0.84375·1 + 0.140625·2·2 + 0.15625·3 +
+    // (-0.046875)·2·(-1) = 1.96875.
+    EXPECT_NEAR(sample(s, 0.5)[0], 1.96875f, kEps);
+    EXPECT_NEAR(sample(s, 0.0)[0], 1.0f, kEps);   // the value, not the in-tangent
+    EXPECT_NEAR(sample(s, 2.0)[0], 3.0f, kEps);
+    EXPECT_NEAR(sample(s, 10.0)[0], 3.0f, kEps);  // past the end: the last value holds
+    s.output.pop_back();
+    EXPECT_FALSE(validateSampler(s));  // 3 values per key and component
+}
+
 TEST(Animation, BadSamplersAreRefused) {
     Sampler s;
     EXPECT_FALSE(validateSampler(s));

@@ -4,6 +4,7 @@
 
 #include <csignal>
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -57,7 +58,7 @@ extern "C" void onStopped(int) {
     ::_exit(1);
 }
 
-enum Tag { kReady = 1, kHeader = 2, kPixels = 3, kError = 4, kItem = 10 };
+enum Tag { kReady = 1, kHeader = 2, kPixels = 3, kError = 4, kDepth = 5, kItem = 10 };
 
 struct Item {
     int frame, v0, v1;
@@ -85,15 +86,26 @@ void worker(const RenderViewsFn& render) {
         std::vector<std::uint8_t> all;
         all.reserve(bytes * out->color.size());
         for (const Image& im : out->color) all.insert(all.end(), im.rgba.begin(), im.rgba.end());
-        int header[5] = {item.frame, item.v0, item.v1, first.width, first.height};
-        MPI_Send(header, 5, MPI_INT, 0, kHeader, MPI_COMM_WORLD);
+        const bool depth = !out->depth.empty() && out->depth.size() == out->color.size();
+        int header[6] = {item.frame, item.v0, item.v1, first.width, first.height, depth ? 1 : 0};
+        MPI_Send(header, 6, MPI_INT, 0, kHeader, MPI_COMM_WORLD);
         MPI_Send(all.data(), int(all.size()), MPI_BYTE, 0, kPixels, MPI_COMM_WORLD);
+        if (depth) {  // --depth: the views' depth images, one message
+            std::vector<float> d;
+            d.reserve(std::size_t(first.width) * std::size_t(first.height) * out->depth.size());
+            for (const DepthImage& im : out->depth) d.insert(d.end(), im.depth.begin(), im.depth.end());
+            MPI_Send(d.data(), int(d.size()), MPI_FLOAT, 0, kDepth, MPI_COMM_WORLD);
+        }
         MPI_Recv(&item, 3, MPI_INT, 0, kItem, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     }
 }
 
 Status coordinator(int workers, const std::vector<int>& frames, int views,
-                   const EmitFrameFn& emit) {
+                   const EmitFrameFn& emit, bool gatherStats) {
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point start = Clock::now();
+    double gatherSeconds = 0.0;  // receiving and unpacking views (after their header came)
+    std::uint64_t gatherBytes = 0;
     // Whole frames while there are at least as many frames as workers; else shares of views.
     std::vector<Item> items;
     const int chunks =
@@ -142,12 +154,17 @@ Status coordinator(int workers, const std::vector<int>& frames, int views,
             MPI_Recv(msg.data(), n, MPI_CHAR, src, kError, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
             return Status(ErrorCode::Internal, fmt::format("rank {}: {}", src, msg));
         } else if (st.MPI_TAG == kHeader) {
-            int h[5];
-            MPI_Recv(h, 5, MPI_INT, src, kHeader, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-            const std::size_t bytes = std::size_t(h[3]) * std::size_t(h[4]) * 4;
+            int h[6];
+            MPI_Recv(h, 6, MPI_INT, src, kHeader, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            const Clock::time_point gather = Clock::now();
+            const std::size_t pixels = std::size_t(h[3]) * std::size_t(h[4]);
+            const std::size_t bytes = pixels * 4;
             std::vector<std::uint8_t> all(bytes * std::size_t(h[2] - h[1]));
+            std::vector<float> depth(h[5] ? pixels * std::size_t(h[2] - h[1]) : 0);
             if (MPI_Recv(all.data(), int(all.size()), MPI_BYTE, src, kPixels, MPI_COMM_WORLD,
-                         MPI_STATUS_IGNORE) != MPI_SUCCESS) {
+                         MPI_STATUS_IGNORE) != MPI_SUCCESS ||
+                (h[5] && MPI_Recv(depth.data(), int(depth.size()), MPI_FLOAT, src, kDepth,
+                                  MPI_COMM_WORLD, MPI_STATUS_IGNORE) != MPI_SUCCESS)) {
                 return internalError(fmt::format(
                     "rank {} stopped while sending frame {}: it failed or was killed", src, h[0]));
             }
@@ -156,12 +173,20 @@ Status coordinator(int workers, const std::vector<int>& frames, int views,
                 it->second.out.color.resize(std::size_t(views));
                 it->second.missing = views;
             }
+            if (h[5]) it->second.out.depth.resize(std::size_t(views));
             for (int v = h[1]; v < h[2]; ++v) {
                 Image im(h[3], h[4]);
                 std::copy_n(all.begin() + long(bytes) * (v - h[1]), bytes, im.rgba.begin());
                 it->second.out.color.at(std::size_t(v)) = std::move(im);
+                if (h[5]) {
+                    DepthImage d(h[3], h[4]);
+                    std::copy_n(depth.begin() + long(pixels) * (v - h[1]), pixels, d.depth.begin());
+                    it->second.out.depth.at(std::size_t(v)) = std::move(d);
+                }
                 --it->second.missing;
             }
+            gatherSeconds += std::chrono::duration<double>(Clock::now() - gather).count();
+            gatherBytes += all.size() + depth.size() * sizeof(float);
             // Emit the frames in order as they complete.
             while (emitted < frames.size()) {
                 auto ready = pending.find(frames[emitted]);
@@ -176,6 +201,16 @@ Status coordinator(int workers, const std::vector<int>& frames, int views,
     }
     if (emitted != frames.size()) {
         return internalError(fmt::format("{} of {} frames came back", emitted, frames.size()));
+    }
+    if (gatherStats && !frames.empty()) {
+        const double total = std::chrono::duration<double>(Clock::now() - start).count();
+        const double n = double(frames.size());
+        fmt::print(stderr,
+                   "gather: {} frames of {} views, {:.1f} MiB received; rank 0 receiving and "
+                   "unpacking views {:.2f} ms per frame ({:.1f}% of the run's {:.2f} ms per "
+                   "frame)\n",
+                   frames.size(), views, double(gatherBytes) / (1 << 20), gatherSeconds * 1e3 / n,
+                   total > 0 ? 100.0 * gatherSeconds / total : 0.0, total * 1e3 / n);
     }
     return {};
 }
@@ -192,7 +227,7 @@ bool isRankZero() {
 }
 
 Status distributeFrames(const std::vector<int>& frames, int views, const RenderViewsFn& render,
-                        const EmitFrameFn& emit) {
+                        const EmitFrameFn& emit, bool gatherStats) {
 #ifdef MVR_WITH_MPI
     if (launchedWithRanks()) {
         MPI_Init(nullptr, nullptr);
@@ -207,7 +242,7 @@ Status distributeFrames(const std::vector<int>& frames, int views, const RenderV
             }
             MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
             for (int sig : {SIGTERM, SIGINT, SIGHUP}) std::signal(sig, onStopped);
-            Status s = coordinator(size - 1, frames, views, emit);
+            Status s = coordinator(size - 1, frames, views, emit, gatherStats);
             if (!s) removeUnfinishedVideo();
             if (!s) {
                 // The workers wait for items or send views: end them all, with rank 0's line.

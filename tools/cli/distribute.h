@@ -18,8 +18,10 @@ using EmitFrameFn = std::function<Status(int frame, const RenderOutput& out)>;
 
 /// Renders `frames` (each of `views` views) and emits each frame once, in order, on rank 0.
 /// A worker's failure stops the run with rank 0 printing "error: rank R: ..." (exit non-zero).
+/// Depth images travel with the views when the render returns them. `gatherStats`: rank 0
+/// prints one "gather: ..." line on stderr (the time it spent receiving and unpacking views).
 Status distributeFrames(const std::vector<int>& frames, int views, const RenderViewsFn& render,
-                        const EmitFrameFn& emit);
+                        const EmitFrameFn& emit, bool gatherStats = false);
 
 /// False on the MPI workers (they write nothing and print nothing).
 bool isRankZero();

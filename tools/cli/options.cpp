@@ -387,7 +387,8 @@ Result<std::pair<std::string, std::optional<Placement>>> parseModelArg(const std
 /// laid out together by makeGridScene(). Otherwise each file is its scene (scene_io.h), placed,
 /// and --grid K lays out K copies of the whole combined scene (the file camera is then not
 /// used: it framed one copy).
-Result<Scene> loadModels(const std::vector<std::string>& args, int grid, std::string& name) {
+Result<Scene> loadModels(const std::vector<std::string>& args, int grid, std::string& name,
+                         std::optional<SceneAnimation>& animation) {
     std::vector<Scene> scenes;
     std::vector<std::optional<Placement>> placements;
     std::vector<SceneLoadInfo> infos;
@@ -421,6 +422,17 @@ Result<Scene> loadModels(const std::vector<std::string>& args, int grid, std::st
             fileLights.insert(fileLights.end(), s.lights.begin(), s.lights.end());
         s.lights.clear();
         if (placements[i]) transformScene(s, placements[i]->matrix());
+        if (infos[i].animation && animation) {
+            fmt::print(stderr, "warning: {}: its animation is not played (only the first "
+                       "animated model's is)\n", args[i]);
+        } else if (infos[i].animation) {
+            // The first animated model's animation, its instances numbered in the combination.
+            animation = std::move(infos[i].animation);
+            if (placements[i]) transformAnimation(*animation, placements[i]->matrix());
+            for (SceneAnimation::Target& t : animation->instances)
+                t.instance += int(combined.instances.size());
+            if (combined.camera) animation->cameraNode = -1;  // an earlier file's camera
+        }
         appendScene(combined, std::move(s));
     }
     if (fileLights.size() > std::size_t(kMaxLights)) {
@@ -437,6 +449,7 @@ Result<Scene> loadModels(const std::vector<std::string>& args, int grid, std::st
         const int rows = (grid + columns - 1) / columns;
         const std::vector<Instance> one = combined.instances;
         combined.instances.clear();
+        std::vector<SceneAnimation::Target> targets;
         for (int k = 0; k < grid; ++k) {
             const glm::vec3 offset((k % columns - (columns - 1) * 0.5f) * spacing,
                                    ((rows - 1) * 0.5f - k / columns) * spacing, 0.0f);
@@ -445,8 +458,19 @@ Result<Scene> loadModels(const std::vector<std::string>& args, int grid, std::st
                 inst.worldFromModel = xf * inst.worldFromModel;
                 combined.instances.push_back(std::move(inst));
             }
+            if (animation) {  // every copy plays the animation
+                for (SceneAnimation::Target t : animation->instances) {
+                    t.instance += k * int(one.size());
+                    t.worldFromRoot = xf * t.worldFromRoot;
+                    targets.push_back(t);
+                }
+            }
         }
         combined.camera.reset();
+        if (animation) {
+            animation->instances = std::move(targets);
+            animation->cameraNode = -1;
+        }
     }
     return combined;
 }
@@ -601,7 +625,7 @@ Result<Prepared> SceneOptions::prepare() const {
                 "--grid {} needs a model file (the default scene is not gridded)", grid));
         }
     } else {
-        auto loaded = loadModels(models, grid, out.sceneName);
+        auto loaded = loadModels(models, grid, out.sceneName, out.animation);
         if (!loaded) return loaded.status();
         out.scene = std::move(loaded).value();
     }
@@ -613,6 +637,7 @@ Result<Prepared> SceneOptions::prepare() const {
     params.aspect = aspect;
     params.fovOverridesSceneCamera = fovGiven;
     params.useSceneCamera = !noFileCamera;
+    if (out.animation && noFileCamera) out.animation->cameraNode = -1;
     if (interaxial) params.interaxial = static_cast<float>(*interaxial);
     if (separation) params.separation = static_cast<float>(*separation);
     if (convergence) params.convergence = static_cast<float>(*convergence);

@@ -16,6 +16,7 @@
 
 #include "mvr/backends.h"
 #include "mvr/composite/compose.h"
+#include "mvr/core/animation.h"
 #include "mvr/core/displays.h"
 #include "mvr/core/render.h"
 #include "mvr/core/rig.h"
@@ -36,6 +37,9 @@ struct Prepared {
     /// One-line notes for stderr: what --convergence auto / --separation auto chose ("note: …")
     /// and warnings ("warning: …", e.g. views that see nothing of the scene).
     std::vector<std::string> notes;
+    /// The model file's animation (glTF's first), played by sequences (docs/animation.md);
+    /// cameraNode is -1 when the file camera is not the rig's (--no-file-camera, --grid).
+    std::optional<SceneAnimation> animation;
 };
 
 struct SceneOptions {

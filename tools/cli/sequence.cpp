@@ -47,6 +47,9 @@ void addSequenceOptions(CLI::App* app, SequenceOptions& o) {
                     "CPU threads of a sequence's backend per process (0: the cores, divided by "
                     "the MPI ranks on this node less one for rank 0)")
         ->default_val(o.threads);
+    app->add_flag("--gather-stats", o.gatherStats,
+                  "Under mpirun: rank 0 prints the time it spent receiving the views (the "
+                  "gather) per frame");
     app->add_option("--video", o.video,
                     "Also write a video (.mkv or .mp4, H.264) of the first --format that is one "
                     "image per frame, or of every view (one stream each) without one");
@@ -262,13 +265,21 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
     const std::filesystem::path dir(job.outDir);
     FrameProgress progress(int(todo.size()), job.quiet);
     const int digits = std::max(4, int(std::to_string(frames - 1).size()));
+    // The file's animation (glTF): its nodes move in a copy of the scene, made once.
+    std::optional<Scene> animated;
+    if (p.animation) animated = p.scene;
     // Renders views [v0, v1) of frame f (the rig moving with the camera).
     auto renderViews = [&](int f, int v0, int v1) -> Result<RenderOutput> {
+        const double time = f / o.fps;
+        if (animated) animateScene(*animated, *p.animation, time);
         Camera camera = p.rig.camera;
         if (o.orbit != 0.0) {
             camera = orbitCamera(camera, p.rig.camera.target, orbitDegrees(o.orbit, f, frames));
         } else if (path) {
-            camera = cameraAt(*path, f / o.fps, p.rig.camera);
+            camera = cameraAt(*path, time, p.rig.camera);
+        } else if (animated && p.animation->cameraNode >= 0 && animated->camera) {
+            // The file's animated camera (--orbit and --camera-path win over it).
+            camera = cameraFromNode(animated->camera->worldFromCamera, p.rig.camera);
         }
         auto rig = rigAt(p.rig, camera);
         if (!rig) {
@@ -279,7 +290,7 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
             // A share of the views: the culling frustum still encloses all of them.
             rig->views = std::vector<View>(rig->views.begin() + v0, rig->views.begin() + v1);
         }
-        auto rendered = backend.render(p.scene, *rig, p.settings, job.method);
+        auto rendered = backend.render(animated ? *animated : p.scene, *rig, p.settings, job.method);
         if (!rendered) {
             return Status(rendered.status().code(),
                           fmt::format("frame {}: {}", f, rendered.status().message()));
@@ -297,6 +308,7 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
                 return Status(s.code(), fmt::format("frame {}: {}", f, s.message()));
             }
         }
+        if (!job.depth) rendered->depth.clear();  // not written, not sent between ranks
         return rendered;
     };
     auto emitFrame = [&](int f, const RenderOutput& out) -> Status {
@@ -362,7 +374,9 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
         progress.done(f);
         return {};
     };
-    if (Status s = distributeFrames(todo, p.rig.viewCount(), renderViews, emitFrame); !s) {
+    if (Status s = distributeFrames(todo, p.rig.viewCount(), renderViews, emitFrame,
+                                    o.gatherStats);
+        !s) {
         return fail(s);
     }
     if (!isRankZero()) return 0;

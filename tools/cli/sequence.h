@@ -24,6 +24,7 @@ struct SequenceOptions {
     std::string shard;       ///< --shard I/N: frames f with f mod N == I
     double fps = 24.0;       ///< --fps: times of the camera path, and the video's rate
     std::string video;       ///< --video FILE.mkv|.mp4
+    bool gatherStats = false;  ///< --gather-stats: rank 0's gather time (MPI)
     int threads = 0;         ///< --threads: CPU threads per process; 0 = cores / ranks on this node
     bool active() const { return frames > 0 || orbit != 0.0 || !cameraPath.empty(); }
 };

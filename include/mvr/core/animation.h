@@ -15,16 +15,25 @@
 //    framed camera.
 //  - Samplers (glTF 2.0 §3.11): `input` key times in seconds, strictly increasing; `output`
 //    `components` values per key; LINEAR interpolates (rotations, 4 components x y z w: slerp
-//    along the shorter arc), STEP holds the previous key; times outside the keys clamp.
+//    along the shorter arc), STEP holds the previous key, CUBICSPLINE is glTF's Hermite spline
+//    (3 × components values per key: in-tangent, value, out-tangent; rotations normalised);
+//    times outside the keys clamp (before the first key the first value, after the last key the
+//    last value holds).
+//  - Scene animations (a glTF file's first animation, SceneAnimation): the file's node
+//    hierarchy with each node's rest transform and its channels; at time t every node's world
+//    matrix is its parent's world × its local T·R·S at t, and animateScene() moves the
+//    instances and the file camera of a loaded scene to time t.
 #pragma once
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
 #include "mvr/core/rig.h"
+#include "mvr/core/scene.h"
 #include "mvr/core/status.h"
 
 namespace mvr {
@@ -63,10 +72,10 @@ Camera cameraAt(const CameraPath& path, double time, const Camera& base);
 Result<Rig> rigAt(const Rig& rig, const Camera& camera);
 
 /// A glTF-style animation sampler.
-enum class Interpolation { Linear, Step };
+enum class Interpolation { Linear, Step, CubicSpline };
 struct Sampler {
     std::vector<float> input;   ///< key times, seconds, strictly increasing
-    std::vector<float> output;  ///< components values per key
+    std::vector<float> output;  ///< components values per key (CUBICSPLINE: 3 × components)
     int components = 3;         ///< 3: translation / scale, 4: rotation quaternion (x y z w)
     Interpolation interpolation = Interpolation::Linear;
     bool rotation = false;  ///< LINEAR means slerp (components must be 4)
@@ -92,5 +101,48 @@ struct NodeAnimation {
 };
 /// The node's local matrix at `time` (T · R · S, glTF's order).
 glm::mat4 nodeMatrixAt(const NodeAnimation& node, double time);
+
+/// One node of a file's hierarchy, for re-evaluating world transforms over time.
+struct AnimatedNode {
+    std::string name;
+    int parent = -1;                        ///< index into SceneAnimation::nodes (before it), -1: root
+    glm::mat4 rest{1.0f};                   ///< the local matrix when not animated
+    std::optional<NodeAnimation> animation;  ///< the channels that target the node
+};
+
+/// A file's animation (glTF: its first), bound to the instances and the camera of its scene.
+struct SceneAnimation {
+    std::string name;
+    double duration = 0.0;  ///< the last key time of all its samplers, seconds
+    std::vector<AnimatedNode> nodes;  ///< parents before their children
+    /// An instance moved by a node: worldFromModel = worldFromRoot × world(node).
+    struct Target {
+        int instance = 0;  ///< index into Scene::instances
+        int node = 0;
+        glm::mat4 worldFromRoot{1.0f};
+    };
+    std::vector<Target> instances;
+    int cameraNode = -1;  ///< the node of Scene::camera, -1: the camera is not animated
+    glm::mat4 cameraWorldFromRoot{1.0f};
+};
+
+/// Checks node order, parents, instance and camera indices and every sampler.
+/// Errors: ErrorCode::Input naming the node.
+Status validateSceneAnimation(const SceneAnimation& animation);
+
+/// Every node's world matrix (relative to the file's root) at `time`.
+std::vector<glm::mat4> nodeWorldsAt(const SceneAnimation& animation, double time);
+
+/// Moves `scene`'s animated instances and (cameraNode >= 0) its camera to `time`.
+/// Precondition: validateSceneAnimation() passed and the indices fit `scene`.
+void animateScene(Scene& scene, const SceneAnimation& animation, double time);
+
+/// The camera at an animated camera node: `worldFromCamera`'s origin, looking down its −Z with
+/// its +Y up (glTF), the target at `base`'s distance ahead; fov, aspect, near and far are
+/// `base`'s (the framed camera's).
+Camera cameraFromNode(const glm::mat4& worldFromCamera, const Camera& base);
+
+/// Applies a placement (scene_io.h's transformScene) to the animation's targets.
+void transformAnimation(SceneAnimation& animation, const glm::mat4& worldFromScene);
 
 }  // namespace mvr

@@ -26,9 +26,11 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "mvr/core/animation.h"
 #include "mvr/core/scene.h"
 #include "mvr/core/status.h"
 
@@ -38,6 +40,10 @@ struct SceneLoadInfo {
     std::vector<std::string> warnings;  ///< one line each, no newline (dropped lights, ...)
     bool fromMaterials = false;   ///< the file has materials of its own (glTF, OBJ with mtllib)
     bool lightsFromFile = false;  ///< Scene::lights are the file's (else defaultLights())
+    /// glTF: the file's first animation bound to the scene's instances and camera (its camera
+    /// node's keys move Scene::camera); absent when the file has none. Play it with
+    /// animateScene() (animation.h). The scene itself is loaded in the file's rest pose.
+    std::optional<SceneAnimation> animation;
 };
 
 /// Loads a model file as a scene (see above), importing it once: glTF and OBJ + MTL pass
