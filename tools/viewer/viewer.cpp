@@ -1009,7 +1009,7 @@ std::function<int()> addViewCommand(CLI::App& root) {
         "Write the last frame (what the window shows) to FILE (PNG); p saves FILE-1.png, …");
     app->add_option(
         "--script", o->script,
-        "Comma-separated keys applied one per frame, e.g. \"m,m,+\"; also left, right, up, "
+        "Comma-separated keys applied one per frame, e.g. \"m,m,+\" or \">,>,v\"; also left, right, up, "
         "down, pgup, pgdn, esc, f1, f12, at:X:Y (mouse), drag:DX:DY, pan:DX:DY, wheel:N, size:W:H");
     app->add_flag("--no-hud", o->noHud, "Hide the HUD and the 3D cursor");
     app->add_flag("-q,--quiet", o->quiet, "Print nothing but errors");
