@@ -382,6 +382,9 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
         args.insert(args.end(), paths.begin(), paths.end());
     }
     parse(app, std::move(args));
+    if (app.get_option("--lenticular-calibration")->count() > 0 &&
+        compose.lenticular.viewCone > 0.0)
+        scene.calibrationViewCone = compose.lenticular.viewCone;
 
     Result<cli::Prepared> prepared = usageError("");
     std::shared_ptr<OutputBlock> block;

@@ -58,3 +58,22 @@ def test_screen_report_and_auto(tmp_path, model):
     assert s["min_parallax_cm"] == pytest.approx(report["screen"]["min_parallax_cm"])
     assert report["screen"]["min_parallax_cm"] == pytest.approx(30.0 * report["screen"]["min_parallax"])
     assert isinstance(report["comfortable"], bool)
+
+
+def test_calibration_view_cone_is_the_default_cone(tmp_path, model):
+    # visual.json's viewCone spreads a row of views (as `mvr render --lenticular-calibration`);
+    # view_cone= still wins. The eyes sit at D tan(-15 + 30 i / 4) degrees, computed here.
+    cal = tmp_path / "visual.json"
+    cal.write_text('{"pitch": {"value": 52.59}, "slope": {"value": -7.08}, '
+                   '"center": {"value": 0.82}, "DPI": {"value": 324.0}, "viewCone": {"value": 30}}')
+    r = mvr.render([model], views=5, size=(32, 24), lenticular_calibration=cal)
+    assert r.rig["view_cone"] == 30.0
+    assert any("from the calibration's viewCone" in n for n in r.rig["notes"])
+    eyes = np.array(r.rig["eyes"])
+    d = r.rig["convergence"]
+    right = (eyes[4] - eyes[0]) / np.linalg.norm(eyes[4] - eyes[0])
+    for i in range(5):
+        expected = d * math.tan(math.radians(-15.0 + 30.0 * i / 4))
+        assert abs(np.dot(eyes[i] - eyes[2], right) - expected) < 1e-4 * d, i
+    r = mvr.render([model], views=5, size=(32, 24), lenticular_calibration=cal, view_cone=20)
+    assert r.rig["view_cone"] == 20.0

@@ -125,6 +125,7 @@ Result<LenticularCalibration> parseLookingGlassCalibration(std::string_view json
         {"flipImageX", false, nullptr, nullptr, &cal.flipX},
         {"flipImageY", false, nullptr, nullptr, &cal.flipY},
         {"flipSubp", false, nullptr, nullptr, &cal.bgr},
+        {"viewCone", false, &cal.viewCone, nullptr, nullptr},
     };
     for (const Field& f : fields) {
         bool bad = false;
@@ -152,6 +153,10 @@ Result<LenticularCalibration> parseLookingGlassCalibration(std::string_view json
             *f.integer = static_cast<int>(*v);
         }
     }
+    if (cal.viewCone != 0.0 && !(cal.viewCone > 0.0 && cal.viewCone < 180.0))
+        return inputError(
+            fmt::format("{}: calibration viewCone = {} (expected degrees, 0 < cone < 180)", what,
+                        cal.viewCone));
     if (cal.dpi <= 0 || cal.slope == 0 || cal.pitch <= 0)
         return inputError(
             fmt::format("{}: calibration pitch {}, slope {}, DPI {} (expected pitch "

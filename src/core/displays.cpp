@@ -60,8 +60,10 @@ constexpr DisplayPreset stereo(std::string_view name, std::string_view descripti
 constexpr float k16x9 = 16.0f / 9.0f;
 
 const std::array kPresets{
+    // The 8.9"'s cone is the maker's 35 degrees (docs.lookingglassfactory.com/keyconcepts/camera:
+    // "the digital view angle that we find that renders best is 35°"; docs/displays.md).
     lightField("lkg-8.9", "Looking Glass 8.9\" (first generation)", 5, 9, 45, 4096, 4096, 1.6f,
-               40.0f, 2560, 1600, kLgQuilts),
+               35.0f, 2560, 1600, kLgQuilts),
     lightField("lkg-16", "Looking Glass 16\" (second generation)", 5, 9, 45, 4096, 4096, k16x9,
                40.0f, 3840, 2160, kLgQuilts),
     lightField("portrait", "Looking Glass Portrait", 8, 6, 48, 3360, 3360, 0.75f, 40.0f, 1536, 2048,

@@ -170,6 +170,45 @@ TEST_F(Displays, ACalibrationAddsTheLenticularImage) {
     EXPECT_TRUE(std::filesystem::exists(mDir / "len/quilt_qs2x2a0.75.png"));
 }
 
+// visual.json's viewCone is the default cone: it replaces the preset's, spreads a plain row of
+// more than two views, and --view-cone still wins. The cone is read back from --report-json;
+// the views' spacing (the report's interaxial, the mean spacing of a view-cone row) is checked
+// against 2·D·tan(cone/2)/(N−1) computed here from the report's convergence D.
+TEST_F(Displays, TheCalibrationsViewConeIsTheDefaultCone) {
+    std::ofstream(mDir / "visual.json") << R"({"pitch": {"value": 52.59}, "slope": {"value": -7.08},
+        "center": {"value": 0.82}, "DPI": {"value": 324.0}, "viewCone": {"value": 30.0}})";
+    auto cone = [&](const std::string& args) {
+        const ToolRun r =
+            run("render pyramid.obj --size 30x40 --lenticular-calibration "
+                "visual.json --report-json c.json -o out " +
+                args);
+        EXPECT_EQ(r.exitCode, 0) << args << ": " << r.err;
+        const std::string json = slurp(mDir / "c.json");
+        const double d = jsonNumber(json, "convergence"), n = jsonNumber(json, "views");
+        const double c = jsonNumber(json, "view_cone");
+        if (c > 0) {  // the views' spacing follows that cone
+            EXPECT_NEAR(jsonNumber(json, "interaxial"),
+                        2.0 * d * std::tan(c * 3.14159265358979 / 360.0) / (n - 1), 1e-4 * d)
+                << args;
+        }
+        return std::pair{c, r.err};
+    };
+    const auto [preset, note] = cone("--display portrait --views 4");
+    EXPECT_EQ(preset, 30.0);
+    EXPECT_NE(note.find("note: view cone 30 degrees from the calibration's viewCone"),
+              std::string::npos)
+        << note;
+    EXPECT_EQ(cone("--views 5").first, 30.0);                 // a plain row of views
+    EXPECT_EQ(cone("--views 2").first, 0.0);                  // a stereo pair keeps its interaxial
+    EXPECT_EQ(cone("--views 5 --view-cone 20").first, 20.0);  // explicit wins
+    EXPECT_EQ(cone("--views 5 --separation 2").first, 0.0);   // another spacing given
+    // A cone out of range is the file's error.
+    std::ofstream(mDir / "bad.json") << R"({"pitch": 52.59, "slope": -7.08, "center": 0.82,
+        "DPI": 324.0, "viewCone": 0.5e3})";
+    expectError("render pyramid.obj --lenticular-calibration bad.json", 1,
+                "bad.json: calibration viewCone = 500");
+}
+
 TEST_F(Displays, AnUnknownDisplayListsTheValidNames) {
     expectError("render --display nosuch", 1, "--display nosuch: unknown display 'nosuch'");
     const ToolRun r = run("render --display nosuch");

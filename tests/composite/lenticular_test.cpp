@@ -186,12 +186,21 @@ TEST(Lenticular, ParsesLookingGlassVisualJson) {
     EXPECT_TRUE(cal->invertViews);
     EXPECT_FALSE(cal->flipX);
     EXPECT_FALSE(cal->bgr);
+    EXPECT_DOUBLE_EQ(cal->viewCone, 40.0);
     // Plain numbers work too; optional keys may be missing.
     Result<LenticularCalibration> plain = parseLookingGlassCalibration(
         R"({"pitch": 40, "slope": 5.5, "center": 0.1, "DPI": 300, "flipSubp": true})", "x");
     ASSERT_TRUE(plain) << plain.status().message();
     EXPECT_EQ(plain->screenWidth, 0);
     EXPECT_TRUE(plain->bgr);
+    EXPECT_EQ(plain->viewCone, 0.0);  // absent
+    // A viewCone outside (0, 180) degrees is an input error naming it.
+    Result<LenticularCalibration> wide = parseLookingGlassCalibration(
+        R"({"pitch": 40, "slope": 5.5, "center": 0.1, "DPI": 300, "viewCone": 200})", "w.json");
+    ASSERT_FALSE(wide);
+    EXPECT_EQ(wide.status().code(), ErrorCode::Input);
+    EXPECT_NE(wide.status().message().find("w.json: calibration viewCone = 200"), std::string::npos)
+        << wide.status().message();
 }
 
 TEST(Lenticular, CalibrationErrorsNameTheKey) {

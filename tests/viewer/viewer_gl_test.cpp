@@ -23,12 +23,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <fmt/core.h>
 #include <gtest/gtest.h>
@@ -195,6 +197,22 @@ protected:
 
     std::string model() const { return "'" + bunny.string() + "'"; }
 
+    /// The largest RGB difference between `small` and the same-sized region of `big` whose
+    /// top-left corner is (x0, y0).
+    static int regionDelta(const Image& big, int x0, int y0, const Image& small) {
+        if (x0 < 0 || y0 < 0 || x0 + small.width > big.width || y0 + small.height > big.height)
+            return 256;
+        int worst = 0;
+        for (int y = 0; y < small.height; ++y) {
+            for (int x = 0; x < small.width; ++x) {
+                const Rgba8 p = big.at(x0 + x, y0 + y), q = small.at(x, y);
+                worst = std::max(
+                    {worst, std::abs(p.r - q.r), std::abs(p.g - q.g), std::abs(p.b - q.b)});
+            }
+        }
+        return worst;
+    }
+
     static Xvfb* sXvfb;
     static std::string sWhyNoDisplay;
     fs::path mvr, bunny, dir;
@@ -343,6 +361,122 @@ TEST_F(ViewCli, WithoutEglTheDefaultBackendFallsBackToSoft) {
     r = run("view --size 160x120 --frames 1 --backend gl", true, noEgl);
     EXPECT_EQ(r.exitCode, 3) << r.output;
     EXPECT_NE(r.output.find("error: no EGL display"), std::string::npos) << r.output;
+}
+
+// N views (issue 13): the viewer steps through the views of a Looking Glass Portrait row and
+// shows its quilt. Every picture is checked against `mvr render` of the same options (the soft
+// backend on both sides: the same CPU code, so within 1/255 — the bound of the other
+// screenshot tests), and the quilt's layout is checked tile by tile by this test's own
+// arithmetic: the preset's 8×6 grid, view v in column v % 8 and row v / 8 counted from the
+// bottom (Looking Glass: view 0 bottom left), tiles of one view's size.
+TEST_F(ViewCli, StepsThroughTheViewsOfAQuilt) {
+    needDisplay();
+    constexpr int kW = 120, kH = 160, kColumns = 8, kRows = 6, kViews = 48;
+    const std::string scene = "--display portrait --size 120x160 --backend soft --method unified";
+    CliRun r = run("render " + scene + " -o render -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    auto renderedView = [&](int v) { return read(dir / "render" / fmt::format("view-{}.png", v)); };
+
+    // Single view, stepped: '<' from view 0 wraps to 47, then '>' x3 → 2, '>' → 3; 'p' writes
+    // the frame as shown (step.png → step-1.png, …).
+    r = run("view " + scene +
+            " --format view --no-hud --frames 9 --script '<,p,>,>,>,p,>,p' "
+            "--screenshot step.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("view 47 of 48"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("view 3 of 48"), std::string::npos) << r.output;
+    const int expected[] = {47, 2, 3};
+    std::vector<Image> shots;
+    for (int k = 0; k < 3; ++k) {
+        shots.push_back(read(dir / fmt::format("step-{}.png", k + 1)));
+        const Image& shot = shots.back();
+        ASSERT_EQ(shot.width, kW);
+        ASSERT_EQ(shot.height, kH);
+        const ImageDiff d = compareImages(shot, renderedView(expected[k]));
+        EXPECT_LE(d.maxDelta, 1) << "step " << k << " should show view " << expected[k]
+                                 << "; worst pixel " << d.worstX << "," << d.worstY;
+    }
+    // The steps show different pictures (the views differ across the cone).
+    EXPECT_GT(compareImages(shots[0], shots[1], 8).differingPixels, 50);
+
+    // The quilt: the preset's output by default under --display.
+    r = run("view " + scene + " --no-hud --frames 2 --screenshot quilt.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find(", quilt, window 960x960"), std::string::npos) << r.output;
+    const Image quilt = read(dir / "quilt.png");
+    ASSERT_EQ(quilt.width, kColumns * kW);
+    ASSERT_EQ(quilt.height, kRows * kH);
+    for (int v = 0; v < kViews; ++v) {
+        const Image view = renderedView(v);
+        const int x0 = (v % kColumns) * kW, y0 = (kRows - 1 - v / kColumns) * kH;
+        EXPECT_LE(regionDelta(quilt, x0, y0, view), 1)
+            << "quilt tile of view " << v << " at " << x0 << "," << y0;
+    }
+    // And it is `mvr render`'s quilt file.
+    EXPECT_LE(compareImages(quilt, read(dir / "render" / "quilt_qs8x6a0.75.png")).maxDelta, 1);
+}
+
+TEST_F(ViewCli, ConeKeysAndTheCalibrationsViewCone) {
+    // '+' twice: the cone 40 → 50 degrees; the single view 0 is then `mvr render --view-cone
+    // 50`'s view 0 (and no longer the 40-degree one).
+    needDisplay();
+    const std::string scene = "--display portrait --size 120x160 --backend soft --method unified";
+    CliRun r = run("render " + scene + " --view-cone 50 -o cone50 -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = run("render " + scene + " -o cone40 -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = run("view " + scene +
+            " --format view --no-hud --frames 3 --script '+,+' --screenshot c.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("view cone 50 degrees"), std::string::npos) << r.output;
+    const Image shot = read(dir / "c.png");
+    EXPECT_LE(compareImages(shot, read(dir / "cone50" / "view-0.png")).maxDelta, 1);
+    EXPECT_GT(compareImages(shot, read(dir / "cone40" / "view-0.png"), 8).differingPixels, 50);
+
+    // A calibration: its viewCone (30) is the default cone and the lenticular image (at its
+    // screen size, 240x320) the default output; both as `mvr render` with the same file.
+    std::FILE* f = std::fopen((dir / "visual.json").c_str(), "w");
+    ASSERT_TRUE(f);
+    std::fputs(R"({"pitch": {"value": 52.59}, "slope": {"value": -7.08}, "center": {"value": 0.82},
+        "viewCone": {"value": 30.0}, "DPI": {"value": 324.0}, "screenW": {"value": 240.0},
+        "screenH": {"value": 320.0}})",
+               f);
+    std::fclose(f);
+    r = run("render " + scene + " --lenticular-calibration visual.json -o len -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = run("view " + scene +
+            " --lenticular-calibration visual.json --no-hud --frames 2 --screenshot len.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("view cone 30 degrees from the calibration"), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find(", lenticular, window 240x320"), std::string::npos) << r.output;
+    const Image len = read(dir / "len.png");
+    ASSERT_EQ(len.width, 240);
+    EXPECT_LE(compareImages(len, read(dir / "len" / "lenticular.png")).maxDelta, 1);
+}
+
+TEST_F(ViewCli, StereoModesOfARowShowAdjacentViews) {
+    // sbs of a 5-view row after '>' twice: views 2 | 3, each `mvr render`'s.
+    needDisplay();
+    const std::string scene =
+        "--views 5 --view-cone 30 --size 100x80 --backend soft --method unified";
+    CliRun r = run("render " + scene + " -o row -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = run("view " + scene +
+            " --format sbs --no-hud --frames 3 --script '>,>' --screenshot s.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("views 2 and 3 of 5"), std::string::npos) << r.output;
+    const Image sbs = read(dir / "s.png");
+    ASSERT_EQ(sbs.width, 200);
+    ASSERT_EQ(sbs.height, 80);
+    const Image left = read(dir / "row" / "view-2.png"), right = read(dir / "row" / "view-3.png");
+    EXPECT_LE(regionDelta(sbs, 0, 0, left), 1);
+    EXPECT_LE(regionDelta(sbs, 100, 0, right), 1);
+    // A grid is not a row.
+    r = run("view --view-grid 2x2 --frames 1", /*display=*/false);
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("error: mvr view shows a row of views: 2x2"), std::string::npos)
+        << r.output;
 }
 
 TEST_F(ViewCli, QuadBufferWithoutStereoVisualFallsBack) {

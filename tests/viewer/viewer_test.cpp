@@ -1,6 +1,7 @@
 // Unit tests of the viewer's window-free parts: the stereo camera state, the 3D cursor, the HUD
 // overlay, the --script parser and the choice of backend and method from the registry.
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -46,6 +47,49 @@ TEST(StereoCamera, UnmovedCameraGivesTheRigItCameFrom) {
         EXPECT_EQ(again->views[v].viewFromWorld, rig.views[v].viewFromWorld) << v;
         EXPECT_EQ(again->views[v].clipFromView, rig.views[v].clipFromView) << v;
     }
+}
+
+TEST(StereoCamera, ARowOfViewsKeepsItsViewConeAndTheConeKeysChangeIt) {
+    // A view-cone row of 9 views: unmoved, the rig is makeRig()'s; each view's eye sits at
+    // D·tan(θ_i) along the camera's x axis, θ_i = −cone/2 + cone·i/(N−1), computed here.
+    const Camera camera = testRig().camera;
+    RigParams params;
+    params.columns = 9;
+    params.convergence = 4.0f;
+    params.viewConeDegrees = 40.0f;
+    Result<Rig> rig = makeRig(camera, params);
+    ASSERT_TRUE(rig) << rig.status().message();
+    StereoCamera s = StereoCamera::fromRig(*rig, 1.0f, 40.0f);
+    EXPECT_EQ(s.columns, 9);
+    auto eyeOffsets = [&](const Rig& r) {
+        const glm::vec3 right = glm::normalize(
+            glm::cross(camera.target - camera.position, glm::vec3(0.0f, 1.0f, 0.0f)));
+        std::vector<float> out;
+        for (const View& v : r.views) {
+            const glm::vec3 eye = glm::vec3(glm::inverse(v.viewFromWorld) * glm::vec4(0, 0, 0, 1));
+            out.push_back(glm::dot(eye - camera.position, right));
+        }
+        return out;
+    };
+    Result<Rig> again = s.rig();
+    ASSERT_TRUE(again);
+    ASSERT_EQ(again->viewCount(), 9);
+    for (int v = 0; v < 9; ++v) {
+        EXPECT_EQ(again->views[v].viewFromWorld, rig->views[v].viewFromWorld) << v;
+        EXPECT_EQ(again->views[v].clipFromView, rig->views[v].clipFromView) << v;
+    }
+    for (float cone : {40.0f, 50.0f}) {
+        s.setViewCone(cone);
+        const std::vector<float> x = eyeOffsets(*s.rig());
+        for (int i = 0; i < 9; ++i) {
+            const double theta = glm::radians(-cone / 2.0 + cone * i / 8.0);
+            EXPECT_NEAR(x[std::size_t(i)], 4.0 * std::tan(theta), 1e-4) << cone << " view " << i;
+        }
+    }
+    s.setViewCone(500.0f);
+    EXPECT_EQ(s.viewConeDegrees, StereoCamera::kMaxViewCone);
+    s.setViewCone(-5.0f);
+    EXPECT_EQ(s.viewConeDegrees, StereoCamera::kMinViewCone);
 }
 
 TEST(StereoCamera, SeparationIsKeptWhenConvergenceAspectOrZoomChange) {
@@ -186,6 +230,18 @@ TEST(Script, ParsesKeysNamesAndMouseSteps) {
     EXPECT_EQ((*steps)[8].action, Action::Quit);
     EXPECT_TRUE(parseScript("")->empty());
     EXPECT_EQ(parseScript("-,[,]")->at(0).action, Action::SeparationDown);
+}
+
+TEST(Script, ViewKeys) {
+    // ',' separates steps, so scripts step back with '<'; the window takes ',' and '.' too.
+    auto steps = parseScript(">,<,.,v");
+    ASSERT_TRUE(steps);
+    ASSERT_EQ(steps->size(), 4u);
+    EXPECT_EQ(steps->at(0).action, Action::NextView);
+    EXPECT_EQ(steps->at(1).action, Action::PrevView);
+    EXPECT_EQ(steps->at(2).action, Action::NextView);
+    EXPECT_EQ(steps->at(3).action, Action::ToggleView);
+    EXPECT_EQ(actionForChar(','), Action::PrevView);
 }
 
 TEST(Script, UnknownTokenIsAUsageError) {

@@ -498,6 +498,17 @@ Result<Prepared> SceneOptions::prepare() const {
             !separationAuto && viewGrid.empty() && rig == "offaxis")
             cone = d->viewConeDegrees;
     }
+    // A calibration's viewCone is the panel's own: it replaces the preset's, and without a
+    // preset it spreads a row of more than two views as a preset's would.
+    if (calibrationViewCone && *calibrationViewCone > 0.0 && !given(viewConeOption) &&
+        !interaxial && !separation && !separationAuto && viewGrid.empty() && rig == "offaxis" &&
+        (out.display || nViews > 2)) {
+        cone = *calibrationViewCone;
+        out.notes.push_back(
+            fmt::format("note: view cone {:g} degrees from the calibration's viewCone (--view-cone "
+                        "overrides it)",
+                        *cone));
+    }
     for (const auto& [name, value] : {std::pair{"--screen-width", screenWidthCm},
                                       std::pair{"--viewing-distance", viewingDistanceCm}}) {
         if (value && (!std::isfinite(*value) || *value <= 0.0 || *value > 1e6)) {

@@ -52,6 +52,10 @@ struct SceneOptions {
     std::optional<double> interaxial;
     std::optional<double> separation;
     std::optional<double> viewCone;  ///< --view-cone DEG
+    /// The view cone of a --lenticular-calibration visual.json ("viewCone"), set by the command
+    /// before prepare(): the default cone where a preset's would apply (a preset given, or an
+    /// off-axis row of more than two views without --interaxial/--separation); --view-cone wins.
+    std::optional<double> calibrationViewCone;
     std::optional<double> convergence;
     double fov = 45.0;
     std::string size = "1024x768";

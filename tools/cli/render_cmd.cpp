@@ -67,7 +67,11 @@ Status checkAgainstReference(const std::string& backendName, const std::string& 
 }
 
 int runRender(const RenderOptions& given) {
-    auto prepared = given.scene.prepare();
+    SceneOptions scene = given.scene;
+    if (given.calibrationOption && given.calibrationOption->count() > 0 &&
+        given.compose.lenticular.viewCone > 0.0)
+        scene.calibrationViewCone = given.compose.lenticular.viewCone;
+    auto prepared = scene.prepare();
     if (!prepared) return fail(prepared.status());
     RenderOptions o = given;  // a display preset adds its outputs
     if (prepared->display) {

@@ -35,6 +35,12 @@ Action actionForChar(char32_t ch) {
         case 'R': return Action::ResetView;
         case 'q':
         case 'Q': return Action::Quit;
+        case '.':
+        case '>': return Action::NextView;
+        case ',':
+        case '<': return Action::PrevView;
+        case 'v':
+        case 'V': return Action::ToggleView;
         default: return Action::None;
     }
 }
@@ -107,7 +113,7 @@ Result<std::vector<ScriptStep>> parseScript(std::string_view script) {
         } else {
             return usageError(fmt::format(
                 "--script: token {} '{}' is not a key or command (expected a key such as m, f, "
-                "+, -, [, ], s, w, p; left, right, up, down, pgup, pgdn, esc, f1, f12; at:X:Y, "
+                "+, -, [, ], <, >, v, s, w, p; left, right, up, down, pgup, pgdn, esc, f1, f12; at:X:Y, "
                 "drag:DX:DY, pan:DX:DY, wheel:N or size:W:H)",
                 index, token));
         }
@@ -122,7 +128,10 @@ const std::vector<KeyHelp>& keyHelp() {
         {"mouse", "left drag: orbit, right (or shift+left) drag: pan, wheel: zoom"},
         {"m / M", "next / previous method (gl methods, then soft)"},
         {"f / F", "next / previous output format"},
-        {"+ / -", "separation up / down (0.25% of screen width)"},
+        {"+ / -", "separation up / down (0.25% of screen width); view cone +/- 5 deg (N views)"},
+        {"> / <",
+         "next / previous view, also . and , (N views: the one shown, or the stereo pair's left)"},
+        {"v", "single view on / off (N views)"},
         {"] / [", "convergence farther / nearer (x1.1)"},
         {"c", "converge at the surface under the cursor"},
         {"s", "swap eyes"},

@@ -2,7 +2,7 @@
 //
 // Keys and --script tokens map to the same actions, so a script replays exactly what a person
 // would type. Script syntax: tokens separated by commas, applied one per frame in order:
-//   a single character     that key ("m", "+", "[", "?"; see keyHelp())
+//   a single character     that key ("m", "+", "[", "?", ">", "<"; see keyHelp())
 //   left right up down     arrow keys (orbit by 10°);  pgup pgdn: zoom;  esc: quit
 //   f1 f12                 help, screenshot
 //   (empty)                a frame with no input (",," or a trailing ",")
@@ -46,6 +46,10 @@ enum class Action {
     ZoomIn,
     ZoomOut,  // PgUp PgDn (also the wheel)
     Quit,     // q, Esc
+    // Rows of N views (appended): step through the views, single view on / off.
+    NextView,    // . >
+    PrevView,    // , <  (',' separates script steps: scripts use '<')
+    ToggleView,  // v
 };
 
 /// The action of a printable key (its character as typed), or Action::None.

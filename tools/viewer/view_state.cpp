@@ -9,8 +9,10 @@
 
 namespace mvr::viewer {
 
-StereoCamera StereoCamera::fromRig(const Rig& rig, float sceneRadius) {
+StereoCamera StereoCamera::fromRig(const Rig& rig, float sceneRadius, float viewConeDegrees) {
     StereoCamera s;
+    s.columns = rig.columns;
+    s.viewConeDegrees = viewConeDegrees;
     s.camera = rig.camera;
     s.kind = rig.kind;
     s.interaxial = rig.interaxial;
@@ -82,10 +84,15 @@ void StereoCamera::zoom(float factor) {
     setSeparation(s);
 }
 
+void StereoCamera::setViewCone(float degrees) {
+    viewConeDegrees = std::clamp(degrees, kMinViewCone, kMaxViewCone);
+}
+
 Result<Rig> StereoCamera::rig() const {
     RigParams params;
     params.kind = kind;
-    params.columns = 2;
+    params.columns = columns;
+    params.viewConeDegrees = viewConeDegrees;
     params.rows = 1;
     params.interaxial = interaxial;
     params.convergence = convergence;

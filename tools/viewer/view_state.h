@@ -32,9 +32,14 @@ struct StereoCamera {
     float interaxial = 0.065f;
     float convergence = 5.0f;
     float sceneRadius = 1.0f;  ///< bounding radius of the scene, for near/far after zoom
+    int columns = 2;           ///< views in the row (2: a stereo pair)
+    /// > 0: a view-cone rig (RigParams::viewConeDegrees): the row spread over this many
+    /// degrees, interaxial ignored by rig(); 0: views spaced by interaxial.
+    float viewConeDegrees = 0.0f;
 
-    /// From a prepared rig (`mvr render`'s) and the scene's bounding radius.
-    static StereoCamera fromRig(const Rig& rig, float sceneRadius);
+    /// From a prepared rig (`mvr render`'s, a single row), the scene's bounding radius and the
+    /// rig's view cone (Prepared::viewConeDegrees; 0: none).
+    static StereoCamera fromRig(const Rig& rig, float sceneRadius, float viewConeDegrees = 0.0f);
 
     float separation() const;              ///< interaxial / screen width at convergence
     void setSeparation(float separation);  ///< clamped to [0, 0.25]
@@ -44,8 +49,12 @@ struct StereoCamera {
     void pan(float dxFraction, float dyFraction);  ///< fractions of the view height at target
     void zoom(float factor);  ///< distance ×= factor (> 1 moves away), clamped ≥ radius/100
     float distance() const { return glm::length(camera.position - camera.target); }
+    /// Sets the view cone, clamped to [kMinViewCone, kMaxViewCone] degrees (view-cone rigs).
+    void setViewCone(float degrees);
+    static constexpr float kMinViewCone = 1.0f, kMaxViewCone = 170.0f;
 
-    /// The two-view rig (columns 2, rows 1) of the current state. Errors: makeRig()'s.
+    /// The rig of the current state: `columns` views in one row (the view cone's spread when
+    /// viewConeDegrees > 0). Errors: makeRig()'s.
     Result<Rig> rig() const;
 };
 

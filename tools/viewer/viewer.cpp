@@ -21,6 +21,7 @@
 #include "mvr/backends.h"
 #include "mvr/composite/anaglyph.h"
 #include "mvr/composite/compose.h"
+#include "mvr/composite/lenticular.h"
 #include "overlay.h"
 #include "presenter.h"
 #include "render_worker.h"
@@ -48,11 +49,20 @@ const std::vector<std::string>& viewerFormats() {
     return kFormats;
 }
 
+const std::vector<std::string>& viewerViewFormats() {
+    static const std::vector<std::string> kFormats = {"view", "quilt", "lenticular"};
+    return kFormats;
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr std::string_view kQuadBuffer = "quad-buffer";
 constexpr std::string_view kQuadBufferFallback = "anaglyph-dubois";
+constexpr std::string_view kSingleView = "view";
+
+/// Formats that show all N views (the rest show one view or a stereo pair).
+bool allViews(std::string_view format) { return format == "quilt" || format == "lenticular"; }
 
 double msSince(Clock::time_point t) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
@@ -65,19 +75,6 @@ double msSince(Clock::time_point t) {
 composite::FormatSize sizeRule(const std::string& format) {
     Result<composite::FormatInfo> info = composite::findFormat(format);
     return info ? info->size : composite::FormatSize{};
-}
-
-/// The size of one view for a window framebuffer of `fb` pixels showing `format`: the largest
-/// whose composite fits (sbs: half the width; sbs-half: the width rounded down to even; …).
-glm::ivec2 viewSizeFor(const std::string& format, glm::ivec2 fb) {
-    Result<composite::Size> v = composite::largestViewSize(format, 2, fb.x, fb.y);
-    return glm::max(v ? glm::ivec2(v->width, v->height) : fb, glm::ivec2(2));
-}
-
-/// The size of the composed frame of `format` for views of `view` pixels.
-glm::ivec2 frameSizeFor(const std::string& format, glm::ivec2 view) {
-    Result<composite::Size> f = composite::outputSize(format, 2, view.x, view.y);
-    return f ? glm::ivec2(f->width, f->height) : view;
 }
 
 /// A position in the composed frame → the position in one view that it shows (the mouse's
@@ -111,10 +108,12 @@ public:
           mPrepared(std::move(prepared)),
           mScript(std::move(script)),
           mSettings(mPrepared.settings),
-          mStereo(StereoCamera::fromRig(mPrepared.rig, mPrepared.scene.bounds().radius())),
+          mStereo(StereoCamera::fromRig(mPrepared.rig, mPrepared.scene.bounds().radius(),
+                                        mPrepared.viewConeDegrees)),
           mInitialStereo(mStereo),
           mSwapEyes(options.swapEyes),
-          mShowHud(!options.noHud) {}
+          mShowHud(!options.noHud),
+          mCompose(options.composeOptions) {}
 
     int run();
 
@@ -138,7 +137,16 @@ private:
     void say(std::string message);
     void drag(glm::vec2 delta, bool panning);
 
-    std::string formatName() const { return viewerFormats()[mFormatIndex]; }
+    std::string formatName() const { return mFormats[mFormatIndex]; }
+    int viewCount() const { return mStereo.columns; }
+    /// The views the stereo formats show: the current view and the next (0 and 1 for a pair).
+    std::pair<int, int> pairViews() const {
+        const int a = std::clamp(mViewIndex, 0, std::max(0, viewCount() - 2));
+        return {a, std::min(a + 1, viewCount() - 1)};
+    }
+    glm::ivec2 viewSizeFor(const std::string& format, glm::ivec2 fb) const;
+    glm::ivec2 frameSizeFor(const std::string& format, glm::ivec2 view) const;
+    void stepView(int direction);
     bool quadBuffer() const { return formatName() == kQuadBuffer; }
     const MethodRef& method() const { return mBackends.methods()[mMethodIndex]; }
     void drawOverlays(std::vector<Image>& views);
@@ -153,6 +161,9 @@ private:
     ViewerBackends mBackends;  // touched on mWorker only
     std::size_t mMethodIndex = 0;
     std::size_t mFormatIndex = 0;
+    std::vector<std::string> mFormats;  ///< what f cycles (viewerFormats(), viewerViewFormats())
+    std::size_t mFormatBeforeView = 0;  ///< v returns to it
+    int mViewIndex = 0;                 ///< the view shown ("view"), the pair's left (stereo)
 
     RenderSettings mSettings;
     StereoCamera mStereo;
@@ -160,6 +171,7 @@ private:
     bool mSwapEyes = false;
     bool mShowHud = true;
     bool mShowHelp = false;
+    composite::ComposeOptions mCompose;  ///< quilt grid and aspect, lenticular calibration
 
     GLFWwindow* mWindow = nullptr;
     bool mStereoWindow = false;
@@ -214,6 +226,20 @@ Status Viewer::openWindow(glm::ivec2 size) {
         glfwWindowHint(GLFW_DEPTH_BITS, 0);
         glfwWindowHint(GLFW_STEREO, stereo ? GLFW_TRUE : GLFW_FALSE);
     };
+    // A frame larger than the desktop (a 3360x3360 quilt) opens scaled down to fit it, keeping
+    // its aspect: the views then follow the window, as after a resize.
+    int ax = 0, ay = 0, aw = 0, ah = 0;
+    if (GLFWmonitor* monitor = glfwGetPrimaryMonitor())
+        glfwGetMonitorWorkarea(monitor, &ax, &ay, &aw, &ah);
+    if (aw > 0 && ah > 0 && (size.x > aw || size.y > ah)) {
+        const float s = std::min(float(aw) / float(size.x), float(ah) / float(size.y));
+        const glm::ivec2 fitted = glm::max(glm::ivec2(glm::vec2(size) * s), glm::ivec2(2));
+        if (!mOptions.quiet) {
+            fmt::print("mvr view: a {}x{} frame is larger than the desktop ({}x{}): window {}x{}\n",
+                       size.x, size.y, aw, ah, fitted.x, fitted.y);
+        }
+        size = fitted;
+    }
     const std::string title = fmt::format("mvr view — {}", mPrepared.sceneName);
     // Quad-buffer stereo needs a stereo visual, which only some drivers give (NVIDIA Quadro,
     // AMD FirePro with stereo enabled): ask for one first, fall back to a mono window.
@@ -346,8 +372,35 @@ void Viewer::cycleMethod(int direction) {
     say(fmt::format("method {}: no other method is supported here", method().label()));
 }
 
+glm::ivec2 Viewer::viewSizeFor(const std::string& format, glm::ivec2 fb) const {
+    if (format.empty() || format == kSingleView) return glm::max(fb, glm::ivec2(2));
+    // The lenticular image is the panel's (or the views' own size): the views keep their size.
+    if (format == "lenticular") return {mSettings.width, mSettings.height};
+    Result<composite::Size> v = composite::largestViewSize(
+        format, allViews(format) ? viewCount() : 2, fb.x, fb.y, mCompose);
+    return glm::max(v ? glm::ivec2(v->width, v->height) : fb, glm::ivec2(2));
+}
+
+glm::ivec2 Viewer::frameSizeFor(const std::string& format, glm::ivec2 view) const {
+    if (format.empty() || format == kSingleView) return view;
+    Result<composite::Size> f =
+        composite::outputSize(format, allViews(format) ? viewCount() : 2, view.x, view.y, mCompose);
+    return f ? glm::ivec2(f->width, f->height) : view;
+}
+
+void Viewer::stepView(int direction) {
+    const int n = viewCount();
+    mViewIndex = ((mViewIndex + direction) % n + n) % n;
+    if (formatName() == kSingleView || allViews(formatName())) {
+        say(fmt::format("view {} of {} (0 = leftmost)", mViewIndex, n));
+    } else {
+        const auto [a, b] = pairViews();
+        say(fmt::format("views {} and {} of {} (the stereo pair)", a, b, n));
+    }
+}
+
 void Viewer::cycleFormat(int direction) {
-    const std::size_t n = viewerFormats().size();
+    const std::size_t n = mFormats.size();
     mFormatIndex = (mFormatIndex + n + std::size_t(direction + int(n))) % n;
     if (quadBuffer() && !mStereoWindow) {
         say("quad-buffer: the driver gives no stereo visual (GLFW_STEREO); skipped");
@@ -365,6 +418,13 @@ void Viewer::apply(Action action) {
         case Action::PrevFormat: cycleFormat(-1); return;
         case Action::SeparationUp:
         case Action::SeparationDown: {
+            if (mStereo.viewConeDegrees > 0.0f) {  // a view-cone rig: + / - change the cone
+                mStereo.setViewCone(mStereo.viewConeDegrees +
+                                    (action == Action::SeparationUp ? 5.0f : -5.0f));
+                mNeedRender = true;
+                say(fmt::format("view cone {:g} degrees", mStereo.viewConeDegrees));
+                return;
+            }
             const float step = action == Action::SeparationUp ? 0.0025f : -0.0025f;
             mStereo.setSeparation(mStereo.separation() + step);
             mNeedRender = true;
@@ -426,6 +486,19 @@ void Viewer::apply(Action action) {
         case Action::ZoomIn: mStereo.zoom(1.0f / 1.15f); break;
         case Action::ZoomOut: mStereo.zoom(1.15f); break;
         case Action::Quit: mQuit = true; return;
+        case Action::NextView: stepView(+1); return;
+        case Action::PrevView: stepView(-1); return;
+        case Action::ToggleView: {
+            if (formatName() == kSingleView) {
+                mFormatIndex = mFormatBeforeView;
+            } else {
+                mFormatBeforeView = mFormatIndex;
+                mFormatIndex = std::size_t(
+                    std::find(mFormats.begin(), mFormats.end(), kSingleView) - mFormats.begin());
+            }
+            say(fmt::format("output {}", formatName()));
+            return;
+        }
     }
     mNeedRender = true;  // orbit / zoom
 }
@@ -461,9 +534,9 @@ Status Viewer::renderFrame() {
     });
     mRenderMs = msSince(start);
     if (!out) return out.status();
-    if (out->color.size() != 2) {
-        return internalError(
-            fmt::format("{} returned {} images for 2 views", ref.label(), out->color.size()));
+    if (out->color.size() != std::size_t(rig->viewCount())) {
+        return internalError(fmt::format("{} returned {} images for {} views", ref.label(),
+                                         out->color.size(), rig->viewCount()));
     }
     mOutput = std::move(out).value();
     mRig = std::move(rig).value();
@@ -488,6 +561,19 @@ std::vector<std::string> Viewer::hudLines() const {
                                 100.0 * mStereo.separation(), mStereo.convergence,
                                 mStereo.interaxial, shadingName(mSettings.shading),
                                 mSettings.wireframe ? " wireframe" : ""));
+    if (viewCount() > 2 || formatName() == kSingleView || allViews(formatName())) {
+        const std::string cone = mStereo.viewConeDegrees > 0.0f
+                                     ? fmt::format("view cone {:g} deg", mStereo.viewConeDegrees)
+                                     : std::string("no view cone (interaxial spacing)");
+        const auto [a, b] = pairViews();
+        const std::string shown =
+            formatName() == kSingleView ? fmt::format("view {} of {}", mViewIndex, viewCount())
+            : allViews(formatName())
+                ? fmt::format("all {} views (current {})", viewCount(), mViewIndex)
+                : fmt::format("views {},{} of {}", a, b, viewCount());
+        lines.push_back(
+            fmt::format("{}  {}  {}x{} per view", shown, cone, mSettings.width, mSettings.height));
+    }
     if (mParallax) {
         lines.push_back(fmt::format("parallax {:+.2f}% .. {:+.2f}% of screen width: {}",
                                     100.0 * mParallax->minParallax, 100.0 * mParallax->maxParallax,
@@ -543,7 +629,7 @@ void Viewer::drawOverlays(std::vector<Image>& views) {
     // The 3D cursor: each eye gets it where its 3D point projects in that eye.
     if (mCursorShown) {
         const int arm = std::max(8, std::min(width, height) / 40);
-        for (int v = 0; v < 2; ++v) {
+        for (int v = 0; v < 2 && v < int(views.size()); ++v) {
             drawCrosshair(views[std::size_t(v)], mCursor.viewPx[v], arm, text);
         }
     }
@@ -552,7 +638,8 @@ void Viewer::drawOverlays(std::vector<Image>& views) {
 Status Viewer::composeAndPresent() {
     const std::string format = quadBuffer() ? std::string(kQuadBufferFallback) : formatName();
     const glm::ivec2 view(mSettings.width, mSettings.height);
-    // The mouse, in one view's pixels ("on the screen"), for the 3D cursor.
+    const bool stereo = format != kSingleView && !allViews(format);
+    // The mouse, in one view's pixels ("on the screen"), for the 3D cursor (a stereo pair's).
     mCursorShown = false;
     int ww = 1, wh = 1;
     glfwGetWindowSize(mWindow, &ww, &wh);
@@ -562,7 +649,7 @@ Status Viewer::composeAndPresent() {
         glfwGetCursorPos(mWindow, &mMouse.x, &mMouse.y);
         mMouseInside = mMouse.x >= 0 && mMouse.y >= 0 && mMouse.x < ww && mMouse.y < wh;
     }
-    if (mShowHud && mMouseInside && mRig) {
+    if (mShowHud && mMouseInside && mRig && stereo && viewCount() == 2) {
         const glm::vec2 fbPx =
             glm::vec2(mMouse) * glm::vec2(mFb) / glm::vec2(std::max(ww, 1), std::max(wh, 1));
         const glm::ivec2 frame = quadBuffer() ? view : frameSizeFor(format, view);
@@ -576,22 +663,50 @@ Status Viewer::composeAndPresent() {
         }
     }
     const auto start = Clock::now();
-    std::vector<Image> views = mOutput.color;
-    if (mShowHud) drawOverlays(views);
-
     glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
     mGpuAnaglyph.reset();
-    const std::optional<composite::AnaglyphMethod> anaglyph = composite::anaglyphMethod(format);
-    if (quadBuffer() || (anaglyph && mOptions.compose == "gpu" && !mGpuAnaglyphFailed)) {
-        mPresenter->upload(0, views[mSwapEyes ? 1 : 0]);
-        mPresenter->upload(1, views[mSwapEyes ? 0 : 1]);
-        if (!quadBuffer()) mGpuAnaglyph = anaglyph;
-    } else {
-        composite::ComposeOptions options;
+    if (format == kSingleView) {
+        // One view, 1:1; the HUD drawn into it.
+        std::vector<Image> one = {mOutput.color[std::size_t(mViewIndex)]};
+        if (mShowHud) drawOverlays(one);
+        mPresenter->upload(0, one[0]);
+    } else if (allViews(format)) {
+        composite::ComposeOptions options = mCompose;
         options.swapEyes = mSwapEyes;
-        auto frame = composite::compose(format, views, options);
+        Result<Image> frame = Image();
+        if (format == "lenticular" && mShowHud) {
+            // Into every view at the same pixels: zero parallax, on the panel's surface.
+            std::vector<Image> views = mOutput.color;
+            drawOverlays(views);
+            frame = composite::compose(format, views, options);
+        } else {
+            frame = composite::compose(format, mOutput.color, options);
+        }
         if (!frame) return frame.status();
-        mPresenter->upload(0, *frame);
+        if (format == "quilt" && mShowHud) {
+            // The quilt is a flat picture of all the views: the HUD goes on top of it.
+            std::vector<Image> whole = {std::move(frame).value()};
+            drawOverlays(whole);
+            mPresenter->upload(0, whole[0]);
+        } else {
+            mPresenter->upload(0, *frame);
+        }
+    } else {
+        const auto [a, b] = pairViews();
+        std::vector<Image> views = {mOutput.color[std::size_t(a)], mOutput.color[std::size_t(b)]};
+        if (mShowHud) drawOverlays(views);
+        const std::optional<composite::AnaglyphMethod> anaglyph = composite::anaglyphMethod(format);
+        if (quadBuffer() || (anaglyph && mOptions.compose == "gpu" && !mGpuAnaglyphFailed)) {
+            mPresenter->upload(0, views[mSwapEyes ? 1 : 0]);
+            mPresenter->upload(1, views[mSwapEyes ? 0 : 1]);
+            if (!quadBuffer()) mGpuAnaglyph = anaglyph;
+        } else {
+            composite::ComposeOptions options;
+            options.swapEyes = mSwapEyes;
+            auto frame = composite::compose(format, views, options);
+            if (!frame) return frame.status();
+            mPresenter->upload(0, *frame);
+        }
     }
     mComposeMs = msSince(start);  // HUD + cursor + format + upload
     present();
@@ -659,10 +774,31 @@ int Viewer::run() {
         return cli::fail(initial.status());
     }
     mMethodIndex = *initial;
-    const auto formats = viewerFormats();
-    mFormatIndex =
-        std::size_t(std::find(formats.begin(), formats.end(), mOptions.format) - formats.begin());
+    // What f cycles: the N-view outputs first for a row of views, after the stereo formats for
+    // a pair; lenticular with a calibration (or when asked for).
+    std::vector<std::string> nView;
+    for (const std::string& f : viewerViewFormats()) {
+        if (f != "lenticular" || mOptions.calibrationGiven || mOptions.format == f)
+            nView.push_back(f);
+    }
+    mFormats = viewCount() > 2 ? nView : viewerFormats();
+    mFormats.insert(mFormats.end(), viewCount() > 2 ? viewerFormats().begin() : nView.begin(),
+                    viewCount() > 2 ? viewerFormats().end() : nView.end());
+    const auto& formats = mFormats;
+    std::string start = mOptions.format;
+    if (!mOptions.formatGiven && mPrepared.display) {
+        // The preset's output: its quilt, or the lenticular image with a calibration.
+        const std::string preset(mPrepared.display->format);
+        start = preset == "quilt" && mOptions.calibrationGiven ? "lenticular" : preset;
+        if (std::find(formats.begin(), formats.end(), start) == formats.end()) {
+            fmt::print(stderr, "mvr view: --display {}: {} is not shown in a window; showing {}\n",
+                       mPrepared.display->name, start, mOptions.format);
+            start = mOptions.format;
+        }
+    }
+    mFormatIndex = std::size_t(std::find(formats.begin(), formats.end(), start) - formats.begin());
     if (mFormatIndex >= formats.size()) mFormatIndex = 0;
+    mFormatBeforeView = mFormatIndex;
 
     const glm::ivec2 viewSize(mSettings.width, mSettings.height);
     const glm::ivec2 windowSize = frameSizeFor(quadBuffer() ? "" : formatName(), viewSize);
@@ -683,9 +819,11 @@ int Viewer::run() {
                    mOptions.frames, mScript.size());
     }
     if (!mOptions.quiet) {
+        glm::ivec2 opened = windowSize;  // scaled down when larger than the desktop
+        glfwGetWindowSize(mWindow, &opened.x, &opened.y);
         fmt::print("mvr view: {} ({} triangles), {}, {}, window {}x{}{}\n", mPrepared.sceneName,
-                   mPrepared.scene.triangleCount(), method().label(), formatName(), windowSize.x,
-                   windowSize.y, mStereoWindow ? ", stereo visual (quad-buffer available)" : "");
+                   mPrepared.scene.triangleCount(), method().label(), formatName(), opened.x,
+                   opened.y, mStereoWindow ? ", stereo visual (quad-buffer available)" : "");
         std::fflush(stdout);
     }
 
@@ -757,7 +895,11 @@ int Viewer::run() {
 
 }  // namespace
 
-int runViewer(const ViewerOptions& options) {
+int runViewer(const ViewerOptions& given) {
+    ViewerOptions options = given;
+    if (options.calibrationGiven && options.composeOptions.lenticular.viewCone > 0.0) {
+        options.scene.calibrationViewCone = options.composeOptions.lenticular.viewCone;
+    }
     auto script = parseScript(options.script);
     if (!script) return cli::fail(script.status());
     if (options.frames < 0) {
@@ -766,12 +908,26 @@ int runViewer(const ViewerOptions& options) {
     }
     auto prepared = options.scene.prepare();
     if (!prepared) return cli::fail(prepared.status());
-    if (prepared->rig.viewCount() != 2) {
-        return cli::fail(usageError(
-            fmt::format("mvr view shows a stereo pair: {} views requested (expected --views 2)",
-                        prepared->rig.viewCount())));
+    for (const std::string& note : prepared->notes) {  // -q keeps the warnings only
+        if (!options.quiet || note.rfind("note: ", 0) != 0) fmt::print(stderr, "{}\n", note);
     }
-    Viewer viewer(options, std::move(prepared).value(), std::move(script).value());
+    if (prepared->rig.rows != 1 || prepared->rig.viewCount() < 2) {
+        return cli::fail(usageError(fmt::format(
+            "mvr view shows a row of views: {}x{} views requested (expected --views N, N >= 2)",
+            prepared->rig.columns, prepared->rig.rows)));
+    }
+    ViewerOptions withPreset = options;
+    if (prepared->display) {  // the preset's quilt grid and aspect, the panel of a calibration
+        std::vector<std::string> formats;
+        cli::displayOutputs(
+            *prepared->display, options.calibrationGiven,
+            options.quiltGiven || prepared->rig.viewCount() != prepared->display->views,
+            prepared->rig.camera.aspect, formats, withPreset.composeOptions);
+    }
+    if (withPreset.composeOptions.quiltAspect <= 0.0) {
+        withPreset.composeOptions.quiltAspect = prepared->rig.camera.aspect;
+    }
+    Viewer viewer(withPreset, std::move(prepared).value(), std::move(script).value());
     return viewer.run();
 }
 
@@ -804,9 +960,42 @@ std::function<int()> addViewCommand(CLI::App& root) {
                                 interactive.empty()
                                     ? std::string()
                                     : fmt::format(", except {}", fmt::join(interactive, ", "))));
-    app->add_option("--format", o->format, "Output format; f/F cycle them")
-        ->default_val(o->format)
-        ->check(CLI::IsMember(viewerFormats()));
+    std::vector<std::string> allFormats = viewerFormats();
+    allFormats.insert(allFormats.end(), viewerViewFormats().begin(), viewerViewFormats().end());
+    auto* format =
+        app->add_option("--format", o->format,
+                        "Output: a stereo format (of views i, i+1 of a row), or view (one view), "
+                        "quilt, lenticular (all N views); default: the --display preset's "
+                        "output, else anaglyph-dubois; f/F cycle them")
+            ->default_val(o->format)
+            ->check(CLI::IsMember(allFormats));
+    auto* quilt = app->add_option_function<std::string>(
+                         "--quilt",
+                         [o](const std::string& text) {
+                             Result<std::pair<int, int>> grid = composite::parseQuiltGrid(text);
+                             if (!grid)
+                                 throw CLI::ValidationError("--quilt", grid.status().message());
+                             o->composeOptions.quiltColumns = grid->first;
+                             o->composeOptions.quiltRows = grid->second;
+                         },
+                         "quilt: tile grid CxR (default: the --display preset's, else the most "
+                         "square quilt)")
+                      ->type_name("CxR");
+    auto* calibration =
+        app->add_option_function<std::string>(
+               "--lenticular-calibration",
+               [o](const std::string& path) {
+                   Result<composite::LenticularCalibration> loaded =
+                       composite::readLookingGlassCalibration(path);
+                   if (!loaded) {
+                       throw CLI::ValidationError("--lenticular-calibration",
+                                                  loaded.status().message());
+                   }
+                   o->composeOptions.lenticular = *loaded;
+               },
+               "lenticular: a Looking Glass visual.json: adds the lenticular output (the "
+               "default under --display) and its viewCone is the default --view-cone")
+            ->type_name("FILE");
     app->add_flag("--swap-eyes", o->swapEyes, "Exchange the left and right views");
     app->add_option("--compose", o->compose,
                     "Where anaglyphs are mixed: gpu (composite::anaglyphGlsl in the window) or cpu "
@@ -820,7 +1009,7 @@ std::function<int()> addViewCommand(CLI::App& root) {
         "Write the last frame (what the window shows) to FILE (PNG); p saves FILE-1.png, …");
     app->add_option(
         "--script", o->script,
-        "Comma-separated keys applied one per frame, e.g. \"m,m,+\"; also left, right, up, "
+        "Comma-separated keys applied one per frame, e.g. \"m,m,+\" or \">,>,v\"; also left, right, up, "
         "down, pgup, pgdn, esc, f1, f12, at:X:Y (mouse), drag:DX:DY, pan:DX:DY, wheel:N, size:W:H");
     app->add_flag("--no-hud", o->noHud, "Hide the HUD and the 3D cursor");
     app->add_flag("-q,--quiet", o->quiet, "Print nothing but errors");
@@ -828,10 +1017,18 @@ std::function<int()> addViewCommand(CLI::App& root) {
     for (const KeyHelp& k : keyHelp()) keys += fmt::format("  {:<12} {}\n", k.keys, k.what);
     keys +=
         "The view size follows the window (--size sets the first one); side-by-side shows two "
-        "half-width views, top-bottom two half-height views.";
+        "half-width views, top-bottom two half-height views.\n"
+        "N views (--views N, --view-cone DEG, --display NAME): f cycles view (one view at a "
+        "time), quilt, lenticular (with --lenticular-calibration), then the stereo formats "
+        "(views i and i+1); . and , (> and <) step through the views; + and - change the view "
+        "cone by 5 degrees; v toggles the single view. Under --display the preset's output "
+        "is shown first.";
     app->footer(keys);
-    return [o, backend] {
+    return [o, backend, format, quilt, calibration] {
         o->backendGiven = backend->count() > 0;
+        o->formatGiven = format->count() > 0;
+        o->quiltGiven = quilt->count() > 0;
+        o->calibrationGiven = calibration->count() > 0;
         return runViewer(*o);
     };
 }

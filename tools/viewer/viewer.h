@@ -1,6 +1,8 @@
 // tools/viewer/viewer.h — `mvr view`: the interactive stereo viewer (library mvr_viewer).
 //
-// A GLFW window (OpenGL 3.3 core, GLX under X11) shows a stereo pair of the scene:
+// A GLFW window (OpenGL 3.3 core, GLX under X11) shows a stereo pair of the scene, or a row of
+// N views (--views N, --view-cone, --display NAME) one at a time, as their quilt or as the
+// lenticular image of a calibration (README.md, "N views"):
 //  1. the pair is rendered through the mvr::Backend interface — every method of every backend of
 //     the registry (mvr::backends(); the gl backend in its own EGL context, all of them on a
 //     worker thread, see render_worker.h; which backend and method first: viewer_backends.h);
@@ -26,6 +28,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "mvr/composite/compose.h"
 #include "options.h"
 
 namespace mvr::viewer {
@@ -36,6 +39,11 @@ struct ViewerOptions {
     std::string method;         ///< empty: the backend's start method (viewer_backends.h)
     bool backendGiven = false;  ///< --backend was on the command line (no fallback)
     std::string format = "anaglyph-dubois";
+    bool formatGiven = false;  ///< --format was on the command line (else a preset's output)
+    /// --quilt CxR and --lenticular-calibration visual.json (a preset fills in the rest:
+    /// cli::displayOutputs()).
+    composite::ComposeOptions composeOptions;
+    bool quiltGiven = false, calibrationGiven = false;
     bool swapEyes = false;
     std::string compose = "gpu";  ///< anaglyphs mixed on the GPU ("gpu") or the CPU ("cpu")
     int frames = 0;               ///< > 0: render this many frames, then exit
@@ -45,9 +53,14 @@ struct ViewerOptions {
     bool quiet = false;
 };
 
-/// The output formats `f` cycles through, in order: the seven anaglyphs, sbs, sbs-half, tb,
-/// tb-half, rows, columns, checkerboard, quad-buffer.
+/// The stereo output formats: the seven anaglyphs, sbs, sbs-half, tb, tb-half, rows, columns,
+/// checkerboard, quad-buffer. With a row of N > 2 views they show views i and i + 1.
 const std::vector<std::string>& viewerFormats();
+/// The N-view outputs: "view" (one view at a time, stepped by . and ,), "quilt" (all N views,
+/// the preset's or --quilt's grid, view 0 bottom left) and "lenticular" (the panel's interleave
+/// of a --lenticular-calibration). `f` cycles these first for N > 2 views, then the stereo
+/// formats; after them for a stereo pair. "lenticular" only with a calibration (or when asked).
+const std::vector<std::string>& viewerViewFormats();
 
 /// Adds the `view` subcommand to `root`; returns the function that runs it after parsing.
 std::function<int()> addViewCommand(CLI::App& root);

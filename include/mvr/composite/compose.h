@@ -60,6 +60,9 @@ struct LenticularCalibration {
     bool invertViews = false;  ///< view order runs the other way under the lens (LG "invView")
     bool flipX = false;        ///< panel mirrored horizontally (LG "flipImageX")
     bool flipY = false;        ///< panel mirrored vertically (LG "flipImageY")
+    /// The panel's total view cone in degrees (LG "viewCone"; 0 = not given). Not used by the
+    /// interleave: `mvr render` / `mvr view` take it as the default --view-cone.
+    double viewCone = 0.0;
 };
 
 /// Options of every format; each format reads only the ones it documents.

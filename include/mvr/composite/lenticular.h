@@ -63,8 +63,9 @@ Result<Image> lenticular(std::span<const Image> views, const LenticularCalibrati
 
 /// Reads a Looking Glass calibration (the display's visual.json, as HoloPlay Service or the
 /// Looking Glass Bridge exports it): {"pitch": {"value": …}, "slope": …, "center": …, "DPI": …,
-/// "screenW": …, "screenH": …, "invView": …, "flipImageX": …, "flipImageY": …, "flipSubp": …}.
-/// pitch, slope, center and DPI are required; the rest default to LenticularCalibration's
+/// "screenW": …, "screenH": …, "invView": …, "flipImageX": …, "flipImageY": …, "flipSubp": …,
+/// "viewCone": …}. pitch, slope, center and DPI are required (viewCone, when present, must lie
+/// in (0, 180) degrees; 0 counts as absent); the rest default to LenticularCalibration's
 /// values (screen size 0 = the view size). A key may hold {"value": x} or x directly.
 /// `what` names the source in messages. Errors: ErrorCode::Input naming the key.
 Result<LenticularCalibration> parseLookingGlassCalibration(std::string_view json,
