@@ -785,18 +785,18 @@ int Viewer::run() {
     mFormats.insert(mFormats.end(), viewCount() > 2 ? viewerFormats().begin() : nView.begin(),
                     viewCount() > 2 ? viewerFormats().end() : nView.end());
     const auto& formats = mFormats;
-    std::string start = mOptions.format;
+    std::string first = mOptions.format;
     if (!mOptions.formatGiven && mPrepared.display) {
         // The preset's output: its quilt, or the lenticular image with a calibration.
         const std::string preset(mPrepared.display->format);
-        start = preset == "quilt" && mOptions.calibrationGiven ? "lenticular" : preset;
-        if (std::find(formats.begin(), formats.end(), start) == formats.end()) {
+        first = preset == "quilt" && mOptions.calibrationGiven ? "lenticular" : preset;
+        if (std::find(formats.begin(), formats.end(), first) == formats.end()) {
             fmt::print(stderr, "mvr view: --display {}: {} is not shown in a window; showing {}\n",
-                       mPrepared.display->name, start, mOptions.format);
-            start = mOptions.format;
+                       mPrepared.display->name, first, mOptions.format);
+            first = mOptions.format;
         }
     }
-    mFormatIndex = std::size_t(std::find(formats.begin(), formats.end(), start) - formats.begin());
+    mFormatIndex = std::size_t(std::find(formats.begin(), formats.end(), first) - formats.begin());
     if (mFormatIndex >= formats.size()) mFormatIndex = 0;
     mFormatBeforeView = mFormatIndex;
 
