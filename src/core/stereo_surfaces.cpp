@@ -3,8 +3,9 @@
 
 #include <algorithm>
 #include <charconv>
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 
 #include <fmt/core.h>
@@ -101,19 +102,35 @@ std::optional<float> parseFloat(std::string_view s) {
 Result<Sky> loadSky(const std::string& spec) {
     Sky sky;
     if (spec == "gradient") return sky;
+    std::error_code ec;
+    if (!std::filesystem::exists(spec, ec))
+        return inputError(
+            fmt::format("--sky '{}': file not found (a PNG/JPEG map, or 'gradient')", spec));
+    if (!std::filesystem::is_regular_file(spec, ec))
+        return inputError(fmt::format("--sky '{}': not a regular file", spec));
+    const std::uintmax_t fileBytes = std::filesystem::file_size(spec, ec);
+    if (ec || fileBytes > (std::uintmax_t(256) << 20))
+        return inputError(fmt::format("--sky '{}': unreadable or larger than 256 MiB", spec));
+    std::vector<stbi_uc> bytes(fileBytes);
+    std::ifstream in(spec, std::ios::binary);
+    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(fileBytes));
+    if (!in) return inputError(fmt::format("--sky '{}': cannot be read", spec));
     int w = 0, h = 0, n = 0;
-    stbi_uc* data = stbi_load(spec.c_str(), &w, &h, &n, 4);
-    if (!data) {
-        std::error_code ec;
-        if (!std::filesystem::exists(spec, ec))
-            return inputError(
-                fmt::format("--sky '{}': file not found (a PNG/JPEG map, or 'gradient')", spec));
+    if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &n))
         return inputError(fmt::format("--sky '{}': not a PNG or JPEG image ({})", spec,
                                       stbi_failure_reason() ? stbi_failure_reason() : "?"));
-    }
-    sky.image = Image(w, h);
-    std::copy(data, data + std::size_t(w) * h * 4, sky.image.rgba.begin());
-    stbi_image_free(data);
+    // A header that claims more pixels than the file can hold is refused before stb_image
+    // allocates them (the bounds of readPng() and composite::decodeJpeg()): deflate expands at
+    // most ~1032:1 and a PNG row holds at least a filter byte and 1 bit per pixel; a Huffman
+    // JPEG codes every 8x8 block with at least one bit (stb_image reads no arithmetic coding).
+    const bool png = bytes.size() >= 8 && bytes[0] == 0x89 && bytes[1] == 'P';
+    const double size = double(bytes.size());
+    const double claim = png ? double(h) * (1.0 + std::ceil(double(w) / 8.0)) : double(w) * h;
+    if (claim > size * (png ? 1032.0 : 1024.0) + (png ? 65536.0 : 1048576.0))
+        return inputError(fmt::format(
+            "--sky '{}': header claims {}x{} pixels but the file's {} bytes cannot hold them "
+            "(truncated or corrupt?)",
+            spec, w, h, bytes.size()));
     if (w == 2 * h) {
         sky.kind = Sky::Kind::Equirect;
     } else if (w * 3 == h * 4 && w % 4 == 0) {
@@ -124,6 +141,19 @@ Result<Sky> loadSky(const std::string& spec) {
             "horizontal cube cross (4:3)",
             spec, w, h));
     }
+    const int headerW = w, headerH = h;
+    stbi_uc* data = stbi_load_from_memory(bytes.data(), int(bytes.size()), &w, &h, &n, 4);
+    if (!data) {
+        return inputError(fmt::format("--sky '{}': not a PNG or JPEG image ({})", spec,
+                                      stbi_failure_reason() ? stbi_failure_reason() : "?"));
+    }
+    if (w != headerW || h != headerH) {  // the size checked above is the size decoded
+        stbi_image_free(data);
+        return inputError(fmt::format("--sky '{}': corrupt image", spec));
+    }
+    sky.image = Image(w, h);
+    std::copy(data, data + std::size_t(w) * h * 4, sky.image.rgba.begin());
+    stbi_image_free(data);
     return sky;
 }
 

@@ -4,6 +4,7 @@
 #include "mvr/core/stereo_surfaces.h"
 
 #include <cmath>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -130,6 +131,32 @@ TEST(Sky, CubeCrossFacesAndFiles) {
     ASSERT_FALSE(missing);
     EXPECT_EQ(missing.status().code(), ErrorCode::Input);
     EXPECT_NE(missing.status().message().find("none.png"), std::string::npos);
+}
+
+// A sky file whose header claims more pixels than its bytes can hold is refused before
+// stb_image allocates them (a 57-byte PNG claiming 16000x8000 would cost 0.5 GB twice: stb's
+// own cap is 1 GB), naming the file; a directory is not "not found".
+TEST(Sky, HeaderClaimingMoreThanTheFileHoldsIsRefusedBeforeDecoding) {
+    test::TempDir dir;
+    // Signature, IHDR 16000x8000 RGBA8 (stb_image checks no CRC), an empty IDAT, IEND.
+    std::string png = "\x89PNG\r\n\x1a\n";
+    png += std::string("\0\0\0\x0dIHDR", 8);
+    png += std::string("\0\0\x3e\x80\0\0\x1f\x40\x08\x06\0\0\0", 13);
+    png += std::string("\0\0\0\0", 4);  // CRC
+    png += std::string("\0\0\0\0IDAT\0\0\0\0\0\0\0\0IEND\0\0\0\0", 24);
+    const auto path = dir.write("huge.png", png);
+    auto sky = loadSky(path.string());
+    ASSERT_FALSE(sky);
+    EXPECT_EQ(sky.status().code(), ErrorCode::Input);
+    EXPECT_NE(sky.status().message().find("--sky '" + path.string() +
+                                          "': header claims 16000x8000 pixels but the file's " +
+                                          std::to_string(png.size()) + " bytes cannot hold them"),
+              std::string::npos)
+        << sky.status().message();
+    auto folder = loadSky(dir.path().string());
+    ASSERT_FALSE(folder);
+    EXPECT_NE(folder.status().message().find("not a regular file"), std::string::npos)
+        << folder.status().message();
 }
 
 TEST(StereoSurfaces, DepthlessOutputIsRefusedNamingTheMethod) {
