@@ -4,8 +4,6 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 
 #include <fmt/core.h>
@@ -20,13 +18,7 @@
 #pragma GCC diagnostic ignored "-Wunused-but-set-variable"
 #pragma GCC diagnostic ignored "-Wdouble-promotion"
 #pragma GCC diagnostic ignored "-Wimplicit-fallthrough"
-// Static: another library of the build may compile stb_image too.
-#define STB_IMAGE_STATIC
-#define STB_IMAGE_IMPLEMENTATION
-#define STBI_ONLY_PNG
-#define STBI_ONLY_JPEG
 #include <stb_easy_font.h>
-#include <stb_image.h>
 #pragma GCC diagnostic pop
 
 namespace mvr {
@@ -97,65 +89,7 @@ std::optional<float> parseFloat(std::string_view s) {
 
 }  // namespace
 
-// ---- sky ---------------------------------------------------------------------------------------
-
-Result<Sky> loadSky(const std::string& spec) {
-    Sky sky;
-    if (spec == "gradient") return sky;
-    std::error_code ec;
-    if (!std::filesystem::exists(spec, ec))
-        return inputError(
-            fmt::format("--sky '{}': file not found (a PNG/JPEG map, or 'gradient')", spec));
-    if (!std::filesystem::is_regular_file(spec, ec))
-        return inputError(fmt::format("--sky '{}': not a regular file", spec));
-    const std::uintmax_t fileBytes = std::filesystem::file_size(spec, ec);
-    if (ec || fileBytes > (std::uintmax_t(256) << 20))
-        return inputError(fmt::format("--sky '{}': unreadable or larger than 256 MiB", spec));
-    std::vector<stbi_uc> bytes(fileBytes);
-    std::ifstream in(spec, std::ios::binary);
-    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(fileBytes));
-    if (!in) return inputError(fmt::format("--sky '{}': cannot be read", spec));
-    int w = 0, h = 0, n = 0;
-    if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &w, &h, &n))
-        return inputError(fmt::format("--sky '{}': not a PNG or JPEG image ({})", spec,
-                                      stbi_failure_reason() ? stbi_failure_reason() : "?"));
-    // A header that claims more pixels than the file can hold is refused before stb_image
-    // allocates them (the bounds of readPng() and composite::decodeJpeg()): deflate expands at
-    // most ~1032:1 and a PNG row holds at least a filter byte and 1 bit per pixel; a Huffman
-    // JPEG codes every 8x8 block with at least one bit (stb_image reads no arithmetic coding).
-    const bool png = bytes.size() >= 8 && bytes[0] == 0x89 && bytes[1] == 'P';
-    const double size = double(bytes.size());
-    const double claim = png ? double(h) * (1.0 + std::ceil(double(w) / 8.0)) : double(w) * h;
-    if (claim > size * (png ? 1032.0 : 1024.0) + (png ? 65536.0 : 1048576.0))
-        return inputError(fmt::format(
-            "--sky '{}': header claims {}x{} pixels but the file's {} bytes cannot hold them "
-            "(truncated or corrupt?)",
-            spec, w, h, bytes.size()));
-    if (w == 2 * h) {
-        sky.kind = Sky::Kind::Equirect;
-    } else if (w * 3 == h * 4 && w % 4 == 0) {
-        sky.kind = Sky::Kind::CubeCross;
-    } else {
-        return usageError(fmt::format(
-            "--sky '{}': {}x{} is neither an equirectangular map (width = 2 x height) nor a "
-            "horizontal cube cross (4:3)",
-            spec, w, h));
-    }
-    const int headerW = w, headerH = h;
-    stbi_uc* data = stbi_load_from_memory(bytes.data(), int(bytes.size()), &w, &h, &n, 4);
-    if (!data) {
-        return inputError(fmt::format("--sky '{}': not a PNG or JPEG image ({})", spec,
-                                      stbi_failure_reason() ? stbi_failure_reason() : "?"));
-    }
-    if (w != headerW || h != headerH) {  // the size checked above is the size decoded
-        stbi_image_free(data);
-        return inputError(fmt::format("--sky '{}': corrupt image", spec));
-    }
-    sky.image = Image(w, h);
-    std::copy(data, data + std::size_t(w) * h * 4, sky.image.rgba.begin());
-    stbi_image_free(data);
-    return sky;
-}
+// ---- sky (loadSky(): scene_io.cpp) ------------------------------------------------------------
 
 glm::vec3 skyColor(const Sky& sky, glm::vec3 dir) {
     const glm::vec3 d = glm::normalize(dir);

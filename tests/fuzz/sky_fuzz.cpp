@@ -1,13 +1,13 @@
-// tests/fuzz/sky_fuzz.cpp — mvr::loadSky() (`mvr render --sky FILE`: stb_image's PNG and JPEG
-// decoders, not the libpng / libjpeg of the other readers) on one file, then skyColor() in
-// the six axis directions and a diagonal. A sky that comes back must be as large as it says,
+// tests/fuzz/sky_fuzz.cpp — mvr::loadSky() (`mvr render --sky FILE`, scene_io.h: mvr's PNG and
+// JPEG decoders; until this target found an out-of-bounds write in it, stb_image) on one
+// file, then skyColor() in the six axis directions and a diagonal. A sky that comes back must be as large as it says,
 // of the aspect its kind needs, and give finite colors.
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 
 #include "fuzz_util.h"
-#include "mvr/core/stereo_surfaces.h"
+#include "mvr/core/scene_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const auto path = mvr::fuzz::writeScratch("sky", data, size);
