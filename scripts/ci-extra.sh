@@ -14,7 +14,7 @@
 #     images). The others (core, composite, adelson, bench harness, fuzz seeds, install) do not
 #     link mvr_raster: their scalar build would be the Release build again.
 #  3. fuzz (build-fuzz): clang + libFuzzer at -O1 -g1, only the fuzz targets (`mvr_fuzzers`:
-#     core, scene_io, composite), every reader's target over its seeds once, then each for
+#     core, scene_io, composite, mvr_camera_path), every reader's target over its seeds once, then each for
 #     FUZZ_SECONDS (default 30) under ASan + UBSan, two at a time (scripts/fuzz.sh).
 # Usage: scripts/ci-extra.sh [asan|scalar|fuzz ...] (default: all three). Compiler launchers
 # (ccache) are whatever the environment's CMAKE_<LANG>_COMPILER_LAUNCHER says; CI has none.
