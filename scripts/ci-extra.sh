@@ -1,11 +1,23 @@
 #!/usr/bin/env bash
-# CI beyond scripts/test.sh (the Release build and its tests), each part timed:
-#  1. build-asan: gcc with -DMVR_SANITIZE=address,undefined, the unit and CLI tests
-#     (`ctest -L 'unit|cli'`), any UBSan report fatal;
-#  2. build-scalar: -DMVR_SIMD=scalar (the soft backend without SIMD paths), the unit tests;
-#  3. build-fuzz: clang + libFuzzer, every reader's fuzz target for a bounded time under
-#     ASan + UBSan (scripts/fuzz.sh; FUZZ_SECONDS per target, default 45, two at a time).
-# Usage: scripts/ci-extra.sh [asan|scalar|fuzz ...] (default: all three).
+# CI beyond scripts/test.sh (the Release build and its tests), each part timed; .ci/run runs it
+# after scripts/test.sh. Each part builds only what its tests need:
+#  1. asan (build-asan): gcc with -DMVR_SANITIZE=address,undefined at -O1 -g1 (line tables
+#     for the reports' stacks; -O2 and full debug info cost build time and catch nothing more),
+#     every library, `mvr` and the test programs of the unit and CLI tests
+#     (`ctest -L 'unit|cli'`, fuzz seeds and regression inputs included). Not built: the GL
+#     tests, the viewer, the micro benchmarks and the Python module (no unit or CLI test runs
+#     them; the Release build does). Any UBSan report is fatal.
+#  2. scalar (build-scalar): Release with -DMVR_SIMD=scalar. MVR_SIMD changes only mvr_raster
+#     (the soft backend's kernels), so only the unit tests that render through it are built and
+#     run: raster (SIMD == scalar, unified == multipass), shadows, backends (framing),
+#     conformance (every soft method against multipass) and golden (the exact reference
+#     images). The others (core, composite, adelson, bench harness, fuzz seeds, install) do not
+#     link mvr_raster: their scalar build would be the Release build again.
+#  3. fuzz (build-fuzz): clang + libFuzzer at -O1 -g1, only the fuzz targets (`mvr_fuzzers`:
+#     core, scene_io, composite, mvr_camera_path), every reader's target over its seeds once, then each for
+#     FUZZ_SECONDS (default 30) under ASan + UBSan, two at a time (scripts/fuzz.sh).
+# Usage: scripts/ci-extra.sh [asan|scalar|fuzz ...] (default: all three). Compiler launchers
+# (ccache) are whatever the environment's CMAKE_<LANG>_COMPILER_LAUNCHER says; CI has none.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -14,11 +26,12 @@ jobs=$(nproc)
 parts=("$@")
 ((${#parts[@]})) || parts=(asan scalar fuzz)
 summary=()
+total=$SECONDS
 
 timed() {  # timed NAME COMMAND...: runs it, records its wall time
     local name=$1 start=$SECONDS
     shift
-    echo "ci-extra: == $name"
+    echo "ci-extra: == $name ($(uptime | sed 's/.*load/load/'))"
     "$@"
     summary+=("$name: $((SECONDS - start)) s")
     echo "ci-extra: $name took $((SECONDS - start)) s"
@@ -29,19 +42,25 @@ configure() {  # configure DIR CMAKE_ARGS...
     shift
     cmake -S . -B "$dir" -DMVR_SHARED_DIR="$MVR_SHARED_DIR" "$@" >/dev/null
 }
+export -f configure
+export jobs
+
+# -O1 -g1: the sanitizer builds' flags (RelWithDebInfo's slot, NDEBUG kept as in Release).
+quick=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
+       "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG")
 
 for part in "${parts[@]}"; do
     case $part in
     asan)
-        timed "asan build" bash -c "$(declare -f configure); configure build-asan \
-            -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMVR_SANITIZE=address,undefined && \
-            cmake --build build-asan -j$jobs"
+        timed "asan build" bash -c 'configure build-asan "$@" && cmake --build build-asan -j$jobs' \
+            _ "${quick[@]}" -DMVR_SANITIZE=address,undefined -DMVR_BUILD_GL_TESTS=OFF \
+            -DMVR_BUILD_VIEWER=OFF -DMVR_BUILD_BENCH=OFF -DMVR_BUILD_PYTHON=OFF
         # LeakSanitizer: leaks allocated inside Debian's libraries are suppressed by
         # tests/fuzz/lsan.supp (assimp's error paths). The processes that load Mesa's llvmpipe
-        # (GL, viewer and GL-rendering CLI tests) are rerun with detect_leaks=0 instead of
-        # getting suppressions: there LSan reports no leak that a suppression could name, it
-        # dies at exit while llvmpipe's threads still run, so no suppression file helps. The
-        # rerun keeps ASan and UBSan on and names each test that needed it in the log.
+        # (GL-rendering CLI tests) are rerun with detect_leaks=0 instead of getting
+        # suppressions: there LSan reports no leak that a suppression could name, it dies at
+        # exit while llvmpipe's threads still run, so no suppression file helps. The rerun
+        # keeps ASan and UBSan on and names each test that needed it in the log.
         timed "asan tests" bash -c "cd build-asan && export \
             LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp \
             UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 && \
@@ -55,19 +74,23 @@ for part in "${parts[@]}"; do
             fi && tail -3 asan-tests.log"
         ;;
     scalar)
-        timed "scalar build" bash -c "$(declare -f configure); configure build-scalar \
-            -DCMAKE_BUILD_TYPE=Release -DMVR_SIMD=scalar -DMVR_BUILD_VIEWER=OFF && \
-            cmake --build build-scalar -j$jobs"
+        timed "scalar build" bash -c 'configure build-scalar "$@" && cmake --build build-scalar \
+            -j$jobs --target mvr_raster_tests mvr_shadows_tests mvr_backends_tests \
+            mvr_conformance_tests mvr_golden_tests' _ -DCMAKE_BUILD_TYPE=Release \
+            -DMVR_SIMD=scalar -DMVR_BUILD_GL_TESTS=OFF -DMVR_BUILD_VIEWER=OFF \
+            -DMVR_BUILD_BENCH=OFF -DMVR_BUILD_PYTHON=OFF
+        # -L unit minus the folders' programs not built here: their placeholder tests
+        # (NAME_NOT_BUILT) carry no label; fuzz and install are add_test()s of their own.
         timed "scalar tests" bash -c "cd build-scalar && \
-            ctest --output-on-failure --timeout 900 -j$jobs -L unit"
+            ctest --output-on-failure --timeout 900 -j$jobs -L unit -LE 'fuzz|install'"
         ;;
     fuzz)
-        timed "fuzz build" bash -c "$(declare -f configure); configure build-fuzz \
-            -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
-            -DCMAKE_CXX_COMPILER=clang++ -DMVR_BUILD_FUZZERS=ON && \
-            cmake --build build-fuzz -j$jobs --target mvr_fuzzers"
-        timed "fuzz corpora" bash -c "cd build-fuzz && ctest --output-on-failure -L fuzz"
-        timed "fuzz run" scripts/fuzz.sh build-fuzz "${FUZZ_SECONDS:-45}"
+        timed "fuzz build" bash -c 'configure build-fuzz "$@" && \
+            cmake --build build-fuzz -j$jobs --target mvr_fuzzers' _ "${quick[@]}" \
+            -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DMVR_BUILD_FUZZERS=ON \
+            -DMVR_BUILD_VIEWER=OFF -DMVR_BUILD_BENCH=OFF -DMVR_BUILD_PYTHON=OFF
+        timed "fuzz seeds" bash -c "cd build-fuzz && ctest --output-on-failure -j$jobs -L fuzz"
+        timed "fuzz run" scripts/fuzz.sh build-fuzz "${FUZZ_SECONDS:-30}"
         ;;
     *)
         echo "ci-extra: unknown part '$part' (asan, scalar, fuzz)" >&2
@@ -75,5 +98,5 @@ for part in "${parts[@]}"; do
         ;;
     esac
 done
-echo "ci-extra: all passed"
+echo "ci-extra: all passed in $((SECONDS - total)) s"
 printf 'ci-extra:   %s\n' "${summary[@]}"

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs every libFuzzer target of a fuzz build (MVR_BUILD_FUZZERS, see tests/fuzz/) for a bounded
 # time under ASan + UBSan, two at a time. Usage: scripts/fuzz.sh [BUILD_DIR] [SECONDS] [TARGET...]
-# (defaults: build-fuzz, 45 s each, every mvr_fuzz_* program). Each target starts from its
+# (defaults: build-fuzz, 30 s each, every mvr_fuzz_* program). Each target starts from its
 # committed seeds (tests/fuzz/corpus/<name>, copied to a scratch corpus so the tree is left as
 # it is) and its dictionary (tests/fuzz/dict/<name>.dict) if there is one.
 # A crash, a sanitizer report, a leak, an input slower than 10 s or one needing more than 2 GiB
@@ -10,7 +10,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build-fuzz}
-seconds=${2:-45}
+seconds=${2:-30}
 shift $(($# > 2 ? 2 : $#))
 targets=("$@")
 if ((${#targets[@]} == 0)); then

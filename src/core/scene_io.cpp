@@ -607,4 +607,40 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
     return std::move(scene);
 }
 
+// ---- sky maps (--sky FILE) ----------------------------------------------------------------------
+
+Result<Sky> loadSky(const std::string& spec) {
+    Sky sky;
+    if (spec == "gradient") return sky;
+    // mvr's PNG and JPEG decoders, not stb_image: stb_image 2.27 (Debian 12) writes past a
+    // Huffman table for a JPEG whose DHT counts exceed 256 (found by tests/fuzz/sky, input in
+    // tests/fuzz/regressions/sky/), and its authors do not mean it for untrusted files.
+    const std::string what = fmt::format("--sky '{}'", spec);
+    std::error_code ec;
+    if (!std::filesystem::exists(spec, ec))
+        return inputError(fmt::format("{}: file not found (a PNG/JPEG map, or 'gradient')", what));
+    if (!std::filesystem::is_regular_file(spec, ec))
+        return inputError(fmt::format("{}: not a regular file", what));
+    std::uint8_t head[8] = {};
+    std::ifstream(spec, std::ios::binary).read(reinterpret_cast<char*>(head), sizeof head);
+    static const std::uint8_t kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    if (!std::equal(head, head + 8, kPng) && !isJpegBytes(head))
+        return inputError(fmt::format("{}: not a PNG or JPEG image", what));
+    auto image = readImageFile(spec, what);
+    if (!image) return image.status();
+    const int w = image->width, h = image->height;
+    if (w == 2 * h) {
+        sky.kind = Sky::Kind::Equirect;
+    } else if (w * 3 == h * 4 && w % 4 == 0) {
+        sky.kind = Sky::Kind::CubeCross;
+    } else {
+        return usageError(fmt::format(
+            "{}: {}x{} is neither an equirectangular map (width = 2 x height) nor a horizontal "
+            "cube cross (4:3)",
+            what, w, h));
+    }
+    sky.image = std::move(image).value();
+    return sky;
+}
+
 }  // namespace mvr

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <charconv>
-#include <filesystem>
 #include <cmath>
 #include <limits>
 
@@ -19,13 +18,7 @@
 #pragma GCC diagnostic ignored "-Wunused-but-set-variable"
 #pragma GCC diagnostic ignored "-Wdouble-promotion"
 #pragma GCC diagnostic ignored "-Wimplicit-fallthrough"
-// Static: another library of the build may compile stb_image too.
-#define STB_IMAGE_STATIC
-#define STB_IMAGE_IMPLEMENTATION
-#define STBI_ONLY_PNG
-#define STBI_ONLY_JPEG
 #include <stb_easy_font.h>
-#include <stb_image.h>
 #pragma GCC diagnostic pop
 
 namespace mvr {
@@ -96,36 +89,7 @@ std::optional<float> parseFloat(std::string_view s) {
 
 }  // namespace
 
-// ---- sky ---------------------------------------------------------------------------------------
-
-Result<Sky> loadSky(const std::string& spec) {
-    Sky sky;
-    if (spec == "gradient") return sky;
-    int w = 0, h = 0, n = 0;
-    stbi_uc* data = stbi_load(spec.c_str(), &w, &h, &n, 4);
-    if (!data) {
-        std::error_code ec;
-        if (!std::filesystem::exists(spec, ec))
-            return inputError(
-                fmt::format("--sky '{}': file not found (a PNG/JPEG map, or 'gradient')", spec));
-        return inputError(fmt::format("--sky '{}': not a PNG or JPEG image ({})", spec,
-                                      stbi_failure_reason() ? stbi_failure_reason() : "?"));
-    }
-    sky.image = Image(w, h);
-    std::copy(data, data + std::size_t(w) * h * 4, sky.image.rgba.begin());
-    stbi_image_free(data);
-    if (w == 2 * h) {
-        sky.kind = Sky::Kind::Equirect;
-    } else if (w * 3 == h * 4 && w % 4 == 0) {
-        sky.kind = Sky::Kind::CubeCross;
-    } else {
-        return usageError(fmt::format(
-            "--sky '{}': {}x{} is neither an equirectangular map (width = 2 x height) nor a "
-            "horizontal cube cross (4:3)",
-            spec, w, h));
-    }
-    return sky;
-}
+// ---- sky (loadSky(): scene_io.cpp) ------------------------------------------------------------
 
 glm::vec3 skyColor(const Sky& sky, glm::vec3 dir) {
     const glm::vec3 d = glm::normalize(dir);

@@ -276,11 +276,75 @@ TEST_F(Cli, EveryRefusalNamesItsCulprit) {
                                                         "int vertex_indices\nend_header\n0 0 0\n"
                                                         "1 0 0\n0 1 0\n4 0 1 2 -5\n")
                                      .string();
+    // The options added since the table was made: stereo displays, shadows, surfaces,
+    // placements and sequences.
+    const std::string oddSky = mDir.string() + "/odd.png";
+    ASSERT_TRUE(writePng(oddSky, Image(6, 5)));
+    const std::string textSky = write("sky.png", "not an image\n").string();
+    const std::string notJson = write("path.json", "{\"keys\": [").string();
+    const std::string badKey =
+        write("key.json",
+              R"({"keys": [{"time": 0, "position": [0, 0, 6], "target": [0, 0, 0]},)"
+              R"( {"time": 1, "position": [0, 6], "target": [0, 0, 0]}]})")
+            .string();
+    const std::string backwards =
+        write("back.json",
+              R"([{"time": 1, "position": [0, 0, 6], "target": [0, 0, 0]},)"
+              R"( {"time": 0.5, "position": [0, 0, 5], "target": [0, 0, 0]}])")
+            .string();
     const struct {
         std::string args;
         int code;
         std::string message;
     } kCases[] = {
+        {"--view-cone 200", 1, "--view-cone 200 is out of range (expected 0 < cone < 180 degrees)"},
+        {"--view-cone 40 --view-grid 3x2", 1,
+         "--view-cone 40 needs an off-axis row of views (--views N, --rig offaxis)"},
+        {"--display nosuch", 1, "--display nosuch: unknown display 'nosuch' (expected one of: "},
+        {"--screen-width -3", 1,
+         "--screen-width -3 is out of range (expected a length in cm, 0 < cm <= 1e6)"},
+        {"--screen-width 30 --viewing-distance 0", 1, "--viewing-distance 0 is out of range"},
+        {"--viewing-distance 50", 1, "--viewing-distance 50 needs --screen-width"},
+        {"--convergence aut", 1, "--convergence: 'aut' is not a number (expected a number or auto)"},
+        {"--separation auto", 1, "--separation auto needs --screen-width CM"},
+        {"--shadow-map-size 8", 1, "--shadow-map-size 8 is out of range (expected 16..8192)"},
+        {"--shadow-map-size abc", 1, "--shadow-map-size = abc"},
+        {"--sky nosuch.png", 2,
+         "--sky 'nosuch.png': file not found (a PNG/JPEG map, or 'gradient')"},
+        {"--sky '" + textSky + "'", 2, "--sky '" + textSky + "': not a PNG or JPEG image"},
+        {"--sky '" + mDir.string() + "'", 2, "--sky '" + mDir.string() + "': not a regular file"},
+        {"--sky '" + oddSky + "'", 1,
+         "--sky '" + oddSky + "': 6x5 is neither an equirectangular map"},
+        {"--letterbox 60", 1, "--letterbox 60: must be in (0, 50) percent of the height"},
+        {"--label bad", 1, "--label 'bad': expected TEXT@x,y[,distance]"},
+        {"--label 'X@a,b'", 1, "--label 'X@a,b': expected TEXT@x,y[,distance] (numbers)"},
+        {"--label-anchor 'A@1,2'", 1, "--label-anchor 'A@1,2': expected TEXT@X,Y,Z"},
+        {"m.obj@1,2", 1, "model 'm.obj@1,2': placement '1,2' has 2 numbers (expected FILE@X,Y,Z"},
+        {"m.obj@1,a,3", 1, "model 'm.obj@1,a,3': placement '1,a,3' is not a list of numbers"},
+        {"--camera-path nosuch.json", 2, "--camera-path nosuch.json: file not found"},
+        {"--camera-path '" + mDir.string() + "'", 2,
+         "--camera-path " + mDir.string() + ": not a regular file"},
+        {"--camera-path '" + notJson + "'", 2, "--camera-path " + notJson + ": not JSON"},
+        {"--camera-path '" + badKey + "'", 2,
+         "--camera-path " + badKey + ": key 1 position: expected [x, y, z]"},
+        {"--camera-path '" + backwards + "'", 2,
+         "--camera-path " + backwards + ": camera path: key 1: time 0.5 does not follow key 0's 1"},
+        {"--frames -3", 1, "--frames -3 is out of range (expected 1..1000000)"},
+        {"--frames 2000000", 1, "--frames 2000000 is out of range (expected 1..1000000"},
+        {"--orbit 90", 1, "--orbit needs --frames"},
+        {"--frames 3 --orbit nan", 1, "--orbit nan is not a finite angle"},
+        {"--frames 3 --fps 0", 1, "--fps 0 is out of range (expected 0 < fps <= 1000)"},
+        {"--frames 3 --frame-range 5:2", 1,
+         "--frame-range '5:2' is out of range (expected 0 <= A < B <= 3 frames)"},
+        {"--frames 3 --frame-range 99999999999999999999:", 1,
+         "--frame-range '99999999999999999999:' is out of range"},
+        {"--frames 3 --frame-range abc", 1, "--frame-range 'abc' is not of the form A:B"},
+        {"--frames 3 --shard 4/2", 1, "--shard '4/2' is out of range (expected 0 <= I < N)"},
+        {"--frames 3 --shard x", 1, "--shard 'x' is not of the form I/N"},
+        {"--frame-range 0:1", 1, "--frame-range 0:1 needs a sequence (--frames F, --orbit DEG"},
+        {"--shard 0/2", 1, "--shard 0/2 needs a sequence"},
+        {"--video out.mkv", 1, "--video out.mkv needs a sequence"},
+        {"--frames 3 --video out.avi", 1, "--video out.avi: expected a .mkv or .mp4 file"},
         {"--interaxial 1e30", 1, "--interaxial 1e+30: view 0 has a non-finite matrix or shear"},
         {"--separation 1e30", 1, "--separation 1e+30: view 0 has a non-finite matrix"},
         {"--interaxial -1", 1, "--interaxial -1 is out of range"},
@@ -314,6 +378,9 @@ TEST_F(Cli, EveryRefusalNamesItsCulprit) {
          "5 views of 16384x16384 need 10.0 GiB of color and depth images (limit 8 GiB)"},
     };
     for (const auto& c : kCases) expectError("render -o out " + c.args, c.code, c.message);
+    // Refused before anything is written: no frame folder, no video.
+    EXPECT_FALSE(std::filesystem::exists(mDir / "out" / "frame-0000"));
+    EXPECT_FALSE(std::filesystem::exists(mDir / "out.mkv"));
 }
 
 // The memory budget is checked up front, before any backend allocates, with one message for

@@ -283,7 +283,7 @@ TEST_F(Displays, TheScreenReportMeasuresInCentimetres) {
     EXPECT_NEAR(jsonNumber(bad, "budget_cm"), 3.25, 1e-4) << bad;
     EXPECT_NE(bad.find("\"comfortable\": false"), std::string::npos) << bad;
 
-    expectError("render --viewing-distance 60", 1, "--viewing-distance needs --screen-width");
+    expectError("render --viewing-distance 60", 1, "--viewing-distance 60 needs --screen-width");
     expectError("render --screen-width -3", 1, "--screen-width -3 is out of range");
 }
 

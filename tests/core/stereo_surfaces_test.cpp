@@ -4,9 +4,12 @@
 #include "mvr/core/stereo_surfaces.h"
 
 #include <cmath>
+#include <cstdint>
+#include <string>
 
 #include <gtest/gtest.h>
 
+#include "mvr/core/scene_io.h"
 #include "test_files.h"
 
 namespace mvr {
@@ -130,6 +133,59 @@ TEST(Sky, CubeCrossFacesAndFiles) {
     ASSERT_FALSE(missing);
     EXPECT_EQ(missing.status().code(), ErrorCode::Input);
     EXPECT_NE(missing.status().message().find("none.png"), std::string::npos);
+}
+
+std::uint32_t crc32(const std::string& bytes) {  // PNG's CRC (ISO 3309), bit by bit
+    std::uint32_t c = 0xFFFFFFFFu;
+    for (unsigned char b : bytes) {
+        c ^= b;
+        for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+    }
+    return c ^ 0xFFFFFFFFu;
+}
+
+std::string pngChunk(const std::string& type, const std::string& data) {
+    auto be32 = [](std::uint32_t v) {
+        return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+    };
+    return be32(std::uint32_t(data.size())) + type + data + be32(crc32(type + data));
+}
+
+// A sky file whose header claims more pixels than its bytes can hold is refused before
+// decoding (a 57-byte PNG claiming 16000x8000 RGBA), naming the file; a folder is not "not
+// found"; a text file is not an image. And the JPEG that made stb_image 2.27 write past its
+// Huffman table (tests/fuzz/regressions/sky/) is refused with the decoder's reason.
+TEST(Sky, BadFilesAreRefusedNamingTheFile) {
+    test::TempDir dir;
+    const std::string png = "\x89PNG\r\n\x1a\n" +
+                            pngChunk("IHDR", std::string("\0\0\x3e\x80\0\0\x1f\x40\x08\x06\0\0\0", 13)) +
+                            pngChunk("IDAT", "") + pngChunk("IEND", "");
+    const auto path = dir.write("huge.png", png);
+    auto sky = loadSky(path.string());
+    ASSERT_FALSE(sky);
+    EXPECT_EQ(sky.status().code(), ErrorCode::Input);
+    EXPECT_NE(sky.status().message().find("--sky '" + path.string() +
+                                          "': PNG header claims 16000x8000 pixels but its " +
+                                          std::to_string(png.size()) + " bytes cannot hold them"),
+              std::string::npos)
+        << sky.status().message();
+    auto folder = loadSky(dir.path().string());
+    ASSERT_FALSE(folder);
+    EXPECT_NE(folder.status().message().find("not a regular file"), std::string::npos)
+        << folder.status().message();
+    const auto text = dir.write("sky.png", "not an image");
+    auto notImage = loadSky(text.string());
+    ASSERT_FALSE(notImage);
+    EXPECT_EQ(notImage.status().message(),
+              "--sky '" + text.string() + "': not a PNG or JPEG image");
+    const std::filesystem::path stbCrash = std::filesystem::path(MVR_TEST_SOURCE_ROOT) /
+                                           "tests/fuzz/regressions/sky/stb-dht-counts-over-256.jpg";
+    ASSERT_TRUE(std::filesystem::exists(stbCrash)) << stbCrash;
+    auto bad = loadSky(stbCrash.string());
+    ASSERT_FALSE(bad);
+    EXPECT_EQ(bad.status().code(), ErrorCode::Input);
+    EXPECT_EQ(bad.status().message().rfind("--sky '" + stbCrash.string() + "': ", 0), 0u)
+        << bad.status().message();
 }
 
 TEST(StereoSurfaces, DepthlessOutputIsRefusedNamingTheMethod) {

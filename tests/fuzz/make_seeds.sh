@@ -6,7 +6,9 @@ set -euo pipefail
 mvr=$(realpath "$1")
 shared=$(realpath "${2:-$(dirname "$0")/../../../shared}")
 cd "$(dirname "$0")"
-rm -rf corpus && mkdir -p corpus/{obj,mtl,ply,gltf,glb,png,jpeg,mpo,jps,visual_json}
+# Only the folders made here: scene_gltf, scene_glb and mtl_reader seeds were written by hand.
+rm -rf corpus/{obj,mtl,ply,gltf,glb,png,jpeg,mpo,jps,visual_json,sky,camera_path}
+mkdir -p corpus/{obj,mtl,ply,gltf,glb,png,jpeg,mpo,jps,visual_json}
 
 python3 - "$shared/models" <<'EOF'
 import base64, json, struct, sys, zlib, os
@@ -156,4 +158,27 @@ cp "$tmp/three/mpo.mpo" corpus/mpo/three-16x12.mpo
 cp "$tmp/v.jpg" corpus/mpo/plain.jpg
 cp "$tmp/two/view-1.png" corpus/png/mvr-view-16x12.png
 cp "$tmp/two/view-1.png" corpus/jps/a-png.png
+
+# --sky maps (stb_image): 2:1 equirectangular and 4:3 cube-cross PNGs and JPEGs (4:2:0, 4:4:4).
+mkdir -p corpus/sky corpus/camera_path
+sky() { ffmpeg -v error -f lavfi -i "gradients=s=$1:seed=$2" -frames:v 1 "${@:4}" -y "corpus/sky/$3"; }
+sky 16x8 1 equirect-16x8.png
+sky 16x12 2 cross-16x12.png -pix_fmt rgb24
+sky 32x16 3 equirect-32x16.jpg -q:v 8
+sky 16x12 4 cross-gray-16x12.png -pix_fmt gray
+sky 16x12 5 cross-444-16x12.jpg -pix_fmt yuvj444p -q:v 10
+# --camera-path keyframe files (docs/animation.md): the docs' example, a bare array, fov at
+# every key, and times out of order (refused).
+cat >corpus/camera_path/doc-example.json <<'JSON'
+{"keys": [
+  {"time": 0, "position": [0, 0, 6], "target": [0, 0, 0], "fov": 40},
+  {"time": 2, "position": [4, 1, 4], "target": [0, 0.5, 0]}
+]}
+JSON
+printf '[{"time": 0.5, "position": [1e-3, -2, 3.5e1], "target": [0, 0, 0]}]\n' \
+    >corpus/camera_path/bare-array-one-key.json
+printf '{"keys": [{"time": -1, "position": [0, 0, 6], "target": [0, 0, 0], "fov": 10},\n {"time": 0, "position": [6, 0, 0], "target": [0, 1, 0], "fov": 90},\n {"time": 0.25, "position": [0, 6, 0.1], "target": [0, 0, 0], "fov": 179.5},\n {"time": 10, "position": [-6, 0, 0], "target": [1, 1, 1]}], "comment": "\\u00e9 \\"quoted\\""}\n' \
+    >corpus/camera_path/four-keys.json
+printf '{"keys": [{"time": 1, "position": [0, 0, 6], "target": [0, 0, 0]}, {"time": 0.5, "position": [0, 0, 6], "target": [0, 0, 0]}]}\n' \
+    >corpus/camera_path/times-out-of-order.json
 du -sh corpus/*

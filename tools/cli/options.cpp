@@ -517,7 +517,9 @@ Result<Prepared> SceneOptions::prepare() const {
         }
     }
     if (viewingDistanceCm && !screenWidthCm) {
-        return usageError("--viewing-distance needs --screen-width (the screen's width in cm)");
+        return usageError(fmt::format(
+            "--viewing-distance {} needs --screen-width (the screen's width in cm)",
+            *viewingDistanceCm));
     }
     if (screenWidthCm) {
         ScreenGeometry screen;

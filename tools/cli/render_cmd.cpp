@@ -96,6 +96,8 @@ int runRender(const RenderOptions& given) {
     auto surfaces = o.surfaces.build();
     if (!surfaces) return fail(surfaces.status());
 
+    if (Status s = checkSequenceOptions(o.sequence); !s) return fail(s);
+
     std::error_code ec;
     std::filesystem::create_directories(o.outDir, ec);
     if (ec || !std::filesystem::is_directory(o.outDir)) {

@@ -16,8 +16,8 @@
 #include <thread>
 
 #include <fmt/core.h>
-#include <nlohmann/json.hpp>
 
+#include "camera_path.h"
 #include "distribute.h"
 #include "video.h"
 
@@ -64,8 +64,13 @@ Result<std::pair<int, int>> parseRange(const std::string& text, int frames) {
     if (!std::regex_match(text, m, kRange)) {
         return usageError(fmt::format("--frame-range '{}' is not of the form A:B", text));
     }
-    const long a = m[1].length() ? std::stol(m[1].str()) : 0;
-    const long b = m[2].length() ? std::stol(m[2].str()) : frames;
+    // More than 9 digits is past any frame count (and past what std::stol may hold).
+    auto number = [](const std::string& digits, long none) {
+        if (digits.empty()) return none;
+        return digits.size() > 9 ? 1000000000L : std::stol(digits);
+    };
+    const long a = number(m[1].str(), 0);
+    const long b = number(m[2].str(), frames);
     if (a >= b || b > frames) {
         return usageError(fmt::format(
             "--frame-range '{}' is out of range (expected 0 <= A < B <= {} frames)", text, frames));
@@ -85,55 +90,6 @@ Result<std::pair<int, int>> parseShard(const std::string& text) {
         return usageError(fmt::format("--shard '{}' is out of range (expected 0 <= I < N)", text));
     }
     return std::pair{i, n};
-}
-
-Result<glm::vec3> vec3Of(const nlohmann::json& j, const std::string& where) {
-    if (!j.is_array() || j.size() != 3) return usageError(where + ": expected [x, y, z]");
-    glm::vec3 v;
-    for (int i = 0; i < 3; ++i) {
-        if (!j[i].is_number()) return usageError(where + ": expected [x, y, z] numbers");
-        v[i] = j[i].get<float>();
-    }
-    return v;
-}
-
-/// The keyframe file of docs/animation.md.
-Result<CameraPath> readCameraPath(const std::string& file) {
-    std::ifstream in(file);
-    if (!in) return inputError(fmt::format("--camera-path {}: cannot read the file", file));
-    const nlohmann::json doc = nlohmann::json::parse(in, nullptr, false);
-    if (doc.is_discarded()) return inputError(fmt::format("--camera-path {}: not JSON", file));
-    const nlohmann::json& keys = doc.is_object() && doc.contains("keys") ? doc["keys"] : doc;
-    if (!keys.is_array() || keys.empty()) {
-        return inputError(
-            fmt::format("--camera-path {}: expected a non-empty \"keys\" array", file));
-    }
-    CameraPath path;
-    for (std::size_t i = 0; i < keys.size(); ++i) {
-        const nlohmann::json& k = keys[i];
-        const std::string where = fmt::format("--camera-path {}: key {}", file, i);
-        if (!k.is_object() || !k.contains("time") || !k["time"].is_number() ||
-            !k.contains("position") || !k.contains("target")) {
-            return inputError(where + ": needs \"time\", \"position\" and \"target\"");
-        }
-        CameraKey key;
-        key.time = k["time"].get<double>();
-        auto pos = vec3Of(k["position"], where + " position");
-        if (!pos) return inputError(pos.status().message());
-        auto tgt = vec3Of(k["target"], where + " target");
-        if (!tgt) return inputError(tgt.status().message());
-        key.position = *pos;
-        key.target = *tgt;
-        if (k.contains("fov")) {
-            if (!k["fov"].is_number()) return inputError(where + ": \"fov\" is not a number");
-            key.fovYDegrees = k["fov"].get<float>();
-        }
-        path.keys.push_back(key);
-    }
-    if (Status s = validateCameraPath(path); !s) {
-        return inputError(fmt::format("--camera-path {}: {}", file, s.message()));
-    }
-    return path;
 }
 
 /// Rank 0's report: a bar on a terminal, else one line per finished frame.
@@ -169,9 +125,33 @@ private:
 
 }  // namespace
 
+Status checkSequenceOptions(const SequenceOptions& o) {
+    if (o.frames < 0) {
+        return usageError(
+            fmt::format("--frames {} is out of range (expected 1..1000000)", o.frames));
+    }
+    if (!(o.fps > 0.0 && o.fps <= 1000.0)) {
+        return usageError(fmt::format("--fps {} is out of range (expected 0 < fps <= 1000)", o.fps));
+    }
+    if (o.active()) return {};
+    // Options of a sequence without one would be ignored: say so instead.
+    for (const auto& [name, value] : {std::pair{"--video", o.video},
+                                      std::pair{"--frame-range", o.frameRange},
+                                      std::pair{"--shard", o.shard}}) {
+        if (!value.empty()) {
+            return usageError(fmt::format(
+                "{} {} needs a sequence (--frames F, --orbit DEG or --camera-path FILE)", name,
+                value));
+        }
+    }
+    return {};
+}
+
 int runSequence(const SequenceOptions& o, const SequenceJob& job) {
     const Prepared& p = *job.prepared;
-    if (!std::isfinite(o.orbit)) return fail(usageError("--orbit must be a finite angle"));
+    if (!std::isfinite(o.orbit)) {
+        return fail(usageError(fmt::format("--orbit {} is not a finite angle (degrees)", o.orbit)));
+    }
     if (!(o.fps > 0.0 && o.fps <= 1000.0)) {
         return fail(
             usageError(fmt::format("--fps {} is out of range (expected 0 < fps <= 1000)", o.fps)));

@@ -44,6 +44,10 @@ struct SequenceJob {
     const StereoSurfaces* surfaces = nullptr;  ///< --sky, --label…: drawn into every frame
 };
 
+/// The sequence options' own checks, before anything is rendered or written: --frames >= 0,
+/// --fps in (0, 1000], and --video / --frame-range / --shard only with a sequence.
+Status checkSequenceOptions(const SequenceOptions& o);
+
 int runSequence(const SequenceOptions& o, const SequenceJob& job);
 
 }  // namespace mvr::cli

@@ -2,6 +2,8 @@
 
 #include <fmt/core.h>
 
+#include "mvr/core/scene_io.h"
+
 namespace mvr::cli {
 
 void StereoSurfaceOptions::addTo(CLI::App* app) {

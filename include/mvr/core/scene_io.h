@@ -32,6 +32,7 @@
 
 #include "mvr/core/animation.h"
 #include "mvr/core/scene.h"
+#include "mvr/core/stereo_surfaces.h"
 #include "mvr/core/status.h"
 
 namespace mvr {
@@ -52,6 +53,13 @@ struct SceneLoadInfo {
 /// ErrorCode::Input — those; "PATH: material 'M': texture 'T': ..."
 /// for a bad texture; "PATH: has no triangles".
 Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info = nullptr);
+
+/// A sky for StereoSurfaces (stereo_surfaces.h): "gradient", or a PNG / JPEG file decoded by
+/// mvr's own readers (libpng, libjpeg; as textures are: at most 256 MiB, a header that claims
+/// more pixels than the bytes can hold refused before decoding): 2:1 → Equirect, 4:3 →
+/// CubeCross. Errors: Input naming the file ("--sky 'F': file not found …", "not a PNG or
+/// JPEG image", the decoder's reason), Usage for another aspect ratio.
+Result<Sky> loadSky(const std::string& spec);
 
 /// A model's placement in the scene: translation, uniform scale and rotation about +Y.
 struct Placement {

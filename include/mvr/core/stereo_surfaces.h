@@ -51,9 +51,8 @@ struct Sky {
         ground{0.30f, 0.27f, 0.24f};
 };
 
-/// "gradient", or a PNG / JPEG file (stb_image): 2:1 → Equirect, 4:3 → CubeCross. Errors:
-/// Input naming the file (missing, not an image), Usage for another aspect ratio.
-Result<Sky> loadSky(const std::string& spec);
+/// loadSky() (a sky from "gradient" or a PNG / JPEG file) is in mvr/core/scene_io.h (library
+/// mvr::scene_io): it decodes through mvr's PNG and JPEG readers, as textures do.
 
 /// The sky's color (linear [0, 1]) in world direction `dir` (any length > 0).
 glm::vec3 skyColor(const Sky& sky, glm::vec3 dir);
