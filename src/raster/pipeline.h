@@ -29,6 +29,13 @@ namespace mvr::raster::detail {
 inline constexpr int kSubpixelBits = 8;
 inline constexpr int kSubpixel = 1 << kSubpixelBits;
 inline constexpr int kHalfSubpixel = kSubpixel / 2;
+/// The int32 coverage path (rasterSmallTriangle, setupViews / setupLanes masks) takes a
+/// triangle whose CLAMPED box holds at most 2×2 pixel centres only when its UNCLAMPED box is
+/// also narrower and lower than this (1/256 px units, 64 px): its coordinates relative to a
+/// centre inside the box are then below 2^14, every edge product below 2^28 and every sum of
+/// them inside int32. A large triangle of which only a corner is in the image, or in the band,
+/// takes the int64 walk instead (its edge values overflowed int32 there: UBSan).
+inline constexpr std::int32_t kSmallSpan = 1 << 14;
 /// Guard band in NDC units: triangles are clipped against |x|, |y| ≤ kGuardBand·w only.
 inline constexpr float kGuardBand = 64.0f;
 /// Attributes interpolated per fragment: Vertex = color (3), Pixel = normal + world position (6);
@@ -402,7 +409,10 @@ inline void rasterTriangle(const YSetup& ys, const std::int32_t x[3], int width,
     const int colMin = std::max(0, ceilDivSub(std::int64_t(xlo) - kHalfSubpixel));
     const int colMax = std::min(width - 1, floorDivSub(std::int64_t(xhi) - kHalfSubpixel));
     if (colMin > colMax) return;
-    if (colMax - colMin <= 1 && ys.rowMax - ys.rowMin <= 1) {
+    const std::int32_t ylo = std::min(ys.y[0], std::min(ys.y[1], ys.y[2]));
+    const std::int32_t yhi = std::max(ys.y[0], std::max(ys.y[1], ys.y[2]));
+    if (colMax - colMin <= 1 && ys.rowMax - ys.rowMin <= 1 && xhi - xlo < kSmallSpan &&
+        yhi - ylo < kSmallSpan) {
         rasterSmallTriangle(ys, x, colMin, colMax, sink);
         return;
     }

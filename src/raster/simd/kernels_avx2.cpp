@@ -105,7 +105,11 @@ inline std::uint64_t setupCore(__m256i X0, __m256i X1, __m256i X2, const __m256i
                   ones = _mm256_set1_epi32(-1);
     const __m256i half = _mm256_set1_epi32(kHalfSubpixel);
     const __m256i tall = _mm256_cmpgt_epi32(rowMax, rowMin);
-    const __m256i rowsSmall = cmple(_mm256_sub_epi32(rowMax, rowMin), one);
+    const __m256i span = _mm256_set1_epi32(kSmallSpan);
+    const __m256i ylo = _mm256_min_epi32(Y[0], _mm256_min_epi32(Y[1], Y[2]));
+    const __m256i yhi = _mm256_max_epi32(Y[0], _mm256_max_epi32(Y[1], Y[2]));
+    const __m256i rowsSmall = _mm256_and_si256(cmple(_mm256_sub_epi32(rowMax, rowMin), one),
+                                               _mm256_cmpgt_epi32(span, _mm256_sub_epi32(yhi, ylo)));
     const __m256i py0 = _mm256_add_epi32(_mm256_slli_epi32(rowMin, kSubpixelBits), half);
     const __m256i yr[3] = {_mm256_sub_epi32(Y[0], py0), _mm256_sub_epi32(Y[1], py0),
                            _mm256_sub_epi32(Y[2], py0)};
@@ -123,7 +127,9 @@ inline std::uint64_t setupCore(__m256i X0, __m256i X1, __m256i X2, const __m256i
                          _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
     const __m256i empty = _mm256_cmpgt_epi32(colMin, colMax);
     const __m256i cols = _mm256_sub_epi32(colMax, colMin);
-    const __m256i small = _mm256_andnot_si256(empty, _mm256_and_si256(rowsSmall, cmple(cols, one)));
+    const __m256i small = _mm256_andnot_si256(
+        empty, _mm256_and_si256(_mm256_and_si256(rowsSmall, cmple(cols, one)),
+                                _mm256_cmpgt_epi32(span, _mm256_sub_epi32(xhi, xlo))));
     const __m256i px0 = _mm256_add_epi32(_mm256_slli_epi32(colMin, kSubpixelBits), half);
     const __m256i xr[3] = {_mm256_sub_epi32(X0, px0), _mm256_sub_epi32(X1, px0),
                            _mm256_sub_epi32(X2, px0)};

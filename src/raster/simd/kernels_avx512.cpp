@@ -87,7 +87,11 @@ inline std::uint32_t setupCore(__m512i X0, __m512i X1, __m512i X2, const __m512i
     const __m512i zero = _mm512_setzero_si512(), one = _mm512_set1_epi32(1);
     const __m512i half = _mm512_set1_epi32(kHalfSubpixel);
     const __mmask16 tall = _mm512_cmpgt_epi32_mask(rowMax, rowMin);
-    const __mmask16 rowsSmall = _mm512_cmple_epi32_mask(_mm512_sub_epi32(rowMax, rowMin), one);
+    const __m512i span = _mm512_set1_epi32(kSmallSpan);
+    const __m512i ylo = _mm512_min_epi32(Y[0], _mm512_min_epi32(Y[1], Y[2]));
+    const __m512i yhi = _mm512_max_epi32(Y[0], _mm512_max_epi32(Y[1], Y[2]));
+    const __mmask16 rowsSmall = _mm512_cmple_epi32_mask(_mm512_sub_epi32(rowMax, rowMin), one) &
+                                _mm512_cmplt_epi32_mask(_mm512_sub_epi32(yhi, ylo), span);
     const __m512i py0 = _mm512_add_epi32(_mm512_slli_epi32(rowMin, kSubpixelBits), half);
     const __m512i yr[3] = {_mm512_sub_epi32(Y[0], py0), _mm512_sub_epi32(Y[1], py0),
                            _mm512_sub_epi32(Y[2], py0)};
@@ -106,7 +110,9 @@ inline std::uint32_t setupCore(__m512i X0, __m512i X1, __m512i X2, const __m512i
                          _mm512_srai_epi32(_mm512_sub_epi32(xhi, half), kSubpixelBits));
     const __mmask16 empty = _mm512_cmpgt_epi32_mask(colMin, colMax);
     const __m512i cols = _mm512_sub_epi32(colMax, colMin);
-    const __mmask16 small = __mmask16(rowsSmall & _mm512_cmple_epi32_mask(cols, one) & ~empty);
+    const __mmask16 small =
+        __mmask16(rowsSmall & _mm512_cmple_epi32_mask(cols, one) &
+                  _mm512_cmplt_epi32_mask(_mm512_sub_epi32(xhi, xlo), span) & ~empty);
     const __m512i px0 = _mm512_add_epi32(_mm512_slli_epi32(colMin, kSubpixelBits), half);
     const __m512i xr[3] = {_mm512_sub_epi32(X0, px0), _mm512_sub_epi32(X1, px0),
                            _mm512_sub_epi32(X2, px0)};

@@ -56,7 +56,9 @@ inline std::uint64_t setupViewsTail(const YSetup& ys, const std::int32_t* x0,
                                     int n, int width, ViewsSetup& o) {
     std::uint64_t lanes = 0;
     const bool tall = ys.rowMax > ys.rowMin;
-    const bool rowsSmall = ys.rowMax - ys.rowMin <= 1;
+    const std::int32_t ylo = std::min(ys.y[0], std::min(ys.y[1], ys.y[2]));
+    const std::int32_t yhi = std::max(ys.y[0], std::max(ys.y[1], ys.y[2]));
+    const bool rowsSmall = ys.rowMax - ys.rowMin <= 1 && yhi - ylo < kSmallSpan;
     const std::int32_t py0 = ys.rowMin * kSubpixel + kHalfSubpixel;
     const std::int32_t yr[3] = {ys.y[0] - py0, ys.y[1] - py0, ys.y[2] - py0};
     for (int k = begin; k < n; ++k) {
@@ -70,7 +72,7 @@ inline std::uint64_t setupViewsTail(const YSetup& ys, const std::int32_t* x0,
             o.mask[k] = 0;
             continue;
         }
-        if (!rowsSmall || colMax - colMin > 1) {
+        if (!rowsSmall || colMax - colMin > 1 || xhi - xlo >= kSmallSpan) {
             o.mask[k] = -1;
             lanes |= std::uint64_t(1) << k;
             continue;
