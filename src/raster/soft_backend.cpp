@@ -139,7 +139,10 @@ private:
                                detail::makeDrawList(scene),
                                detail::makeBands(settings.height, pool.size()),
                                detail::centerClipFromWorld(rig),
-                               detail::kernels(mSimd)};
+                               detail::kernels(mSimd),
+                               false,
+                               false,
+                               {}};
         detail::prepareTextures(f);
         detail::Kernels shadowKernels = f.kernels;
         std::optional<detail::FrameContext> shadowed;

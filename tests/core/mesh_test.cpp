@@ -269,7 +269,9 @@ TEST(Mesh, SurvivesSampledPrefixesOfABigModel) {
     TempDir dir;
     for (std::size_t n = 0; n < content.size(); n += 1237) {
         auto r = loadMesh(dir.write("part.obj", content.substr(0, n)));
-        if (r) EXPECT_TRUE(validateMesh(*r, "part"));
+        if (r) {
+            EXPECT_TRUE(validateMesh(*r, "part"));
+        }
     }
 }
 
