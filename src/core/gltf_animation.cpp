@@ -61,20 +61,6 @@ std::optional<std::vector<std::uint8_t>> base64(const std::string& text) {
     return out;
 }
 
-std::string uriDecode(const std::string& s) {
-    std::string out;
-    for (std::size_t i = 0; i < s.size(); ++i) {
-        if (s[i] == '%' && i + 2 < s.size() && std::isxdigit((unsigned char)s[i + 1]) &&
-            std::isxdigit((unsigned char)s[i + 2])) {
-            out.push_back(char(std::stoi(s.substr(i + 1, 2), nullptr, 16)));
-            i += 2;
-        } else {
-            out.push_back(s[i]);
-        }
-    }
-    return out;
-}
-
 std::uint32_t u32(const std::uint8_t* p) {
     std::uint32_t v;
     std::memcpy(&v, p, 4);
@@ -345,6 +331,20 @@ Result<std::optional<GltfAnimationFile>> read(Reader& r) {
 }
 
 }  // namespace
+
+std::string uriDecode(const std::string& s) {
+    std::string out;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        if (s[i] == '%' && i + 2 < s.size() && std::isxdigit((unsigned char)s[i + 1]) &&
+            std::isxdigit((unsigned char)s[i + 2])) {
+            out.push_back(char(std::stoi(s.substr(i + 1, 2), nullptr, 16)));
+            i += 2;
+        } else {
+            out.push_back(s[i]);
+        }
+    }
+    return out;
+}
 
 Result<std::optional<GltfAnimationFile>> readGltfAnimation(const std::filesystem::path& path,
                                                            const std::string& what) {

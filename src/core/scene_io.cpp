@@ -59,21 +59,6 @@ void collectWorld(const aiNode& node, const glm::mat4& parent,
         collectWorld(*node.mChildren[c], world, byName, order);
 }
 
-/// `%20`-style escapes in glTF URIs.
-std::string uriDecode(const std::string& s) {
-    std::string out;
-    for (std::size_t i = 0; i < s.size(); ++i) {
-        if (s[i] == '%' && i + 2 < s.size() && std::isxdigit((unsigned char)s[i + 1]) &&
-            std::isxdigit((unsigned char)s[i + 2])) {
-            out.push_back(char(std::stoi(s.substr(i + 1, 2), nullptr, 16)));
-            i += 2;
-        } else {
-            out.push_back(s[i]);
-        }
-    }
-    return out;
-}
-
 bool isJpegBytes(std::span<const std::uint8_t> d) {
     return d.size() >= 3 && d[0] == 0xFF && d[1] == 0xD8 && d[2] == 0xFF;
 }
@@ -215,7 +200,7 @@ struct Loader {
         } else if (!key.empty() && key[0] == '*') {
             return inputError(fmt::format("{}: no such embedded image", where));
         } else {
-            const std::filesystem::path file = path.parent_path() / uriDecode(key);
+            const std::filesystem::path file = path.parent_path() / detail::uriDecode(key);
             name = file.string();
             image = readImageFile(file, where);
         }
