@@ -4,6 +4,9 @@
 # (defaults: build-fuzz, 30 s each, every mvr_fuzz_* program). Each target starts from its
 # committed seeds (tests/fuzz/corpus/<name>, copied to a scratch corpus so the tree is left as
 # it is) and its dictionary (tests/fuzz/dict/<name>.dict) if there is one.
+# Runs are reproducible: every target starts from libFuzzer's -seed=$FUZZ_SEED (default 1, so a
+# CI run explores the inputs the last verified run explored, and a red CI is never luck);
+# FUZZ_SEED=0 lets libFuzzer pick a random seed per run, for exploring.
 # A crash, a sanitizer report, a leak, an input slower than 10 s or one needing more than 2 GiB
 # fails the run; the input that did it is kept in BUILD_DIR/fuzz-artifacts/ (minimize it with
 # `mvr_fuzz_<name> -minimize_crash=1 -runs=10000 FILE` and add it to regressions/<name>/).
@@ -36,7 +39,8 @@ run_one() {
     local dict=()
     [[ -f $src/dict/$name.dict ]] && dict=(-dict="$src/dict/$name.dict")
     local start=$SECONDS rc=0
-    (cd "$work" && "$bin" "$corpus" "${dict[@]}" -max_total_time="$seconds" -timeout=10 \
+    (cd "$work" && "$bin" "$corpus" "${dict[@]}" -seed="${FUZZ_SEED:-1}" \
+        -max_total_time="$seconds" -timeout=10 \
         -rss_limit_mb=2048 -max_len=8192 -print_final_stats=1 \
         -artifact_prefix="$artifacts/$name-") >"$work/$name.log" 2>&1 || rc=$?
     local execs

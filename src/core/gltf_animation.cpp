@@ -12,6 +12,8 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
 
+#include "model_guard.h"
+
 namespace mvr::detail {
 namespace {
 
@@ -331,20 +333,6 @@ Result<std::optional<GltfAnimationFile>> read(Reader& r) {
 }
 
 }  // namespace
-
-std::string uriDecode(const std::string& s) {
-    std::string out;
-    for (std::size_t i = 0; i < s.size(); ++i) {
-        if (s[i] == '%' && i + 2 < s.size() && std::isxdigit((unsigned char)s[i + 1]) &&
-            std::isxdigit((unsigned char)s[i + 2])) {
-            out.push_back(char(std::stoi(s.substr(i + 1, 2), nullptr, 16)));
-            i += 2;
-        } else {
-            out.push_back(s[i]);
-        }
-    }
-    return out;
-}
 
 Result<std::optional<GltfAnimationFile>> readGltfAnimation(const std::filesystem::path& path,
                                                            const std::string& what) {

@@ -27,10 +27,6 @@ struct GltfAnimationFile {
     std::vector<std::string> warnings;       ///< channels not played (weights, sparse, ...)
 };
 
-/// A glTF URI with its `%20`-style escapes decoded (scene_io.cpp's images, this reader's
-/// buffers).
-std::string uriDecode(const std::string& s);
-
 /// The file's first animation, or nullopt when it has none (or is not glTF). Errors:
 /// ErrorCode::Input, "WHAT: animation 'A': channel C: ..." for malformed animation data.
 Result<std::optional<GltfAnimationFile>> readGltfAnimation(const std::filesystem::path& path,

@@ -270,6 +270,9 @@ Result<detail::ModelPreflight> detail::preflightModel(const std::filesystem::pat
         out.objAllZeroArea = obj.faces > 0 && !obj.anyArea;
     }
     if (Status s = detail::checkGlbHeader(path, what); !s) return s;
+    if (ext == ".gltf" || ext == ".glb") {
+        if (Status s = detail::checkGltfBounds(path, what); !s) return s;
+    }
     return out;
 }
 

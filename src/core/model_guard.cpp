@@ -6,8 +6,12 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <optional>
+#include <string_view>
+#include <vector>
 
 #include <fmt/core.h>
+#include <nlohmann/json.hpp>
 
 namespace mvr::detail {
 namespace {
@@ -61,6 +65,174 @@ Status checkGlbHeader(const std::filesystem::path& path, const std::string& what
             return bad(fmt::format("chunk {} claims {} bytes, {} are left in the file", chunk,
                                    chunkLength, length - at - 8));
         at += 8 + std::uint64_t(chunkLength);
+    }
+    return Status();
+}
+
+namespace {
+
+/// Bytes of one element of an accessor (its type's components × its component type's size);
+/// 0 for what glTF does not define (assimp refuses those itself).
+std::uint64_t elementBytes(const nlohmann::json& accessor) {
+    static const std::pair<const char*, int> kComponents[] = {
+        {"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}, {"MAT2", 4}, {"MAT3", 9}, {"MAT4", 16}};
+    const auto type = accessor.find("type");
+    const auto component = accessor.find("componentType");
+    if (type == accessor.end() || !type->is_string() || component == accessor.end() ||
+        !component->is_number_integer()) {
+        return 0;
+    }
+    int components = 0;
+    for (const auto& [name, n] : kComponents) components = *type == name ? n : components;
+    const std::int64_t c = component->get<std::int64_t>();
+    const int size = c == 5120 || c == 5121 ? 1 : c == 5122 || c == 5123 ? 2 : c == 5125 || c == 5126 ? 4 : 0;
+    return std::uint64_t(components) * std::uint64_t(size);
+}
+
+std::uint64_t number(const nlohmann::json& object, const char* key, std::uint64_t fallback = 0) {
+    const auto it = object.find(key);
+    return it != object.end() && it->is_number_unsigned() ? it->get<std::uint64_t>()
+           : it != object.end() && it->is_number_integer() && it->get<std::int64_t>() >= 0
+               ? std::uint64_t(it->get<std::int64_t>())
+               : fallback;
+}
+
+/// Bytes a data URI's base64 payload decodes to (padding excluded); nullopt when not base64.
+std::optional<std::uint64_t> dataUriBytes(const std::string& uri) {
+    const auto comma = uri.find(',');
+    if (uri.rfind("data:", 0) != 0 || comma == std::string::npos ||
+        uri.substr(0, comma).find(";base64") == std::string::npos) {
+        return std::nullopt;
+    }
+    std::uint64_t chars = 0;
+    for (std::size_t i = comma + 1; i < uri.size(); ++i) chars += uri[i] != '=';
+    return chars * 3 / 4;
+}
+
+}  // namespace
+
+std::string uriDecode(const std::string& s) {
+    std::string out;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        if (s[i] == '%' && i + 2 < s.size() && std::isxdigit((unsigned char)s[i + 1]) &&
+            std::isxdigit((unsigned char)s[i + 2])) {
+            out.push_back(char(std::stoi(s.substr(i + 1, 2), nullptr, 16)));
+            i += 2;
+        } else {
+            out.push_back(s[i]);
+        }
+    }
+    return out;
+}
+
+Status checkGltfBounds(const std::filesystem::path& path, const std::string& what) {
+    std::error_code ec;
+    const std::uintmax_t fileSize = std::filesystem::file_size(path, ec);
+    if (ec || fileSize > (std::uintmax_t(1) << 31)) return Status();
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string_view json = bytes;
+    std::optional<std::uint64_t> binChunk;  // a GLB's BIN chunk length
+    if (bytes.size() >= 20 && bytes.compare(0, 4, "glTF") == 0) {
+        const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
+        if (le32(b + 4) != 2 || le32(b + 16) != 0x4E4F534Au) return Status();  // checkGlbHeader's
+        const std::uint64_t jsonLength = std::min<std::uint64_t>(le32(b + 12), bytes.size() - 20);
+        json = json.substr(20, jsonLength);
+        const std::uint64_t next = 20 + jsonLength;
+        if (next + 8 <= bytes.size() && le32(b + next + 4) == 0x004E4942u)
+            binChunk = std::min<std::uint64_t>(le32(b + next), bytes.size() - next - 8);
+    }
+    const nlohmann::json doc = nlohmann::json::parse(json, nullptr, /*allow_exceptions=*/false);
+    if (!doc.is_object()) return Status();
+    const auto bad = [&](const std::string& why) {
+        return inputError(fmt::format("{}: malformed glTF: {}", what, why));
+    };
+    auto arrayOf = [&](const char* key) {
+        const auto it = doc.find(key);
+        return it != doc.end() && it->is_array() ? *it : nlohmann::json::array();
+    };
+    const nlohmann::json buffers = arrayOf("buffers"), views = arrayOf("bufferViews"),
+                         accessors = arrayOf("accessors");
+    std::vector<std::uint64_t> bufferBytes;
+    for (std::size_t i = 0; i < buffers.size(); ++i) {
+        const nlohmann::json& buf = buffers[i];
+        if (!buf.is_object()) return bad(fmt::format("buffer {} is not an object", i));
+        const std::uint64_t length = number(buf, "byteLength");
+        std::optional<std::uint64_t> have;
+        const auto uri = buf.find("uri");
+        if (uri == buf.end()) {
+            have = i == 0 ? binChunk : std::nullopt;
+        } else if (uri->is_string()) {
+            const std::string u = uri->get<std::string>();
+            have = dataUriBytes(u);
+            if (!have && u.rfind("data:", 0) != 0) {
+                const std::uintmax_t n =
+                    std::filesystem::file_size(path.parent_path() / uriDecode(u), ec);
+                if (!ec) have = n;
+            }
+        }
+        if (have && *have < length) {
+            return bad(fmt::format("buffer {} claims {} bytes, its data holds {}", i, length, *have));
+        }
+        bufferBytes.push_back(length);
+    }
+    std::vector<std::uint64_t> viewBytes;
+    for (std::size_t i = 0; i < views.size(); ++i) {
+        const nlohmann::json& v = views[i];
+        if (!v.is_object()) return bad(fmt::format("bufferView {} is not an object", i));
+        const std::uint64_t buffer = number(v, "buffer", ~std::uint64_t(0));
+        const std::uint64_t offset = number(v, "byteOffset"), length = number(v, "byteLength");
+        if (buffer >= bufferBytes.size())
+            return bad(fmt::format("bufferView {} names buffer {} of {}", i, buffer, bufferBytes.size()));
+        if (offset > bufferBytes[buffer] || length > bufferBytes[buffer] - offset) {
+            return bad(fmt::format("bufferView {} (bytes {}..{}) runs past buffer {}'s {} bytes", i,
+                                   offset, offset + length, buffer, bufferBytes[buffer]));
+        }
+        viewBytes.push_back(length);
+    }
+    // An array of `count` elements of `element` bytes, `stride` apart, from `offset` of a view.
+    auto fits = [&](std::uint64_t view, std::uint64_t offset, std::uint64_t count,
+                    std::uint64_t element, std::uint64_t stride) {
+        if (view >= viewBytes.size()) return false;
+        if (count == 0) return offset <= viewBytes[view];
+        if (count > (std::uint64_t(1) << 32) || stride > (std::uint64_t(1) << 16)) return false;
+        const std::uint64_t end = offset + (count - 1) * stride + element;
+        return end <= viewBytes[view];
+    };
+    for (std::size_t i = 0; i < accessors.size(); ++i) {
+        const nlohmann::json& a = accessors[i];
+        if (!a.is_object()) return bad(fmt::format("accessor {} is not an object", i));
+        const std::uint64_t element = elementBytes(a), count = number(a, "count");
+        if (element == 0) continue;
+        if (a.contains("bufferView")) {
+            const std::uint64_t view = number(a, "bufferView", ~std::uint64_t(0));
+            const std::uint64_t stride =
+                view < views.size() ? number(views[view], "byteStride", element) : element;
+            const std::uint64_t offset = number(a, "byteOffset");
+            if (!fits(view, offset, count, element, std::max(stride, element))) {
+                return bad(fmt::format(
+                    "accessor {} ({} elements of {} bytes from byte {} of bufferView {}) runs "
+                    "past its bufferView",
+                    i, count, element, offset, view));
+            }
+        }
+        const auto sparse = a.find("sparse");
+        if (sparse != a.end() && sparse->is_object()) {
+            const std::uint64_t n = number(*sparse, "count");
+            for (const char* part : {"indices", "values"}) {
+                const auto p = sparse->find(part);
+                if (p == sparse->end() || !p->is_object()) continue;
+                const std::uint64_t size =
+                    std::string(part) == "values" ? element : elementBytes({{"type", "SCALAR"},
+                                                                            {"componentType", number(*p, "componentType")}});
+                if (size == 0) continue;
+                if (!fits(number(*p, "bufferView", ~std::uint64_t(0)), number(*p, "byteOffset"), n,
+                          size, size)) {
+                    return bad(fmt::format("accessor {}'s sparse {} run past their bufferView", i,
+                                           part));
+                }
+            }
+        }
     }
     return Status();
 }

@@ -17,6 +17,18 @@ namespace mvr::detail {
 /// Errors: ErrorCode::Input, "WHAT: malformed GLB: ...".
 Status checkGlbHeader(const std::filesystem::path& path, const std::string& what);
 
+/// A glTF URI with its `%20`-style escapes decoded (buffers and images of .gltf files).
+std::string uriDecode(const std::string& s);
+
+/// A glTF 2.0 file (.gltf text or a .glb's JSON chunk): every buffer view lies inside its
+/// buffer, every accessor (and a sparse accessor's indices and values) inside its buffer view,
+/// and a buffer's bytes (the GLB's BIN chunk, a data URI, an external file) are at least its
+/// byteLength. assimp 5.2.5 copies an accessor without checking it against its buffer view: a
+/// byteOffset one byte too far reads past the buffer (tests/fuzz/regressions/glb/). Files that
+/// are not glTF JSON, or whose JSON cannot be parsed (assimp then refuses them), are OK here.
+/// Errors: ErrorCode::Input, "WHAT: malformed glTF: accessor 3 ...".
+Status checkGltfBounds(const std::filesystem::path& path, const std::string& what);
+
 /// What preflightModel() learnt of a model file.
 struct ModelPreflight {
     bool ply = false;  ///< PLY content: read by mvr's PLY reader (loadMesh), never assimp

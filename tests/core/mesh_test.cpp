@@ -283,5 +283,53 @@ TEST(Mesh, SmoothNormalsOfACube) {
     for (const glm::vec3& n : m.normals) EXPECT_NEAR(n.z, 1.0f, 1e-6f);
 }
 
+// glTF accessors, buffer views and buffers are checked against each other before assimp reads
+// them (model_guard.h checkGltfBounds): assimp 5.2.5 copies an accessor past its buffer view
+// (fuzzing: tests/fuzz/regressions/glb/). Each bad file names the culprit; the good one loads.
+TEST(Mesh, GltfAccessorsMustLieInsideTheirBuffers) {
+    // Three vertices (36 bytes) and three uint16 indices (6 bytes, padded to 8).
+    const float pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const std::uint16_t idx[] = {0, 1, 2, 0};
+    std::string bin(reinterpret_cast<const char*>(pos), sizeof pos);
+    bin.append(reinterpret_cast<const char*>(idx), sizeof idx);
+    auto gltf = [&](int bufferLength, int posViewLength, int posOffset, const std::string& data) {
+        return fmt::format(
+            R"({{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],)"
+            R"("nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},)"
+            R"("indices":1}}]}}],"buffers":[{{"byteLength":{},"uri":"data:application/)"
+            R"(octet-stream;base64,{}"}}],"bufferViews":[{{"buffer":0,"byteOffset":0,)"
+            R"("byteLength":{}}},{{"buffer":0,"byteOffset":36,"byteLength":6}}],)"
+            R"("accessors":[{{"bufferView":0,"byteOffset":{},"componentType":5126,"count":3,)"
+            R"("type":"VEC3","min":[0,0,0],"max":[1,1,0]}},{{"bufferView":1,)"
+            R"("componentType":5123,"count":3,"type":"SCALAR"}}]}})",
+            bufferLength, test::base64(data), posViewLength, posOffset);
+    };
+    test::TempDir dir;
+    auto good = loadMesh(dir.write("good.gltf", gltf(44, 36, 0, bin)));
+    ASSERT_TRUE(good) << good.status().message();
+    EXPECT_EQ(good->triangleCount(), 1u);
+    const struct {
+        const char* name;
+        std::string file;
+        const char* message;
+    } bad[] = {
+        {"offset.gltf", gltf(44, 36, 1, bin),
+         "malformed glTF: accessor 0 (3 elements of 12 bytes from byte 1 of bufferView 0) runs "
+         "past its bufferView"},
+        {"view.gltf", gltf(44, 60, 0, bin),
+         "malformed glTF: bufferView 0 (bytes 0..60) runs past buffer 0's 44 bytes"},
+        {"buffer.gltf", gltf(44, 36, 0, bin.substr(0, 30)),
+         "malformed glTF: buffer 0 claims 44 bytes, its data holds 30"},
+    };
+    for (const auto& b : bad) {
+        auto r = loadMesh(dir.write(b.name, b.file));
+        ASSERT_FALSE(r) << b.name;
+        EXPECT_EQ(r.status().code(), ErrorCode::Input) << b.name;
+        EXPECT_NE(r.status().message().find(b.name), std::string::npos) << r.status().message();
+        EXPECT_NE(r.status().message().find(b.message), std::string::npos)
+            << r.status().message();
+    }
+}
+
 }  // namespace
 }  // namespace mvr
