@@ -13,25 +13,15 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
+#include "cli_util.h"
 #include "mvr/core/image.h"
 
 namespace mvr {
 namespace {
 
-std::filesystem::path mvrBinary() {
-    const char* bin = std::getenv("MVR_BINARY_DIR");
-    return std::filesystem::path(bin ? bin : MVR_TEST_BINARY_DIR) / "tools" / "cli" / "mvr";
-}
-
-std::filesystem::path sharedModels() {
-    const char* dir = std::getenv("MVR_SHARED_DIR");
-    return std::filesystem::path(dir ? dir : MVR_TEST_SHARED_DIR) / "models";
-}
-
-struct CliRun {
-    int exitCode = -1;
-    std::string out, err;
-};
+using test::CliRun;
+using test::mvrBinary;
+using test::sharedModels;
 
 class Cli : public ::testing::Test {
 protected:
@@ -44,24 +34,7 @@ protected:
     }
     void TearDown() override { std::filesystem::remove_all(mDir); }
 
-    CliRun run(const std::string& args) const {
-        const auto outFile = mDir / "stdout.txt", errFile = mDir / "stderr.txt";
-        const std::string cmd =
-            fmt::format("cd '{}' && '{}' {} >'{}' 2>'{}' </dev/null", mDir.string(),
-                        mvrBinary().string(), args, outFile.string(), errFile.string());
-        const int status = std::system(cmd.c_str());
-        CliRun r;
-        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        auto slurp = [](const std::filesystem::path& p) {
-            std::ifstream in(p);
-            std::stringstream ss;
-            ss << in.rdbuf();
-            return ss.str();
-        };
-        r.out = slurp(outFile);
-        r.err = slurp(errFile);
-        return r;
-    }
+    CliRun run(const std::string& args) const { return test::runMvr(mDir, args); }
 
     /// Expects exactly one line on stderr, starting "error: " and containing `needle`.
     void expectError(const std::string& args, int code, const std::string& needle) const {

@@ -13,32 +13,15 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
+#include "cli_util.h"
 #include "mvr/core/image.h"
 
 namespace mvr {
 namespace {
 
-std::filesystem::path mvrBinary() {
-    const char* bin = std::getenv("MVR_BINARY_DIR");
-    return std::filesystem::path(bin ? bin : MVR_TEST_BINARY_DIR) / "tools" / "cli" / "mvr";
-}
-
-std::filesystem::path sharedModels() {
-    const char* dir = std::getenv("MVR_SHARED_DIR");
-    return std::filesystem::path(dir ? dir : MVR_TEST_SHARED_DIR) / "models";
-}
-
-struct ToolRun {
-    int exitCode = -1;
-    std::string out, err;
-};
-
-std::string slurp(const std::filesystem::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+using ToolRun = test::CliRun;
+using test::sharedModels;
+using test::slurp;
 
 /// The number after `"key": ` in a JSON text (the first one after `after`, if given).
 double jsonNumber(const std::string& json, const std::string& key, const std::string& after = "") {
@@ -63,18 +46,7 @@ protected:
     }
     void TearDown() override { std::filesystem::remove_all(mDir); }
 
-    ToolRun run(const std::string& args) const {
-        const auto outFile = mDir / "stdout.txt", errFile = mDir / "stderr.txt";
-        const std::string cmd =
-            fmt::format("cd '{}' && '{}' {} >'{}' 2>'{}' </dev/null", mDir.string(),
-                        mvrBinary().string(), args, outFile.string(), errFile.string());
-        const int status = std::system(cmd.c_str());
-        ToolRun r;
-        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        r.out = slurp(outFile);
-        r.err = slurp(errFile);
-        return r;
-    }
+    ToolRun run(const std::string& args) const { return test::runMvr(mDir, args); }
 
     void expectError(const std::string& args, int code, const std::string& needle) const {
         const ToolRun r = run(args);
