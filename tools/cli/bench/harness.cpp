@@ -319,6 +319,12 @@ Machine describeMachine(const BackendSet& backends) {
 
 // ---- the paper benches' common options ------------------------------------------------------
 
+void addModelOptions(CLI::App* app, std::vector<std::string>& models, int& grid) {
+    app->add_option("models", models, "Models (default: the procedural scene)");
+    app->add_option("--grid", grid, "Lay out K copies of the model(s) in a grid")
+        ->default_val(grid);
+}
+
 void addCommonOptions(CLI::App* app, CommonOptions& o, const char* framesHelp) {
     app->add_option("--frames", o.frames, framesHelp)->default_val(o.frames);
     app->add_option("--warmup", o.warmup, "Untimed runs of each method before timing")

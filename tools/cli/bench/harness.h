@@ -195,6 +195,8 @@ struct CommonOptions {
 };
 /// Adds --frames, --warmup, --threads, --json, --csv, --progress, --plot, --save-json.
 void addCommonOptions(CLI::App* app, CommonOptions& options, const char* framesHelp);
+/// Adds the positional models (default: the procedural scene) and --grid K.
+void addModelOptions(CLI::App* app, std::vector<std::string>& models, int& grid);
 /// Range checks, and that --plot can be drawn (before minutes of measuring).
 Status checkCommonOptions(const CommonOptions& options);
 

@@ -194,9 +194,7 @@ PaperBench addShadows(CLI::App* bench) {
         "shadows",
         "Shadow maps of K lights as one multi-view pass (the lights are the views, kalaiah2007 "
         "§3) vs K separate passes, per backend and method");
-    v->add_option("models", o->models, "Models (default: the procedural scene)");
-    v->add_option("--grid", o->grid, "Lay out K copies of the model(s) in a grid")
-        ->default_val(o->grid);
+    addModelOptions(v, o->models, o->grid);
     v->add_option("--lights", o->lights, "Light counts K, comma separated")
         ->delimiter(',')
         ->default_str("1,2,4,8");

@@ -172,9 +172,7 @@ PaperBench addViews(CLI::App* bench) {
         "views",
         "Many views: time, multiple of one view and speed-up over multipass for rows of N views "
         "(1..100: light-field panels), every method batching past its per-pass limit");
-    v->add_option("models", o->models, "Models (default: the procedural scene)");
-    v->add_option("--grid", o->grid, "Lay out K copies of the model(s) in a grid")
-        ->default_val(o->grid);
+    addModelOptions(v, o->models, o->grid);
     v->add_option("--counts", o->counts, "View counts N (a row of N views), comma separated")
         ->delimiter(',')
         ->default_str("1,2,4,9,16,45,72,100");
