@@ -89,6 +89,10 @@ std::uint64_t elementBytes(const nlohmann::json& accessor) {
     return std::uint64_t(components) * std::uint64_t(size);
 }
 
+/// The most bytes of zeros one accessor without a bufferView may stand for: 256 MiB is 22
+/// million VEC3 floats, more than any mesh mvr draws at interactive rates.
+constexpr std::uint64_t kMaxZeroFilledBytes = std::uint64_t(256) << 20;
+
 std::uint64_t number(const nlohmann::json& object, const char* key, std::uint64_t fallback = 0) {
     const auto it = object.find(key);
     return it != object.end() && it->is_number_unsigned() ? it->get<std::uint64_t>()
@@ -133,8 +137,12 @@ Status checkGltfBounds(const std::filesystem::path& path, const std::string& wha
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     std::string_view json = bytes;
     std::optional<std::uint64_t> binChunk;  // a GLB's BIN chunk length
-    if (bytes.size() >= 20 && bytes.compare(0, 4, "glTF") == 0) {
+    const bool glb = bytes.size() >= 20 && bytes.compare(0, 4, "glTF") == 0;
+    if (glb) {
         const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
+        if (le32(b + 4) == 1)
+            return inputError(fmt::format(
+                "{}: binary glTF 1.0 is not supported (mvr reads glTF 2.0)", what));
         if (le32(b + 4) != 2 || le32(b + 16) != 0x4E4F534Au) return Status();  // checkGlbHeader's
         const std::uint64_t jsonLength = std::min<std::uint64_t>(le32(b + 12), bytes.size() - 20);
         json = json.substr(20, jsonLength);
@@ -142,17 +150,88 @@ Status checkGltfBounds(const std::filesystem::path& path, const std::string& wha
         if (next + 8 <= bytes.size() && le32(b + next + 4) == 0x004E4942u)
             binChunk = std::min<std::uint64_t>(le32(b + next), bytes.size() - next - 8);
     }
-    const nlohmann::json doc = nlohmann::json::parse(json, nullptr, /*allow_exceptions=*/false);
-    if (!doc.is_object()) return Status();
     const auto bad = [&](const std::string& why) {
         return inputError(fmt::format("{}: malformed glTF: {}", what, why));
     };
+    // assimp reads the JSON up to its first NUL byte (rapidjson, in place); so does this check,
+    // so that both see one document. What assimp reads, this must read the same way: JSON that
+    // is not UTF-8 or not well formed, and an object naming a key twice (rapidjson takes the
+    // first, nlohmann the last), are refused rather than left to assimp unchecked.
+    json = json.substr(0, json.find('\0'));
+    std::vector<std::vector<std::string>> keys;  // the keys of each open object
+    std::string duplicate;
+    const auto noteKey = [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+        using Event = nlohmann::json::parse_event_t;
+        if (event == Event::object_start) keys.emplace_back();
+        if (event == Event::object_end && !keys.empty()) keys.pop_back();
+        if (event == Event::key && !keys.empty()) {
+            const std::string& key = parsed.get_ref<const std::string&>();
+            if (duplicate.empty() &&
+                std::find(keys.back().begin(), keys.back().end(), key) != keys.back().end()) {
+                duplicate = key;
+            }
+            keys.back().push_back(key);
+        }
+        return true;
+    };
+    nlohmann::json doc;
+    try {
+        doc = nlohmann::json::parse(json, noteKey);
+    } catch (const nlohmann::json::exception& e) {
+        std::string why = e.what();  // "[json.exception.parse_error.101] parse error at ..."
+        if (const auto close = why.find("] "); why.rfind("[json.", 0) == 0 && close != why.npos)
+            why.erase(0, close + 2);
+        // nlohmann quotes the bytes it last read: raw, perhaps not UTF-8, not for a terminal.
+        if (const auto last = why.find("; last read:"); last != why.npos) why.erase(last);
+        return bad(fmt::format("its JSON{}: {}", glb ? " chunk" : "", why));
+    }
+    if (!duplicate.empty())
+        return bad(fmt::format("an object names the key \"{}\" twice", duplicate));
+    if (!doc.is_object()) return bad("its JSON is not an object");
+    // glTF 1.0 (Khronos retired it in 2017) goes to a different, older reader in assimp, which
+    // checks far less; mvr reads glTF 2.0 only.
+    const auto asset = doc.find("asset");
+    const nlohmann::json* version = nullptr;
+    if (asset != doc.end() && asset->is_object()) {
+        if (const auto v = asset->find("version"); v != asset->end() && v->is_string()) version = &*v;
+    }
+    if (!version) return bad("no asset.version (glTF 2.0 requires one)");
+    if (const std::string& v = version->get_ref<const std::string&>(); v.rfind("2.", 0) != 0)
+        return bad(fmt::format("glTF {} is not supported (mvr reads glTF 2.0)", v));
     auto arrayOf = [&](const char* key) {
         const auto it = doc.find(key);
         return it != doc.end() && it->is_array() ? *it : nlohmann::json::array();
     };
     const nlohmann::json buffers = arrayOf("buffers"), views = arrayOf("bufferViews"),
                          accessors = arrayOf("accessors");
+    // assimp's data URI parser keeps the offsets of the URI's parts in signed chars: a header
+    // (up to the comma) past 126 bytes sends them negative, and the data is read from before
+    // the string. And it takes an embedded image's file extension from after the '/' of its
+    // MIME type without checking that there is one (a NULL + 1 pointer: SIGSEGV).
+    auto dataUriHeaderBad = [](const std::string& uri) -> std::optional<std::string> {
+        if (uri.rfind("data:", 0) != 0) return std::nullopt;
+        const std::size_t comma = std::min(uri.find(','), uri.size());
+        if (comma > 100) return fmt::format("a data URI header of {} bytes (at most 100)", comma);
+        const std::string type = uri.substr(5, std::min(uri.find(';'), comma) - 5);
+        if (!type.empty() && type.find('/') == std::string::npos)
+            return fmt::format("a data URI of media type \"{}\" (not type/subtype)", type);
+        return std::nullopt;
+    };
+    const nlohmann::json images = arrayOf("images");
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        const nlohmann::json& image = images[i];
+        if (!image.is_object()) return bad(fmt::format("image {} is not an object", i));
+        const auto uri = image.find("uri");
+        if (uri != image.end() && uri->is_string()) {
+            if (auto why = dataUriHeaderBad(uri->get<std::string>()))
+                return bad(fmt::format("image {} has {}", i, *why));
+        } else if (const auto mime = image.find("mimeType");
+                   mime != image.end() && mime->is_string() &&
+                   mime->get_ref<const std::string&>().find('/') == std::string::npos) {
+            return bad(fmt::format("image {}'s mimeType \"{}\" is not type/subtype", i,
+                                   mime->get<std::string>()));
+        }
+    }
     std::vector<std::uint64_t> bufferBytes;
     for (std::size_t i = 0; i < buffers.size(); ++i) {
         const nlohmann::json& buf = buffers[i];
@@ -164,6 +243,7 @@ Status checkGltfBounds(const std::filesystem::path& path, const std::string& wha
             have = i == 0 ? binChunk : std::nullopt;
         } else if (uri->is_string()) {
             const std::string u = uri->get<std::string>();
+            if (auto why = dataUriHeaderBad(u)) return bad(fmt::format("buffer {} has {}", i, *why));
             have = dataUriBytes(u);
             if (!have && u.rfind("data:", 0) != 0) {
                 const std::uintmax_t n =
@@ -185,8 +265,9 @@ Status checkGltfBounds(const std::filesystem::path& path, const std::string& wha
         if (buffer >= bufferBytes.size())
             return bad(fmt::format("bufferView {} names buffer {} of {}", i, buffer, bufferBytes.size()));
         if (offset > bufferBytes[buffer] || length > bufferBytes[buffer] - offset) {
-            return bad(fmt::format("bufferView {} (bytes {}..{}) runs past buffer {}'s {} bytes", i,
-                                   offset, offset + length, buffer, bufferBytes[buffer]));
+            return bad(fmt::format("bufferView {} (byteOffset {}, byteLength {}) runs past "
+                                   "buffer {}'s {} bytes",
+                                   i, offset, length, buffer, bufferBytes[buffer]));
         }
         viewBytes.push_back(length);
     }
@@ -204,6 +285,12 @@ Status checkGltfBounds(const std::filesystem::path& path, const std::string& wha
         if (!a.is_object()) return bad(fmt::format("accessor {} is not an object", i));
         const std::uint64_t element = elementBytes(a), count = number(a, "count");
         if (element == 0) continue;
+        if (!a.contains("bufferView") && count > kMaxZeroFilledBytes / element) {
+            // glTF's zero-filled accessor (usually sparse): assimp allocates all of it.
+            return bad(fmt::format("accessor {} has no bufferView and {} elements of {} bytes: "
+                                   "over {} MiB of zeros",
+                                   i, count, element, kMaxZeroFilledBytes >> 20));
+        }
         if (a.contains("bufferView")) {
             const std::uint64_t view = number(a, "bufferView", ~std::uint64_t(0));
             const std::uint64_t stride =

@@ -24,9 +24,14 @@ std::string uriDecode(const std::string& s);
 /// buffer, every accessor (and a sparse accessor's indices and values) inside its buffer view,
 /// and a buffer's bytes (the GLB's BIN chunk, a data URI, an external file) are at least its
 /// byteLength. assimp 5.2.5 copies an accessor without checking it against its buffer view: a
-/// byteOffset one byte too far reads past the buffer (tests/fuzz/regressions/glb/). Files that
-/// are not glTF JSON, or whose JSON cannot be parsed (assimp then refuses them), are OK here.
-/// Errors: ErrorCode::Input, "WHAT: malformed glTF: accessor 3 ...".
+/// byteOffset one byte too far reads past the buffer (tests/fuzz/regressions/glb/). An
+/// accessor without a bufferView stands for at most 256 MiB of zeros (assimp allocates them).
+/// So that assimp (rapidjson) and this check read one document, the JSON is read up to its
+/// first NUL byte, as assimp does, and must be well-formed UTF-8 JSON with no key named twice
+/// in one object; its asset.version must be 2.x (assimp's glTF 1.0 reader checks far less).
+/// Errors: ErrorCode::Input, "WHAT: malformed glTF: accessor 3 ...", "WHAT: malformed glTF:
+/// its JSON: parse error at line 1, column 9: ...", "WHAT: malformed glTF: glTF 1.0 is not
+/// supported (mvr reads glTF 2.0)".
 Status checkGltfBounds(const std::filesystem::path& path, const std::string& what);
 
 /// What preflightModel() learnt of a model file.

@@ -317,7 +317,8 @@ TEST(Mesh, GltfAccessorsMustLieInsideTheirBuffers) {
          "malformed glTF: accessor 0 (3 elements of 12 bytes from byte 1 of bufferView 0) runs "
          "past its bufferView"},
         {"view.gltf", gltf(44, 60, 0, bin),
-         "malformed glTF: bufferView 0 (bytes 0..60) runs past buffer 0's 44 bytes"},
+         "malformed glTF: bufferView 0 (byteOffset 0, byteLength 60) runs past buffer 0's "
+         "44 bytes"},
         {"buffer.gltf", gltf(44, 36, 0, bin.substr(0, 30)),
          "malformed glTF: buffer 0 claims 44 bytes, its data holds 30"},
     };
@@ -328,6 +329,74 @@ TEST(Mesh, GltfAccessorsMustLieInsideTheirBuffers) {
         EXPECT_NE(r.status().message().find(b.name), std::string::npos) << r.status().message();
         EXPECT_NE(r.status().message().find(b.message), std::string::npos)
             << r.status().message();
+    }
+}
+
+// assimp reads glTF JSON with rapidjson, mvr's bounds check with nlohmann: where the two
+// would read a file differently, mvr refuses it, or the check would not cover what assimp
+// reads (the CI fuzz run found a 2 TB allocation behind invalid UTF-8, which nlohmann refused
+// and rapidjson read). Each message names the reason.
+TEST(Mesh, GltfThatAssimpWouldReadDifferentlyIsRefused) {
+    const float pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const std::string data =
+        test::base64(std::string(reinterpret_cast<const char*>(pos), sizeof pos));
+    auto gltf = [&](const std::string& version, const std::string& view,
+                    const std::string& name) {
+        return fmt::format(
+            R"({{"asset":{{"version":"{}"}},"scene":0,"scenes":[{{"nodes":[0],"name":"{}"}}],)"
+            R"("nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}]}}],)"
+            R"("buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,{}"}}],)"
+            R"("bufferViews":[{}],"accessors":[{{"bufferView":0,"componentType":5126,"count":3,)"
+            R"("type":"VEC3","min":[0,0,0],"max":[1,1,0]}}]}})",
+            version, name, data, view);
+    };
+    const std::string view = R"({"buffer":0,"byteLength":36})";
+    test::TempDir dir;
+    // A NUL byte ends the document for assimp, and for the check: what follows is not read.
+    auto nul = loadMesh(dir.write("nul.gltf", gltf("2.0", view, "s") + std::string(1, '\0') + "junk"));
+    ASSERT_TRUE(nul) << nul.status().message();
+    EXPECT_EQ(nul->triangleCount(), 1u);
+
+    std::string glb1("glTF\x01\0\0\0\x20\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0", 32);
+    const struct {
+        const char* name;
+        std::string file;
+        const char* message;
+        const char* also = "";
+    } bad[] = {
+        {"utf8.gltf", gltf("2.0", view, "caf\xe9"),
+         "malformed glTF: its JSON: parse error at line 1, column ", "ill-formed UTF-8 byte"},
+        {"twice.gltf", gltf("2.0", R"({"buffer":0,"byteLength":36,"byteLength":12})", "s"),
+         "malformed glTF: an object names the key \"byteLength\" twice"},
+        {"v1.gltf", gltf("1.0", view, "s"),
+         "malformed glTF: glTF 1.0 is not supported (mvr reads glTF 2.0)"},
+        {"noversion.gltf", R"({"asset":{},"scenes":[]})",
+         "malformed glTF: no asset.version (glTF 2.0 requires one)"},
+        {"v1.glb", glb1, "binary glTF 1.0 is not supported (mvr reads glTF 2.0)"},
+        {"mime.gltf",
+         R"({"asset":{"version":"2.0"},"images":[{"bufferView":0,"mimeType":"image+png"}]})",
+         "malformed glTF: image 0's mimeType \"image+png\" is not type/subtype"},
+        {"mediatype.gltf",
+         R"({"asset":{"version":"2.0"},"images":[{"uri":"data:png;base64,AAAA"}]})",
+         "malformed glTF: image 0 has a data URI of media type \"png\" (not type/subtype)"},
+        {"header.gltf",
+         R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":3,"uri":"data:application/)" +
+             std::string(120, 'x') + R"(;base64,AAAA"}]})",
+         "malformed glTF: buffer 0 has a data URI header of 144 bytes (at most 100)"},
+        {"zeros.gltf",
+         R"({"asset":{"version":"2.0"},"accessors":[{"componentType":5126,"count":4000000000,)"
+         R"("type":"VEC3","sparse":{"count":0}}]})",
+         "malformed glTF: accessor 0 has no bufferView and 4000000000 elements of 12 bytes: "
+         "over 256 MiB of zeros"},
+    };
+    for (const auto& b : bad) {
+        auto r = loadMesh(dir.write(b.name, b.file));
+        ASSERT_FALSE(r) << b.name;
+        EXPECT_EQ(r.status().code(), ErrorCode::Input) << b.name;
+        EXPECT_NE(r.status().message().find(b.name), std::string::npos) << r.status().message();
+        EXPECT_NE(r.status().message().find(b.message), std::string::npos)
+            << r.status().message();
+        EXPECT_NE(r.status().message().find(b.also), std::string::npos) << r.status().message();
     }
 }
 
