@@ -15,8 +15,17 @@
 
 namespace mvr::fuzz {
 
+/// The scratch folder: $MVR_FUZZ_SCRATCH when set (scripts/fuzz.sh sets one fixed path per
+/// target, so that a run's inputs, paths included, are the same on every machine), else a new
+/// mvr-fuzz-XXXXXX in the temporary folder.
 inline const std::filesystem::path& scratchDir() {
     static const std::filesystem::path dir = [] {
+        if (const char* fixed = std::getenv("MVR_FUZZ_SCRATCH"); fixed && *fixed) {
+            std::error_code ec;
+            std::filesystem::create_directories(fixed, ec);
+            if (ec) std::abort();
+            return std::filesystem::path(fixed);
+        }
         std::string tmpl = (std::filesystem::temp_directory_path() / "mvr-fuzz-XXXXXX").string();
         if (!::mkdtemp(tmpl.data())) std::abort();
         std::atexit([] {
