@@ -321,6 +321,38 @@ Status checkGltfBounds(const std::filesystem::path& path, const std::string& wha
             }
         }
     }
+    // assimp 5.2.5 builds a primitive's faces without checking the ends: an indexed LINE_LOOP
+    // whose first segment it drops closes the loop through that segment's indices (a NULL
+    // read); a strip or fan of fewer vertices than one face allocates 2^32 faces (count - 2 in
+    // 32 bits). A primitive without POSITION has no vertices, so it is one of those or fails.
+    const nlohmann::json meshes = arrayOf("meshes");
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+        const auto prims = meshes[m].is_object() ? meshes[m].find("primitives") : meshes[m].end();
+        if (prims == meshes[m].end() || !prims->is_array()) continue;
+        for (std::size_t p = 0; p < prims->size(); ++p) {
+            const nlohmann::json& prim = (*prims)[p];
+            if (!prim.is_object()) continue;
+            const std::string where = fmt::format("mesh {} primitive {}", m, p);
+            const auto attributes = prim.find("attributes");
+            const std::uint64_t position =
+                attributes != prim.end() && attributes->is_object()
+                    ? number(*attributes, "POSITION", ~std::uint64_t(0))
+                    : ~std::uint64_t(0);
+            if (position >= accessors.size())
+                return bad(where + " has no POSITION accessor (glTF draws no such primitive)");
+            const std::uint64_t mode = number(prim, "mode", 4);
+            if (mode == 2 && prim.contains("indices"))
+                return bad(where + " is an indexed LINE_LOOP (mode 2), which assimp 5.2.5 can "
+                                   "crash on; mvr draws triangles only");
+            const std::uint64_t vertices = number(accessors[position], "count");
+            const std::uint64_t least = mode == 3 ? 2 : mode == 5 || mode == 6 ? 3 : 0;
+            if (!prim.contains("indices") && vertices < least)
+                return bad(fmt::format("{} is a {} of {} vertices (one {} needs {})", where,
+                                       mode == 3 ? "LINE_STRIP" : mode == 5 ? "TRIANGLE_STRIP"
+                                                                            : "TRIANGLE_FAN",
+                                       vertices, mode == 3 ? "line" : "triangle", least));
+        }
+    }
     return Status();
 }
 

@@ -383,6 +383,18 @@ TEST(Mesh, GltfThatAssimpWouldReadDifferentlyIsRefused) {
          R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":3,"uri":"data:application/)" +
              std::string(120, 'x') + R"(;base64,AAAA"}]})",
          "malformed glTF: buffer 0 has a data URI header of 144 bytes (at most 100)"},
+        {"loop.gltf",
+         R"({"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":0},)"
+         R"("indices":0,"mode":2}]}],"accessors":[{"count":3}]})",
+         "malformed glTF: mesh 0 primitive 0 is an indexed LINE_LOOP (mode 2)"},
+        {"noposition.gltf",
+         R"({"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"NORMAL":0}}]}],)"
+         R"("accessors":[{"count":3}]})",
+         "malformed glTF: mesh 0 primitive 0 has no POSITION accessor"},
+        {"fan.gltf",
+         R"({"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":0},)"
+         R"("mode":6}]}],"accessors":[{"count":1}]})",
+         "malformed glTF: mesh 0 primitive 0 is a TRIANGLE_FAN of 1 vertices (one triangle needs 3)"},
         {"zeros.gltf",
          R"({"asset":{"version":"2.0"},"accessors":[{"componentType":5126,"count":4000000000,)"
          R"("type":"VEC3","sparse":{"count":0}}]})",
