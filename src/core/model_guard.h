@@ -29,6 +29,8 @@ std::string uriDecode(const std::string& s);
 /// So that assimp (rapidjson) and this check read one document, the JSON is read up to its
 /// first NUL byte, as assimp does, and must be well-formed UTF-8 JSON with no key named twice
 /// in one object; its asset.version must be 2.x (assimp's glTF 1.0 reader checks far less).
+/// Image MIME types and data URI headers, and primitives (a POSITION each, no indexed
+/// LINE_LOOP, strips and fans of at least one face) are checked where assimp crashes on them.
 /// Errors: ErrorCode::Input, "WHAT: malformed glTF: accessor 3 ...", "WHAT: malformed glTF:
 /// its JSON: parse error at line 1, column 9: ...", "WHAT: malformed glTF: glTF 1.0 is not
 /// supported (mvr reads glTF 2.0)".
