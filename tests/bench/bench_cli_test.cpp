@@ -397,6 +397,29 @@ TEST_F(BenchCli, ViewsJsonSoft) {
     expectViewsJson(j, {"soft:multipass", "soft:unified"});
 }
 
+// --methods takes one comma-separated list, so a model named after it is the model (it used
+// to be swallowed as a method). The triangle count is the file's, counted here from its faces.
+TEST_F(BenchCli, ModelNamedAfterMethodsIsTheModel) {
+    const std::string path = model("suzanne.obj");
+    std::ifstream in(path);
+    std::string line;
+    long triangles = 0;
+    while (std::getline(in, line)) {
+        if (line.rfind("f ", 0) != 0) continue;
+        std::istringstream words(line.substr(2));
+        long corners = 0;
+        for (std::string w; words >> w;) ++corners;
+        triangles += corners - 2;
+    }
+    ASSERT_GT(triangles, 0);
+    const nlohmann::json j =
+        runJson(fmt::format("bench views --counts 2 --size 32x24 --frames 1 --warmup 0 "
+                            "--methods soft:multipass,soft:unified '{}' --json",
+                            path));
+    ASSERT_EQ(j["results"].size(), 2u) << j.dump();
+    for (const auto& r : j["results"]) EXPECT_EQ(r["triangles"], triangles) << r.dump();
+}
+
 TEST_F(BenchCli, ViewsJsonGlAndPlot) {
     // gl:multipass is added as the baseline of gl:viewport-array; skipped where gl cannot run.
     const CliRun r =

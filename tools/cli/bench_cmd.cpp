@@ -76,10 +76,9 @@ const CommandRegistrar kBench(30, [](CLI::App& root) -> std::function<int()> {
         "Time rendering methods side by side (warm-up, then F frames): median/min ms, per-stage "
         "breakdown (soft), ratio to the first method; --json for machines");
     o->scene.addTo(app);
-    app->add_option("--methods", o->methods,
-                    "BACKEND:METHOD list, comma separated (first = baseline)")
-        ->delimiter(',')
-        ->default_str(joined(o->methods));
+    bench::addMethodsOption(app, o->methods,
+                            "BACKEND:METHOD list, comma separated (first = baseline)",
+                            joined(o->methods));
     app->add_option("--frames", o->frames, "Timed frames per method")->default_val(o->frames);
     app->add_option("--warmup", o->warmup, "Untimed frames before them")->default_val(o->warmup);
     app->add_option("--threads", o->threads, "soft: worker threads (0 = one per core)")

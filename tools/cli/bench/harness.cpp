@@ -319,6 +319,14 @@ Machine describeMachine(const BackendSet& backends) {
 
 // ---- the paper benches' common options ------------------------------------------------------
 
+void addMethodsOption(CLI::App* app, std::vector<std::string>& methods, const std::string& help,
+                      const std::string& defaults) {
+    app->add_option("--methods", methods, help)
+        ->delimiter(',')
+        ->allow_extra_args(false)
+        ->default_str(defaults);
+}
+
 void addModelOptions(CLI::App* app, std::vector<std::string>& models, int& grid) {
     app->add_option("models", models, "Models (default: the procedural scene)");
     app->add_option("--grid", grid, "Lay out K copies of the model(s) in a grid")

@@ -195,6 +195,10 @@ struct CommonOptions {
 };
 /// Adds --frames, --warmup, --threads, --json, --csv, --progress, --plot, --save-json.
 void addCommonOptions(CLI::App* app, CommonOptions& options, const char* framesHelp);
+/// Adds --methods: one comma-separated list (`--methods a,b`, or repeated `--methods a --methods
+/// b`), never the words after it, so a model named next is a model, not a method.
+void addMethodsOption(CLI::App* app, std::vector<std::string>& methods, const std::string& help,
+                      const std::string& defaults);
 /// Adds the positional models (default: the procedural scene) and --grid K.
 void addModelOptions(CLI::App* app, std::vector<std::string>& models, int& grid);
 /// Range checks, and that --plot can be drawn (before minutes of measuring).

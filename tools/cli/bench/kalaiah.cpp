@@ -200,11 +200,9 @@ PaperBench addKalaiah(CLI::App* bench) {
         ->delimiter(',')
         ->default_str("800x600");
     k->add_option("--shading", o->shading, "flat, vertex or pixel")->default_val(o->shading);
-    k->add_option("--methods", o->methods,
-                  "BACKEND:METHOD list (BACKEND:multipass is added as the baseline)")
-        ->delimiter(',')
-        ->default_str(
-            "soft:multipass,soft:unified,gl:multipass,gl:kalaiah-emulation,gl:gs-layered,...");
+    addMethodsOption(
+        k, o->methods, "BACKEND:METHOD list (BACKEND:multipass is added as the baseline)",
+        "soft:multipass,soft:unified,gl:multipass,gl:kalaiah-emulation,gl:gs-layered,...");
     addCommonOptions(k, o->common, "Timed frames per method and configuration");
     return {k, [o] { return runKalaiah(*o); }};
 }

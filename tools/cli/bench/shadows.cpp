@@ -199,9 +199,8 @@ PaperBench addShadows(CLI::App* bench) {
         ->delimiter(',')
         ->default_str("1,2,4,8");
     v->add_option("--map-size", o->mapSize, "Shadow map texels per side")->default_val(o->mapSize);
-    v->add_option("--methods", o->methods, "BACKEND:METHOD list")
-        ->delimiter(',')
-        ->default_str("soft:unified,gl:instanced-layer,gl:gs-layered");
+    addMethodsOption(v, o->methods, "BACKEND:METHOD list",
+                     "soft:unified,gl:instanced-layer,gl:gs-layered");
     addCommonOptions(v, o->common, "Timed frames per method and light count");
     return {v, [o] { return runShadows(*o); }};
 }

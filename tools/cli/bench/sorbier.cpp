@@ -259,11 +259,9 @@ PaperBench addSorbier(CLI::App* bench) {
     s->add_option("--sizes", o->sizes, "Image sizes WxH per view, comma separated")
         ->delimiter(',')
         ->default_str("1024x768");
-    s->add_option("--methods", o->methods,
-                  "BACKEND:METHOD list (BACKEND:multipass is added as the baseline)")
-        ->delimiter(',')
-        ->default_str(
-            "soft:multipass,soft:unified,gl:multipass,gl:gs-mrt,gl:gs-depthmap,gl:gs-layered,...");
+    addMethodsOption(
+        s, o->methods, "BACKEND:METHOD list (BACKEND:multipass is added as the baseline)",
+        "soft:multipass,soft:unified,gl:multipass,gl:gs-mrt,gl:gs-depthmap,gl:gs-layered,...");
     addCommonOptions(s, o->common, "Timed frames per method and configuration");
     return {s, [o] { return runSorbier(*o); }};
 }

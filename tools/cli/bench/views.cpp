@@ -181,10 +181,9 @@ PaperBench addViews(CLI::App* bench) {
         ->delimiter(',');
     v->add_option("--size", o->size, "One view's size WxH")->default_val(o->size);
     v->add_option("--shading", o->shading, "flat, vertex or pixel")->default_val(o->shading);
-    v->add_option("--methods", o->methods,
-                  "BACKEND:METHOD list (BACKEND:multipass is added as the baseline)")
-        ->delimiter(',')
-        ->default_str("soft:multipass,soft:unified");
+    addMethodsOption(v, o->methods,
+                     "BACKEND:METHOD list (BACKEND:multipass is added as the baseline)",
+                     "soft:multipass,soft:unified");
     addCommonOptions(v, o->common, "Timed frames per method and view count");
     return {v, [o] { return runViews(*o); }};
 }
