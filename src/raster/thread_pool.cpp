@@ -1,5 +1,8 @@
 #include "thread_pool.h"
 
+#include <exception>
+#include <utility>
+
 #include <pthread.h>
 #include <sched.h>
 
@@ -63,6 +66,7 @@ void ThreadPool::run(int taskCount, const std::function<void(int, int)>& fn) {
     mWake.notify_all();
     mDone.wait(lock, [this] { return mBusy == 0; });
     mFn = nullptr;
+    if (mError) std::rethrow_exception(std::exchange(mError, nullptr));
 }
 
 void ThreadPool::workerLoop(int worker) {
@@ -78,8 +82,14 @@ void ThreadPool::workerLoop(int worker) {
             fn = mFn;
             count = mTaskCount;
         }
-        for (int task = mNext.fetch_add(1); task < count; task = mNext.fetch_add(1)) {
-            (*fn)(task, worker);
+        try {
+            for (int task = mNext.fetch_add(1); task < count; task = mNext.fetch_add(1)) {
+                (*fn)(task, worker);
+            }
+        } catch (...) {          // e.g. std::bad_alloc: rethrown by run() on the caller's thread
+            mNext.store(count);  // the other workers claim nothing more
+            std::lock_guard lock(mMutex);
+            if (!mError) mError = std::current_exception();
         }
         std::lock_guard lock(mMutex);
         if (--mBusy == 0) mDone.notify_one();

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -27,7 +28,10 @@ public:
     bool pinned() const { return mPinned; }
 
     /// Runs fn(task, worker) for task = 0..taskCount-1 on the workers (tasks are claimed in
-    /// increasing order, dynamically); returns when all have finished. Not reentrant.
+    /// increasing order, dynamically); returns when all have finished. Not reentrant. A task
+    /// that throws (std::bad_alloc: a frame too large for this machine) stops the claiming of
+    /// further tasks, and run() rethrows its exception on the caller's thread once every
+    /// worker is idle.
     void run(int taskCount, const std::function<void(int task, int worker)>& fn);
 
 private:
@@ -43,6 +47,7 @@ private:
     std::uint64_t mGeneration = 0;
     bool mStop = false;
     bool mPinned = false;
+    std::exception_ptr mError;  ///< the first exception a task of this run() threw
 };
 
 /// CPUs in this process's affinity set (at least 1).

@@ -372,6 +372,27 @@ TEST_F(Cli, EveryBackendRefusesAnOutputOverTheBudgetAlike) {
     EXPECT_FALSE(std::filesystem::exists(mDir / "out" / "view-0.png"));
 }
 
+// What fits depends on the machine: a frame within the fixed budget that this process cannot
+// allocate (here under a 1.5 GB address-space limit) is one error line, not an abort. The
+// allocation fails on a worker thread (the soft backend clears its images in parallel); the
+// thread pool hands the exception to the caller, whose error names the request.
+TEST_F(Cli, RunningOutOfMemoryIsOneErrorLine) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "ASan reserves terabytes of address space: no ulimit -v under it";
+#else
+    const std::string cmd = fmt::format(
+        "cd '{}' && ulimit -v 1500000 && '{}' render -o out --backend soft --views 40 "
+        "--size 2048x2048 >out.txt 2>err.txt </dev/null",
+        mDir.string(), test::mvrBinary().string());
+    const int status = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+    EXPECT_EQ(WEXITSTATUS(status), 5);
+    EXPECT_EQ(test::slurp(mDir / "err.txt"),
+              "error: soft backend: out of memory rendering 40 views of 2048x2048\n");
+    EXPECT_FALSE(std::filesystem::exists(mDir / "out" / "view-0.png"));
+#endif
+}
+
 // --check renders the reference too and prints, per view, the fraction of pixels that differ.
 TEST_F(Cli, CheckPrintsTheArtifactFractionPerView) {
     const CliRun soft = run("render --size 160x120 -o out --check");

@@ -1,9 +1,11 @@
 // The soft backend's reference rasterizer ("multipass"): coverage (fill rule, watertightness,
 // analytic counts), depth, near-plane clipping, culling, bad input, and the SIMD kernels.
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <random>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -13,11 +15,32 @@
 #include "frame.h"
 #include "mvr/raster/soft_backend.h"
 #include "pipeline.h"
+#include "thread_pool.h"
 #include "test_scenes.h"
 #include "wireframe.h"
 
 namespace mvr::raster {
 namespace {
+
+// A task that throws (std::bad_alloc when a frame does not fit) must not terminate the process
+// from a worker thread: run() rethrows it on the caller's thread, the other tasks stop being
+// claimed, and the pool serves the next run() as before.
+TEST(ThreadPool, ATaskThatThrowsIsRethrownByRun) {
+    for (int workers : {1, 2}) {
+        detail::ThreadPool pool(workers);
+        std::atomic<int> ran{0};
+        EXPECT_THROW(pool.run(1000,
+                              [&](int task, int) {
+                                  ++ran;
+                                  if (task == 3) throw std::bad_alloc();
+                              }),
+                     std::bad_alloc);
+        if (workers == 1) EXPECT_EQ(ran.load(), 4);  // tasks 0..3, then no more claimed
+        std::atomic<int> sum{0};
+        pool.run(100, [&](int task, int) { sum += task; });
+        EXPECT_EQ(sum.load(), 4950) << workers;
+    }
+}
 
 using detail::kSubpixel;
 

@@ -1,11 +1,14 @@
 // mvr — multiple-viewpoint rendering: command-line entry point.
 #include <algorithm>
 #include <cstdio>
+#include <exception>
+#include <new>
 
 #include <fmt/core.h>
 
 #include "command.h"
 #include "mvr/core/platform.h"
+#include "mvr/core/status.h"
 
 namespace mvr::cli {
 std::vector<CommandEntry>& commandRegistry() {
@@ -57,7 +60,21 @@ int main(int argc, char** argv) {
         return 1;
     }
     for (auto& [sub, run] : commands) {
-        if (sub->parsed()) return run();
+        if (!sub->parsed()) continue;
+        // Requests are checked up front (views x size against a fixed budget), but what fits
+        // depends on the machine: running out of memory is one error line, not an abort.
+        try {
+            return run();
+        } catch (const std::bad_alloc&) {
+            fmt::print(stderr,
+                       "error: mvr {}: out of memory (ask for fewer views, a smaller --size or "
+                       "fewer threads)\n",
+                       sub->get_name());
+            return mvr::exitCode(mvr::ErrorCode::Internal);  // as the soft backend's own
+        } catch (const std::exception& e) {
+            fmt::print(stderr, "error: mvr {}: internal error: {}\n", sub->get_name(), e.what());
+            return mvr::exitCode(mvr::ErrorCode::Internal);
+        }
     }
     return 1;
 }
