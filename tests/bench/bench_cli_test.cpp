@@ -17,24 +17,16 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_util.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path mvrBinary() {
-    const char* bin = std::getenv("MVR_BINARY_DIR");
-    return fs::path(bin ? bin : MVR_TEST_BINARY_DIR) / "tools" / "cli" / "mvr";
-}
+using mvr::test::CliRun;
+using mvr::test::mvrBinary;
 
-std::string model(const char* name) {
-    const char* dir = std::getenv("MVR_SHARED_DIR");
-    return (fs::path(dir ? dir : MVR_TEST_SHARED_DIR) / "models" / name).string();
-}
-
-struct CliRun {
-    int exitCode = -1;
-    std::string out, err;
-};
+std::string model(const char* name) { return (mvr::test::sharedModels() / name).string(); }
 
 class BenchCli : public ::testing::Test {
 protected:
@@ -46,23 +38,7 @@ protected:
     }
     void TearDown() override { fs::remove_all(mDir); }
 
-    CliRun run(const std::string& args) const {
-        const fs::path out = mDir / "stdout.txt", err = mDir / "stderr.txt";
-        const std::string cmd =
-            fmt::format("cd '{}' && '{}' {} >'{}' 2>'{}' </dev/null", mDir.string(),
-                        mvrBinary().string(), args, out.string(), err.string());
-        const int status = std::system(cmd.c_str());
-        CliRun r;
-        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        auto slurp = [](const fs::path& p) {
-            std::ifstream in(p);
-            std::stringstream ss;
-            ss << in.rdbuf();
-            return ss.str();
-        };
-        r.out = slurp(out), r.err = slurp(err);
-        return r;
-    }
+    CliRun run(const std::string& args) const { return mvr::test::runMvr(mDir, args); }
 
     nlohmann::json runJson(const std::string& args) const {
         const CliRun r = run(args);

@@ -380,15 +380,10 @@ TEST_F(Cli, RunningOutOfMemoryIsOneErrorLine) {
 #if defined(__SANITIZE_ADDRESS__)
     GTEST_SKIP() << "ASan reserves terabytes of address space: no ulimit -v under it";
 #else
-    const std::string cmd = fmt::format(
-        "cd '{}' && ulimit -v 1500000 && '{}' render -o out --backend soft --views 40 "
-        "--size 2048x2048 >out.txt 2>err.txt </dev/null",
-        mDir.string(), test::mvrBinary().string());
-    const int status = std::system(cmd.c_str());
-    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-    EXPECT_EQ(WEXITSTATUS(status), 5);
-    EXPECT_EQ(test::slurp(mDir / "err.txt"),
-              "error: soft backend: out of memory rendering 40 views of 2048x2048\n");
+    const CliRun r = test::runMvr(mDir, "render -o out --backend soft --views 40 --size 2048x2048",
+                                  "ulimit -v 1500000 && ");
+    EXPECT_EQ(r.exitCode, 5) << r.err;  // not 134: std::terminate's abort
+    EXPECT_EQ(r.err, "error: soft backend: out of memory rendering 40 views of 2048x2048\n");
     EXPECT_FALSE(std::filesystem::exists(mDir / "out" / "view-0.png"));
 #endif
 }

@@ -37,10 +37,12 @@ struct CliRun {
 };
 
 /// `mvr ARGS` run in `dir` (no standard input); its output goes through files in `dir`.
-inline CliRun runMvr(const std::filesystem::path& dir, const std::string& args) {
+/// `shellPrefix` runs in the same shell first (e.g. "ulimit -v 1500000 && ").
+inline CliRun runMvr(const std::filesystem::path& dir, const std::string& args,
+                     const std::string& shellPrefix = "") {
     const auto outFile = dir / "stdout.txt", errFile = dir / "stderr.txt";
     const std::string cmd =
-        fmt::format("cd '{}' && '{}' {} >'{}' 2>'{}' </dev/null", dir.string(),
+        fmt::format("cd '{}' && {}'{}' {} >'{}' 2>'{}' </dev/null", dir.string(), shellPrefix,
                     mvrBinary().string(), args, outFile.string(), errFile.string());
     const int status = std::system(cmd.c_str());
     CliRun r;
