@@ -65,6 +65,20 @@ using TransformPointsFn = void (*)(const glm::vec3* positions, std::size_t n, co
 /// own, for the tests (shadeVertices inlines the same code).
 using SpecularPowFn = void (*)(const float* x, std::size_t n, float s, float* out);
 
+/// The fragments of ONE untextured triangle (Vertex or Flat shading: `flat`) in up to 64 views
+/// side by side (issue 12): for each lane k of `s` in `lanes` whose mask[k] > 0, the covered 2×2
+/// centers of emitSmall(s, k, rowMin, sink) with FragmentSink's depth test and color, into the
+/// lane's own view: depth[slot[k]] / color[slot[k]] (images of width × height). The triangle's
+/// fragment inputs (depth, 1/w, vertex colors) are the same in every view, so the SIMD paths
+/// broadcast them and run the views' fragments as lanes: per lane the same operations in the
+/// same order as FragmentSink, hence the same bits. Returns the lanes of `lanes` whose mask is
+/// negative (the general walk, rasterTriangle: left to the caller). `slot` must be readable for
+/// 64 bytes.
+using ShadeLanesFn = std::uint64_t (*)(const ViewsSetup& s, std::uint64_t lanes, int rowMin,
+                                       int width, int height, const FragmentTri& tri, bool flat,
+                                       const std::uint8_t* slot, float* const* depth,
+                                       std::uint32_t* const* color);
+
 struct Kernels {
     ProjectYZWFn projectYZW;
     ProjectXFn projectX;
@@ -74,6 +88,7 @@ struct Kernels {
     SpecularPowFn specularPow;
     SetupLanesFn setupLanes;      ///< lanes.h: (triangle, view) pairs side by side
     SetupShearedFn setupSheared;  ///< long sheared rows: x derived from the center per view
+    ShadeLanesFn shadeLanes;      ///< one triangle's fragments in many views side by side
 };
 
 /// The kernel table of a path (resolved first, so always a valid table).

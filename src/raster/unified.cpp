@@ -187,6 +187,13 @@ struct BandContext {
     bool cull = false;     ///< back-face culling for the current draw item (not double-sided)
     ViewsSetup views{};    ///< the current triangle's per-view x setup (L1)
     ViewsX xs{};           ///< a long row's derived snapped x of the current triangle
+    /// The views' images by family position: family i's view k at famSlot[i] + k (shadeLanes).
+    std::vector<std::size_t> famSlot;
+    std::vector<float*> slotDepth;
+    std::vector<std::uint32_t*> slotColor;
+    /// Untextured Vertex or Flat shading: a long row's fragments of one triangle go through
+    /// shadeLanes (all its views side by side).
+    bool laneFragments = (S == Shading::Vertex || S == Shading::Flat) && !f.textured && !getenv("MVR_NO_LANES");
     LaneQueue<S> queue{};  ///< small families' (triangle, view) lanes waiting for setupLanes
 };
 
@@ -374,8 +381,6 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
         }
         return;
     }
-    fill(b.frag);
-    flushLanes(b);
     if (fam.many) {
         // A long row: the views' x derived from the center here (setupSheared), nothing stored.
         ShearedTri t;
@@ -384,13 +389,40 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
             t.wc[j] = d.cw[v[j]] - d.convergence;
             t.q[j] = q[v[j]];
         }
+        fill(b.frag);
+        flushLanes(b);
         for (int base = 0; base < nv; base += kSetupChunk) {
             const int n = std::min(kSetupChunk, nv - base);
-            for (std::uint64_t lanes = b.f.kernels.setupSheared(ys, t, fam.shears.data() + base, n,
-                                                                width, b.views, b.xs);
-                 lanes; lanes &= lanes - 1) {
-                const int k = std::countr_zero(lanes);  // packed position
-                const int kv = base + b.xs.view[k];     // the view's position in the family
+            const std::uint64_t lanes = b.f.kernels.setupSheared(
+                ys, t, fam.shears.data() + base, n, width, b.views, b.xs);
+            auto viewOf = [&](int k) { return base + b.xs.view[k]; };  // position in the family
+            if (b.laneFragments) {
+                // All views' fragments side by side (shadeLanes); lanes that need the general
+                // walk come back and are drawn one by one. Culled views of a mixed family are
+                // taken out first.
+                std::uint64_t drawn = lanes;
+                if (faces == FaceClass::Mixed) {
+                    for (std::uint64_t bits = lanes; bits; bits &= bits - 1) {
+                        const int k = std::countr_zero(bits);
+                        if (culled(viewOf(k))) drawn &= ~(std::uint64_t(1) << k);
+                    }
+                }
+                const std::size_t first = b.famSlot[std::size_t(&fam - d.families.data())] + base;
+                for (std::uint64_t general = b.f.kernels.shadeLanes(
+                         b.views, drawn, ys.rowMin, width, b.f.settings.height, b.frag,
+                         S == Shading::Flat, b.xs.view, b.slotDepth.data() + first,
+                         b.slotColor.data() + first);
+                     general; general &= general - 1) {
+                    const int k = std::countr_zero(general);
+                    FragmentSink<S> sink = b.sinks[std::size_t(views[viewOf(k)])];
+                    const std::int32_t xk[3] = {b.xs.x[0][k], b.xs.x[1][k], b.xs.x[2][k]};
+                    rasterTriangle(ys, xk, width, sink);
+                }
+                continue;
+            }
+            for (std::uint64_t bits = lanes; bits; bits &= bits - 1) {
+                const int k = std::countr_zero(bits);  // packed position
+                const int kv = viewOf(k);
                 if (culled(kv)) continue;
                 FragmentSink<S> sink = b.sinks[std::size_t(views[kv])];  // in registers
                 if (b.views.mask[k] > 0) {
@@ -407,6 +439,8 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
         }
         return;
     }
+    fill(b.frag);
+    flushLanes(b);
     // More views than a queue block: setupViews passes over the family's views, at most
     // kSetupChunk at a time (its lane mask has 64 bits).
     for (int base = 0; base < nv; base += kSetupChunk) {
@@ -625,6 +659,19 @@ void rasterStage(FrameContext& f, const UnifiedData& d, std::span<const Target> 
         b.sinks.reserve(targets.size());
         for (const Target& t : targets)
             b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr, f.textured}});
+        if (b.laneFragments) {
+            for (const Family& fam : d.families) {
+                b.famSlot.push_back(b.slotDepth.size());
+                for (const int v : fam.views) {
+                    b.slotDepth.push_back(targets[std::size_t(v)].depth);
+                    b.slotColor.push_back(targets[std::size_t(v)].color);
+                }
+            }
+            // shadeLanes reads the table for all 8 lanes of a group (positions < 64 past a
+            // family's first slot), the unused ones only to be masked off.
+            b.slotDepth.resize(b.slotDepth.size() + kSetupChunk, nullptr);
+            b.slotColor.resize(b.slotColor.size() + kSetupChunk, nullptr);
+        }
         rasterBand(b, d.bins, band);
         flushLanes(b);
     });

@@ -1,5 +1,6 @@
 // The soft backend's reference rasterizer ("multipass"): coverage (fill rule, watertightness,
 // analytic counts), depth, near-plane clipping, culling, bad input, and the SIMD kernels.
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <bit>
@@ -7,6 +8,7 @@
 #include <limits>
 #include <new>
 #include <random>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -766,6 +768,104 @@ TEST(Kernels, SetupShearedSimdEqualsScalar) {
         seen += std::popcount(refLanes);
     }
     EXPECT_GT(seen, 1000);
+}
+
+template <class T>
+using Images = std::vector<std::vector<T>>;  // one image per view
+
+TEST(Kernels, ShadeLanesSimdEqualsScalar) {
+    // One triangle's fragments in up to 64 views (Vertex and Flat, untextured): random
+    // triangles set up by setupViews on a small image, views' depth images holding random
+    // depths (so that some fragments pass and some fail), vertex colors outside [0, 1] too
+    // (the clamp), lanes mapped to views through a shuffled slot table. Every image byte and the
+    // lanes left to the general walk.
+    constexpr int kW = 96, kH = 64;
+    std::mt19937 rng(9191);
+    std::uniform_int_distribution<std::int32_t> pos(0, kW * 256 - 1), jitter(-700, 700);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    int passed = 0, covered = 0, general = 0;
+    Images<float> depth0(64, std::vector<float>(kW * kH)), refDepth = depth0, gotDepth = depth0;
+    Images<std::uint32_t> color0(64, std::vector<std::uint32_t>(kW * kH)), refColor = color0,
+                                                                           gotColor = color0;
+    for (int iter = 0; iter < 300; ++iter) {
+        const int n = 1 + int(rng() % 64);
+        const bool big = iter % 5 == 0;
+        const std::int32_t cx = pos(rng), cy = pos(rng) * kH / kW;
+        std::int32_t y[3];
+        for (auto& v : y) v = cy + (big ? jitter(rng) * 8 : jitter(rng) / 3);
+        detail::YSetup ys;
+        detail::setupY(ys, y[0], y[1], y[2], 0, kH - 1);
+        if (ys.rowMin > ys.rowMax) continue;
+        std::int32_t x[3][kMaxViews];
+        for (int k = 0; k < n; ++k)
+            for (int i = 0; i < 3; ++i)
+                x[i][k] = cx + k * 29 + (big ? jitter(rng) * 8 : jitter(rng) / 3);
+        detail::ViewsSetup s;
+        const std::uint64_t lanes =
+            detail::scalarKernels().setupViews(ys, x[0], x[1], x[2], n, kW, s);
+        detail::FragmentTri tri;
+        float attr[3][3];
+        for (int j = 0; j < 3; ++j) {
+            tri.z[j] = unit(rng);
+            tri.q[j] = 0.2f + unit(rng);
+            for (float& a : attr[j]) a = unit(rng) * 1.4f - 0.2f;
+            tri.attr[j] = attr[j];
+        }
+        tri.flat = std::uint32_t(rng());
+        // Lane k draws into view slot[k] (a permutation); 64 views' images.
+        std::uint8_t slot[kMaxViews + 16] = {};
+        for (int k = 0; k < n; ++k) slot[k] = std::uint8_t(k);
+        std::shuffle(slot, slot + n, rng);
+        for (int v = 0; v < n; ++v) {
+            for (float& d : depth0[v]) d = unit(rng);
+            for (std::uint32_t& c : color0[v]) c = std::uint32_t(rng());
+        }
+        for (const bool flat : {false, true}) {
+            auto run = [&](const detail::Kernels& k, Images<float>& depth,
+                           Images<std::uint32_t>& color) {
+                std::vector<float*> dp;
+                std::vector<std::uint32_t*> cp;
+                for (int v = 0; v < n; ++v) {
+                    depth[v] = depth0[v], color[v] = color0[v];
+                    dp.push_back(depth[v].data()), cp.push_back(color[v].data());
+                }
+                return k.shadeLanes(s, lanes, ys.rowMin, kW, kH, tri, flat, slot, dp.data(),
+                                    cp.data());
+            };
+            const std::uint64_t refGeneral = run(detail::scalarKernels(), refDepth, refColor);
+            for (int k = 0; k < n; ++k) {
+                ASSERT_EQ((refGeneral >> k) & 1u, std::uint64_t(((lanes >> k) & 1u) && s.mask[k] < 0));
+            }
+            for (int v = 0; v < n; ++v) {
+                for (int i = 0; i < kW * kH; ++i) {
+                    if (refDepth[v][i] != depth0[v][i]) ++passed;
+                }
+            }
+            for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
+                if (!k) continue;
+                if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512)
+                    continue;
+                if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar)
+                    continue;
+                ASSERT_EQ(run(*k, gotDepth, gotColor), refGeneral) << iter;
+                for (int v = 0; v < n; ++v) {
+                    ASSERT_EQ(gotColor[v], refColor[v]) << iter << " view " << v;
+                    for (int i = 0; i < kW * kH; ++i) {
+                        ASSERT_EQ(std::bit_cast<std::uint32_t>(gotDepth[v][i]),
+                                  std::bit_cast<std::uint32_t>(refDepth[v][i]))
+                            << iter << " view " << v << " pixel " << i;
+                    }
+                }
+            }
+        }
+        for (int k = 0; k < n; ++k) {
+            covered += s.mask[k] > 0;
+            general += s.mask[k] < 0;
+        }
+    }
+    EXPECT_GT(passed, 1000);   // fragments that passed the depth test
+    EXPECT_GT(covered, 1000);  // lanes with covered centers
+    EXPECT_GT(general, 100);   // lanes left to the general walk
 }
 
 }  // namespace

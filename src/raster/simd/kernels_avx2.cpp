@@ -2,6 +2,7 @@
 // and order as the scalar loops in kernels_tail.h.
 #include <algorithm>
 #include <array>
+#include <cstring>
 
 #include <immintrin.h>
 
@@ -86,6 +87,9 @@ void projectX(const float* x, const float* w, const float* q, std::size_t n, flo
 
 inline __m256i loadLanes(const std::int32_t* p, __m256i live) {
     return _mm256_maskload_epi32(reinterpret_cast<const int*>(p), live);
+}
+inline __m256i load(const std::int32_t* p) {
+    return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
 }
 inline void store(std::int32_t* p, __m256i v) {
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), v);
@@ -207,16 +211,23 @@ std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::in
 /// views a pass.
 std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
                            int width, ViewsSetup& o, ViewsX& xs) {
-    // kPack[mask]: the lanes of mask's set bits first, in order (3 bits each).
-    static const auto kPack = [] {
-        std::array<std::uint32_t, 256> table{};
+    // kPack[mask]: the lanes of mask's set bits first, in order (3 bits each); kPackBytes[mask]:
+    // the same lanes as bytes (the packed views' positions, branch-free: a loop over the kept
+    // lanes cost a mispredicted branch per triangle and pass).
+    struct PackTables {
+        std::array<std::uint32_t, 256> lanes{};
+        std::array<std::uint64_t, 256> bytes{};
+    };
+    static const PackTables kPack = [] {
+        PackTables table;
         for (unsigned mask = 0; mask < 256; ++mask) {
-            std::uint32_t packed = 0;
             int slot = 0;
             for (unsigned lane = 0; lane < 8; ++lane) {
-                if (mask & (1u << lane)) packed |= lane << (3 * slot++);
+                if (!(mask & (1u << lane))) continue;
+                table.lanes[mask] |= lane << (3 * slot);
+                table.bytes[mask] |= std::uint64_t(lane) << (8 * slot);
+                ++slot;
             }
-            table[mask] = packed;
         }
         return table;
     }();
@@ -250,14 +261,13 @@ std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* s
             _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_and_si256(cmple(colMin, colMax), live))));
         if (!keep) continue;
         const __m256i perm = _mm256_and_si256(
-            _mm256_srlv_epi32(_mm256_set1_epi32(std::int32_t(kPack[keep])), shifts),
+            _mm256_srlv_epi32(_mm256_set1_epi32(std::int32_t(kPack.lanes[keep])), shifts),
             _mm256_set1_epi32(7));
         for (int j = 0; j < 3; ++j) store(xs.x[j] + m, _mm256_permutevar8x32_epi32(X[j], perm));
-        const std::uint32_t lanesPacked = kPack[keep];
-        const int count = __builtin_popcount(keep);
-        for (int i = 0; i < count; ++i)
-            xs.view[m + i] = std::uint8_t(k + int((lanesPacked >> (3 * i)) & 7u));
-        m += count;
+        // The 8 bytes k + lane (k + 7 < 128: no carry between bytes); ViewsX::view has room.
+        const std::uint64_t views = kPack.bytes[keep] + std::uint64_t(k) * 0x0101010101010101ull;
+        std::memcpy(xs.view + m, &views, sizeof views);
+        m += __builtin_popcount(keep);
     }
     const __m256i Y[3] = {_mm256_set1_epi32(ys.y[0]), _mm256_set1_epi32(ys.y[1]),
                           _mm256_set1_epi32(ys.y[2])};
@@ -269,6 +279,123 @@ std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* s
                            loadLanes(xs.x[2] + i, live), Y, rowMin, rowMax, live, width, o, i);
     }
     return lanes;
+}
+
+/// shadeLanes: 8 views' lanes side by side; per pass the lowest covered center of every lane
+/// (a lane with several covered centers takes one pass each), FragmentSink's operations on
+/// vectors, the depth of each lane's pixel gathered from its own view, and the passing
+/// fragments written lane by lane.
+std::uint64_t shadeLanes(const ViewsSetup& s, std::uint64_t lanes, int rowMin, int width,
+                         int height, const FragmentTri& tri, bool flat, const std::uint8_t* slot,
+                         float* const* depth, std::uint32_t* const* color) {
+    const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
+    const __m256 z[3] = {_mm256_set1_ps(tri.z[0]), _mm256_set1_ps(tri.z[1]),
+                         _mm256_set1_ps(tri.z[2])};
+    const __m256 q[3] = {_mm256_set1_ps(tri.q[0]), _mm256_set1_ps(tri.q[1]),
+                         _mm256_set1_ps(tri.q[2])};
+    __m256 a[3][3];
+    for (int j = 0; j < 3; ++j)
+        for (int c = 0; c < 3; ++c) a[j][c] = _mm256_set1_ps(flat ? 0.0f : tri.attr[j][c]);
+    const __m256i flatColor = _mm256_set1_epi32(std::int32_t(tri.flat));
+    const __m256i top = _mm256_set1_epi32(height - 1 - rowMin), W = _mm256_set1_epi32(width);
+    const __m256i bitOf = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    const __m256 fzero = _mm256_setzero_ps(), fone = _mm256_set1_ps(1.0f);
+    std::uint64_t general = 0;
+    for (int g = 0; g < 64; g += 8) {
+        const unsigned bits = unsigned(lanes >> g) & 0xffu;
+        if (!bits) continue;
+        const __m256i live =
+            _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), bitOf), bitOf);
+        const __m256i mask = load(s.mask + g);
+        const __m256i negative = _mm256_cmpgt_epi32(zero, mask);
+        general |= std::uint64_t(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(negative))) &
+                                 bits)
+                   << g;
+        __m256i rem = _mm256_andnot_si256(negative, _mm256_and_si256(mask, live));
+        // The lanes' views: slot[k] picks their images' addresses (gathered, 64-bit).
+        const __m256i slots = _mm256_cvtepu8_epi32(
+            _mm_loadl_epi64(reinterpret_cast<const __m128i*>(slot + g)));
+        const auto* depthTable = reinterpret_cast<const long long*>(depth);
+        const __m128i slotLo = _mm256_castsi256_si128(slots);
+        const __m128i slotHi = _mm256_extracti128_si256(slots, 1);
+        const __m256i dLo = _mm256_i32gather_epi64(depthTable, slotLo, 8);
+        const __m256i dHi = _mm256_i32gather_epi64(depthTable, slotHi, 8);
+        const __m256i colMin = load(s.colMin + g);
+        const __m256 invArea = _mm256_div_ps(fone, _mm256_cvtepi32_ps(load(s.area + g)));
+        __m256i e[3], sx[3], sy[3], bias[3];
+        for (int i = 0; i < 3; ++i) {
+            e[i] = load(s.e[i] + g), sx[i] = load(s.sx[i] + g), sy[i] = load(s.sy[i] + g);
+            bias[i] = load(s.bias[i] + g);
+        }
+        while (!_mm256_testz_si256(rem, rem)) {
+            const __m256i low = _mm256_and_si256(rem, _mm256_sub_epi32(zero, rem));
+            rem = _mm256_xor_si256(rem, low);
+            const __m256i active = _mm256_cmpgt_epi32(low, zero);
+            // Column j & 1 (centers 1 and 3), row j >> 1 (centers 2 and 3).
+            const __m256i cx = _mm256_cmpgt_epi32(_mm256_and_si256(low, _mm256_set1_epi32(0xA)), zero);
+            const __m256i cy = _mm256_cmpgt_epi32(_mm256_and_si256(low, _mm256_set1_epi32(0xC)), zero);
+            __m256 l[3];
+            for (int i = 0; i < 3; ++i) {
+                const __m256i ei = _mm256_sub_epi32(
+                    _mm256_add_epi32(_mm256_add_epi32(e[i], _mm256_and_si256(cx, sx[i])),
+                                     _mm256_and_si256(cy, sy[i])),
+                    bias[i]);
+                l[i] = _mm256_mul_ps(_mm256_cvtepi32_ps(ei), invArea);
+            }
+            const __m256 zf = _mm256_add_ps(
+                _mm256_add_ps(_mm256_mul_ps(l[0], z[0]), _mm256_mul_ps(l[1], z[1])),
+                _mm256_mul_ps(l[2], z[2]));
+            const __m256i x = _mm256_add_epi32(colMin, _mm256_and_si256(cx, one));
+            const __m256i index = _mm256_add_epi32(
+                _mm256_mullo_epi32(_mm256_sub_epi32(top, _mm256_and_si256(cy, one)), W), x);
+            // The lanes' depth: their view's image at their pixel (64-bit addresses).
+            const __m256i offLo =
+                _mm256_slli_epi64(_mm256_cvtepi32_epi64(_mm256_castsi256_si128(index)), 2);
+            const __m256i offHi =
+                _mm256_slli_epi64(_mm256_cvtepi32_epi64(_mm256_extracti128_si256(index, 1)), 2);
+            const __m256 am = _mm256_castsi256_ps(active);
+            const __m128 gLo = _mm256_mask_i64gather_ps(
+                _mm_setzero_ps(), nullptr, _mm256_add_epi64(dLo, offLo), _mm256_castps256_ps128(am), 1);
+            const __m128 gHi = _mm256_mask_i64gather_ps(
+                _mm_setzero_ps(), nullptr, _mm256_add_epi64(dHi, offHi), _mm256_extractf128_ps(am, 1), 1);
+            const __m256 d = _mm256_set_m128(gHi, gLo);
+            const unsigned pass = unsigned(
+                _mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(zf, d, _CMP_LT_OQ), am)));
+            if (!pass) continue;
+            __m256i packed = flatColor;
+            if (!flat) {
+                const __m256 p0 = _mm256_mul_ps(l[0], q[0]), p1 = _mm256_mul_ps(l[1], q[1]),
+                             p2 = _mm256_mul_ps(l[2], q[2]);
+                const __m256 inv = _mm256_div_ps(fone, _mm256_add_ps(_mm256_add_ps(p0, p1), p2));
+                packed = _mm256_set1_epi32(std::int32_t(0xff000000u));
+                for (int c = 0; c < 3; ++c) {
+                    const __m256 v = _mm256_mul_ps(
+                        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(p0, a[0][c]),
+                                                    _mm256_mul_ps(p1, a[1][c])),
+                                      _mm256_mul_ps(p2, a[2][c])),
+                        inv);
+                    // quantizeUnorm8: std::clamp(v, 0, 1) · 255 + 0.5, truncated to 8 bits.
+                    __m256 t = _mm256_blendv_ps(v, fzero, _mm256_cmp_ps(v, fzero, _CMP_LT_OQ));
+                    t = _mm256_blendv_ps(t, fone, _mm256_cmp_ps(fone, t, _CMP_LT_OQ));
+                    t = _mm256_add_ps(_mm256_mul_ps(t, _mm256_set1_ps(255.0f)), _mm256_set1_ps(0.5f));
+                    const __m256i u =
+                        _mm256_and_si256(_mm256_cvttps_epi32(t), _mm256_set1_epi32(0xff));
+                    packed = _mm256_or_si256(packed, _mm256_slli_epi32(u, 8 * c));
+                }
+            }
+            alignas(32) float zs[8];
+            alignas(32) std::int32_t is[8], cs[8];
+            _mm256_store_ps(zs, zf);
+            store(is, index);
+            store(cs, packed);
+            for (unsigned m = pass; m; m &= m - 1) {
+                const int k = __builtin_ctz(m);
+                depth[slot[g + k]][is[k]] = zs[k];
+                color[slot[g + k]][is[k]] = std::uint32_t(cs[k]);
+            }
+        }
+    }
+    return general;
 }
 
 /// setupLanes: two passes of 8 lanes.
@@ -441,8 +568,9 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 }  // namespace
 
 const Kernels* avx2Kernels() {
-    static const Kernels k{&projectYZW,      &projectX,     &setupViews, &shadeVertices,
-                           &transformPoints, &specularPowN, &setupLanes, &setupSheared};
+    static const Kernels k{&projectYZW,      &projectX,     &setupViews,   &shadeVertices,
+                           &transformPoints, &specularPowN, &setupLanes,   &setupSheared,
+                           &shadeLanes};
     return &k;
 }
 

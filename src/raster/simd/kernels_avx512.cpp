@@ -452,8 +452,10 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 }  // namespace
 
 const Kernels* avx512Kernels() {
-    static const Kernels k{&projectYZW,      &projectX,     &setupViews, &shadeVertices,
-                           &transformPoints, &specularPowN, &setupLanes, &setupSheared};
+    // shadeLanes: the AVX2 kernel (its 8-lane gathers of view pointers serve AVX-512 CPUs too).
+    static const Kernels k{&projectYZW,      &projectX,     &setupViews,  &shadeVertices,
+                           &transformPoints, &specularPowN, &setupLanes,  &setupSheared,
+                           avx2Kernels()->shadeLanes};
     return &k;
 }
 

@@ -19,7 +19,8 @@ const Kernels& scalarKernels() {
                            [](const YSetup& ys, const ShearedTri& t, const float* shears, int n,
                               int width, ViewsSetup& out, ViewsX& x) {
                                return setupShearedTail(ys, t, shears, n, width, out, x);
-                           }};
+                           },
+                           &shadeLanesTail};
     return k;
 }
 

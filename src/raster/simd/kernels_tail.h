@@ -1,6 +1,8 @@
 // Scalar loops of the projection kernels: the scalar path, and the tails of the SIMD paths.
 #pragma once
 
+#include <bit>
+
 #include "../lanes.h"
 #include "../pipeline.h"
 
@@ -131,6 +133,28 @@ inline std::uint32_t setupLanesTail(TriangleLanes& l, int n, int width) {
         lanes |= std::uint32_t(setupViewsTail(ys, l.x[0], l.x[1], l.x[2], k, k + 1, width, l.out));
     }
     return lanes;
+}
+
+/// shadeLanes one lane at a time through FragmentSink (the reference).
+inline std::uint64_t shadeLanesTail(const ViewsSetup& s, std::uint64_t lanes, int rowMin,
+                                    int width, int height, const FragmentTri& tri, bool flat,
+                                    const std::uint8_t* slot, float* const* depth,
+                                    std::uint32_t* const* color) {
+    std::uint64_t general = 0;
+    for (; lanes; lanes &= lanes - 1) {
+        const int k = std::countr_zero(lanes);
+        if (s.mask[k] < 0) general |= std::uint64_t(1) << k;
+        if (s.mask[k] <= 0) continue;
+        const Target target{color[slot[k]], depth[slot[k]], width, height};
+        if (flat) {
+            FragmentSink<Shading::Flat> sink{target, &tri, ShadeInputs{}};
+            emitSmall(s, k, rowMin, sink);
+        } else {
+            FragmentSink<Shading::Vertex> sink{target, &tri, ShadeInputs{}};
+            emitSmall(s, k, rowMin, sink);
+        }
+    }
+    return general;
 }
 
 }  // namespace mvr::raster::detail
