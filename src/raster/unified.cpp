@@ -176,6 +176,14 @@ void clipShared(SharedPolygon& p, std::uint8_t planes, int attrCount, int viewCo
     }
 }
 
+/// The views' images by family position, for shadeLanes: family i's view k at first[i] + k.
+/// Built once per frame, read by every band.
+struct ViewSlots {
+    std::vector<std::size_t> first;
+    std::vector<float*> depth;
+    std::vector<std::uint32_t*> color;
+};
+
 template <Shading S>
 struct BandContext {
     FrameContext& f;
@@ -187,13 +195,7 @@ struct BandContext {
     bool cull = false;     ///< back-face culling for the current draw item (not double-sided)
     ViewsSetup views{};    ///< the current triangle's per-view x setup (L1)
     ViewsX xs{};           ///< a long row's derived snapped x of the current triangle
-    /// The views' images by family position: family i's view k at famSlot[i] + k (shadeLanes).
-    std::vector<std::size_t> famSlot;
-    std::vector<float*> slotDepth;
-    std::vector<std::uint32_t*> slotColor;
-    /// Untextured Vertex or Flat shading: a long row's fragments of one triangle go through
-    /// shadeLanes (all its views side by side).
-    bool laneFragments = (S == Shading::Vertex || S == Shading::Flat) && !f.textured && !getenv("MVR_NO_LANES");
+    const ViewSlots* slots = nullptr;  ///< set when a long row's fragments go through shadeLanes
     LaneQueue<S> queue{};  ///< small families' (triangle, view) lanes waiting for setupLanes
 };
 
@@ -393,10 +395,10 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
         flushLanes(b);
         for (int base = 0; base < nv; base += kSetupChunk) {
             const int n = std::min(kSetupChunk, nv - base);
-            const std::uint64_t lanes = b.f.kernels.setupSheared(
-                ys, t, fam.shears.data() + base, n, width, b.views, b.xs);
+            const std::uint64_t lanes =
+                b.f.kernels.setupSheared(ys, t, fam.shears.data() + base, n, width, b.views, b.xs);
             auto viewOf = [&](int k) { return base + b.xs.view[k]; };  // position in the family
-            if (b.laneFragments) {
+            if (b.slots) {
                 // All views' fragments side by side (shadeLanes); lanes that need the general
                 // walk come back and are drawn one by one. Culled views of a mixed family are
                 // taken out first.
@@ -407,11 +409,12 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
                         if (culled(viewOf(k))) drawn &= ~(std::uint64_t(1) << k);
                     }
                 }
-                const std::size_t first = b.famSlot[std::size_t(&fam - d.families.data())] + base;
+                const std::size_t first =
+                    b.slots->first[std::size_t(&fam - d.families.data())] + std::size_t(base);
                 for (std::uint64_t general = b.f.kernels.shadeLanes(
                          b.views, drawn, ys.rowMin, width, b.f.settings.height, b.frag,
-                         S == Shading::Flat, b.xs.view, b.slotDepth.data() + first,
-                         b.slotColor.data() + first);
+                         S == Shading::Flat, b.xs.view, b.slots->depth.data() + first,
+                         b.slots->color.data() + first);
                      general; general &= general - 1) {
                     const int k = std::countr_zero(general);
                     FragmentSink<S> sink = b.sinks[std::size_t(views[viewOf(k)])];
@@ -654,24 +657,29 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
 
 template <Shading S>
 void rasterStage(FrameContext& f, const UnifiedData& d, std::span<const Target> targets) {
+    // Untextured Vertex or Flat shading: a long row's fragments of one triangle go through
+    // shadeLanes (all its views side by side), which finds the views' images here.
+    ViewSlots slots;
+    const bool laneFragments = (S == Shading::Vertex || S == Shading::Flat) && !f.textured;
+    if (laneFragments) {
+        for (const Family& fam : d.families) {
+            slots.first.push_back(slots.depth.size());
+            for (const int v : fam.views) {
+                slots.depth.push_back(targets[std::size_t(v)].depth);
+                slots.color.push_back(targets[std::size_t(v)].color);
+            }
+        }
+        // shadeLanes reads the table for all 8 lanes of a group (positions < 64 past a family's
+        // first slot), the unused ones only to be masked off.
+        slots.depth.resize(slots.depth.size() + kSetupChunk, nullptr);
+        slots.color.resize(slots.color.size() + kSetupChunk, nullptr);
+    }
     f.pool.run(f.bands.count, [&](int band, int) {
         BandContext<S> b{f, d, f.bands.rowBegin(band), f.bands.rowEnd(band) - 1, {}, {}};
         b.sinks.reserve(targets.size());
         for (const Target& t : targets)
             b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr, f.textured}});
-        if (b.laneFragments) {
-            for (const Family& fam : d.families) {
-                b.famSlot.push_back(b.slotDepth.size());
-                for (const int v : fam.views) {
-                    b.slotDepth.push_back(targets[std::size_t(v)].depth);
-                    b.slotColor.push_back(targets[std::size_t(v)].color);
-                }
-            }
-            // shadeLanes reads the table for all 8 lanes of a group (positions < 64 past a
-            // family's first slot), the unused ones only to be masked off.
-            b.slotDepth.resize(b.slotDepth.size() + kSetupChunk, nullptr);
-            b.slotColor.resize(b.slotColor.size() + kSetupChunk, nullptr);
-        }
+        if (laneFragments) b.slots = &slots;
         rasterBand(b, d.bins, band);
         flushLanes(b);
     });

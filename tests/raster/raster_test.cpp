@@ -471,6 +471,16 @@ TEST(Wireframe, DrawsTheEdgesOnly) {
 
 // ---- SIMD kernels ----------------------------------------------------------------------------
 
+/// The SIMD kernel tables this build has and this CPU runs (each is checked against the scalar
+/// reference).
+std::vector<const detail::Kernels*> simdKernels() {
+    std::vector<const detail::Kernels*> out;
+    const SimdPath best = detail::bestSupportedSimd();
+    if (detail::avx2Kernels() && best != SimdPath::Scalar) out.push_back(detail::avx2Kernels());
+    if (detail::avx512Kernels() && best == SimdPath::Avx512) out.push_back(detail::avx512Kernels());
+    return out;
+}
+
 TEST(Kernels, SimdPathsEqualScalar) {
     std::mt19937 rng(99);
     std::uniform_real_distribution<float> u(-3.0f, 3.0f);
@@ -496,11 +506,7 @@ TEST(Kernels, SimdPathsEqualScalar) {
         return o;
     };
     const Out ref = run(detail::scalarKernels());
-    for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
-        if (!k) continue;
-        if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512)
-            continue;
-        if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar) continue;
+    for (const detail::Kernels* k : simdKernels()) {
         const Out o = run(*k);
         for (std::size_t i = 0; i < n; ++i) {
             ASSERT_EQ(o.cy[i], ref.cy[i]) << i;
@@ -544,12 +550,7 @@ TEST(Kernels, ShadeVerticesSimdEqualsScalar) {
             std::vector<float> ref(3 * n), got(3 * n);
             detail::scalarKernels().shadeVertices(pos.data(), nrm.data(), n, world, normalFrom, ctx,
                                                   m, ref.data());
-            for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
-                if (!k) continue;
-                if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512)
-                    continue;
-                if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar)
-                    continue;
+            for (const detail::Kernels* k : simdKernels()) {
                 std::fill(got.begin(), got.end(), -1.0f);
                 k->shadeVertices(pos.data(), nrm.data(), n, world, normalFrom, ctx, m, got.data());
                 for (std::size_t i = 0; i < 3 * n; ++i) {
@@ -581,12 +582,7 @@ TEST(Kernels, SpecularPowSimdEqualsScalar) {
             ASSERT_EQ(std::bit_cast<std::uint32_t>(ref[i]),
                       std::bit_cast<std::uint32_t>(specularPow(x[i], s)));
         }
-        for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
-            if (!k) continue;
-            if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512)
-                continue;
-            if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar)
-                continue;
+        for (const detail::Kernels* k : simdKernels()) {
             std::fill(got.begin(), got.end(), -1.0f);
             k->specularPow(x.data(), x.size(), s, got.data());
             for (std::size_t i = 0; i < x.size(); ++i) {
@@ -618,11 +614,7 @@ TEST(Kernels, TransformPointsSimdEqualsScalar) {
             ASSERT_EQ(std::bit_cast<std::uint32_t>(ref[r * n + i]),
                       std::bit_cast<std::uint32_t>(c[r]));
     }
-    for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
-        if (!k) continue;
-        if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512)
-            continue;
-        if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar) continue;
+    for (const detail::Kernels* k : simdKernels()) {
         for (std::size_t count : {n, std::size_t(5), std::size_t(16), std::size_t(17)}) {
             std::fill(got.begin(), got.end(), -1.0f);
             k->transformPoints(pos.data(), count, m, &got[0], &got[n], &got[2 * n], &got[3 * n]);
@@ -668,12 +660,7 @@ TEST(Kernels, SetupViewsSimdEqualsScalar) {
         if (n < 64) {
             ASSERT_EQ(refLanes >> n, 0u) << "no lanes past n";
         }
-        for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
-            if (!k) continue;
-            if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512)
-                continue;
-            if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar)
-                continue;
+        for (const detail::Kernels* k : simdKernels()) {
             ASSERT_EQ(k->setupViews(ys, x[0], x[1], x[2], n, 1024, got), refLanes) << iter;
             for (int v = 0; v < n; ++v) {
                 ASSERT_EQ(got.mask[v], ref.mask[v]) << iter << " view " << v;
@@ -742,12 +729,7 @@ TEST(Kernels, SetupShearedSimdEqualsScalar) {
         if (m < 64) {
             ASSERT_EQ(refLanes >> m, 0u);
         }
-        for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
-            if (!k) continue;
-            if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512)
-                continue;
-            if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar)
-                continue;
+        for (const detail::Kernels* k : simdKernels()) {
             ASSERT_EQ(k->setupSheared(ys, t, shears, n, 1024, got, gotX), refLanes) << iter;
             for (int v = 0; v < m; ++v) {
                 ASSERT_EQ(gotX.view[v], refX.view[v]);
@@ -834,19 +816,15 @@ TEST(Kernels, ShadeLanesSimdEqualsScalar) {
             };
             const std::uint64_t refGeneral = run(detail::scalarKernels(), refDepth, refColor);
             for (int k = 0; k < n; ++k) {
-                ASSERT_EQ((refGeneral >> k) & 1u, std::uint64_t(((lanes >> k) & 1u) && s.mask[k] < 0));
+                ASSERT_EQ((refGeneral >> k) & 1u,
+                          std::uint64_t(((lanes >> k) & 1u) && s.mask[k] < 0));
             }
             for (int v = 0; v < n; ++v) {
                 for (int i = 0; i < kW * kH; ++i) {
                     if (refDepth[v][i] != depth0[v][i]) ++passed;
                 }
             }
-            for (const detail::Kernels* k : {detail::avx2Kernels(), detail::avx512Kernels()}) {
-                if (!k) continue;
-                if (k == detail::avx512Kernels() && detail::bestSupportedSimd() != SimdPath::Avx512)
-                    continue;
-                if (k == detail::avx2Kernels() && detail::bestSupportedSimd() == SimdPath::Scalar)
-                    continue;
+            for (const detail::Kernels* k : simdKernels()) {
                 ASSERT_EQ(run(*k, gotDepth, gotColor), refGeneral) << iter;
                 for (int v = 0; v < n; ++v) {
                     ASSERT_EQ(gotColor[v], refColor[v]) << iter << " view " << v;

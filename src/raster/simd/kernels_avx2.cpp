@@ -308,13 +308,12 @@ std::uint64_t shadeLanes(const ViewsSetup& s, std::uint64_t lanes, int rowMin, i
             _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), bitOf), bitOf);
         const __m256i mask = load(s.mask + g);
         const __m256i negative = _mm256_cmpgt_epi32(zero, mask);
-        general |= std::uint64_t(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(negative))) &
-                                 bits)
+        general |= std::uint64_t(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(negative))) & bits)
                    << g;
         __m256i rem = _mm256_andnot_si256(negative, _mm256_and_si256(mask, live));
         // The lanes' views: slot[k] picks their images' addresses (gathered, 64-bit).
-        const __m256i slots = _mm256_cvtepu8_epi32(
-            _mm_loadl_epi64(reinterpret_cast<const __m128i*>(slot + g)));
+        const __m256i slots =
+            _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(slot + g)));
         const auto* depthTable = reinterpret_cast<const long long*>(depth);
         const __m128i slotLo = _mm256_castsi256_si128(slots);
         const __m128i slotHi = _mm256_extracti128_si256(slots, 1);
@@ -332,8 +331,10 @@ std::uint64_t shadeLanes(const ViewsSetup& s, std::uint64_t lanes, int rowMin, i
             rem = _mm256_xor_si256(rem, low);
             const __m256i active = _mm256_cmpgt_epi32(low, zero);
             // Column j & 1 (centers 1 and 3), row j >> 1 (centers 2 and 3).
-            const __m256i cx = _mm256_cmpgt_epi32(_mm256_and_si256(low, _mm256_set1_epi32(0xA)), zero);
-            const __m256i cy = _mm256_cmpgt_epi32(_mm256_and_si256(low, _mm256_set1_epi32(0xC)), zero);
+            const __m256i cx =
+                _mm256_cmpgt_epi32(_mm256_and_si256(low, _mm256_set1_epi32(0xA)), zero);
+            const __m256i cy =
+                _mm256_cmpgt_epi32(_mm256_and_si256(low, _mm256_set1_epi32(0xC)), zero);
             __m256 l[3];
             for (int i = 0; i < 3; ++i) {
                 const __m256i ei = _mm256_sub_epi32(
@@ -342,9 +343,9 @@ std::uint64_t shadeLanes(const ViewsSetup& s, std::uint64_t lanes, int rowMin, i
                     bias[i]);
                 l[i] = _mm256_mul_ps(_mm256_cvtepi32_ps(ei), invArea);
             }
-            const __m256 zf = _mm256_add_ps(
-                _mm256_add_ps(_mm256_mul_ps(l[0], z[0]), _mm256_mul_ps(l[1], z[1])),
-                _mm256_mul_ps(l[2], z[2]));
+            const __m256 zf =
+                _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(l[0], z[0]), _mm256_mul_ps(l[1], z[1])),
+                              _mm256_mul_ps(l[2], z[2]));
             const __m256i x = _mm256_add_epi32(colMin, _mm256_and_si256(cx, one));
             const __m256i index = _mm256_add_epi32(
                 _mm256_mullo_epi32(_mm256_sub_epi32(top, _mm256_and_si256(cy, one)), W), x);
@@ -354,13 +355,15 @@ std::uint64_t shadeLanes(const ViewsSetup& s, std::uint64_t lanes, int rowMin, i
             const __m256i offHi =
                 _mm256_slli_epi64(_mm256_cvtepi32_epi64(_mm256_extracti128_si256(index, 1)), 2);
             const __m256 am = _mm256_castsi256_ps(active);
-            const __m128 gLo = _mm256_mask_i64gather_ps(
-                _mm_setzero_ps(), nullptr, _mm256_add_epi64(dLo, offLo), _mm256_castps256_ps128(am), 1);
-            const __m128 gHi = _mm256_mask_i64gather_ps(
-                _mm_setzero_ps(), nullptr, _mm256_add_epi64(dHi, offHi), _mm256_extractf128_ps(am, 1), 1);
+            const __m128 gLo =
+                _mm256_mask_i64gather_ps(_mm_setzero_ps(), nullptr, _mm256_add_epi64(dLo, offLo),
+                                         _mm256_castps256_ps128(am), 1);
+            const __m128 gHi =
+                _mm256_mask_i64gather_ps(_mm_setzero_ps(), nullptr, _mm256_add_epi64(dHi, offHi),
+                                         _mm256_extractf128_ps(am, 1), 1);
             const __m256 d = _mm256_set_m128(gHi, gLo);
-            const unsigned pass = unsigned(
-                _mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(zf, d, _CMP_LT_OQ), am)));
+            const unsigned pass =
+                unsigned(_mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(zf, d, _CMP_LT_OQ), am)));
             if (!pass) continue;
             __m256i packed = flatColor;
             if (!flat) {
@@ -370,14 +373,15 @@ std::uint64_t shadeLanes(const ViewsSetup& s, std::uint64_t lanes, int rowMin, i
                 packed = _mm256_set1_epi32(std::int32_t(0xff000000u));
                 for (int c = 0; c < 3; ++c) {
                     const __m256 v = _mm256_mul_ps(
-                        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(p0, a[0][c]),
-                                                    _mm256_mul_ps(p1, a[1][c])),
-                                      _mm256_mul_ps(p2, a[2][c])),
+                        _mm256_add_ps(
+                            _mm256_add_ps(_mm256_mul_ps(p0, a[0][c]), _mm256_mul_ps(p1, a[1][c])),
+                            _mm256_mul_ps(p2, a[2][c])),
                         inv);
                     // quantizeUnorm8: std::clamp(v, 0, 1) · 255 + 0.5, truncated to 8 bits.
                     __m256 t = _mm256_blendv_ps(v, fzero, _mm256_cmp_ps(v, fzero, _CMP_LT_OQ));
                     t = _mm256_blendv_ps(t, fone, _mm256_cmp_ps(fone, t, _CMP_LT_OQ));
-                    t = _mm256_add_ps(_mm256_mul_ps(t, _mm256_set1_ps(255.0f)), _mm256_set1_ps(0.5f));
+                    t = _mm256_add_ps(_mm256_mul_ps(t, _mm256_set1_ps(255.0f)),
+                                      _mm256_set1_ps(0.5f));
                     const __m256i u =
                         _mm256_and_si256(_mm256_cvttps_epi32(t), _mm256_set1_epi32(0xff));
                     packed = _mm256_or_si256(packed, _mm256_slli_epi32(u, 8 * c));
@@ -568,9 +572,9 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 }  // namespace
 
 const Kernels* avx2Kernels() {
-    static const Kernels k{&projectYZW,      &projectX,     &setupViews,   &shadeVertices,
-                           &transformPoints, &specularPowN, &setupLanes,   &setupSheared,
-                           &shadeLanes};
+    static const Kernels k{&projectYZW,    &projectX,        &setupViews,
+                           &shadeVertices, &transformPoints, &specularPowN,
+                           &setupLanes,    &setupSheared,    &shadeLanes};
     return &k;
 }
 

@@ -453,9 +453,9 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 
 const Kernels* avx512Kernels() {
     // shadeLanes: the AVX2 kernel (its 8-lane gathers of view pointers serve AVX-512 CPUs too).
-    static const Kernels k{&projectYZW,      &projectX,     &setupViews,  &shadeVertices,
-                           &transformPoints, &specularPowN, &setupLanes,  &setupSheared,
-                           avx2Kernels()->shadeLanes};
+    static const Kernels k{&projectYZW,    &projectX,        &setupViews,
+                           &shadeVertices, &transformPoints, &specularPowN,
+                           &setupLanes,    &setupSheared,    avx2Kernels()->shadeLanes};
     return &k;
 }
 

@@ -136,8 +136,8 @@ inline std::uint32_t setupLanesTail(TriangleLanes& l, int n, int width) {
 }
 
 /// shadeLanes one lane at a time through FragmentSink (the reference).
-inline std::uint64_t shadeLanesTail(const ViewsSetup& s, std::uint64_t lanes, int rowMin,
-                                    int width, int height, const FragmentTri& tri, bool flat,
+inline std::uint64_t shadeLanesTail(const ViewsSetup& s, std::uint64_t lanes, int rowMin, int width,
+                                    int height, const FragmentTri& tri, bool flat,
                                     const std::uint8_t* slot, float* const* depth,
                                     std::uint32_t* const* color) {
     std::uint64_t general = 0;
