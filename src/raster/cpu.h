@@ -79,6 +79,19 @@ using ShadeLanesFn = std::uint64_t (*)(const ViewsSetup& s, std::uint64_t lanes,
                                        const std::uint8_t* slot, float* const* depth,
                                        std::uint32_t* const* color);
 
+/// setupSheared and shadeLanes in one pass, for a long row's untextured Vertex or Flat triangle
+/// (issue 12): the x of views [0, n) derived, the views with a pixel-center column and not in
+/// `culled` (bit k: view k) set up, and the covered centers of the small ones drawn side by side
+/// into depth[k] / color[k] for view k (FragmentSink's depth test and color, as shadeLanes). The
+/// views that need the general walk (rasterTriangle) are returned packed in view order in `x`
+/// (x.view[i], x.x[j][i]); returns how many. Nothing per view goes through memory but the
+/// packed x: the setup stays in registers. `shears`, depth and color must be readable for n and
+/// for 64 entries.
+using DrawShearedFn = int (*)(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
+                              std::uint64_t culled, int width, int height, const FragmentTri& tri,
+                              bool flat, float* const* depth, std::uint32_t* const* color,
+                              ViewsX& x);
+
 struct Kernels {
     ProjectYZWFn projectYZW;
     ProjectXFn projectX;
@@ -89,6 +102,9 @@ struct Kernels {
     SetupLanesFn setupLanes;      ///< lanes.h: (triangle, view) pairs side by side
     SetupShearedFn setupSheared;  ///< long sheared rows: x derived from the center per view
     ShadeLanesFn shadeLanes;      ///< one triangle's fragments in many views side by side
+    /// setupSheared + shadeLanes fused; nullptr where a path does not have it (AVX-512: the
+    /// caller then runs the two kernels)
+    DrawShearedFn drawSheared;
 };
 
 /// The kernel table of a path (resolved first, so always a valid table).

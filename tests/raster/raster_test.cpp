@@ -846,5 +846,128 @@ TEST(Kernels, ShadeLanesSimdEqualsScalar) {
     EXPECT_GT(general, 100);   // lanes left to the general walk
 }
 
+TEST(Kernels, DrawShearedEqualsRasterTrianglePerView) {
+    // The fused long-row kernel (setup and fragments of all views of one triangle): small and
+    // large triangles of a sheared row, some views culled, depth images holding random depths.
+    // The reference draws each view on its own: its x from the center (shearClip, snapX) and
+    // rasterTriangle through FragmentSink, the views drawSheared returns drawn the same way
+    // after it. Every path's images, bit for bit, and the views it returns.
+    constexpr int kW = 96, kH = 64;
+    std::mt19937 rng(4242);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f), depthDist(0.0f, 1.0f);
+    int passed = 0, general = 0, culledViews = 0;
+    Images<float> depth0(64, std::vector<float>(kW * kH)), refDepth = depth0, gotDepth = depth0;
+    Images<std::uint32_t> color0(64, std::vector<std::uint32_t>(kW * kH)), refColor = color0,
+                                                                           gotColor = color0;
+    std::vector<const detail::Kernels*> paths{&detail::scalarKernels()};
+    for (const detail::Kernels* k : simdKernels()) {
+        if (k->drawSheared) paths.push_back(k);
+    }
+    for (int iter = 0; iter < 400; ++iter) {
+        const int n = 1 + int(rng() % 64);
+        const float w0 = 2.0f + 3.0f * (unit(rng) + 1.0f), conv = 4.0f;
+        const bool big = iter % 5 == 0;
+        detail::ShearedTri t;
+        float y[3];
+        const float cx = unit(rng) * w0 * 0.8f, cy = unit(rng) * w0 * 0.8f;
+        for (int j = 0; j < 3; ++j) {
+            const float w = w0 + unit(rng) * (big ? 1.0f : 0.01f);
+            t.cx[j] = cx + unit(rng) * (big ? 0.3f : 0.03f) * w;
+            t.wc[j] = w - conv;
+            t.q[j] = 1.0f / w;
+            y[j] = cy + unit(rng) * (big ? 0.3f : 0.03f) * w;
+        }
+        float shears[kMaxViews];
+        const float step = unit(rng) * 0.03f;
+        for (int k = 0; k < n; ++k) shears[k] = (float(k) - 0.5f * float(n - 1)) * step;
+        detail::YSetup ys;
+        detail::setupY(ys, detail::snapY(y[0], t.q[0], float(kH)),
+                       detail::snapY(y[1], t.q[1], float(kH)),
+                       detail::snapY(y[2], t.q[2], float(kH)), 0, kH - 1);
+        if (ys.rowMin > ys.rowMax) continue;
+        const std::uint64_t culled = iter % 3 == 0 ? (std::uint64_t(rng()) << 32 | rng()) : 0;
+        detail::FragmentTri tri;
+        float attr[3][3];
+        for (int j = 0; j < 3; ++j) {
+            tri.z[j] = depthDist(rng);
+            tri.q[j] = t.q[j];
+            for (float& a : attr[j]) a = depthDist(rng) * 1.4f - 0.2f;
+            tri.attr[j] = attr[j];
+        }
+        tri.flat = std::uint32_t(rng());
+        for (int v = 0; v < n; ++v) {
+            for (float& d : depth0[v]) d = depthDist(rng);
+            for (std::uint32_t& c : color0[v]) c = std::uint32_t(rng());
+        }
+        for (const bool flat : {false, true}) {
+            auto reset = [&](Images<float>& depth, Images<std::uint32_t>& color) {
+                for (int v = 0; v < n; ++v) depth[v] = depth0[v], color[v] = color0[v];
+            };
+            auto drawView = [&](Images<float>& depth, Images<std::uint32_t>& color, int v,
+                                const std::int32_t x[3]) {
+                const detail::Target target{color[v].data(), depth[v].data(), kW, kH};
+                if (flat) {
+                    detail::FragmentSink<Shading::Flat> sink{target, &tri, {}};
+                    detail::rasterTriangle(ys, x, kW, sink);
+                } else {
+                    detail::FragmentSink<Shading::Vertex> sink{target, &tri, {}};
+                    detail::rasterTriangle(ys, x, kW, sink);
+                }
+            };
+            // Reference: every view that is not culled, on its own.
+            reset(refDepth, refColor);
+            for (int k = 0; k < n; ++k) {
+                if ((culled >> k) & 1u) continue;
+                std::int32_t x[3];
+                for (int j = 0; j < 3; ++j) {
+                    x[j] =
+                        detail::snapX(detail::shearClip(t.cx[j], shears[k], t.wc[j] + conv, conv),
+                                      t.q[j], float(kW));
+                }
+                drawView(refDepth, refColor, k, x);
+            }
+            for (int v = 0; v < n; ++v) {
+                for (int i = 0; i < kW * kH; ++i) passed += refDepth[v][i] != depth0[v][i];
+            }
+            std::vector<int> refViews;
+            for (const detail::Kernels* k : paths) {
+                reset(gotDepth, gotColor);
+                std::vector<float*> dp(64, nullptr);
+                std::vector<std::uint32_t*> cp(64, nullptr);
+                for (int v = 0; v < n; ++v) dp[v] = gotDepth[v].data(), cp[v] = gotColor[v].data();
+                detail::ViewsX xs;
+                const int count = k->drawSheared(ys, t, shears, n, culled, kW, kH, tri, flat,
+                                                 dp.data(), cp.data(), xs);
+                std::vector<int> views;
+                for (int i = 0; i < count; ++i) {
+                    views.push_back(xs.view[i]);
+                    ASSERT_FALSE((culled >> xs.view[i]) & 1u);
+                    const std::int32_t x[3] = {xs.x[0][i], xs.x[1][i], xs.x[2][i]};
+                    drawView(gotDepth, gotColor, xs.view[i], x);
+                }
+                ASSERT_TRUE(std::is_sorted(views.begin(), views.end()));
+                if (k == paths.front()) {
+                    refViews = views;
+                    general += count;
+                } else {
+                    ASSERT_EQ(views, refViews) << iter;
+                }
+                for (int v = 0; v < n; ++v) {
+                    ASSERT_EQ(gotColor[v], refColor[v]) << iter << " view " << v;
+                    for (int i = 0; i < kW * kH; ++i) {
+                        ASSERT_EQ(std::bit_cast<std::uint32_t>(gotDepth[v][i]),
+                                  std::bit_cast<std::uint32_t>(refDepth[v][i]))
+                            << iter << " view " << v << " pixel " << i;
+                    }
+                }
+            }
+        }
+        culledViews += std::popcount(culled & (n == 64 ? ~0ull : (1ull << n) - 1));
+    }
+    EXPECT_GT(passed, 1000);       // fragments that passed the depth test
+    EXPECT_GT(general, 100);       // views left to the general walk
+    EXPECT_GT(culledViews, 1000);  // views taken out by `culled`
+}
+
 }  // namespace
 }  // namespace mvr::raster

@@ -98,13 +98,19 @@ inline __m256i cmple(__m256i a, __m256i b) {  // a <= b as all-ones lanes
     return _mm256_xor_si256(_mm256_cmpgt_epi32(a, b), _mm256_set1_epi32(-1));
 }
 
+/// setupViewsTail's results for 8 lanes, in registers (setupCore stores them into a ViewsSetup;
+/// drawSheared shades from them directly).
+struct Cover {
+    __m256i mask, colMin, area, e[3], sx[3], sy[3], bias[3];
+};
+
 /// The coverage setup of 8 lanes — setupViewsTail's integer operations — from each lane's snapped
 /// x of the three vertices, snapped y and row range (broadcast by setupViews: one triangle's
-/// views; loaded per lane by setupLanes: (triangle, view) pairs). `live`: all-ones lanes. Writes
-/// columns [k, k + 8) of `o` and returns the live lanes whose mask is not 0, as bits from k.
-inline std::uint64_t setupCore(__m256i X0, __m256i X1, __m256i X2, const __m256i Y[3],
-                               __m256i rowMin, __m256i rowMax, __m256i live, int width,
-                               ViewsSetup& o, int k) {
+/// views; loaded per lane by setupLanes: (triangle, view) pairs). Lanes that are not live hold
+/// unspecified values.
+inline Cover cover(__m256i X0, __m256i X1, __m256i X2, const __m256i Y[3], __m256i rowMin,
+                   __m256i rowMax, int width) {
+    Cover c;
     const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1),
                   ones = _mm256_set1_epi32(-1);
     const __m256i half = _mm256_set1_epi32(kHalfSubpixel);
@@ -112,8 +118,9 @@ inline std::uint64_t setupCore(__m256i X0, __m256i X1, __m256i X2, const __m256i
     const __m256i span = _mm256_set1_epi32(kSmallSpan);
     const __m256i ylo = _mm256_min_epi32(Y[0], _mm256_min_epi32(Y[1], Y[2]));
     const __m256i yhi = _mm256_max_epi32(Y[0], _mm256_max_epi32(Y[1], Y[2]));
-    const __m256i rowsSmall = _mm256_and_si256(cmple(_mm256_sub_epi32(rowMax, rowMin), one),
-                                               _mm256_cmpgt_epi32(span, _mm256_sub_epi32(yhi, ylo)));
+    const __m256i rowsSmall =
+        _mm256_and_si256(cmple(_mm256_sub_epi32(rowMax, rowMin), one),
+                         _mm256_cmpgt_epi32(span, _mm256_sub_epi32(yhi, ylo)));
     const __m256i py0 = _mm256_add_epi32(_mm256_slli_epi32(rowMin, kSubpixelBits), half);
     const __m256i yr[3] = {_mm256_sub_epi32(Y[0], py0), _mm256_sub_epi32(Y[1], py0),
                            _mm256_sub_epi32(Y[2], py0)};
@@ -122,19 +129,19 @@ inline std::uint64_t setupCore(__m256i X0, __m256i X1, __m256i X2, const __m256i
     const __m256i yr20 = _mm256_sub_epi32(yr[2], yr[0]);
     const __m256i xlo = _mm256_min_epi32(X0, _mm256_min_epi32(X1, X2));
     const __m256i xhi = _mm256_max_epi32(X0, _mm256_max_epi32(X1, X2));
-    const __m256i colMin = _mm256_max_epi32(
+    c.colMin = _mm256_max_epi32(
         zero, _mm256_srai_epi32(
                   _mm256_add_epi32(_mm256_sub_epi32(xlo, half), _mm256_set1_epi32(kSubpixel - 1)),
                   kSubpixelBits));
     const __m256i colMax =
         _mm256_min_epi32(_mm256_set1_epi32(width - 1),
                          _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
-    const __m256i empty = _mm256_cmpgt_epi32(colMin, colMax);
-    const __m256i cols = _mm256_sub_epi32(colMax, colMin);
+    const __m256i empty = _mm256_cmpgt_epi32(c.colMin, colMax);
+    const __m256i cols = _mm256_sub_epi32(colMax, c.colMin);
     const __m256i small = _mm256_andnot_si256(
         empty, _mm256_and_si256(_mm256_and_si256(rowsSmall, cmple(cols, one)),
                                 _mm256_cmpgt_epi32(span, _mm256_sub_epi32(xhi, xlo))));
-    const __m256i px0 = _mm256_add_epi32(_mm256_slli_epi32(colMin, kSubpixelBits), half);
+    const __m256i px0 = _mm256_add_epi32(_mm256_slli_epi32(c.colMin, kSubpixelBits), half);
     const __m256i xr[3] = {_mm256_sub_epi32(X0, px0), _mm256_sub_epi32(X1, px0),
                            _mm256_sub_epi32(X2, px0)};
     __m256i dx[3] = {_mm256_sub_epi32(xr[2], xr[1]), _mm256_sub_epi32(xr[0], xr[2]),
@@ -143,7 +150,7 @@ inline std::uint64_t setupCore(__m256i X0, __m256i X1, __m256i X2, const __m256i
         _mm256_sub_epi32(_mm256_mullo_epi32(dx[2], yr20),
                          _mm256_mullo_epi32(dyShared[2], _mm256_sub_epi32(xr[2], xr[0])));
     const __m256i flip = _mm256_srai_epi32(area, 31);
-    area = _mm256_sub_epi32(_mm256_xor_si256(area, flip), flip);
+    c.area = _mm256_sub_epi32(_mm256_xor_si256(area, flip), flip);
     __m256i any[4] = {zero, zero, zero, zero};
     for (int i = 0; i < 3; ++i) {
         const int a = i == 2 ? 0 : i + 1;
@@ -152,23 +159,19 @@ inline std::uint64_t setupCore(__m256i X0, __m256i X1, __m256i X2, const __m256i
         const __m256i tl = _mm256_or_si256(
             _mm256_cmpgt_epi32(zero, dy),
             _mm256_and_si256(_mm256_cmpeq_epi32(dy, zero), _mm256_cmpgt_epi32(zero, dx[i])));
-        const __m256i bias = _mm256_and_si256(tl, one);
-        const __m256i e = _mm256_add_epi32(
+        c.bias[i] = _mm256_and_si256(tl, one);
+        c.e[i] = _mm256_add_epi32(
             _mm256_sub_epi32(_mm256_mullo_epi32(dy, xr[a]), _mm256_mullo_epi32(dx[i], yr[a])),
-            bias);
-        const __m256i sx = _mm256_slli_epi32(_mm256_sub_epi32(zero, dy), kSubpixelBits);
-        const __m256i sy = _mm256_slli_epi32(dx[i], kSubpixelBits);
-        store(o.e[i] + k, e);
-        store(o.sx[i] + k, sx);
-        store(o.sy[i] + k, sy);
-        store(o.bias[i] + k, bias);
-        const __m256i em1 = _mm256_sub_epi32(e, one);
+            c.bias[i]);
+        c.sx[i] = _mm256_slli_epi32(_mm256_sub_epi32(zero, dy), kSubpixelBits);
+        c.sy[i] = _mm256_slli_epi32(dx[i], kSubpixelBits);
+        const __m256i em1 = _mm256_sub_epi32(c.e[i], one);
         any[0] = _mm256_or_si256(any[0], em1);
-        any[1] = _mm256_or_si256(any[1], _mm256_add_epi32(em1, sx));
-        any[2] = _mm256_or_si256(any[2], _mm256_add_epi32(em1, sy));
-        any[3] = _mm256_or_si256(any[3], _mm256_add_epi32(_mm256_add_epi32(em1, sx), sy));
+        any[1] = _mm256_or_si256(any[1], _mm256_add_epi32(em1, c.sx[i]));
+        any[2] = _mm256_or_si256(any[2], _mm256_add_epi32(em1, c.sy[i]));
+        any[3] = _mm256_or_si256(any[3], _mm256_add_epi32(_mm256_add_epi32(em1, c.sx[i]), c.sy[i]));
     }
-    const __m256i wide = _mm256_cmpgt_epi32(colMax, colMin);
+    const __m256i wide = _mm256_cmpgt_epi32(colMax, c.colMin);
     const __m256i valid[4] = {ones, wide, tall, _mm256_and_si256(tall, wide)};
     __m256i mask = zero;
     for (int j = 0; j < 4; ++j) {
@@ -176,13 +179,29 @@ inline std::uint64_t setupCore(__m256i X0, __m256i X1, __m256i X2, const __m256i
             _mm256_andnot_si256(_mm256_cmpgt_epi32(zero, any[j]), valid[j]);  // any >= 0
         mask = _mm256_or_si256(mask, _mm256_and_si256(in, _mm256_set1_epi32(1 << j)));
     }
-    mask = _mm256_andnot_si256(_mm256_cmpeq_epi32(area, zero), mask);
+    mask = _mm256_andnot_si256(_mm256_cmpeq_epi32(c.area, zero), mask);
     mask = _mm256_blendv_epi8(ones, mask, _mm256_or_si256(small, empty));  // general walk: −1
-    mask = _mm256_andnot_si256(empty, mask);
-    store(o.mask + k, mask);
-    store(o.colMin + k, colMin);
-    store(o.area + k, area);
-    const __m256i nonzero = _mm256_andnot_si256(_mm256_cmpeq_epi32(mask, zero), live);
+    c.mask = _mm256_andnot_si256(empty, mask);
+    return c;
+}
+
+/// cover() of 8 lanes stored into columns [k, k + 8) of `o`. `live`: all-ones lanes. Returns
+/// the live lanes whose mask is not 0, as bits from k.
+inline std::uint64_t setupCore(__m256i X0, __m256i X1, __m256i X2, const __m256i Y[3],
+                               __m256i rowMin, __m256i rowMax, __m256i live, int width,
+                               ViewsSetup& o, int k) {
+    const Cover c = cover(X0, X1, X2, Y, rowMin, rowMax, width);
+    for (int i = 0; i < 3; ++i) {
+        store(o.e[i] + k, c.e[i]);
+        store(o.sx[i] + k, c.sx[i]);
+        store(o.sy[i] + k, c.sy[i]);
+        store(o.bias[i] + k, c.bias[i]);
+    }
+    store(o.mask + k, c.mask);
+    store(o.colMin + k, c.colMin);
+    store(o.area + k, c.area);
+    const __m256i nonzero =
+        _mm256_andnot_si256(_mm256_cmpeq_epi32(c.mask, _mm256_setzero_si256()), live);
     return std::uint64_t(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(nonzero)))) << k;
 }
 
@@ -206,11 +225,12 @@ std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::in
     return lanes;
 }
 
-/// setupSheared: x derived 8 views per pass (shearClipWc, snap: the scalar order), the views
-/// with a column packed (a permutation from a table of the 256 masks), then setupCore 8 packed
-/// views a pass.
-std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
-                           int width, ViewsSetup& o, ViewsX& xs) {
+/// The x of n <= 64 views of a sheared row derived 8 views per pass (shearClipWc, snap: the scalar
+/// order), the views with a pixel-center column (setupCore's colMin <= colMax) and not in
+/// `culled` (bit k: view k) packed in view order into `xs` (a permutation from a table of the 256
+/// masks). Returns how many.
+inline int packSheared(const ShearedTri& t, const float* shears, int n, std::uint64_t culled,
+                       int width, ViewsX& xs) {
     // kPack[mask]: the lanes of mask's set bits first, in order (3 bits each); kPackBytes[mask]:
     // the same lanes as bytes (the packed views' positions, branch-free: a loop over the kept
     // lanes cost a mispredicted branch per triangle and pass).
@@ -246,7 +266,6 @@ std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* s
         __m256i X[3];
         for (int j = 0; j < 3; ++j)
             X[j] = snap(_mm256_add_ps(cx[j], _mm256_mul_ps(s, wc[j])), q[j], wd);
-        // A pixel-center column (setupCore's colMin <= colMax)?
         const __m256i xlo = _mm256_min_epi32(X[0], _mm256_min_epi32(X[1], X[2]));
         const __m256i xhi = _mm256_max_epi32(X[0], _mm256_max_epi32(X[1], X[2]));
         const __m256i colMin = _mm256_max_epi32(
@@ -257,8 +276,9 @@ std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* s
         const __m256i colMax =
             _mm256_min_epi32(_mm256_set1_epi32(width - 1),
                              _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
-        const unsigned keep = unsigned(
-            _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_and_si256(cmple(colMin, colMax), live))));
+        const unsigned keep = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(
+                                  _mm256_and_si256(cmple(colMin, colMax), live)))) &
+                              ~unsigned(culled >> k) & 0xffu;
         if (!keep) continue;
         const __m256i perm = _mm256_and_si256(
             _mm256_srlv_epi32(_mm256_set1_epi32(std::int32_t(kPack.lanes[keep])), shifts),
@@ -269,6 +289,13 @@ std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* s
         std::memcpy(xs.view + m, &views, sizeof views);
         m += __builtin_popcount(keep);
     }
+    return m;
+}
+
+/// setupSheared: packSheared, then setupCore 8 packed views a pass.
+std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
+                           int width, ViewsSetup& o, ViewsX& xs) {
+    const int m = packSheared(t, shears, n, 0, width, xs);
     const __m256i Y[3] = {_mm256_set1_epi32(ys.y[0]), _mm256_set1_epi32(ys.y[1]),
                           _mm256_set1_epi32(ys.y[2])};
     const __m256i rowMin = _mm256_set1_epi32(ys.rowMin), rowMax = _mm256_set1_epi32(ys.rowMax);
@@ -281,122 +308,167 @@ std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* s
     return lanes;
 }
 
-/// shadeLanes: 8 views' lanes side by side; per pass the lowest covered center of every lane
-/// (a lane with several covered centers takes one pass each), FragmentSink's operations on
-/// vectors, the depth of each lane's pixel gathered from its own view, and the passing
-/// fragments written lane by lane.
+/// A triangle's fragment inputs broadcast to 8 lanes (shadeGroup).
+struct LaneFragment {
+    __m256 z[3], q[3], a[3][3];
+    __m256i flatColor, top, W;
+    bool flat;
+};
+
+inline LaneFragment laneFragment(const FragmentTri& tri, bool flat, int rowMin, int width,
+                                 int height) {
+    LaneFragment f;
+    for (int j = 0; j < 3; ++j) {
+        f.z[j] = _mm256_set1_ps(tri.z[j]);
+        f.q[j] = _mm256_set1_ps(tri.q[j]);
+        for (int c = 0; c < 3; ++c) f.a[j][c] = _mm256_set1_ps(flat ? 0.0f : tri.attr[j][c]);
+    }
+    f.flatColor = _mm256_set1_epi32(std::int32_t(tri.flat));
+    f.top = _mm256_set1_epi32(height - 1 - rowMin), f.W = _mm256_set1_epi32(width);
+    f.flat = flat;
+    return f;
+}
+
+/// The fragments of 8 lanes side by side: `rem` holds each lane's covered 2×2 centers (0: none),
+/// lane k draws into depth[slot[k]] / color[slot[k]] (all 8 bytes of `slot` must index the
+/// tables). Per pass the lowest covered center of every lane (a lane with several covered
+/// centers takes one pass each), FragmentSink's operations on vectors, the depth of each lane's
+/// pixel gathered from its own view, and the passing fragments written lane by lane.
+inline void shadeGroup(const LaneFragment& f, const Cover& c, __m256i rem, const std::uint8_t* slot,
+                       float* const* depth, std::uint32_t* const* color) {
+    const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
+    const __m256 fzero = _mm256_setzero_ps(), fone = _mm256_set1_ps(1.0f);
+    // The lanes' views: slot[k] picks their images' addresses (gathered, 64-bit).
+    const __m256i slots =
+        _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(slot)));
+    const auto* depthTable = reinterpret_cast<const long long*>(depth);
+    const __m256i dLo = _mm256_i32gather_epi64(depthTable, _mm256_castsi256_si128(slots), 8);
+    const __m256i dHi = _mm256_i32gather_epi64(depthTable, _mm256_extracti128_si256(slots, 1), 8);
+    const __m256 invArea = _mm256_div_ps(fone, _mm256_cvtepi32_ps(c.area));
+    while (!_mm256_testz_si256(rem, rem)) {
+        const __m256i low = _mm256_and_si256(rem, _mm256_sub_epi32(zero, rem));
+        rem = _mm256_xor_si256(rem, low);
+        const __m256i active = _mm256_cmpgt_epi32(low, zero);
+        // Column j & 1 (centers 1 and 3), row j >> 1 (centers 2 and 3).
+        const __m256i cx = _mm256_cmpgt_epi32(_mm256_and_si256(low, _mm256_set1_epi32(0xA)), zero);
+        const __m256i cy = _mm256_cmpgt_epi32(_mm256_and_si256(low, _mm256_set1_epi32(0xC)), zero);
+        __m256 l[3];
+        for (int i = 0; i < 3; ++i) {
+            const __m256i ei = _mm256_sub_epi32(
+                _mm256_add_epi32(_mm256_add_epi32(c.e[i], _mm256_and_si256(cx, c.sx[i])),
+                                 _mm256_and_si256(cy, c.sy[i])),
+                c.bias[i]);
+            l[i] = _mm256_mul_ps(_mm256_cvtepi32_ps(ei), invArea);
+        }
+        const __m256 zf =
+            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(l[0], f.z[0]), _mm256_mul_ps(l[1], f.z[1])),
+                          _mm256_mul_ps(l[2], f.z[2]));
+        const __m256i x = _mm256_add_epi32(c.colMin, _mm256_and_si256(cx, one));
+        const __m256i index = _mm256_add_epi32(
+            _mm256_mullo_epi32(_mm256_sub_epi32(f.top, _mm256_and_si256(cy, one)), f.W), x);
+        // The lanes' depth: their view's image at their pixel (64-bit addresses).
+        const __m256i offLo =
+            _mm256_slli_epi64(_mm256_cvtepi32_epi64(_mm256_castsi256_si128(index)), 2);
+        const __m256i offHi =
+            _mm256_slli_epi64(_mm256_cvtepi32_epi64(_mm256_extracti128_si256(index, 1)), 2);
+        const __m256 am = _mm256_castsi256_ps(active);
+        const __m128 gLo = _mm256_mask_i64gather_ps(
+            _mm_setzero_ps(), nullptr, _mm256_add_epi64(dLo, offLo), _mm256_castps256_ps128(am), 1);
+        const __m128 gHi =
+            _mm256_mask_i64gather_ps(_mm_setzero_ps(), nullptr, _mm256_add_epi64(dHi, offHi),
+                                     _mm256_extractf128_ps(am, 1), 1);
+        const __m256 d = _mm256_set_m128(gHi, gLo);
+        const unsigned pass =
+            unsigned(_mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(zf, d, _CMP_LT_OQ), am)));
+        if (!pass) continue;
+        __m256i packed = f.flatColor;
+        if (!f.flat) {
+            const __m256 p0 = _mm256_mul_ps(l[0], f.q[0]), p1 = _mm256_mul_ps(l[1], f.q[1]),
+                         p2 = _mm256_mul_ps(l[2], f.q[2]);
+            const __m256 inv = _mm256_div_ps(fone, _mm256_add_ps(_mm256_add_ps(p0, p1), p2));
+            packed = _mm256_set1_epi32(std::int32_t(0xff000000u));
+            for (int ch = 0; ch < 3; ++ch) {
+                const __m256 v = _mm256_mul_ps(
+                    _mm256_add_ps(
+                        _mm256_add_ps(_mm256_mul_ps(p0, f.a[0][ch]), _mm256_mul_ps(p1, f.a[1][ch])),
+                        _mm256_mul_ps(p2, f.a[2][ch])),
+                    inv);
+                // quantizeUnorm8: std::clamp(v, 0, 1) · 255 + 0.5, truncated to 8 bits.
+                __m256 t = _mm256_blendv_ps(v, fzero, _mm256_cmp_ps(v, fzero, _CMP_LT_OQ));
+                t = _mm256_blendv_ps(t, fone, _mm256_cmp_ps(fone, t, _CMP_LT_OQ));
+                t = _mm256_add_ps(_mm256_mul_ps(t, _mm256_set1_ps(255.0f)), _mm256_set1_ps(0.5f));
+                const __m256i u = _mm256_and_si256(_mm256_cvttps_epi32(t), _mm256_set1_epi32(0xff));
+                packed = _mm256_or_si256(packed, _mm256_slli_epi32(u, 8 * ch));
+            }
+        }
+        alignas(32) float zs[8];
+        alignas(32) std::int32_t is[8], cs[8];
+        _mm256_store_ps(zs, zf);
+        store(is, index);
+        store(cs, packed);
+        for (unsigned m = pass; m; m &= m - 1) {
+            const int k = __builtin_ctz(m);
+            depth[slot[k]][is[k]] = zs[k];
+            color[slot[k]][is[k]] = std::uint32_t(cs[k]);
+        }
+    }
+}
+
+/// shadeLanes: 8 lanes of the ViewsSetup a pass (shadeGroup).
 std::uint64_t shadeLanes(const ViewsSetup& s, std::uint64_t lanes, int rowMin, int width,
                          int height, const FragmentTri& tri, bool flat, const std::uint8_t* slot,
                          float* const* depth, std::uint32_t* const* color) {
-    const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
-    const __m256 z[3] = {_mm256_set1_ps(tri.z[0]), _mm256_set1_ps(tri.z[1]),
-                         _mm256_set1_ps(tri.z[2])};
-    const __m256 q[3] = {_mm256_set1_ps(tri.q[0]), _mm256_set1_ps(tri.q[1]),
-                         _mm256_set1_ps(tri.q[2])};
-    __m256 a[3][3];
-    for (int j = 0; j < 3; ++j)
-        for (int c = 0; c < 3; ++c) a[j][c] = _mm256_set1_ps(flat ? 0.0f : tri.attr[j][c]);
-    const __m256i flatColor = _mm256_set1_epi32(std::int32_t(tri.flat));
-    const __m256i top = _mm256_set1_epi32(height - 1 - rowMin), W = _mm256_set1_epi32(width);
+    const __m256i zero = _mm256_setzero_si256();
     const __m256i bitOf = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-    const __m256 fzero = _mm256_setzero_ps(), fone = _mm256_set1_ps(1.0f);
+    const LaneFragment f = laneFragment(tri, flat, rowMin, width, height);
     std::uint64_t general = 0;
     for (int g = 0; g < 64; g += 8) {
         const unsigned bits = unsigned(lanes >> g) & 0xffu;
         if (!bits) continue;
         const __m256i live =
             _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), bitOf), bitOf);
-        const __m256i mask = load(s.mask + g);
-        const __m256i negative = _mm256_cmpgt_epi32(zero, mask);
+        Cover c;
+        c.mask = load(s.mask + g);
+        const __m256i negative = _mm256_cmpgt_epi32(zero, c.mask);
         general |= std::uint64_t(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(negative))) & bits)
                    << g;
-        __m256i rem = _mm256_andnot_si256(negative, _mm256_and_si256(mask, live));
-        // The lanes' views: slot[k] picks their images' addresses (gathered, 64-bit).
-        const __m256i slots =
-            _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(slot + g)));
-        const auto* depthTable = reinterpret_cast<const long long*>(depth);
-        const __m128i slotLo = _mm256_castsi256_si128(slots);
-        const __m128i slotHi = _mm256_extracti128_si256(slots, 1);
-        const __m256i dLo = _mm256_i32gather_epi64(depthTable, slotLo, 8);
-        const __m256i dHi = _mm256_i32gather_epi64(depthTable, slotHi, 8);
-        const __m256i colMin = load(s.colMin + g);
-        const __m256 invArea = _mm256_div_ps(fone, _mm256_cvtepi32_ps(load(s.area + g)));
-        __m256i e[3], sx[3], sy[3], bias[3];
+        c.colMin = load(s.colMin + g), c.area = load(s.area + g);
         for (int i = 0; i < 3; ++i) {
-            e[i] = load(s.e[i] + g), sx[i] = load(s.sx[i] + g), sy[i] = load(s.sy[i] + g);
-            bias[i] = load(s.bias[i] + g);
+            c.e[i] = load(s.e[i] + g), c.sx[i] = load(s.sx[i] + g), c.sy[i] = load(s.sy[i] + g);
+            c.bias[i] = load(s.bias[i] + g);
         }
-        while (!_mm256_testz_si256(rem, rem)) {
-            const __m256i low = _mm256_and_si256(rem, _mm256_sub_epi32(zero, rem));
-            rem = _mm256_xor_si256(rem, low);
-            const __m256i active = _mm256_cmpgt_epi32(low, zero);
-            // Column j & 1 (centers 1 and 3), row j >> 1 (centers 2 and 3).
-            const __m256i cx =
-                _mm256_cmpgt_epi32(_mm256_and_si256(low, _mm256_set1_epi32(0xA)), zero);
-            const __m256i cy =
-                _mm256_cmpgt_epi32(_mm256_and_si256(low, _mm256_set1_epi32(0xC)), zero);
-            __m256 l[3];
-            for (int i = 0; i < 3; ++i) {
-                const __m256i ei = _mm256_sub_epi32(
-                    _mm256_add_epi32(_mm256_add_epi32(e[i], _mm256_and_si256(cx, sx[i])),
-                                     _mm256_and_si256(cy, sy[i])),
-                    bias[i]);
-                l[i] = _mm256_mul_ps(_mm256_cvtepi32_ps(ei), invArea);
-            }
-            const __m256 zf =
-                _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(l[0], z[0]), _mm256_mul_ps(l[1], z[1])),
-                              _mm256_mul_ps(l[2], z[2]));
-            const __m256i x = _mm256_add_epi32(colMin, _mm256_and_si256(cx, one));
-            const __m256i index = _mm256_add_epi32(
-                _mm256_mullo_epi32(_mm256_sub_epi32(top, _mm256_and_si256(cy, one)), W), x);
-            // The lanes' depth: their view's image at their pixel (64-bit addresses).
-            const __m256i offLo =
-                _mm256_slli_epi64(_mm256_cvtepi32_epi64(_mm256_castsi256_si128(index)), 2);
-            const __m256i offHi =
-                _mm256_slli_epi64(_mm256_cvtepi32_epi64(_mm256_extracti128_si256(index, 1)), 2);
-            const __m256 am = _mm256_castsi256_ps(active);
-            const __m128 gLo =
-                _mm256_mask_i64gather_ps(_mm_setzero_ps(), nullptr, _mm256_add_epi64(dLo, offLo),
-                                         _mm256_castps256_ps128(am), 1);
-            const __m128 gHi =
-                _mm256_mask_i64gather_ps(_mm_setzero_ps(), nullptr, _mm256_add_epi64(dHi, offHi),
-                                         _mm256_extractf128_ps(am, 1), 1);
-            const __m256 d = _mm256_set_m128(gHi, gLo);
-            const unsigned pass =
-                unsigned(_mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(zf, d, _CMP_LT_OQ), am)));
-            if (!pass) continue;
-            __m256i packed = flatColor;
-            if (!flat) {
-                const __m256 p0 = _mm256_mul_ps(l[0], q[0]), p1 = _mm256_mul_ps(l[1], q[1]),
-                             p2 = _mm256_mul_ps(l[2], q[2]);
-                const __m256 inv = _mm256_div_ps(fone, _mm256_add_ps(_mm256_add_ps(p0, p1), p2));
-                packed = _mm256_set1_epi32(std::int32_t(0xff000000u));
-                for (int c = 0; c < 3; ++c) {
-                    const __m256 v = _mm256_mul_ps(
-                        _mm256_add_ps(
-                            _mm256_add_ps(_mm256_mul_ps(p0, a[0][c]), _mm256_mul_ps(p1, a[1][c])),
-                            _mm256_mul_ps(p2, a[2][c])),
-                        inv);
-                    // quantizeUnorm8: std::clamp(v, 0, 1) · 255 + 0.5, truncated to 8 bits.
-                    __m256 t = _mm256_blendv_ps(v, fzero, _mm256_cmp_ps(v, fzero, _CMP_LT_OQ));
-                    t = _mm256_blendv_ps(t, fone, _mm256_cmp_ps(fone, t, _CMP_LT_OQ));
-                    t = _mm256_add_ps(_mm256_mul_ps(t, _mm256_set1_ps(255.0f)),
-                                      _mm256_set1_ps(0.5f));
-                    const __m256i u =
-                        _mm256_and_si256(_mm256_cvttps_epi32(t), _mm256_set1_epi32(0xff));
-                    packed = _mm256_or_si256(packed, _mm256_slli_epi32(u, 8 * c));
-                }
-            }
-            alignas(32) float zs[8];
-            alignas(32) std::int32_t is[8], cs[8];
-            _mm256_store_ps(zs, zf);
-            store(is, index);
-            store(cs, packed);
-            for (unsigned m = pass; m; m &= m - 1) {
-                const int k = __builtin_ctz(m);
-                depth[slot[g + k]][is[k]] = zs[k];
-                color[slot[g + k]][is[k]] = std::uint32_t(cs[k]);
-            }
+        shadeGroup(f, c, _mm256_andnot_si256(negative, _mm256_and_si256(c.mask, live)), slot + g,
+                   depth, color);
+    }
+    return general;
+}
+
+/// drawSheared: packSheared, then per 8 packed views cover() and shadeGroup in registers; the
+/// views left to the general walk are moved to the front of `xs`.
+int drawSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
+                std::uint64_t culled, int width, int height, const FragmentTri& tri, bool flat,
+                float* const* depth, std::uint32_t* const* color, ViewsX& xs) {
+    const int m = packSheared(t, shears, n, culled, width, xs);
+    if (m == 0) return 0;
+    const __m256i zero = _mm256_setzero_si256();
+    const __m256i Y[3] = {_mm256_set1_epi32(ys.y[0]), _mm256_set1_epi32(ys.y[1]),
+                          _mm256_set1_epi32(ys.y[2])};
+    const __m256i rowMin = _mm256_set1_epi32(ys.rowMin), rowMax = _mm256_set1_epi32(ys.rowMax);
+    const LaneFragment f = laneFragment(tri, flat, ys.rowMin, width, height);
+    int general = 0;
+    for (int i = 0; i < m; i += 8) {
+        const __m256i live = liveLanes(m, i);
+        const Cover c = cover(loadLanes(xs.x[0] + i, live), loadLanes(xs.x[1] + i, live),
+                              loadLanes(xs.x[2] + i, live), Y, rowMin, rowMax, width);
+        const __m256i negative = _mm256_and_si256(_mm256_cmpgt_epi32(zero, c.mask), live);
+        const __m256i rem = _mm256_andnot_si256(negative, _mm256_and_si256(c.mask, live));
+        if (!_mm256_testz_si256(rem, rem)) shadeGroup(f, c, rem, xs.view + i, depth, color);
+        // General lanes to the front (general <= i + k: positions already read).
+        for (unsigned g = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(negative))); g;
+             g &= g - 1) {
+            const int k = i + __builtin_ctz(g);
+            for (int j = 0; j < 3; ++j) xs.x[j][general] = xs.x[j][k];
+            xs.view[general++] = xs.view[k];
         }
     }
     return general;
@@ -572,9 +644,9 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 }  // namespace
 
 const Kernels* avx2Kernels() {
-    static const Kernels k{&projectYZW,    &projectX,        &setupViews,
-                           &shadeVertices, &transformPoints, &specularPowN,
-                           &setupLanes,    &setupSheared,    &shadeLanes};
+    static const Kernels k{&projectYZW,      &projectX,     &setupViews, &shadeVertices,
+                           &transformPoints, &specularPowN, &setupLanes, &setupSheared,
+                           &shadeLanes,      &drawSheared};
     return &k;
 }
 

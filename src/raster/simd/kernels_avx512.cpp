@@ -453,9 +453,12 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 
 const Kernels* avx512Kernels() {
     // shadeLanes: the AVX2 kernel (its 8-lane gathers of view pointers serve AVX-512 CPUs too).
+    // drawSheared: none yet — the 16-lane setupSheared, then shadeLanes (the fused AVX2 kernel
+    // was measured on an AVX2-only machine; src/raster/README.md).
     static const Kernels k{&projectYZW,    &projectX,        &setupViews,
                            &shadeVertices, &transformPoints, &specularPowN,
-                           &setupLanes,    &setupSheared,    avx2Kernels()->shadeLanes};
+                           &setupLanes,    &setupSheared,    avx2Kernels()->shadeLanes,
+                           nullptr};
     return &k;
 }
 

@@ -20,7 +20,8 @@ const Kernels& scalarKernels() {
                               int width, ViewsSetup& out, ViewsX& x) {
                                return setupShearedTail(ys, t, shears, n, width, out, x);
                            },
-                           &shadeLanesTail};
+                           &shadeLanesTail,
+                           &drawShearedTail};
     return k;
 }
 
