@@ -107,7 +107,9 @@ struct Cover {
 /// The coverage setup of 8 lanes — setupViewsTail's integer operations — from each lane's snapped
 /// x of the three vertices, snapped y and row range (broadcast by setupViews: one triangle's
 /// views; loaded per lane by setupLanes: (triangle, view) pairs). Lanes that are not live hold
-/// unspecified values.
+/// unspecified values. OneRow: every lane's rowMax == rowMin (then sy is not computed: no lane
+/// has a second row of centers).
+template <bool OneRow = false>
 inline Cover cover(__m256i X0, __m256i X1, __m256i X2, const __m256i Y[3], __m256i rowMin,
                    __m256i rowMax, int width) {
     Cover c;
@@ -164,17 +166,20 @@ inline Cover cover(__m256i X0, __m256i X1, __m256i X2, const __m256i Y[3], __m25
             _mm256_sub_epi32(_mm256_mullo_epi32(dy, xr[a]), _mm256_mullo_epi32(dx[i], yr[a])),
             c.bias[i]);
         c.sx[i] = _mm256_slli_epi32(_mm256_sub_epi32(zero, dy), kSubpixelBits);
-        c.sy[i] = _mm256_slli_epi32(dx[i], kSubpixelBits);
         const __m256i em1 = _mm256_sub_epi32(c.e[i], one);
         any[0] = _mm256_or_si256(any[0], em1);
         any[1] = _mm256_or_si256(any[1], _mm256_add_epi32(em1, c.sx[i]));
-        any[2] = _mm256_or_si256(any[2], _mm256_add_epi32(em1, c.sy[i]));
-        any[3] = _mm256_or_si256(any[3], _mm256_add_epi32(_mm256_add_epi32(em1, c.sx[i]), c.sy[i]));
+        if constexpr (!OneRow) {
+            c.sy[i] = _mm256_slli_epi32(dx[i], kSubpixelBits);
+            any[2] = _mm256_or_si256(any[2], _mm256_add_epi32(em1, c.sy[i]));
+            any[3] =
+                _mm256_or_si256(any[3], _mm256_add_epi32(_mm256_add_epi32(em1, c.sx[i]), c.sy[i]));
+        }
     }
     const __m256i wide = _mm256_cmpgt_epi32(colMax, c.colMin);
     const __m256i valid[4] = {ones, wide, tall, _mm256_and_si256(tall, wide)};
     __m256i mask = zero;
-    for (int j = 0; j < 4; ++j) {
+    for (int j = 0; j < (OneRow ? 2 : 4); ++j) {
         const __m256i in =
             _mm256_andnot_si256(_mm256_cmpgt_epi32(zero, any[j]), valid[j]);  // any >= 0
         mask = _mm256_or_si256(mask, _mm256_and_si256(in, _mm256_set1_epi32(1 << j)));
@@ -333,7 +338,9 @@ inline LaneFragment laneFragment(const FragmentTri& tri, bool flat, int rowMin, 
 /// lane k draws into depth[slot[k]] / color[slot[k]] (all 8 bytes of `slot` must index the
 /// tables). Per pass the lowest covered center of every lane (a lane with several covered
 /// centers takes one pass each), FragmentSink's operations on vectors, the depth of each lane's
-/// pixel gathered from its own view, and the passing fragments written lane by lane.
+/// pixel gathered from its own view, and the passing fragments written lane by lane. OneRow:
+/// no lane has centers 2 or 3 (cover<true>: sy is not read).
+template <bool OneRow = false>
 inline void shadeGroup(const LaneFragment& f, const Cover& c, __m256i rem, const std::uint8_t* slot,
                        float* const* depth, std::uint32_t* const* color) {
     const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
@@ -351,13 +358,13 @@ inline void shadeGroup(const LaneFragment& f, const Cover& c, __m256i rem, const
         const __m256i active = _mm256_cmpgt_epi32(low, zero);
         // Column j & 1 (centers 1 and 3), row j >> 1 (centers 2 and 3).
         const __m256i cx = _mm256_cmpgt_epi32(_mm256_and_si256(low, _mm256_set1_epi32(0xA)), zero);
-        const __m256i cy = _mm256_cmpgt_epi32(_mm256_and_si256(low, _mm256_set1_epi32(0xC)), zero);
+        const __m256i cy =
+            OneRow ? zero : _mm256_cmpgt_epi32(_mm256_and_si256(low, _mm256_set1_epi32(0xC)), zero);
         __m256 l[3];
         for (int i = 0; i < 3; ++i) {
-            const __m256i ei = _mm256_sub_epi32(
-                _mm256_add_epi32(_mm256_add_epi32(c.e[i], _mm256_and_si256(cx, c.sx[i])),
-                                 _mm256_and_si256(cy, c.sy[i])),
-                c.bias[i]);
+            __m256i ei = _mm256_add_epi32(c.e[i], _mm256_and_si256(cx, c.sx[i]));
+            if constexpr (!OneRow) ei = _mm256_add_epi32(ei, _mm256_and_si256(cy, c.sy[i]));
+            ei = _mm256_sub_epi32(ei, c.bias[i]);
             l[i] = _mm256_mul_ps(_mm256_cvtepi32_ps(ei), invArea);
         }
         const __m256 zf =
@@ -443,13 +450,11 @@ std::uint64_t shadeLanes(const ViewsSetup& s, std::uint64_t lanes, int rowMin, i
     return general;
 }
 
-/// drawSheared: packSheared, then per 8 packed views cover() and shadeGroup in registers; the
-/// views left to the general walk are moved to the front of `xs`.
-int drawSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
-                std::uint64_t culled, int width, int height, const FragmentTri& tri, bool flat,
-                float* const* depth, std::uint32_t* const* color, ViewsX& xs) {
-    const int m = packSheared(t, shears, n, culled, width, xs);
-    if (m == 0) return 0;
+/// drawSheared's setup and fragments of the m packed views (OneRow: ys.rowMax == ys.rowMin, as
+/// for most triangles of a dense mesh within a band).
+template <bool OneRow>
+int drawPacked(const YSetup& ys, int m, int width, int height, const FragmentTri& tri, bool flat,
+               float* const* depth, std::uint32_t* const* color, ViewsX& xs) {
     const __m256i zero = _mm256_setzero_si256();
     const __m256i Y[3] = {_mm256_set1_epi32(ys.y[0]), _mm256_set1_epi32(ys.y[1]),
                           _mm256_set1_epi32(ys.y[2])};
@@ -458,11 +463,11 @@ int drawSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int 
     int general = 0;
     for (int i = 0; i < m; i += 8) {
         const __m256i live = liveLanes(m, i);
-        const Cover c = cover(loadLanes(xs.x[0] + i, live), loadLanes(xs.x[1] + i, live),
-                              loadLanes(xs.x[2] + i, live), Y, rowMin, rowMax, width);
+        const Cover c = cover<OneRow>(loadLanes(xs.x[0] + i, live), loadLanes(xs.x[1] + i, live),
+                                      loadLanes(xs.x[2] + i, live), Y, rowMin, rowMax, width);
         const __m256i negative = _mm256_and_si256(_mm256_cmpgt_epi32(zero, c.mask), live);
         const __m256i rem = _mm256_andnot_si256(negative, _mm256_and_si256(c.mask, live));
-        if (!_mm256_testz_si256(rem, rem)) shadeGroup(f, c, rem, xs.view + i, depth, color);
+        if (!_mm256_testz_si256(rem, rem)) shadeGroup<OneRow>(f, c, rem, xs.view + i, depth, color);
         // General lanes to the front (general <= i + k: positions already read).
         for (unsigned g = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(negative))); g;
              g &= g - 1) {
@@ -472,6 +477,18 @@ int drawSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int 
         }
     }
     return general;
+}
+
+/// drawSheared: packSheared, then per 8 packed views cover() and shadeGroup in registers; the
+/// views left to the general walk are moved to the front of `xs`.
+int drawSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
+                std::uint64_t culled, int width, int height, const FragmentTri& tri, bool flat,
+                float* const* depth, std::uint32_t* const* color, ViewsX& xs) {
+    const int m = packSheared(t, shears, n, culled, width, xs);
+    if (m == 0) return 0;
+    return ys.rowMax == ys.rowMin
+               ? drawPacked<true>(ys, m, width, height, tri, flat, depth, color, xs)
+               : drawPacked<false>(ys, m, width, height, tri, flat, depth, color, xs);
 }
 
 /// setupLanes: two passes of 8 lanes.
