@@ -80,17 +80,17 @@ using ShadeLanesFn = std::uint64_t (*)(const ViewsSetup& s, std::uint64_t lanes,
                                        std::uint32_t* const* color);
 
 /// setupSheared and shadeLanes in one pass, for a long row's untextured Vertex or Flat triangle
-/// (issue 12): the x of views [0, n) derived, the views with a pixel-center column and not in
-/// `culled` (bit k: view k) set up, and the covered centers of the small ones drawn side by side
-/// into depth[k] / color[k] for view k (FragmentSink's depth test and color, as shadeLanes). The
-/// views that need the general walk (rasterTriangle) are returned packed in view order in `x`
-/// (x.view[i], x.x[j][i]); returns how many. Nothing per view goes through memory but the
-/// packed x: the setup stays in registers. `shears`, depth and color must be readable for n and
-/// for 64 entries.
+/// (issue 12): the x of views [0, n) (n <= kMaxViews: a whole row in one call) derived, the views
+/// with a pixel-center column and not in `culled` (bit k % 64 of culled[k / 64]: view k; nullptr:
+/// none) set up, and the covered centers of the small ones drawn side by side into depth[k] /
+/// color[k] for view k (FragmentSink's depth test and color, as shadeLanes). The views that need
+/// the general walk (rasterTriangle) are returned packed in view order in `x` (x.view[i],
+/// x.x[j][i]); returns how many. Nothing per view goes through memory but the packed x: the
+/// setup stays in registers. depth and color must be readable for kMaxViews entries.
 using DrawShearedFn = int (*)(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
-                              std::uint64_t culled, int width, int height, const FragmentTri& tri,
-                              bool flat, float* const* depth, std::uint32_t* const* color,
-                              ViewsX& x);
+                              const std::uint64_t* culled, int width, int height,
+                              const FragmentTri& tri, bool flat, float* const* depth,
+                              std::uint32_t* const* color, ViewsX& x);
 
 struct Kernels {
     ProjectYZWFn projectYZW;

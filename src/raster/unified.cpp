@@ -393,29 +393,29 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
         }
         fill(b.frag);
         flushLanes(b);
+        if (b.slots && b.f.kernels.drawSheared) {
+            // Setup and fragments of all the row's views in one kernel (drawSheared); the views
+            // that need the general walk come back and are drawn one by one.
+            std::uint64_t culledViews[(kMaxViews + 63) / 64] = {};
+            if (faces == FaceClass::Mixed) {
+                for (int k = 0; k < nv; ++k)
+                    culledViews[k / 64] |= std::uint64_t(culled(k)) << (k % 64);
+            }
+            const std::size_t first = b.slots->first[std::size_t(&fam - d.families.data())];
+            const int general = b.f.kernels.drawSheared(
+                ys, t, fam.shears.data(), nv, culledViews, width, b.f.settings.height, b.frag,
+                S == Shading::Flat, b.slots->depth.data() + first, b.slots->color.data() + first,
+                b.xs);
+            for (int i = 0; i < general; ++i) {
+                FragmentSink<S> sink = b.sinks[std::size_t(views[b.xs.view[i]])];
+                const std::int32_t xk[3] = {b.xs.x[0][i], b.xs.x[1][i], b.xs.x[2][i]};
+                rasterTriangle(ys, xk, width, sink);
+            }
+            return;
+        }
         for (int base = 0; base < nv; base += kSetupChunk) {
             const int n = std::min(kSetupChunk, nv - base);
             auto viewOf = [&](int k) { return base + b.xs.view[k]; };  // position in the family
-            if (b.slots && b.f.kernels.drawSheared) {
-                // Setup and fragments of all views in one kernel (drawSheared); the views that
-                // need the general walk come back and are drawn one by one.
-                std::uint64_t culledViews = 0;
-                if (faces == FaceClass::Mixed) {
-                    for (int k = 0; k < n; ++k) culledViews |= std::uint64_t(culled(base + k)) << k;
-                }
-                const std::size_t first =
-                    b.slots->first[std::size_t(&fam - d.families.data())] + std::size_t(base);
-                const int general = b.f.kernels.drawSheared(
-                    ys, t, fam.shears.data() + base, n, culledViews, width, b.f.settings.height,
-                    b.frag, S == Shading::Flat, b.slots->depth.data() + first,
-                    b.slots->color.data() + first, b.xs);
-                for (int i = 0; i < general; ++i) {
-                    FragmentSink<S> sink = b.sinks[std::size_t(views[viewOf(i)])];
-                    const std::int32_t xk[3] = {b.xs.x[0][i], b.xs.x[1][i], b.xs.x[2][i]};
-                    rasterTriangle(ys, xk, width, sink);
-                }
-                continue;
-            }
             const std::uint64_t lanes =
                 b.f.kernels.setupSheared(ys, t, fam.shears.data() + base, n, width, b.views, b.xs);
             if (b.slots) {
@@ -689,10 +689,10 @@ void rasterStage(FrameContext& f, const UnifiedData& d, std::span<const Target> 
                 slots.color.push_back(targets[std::size_t(v)].color);
             }
         }
-        // shadeLanes reads the table for all 8 lanes of a group (positions < 64 past a family's
-        // first slot), the unused ones only to be masked off.
-        slots.depth.resize(slots.depth.size() + kSetupChunk, nullptr);
-        slots.color.resize(slots.color.size() + kSetupChunk, nullptr);
+        // shadeLanes and drawSheared read the table for all 8 lanes of a group (positions below
+        // kMaxViews past a family's first slot), the unused ones only to be masked off.
+        slots.depth.resize(slots.depth.size() + kMaxViews, nullptr);
+        slots.color.resize(slots.color.size() + kMaxViews, nullptr);
     }
     f.pool.run(f.bands.count, [&](int band, int) {
         BandContext<S> b{f, d, f.bands.rowBegin(band), f.bands.rowEnd(band) - 1, {}, {}};

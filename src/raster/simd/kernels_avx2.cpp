@@ -230,11 +230,11 @@ std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::in
     return lanes;
 }
 
-/// The x of n <= 64 views of a sheared row derived 8 views per pass (shearClipWc, snap: the scalar
-/// order), the views with a pixel-center column (setupCore's colMin <= colMax) and not in
-/// `culled` (bit k: view k) packed in view order into `xs` (a permutation from a table of the 256
-/// masks). Returns how many.
-inline int packSheared(const ShearedTri& t, const float* shears, int n, std::uint64_t culled,
+/// The x of n <= kMaxViews views of a sheared row derived 8 views per pass (shearClipWc, snap:
+/// the scalar order), the views with a pixel-center column (setupCore's colMin <= colMax) and not
+/// in `culled` (drawSheared's bits; nullptr: none) packed in view order into `xs` (a permutation
+/// from a table of the 256 masks). Returns how many.
+inline int packSheared(const ShearedTri& t, const float* shears, int n, const std::uint64_t* culled,
                        int width, ViewsX& xs) {
     // kPack[mask]: the lanes of mask's set bits first, in order (3 bits each); kPackBytes[mask]:
     // the same lanes as bytes (the packed views' positions, branch-free: a loop over the kept
@@ -283,13 +283,13 @@ inline int packSheared(const ShearedTri& t, const float* shears, int n, std::uin
                              _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
         const unsigned keep = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(
                                   _mm256_and_si256(cmple(colMin, colMax), live)))) &
-                              ~unsigned(culled >> k) & 0xffu;
+                              ~unsigned(culled ? culled[k >> 6] >> (k & 63) : 0) & 0xffu;
         if (!keep) continue;
         const __m256i perm = _mm256_and_si256(
             _mm256_srlv_epi32(_mm256_set1_epi32(std::int32_t(kPack.lanes[keep])), shifts),
             _mm256_set1_epi32(7));
         for (int j = 0; j < 3; ++j) store(xs.x[j] + m, _mm256_permutevar8x32_epi32(X[j], perm));
-        // The 8 bytes k + lane (k + 7 < 128: no carry between bytes); ViewsX::view has room.
+        // The 8 bytes k + lane (k + 7 < 256: no carry between bytes); ViewsX::view has room.
         const std::uint64_t views = kPack.bytes[keep] + std::uint64_t(k) * 0x0101010101010101ull;
         std::memcpy(xs.view + m, &views, sizeof views);
         m += __builtin_popcount(keep);
@@ -300,7 +300,7 @@ inline int packSheared(const ShearedTri& t, const float* shears, int n, std::uin
 /// setupSheared: packSheared, then setupCore 8 packed views a pass.
 std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
                            int width, ViewsSetup& o, ViewsX& xs) {
-    const int m = packSheared(t, shears, n, 0, width, xs);
+    const int m = packSheared(t, shears, n, nullptr, width, xs);
     const __m256i Y[3] = {_mm256_set1_epi32(ys.y[0]), _mm256_set1_epi32(ys.y[1]),
                           _mm256_set1_epi32(ys.y[2])};
     const __m256i rowMin = _mm256_set1_epi32(ys.rowMin), rowMax = _mm256_set1_epi32(ys.rowMax);
@@ -482,8 +482,8 @@ int drawPacked(const YSetup& ys, int m, int width, int height, const FragmentTri
 /// drawSheared: packSheared, then per 8 packed views cover() and shadeGroup in registers; the
 /// views left to the general walk are moved to the front of `xs`.
 int drawSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
-                std::uint64_t culled, int width, int height, const FragmentTri& tri, bool flat,
-                float* const* depth, std::uint32_t* const* color, ViewsX& xs) {
+                const std::uint64_t* culled, int width, int height, const FragmentTri& tri,
+                bool flat, float* const* depth, std::uint32_t* const* color, ViewsX& xs) {
     const int m = packSheared(t, shears, n, culled, width, xs);
     if (m == 0) return 0;
     return ys.rowMax == ys.rowMin

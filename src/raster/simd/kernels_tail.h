@@ -157,24 +157,30 @@ inline std::uint64_t shadeLanesTail(const ViewsSetup& s, std::uint64_t lanes, in
     return general;
 }
 
-/// drawSheared as setupShearedTail, the culled views taken out, shadeLanesTail, and the views
-/// left to the general walk moved to the front of `x` (the reference).
+/// drawSheared as setupShearedTail, the culled views taken out, shadeLanesTail, 64 views at a
+/// time, and the views left to the general walk packed into `x` (the reference).
 inline int drawShearedTail(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
-                           std::uint64_t culled, int width, int height, const FragmentTri& tri,
-                           bool flat, float* const* depth, std::uint32_t* const* color, ViewsX& x) {
-    ViewsSetup s;
-    std::uint64_t lanes = setupShearedTail(ys, t, shears, n, width, s, x);
-    for (std::uint64_t bits = lanes; bits; bits &= bits - 1) {
-        const int k = std::countr_zero(bits);
-        if ((culled >> x.view[k]) & 1u) lanes &= ~(std::uint64_t(1) << k);
-    }
+                           const std::uint64_t* culled, int width, int height,
+                           const FragmentTri& tri, bool flat, float* const* depth,
+                           std::uint32_t* const* color, ViewsX& x) {
     int count = 0;
-    for (std::uint64_t general =
-             shadeLanesTail(s, lanes, ys.rowMin, width, height, tri, flat, x.view, depth, color);
-         general; general &= general - 1) {
-        const int k = std::countr_zero(general);
-        for (int j = 0; j < 3; ++j) x.x[j][count] = x.x[j][k];
-        x.view[count++] = x.view[k];
+    for (int base = 0; base < n; base += 64) {
+        ViewsSetup s;
+        ViewsX chunk;
+        std::uint64_t lanes =
+            setupShearedTail(ys, t, shears + base, std::min(64, n - base), width, s, chunk);
+        const std::uint64_t out = culled ? culled[base / 64] : 0;
+        for (std::uint64_t bits = lanes; bits; bits &= bits - 1) {
+            const int k = std::countr_zero(bits);
+            if ((out >> chunk.view[k]) & 1u) lanes &= ~(std::uint64_t(1) << k);
+        }
+        for (std::uint64_t general = shadeLanesTail(s, lanes, ys.rowMin, width, height, tri, flat,
+                                                    chunk.view, depth + base, color + base);
+             general; general &= general - 1) {
+            const int k = std::countr_zero(general);
+            for (int j = 0; j < 3; ++j) x.x[j][count] = chunk.x[j][k];
+            x.view[count++] = std::uint8_t(base + chunk.view[k]);
+        }
     }
     return count;
 }
