@@ -330,6 +330,7 @@ TEST_F(BenchCli, BadOptions) {
     expectError("bench views " + m + " --counts 129", 1, "out of range");
     expectError("bench views " + m + " --grid-views 3", 1, "--grid-views entry '3'");
     expectError("bench views " + m + " --size 0x2", 1, "--size");
+    expectError("bench views " + m + " --rounds 0", 1, "--rounds 0 is out of range");
 }
 
 // `mvr bench views`: per N, time, × one view and speed-up over the backend's multipass; the
@@ -371,6 +372,25 @@ TEST_F(BenchCli, ViewsJsonSoft) {
                             "--methods soft:multipass,soft:unified --json",
                             model("suzanne.obj")));
     expectViewsJson(j, {"soft:multipass", "soft:unified"});
+}
+
+// --rounds: the sweep runs that many times and each cell pools every round's frames; the
+// multiples of one view are still time(N) / time(1) of the pooled medians.
+TEST_F(BenchCli, ViewsRoundsPoolTheirFrames) {
+    const nlohmann::json j =
+        runJson(fmt::format("bench views '{}' --counts 1,2,3 --size 32x24 --frames 2 --warmup 0 "
+                            "--rounds 3 --methods soft:multipass,soft:unified --json",
+                            model("suzanne.obj")));
+    expectViewsJson(j, {"soft:multipass", "soft:unified"});
+    for (const auto& r : j["results"]) EXPECT_EQ(r["wall_ms"]["n"], 6) << r.dump();
+    const CliRun table =
+        run(fmt::format("bench views '{}' --counts 1,2 --size 32x24 --frames 1 --warmup 0 "
+                        "--rounds 2 --methods soft:unified --progress",
+                        model("suzanne.obj")));
+    ASSERT_EQ(table.exitCode, 0) << table.err;
+    EXPECT_NE(table.out.find("2 rounds over the view counts of 1 frames"), std::string::npos)
+        << table.out;
+    EXPECT_NE(table.err.find("2 views, round 2/2"), std::string::npos) << table.err;
 }
 
 // --methods takes one comma-separated list, so a model named after it is the model (it used

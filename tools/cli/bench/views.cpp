@@ -1,7 +1,10 @@
 // `mvr bench views`: many views at the cost of how many? For each view count N (an off-axis
 // row of N views, or the C×R grids of --grid-views), the time of every method, its multiple of
 // one view (time(N) / time(1) of the same method) and its speed-up over multipass of the same
-// backend; the passes a gl method drew the views in (kalaiah2007 §3's batches).
+// backend; the passes a gl method drew the views in (kalaiah2007 §3's batches). With --rounds R
+// the whole sweep runs R times, each view count's frames of every round pooled: a change in
+// machine load then hits the counts alike, so that the multiples of one view come from the same
+// stretch of time (the jobs of one count are interleaved by measure() already).
 #include <algorithm>
 #include <filesystem>
 #include <regex>
@@ -25,6 +28,7 @@ struct ViewsOptions {
     std::string size = "420x560";
     std::string shading = "vertex";
     std::vector<std::string> methods{"soft:multipass", "soft:unified"};
+    int rounds = 1;  ///< sweeps over the view counts, pooled
 };
 
 /// The view arrangements to measure: "Nx1" rows, or the --grid-views entries.
@@ -64,6 +68,10 @@ int runViews(const ViewsOptions& o) {
     if (o.grid < 1 || o.grid > 64) {
         return fail(usageError(fmt::format("--grid {} is out of range (expected 1..64)", o.grid)));
     }
+    if (o.rounds < 1 || o.rounds > 100) {
+        return fail(
+            usageError(fmt::format("--rounds {} is out of range (expected 1..100)", o.rounds)));
+    }
     auto configsR = viewConfigs(o);
     if (!configsR) return fail(configsR.status());
     const std::vector<std::pair<int, int>> configs = std::move(configsR).value();
@@ -86,12 +94,9 @@ int runViews(const ViewsOptions& o) {
         models.push_back(*path);
     }
 
-    Progress progress(int(configs.size() * jobs.size()), o.common.machineReadable(),
-                      o.common.progress);
-    RenderReport report;
-    report.bench = "views", report.machine = &machine, report.skipped = skipped;
-    for (const Job& j : jobs) report.series.push_back(j.text());
-    std::string model = "default scene";
+    // Each view count's scene is prepared once (the model is read once per count), then measured
+    // in every round.
+    std::vector<Prepared> scenes;
     for (const auto& [c, r] : configs) {
         SceneOptions so;
         so.models = models;
@@ -101,11 +106,46 @@ int runViews(const ViewsOptions& o) {
         so.shading = o.shading;
         auto prepared = so.prepare();
         if (!prepared) return fail(prepared.status());
-        const Prepared& p = *prepared;
+        scenes.push_back(std::move(prepared).value());
+    }
+    Progress progress(int(configs.size() * jobs.size()) * o.rounds, o.common.machineReadable(),
+                      o.common.progress);
+    std::vector<std::vector<Measured>> pooled(configs.size());
+    for (int round = 0; round < o.rounds; ++round) {
+        for (std::size_t i = 0; i < configs.size(); ++i) {
+            const int views = configs[i].first * configs[i].second;
+            std::vector<Measured> m = measure(
+                jobs, scenes[i], {.warmup = o.common.warmup, .frames = o.common.frames},
+                {.progress = &progress,
+                 .label = o.rounds > 1
+                              ? fmt::format("{} views, round {}/{}", views, round + 1, o.rounds)
+                              : fmt::format("{} views", views)});
+            if (round == 0) {
+                pooled[i] = std::move(m);
+                continue;
+            }
+            for (std::size_t j = 0; j < jobs.size(); ++j) {
+                Measured& to = pooled[i][j];
+                if (to.failed()) continue;  // its first error stands
+                if (m[j].failed()) {
+                    to.error = m[j].error;
+                    continue;
+                }
+                to.wallMs.insert(to.wallMs.end(), m[j].wallMs.begin(), m[j].wallMs.end());
+                to.cpuMs.insert(to.cpuMs.end(), m[j].cpuMs.begin(), m[j].cpuMs.end());
+                to.stats.insert(to.stats.end(), m[j].stats.begin(), m[j].stats.end());
+            }
+        }
+    }
+    RenderReport report;
+    report.bench = "views", report.machine = &machine, report.skipped = skipped;
+    for (const Job& j : jobs) report.series.push_back(j.text());
+    std::string model = "default scene";
+    for (std::size_t i = 0; i < configs.size(); ++i) {
+        const auto [c, r] = configs[i];
+        const Prepared& p = scenes[i];
         model = std::filesystem::path(p.sceneName).filename().string();
-        const std::vector<Measured> m =
-            measure(jobs, p, {.warmup = o.common.warmup, .frames = o.common.frames},
-                    {.progress = &progress, .label = fmt::format("{} views", c * r)});
+        const std::vector<Measured>& m = pooled[i];
         const std::size_t first = report.rows.size();
         for (std::size_t j = 0; j < jobs.size(); ++j) {
             RenderRow row = renderRow(jobs[j], m[j], p.scene.triangleCount());
@@ -129,10 +169,15 @@ int runViews(const ViewsOptions& o) {
     }
     report.tables.push_back(PivotTable{
         .caption = fmt::format(
-            "Many views — {} ({} copies), views of {} each, {} shading, {} frames after {} warm-up; "
+            "Many views — {} ({} copies), views of {} each, {} shading, {}; "
             "cell: median wall ms, × one view of the same method, speed-up over multipass of the "
             "same backend, and the passes where a method batched the views",
-            model, o.grid, o.size, o.shading, o.common.frames, o.common.warmup),
+            model, o.grid, o.size, o.shading,
+            o.rounds > 1
+                ? fmt::format("{} rounds over the view counts of {} frames after {} "
+                              "warm-up each, pooled",
+                              o.rounds, o.common.frames, o.common.warmup)
+                : fmt::format("{} frames after {} warm-up", o.common.frames, o.common.warmup)),
         .rowHeads = {"views"},
         .filter = [](const RenderRow&) { return true; },
         .rowLabels = [](const RenderRow& r) { return std::vector<std::string>{r.config}; },
@@ -184,7 +229,11 @@ PaperBench addViews(CLI::App* bench) {
     addMethodsOption(v, o->methods,
                      "BACKEND:METHOD list (BACKEND:multipass is added as the baseline)",
                      "soft:multipass,soft:unified");
-    addCommonOptions(v, o->common, "Timed frames per method and view count");
+    addCommonOptions(v, o->common, "Timed frames per method and view count (per round)");
+    v->add_option("--rounds", o->rounds,
+                  "Sweeps over the view counts, each count's frames pooled over them (so that "
+                  "load changes on a shared machine hit every count alike)")
+        ->default_val(o->rounds);
     return {v, [o] { return runViews(*o); }};
 }
 
