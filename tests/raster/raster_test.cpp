@@ -682,33 +682,50 @@ TEST(Kernels, SetupViewsSimdEqualsScalar) {
     EXPECT_GT(generalSeen, 1000);
 }
 
+/// A random triangle of a long sheared row of n views (x derived per view from the center):
+/// its center clip x, w − convergence (convergence 4) and 1/w per vertex, the views' shears
+/// (centered, `stepScale` times a random step in [-1, 1]) and the y setup shared by the views in
+/// an image of `height` rows. `spread`: the vertices' offsets from their center, as a fraction of
+/// w (big triangles: 0.3). False when no row center is covered.
+struct ShearedCase {
+    detail::ShearedTri t;
+    float shears[kMaxViews];
+    detail::YSetup ys;
+};
+bool randomShearedCase(std::mt19937& rng, int n, bool big, float spread, float stepScale,
+                       int height, ShearedCase& c) {
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    const float w0 = 2.0f + 3.0f * (unit(rng) + 1.0f), conv = 4.0f;
+    float y[3];
+    const float cx = unit(rng) * w0 * 0.8f, cy = unit(rng) * w0 * 0.8f;
+    for (int j = 0; j < 3; ++j) {
+        const float w = w0 + unit(rng) * (big ? 1.0f : 0.01f);
+        c.t.cx[j] = cx + unit(rng) * (big ? 0.3f : spread) * w;
+        c.t.wc[j] = w - conv;
+        c.t.q[j] = 1.0f / w;
+        y[j] = cy + unit(rng) * (big ? 0.3f : spread) * w;
+    }
+    const float step = unit(rng) * stepScale;
+    for (int k = 0; k < n; ++k) c.shears[k] = (float(k) - 0.5f * float(n - 1)) * step;
+    const float h = float(height);
+    detail::setupY(c.ys, detail::snapY(y[0], c.t.q[0], h), detail::snapY(y[1], c.t.q[1], h),
+                   detail::snapY(y[2], c.t.q[2], h), 0, height - 1);
+    return c.ys.rowMin <= c.ys.rowMax;
+}
+
 TEST(Kernels, SetupShearedSimdEqualsScalar) {
     // Small and large triangles of a long sheared row (x derived per view from the center):
     // the derived x of every view, and every setup field the caller reads.
     std::mt19937 rng(777);
-    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    const float conv = 4.0f;
     int seen = 0;
     for (int iter = 0; iter < 2000; ++iter) {
         const int n = 1 + int(rng() % 64);
-        const float w0 = 2.0f + 3.0f * (unit(rng) + 1.0f), conv = 4.0f;
-        const bool big = iter % 4 == 0;
-        detail::ShearedTri t;
-        float y[3];
-        const float cx = unit(rng) * w0 * 0.8f, cy = unit(rng) * w0 * 0.8f;
-        for (int j = 0; j < 3; ++j) {
-            const float w = w0 + unit(rng) * (big ? 1.0f : 0.01f);
-            t.cx[j] = cx + unit(rng) * (big ? 0.3f : 0.004f) * w;
-            t.wc[j] = w - conv;
-            t.q[j] = 1.0f / w;
-            y[j] = cy + unit(rng) * (big ? 0.3f : 0.004f) * w;
-        }
-        float shears[kMaxViews];
-        const float step = unit(rng) * 0.02f;
-        for (int k = 0; k < n; ++k) shears[k] = (float(k) - 0.5f * float(n - 1)) * step;
-        detail::YSetup ys;
-        detail::setupY(ys, detail::snapY(y[0], t.q[0], 768.0f), detail::snapY(y[1], t.q[1], 768.0f),
-                       detail::snapY(y[2], t.q[2], 768.0f), 0, 767);
-        if (ys.rowMin > ys.rowMax) continue;
+        ShearedCase row;
+        if (!randomShearedCase(rng, n, iter % 4 == 0, 0.004f, 0.02f, 768, row)) continue;
+        const detail::ShearedTri& t = row.t;
+        const float* shears = row.shears;
+        const detail::YSetup& ys = row.ys;
         detail::ViewsSetup ref, got;
         detail::ViewsX refX, gotX;
         const std::uint64_t refLanes =
@@ -754,6 +771,27 @@ TEST(Kernels, SetupShearedSimdEqualsScalar) {
 
 template <class T>
 using Images = std::vector<std::vector<T>>;  // one image per view
+
+/// Views [0, n) of two sets of images equal, color and depth bit for bit.
+::testing::AssertionResult sameImages(int n, const Images<float>& gotDepth,
+                                      const Images<std::uint32_t>& gotColor,
+                                      const Images<float>& refDepth,
+                                      const Images<std::uint32_t>& refColor) {
+    for (int v = 0; v < n; ++v) {
+        for (std::size_t i = 0; i < refColor[v].size(); ++i) {
+            if (gotColor[v][i] != refColor[v][i]) {
+                return ::testing::AssertionFailure() << "view " << v << " pixel " << i << " color "
+                                                     << gotColor[v][i] << " != " << refColor[v][i];
+            }
+            if (std::bit_cast<std::uint32_t>(gotDepth[v][i]) !=
+                std::bit_cast<std::uint32_t>(refDepth[v][i])) {
+                return ::testing::AssertionFailure() << "view " << v << " pixel " << i << " depth "
+                                                     << gotDepth[v][i] << " != " << refDepth[v][i];
+            }
+        }
+    }
+    return ::testing::AssertionSuccess();
+}
 
 TEST(Kernels, ShadeLanesSimdEqualsScalar) {
     // One triangle's fragments in up to 64 views (Vertex and Flat, untextured): random
@@ -826,14 +864,7 @@ TEST(Kernels, ShadeLanesSimdEqualsScalar) {
             }
             for (const detail::Kernels* k : simdKernels()) {
                 ASSERT_EQ(run(*k, gotDepth, gotColor), refGeneral) << iter;
-                for (int v = 0; v < n; ++v) {
-                    ASSERT_EQ(gotColor[v], refColor[v]) << iter << " view " << v;
-                    for (int i = 0; i < kW * kH; ++i) {
-                        ASSERT_EQ(std::bit_cast<std::uint32_t>(gotDepth[v][i]),
-                                  std::bit_cast<std::uint32_t>(refDepth[v][i]))
-                            << iter << " view " << v << " pixel " << i;
-                    }
-                }
+                ASSERT_TRUE(sameImages(n, gotDepth, gotColor, refDepth, refColor)) << iter;
             }
         }
         for (int k = 0; k < n; ++k) {
@@ -855,7 +886,8 @@ TEST(Kernels, DrawShearedEqualsRasterTrianglePerView) {
     // after it. Every path's images, bit for bit, and the views it returns.
     constexpr int kW = 96, kH = 64;
     std::mt19937 rng(4242);
-    std::uniform_real_distribution<float> unit(-1.0f, 1.0f), depthDist(0.0f, 1.0f);
+    std::uniform_real_distribution<float> depthDist(0.0f, 1.0f);
+    const float conv = 4.0f;
     int passed = 0, general = 0, culledViews = 0;
     Images<float> depth0(kMaxViews, std::vector<float>(kW * kH)), refDepth = depth0,
                                                                  gotDepth = depth0;
@@ -867,26 +899,14 @@ TEST(Kernels, DrawShearedEqualsRasterTrianglePerView) {
     }
     for (int iter = 0; iter < 300; ++iter) {
         const int n = 1 + int(rng() % kMaxViews);
-        const float w0 = 2.0f + 3.0f * (unit(rng) + 1.0f), conv = 4.0f;
-        const bool big = iter % 5 == 0;
-        detail::ShearedTri t;
-        float y[3];
-        const float cx = unit(rng) * w0 * 0.8f, cy = unit(rng) * w0 * 0.8f;
-        for (int j = 0; j < 3; ++j) {
-            const float w = w0 + unit(rng) * (big ? 1.0f : 0.01f);
-            t.cx[j] = cx + unit(rng) * (big ? 0.3f : 0.03f) * w;
-            t.wc[j] = w - conv;
-            t.q[j] = 1.0f / w;
-            y[j] = cy + unit(rng) * (big ? 0.3f : 0.03f) * w;
+        ShearedCase row;
+        if (!randomShearedCase(rng, n, iter % 5 == 0, 0.03f, 0.03f * 64.0f / float(std::max(n, 64)),
+                               kH, row)) {
+            continue;
         }
-        float shears[kMaxViews];
-        const float step = unit(rng) * 0.03f * 64.0f / float(std::max(n, 64));
-        for (int k = 0; k < n; ++k) shears[k] = (float(k) - 0.5f * float(n - 1)) * step;
-        detail::YSetup ys;
-        detail::setupY(ys, detail::snapY(y[0], t.q[0], float(kH)),
-                       detail::snapY(y[1], t.q[1], float(kH)),
-                       detail::snapY(y[2], t.q[2], float(kH)), 0, kH - 1);
-        if (ys.rowMin > ys.rowMax) continue;
+        const detail::ShearedTri& t = row.t;
+        const float* shears = row.shears;
+        const detail::YSetup& ys = row.ys;
         std::uint64_t culled[2] = {};
         if (iter % 3 == 0) {
             for (std::uint64_t& c : culled) c = std::uint64_t(rng()) << 32 | rng();
@@ -958,14 +978,7 @@ TEST(Kernels, DrawShearedEqualsRasterTrianglePerView) {
                 } else {
                     ASSERT_EQ(views, refViews) << iter;
                 }
-                for (int v = 0; v < n; ++v) {
-                    ASSERT_EQ(gotColor[v], refColor[v]) << iter << " view " << v;
-                    for (int i = 0; i < kW * kH; ++i) {
-                        ASSERT_EQ(std::bit_cast<std::uint32_t>(gotDepth[v][i]),
-                                  std::bit_cast<std::uint32_t>(refDepth[v][i]))
-                            << iter << " view " << v << " pixel " << i;
-                    }
-                }
+                ASSERT_TRUE(sameImages(n, gotDepth, gotColor, refDepth, refColor)) << iter;
             }
         }
         for (int k = 0; k < n; ++k) culledViews += int(isCulled(k));
