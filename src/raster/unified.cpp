@@ -415,9 +415,9 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
         }
         for (int base = 0; base < nv; base += kSetupChunk) {
             const int n = std::min(kSetupChunk, nv - base);
-            auto viewOf = [&](int k) { return base + b.xs.view[k]; };  // position in the family
             const std::uint64_t lanes =
                 b.f.kernels.setupSheared(ys, t, fam.shears.data() + base, n, width, b.views, b.xs);
+            auto viewOf = [&](int k) { return base + b.xs.view[k]; };  // position in the family
             if (b.slots) {
                 // All views' fragments side by side (shadeLanes); lanes that need the general
                 // walk come back and are drawn one by one. Culled views of a mixed family are

@@ -98,6 +98,18 @@ inline __m256i cmple(__m256i a, __m256i b) {  // a <= b as all-ones lanes
     return _mm256_xor_si256(_mm256_cmpgt_epi32(a, b), _mm256_set1_epi32(-1));
 }
 
+/// The pixel-center columns [colMin, colMax] of 8 lanes' x extents [xlo, xhi] within [0, width)
+/// (setupViewsTail's colMin / colMax; empty when colMin > colMax).
+inline void columnRange(__m256i xlo, __m256i xhi, int width, __m256i& colMin, __m256i& colMax) {
+    const __m256i half = _mm256_set1_epi32(kHalfSubpixel);
+    colMin = _mm256_max_epi32(_mm256_setzero_si256(),
+                              _mm256_srai_epi32(_mm256_add_epi32(_mm256_sub_epi32(xlo, half),
+                                                                 _mm256_set1_epi32(kSubpixel - 1)),
+                                                kSubpixelBits));
+    colMax = _mm256_min_epi32(_mm256_set1_epi32(width - 1),
+                              _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
+}
+
 /// setupViewsTail's results for 8 lanes, in registers (setupCore stores them into a ViewsSetup;
 /// drawSheared shades from them directly).
 struct Cover {
@@ -112,7 +124,7 @@ struct Cover {
 template <bool OneRow = false>
 inline Cover cover(__m256i X0, __m256i X1, __m256i X2, const __m256i Y[3], __m256i rowMin,
                    __m256i rowMax, int width) {
-    Cover c;
+    Cover c{};  // OneRow leaves sy at 0
     const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1),
                   ones = _mm256_set1_epi32(-1);
     const __m256i half = _mm256_set1_epi32(kHalfSubpixel);
@@ -131,13 +143,8 @@ inline Cover cover(__m256i X0, __m256i X1, __m256i X2, const __m256i Y[3], __m25
     const __m256i yr20 = _mm256_sub_epi32(yr[2], yr[0]);
     const __m256i xlo = _mm256_min_epi32(X0, _mm256_min_epi32(X1, X2));
     const __m256i xhi = _mm256_max_epi32(X0, _mm256_max_epi32(X1, X2));
-    c.colMin = _mm256_max_epi32(
-        zero, _mm256_srai_epi32(
-                  _mm256_add_epi32(_mm256_sub_epi32(xlo, half), _mm256_set1_epi32(kSubpixel - 1)),
-                  kSubpixelBits));
-    const __m256i colMax =
-        _mm256_min_epi32(_mm256_set1_epi32(width - 1),
-                         _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
+    __m256i colMax;
+    columnRange(xlo, xhi, width, c.colMin, colMax);
     const __m256i empty = _mm256_cmpgt_epi32(c.colMin, colMax);
     const __m256i cols = _mm256_sub_epi32(colMax, c.colMin);
     const __m256i small = _mm256_andnot_si256(
@@ -257,7 +264,6 @@ inline int packSheared(const ShearedTri& t, const float* shears, int n, const st
         return table;
     }();
     const __m256 wd = _mm256_set1_ps(float(width));
-    const __m256i half = _mm256_set1_epi32(kHalfSubpixel);
     const __m256 cx[3] = {_mm256_set1_ps(t.cx[0]), _mm256_set1_ps(t.cx[1]),
                           _mm256_set1_ps(t.cx[2])};
     const __m256 wc[3] = {_mm256_set1_ps(t.wc[0]), _mm256_set1_ps(t.wc[1]),
@@ -273,14 +279,8 @@ inline int packSheared(const ShearedTri& t, const float* shears, int n, const st
             X[j] = snap(_mm256_add_ps(cx[j], _mm256_mul_ps(s, wc[j])), q[j], wd);
         const __m256i xlo = _mm256_min_epi32(X[0], _mm256_min_epi32(X[1], X[2]));
         const __m256i xhi = _mm256_max_epi32(X[0], _mm256_max_epi32(X[1], X[2]));
-        const __m256i colMin = _mm256_max_epi32(
-            _mm256_setzero_si256(),
-            _mm256_srai_epi32(
-                _mm256_add_epi32(_mm256_sub_epi32(xlo, half), _mm256_set1_epi32(kSubpixel - 1)),
-                kSubpixelBits));
-        const __m256i colMax =
-            _mm256_min_epi32(_mm256_set1_epi32(width - 1),
-                             _mm256_srai_epi32(_mm256_sub_epi32(xhi, half), kSubpixelBits));
+        __m256i colMin, colMax;
+        columnRange(xlo, xhi, width, colMin, colMax);
         const unsigned keep = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(
                                   _mm256_and_si256(cmple(colMin, colMax), live)))) &
                               ~unsigned(culled ? culled[k >> 6] >> (k & 63) : 0) & 0xffu;
