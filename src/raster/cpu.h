@@ -86,7 +86,11 @@ using ShadeLanesFn = std::uint64_t (*)(const ViewsSetup& s, std::uint64_t lanes,
 /// color[k] for view k (FragmentSink's depth test and color, as shadeLanes). The views that need
 /// the general walk (rasterTriangle) are returned packed in view order in `x` (x.view[i],
 /// x.x[j][i]); returns how many. Nothing per view goes through memory but the packed x: the
-/// setup stays in registers. depth and color must be readable for kMaxViews entries.
+/// setup stays in registers. A SIMD path may first leave out, for a triangle of one row in the
+/// band, the views that cannot cover a center of that row (an estimate of each view's span on
+/// the row's center line, widened past what snapping and rounding can move it): it then draws
+/// the same pixels and returns a subset of those views (the ones left out would draw nothing).
+/// depth and color must be readable for kMaxViews entries, shears for n rounded up to 8.
 using DrawShearedFn = int (*)(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
                               const std::uint64_t* culled, int width, int height,
                               const FragmentTri& tri, bool flat, float* const* depth,

@@ -2,6 +2,7 @@
 // and order as the scalar loops in kernels_tail.h.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 
 #include <immintrin.h>
@@ -237,61 +238,82 @@ std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::in
     return lanes;
 }
 
+/// kPack.lanes[mask]: the lanes of mask's set bits first, in order (3 bits each);
+/// kPack.bytes[mask]: the same lanes as bytes (packed views' positions, branch-free: a loop over
+/// the kept lanes cost a mispredicted branch per triangle and pass).
+struct PackTables {
+    std::array<std::uint32_t, 256> lanes{};
+    std::array<std::uint64_t, 256> bytes{};
+};
+const PackTables kPack = [] {
+    PackTables table;
+    for (unsigned mask = 0; mask < 256; ++mask) {
+        int slot = 0;
+        for (unsigned lane = 0; lane < 8; ++lane) {
+            if (!(mask & (1u << lane))) continue;
+            table.lanes[mask] |= lane << (3 * slot);
+            table.bytes[mask] |= std::uint64_t(lane) << (8 * slot);
+            ++slot;
+        }
+    }
+    return table;
+}();
+
+/// The permutation that moves the lanes of `keep` to the front, in order.
+inline __m256i packPermutation(unsigned keep) {
+    return _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(std::int32_t(kPack.lanes[keep])),
+                                              _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21)),
+                            _mm256_set1_epi32(7));
+}
+/// Appends the positions k + lane of the lanes of `keep` to `view` (8 bytes written; k + 7 < 256:
+/// no carry between bytes).
+inline void packViews(unsigned keep, int k, std::uint8_t* view) {
+    const std::uint64_t views = kPack.bytes[keep] + std::uint64_t(k) * 0x0101010101010101ull;
+    std::memcpy(view, &views, sizeof views);
+}
+
+/// A sheared row's snapped x per view from its shear s: snap(cx + s·wc, q, width) per vertex
+/// (shearClipWc, snapX: the scalar order).
+struct ShearX {
+    __m256 cx[3], wc[3], q[3], wd;
+    ShearX(const ShearedTri& t, int width) : wd(_mm256_set1_ps(float(width))) {
+        for (int j = 0; j < 3; ++j) {
+            cx[j] = _mm256_set1_ps(t.cx[j]);
+            wc[j] = _mm256_set1_ps(t.wc[j]);
+            q[j] = _mm256_set1_ps(t.q[j]);
+        }
+    }
+    void operator()(__m256 s, __m256i X[3]) const {
+        for (int j = 0; j < 3; ++j) X[j] = snap(_mm256_add_ps(cx[j], _mm256_mul_ps(s, wc[j])), q[j], wd);
+    }
+};
+
 /// The x of n <= kMaxViews views of a sheared row derived 8 views per pass (shearClipWc, snap:
 /// the scalar order), the views with a pixel-center column (setupCore's colMin <= colMax) and not
 /// in `culled` (drawSheared's bits; nullptr: none) packed in view order into `xs` (a permutation
 /// from a table of the 256 masks). Returns how many.
 inline int packSheared(const ShearedTri& t, const float* shears, int n, const std::uint64_t* culled,
                        int width, ViewsX& xs) {
-    // kPack[mask]: the lanes of mask's set bits first, in order (3 bits each); kPackBytes[mask]:
-    // the same lanes as bytes (the packed views' positions, branch-free: a loop over the kept
-    // lanes cost a mispredicted branch per triangle and pass).
-    struct PackTables {
-        std::array<std::uint32_t, 256> lanes{};
-        std::array<std::uint64_t, 256> bytes{};
-    };
-    static const PackTables kPack = [] {
-        PackTables table;
-        for (unsigned mask = 0; mask < 256; ++mask) {
-            int slot = 0;
-            for (unsigned lane = 0; lane < 8; ++lane) {
-                if (!(mask & (1u << lane))) continue;
-                table.lanes[mask] |= lane << (3 * slot);
-                table.bytes[mask] |= std::uint64_t(lane) << (8 * slot);
-                ++slot;
-            }
-        }
-        return table;
-    }();
-    const __m256 wd = _mm256_set1_ps(float(width));
-    const __m256 cx[3] = {_mm256_set1_ps(t.cx[0]), _mm256_set1_ps(t.cx[1]),
-                          _mm256_set1_ps(t.cx[2])};
-    const __m256 wc[3] = {_mm256_set1_ps(t.wc[0]), _mm256_set1_ps(t.wc[1]),
-                          _mm256_set1_ps(t.wc[2])};
-    const __m256 q[3] = {_mm256_set1_ps(t.q[0]), _mm256_set1_ps(t.q[1]), _mm256_set1_ps(t.q[2])};
-    const __m256i shifts = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
+    const ShearX deriveX(t, width);
     int m = 0;
     for (int k = 0; k < n; k += 8) {
+        const unsigned out = culled ? unsigned(culled[k >> 6] >> (k & 63)) & 0xffu : 0u;
+        if (out == 0xffu) continue;  // every view of the group culled or skipped
         const __m256i live = liveLanes(n, k);
         const __m256 s = _mm256_maskload_ps(shears + k, live);
         __m256i X[3];
-        for (int j = 0; j < 3; ++j)
-            X[j] = snap(_mm256_add_ps(cx[j], _mm256_mul_ps(s, wc[j])), q[j], wd);
+        deriveX(s, X);
         const __m256i xlo = _mm256_min_epi32(X[0], _mm256_min_epi32(X[1], X[2]));
         const __m256i xhi = _mm256_max_epi32(X[0], _mm256_max_epi32(X[1], X[2]));
         __m256i colMin, colMax;
         columnRange(xlo, xhi, width, colMin, colMax);
         const unsigned keep = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(
                                   _mm256_and_si256(cmple(colMin, colMax), live)))) &
-                              ~unsigned(culled ? culled[k >> 6] >> (k & 63) : 0) & 0xffu;
+                              ~out & 0xffu;
         if (!keep) continue;
-        const __m256i perm = _mm256_and_si256(
-            _mm256_srlv_epi32(_mm256_set1_epi32(std::int32_t(kPack.lanes[keep])), shifts),
-            _mm256_set1_epi32(7));
+        const __m256i perm = packPermutation(keep);
         for (int j = 0; j < 3; ++j) store(xs.x[j] + m, _mm256_permutevar8x32_epi32(X[j], perm));
-        // The 8 bytes k + lane (k + 7 < 256: no carry between bytes); ViewsX::view has room.
-        const std::uint64_t views = kPack.bytes[keep] + std::uint64_t(k) * 0x0101010101010101ull;
-        std::memcpy(xs.view + m, &views, sizeof views);
+        packViews(keep, k, xs.view + m);  // ViewsX::view has room
         m += __builtin_popcount(keep);
     }
     return m;
@@ -451,44 +473,138 @@ std::uint64_t shadeLanes(const ViewsSetup& s, std::uint64_t lanes, int rowMin, i
 }
 
 /// drawSheared's setup and fragments of the m packed views (OneRow: ys.rowMax == ys.rowMin, as
-/// for most triangles of a dense mesh within a band).
+/// for most triangles of a dense mesh within a band). Their x: xs.x, or with `deriveX` derived
+/// here from their shears ps[0, m) (then stored only for the views left to the general walk).
 template <bool OneRow>
 int drawPacked(const YSetup& ys, int m, int width, int height, const FragmentTri& tri, bool flat,
-               float* const* depth, std::uint32_t* const* color, ViewsX& xs) {
+               float* const* depth, std::uint32_t* const* color, ViewsX& xs,
+               const ShearX* deriveX = nullptr, const float* ps = nullptr) {
     const __m256i zero = _mm256_setzero_si256();
     const __m256i Y[3] = {_mm256_set1_epi32(ys.y[0]), _mm256_set1_epi32(ys.y[1]),
                           _mm256_set1_epi32(ys.y[2])};
     const __m256i rowMin = _mm256_set1_epi32(ys.rowMin), rowMax = _mm256_set1_epi32(ys.rowMax);
-    const LaneFragment f = laneFragment(tri, flat, ys.rowMin, width, height);
+    LaneFragment f;  // broadcast when a first lane has a covered center
+    bool haveFragment = false;
     int general = 0;
     for (int i = 0; i < m; i += 8) {
         const __m256i live = liveLanes(m, i);
-        const Cover c = cover<OneRow>(loadLanes(xs.x[0] + i, live), loadLanes(xs.x[1] + i, live),
-                                      loadLanes(xs.x[2] + i, live), Y, rowMin, rowMax, width);
+        __m256i X[3];
+        if (deriveX) {
+            (*deriveX)(_mm256_maskload_ps(ps + i, live), X);
+        } else {
+            for (int j = 0; j < 3; ++j) X[j] = loadLanes(xs.x[j] + i, live);
+        }
+        const Cover c = cover<OneRow>(X[0], X[1], X[2], Y, rowMin, rowMax, width);
         const __m256i negative = _mm256_and_si256(_mm256_cmpgt_epi32(zero, c.mask), live);
         const __m256i rem = _mm256_andnot_si256(negative, _mm256_and_si256(c.mask, live));
-        if (!_mm256_testz_si256(rem, rem)) shadeGroup<OneRow>(f, c, rem, xs.view + i, depth, color);
+        if (!_mm256_testz_si256(rem, rem)) {
+            if (!haveFragment) f = laneFragment(tri, flat, ys.rowMin, width, height);
+            haveFragment = true;
+            shadeGroup<OneRow>(f, c, rem, xs.view + i, depth, color);
+        }
         // General lanes to the front (general <= i + k: positions already read).
-        for (unsigned g = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(negative))); g;
-             g &= g - 1) {
-            const int k = i + __builtin_ctz(g);
-            for (int j = 0; j < 3; ++j) xs.x[j][general] = xs.x[j][k];
-            xs.view[general++] = xs.view[k];
+        const unsigned g0 = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(negative)));
+        if (!g0) continue;
+        alignas(32) std::int32_t xg[3][8];
+        for (int j = 0; j < 3; ++j) store(xg[j], X[j]);
+        for (unsigned g = g0; g; g &= g - 1) {
+            const int k = __builtin_ctz(g);
+            for (int j = 0; j < 3; ++j) xs.x[j][general] = xg[j][k];
+            xs.view[general++] = xs.view[i + k];
         }
     }
     return general;
 }
 
+/// The views of a one-row triangle (ys.rowMin == ys.rowMax) that may cover a pixel center of
+/// that row, found from the epipolar-plane image (Halle's multiple-viewpoint rendering): on the
+/// row's center line the triangle's span has endpoints that move linearly with the shear, so for
+/// every view its span [lo(s), hi(s)] is two multiply-adds away, without deriving and snapping
+/// the view's x. The estimate is widened by a bound on what snapping and float rounding can move
+/// a vertex (a few 1/256 px), so a view is left out only when no center of the row can be
+/// covered in it: the images do not change, only views that would draw nothing are skipped.
+/// The others that are not in `culled` are packed in view order: their shears into ps, their
+/// positions into xs.view. Returns how many (0 when the triangle misses the row's center line).
+inline int packOnRow(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
+                     const std::uint64_t* culled, int width, float* ps, ViewsX& xs) {
+    // Vertex j's window x, in pixels from the first column's center (column c's center at c),
+    // is about alpha_j + s·beta_j (snapX of shearClipWc, unsnapped).
+    const float scale = 0.5f * float(width);
+    float alpha[3], beta[3], fixedMag = 0.0f, shearMag = 0.0f;
+    for (int j = 0; j < 3; ++j) {
+        alpha[j] = scale * (t.cx[j] * t.q[j] + 1.0f) - 0.5f;
+        beta[j] = scale * (t.wc[j] * t.q[j]);
+        fixedMag = std::max(fixedMag, std::fabs(alpha[j]) + scale);
+        shearMag = std::max(shearMag, std::fabs(beta[j]));
+    }
+    // The span's ends on the center line: vertices on it and proper edge crossings (<= 3).
+    const std::int32_t yc = ys.rowMin * kSubpixel + kHalfSubpixel;
+    float pa[3], pb[3];
+    int points = 0;
+    for (int a = 0; a < 3; ++a) {
+        const int b = a == 2 ? 0 : a + 1;
+        const std::int32_t da = ys.y[a] - yc, db = ys.y[b] - yc;
+        if (da == 0) {
+            pa[points] = alpha[a], pb[points++] = beta[a];
+        } else if ((da < 0 && db > 0) || (da > 0 && db < 0)) {
+            const float s = float(da) / float(da - db);
+            pa[points] = alpha[a] + s * (alpha[b] - alpha[a]);
+            pb[points++] = beta[a] + s * (beta[b] - beta[a]);
+        }
+    }
+    if (points == 0) return 0;
+    for (int i = points; i < 3; ++i) pa[i] = pa[0], pb[i] = pb[0];
+    // Slack: snapping's half unit and more (2/256 px), float rounding of every step (relative
+    // 2^-24 each; 2^-16 of the largest magnitude is far more than they add up to).
+    const __m256 slack0 = _mm256_set1_ps(2.0f / float(kSubpixel) + fixedMag * (1.0f / 65536.0f));
+    const __m256 slack1 = _mm256_set1_ps(shearMag * (1.0f / 65536.0f));
+    const __m256 A[3] = {_mm256_set1_ps(pa[0]), _mm256_set1_ps(pa[1]), _mm256_set1_ps(pa[2])};
+    const __m256 B[3] = {_mm256_set1_ps(pb[0]), _mm256_set1_ps(pb[1]), _mm256_set1_ps(pb[2])};
+    const __m256 absMask = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps(),
+                 lastCol = _mm256_set1_ps(float(width - 1));
+    static constexpr std::uint64_t kNone[(kMaxViews + 63) / 64] = {};
+    const std::uint64_t* out = culled ? culled : kNone;
+    int m = 0;
+    auto group = [&](int k, unsigned live) {
+        const __m256 s = _mm256_loadu_ps(shears + k);  // readable to n rounded up to 8
+        const __m256 e0 = _mm256_fmadd_ps(s, B[0], A[0]), e1 = _mm256_fmadd_ps(s, B[1], A[1]),
+                     e2 = _mm256_fmadd_ps(s, B[2], A[2]);
+        const __m256 slack = _mm256_fmadd_ps(_mm256_andnot_ps(absMask, s), slack1, slack0);
+        // A column center c in [lo, hi] within the image [0, width - 1]: the last one at or
+        // below hi, c = min(floor(hi), width - 1), is one when c >= max(lo, 0).
+        const __m256 lo =
+            _mm256_max_ps(zero, _mm256_sub_ps(_mm256_min_ps(e0, _mm256_min_ps(e1, e2)), slack));
+        const __m256 c = _mm256_min_ps(
+            lastCol, _mm256_round_ps(_mm256_add_ps(_mm256_max_ps(e0, _mm256_max_ps(e1, e2)), slack),
+                                     _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC));
+        const unsigned keep = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(lo, c, _CMP_LE_OQ))) &
+                              ~unsigned(out[k >> 6] >> (k & 63)) & live;
+        if (!keep) return;
+        _mm256_storeu_ps(ps + m, _mm256_permutevar8x32_ps(s, packPermutation(keep)));
+        packViews(keep, k, xs.view + m);
+        m += __builtin_popcount(keep);
+    };
+    int k = 0;
+    for (; k + 8 <= n; k += 8) group(k, 0xffu);
+    if (k < n) group(k, (1u << (n - k)) - 1u);
+    return m;
+}
+
 /// drawSheared: packSheared, then per 8 packed views cover() and shadeGroup in registers; the
-/// views left to the general walk are moved to the front of `xs`.
+/// views left to the general walk are moved to the front of `xs`. A one-row triangle packs only
+/// the views that may cover a center of its row (packOnRow), and derives their x as it draws.
 int drawSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
                 const std::uint64_t* culled, int width, int height, const FragmentTri& tri,
                 bool flat, float* const* depth, std::uint32_t* const* color, ViewsX& xs) {
+    if (ys.rowMax == ys.rowMin) {
+        alignas(32) float ps[kMaxViews + 8];  // + room for a whole register's store
+        const int m = packOnRow(ys, t, shears, n, culled, width, ps, xs);
+        if (m == 0) return 0;
+        const ShearX deriveX(t, width);
+        return drawPacked<true>(ys, m, width, height, tri, flat, depth, color, xs, &deriveX, ps);
+    }
     const int m = packSheared(t, shears, n, culled, width, xs);
-    if (m == 0) return 0;
-    return ys.rowMax == ys.rowMin
-               ? drawPacked<true>(ys, m, width, height, tri, flat, depth, color, xs)
-               : drawPacked<false>(ys, m, width, height, tri, flat, depth, color, xs);
+    return m == 0 ? 0 : drawPacked<false>(ys, m, width, height, tri, flat, depth, color, xs);
 }
 
 /// setupLanes: two passes of 8 lanes.
