@@ -396,16 +396,18 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
         if (b.slots && b.f.kernels.drawSheared) {
             // Setup and fragments of all the row's views in one kernel (drawSheared); the views
             // that need the general walk come back and are drawn one by one.
+            // Culled views only for a mixed triangle (nullptr: none, the kernel's cheaper case).
             std::uint64_t culledViews[(kMaxViews + 63) / 64] = {};
-            if (faces == FaceClass::Mixed) {
+            const bool mixed = faces == FaceClass::Mixed;
+            if (mixed) {
                 for (int k = 0; k < nv; ++k)
                     culledViews[k / 64] |= std::uint64_t(culled(k)) << (k % 64);
             }
             const std::size_t first = b.slots->first[std::size_t(&fam - d.families.data())];
             const int general = b.f.kernels.drawSheared(
-                ys, t, fam.shears.data(), nv, culledViews, width, b.f.settings.height, b.frag,
-                S == Shading::Flat, b.slots->depth.data() + first, b.slots->color.data() + first,
-                b.xs);
+                ys, t, fam.shears.data(), nv, mixed ? culledViews : nullptr, width,
+                b.f.settings.height, b.frag, S == Shading::Flat, b.slots->depth.data() + first,
+                b.slots->color.data() + first, b.xs);
             for (int i = 0; i < general; ++i) {
                 FragmentSink<S> sink = b.sinks[std::size_t(views[b.xs.view[i]])];
                 const std::int32_t xk[3] = {b.xs.x[0][i], b.xs.x[1][i], b.xs.x[2][i]};

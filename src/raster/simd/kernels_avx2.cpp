@@ -525,6 +525,7 @@ int drawPacked(const YSetup& ys, int m, int width, int height, const FragmentTri
 /// covered in it: the images do not change, only views that would draw nothing are skipped.
 /// The others that are not in `culled` are packed in view order: their shears into ps, their
 /// positions into xs.view. Returns how many (0 when the triangle misses the row's center line).
+template <bool Culled>  // false: culled is nullptr
 inline int packOnRow(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
                      const std::uint64_t* culled, int width, float* ps, ViewsX& xs) {
     // Vertex j's window x, in pixels from the first column's center (column c's center at c),
@@ -585,8 +586,6 @@ inline int packOnRow(const YSetup& ys, const ShearedTri& t, const float* shears,
                          _mm256_broadcastss_ps(_mm_shuffle_ps(pb, pb, _MM_SHUFFLE(2, 2, 2, 2)))};
     const __m256 absMask = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps(),
                  lastCol = _mm256_set1_ps(float(width - 1));
-    static constexpr std::uint64_t kNone[(kMaxViews + 63) / 64] = {};
-    const std::uint64_t* out = culled ? culled : kNone;
     int m = 0;
     auto group = [&](int k, unsigned live) {
         const __m256 s = _mm256_loadu_ps(shears + k);  // readable to n rounded up to 8
@@ -600,8 +599,8 @@ inline int packOnRow(const YSetup& ys, const ShearedTri& t, const float* shears,
         const __m256 c = _mm256_min_ps(
             lastCol, _mm256_round_ps(_mm256_add_ps(_mm256_max_ps(e0, _mm256_max_ps(e1, e2)), slack),
                                      _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC));
-        const unsigned keep = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(lo, c, _CMP_LE_OQ))) &
-                              ~unsigned(out[k >> 6] >> (k & 63)) & live;
+        unsigned keep = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(lo, c, _CMP_LE_OQ))) & live;
+        if constexpr (Culled) keep &= ~unsigned(culled[k >> 6] >> (k & 63));
         if (!keep) return;
         _mm256_storeu_ps(ps + m, _mm256_permutevar8x32_ps(s, packPermutation(keep)));
         packViews(keep, k, xs.view + m);
@@ -621,7 +620,8 @@ int drawSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int 
                 bool flat, float* const* depth, std::uint32_t* const* color, ViewsX& xs) {
     if (ys.rowMax == ys.rowMin) {
         alignas(32) float ps[kMaxViews + 8];  // + room for a whole register's store
-        const int m = packOnRow(ys, t, shears, n, culled, width, ps, xs);
+        const int m = culled ? packOnRow<true>(ys, t, shears, n, culled, width, ps, xs)
+                             : packOnRow<false>(ys, t, shears, n, nullptr, width, ps, xs);
         if (m == 0) return 0;
         const ShearX deriveX(t, width);
         return drawPacked<true>(ys, m, width, height, tri, flat, depth, color, xs, &deriveX, ps);
