@@ -335,6 +335,57 @@ inline int queueSlot(BandContext<S>& b, const YSetup& ys, const std::uint32_t v[
     return slot;
 }
 
+/// A long row's replicas of a triangle that needs no clipping in any view, where the row kernel
+/// takes setup and fragments (Kernels::drawSheared, untextured Vertex / Flat): the shared y
+/// setup, the triangle's centre x, w − c and 1/w, the call; the views that need the general walk
+/// come back and are drawn one by one. drawFamilyInside's path for these, without its other
+/// paths' per-triangle work.
+template <Shading S>
+void drawLongRow(BandContext<S>& b, const Family& fam, const std::uint32_t v[3], FaceClass faces,
+                 const ShearDet& det) {
+    const UnifiedData& d = b.d;
+    const std::int32_t* sy = fam.sy.data();
+    YSetup ys;
+    setupY(ys, sy[v[0]], sy[v[1]], sy[v[2]], b.rowLo, b.rowHi);
+    if (ys.rowMin > ys.rowMax) return;
+    flushLanes(b);
+    const float* zw = d.famZW(fam);
+    const float* q = d.famQ(fam);
+    const float* attr = d.attr.data();
+    ShearedTri t;
+    for (int j = 0; j < 3; ++j) {
+        t.cx[j] = d.cx[v[j]];
+        t.wc[j] = d.cw[v[j]] - d.convergence;
+        t.q[j] = q[v[j]];
+        b.frag.z[j] = zw[v[j]];
+        b.frag.q[j] = q[v[j]];
+        b.frag.attr[j] = attr + v[j] * d.attrStride;
+    }
+    const int nv = int(fam.views.size());
+    const int* views = fam.views.data();
+    const int width = b.f.settings.width;
+    // Culled views only for a mixed triangle (nullptr: none, the kernel's cheaper case).
+    std::uint64_t culledViews[(kMaxViews + 63) / 64] = {};
+    const bool mixed = faces == FaceClass::Mixed;
+    if (mixed) {
+        for (int k = 0; k < nv; ++k) {
+            const bool back =
+                shearedDet(det, d.views[std::size_t(views[k])].shearX, fam.shearY) < 0.0f;
+            culledViews[k / 64] |= std::uint64_t(back) << (k % 64);
+        }
+    }
+    const std::size_t first = b.slots->first[std::size_t(&fam - d.families.data())];
+    const int general = b.f.kernels.drawSheared(
+        ys, t, fam.shears.data(), nv, mixed ? culledViews : nullptr, width, b.f.settings.height,
+        b.frag, S == Shading::Flat, b.slots->depth.data() + first, b.slots->color.data() + first,
+        b.xs);
+    for (int i = 0; i < general; ++i) {
+        FragmentSink<S> sink = b.sinks[std::size_t(views[b.xs.view[i]])];
+        const std::int32_t xk[3] = {b.xs.x[0][i], b.xs.x[1][i], b.xs.x[2][i]};
+        rasterTriangle(ys, xk, width, sink);
+    }
+}
+
 /// A family's replicas of a triangle that needs no clipping in any view: the shared y setup
 /// once, then every view's x setup side by side straight from the family's interleaved snapped x
 /// (a view whose x lies outside the viewport gets an empty column range there, so no per-view
@@ -384,7 +435,9 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
         return;
     }
     if (fam.many) {
-        // A long row: the views' x derived from the center here (setupSheared), nothing stored.
+        // A long row the row kernel does not take (drawLongRow: textured or Pixel fragments, or
+        // a path without drawSheared): the views' x derived from the center here
+        // (setupSheared), nothing stored.
         ShearedTri t;
         for (int j = 0; j < 3; ++j) {
             t.cx[j] = d.cx[v[j]];
@@ -393,28 +446,6 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
         }
         fill(b.frag);
         flushLanes(b);
-        if (b.slots && b.f.kernels.drawSheared) {
-            // Setup and fragments of all the row's views in one kernel (drawSheared); the views
-            // that need the general walk come back and are drawn one by one.
-            // Culled views only for a mixed triangle (nullptr: none, the kernel's cheaper case).
-            std::uint64_t culledViews[(kMaxViews + 63) / 64] = {};
-            const bool mixed = faces == FaceClass::Mixed;
-            if (mixed) {
-                for (int k = 0; k < nv; ++k)
-                    culledViews[k / 64] |= std::uint64_t(culled(k)) << (k % 64);
-            }
-            const std::size_t first = b.slots->first[std::size_t(&fam - d.families.data())];
-            const int general = b.f.kernels.drawSheared(
-                ys, t, fam.shears.data(), nv, mixed ? culledViews : nullptr, width,
-                b.f.settings.height, b.frag, S == Shading::Flat, b.slots->depth.data() + first,
-                b.slots->color.data() + first, b.xs);
-            for (int i = 0; i < general; ++i) {
-                FragmentSink<S> sink = b.sinks[std::size_t(views[b.xs.view[i]])];
-                const std::int32_t xk[3] = {b.xs.x[0][i], b.xs.x[1][i], b.xs.x[2][i]};
-                rasterTriangle(ys, xk, width, sink);
-            }
-            return;
-        }
         for (int base = 0; base < nv; base += kSetupChunk) {
             const int n = std::min(kSetupChunk, nv - base);
             const std::uint64_t lanes =
@@ -512,7 +543,11 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
     }
     const std::uint8_t famPlanes = (c0 | c1 | c2) & kClipYZW;
     if (!famPlanes && !f.settings.wireframe && !((c0 | c1 | c2) & kClipX)) {
-        drawFamilyInside(b, fam, v, faces, det);
+        if (fam.many && b.slots && f.kernels.drawSheared) {
+            drawLongRow(b, fam, v, faces, det);
+        } else {
+            drawFamilyInside(b, fam, v, faces, det);
+        }
         return;
     }
     flushLanes(b);  // the paths below draw at once: keep submission order per view
