@@ -375,10 +375,10 @@ void drawLongRow(BandContext<S>& b, const Family& fam, const std::uint32_t v[3],
         }
     }
     const std::size_t first = b.slots->first[std::size_t(&fam - d.families.data())];
-    const int general = b.f.kernels.drawSheared(
-        ys, t, fam.shears.data(), nv, mixed ? culledViews : nullptr, width, b.f.settings.height,
-        b.frag, S == Shading::Flat, b.slots->depth.data() + first, b.slots->color.data() + first,
-        b.xs);
+    const int general =
+        b.f.kernels.drawSheared(ys, t, fam.shears.data(), nv, mixed ? culledViews : nullptr, width,
+                                b.f.settings.height, b.frag, S == Shading::Flat,
+                                b.slots->depth.data() + first, b.slots->color.data() + first, b.xs);
     for (int i = 0; i < general; ++i) {
         FragmentSink<S> sink = b.sinks[std::size_t(views[b.xs.view[i]])];
         const std::int32_t xk[3] = {b.xs.x[0][i], b.xs.x[1][i], b.xs.x[2][i]};

@@ -979,8 +979,8 @@ TEST(Kernels, DrawShearedEqualsRasterTrianglePerView) {
                     // A SIMD path may skip views that cannot cover a center of a one-row
                     // triangle's row (skipViewsOffRow) without walking them: a subset, and the
                     // images below show that the skipped ones draw nothing.
-                    ASSERT_TRUE(std::includes(refViews.begin(), refViews.end(), views.begin(),
-                                              views.end()))
+                    ASSERT_TRUE(
+                        std::includes(refViews.begin(), refViews.end(), views.begin(), views.end()))
                         << iter;
                     if (ys.rowMin == ys.rowMax) {
                         skippedGeneral += int(refViews.size() - views.size());
@@ -1067,14 +1067,15 @@ TEST(Kernels, DrawShearedKeepsEveryViewThatCoversACenter) {
             std::vector<std::uint32_t*> cp(kMaxViews, nullptr);
             for (int v = 0; v < n; ++v) dp[v] = gotDepth[v].data(), cp[v] = gotColor[v].data();
             detail::ViewsX xs;
-            const int count =
-                k->drawSheared(ys, t, shears, n, nullptr, kW, kH, tri, true, dp.data(), cp.data(), xs);
+            const int count = k->drawSheared(ys, t, shears, n, nullptr, kW, kH, tri, true,
+                                             dp.data(), cp.data(), xs);
             for (int i = 0; i < count; ++i) {
                 const std::int32_t x[3] = {xs.x[0][i], xs.x[1][i], xs.x[2][i]};
                 detail::FragmentSink<Shading::Flat> sink{
                     detail::Target{gotColor[xs.view[i]].data(), gotDepth[xs.view[i]].data(), kW,
                                    kH},
-                    &tri, {}};
+                    &tri,
+                    {}};
                 detail::rasterTriangle(ys, x, kW, sink);
             }
             ASSERT_TRUE(sameImages(n, gotDepth, gotColor, refDepth, refColor)) << iter;

@@ -1,8 +1,8 @@
-// AVX2 kernels (compiled with -mavx2 -mfma; no FMA is formed: -ffp-contract=off). Same operations
-// and order as the scalar loops in kernels_tail.h.
+// AVX2 kernels (compiled with -mavx2 -mfma; the compiler forms no FMA: -ffp-contract=off). Same
+// operations and order as the scalar loops in kernels_tail.h. (packOnRow's explicit FMAs only
+// estimate which views to draw, with a margin; nothing drawn depends on their rounding.)
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <cstring>
 
 #include <immintrin.h>
@@ -284,7 +284,8 @@ struct ShearX {
         }
     }
     void operator()(__m256 s, __m256i X[3]) const {
-        for (int j = 0; j < 3; ++j) X[j] = snap(_mm256_add_ps(cx[j], _mm256_mul_ps(s, wc[j])), q[j], wd);
+        for (int j = 0; j < 3; ++j)
+            X[j] = snap(_mm256_add_ps(cx[j], _mm256_mul_ps(s, wc[j])), q[j], wd);
     }
 };
 
@@ -534,7 +535,8 @@ inline int packOnRow(const YSetup& ys, const ShearedTri& t, const float* shears,
     const __m128 scale = _mm_set1_ps(0.5f * float(width));
     const __m128 q = _mm_maskload_ps(t.q, three);
     const __m128 alpha = _mm_sub_ps(
-        _mm_mul_ps(scale, _mm_add_ps(_mm_mul_ps(_mm_maskload_ps(t.cx, three), q), _mm_set1_ps(1.0f))),
+        _mm_mul_ps(scale,
+                   _mm_add_ps(_mm_mul_ps(_mm_maskload_ps(t.cx, three), q), _mm_set1_ps(1.0f))),
         _mm_set1_ps(0.5f));
     const __m128 beta = _mm_mul_ps(scale, _mm_mul_ps(_mm_maskload_ps(t.wc, three), q));
     // The span's ends on the center line: where the edges a -> b = a + 1 meet it, ends included
@@ -545,32 +547,34 @@ inline int packOnRow(const YSetup& ys, const ShearedTri& t, const float* shears,
     const __m128i db = _mm_shuffle_epi32(d, _MM_SHUFFLE(3, 0, 2, 1));
     const __m128i zeroI = _mm_setzero_si128();
     const __m128i meets = _mm_and_si128(
-        _mm_andnot_si128(_mm_cmpeq_epi32(d, db),
-                         _mm_or_si128(_mm_andnot_si128(_mm_cmpgt_epi32(d, zeroI),
-                                                       _mm_xor_si128(_mm_cmpgt_epi32(zeroI, db),
-                                                                     _mm_set1_epi32(-1))),
-                                      _mm_andnot_si128(_mm_cmpgt_epi32(zeroI, d),
-                                                       _mm_xor_si128(_mm_cmpgt_epi32(db, zeroI),
-                                                                     _mm_set1_epi32(-1))))),
+        _mm_andnot_si128(
+            _mm_cmpeq_epi32(d, db),
+            _mm_or_si128(
+                _mm_andnot_si128(_mm_cmpgt_epi32(d, zeroI),
+                                 _mm_xor_si128(_mm_cmpgt_epi32(zeroI, db), _mm_set1_epi32(-1))),
+                _mm_andnot_si128(_mm_cmpgt_epi32(zeroI, d),
+                                 _mm_xor_si128(_mm_cmpgt_epi32(db, zeroI), _mm_set1_epi32(-1))))),
         three);
     const unsigned edges = unsigned(_mm_movemask_ps(_mm_castsi128_ps(meets)));
     if (edges == 0) return 0;
     const __m128 tt = _mm_div_ps(_mm_cvtepi32_ps(d), _mm_cvtepi32_ps(_mm_sub_epi32(d, db)));
     const __m128 pa0 = _mm_add_ps(
-        alpha, _mm_mul_ps(tt, _mm_sub_ps(_mm_shuffle_ps(alpha, alpha, _MM_SHUFFLE(3, 0, 2, 1)), alpha)));
+        alpha,
+        _mm_mul_ps(tt, _mm_sub_ps(_mm_shuffle_ps(alpha, alpha, _MM_SHUFFLE(3, 0, 2, 1)), alpha)));
     const __m128 pb0 = _mm_add_ps(
-        beta, _mm_mul_ps(tt, _mm_sub_ps(_mm_shuffle_ps(beta, beta, _MM_SHUFFLE(3, 0, 2, 1)), beta)));
+        beta,
+        _mm_mul_ps(tt, _mm_sub_ps(_mm_shuffle_ps(beta, beta, _MM_SHUFFLE(3, 0, 2, 1)), beta)));
     // Edges that miss the line take the first one that meets it.
-    const __m128i pick = _mm_blendv_epi8(_mm_set1_epi32(__builtin_ctz(edges)),
-                                         _mm_setr_epi32(0, 1, 2, 3), meets);
+    const __m128i pick =
+        _mm_blendv_epi8(_mm_set1_epi32(__builtin_ctz(edges)), _mm_setr_epi32(0, 1, 2, 3), meets);
     const __m128 pa = _mm_permutevar_ps(pa0, pick), pb = _mm_permutevar_ps(pb0, pick);
     // |alpha| + scale and |beta| over the vertices: the magnitudes the rounding is relative to.
     const __m128 absMask4 = _mm_set1_ps(-0.0f);
     const __m128 fixed = _mm_add_ps(_mm_andnot_ps(absMask4, alpha), scale),
                  shear = _mm_andnot_ps(absMask4, beta);
     const __m128 mags01 = _mm_unpacklo_ps(fixed, shear);  // vertices 0 and 1, then vertex 2:
-    const __m128 mags2 = _mm_and_ps(_mm_castsi128_ps(_mm_setr_epi32(-1, -1, 0, 0)),
-                                    _mm_unpackhi_ps(fixed, shear));
+    const __m128 mags2 =
+        _mm_and_ps(_mm_castsi128_ps(_mm_setr_epi32(-1, -1, 0, 0)), _mm_unpackhi_ps(fixed, shear));
     const __m128 mags = _mm_max_ps(_mm_max_ps(mags01, _mm_movehl_ps(mags01, mags01)), mags2);
     const float fixedMag = _mm_cvtss_f32(mags);
     const float shearMag = _mm_cvtss_f32(_mm_shuffle_ps(mags, mags, _MM_SHUFFLE(1, 1, 1, 1)));
