@@ -961,7 +961,7 @@ TEST(Kernels, DrawShearedEqualsRasterTrianglePerView) {
                 std::vector<float*> dp(kMaxViews, nullptr);
                 std::vector<std::uint32_t*> cp(kMaxViews, nullptr);
                 for (int v = 0; v < n; ++v) dp[v] = gotDepth[v].data(), cp[v] = gotColor[v].data();
-                detail::ViewsX xs;
+                detail::ViewsX xs{};  // shadeGroup reads all 8 view bytes of a group
                 const int count = k->drawSheared(ys, t, shears, n, iter % 6 == 1 ? nullptr : culled,
                                                  kW, kH, tri, flat, dp.data(), cp.data(), xs);
                 std::vector<int> views;
@@ -977,7 +977,7 @@ TEST(Kernels, DrawShearedEqualsRasterTrianglePerView) {
                     general += count;
                 } else {
                     // A SIMD path may skip views that cannot cover a center of a one-row
-                    // triangle's row (skipViewsOffRow) without walking them: a subset, and the
+                    // triangle's row (packOnRow) without walking them: a subset, and the
                     // images below show that the skipped ones draw nothing.
                     ASSERT_TRUE(
                         std::includes(refViews.begin(), refViews.end(), views.begin(), views.end()))
@@ -1004,6 +1004,9 @@ TEST(Kernels, DrawShearedKeepsEveryViewThatCoversACenter) {
     // row's center line (edges on the line, vertices on a center: the fill rule's ties), in
     // rows of 1..kMaxViews views: drawSheared's SIMD paths skip views from an estimate of each
     // view's span on the row (packOnRow), which must never drop a view that covers a center.
+    // Also: rows whose shears move every vertex by exactly one pixel a view (w = 2, so that the
+    // ties recur in every view), triangles taller than the band cut to its one row, and long
+    // thin ones reaching far into the guard band (where the margin's relative part matters).
     // Every fragment passes (depth images at 1), so every covered center shows; the reference
     // draws each view on its own (rasterTriangle), as DrawShearedEqualsRasterTrianglePerView.
     constexpr int kW = 24, kH = 6, kRow = 2;
@@ -1015,9 +1018,12 @@ TEST(Kernels, DrawShearedKeepsEveryViewThatCoversACenter) {
     const Images<std::uint32_t> color0(kMaxViews, std::vector<std::uint32_t>(kW * kH, 0u));
     Images<float> refDepth = depth0, gotDepth = depth0;
     Images<std::uint32_t> refColor = color0, gotColor = color0;
-    int covered = 0, tested = 0;
-    for (int iter = 0; iter < 3000; ++iter) {
+    int covered = 0, tested = 0, whole = 0, cut = 0, far = 0;
+    for (int iter = 0; iter < 4000; ++iter) {
         const int n = 1 + int(rng() % kMaxViews);
+        const bool wholeSteps = iter % 4 == 0;  // w = 2: a vertex moves -1 px a view
+        const bool tall = iter % 4 == 1;        // rows beyond the band's one row
+        const int farVertex = iter % 8 == 2 ? int(rng() % 3) : -1;
         // Window coordinates (px) of the center view: on a center / the center line, or nudged.
         detail::ShearedTri t;
         std::int32_t sy[3];
@@ -1025,11 +1031,13 @@ TEST(Kernels, DrawShearedKeepsEveryViewThatCoversACenter) {
         float attr[3][3] = {};
         detail::FragmentTri tri;
         for (int j = 0; j < 3; ++j) {
-            const float w = 3.0f + 0.5f * unit(rng);
-            const float wx = float(col + (pick(rng) == 0 ? 1 : 0)) + 0.5f +
-                             float(pick(rng) ? 0 : nudge(rng)) / 256.0f +
-                             (pick(rng) == 0 ? 0.4f * unit(rng) : 0.0f);
-            const float wy = float(kRow) + 0.5f + (pick(rng) ? 0.0f : 0.45f * unit(rng)) +
+            const float w = wholeSteps ? 2.0f : 3.0f + 0.5f * unit(rng);
+            float wx = float(col + (pick(rng) == 0 ? 1 : 0)) + 0.5f +
+                       float(pick(rng) ? 0 : nudge(rng)) / 256.0f +
+                       (pick(rng) == 0 ? 0.4f * unit(rng) : 0.0f);
+            if (j == farVertex) wx += (unit(rng) < 0.0f ? -1.0f : 1.0f) * float(kW) * 30.0f;
+            const float wy = float(kRow) + 0.5f +
+                             (tall ? 1.8f * unit(rng) : (pick(rng) ? 0.0f : 0.45f * unit(rng))) +
                              float(pick(rng) ? 0 : nudge(rng)) / 256.0f;
             t.cx[j] = (wx / float(kW) * 2.0f - 1.0f) * w;
             t.wc[j] = w - conv;
@@ -1039,12 +1047,14 @@ TEST(Kernels, DrawShearedKeepsEveryViewThatCoversACenter) {
         }
         tri.flat = 0xff00ff00u;
         detail::YSetup ys;
-        detail::setupY(ys, sy[0], sy[1], sy[2], 0, kH - 1);
+        detail::setupY(ys, sy[0], sy[1], sy[2], tall ? kRow : 0, tall ? kRow : kH - 1);
         if (ys.rowMin != ys.rowMax) continue;
-        // Shears that move a vertex by whole pixels and by fractions of one between views.
+        // Shears that move a vertex by whole pixels (w = 2: wc / w = -1) or by fractions of one
+        // between views.
         float shears[kMaxViews];
-        const float step = (pick(rng) == 0 ? 1.0f : 0.37f * unit(rng)) * 2.0f / float(kW);
+        const float step = (wholeSteps ? 1.0f : 0.37f * unit(rng)) * 2.0f / float(kW);
         for (int k = 0; k < n; ++k) shears[k] = (float(k) - float(n / 2)) * step;
+        whole += int(wholeSteps), cut += int(tall), far += int(farVertex >= 0);
         ++tested;
         for (int v = 0; v < n; ++v) refDepth[v] = depth0[v], refColor[v] = color0[v];
         for (int k = 0; k < n; ++k) {
@@ -1066,7 +1076,7 @@ TEST(Kernels, DrawShearedKeepsEveryViewThatCoversACenter) {
             std::vector<float*> dp(kMaxViews, nullptr);
             std::vector<std::uint32_t*> cp(kMaxViews, nullptr);
             for (int v = 0; v < n; ++v) dp[v] = gotDepth[v].data(), cp[v] = gotColor[v].data();
-            detail::ViewsX xs;
+            detail::ViewsX xs{};  // shadeGroup reads all 8 view bytes of a group
             const int count = k->drawSheared(ys, t, shears, n, nullptr, kW, kH, tri, true,
                                              dp.data(), cp.data(), xs);
             for (int i = 0; i < count; ++i) {
@@ -1081,8 +1091,11 @@ TEST(Kernels, DrawShearedKeepsEveryViewThatCoversACenter) {
             ASSERT_TRUE(sameImages(n, gotDepth, gotColor, refDepth, refColor)) << iter;
         }
     }
-    EXPECT_GT(tested, 1500);
+    EXPECT_GT(tested, 2500);
     EXPECT_GT(covered, 20000);  // covered centers
+    EXPECT_GT(whole, 500);
+    EXPECT_GT(cut, 500);
+    EXPECT_GT(far, 200);
 }
 
 }  // namespace
