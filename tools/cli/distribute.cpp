@@ -230,6 +230,12 @@ Status distributeFrames(const std::vector<int>& frames, int views, const RenderV
                         const EmitFrameFn& emit, bool gatherStats) {
 #ifdef MVR_WITH_MPI
     if (launchedWithRanks()) {
+        // A rank killed while rank 0 copies a frame straight out of its memory (Open MPI's
+        // shared-memory single copy, CMA: "Read -1, expected …, errno = 3") makes Open MPI abort
+        // rank 0 from inside MPI_Recv, before it can say that a rank stopped (cli.mpi caught it
+        // now and then). Frames then go through the shared-memory buffers instead: one more copy
+        // of a few MB a frame, small next to rendering it. A user's own setting wins.
+        ::setenv("OMPI_MCA_btl_vader_single_copy_mechanism", "none", 0);
         MPI_Init(nullptr, nullptr);
         int size = 1;
         MPI_Comm_rank(MPI_COMM_WORLD, &sRank);
