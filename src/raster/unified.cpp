@@ -83,39 +83,73 @@ void binStage(FrameContext& f, UnifiedData& d) {
     bins.reset(f.draw.triangleCount, f.bands.count);
     const bool cull = f.settings.cullBackFaces;
     const int height = f.settings.height;
-    f.pool.run(bins.chunkCount, [&](int chunk, int) {
+    const bool wireframe = f.settings.wireframe;
+    // The families' arrays, read straight: through the vectors, every triangle reloaded them
+    // (the bins' push_back could alias them as far as the compiler knew).
+    struct FamilyBin {
+        const Family* fam;
+        const std::uint8_t* code;
+        const std::int32_t* sy;
+    };
+    std::vector<FamilyBin> families;
+    for (const Family& fam : d.families) families.push_back({&fam, fam.code.data(), fam.sy.data()});
+    // One family (a row, the stereo pair): its loop unrolled, nothing kept across families.
+    auto binChunk = [&](int chunk, auto single) {
+        const FamilyBin* famBegin = families.data();
+        const FamilyBin* famEnd = single ? famBegin + 1 : famBegin + families.size();
+        const BandLayout bands = f.bands;
         const std::uint32_t begin = bins.chunkSize * std::uint32_t(chunk);
         const std::uint32_t end = std::min(f.draw.triangleCount, begin + bins.chunkSize);
-        forTriangles(f.draw, begin, end, [&](std::uint32_t t, const TriangleRef& tri) {
-            const std::uint32_t* v = tri.i;
-            ShearDet det;
-            const bool cullTri = cull && !tri.item->instance->material.doubleSided;
-            if (cullTri && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
-            int rowMin = height, rowMax = -1;
-            for (const Family& fam : d.families) {
-                const std::uint8_t* code = fam.code.data();
-                const std::uint8_t c0 = code[v[0]], c1 = code[v[1]], c2 = code[v[2]];
-                if (c0 & c1 & c2 & kRejectYZW) continue;
-                if (cullTri && (fam.sheared ? classify(fam, det) == FaceClass::AllBack
-                                            : ownViewCulled(d, fam, v))) {
-                    continue;
+        for (const DrawItem& item : f.draw.items) {
+            const std::uint32_t tBegin = std::max(begin, item.triangleBase);
+            const std::uint32_t tEnd =
+                std::min(end, item.triangleBase + std::uint32_t(item.mesh->triangleCount()));
+            if (tBegin >= tEnd) continue;
+            const std::uint32_t* idx =
+                item.mesh->indices.data() + std::size_t(3) * (tBegin - item.triangleBase);
+            const std::uint32_t base = item.vertexBase;
+            const bool cullTri = cull && !item.instance->material.doubleSided;
+            for (std::uint32_t t = tBegin; t < tEnd; ++t, idx += 3) {
+                const std::uint32_t v[3] = {base + idx[0], base + idx[1], base + idx[2]};
+                ShearDet det;
+                if (cullTri && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
+                int rowMin = height, rowMax = -1;
+                for (const FamilyBin* fb = famBegin; fb != famEnd; ++fb) {
+                    const std::uint8_t* code = fb->code;
+                    const std::uint8_t c0 = code[v[0]], c1 = code[v[1]], c2 = code[v[2]];
+                    if (c0 & c1 & c2 & kRejectYZW) continue;
+                    if (cullTri) {
+                        const Family& fam = *fb->fam;
+                        if (fam.sheared ? classify(fam, det) == FaceClass::AllBack
+                                        : ownViewCulled(d, fam, v)) {
+                            continue;
+                        }
+                    }
+                    if ((c0 | c1 | c2) & (kClipYZW | kClipX)) {  // kClipX: any view's: anyClipX
+                        rowMin = 0, rowMax = height - 1;
+                        break;
+                    }
+                    const std::int32_t* sy = fb->sy;
+                    int lo, hi;
+                    if (wireframe) {
+                        wireframeRows(sy[v[0]], sy[v[1]], sy[v[2]], height, lo, hi);
+                    } else {
+                        triangleRows(sy[v[0]], sy[v[1]], sy[v[2]], height, lo, hi);  // inlined
+                    }
+                    if (lo > hi) continue;
+                    rowMin = std::min(rowMin, lo), rowMax = std::max(rowMax, hi);
                 }
-                if ((c0 | c1 | c2) & (kClipYZW | kClipX)) {  // kClipX: any view's, see anyClipX
-                    rowMin = 0, rowMax = height - 1;
-                    break;
-                }
-                const std::int32_t* sy = fam.sy.data();
-                int lo, hi;
-                if (f.settings.wireframe) {
-                    wireframeRows(sy[v[0]], sy[v[1]], sy[v[2]], height, lo, hi);
-                } else {
-                    triangleRows(sy[v[0]], sy[v[1]], sy[v[2]], height, lo, hi);  // inlined
-                }
-                if (lo > hi) continue;
-                rowMin = std::min(rowMin, lo), rowMax = std::max(rowMax, hi);
+                if (rowMin <= rowMax) bins.add(chunk, t, rowMin, rowMax, bands);
             }
-            if (rowMin <= rowMax) bins.add(chunk, t, rowMin, rowMax, f.bands);
-        });
+        }
+    };
+    const bool single = families.size() == 1;
+    f.pool.run(bins.chunkCount, [&](int chunk, int) {
+        if (single) {
+            binChunk(chunk, std::true_type{});
+        } else {
+            binChunk(chunk, std::false_type{});
+        }
     });
 }
 
