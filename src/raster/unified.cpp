@@ -369,6 +369,13 @@ inline int queueSlot(BandContext<S>& b, const YSetup& ys, const std::uint32_t v[
     return slot;
 }
 
+/// Whether view k of a sheared family sees the triangle from behind (its det at the view's
+/// shear; for a Mixed triangle, whose views differ).
+inline bool viewBack(const UnifiedData& d, const Family& fam, const ShearDet& det, int k) {
+    return shearedDet(det, d.views[std::size_t(fam.views[std::size_t(k)])].shearX, fam.shearY) <
+           0.0f;
+}
+
 /// A long row's replicas of a triangle that needs no clipping in any view, where the row kernel
 /// takes setup and fragments (Kernels::drawSheared, untextured Vertex / Flat): the shared y
 /// setup, the triangle's centre x, w − c and 1/w, the call; the views that need the general walk
@@ -402,11 +409,8 @@ void drawLongRow(BandContext<S>& b, const Family& fam, const std::uint32_t v[3],
     std::uint64_t culledViews[(kMaxViews + 63) / 64] = {};
     const bool mixed = faces == FaceClass::Mixed;
     if (mixed) {
-        for (int k = 0; k < nv; ++k) {
-            const bool back =
-                shearedDet(det, d.views[std::size_t(views[k])].shearX, fam.shearY) < 0.0f;
-            culledViews[k / 64] |= std::uint64_t(back) << (k % 64);
-        }
+        for (int k = 0; k < nv; ++k)
+            culledViews[k / 64] |= std::uint64_t(viewBack(d, fam, det, k)) << (k % 64);
     }
     const std::size_t first = b.slots->first[std::size_t(&fam - d.families.data())];
     const int general =
@@ -445,10 +449,7 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
     const std::int32_t* x1 = fam.sxvData + std::size_t(v[1]) * std::size_t(nv);
     const std::int32_t* x2 = fam.sxvData + std::size_t(v[2]) * std::size_t(nv);
     const int* views = fam.views.data();
-    auto culled = [&](int k) {
-        return faces == FaceClass::Mixed &&
-               shearedDet(det, d.views[std::size_t(views[k])].shearX, fam.shearY) < 0.0f;
-    };
+    auto culled = [&](int k) { return faces == FaceClass::Mixed && viewBack(d, fam, det, k); };
     auto fill = [&](FragmentTri& frag) {
         for (int j = 0; j < 3; ++j) {
             frag.z[j] = zw[v[j]];

@@ -298,8 +298,6 @@ inline int packSheared(const ShearedTri& t, const float* shears, int n, const st
     const ShearX deriveX(t, width);
     int m = 0;
     for (int k = 0; k < n; k += 8) {
-        const unsigned out = culled ? unsigned(culled[k >> 6] >> (k & 63)) & 0xffu : 0u;
-        if (out == 0xffu) continue;  // every view of the group culled or skipped
         const __m256i live = liveLanes(n, k);
         const __m256 s = _mm256_maskload_ps(shears + k, live);
         __m256i X[3];
@@ -310,7 +308,7 @@ inline int packSheared(const ShearedTri& t, const float* shears, int n, const st
         columnRange(xlo, xhi, width, colMin, colMax);
         const unsigned keep = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(
                                   _mm256_and_si256(cmple(colMin, colMax), live)))) &
-                              ~out & 0xffu;
+                              ~unsigned(culled ? culled[k >> 6] >> (k & 63) : 0) & 0xffu;
         if (!keep) continue;
         const __m256i perm = packPermutation(keep);
         for (int j = 0; j < 3; ++j) store(xs.x[j] + m, _mm256_permutevar8x32_epi32(X[j], perm));
