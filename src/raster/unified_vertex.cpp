@@ -227,20 +227,31 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 const Family& fam = d.families[std::size_t(vd.family)];
                 f.kernels.projectX(&vd.x[g], &d.famW(fam)[g], d.famQ(fam) + g, count, width,
                                    &vd.code[g], &vd.sx[g]);
-                for (std::uint32_t k = 0; k < count; ++k)
-                    d.anyClipX[g + k] |= vd.code[g + k] & kClipX;
+                // Raw pointers: through the vectors every byte reloaded them (scalar loops).
+                const std::uint8_t* code = &vd.code[g];
+                std::uint8_t* any = &d.anyClipX[g];
+                for (std::uint32_t k = 0; k < count; ++k) any[k] |= code[k] & kClipX;
             }
             for (Family& fam : d.families) {
                 if (fam.sxvTwin >= 0 || fam.many) continue;  // twin: its twin's sxv is the same
                 const std::size_t nv = fam.views.size();
+                std::int32_t* sxv = &fam.sxv[std::size_t(g) * nv];
+                if (nv == 2) {  // the stereo pair: one interleaving pass
+                    const std::int32_t* a = &d.views[std::size_t(fam.views[0])].sx[g];
+                    const std::int32_t* b = &d.views[std::size_t(fam.views[1])].sx[g];
+                    for (std::uint32_t k = 0; k < count; ++k)
+                        sxv[2 * k] = a[k], sxv[2 * k + 1] = b[k];
+                    continue;
+                }
                 for (std::size_t lane = 0; lane < nv; ++lane) {
                     const std::int32_t* sx = &d.views[std::size_t(fam.views[lane])].sx[g];
-                    std::int32_t* sxv = &fam.sxv[std::size_t(g) * nv + lane];
-                    for (std::uint32_t k = 0; k < count; ++k) sxv[k * nv] = sx[k];
+                    for (std::uint32_t k = 0; k < count; ++k) sxv[k * nv + lane] = sx[k];
                 }
             }
             for (Family& fam : d.families) {
-                for (std::uint32_t k = 0; k < count; ++k) fam.code[g + k] |= d.anyClipX[g + k];
+                std::uint8_t* code = &fam.code[g];
+                const std::uint8_t* any = &d.anyClipX[g];
+                for (std::uint32_t k = 0; k < count; ++k) code[k] |= any[k];
             }
         });
 }
