@@ -39,21 +39,37 @@ struct TriangleRef {
     const DrawItem* item;
 };
 
-/// Iterates the triangles [begin, end) of the frame with their global vertex indices.
-template <class Fn>
-void forTriangles(const DrawList& draw, std::uint32_t begin, std::uint32_t end, Fn&& fn) {
+/// Iterates the triangles [begin, end) of the frame: onItem(item) once before each draw item's
+/// triangles in the range (per-item state: its material's flags), then fn(t, v) per triangle
+/// with its global vertex indices v[3].
+template <class OnItem, class Fn>
+void forItemTriangles(const DrawList& draw, std::uint32_t begin, std::uint32_t end, OnItem&& onItem,
+                      Fn&& fn) {
     for (const DrawItem& item : draw.items) {
         const std::uint32_t tBegin = std::max(begin, item.triangleBase);
         const std::uint32_t tEnd =
             std::min(end, item.triangleBase + std::uint32_t(item.mesh->triangleCount()));
-        const std::uint32_t* idx = item.mesh->indices.data();
-        for (std::uint32_t t = tBegin; t < tEnd; ++t) {
-            const std::uint32_t local = (t - item.triangleBase) * 3;
-            fn(t, TriangleRef{{item.vertexBase + idx[local], item.vertexBase + idx[local + 1],
-                               item.vertexBase + idx[local + 2]},
-                              &item});
+        if (tBegin >= tEnd) continue;
+        onItem(item);
+        const std::uint32_t* idx =
+            item.mesh->indices.data() + std::size_t(3) * (tBegin - item.triangleBase);
+        const std::uint32_t base = item.vertexBase;
+        for (std::uint32_t t = tBegin; t < tEnd; ++t, idx += 3) {
+            const std::uint32_t v[3] = {base + idx[0], base + idx[1], base + idx[2]};
+            fn(t, v);
         }
     }
+}
+
+/// Iterates the triangles [begin, end) of the frame with their global vertex indices and item.
+template <class Fn>
+void forTriangles(const DrawList& draw, std::uint32_t begin, std::uint32_t end, Fn&& fn) {
+    const DrawItem* current = nullptr;
+    forItemTriangles(
+        draw, begin, end, [&](const DrawItem& item) { current = &item; },
+        [&](std::uint32_t t, const std::uint32_t v[3]) {
+            fn(t, TriangleRef{{v[0], v[1], v[2]}, current});
+        });
 }
 
 /// The rig's center clip transform, from which sheared views derive (rig.h: View::clipShear).

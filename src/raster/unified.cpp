@@ -93,24 +93,20 @@ void binStage(FrameContext& f, UnifiedData& d) {
     };
     std::vector<FamilyBin> families;
     for (const Family& fam : d.families) families.push_back({&fam, fam.code.data(), fam.sy.data()});
-    // One family (a row, the stereo pair): its loop unrolled, nothing kept across families.
+    // One family (a row, the stereo pair): its loop unrolled, nothing kept across families; each
+    // draw item's culling flag once (forItemTriangles' onItem).
     auto binChunk = [&](int chunk, auto single) {
         const FamilyBin* famBegin = families.data();
         const FamilyBin* famEnd = single ? famBegin + 1 : famBegin + families.size();
         const BandLayout bands = f.bands;
         const std::uint32_t begin = bins.chunkSize * std::uint32_t(chunk);
         const std::uint32_t end = std::min(f.draw.triangleCount, begin + bins.chunkSize);
-        for (const DrawItem& item : f.draw.items) {
-            const std::uint32_t tBegin = std::max(begin, item.triangleBase);
-            const std::uint32_t tEnd =
-                std::min(end, item.triangleBase + std::uint32_t(item.mesh->triangleCount()));
-            if (tBegin >= tEnd) continue;
-            const std::uint32_t* idx =
-                item.mesh->indices.data() + std::size_t(3) * (tBegin - item.triangleBase);
-            const std::uint32_t base = item.vertexBase;
-            const bool cullTri = cull && !item.instance->material.doubleSided;
-            for (std::uint32_t t = tBegin; t < tEnd; ++t, idx += 3) {
-                const std::uint32_t v[3] = {base + idx[0], base + idx[1], base + idx[2]};
+        bool cullTri = false;  // the item's: culling on and its material not double-sided
+        auto onItem = [&](const DrawItem& item) {
+            cullTri = cull && !item.instance->material.doubleSided;
+        };
+        forItemTriangles(
+            f.draw, begin, end, onItem, [&](std::uint32_t t, const std::uint32_t v[3]) {
                 ShearDet det;
                 if (cullTri && d.anySheared) det = triangleShearDet(d, v, f.rig.convergence);
                 int rowMin = height, rowMax = -1;
@@ -140,8 +136,7 @@ void binStage(FrameContext& f, UnifiedData& d) {
                     rowMin = std::min(rowMin, lo), rowMax = std::max(rowMax, hi);
                 }
                 if (rowMin <= rowMax) bins.add(chunk, t, rowMin, rowMax, bands);
-            }
-        }
+            });
     };
     const bool single = families.size() == 1;
     f.pool.run(bins.chunkCount, [&](int chunk, int) {
