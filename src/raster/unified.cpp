@@ -371,6 +371,26 @@ inline bool viewBack(const UnifiedData& d, const Family& fam, const ShearDet& de
            0.0f;
 }
 
+/// A long row's triangle as the row kernels take it: per vertex the center clip x, w − c and
+/// 1/w, from which each view's x is derived (ShearedTri); its fragment inputs into b.frag.
+template <Shading S>
+[[gnu::always_inline]] inline ShearedTri longRowTriangle(BandContext<S>& b, const Family& fam,
+                                                         const std::uint32_t v[3]) {
+    const UnifiedData& d = b.d;
+    const float* zw = d.famZW(fam);
+    const float* q = d.famQ(fam);
+    ShearedTri t;
+    for (int j = 0; j < 3; ++j) {
+        t.cx[j] = d.cx[v[j]];
+        t.wc[j] = d.cw[v[j]] - d.convergence;
+        t.q[j] = q[v[j]];
+        b.frag.z[j] = zw[v[j]];
+        b.frag.q[j] = q[v[j]];
+        b.frag.attr[j] = d.attrOf(v[j]);
+    }
+    return t;
+}
+
 /// A long row's replicas of a triangle that needs no clipping in any view, where the row kernel
 /// takes setup and fragments (Kernels::drawSheared, untextured Vertex / Flat): the shared y
 /// setup, the triangle's centre x, w − c and 1/w, the call; the views that need the general walk
@@ -385,18 +405,7 @@ void drawLongRow(BandContext<S>& b, const Family& fam, const std::uint32_t v[3],
     setupY(ys, sy[v[0]], sy[v[1]], sy[v[2]], b.rowLo, b.rowHi);
     if (ys.rowMin > ys.rowMax) return;
     flushLanes(b);
-    const float* zw = d.famZW(fam);
-    const float* q = d.famQ(fam);
-    const float* attr = d.attr.data();
-    ShearedTri t;
-    for (int j = 0; j < 3; ++j) {
-        t.cx[j] = d.cx[v[j]];
-        t.wc[j] = d.cw[v[j]] - d.convergence;
-        t.q[j] = q[v[j]];
-        b.frag.z[j] = zw[v[j]];
-        b.frag.q[j] = q[v[j]];
-        b.frag.attr[j] = attr + v[j] * d.attrStride;
-    }
+    const ShearedTri t = longRowTriangle(b, fam, v);
     const int nv = int(fam.views.size());
     const int* views = fam.views.data();
     const int width = b.f.settings.width;
@@ -468,13 +477,7 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
         // A long row the row kernel does not take (drawLongRow: textured or Pixel fragments, or
         // a path without drawSheared): the views' x derived from the center here
         // (setupSheared), nothing stored.
-        ShearedTri t;
-        for (int j = 0; j < 3; ++j) {
-            t.cx[j] = d.cx[v[j]];
-            t.wc[j] = d.cw[v[j]] - d.convergence;
-            t.q[j] = q[v[j]];
-        }
-        fill(b.frag);
+        const ShearedTri t = longRowTriangle(b, fam, v);
         flushLanes(b);
         for (int base = 0; base < nv; base += kSetupChunk) {
             const int n = std::min(kSetupChunk, nv - base);
