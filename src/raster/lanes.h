@@ -65,11 +65,12 @@ struct LaneQueue {
     }
     /// The lanes of n <= kLaneBlock views at once (x of view k: x0[k], x1[k], x2[k]; view
     /// indices views[k]): block copies and broadcasts instead of n addLane() calls. All of x0,
-    /// x1, x2 and views must be readable for kLaneBlock entries.
-    void addLanes(int slot, int n, const std::uint8_t* views, const std::int32_t* x0,
-                  const std::int32_t* x1, const std::int32_t* x2) {
+    /// x1, x2 and views must be readable for kLaneBlock entries. ys: the slot's y setup, from the
+    /// caller's copy (not reloaded from slotYs: a wide load of what was just stored field by
+    /// field waits for the stores, store-to-load forwarding cannot serve it).
+    void addLanes(int slot, const YSetup& ys, int n, const std::uint8_t* views,
+                  const std::int32_t* x0, const std::int32_t* x1, const std::int32_t* x2) {
         const int k = laneCount;
-        const YSetup& ys = slotYs[slot];
         std::memcpy(&lanes.x[0][k], x0, sizeof(std::int32_t) * kLaneBlock);
         std::memcpy(&lanes.x[1][k], x1, sizeof(std::int32_t) * kLaneBlock);
         std::memcpy(&lanes.x[2][k], x2, sizeof(std::int32_t) * kLaneBlock);

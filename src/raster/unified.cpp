@@ -465,7 +465,7 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
         // Queue the views' lanes: y setup and fragment inputs once (the slot), x per view.
         const int slot = queueSlot(b, ys, v, nv, zw, q, attr, stride);
         if (faces != FaceClass::Mixed) {
-            b.queue.addLanes(slot, nv, fam.views8, x0, x1, x2);
+            b.queue.addLanes(slot, ys, nv, fam.views8, x0, x1, x2);
         } else {
             for (int k = 0; k < nv; ++k) {
                 if (!culled(k)) b.queue.addLane(slot, views[k], x0[k], x1[k], x2[k]);
@@ -716,7 +716,8 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
         if (ys.rowMin > ys.rowMax) return;
         const int slot = queueSlot(b, ys, v, row.nv, zw, q, attr, stride);
         const std::size_t nv = std::size_t(row.nv);
-        b.queue.addLanes(slot, row.nv, row.fam->views8, row.sxv + v[0] * nv, row.sxv + v[1] * nv,
+        b.queue.addLanes(slot, ys, row.nv, row.fam->views8, row.sxv + v[0] * nv,
+                         row.sxv + v[1] * nv,
                          row.sxv + v[2] * nv);
     };
     const Material* material = nullptr;
