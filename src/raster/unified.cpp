@@ -344,6 +344,18 @@ void drawFamilyWireframe(BandContext<S>& b, const Family& fam, const std::uint32
     }
 }
 
+/// A family's triangle's fragment inputs from the vertex arrays: window depth zw and 1/w q (the
+/// family's), the vertices' attributes (attr, stride floats each). Raw pointers: the hot callers
+/// load them once per band or triangle.
+inline void setFragmentInputs(FragmentTri& frag, const std::uint32_t v[3], const float* zw,
+                              const float* q, const float* attr, std::size_t stride) {
+    for (int j = 0; j < 3; ++j) {
+        frag.z[j] = zw[v[j]];
+        frag.q[j] = q[v[j]];
+        frag.attr[j] = attr + v[j] * stride;
+    }
+}
+
 /// Queues a triangle's slot (its y setup and fragment inputs, shared by its views' lanes),
 /// flushing first unless `views` more lanes fit; the caller adds the lanes. zw, q: the family's
 /// window depth and 1/w per vertex; attr, stride: the vertex attributes.
@@ -354,11 +366,7 @@ inline int queueSlot(BandContext<S>& b, const YSetup& ys, const std::uint32_t v[
     const int slot = b.queue.slotCount++;
     b.queue.slotYs[slot] = ys;
     FragmentTri& frag = b.queue.slotFrag[slot];
-    for (int j = 0; j < 3; ++j) {
-        frag.z[j] = zw[v[j]];
-        frag.q[j] = q[v[j]];
-        frag.attr[j] = attr + v[j] * stride;
-    }
+    setFragmentInputs(frag, v, zw, q, attr, stride);
     frag.flat = b.frag.flat;
     frag.flatD = b.frag.flatD;
     return slot;
@@ -377,17 +385,14 @@ template <Shading S>
 [[gnu::always_inline]] inline ShearedTri longRowTriangle(BandContext<S>& b, const Family& fam,
                                                          const std::uint32_t v[3]) {
     const UnifiedData& d = b.d;
-    const float* zw = d.famZW(fam);
     const float* q = d.famQ(fam);
     ShearedTri t;
     for (int j = 0; j < 3; ++j) {
         t.cx[j] = d.cx[v[j]];
         t.wc[j] = d.cw[v[j]] - d.convergence;
         t.q[j] = q[v[j]];
-        b.frag.z[j] = zw[v[j]];
-        b.frag.q[j] = q[v[j]];
-        b.frag.attr[j] = d.attrOf(v[j]);
     }
+    setFragmentInputs(b.frag, v, d.famZW(fam), q, d.attr.data(), d.attrStride);
     return t;
 }
 
@@ -454,13 +459,6 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
     const std::int32_t* x2 = fam.sxvData + std::size_t(v[2]) * std::size_t(nv);
     const int* views = fam.views.data();
     auto culled = [&](int k) { return faces == FaceClass::Mixed && viewBack(d, fam, det, k); };
-    auto fill = [&](FragmentTri& frag) {
-        for (int j = 0; j < 3; ++j) {
-            frag.z[j] = zw[v[j]];
-            frag.q[j] = q[v[j]];
-            frag.attr[j] = attr + v[j] * stride;
-        }
-    };
     if (nv <= kLaneCount / 2) {
         // Queue the views' lanes: y setup and fragment inputs once (the slot), x per view.
         const int slot = queueSlot(b, ys, v, nv, zw, q, attr, stride);
@@ -528,7 +526,7 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
         }
         return;
     }
-    fill(b.frag);
+    setFragmentInputs(b.frag, v, zw, q, attr, stride);
     flushLanes(b);
     // More views than a queue block: setupViews passes over the family's views, at most
     // kSetupChunk at a time (its lane mask has 64 bits).
@@ -618,11 +616,7 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
     YSetup ys;
     setupY(ys, fam.sy[v[0]], fam.sy[v[1]], fam.sy[v[2]], b.rowLo, b.rowHi);
     if (ys.rowMin > ys.rowMax) return;
-    for (int j = 0; j < 3; ++j) {
-        b.frag.z[j] = d.famZW(fam)[v[j]];
-        b.frag.q[j] = d.famQ(fam)[v[j]];
-        b.frag.attr[j] = d.attrOf(v[j]);
-    }
+    setFragmentInputs(b.frag, v, d.famZW(fam), d.famQ(fam), d.attr.data(), d.attrStride);
     // Per view: x only — the views' x setup side by side (SIMD across views), then
     // each view's pixels while that setup is in L1.
     if (activeCount < kMinSimdViews) {
@@ -717,8 +711,7 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
         const int slot = queueSlot(b, ys, v, row.nv, zw, q, attr, stride);
         const std::size_t nv = std::size_t(row.nv);
         b.queue.addLanes(slot, ys, row.nv, row.fam->views8, row.sxv + v[0] * nv,
-                         row.sxv + v[1] * nv,
-                         row.sxv + v[2] * nv);
+                         row.sxv + v[1] * nv, row.sxv + v[2] * nv);
     };
     const Material* material = nullptr;
     auto onItem = [&](const DrawItem& it) {

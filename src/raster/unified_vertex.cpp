@@ -236,13 +236,6 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 if (fam.sxvTwin >= 0 || fam.many) continue;  // twin: its twin's sxv is the same
                 const std::size_t nv = fam.views.size();
                 std::int32_t* sxv = &fam.sxv[std::size_t(g) * nv];
-                if (nv == 2) {  // the stereo pair: one interleaving pass
-                    const std::int32_t* a = &d.views[std::size_t(fam.views[0])].sx[g];
-                    const std::int32_t* b = &d.views[std::size_t(fam.views[1])].sx[g];
-                    for (std::uint32_t k = 0; k < count; ++k)
-                        sxv[2 * k] = a[k], sxv[2 * k + 1] = b[k];
-                    continue;
-                }
                 for (std::size_t lane = 0; lane < nv; ++lane) {
                     const std::int32_t* sx = &d.views[std::size_t(fam.views[lane])].sx[g];
                     for (std::uint32_t k = 0; k < count; ++k) sxv[k * nv + lane] = sx[k];
