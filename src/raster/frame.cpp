@@ -66,14 +66,12 @@ void allocateOutputs(ThreadPool& pool, RenderOutput& out, int views, const Rende
     out.color.resize(views);
     out.depth.resize(views);
     targets.resize(views);
-    const std::uint32_t clear = packColor(s.clearColor);
     const std::size_t n = std::size_t(s.width) * s.height;
-    // One task per view: the buffers are allocated, and cleared, by the workers side by side
-    // (a new vector is zero-filled: depth is constructed at its clear value in that one pass;
-    // color is zero-filled, then filled with the clear color while it is still in cache).
+    // One task per view: new buffers are allocated side by side (a new vector is zero-filled).
     // Images of the caller's RenderOutput (Backend::renderInto) that already have the size and
-    // live on the heap keep their storage and are only cleared: reallocating them every frame
-    // costs a zero fill and, across the workers' malloc arenas, fresh pages (page faults).
+    // live on the heap keep their storage: reallocating them every frame costs a zero fill and,
+    // across the workers' malloc arenas, fresh pages (page faults). Nothing is cleared here
+    // (clearRows, per band).
     std::pmr::memory_resource* heap = std::pmr::get_default_resource();
     pool.run(views, [&](int v, int) {
         // Into the caller's block when it gave one (RenderSettings::output), else the heap.
@@ -83,17 +81,13 @@ void allocateOutputs(ThreadPool& pool, RenderOutput& out, int views, const Rende
         const bool keepColor = !block && c.width == s.width && c.height == s.height &&
                                c.rgba.size() == n * 4 && c.rgba.get_allocator().resource() == heap;
         if (!keepColor) c.reset(s.width, s.height, block ? s.output->colorMemory(v) : nullptr);
-        auto* color = reinterpret_cast<std::uint32_t*>(c.rgba.data());
-        std::fill_n(color, n, clear);
         DepthImage& d = out.depth[std::size_t(v)];
         const bool keepDepth = !block && d.width == s.width && d.height == s.height &&
                                d.depth.size() == n && d.depth.get_allocator().resource() == heap;
-        if (keepDepth) {
-            std::fill(d.depth.begin(), d.depth.end(), 1.0f);
-        } else {
+        if (!keepDepth)
             d.reset(s.width, s.height, 1.0f, block ? s.output->depthMemory(v) : nullptr);
-        }
-        targets[std::size_t(v)] = Target{color, d.depth.data(), s.width, s.height};
+        targets[std::size_t(v)] = Target{reinterpret_cast<std::uint32_t*>(c.rgba.data()),
+                                         d.depth.data(), s.width, s.height};
     });
 }
 

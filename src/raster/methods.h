@@ -14,11 +14,13 @@ struct MethodScratch {
     virtual ~MethodScratch() = default;
 };
 
-/// N independent single-view renders into `targets` (already cleared). Adds stage times.
+/// N independent single-view renders into `targets` (sized, not cleared: every band's rows are
+/// cleared by the task that draws them, clearRows). Adds stage times.
 void renderMultipass(FrameContext& f, std::span<const Target> targets, StageTimes& times,
                      std::unique_ptr<MethodScratch>& scratch);
 
-/// The unified N-view pipeline into `targets` (already cleared). Adds stage times.
+/// The unified N-view pipeline into `targets` (sized, not cleared: clearRows, per band). Adds
+/// stage times.
 void renderUnified(FrameContext& f, std::span<const Target> targets, StageTimes& times,
                    std::unique_ptr<MethodScratch>& scratch);
 

@@ -191,8 +191,10 @@ void drawWireframe(const FrameContext& f, const ViewVertexData& d, const std::ui
 template <Shading S>
 void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, const Target& target) {
     const int attrCount = attributeCount(S, f.textured);
+    const std::uint32_t clear = packColor(f.settings.clearColor);
     f.pool.run(f.bands.count, [&](int band, int) {
         const int rowLo = f.bands.rowBegin(band), rowHi = f.bands.rowEnd(band) - 1;
+        clearRows(target, rowLo, rowHi, clear);  // into the cache just before it is drawn
         FragmentTri frag{};
         FragmentSink<S> sink{target, &frag, {&f.shading, nullptr, f.textured}};
         // Small triangles wait in a queue and are set up 16 at a time (lanes.h), as in unified;

@@ -758,8 +758,12 @@ void rasterStage(FrameContext& f, const UnifiedData& d, std::span<const Target> 
         slots.depth.resize(slots.depth.size() + kMaxViews, nullptr);
         slots.color.resize(slots.color.size() + kMaxViews, nullptr);
     }
+    const std::uint32_t clear = packColor(f.settings.clearColor);
     f.pool.run(f.bands.count, [&](int band, int) {
         BandContext<S> b{f, d, f.bands.rowBegin(band), f.bands.rowEnd(band) - 1, {}, {}};
+        // The band's rows of every view, into the cache just before they are drawn (bands are
+        // sized so that they fit L2 with all views: makeBands).
+        for (const Target& t : targets) clearRows(t, b.rowLo, b.rowHi, clear);
         b.sinks.reserve(targets.size());
         for (const Target& t : targets)
             b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr, f.textured}});

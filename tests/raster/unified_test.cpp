@@ -373,6 +373,49 @@ TEST(UnifiedEqualsMultipass, BunnyAtHundredViews) {
     EXPECT_GT(stats.covered, stats.renders * 100 * 200);
 }
 
+TEST(UnifiedEqualsMultipass, RenderingIntoAUsedOutputEqualsAFreshRender) {
+    // The images of a caller's output are kept between frames (renderInto) and each band's rows
+    // are cleared only by the task that draws them (clearRows): a frame drawn into an output that
+    // holds another scene's pixels must equal a fresh render, every view, color and depth. The
+    // first frame is the default scene; the second a small quad with another clear color, so
+    // that a row left uncleared would show the first frame's pixels.
+    auto backend = makeSoftBackend();
+    const Scene first = makeDefaultScene();
+    const Scene second = test::quadScene({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.0f});
+    const Camera cam = defaultSceneCamera(64.0f / 48.0f);
+    long stale = 0;
+    for (auto [c, r] : {std::pair{1, 1}, {2, 1}, {45, 1}, {3, 3}}) {
+        RigParams p;
+        p.columns = c, p.rows = r, p.interaxial = 0.05f, p.convergence = 6.0f;
+        auto rig = makeRig(cam, p);
+        ASSERT_TRUE(rig) << rig.status().message();
+        for (const char* method : {"multipass", "unified"}) {
+            for (int mode = 0; mode < 3; ++mode) {
+                RenderSettings s;
+                s.width = 64, s.height = 48;
+                s.shading = static_cast<Shading>(mode);
+                s.clearColor = {0.1f, 0.2f, 0.3f};
+                RenderOutput out;
+                ASSERT_TRUE(backend->renderInto(first, *rig, s, method, out));
+                const RenderOutput before = out;
+                s.clearColor = {0.7f, 0.1f, 0.4f};
+                s.wireframe = mode == 2;
+                ASSERT_TRUE(backend->renderInto(second, *rig, s, method, out));
+                auto fresh = backend->render(second, *rig, s, method);
+                ASSERT_TRUE(fresh) << fresh.status().message();
+                EXPECT_EQ(firstDifference(out, *fresh), "")
+                    << method << " " << c << "x" << r << " shading " << mode;
+                for (std::size_t v = 0; v < before.depth.size(); ++v) {
+                    for (std::size_t i = 0; i < before.depth[v].depth.size(); ++i)
+                        stale +=
+                            before.depth[v].depth[i] < 1.0f && fresh->depth[v].depth[i] == 1.0f;
+                }
+            }
+        }
+    }
+    EXPECT_GT(stale, 100000);  // pixels the first frame drew and the second must clear
+}
+
 TEST(UnifiedEqualsMultipass, ManyViewsAreCheckedForMemoryUpFront) {
     // kMaxViews (128) views render; their images are checked against kMaxFramebufferBytes before
     // anything is allocated: a clear Status naming the views, the size and the GiB.
