@@ -73,7 +73,8 @@ private:
 
 /// Wall-clock time per pipeline stage of one render, where a backend measures it (soft does:
 /// vertex = vertex stage, setup = primitive stage (cull, clip tests, binning), raster = triangle
-/// setup + coverage + depth + shading, fill = clearing and handing out the images).
+/// setup + coverage + depth + shading, and the clear of each band's rows just before it is
+/// drawn; fill = sizing and handing out the images).
 struct StageTimes {
     double vertexMs = 0, setupMs = 0, rasterMs = 0, fillMs = 0;
 };
