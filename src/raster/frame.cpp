@@ -1,5 +1,9 @@
 #include "frame.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 
 namespace mvr::raster::detail {
@@ -59,6 +63,35 @@ void Bins::reset(std::uint32_t triangleCount, int bands) {
     if (chunkSize == 0) chunkSize = 1;
     lists.resize(std::size_t(chunkCount) * bands);
     for (auto& l : lists) l.clear();
+}
+
+namespace {
+
+/// n values (4 bytes each) from src to dst, the 16-byte-aligned part of dst with streaming
+/// stores.
+template <typename T>
+void streamCopy(const T* src, T* dst, std::size_t n) {
+    static_assert(sizeof(T) == 4);
+    std::size_t i = 0;
+#if defined(__SSE2__)
+    for (; i < n && (reinterpret_cast<std::uintptr_t>(dst + i) & 15u) != 0; ++i) dst[i] = src[i];
+    for (; i + 4 <= n; i += 4) {
+        _mm_stream_si128(reinterpret_cast<__m128i*>(dst + i),
+                         _mm_loadu_si128(reinterpret_cast<const __m128i*>(src + i)));
+    }
+#endif
+    for (; i < n; ++i) dst[i] = src[i];
+}
+
+}  // namespace
+
+void streamRows(const Target& from, const Target& to, int rowLo, int rowHi) {
+    const std::size_t count = std::size_t(rowHi - rowLo + 1) * std::size_t(to.width);
+    streamCopy(from.color + from.index(0, rowHi), to.color + to.index(0, rowHi), count);
+    streamCopy(from.depth + from.index(0, rowHi), to.depth + to.index(0, rowHi), count);
+#if defined(__SSE2__)
+    _mm_sfence();
+#endif
 }
 
 void allocateOutputs(ThreadPool& pool, RenderOutput& out, int views, const RenderSettings& s,

@@ -162,6 +162,11 @@ void forVertexChunks(const DrawList& draw, ThreadPool& pool, Fn&& fn) {
 void allocateOutputs(ThreadPool& pool, RenderOutput& out, int views, const RenderSettings& settings,
                      std::vector<Target>& targets);
 
+/// Rows [rowLo, rowHi] of `from` (a band's scratch) copied into `to` (the image) with
+/// non-temporal stores: the image's lines are written without being read first, and do not
+/// evict the scratch from the cache. Ends with a store fence.
+void streamRows(const Target& from, const Target& to, int rowLo, int rowHi);
+
 /// Rows [rowLo, rowHi] of a target cleared: color to `clear` (packColor of the clear color,
 /// alpha 255), depth to 1.
 inline void clearRows(const Target& t, int rowLo, int rowHi, std::uint32_t clear) {
@@ -209,6 +214,9 @@ struct FrameContext {
     bool textured = false;
     bool punctualLights = false;  ///< some light is a point or spot light
     std::vector<MipChain> mips;   ///< per Scene::textures, built once per render (not per view)
+    /// unified: draw each band into a per-worker scratch and stream it into the images (the
+    /// frame's images are larger than SoftOptions::streamAboveBytes).
+    bool streamBands = false;
 
     const MipChain* textureOf(const Material& m) const {
         return m.baseColorTexture >= 0 && std::size_t(m.baseColorTexture) < mips.size()

@@ -496,8 +496,11 @@ struct Target {
     std::uint32_t* color = nullptr;
     float* depth = nullptr;
     int width = 0, height = 0;
+    /// The index of the pixel the pointers point at: 0 for a whole image; a streamed band's
+    /// scratch (unified.cpp) holds only the band's rows, the top one first.
+    std::size_t offset = 0;
     std::size_t index(int x, int y) const {
-        return static_cast<std::size_t>(height - 1 - y) * width + x;
+        return static_cast<std::size_t>(height - 1 - y) * width + x - offset;
     }
 };
 

@@ -142,7 +142,8 @@ private:
                                detail::kernels(mSimd),
                                false,
                                false,
-                               {}};
+                               {},
+                               false};
         detail::prepareTextures(f);
         detail::Kernels shadowKernels = f.kernels;
         std::optional<detail::FrameContext> shadowed;
@@ -151,11 +152,14 @@ private:
             // vertex kernel is replaced by the scalar shadowed one.
             f.shading.shadows = &shadows;
             shadowKernels.shadeVertices = detail::shadeVerticesShadowed;
-            shadowed.emplace(detail::FrameContext{
-                f.scene, f.rig, f.settings, f.pool, f.shading, std::move(f.draw), f.bands,
-                f.centerClip, shadowKernels, f.textured, f.punctualLights, std::move(f.mips)});
+            shadowed.emplace(detail::FrameContext{f.scene, f.rig, f.settings, f.pool, f.shading,
+                                                  std::move(f.draw), f.bands, f.centerClip,
+                                                  shadowKernels, f.textured, f.punctualLights,
+                                                  std::move(f.mips), f.streamBands});
         }
         detail::FrameContext& frame = shadowed ? *shadowed : f;
+        const double imageBytes = double(rig.viewCount()) * settings.width * settings.height * 8.0;
+        frame.streamBands = imageBytes > double(mOptions.streamAboveBytes);
         std::vector<detail::Target> targets;
         detail::allocateOutputs(pool, out, rig.viewCount(), settings, targets);
         out.stages.fillMs = clock.lap();

@@ -225,6 +225,9 @@ struct BandContext {
     ViewsSetup views{};    ///< the current triangle's per-view x setup (L1)
     ViewsX xs{};           ///< a long row's derived snapped x of the current triangle
     const ViewSlots* slots = nullptr;  ///< set when a long row's fragments go through shadeLanes
+    /// The height the kernels address `slots` with: the image's, or for a streamed band rowHi + 1
+    /// (its scratch holds rows rowHi down to rowLo, the top one first).
+    int slotHeight = f.settings.height;
     LaneQueue<S> queue{};  ///< small families' (triangle, view) lanes waiting for setupLanes
 };
 
@@ -422,10 +425,9 @@ void drawLongRow(BandContext<S>& b, const Family& fam, const std::uint32_t v[3],
             culledViews[k / 64] |= std::uint64_t(viewBack(d, fam, det, k)) << (k % 64);
     }
     const std::size_t first = b.slots->first[std::size_t(&fam - d.families.data())];
-    const int general =
-        b.f.kernels.drawSheared(ys, t, fam.shears.data(), nv, mixed ? culledViews : nullptr, width,
-                                b.f.settings.height, b.frag, S == Shading::Flat,
-                                b.slots->depth.data() + first, b.slots->color.data() + first, b.xs);
+    const int general = b.f.kernels.drawSheared(
+        ys, t, fam.shears.data(), nv, mixed ? culledViews : nullptr, width, b.slotHeight, b.frag,
+        S == Shading::Flat, b.slots->depth.data() + first, b.slots->color.data() + first, b.xs);
     for (int i = 0; i < general; ++i) {
         FragmentSink<S> sink = b.sinks[std::size_t(views[b.xs.view[i]])];
         const std::int32_t xk[3] = {b.xs.x[0][i], b.xs.x[1][i], b.xs.x[2][i]};
@@ -496,9 +498,8 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
                 const std::size_t first =
                     b.slots->first[std::size_t(&fam - d.families.data())] + std::size_t(base);
                 for (std::uint64_t general = b.f.kernels.shadeLanes(
-                         b.views, drawn, ys.rowMin, width, b.f.settings.height, b.frag,
-                         S == Shading::Flat, b.xs.view, b.slots->depth.data() + first,
-                         b.slots->color.data() + first);
+                         b.views, drawn, ys.rowMin, width, b.slotHeight, b.frag, S == Shading::Flat,
+                         b.xs.view, b.slots->depth.data() + first, b.slots->color.data() + first);
                      general; general &= general - 1) {
                     const int k = std::countr_zero(general);
                     FragmentSink<S> sink = b.sinks[std::size_t(views[viewOf(k)])];
@@ -739,37 +740,81 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
     });
 }
 
+/// The views' images by family position (ViewSlots) for `targets`.
+ViewSlots makeSlots(const UnifiedData& d, std::span<const Target> targets) {
+    ViewSlots slots;
+    for (const Family& fam : d.families) {
+        slots.first.push_back(slots.depth.size());
+        for (const int v : fam.views) {
+            slots.depth.push_back(targets[std::size_t(v)].depth);
+            slots.color.push_back(targets[std::size_t(v)].color);
+        }
+    }
+    // shadeLanes and drawSheared read the table for all 8 lanes of a group (positions below
+    // kMaxViews past a family's first slot), the unused ones only to be masked off.
+    slots.depth.resize(slots.depth.size() + kMaxViews, nullptr);
+    slots.color.resize(slots.color.size() + kMaxViews, nullptr);
+    return slots;
+}
+
+/// A worker's scratch for streamed bands: one band's rows of every view (view v at v · stride),
+/// targets and slots addressing them.
+struct BandScratch {
+    std::vector<Target> targets;
+    ViewSlots slots;
+};
+
 template <Shading S>
-void rasterStage(FrameContext& f, const UnifiedData& d, std::span<const Target> targets) {
+void rasterStage(FrameContext& f, UnifiedData& d, std::span<const Target> targets) {
     // Untextured Vertex or Flat shading: a long row's fragments of one triangle go through
     // shadeLanes (all its views side by side), which finds the views' images here.
-    ViewSlots slots;
     const bool laneFragments = (S == Shading::Vertex || S == Shading::Flat) && !f.textured;
-    if (laneFragments) {
-        for (const Family& fam : d.families) {
-            slots.first.push_back(slots.depth.size());
-            for (const int v : fam.views) {
-                slots.depth.push_back(targets[std::size_t(v)].depth);
-                slots.color.push_back(targets[std::size_t(v)].color);
+    const ViewSlots slots = laneFragments ? makeSlots(d, targets) : ViewSlots{};
+    // Streamed bands: when the frame's images are larger than the cache (f.streamBands), each
+    // worker draws a band into a scratch that stays in its cache (cleared there, no image line
+    // read from memory) and then streams the band's rows into the images (written once, not
+    // read). Otherwise each band's rows of the images are cleared just before they are drawn.
+    const bool stream = f.streamBands;
+    std::vector<BandScratch> scratch(stream ? std::size_t(f.pool.size()) : 0);
+    const std::size_t stride = std::size_t(f.bands.rows) * std::size_t(f.settings.width);
+    if (stream) {
+        d.bandColor.resize(scratch.size()), d.bandDepth.resize(scratch.size());
+        for (std::size_t w = 0; w < scratch.size(); ++w) {
+            d.bandColor[w].resize(stride * targets.size());
+            d.bandDepth[w].resize(stride * targets.size());
+            for (std::size_t v = 0; v < targets.size(); ++v) {
+                Target t = targets[v];
+                t.color = d.bandColor[w].data() + v * stride;
+                t.depth = d.bandDepth[w].data() + v * stride;
+                scratch[w].targets.push_back(t);
             }
+            if (laneFragments) scratch[w].slots = makeSlots(d, scratch[w].targets);
         }
-        // shadeLanes and drawSheared read the table for all 8 lanes of a group (positions below
-        // kMaxViews past a family's first slot), the unused ones only to be masked off.
-        slots.depth.resize(slots.depth.size() + kMaxViews, nullptr);
-        slots.color.resize(slots.color.size() + kMaxViews, nullptr);
     }
     const std::uint32_t clear = packColor(f.settings.clearColor);
-    f.pool.run(f.bands.count, [&](int band, int) {
+    f.pool.run(f.bands.count, [&](int band, int worker) {
         BandContext<S> b{f, d, f.bands.rowBegin(band), f.bands.rowEnd(band) - 1, {}, {}};
+        std::span<Target> local;
+        if (stream) {
+            BandScratch& s = scratch[std::size_t(worker)];
+            for (Target& t : s.targets) t.offset = targets[0].index(0, b.rowHi);
+            local = s.targets;
+            b.slotHeight = b.rowHi + 1;
+        }
+        std::span<const Target> draw = stream ? std::span<const Target>(local) : targets;
         // The band's rows of every view, into the cache just before they are drawn (bands are
         // sized so that they fit L2 with all views: makeBands).
-        for (const Target& t : targets) clearRows(t, b.rowLo, b.rowHi, clear);
-        b.sinks.reserve(targets.size());
-        for (const Target& t : targets)
+        for (const Target& t : draw) clearRows(t, b.rowLo, b.rowHi, clear);
+        b.sinks.reserve(draw.size());
+        for (const Target& t : draw)
             b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr, f.textured}});
-        if (laneFragments) b.slots = &slots;
+        if (laneFragments) b.slots = stream ? &scratch[std::size_t(worker)].slots : &slots;
         rasterBand(b, d.bins, band);
         flushLanes(b);
+        if (stream) {
+            for (std::size_t v = 0; v < targets.size(); ++v)
+                streamRows(local[v], targets[v], b.rowLo, b.rowHi);
+        }
     });
 }
 

@@ -123,6 +123,29 @@ TEST(TexturedUnifiedEqualsMultipass, TexturedSceneRowsAndGrids) {
     }
 }
 
+TEST(TexturedUnifiedEqualsMultipass, StreamedBands) {
+    // Textured fragments with every band streamed (SoftOptions::streamAboveBytes = 0: drawn into
+    // the workers' scratch, then copied into the images).
+    auto backend = makeSoftBackend(SoftOptions{.streamAboveBytes = 0});
+    for (const Scene& scene : {makeTexturedScene(), richTexturedScene()}) {
+        const Camera cam = texturedCamera(72.0f / 54.0f);
+        for (auto [c, r] : {std::pair{3, 1}, {45, 1}, {3, 3}}) {
+            for (int mode = 0; mode < 4; ++mode) {
+                RenderSettings s;
+                s.width = 72, s.height = 54;
+                s.shading = static_cast<Shading>(mode % 3);
+                s.cullBackFaces = mode == 1;
+                s.wireframe = mode == 3;
+                RigParams p;
+                p.columns = c, p.rows = r, p.interaxial = 0.15f, p.convergence = 6.0f;
+                auto rig = makeRig(cam, p);
+                ASSERT_TRUE(rig);
+                expectSame(*backend, scene, *rig, s);
+            }
+        }
+    }
+}
+
 TEST(TexturedUnifiedEqualsMultipass, RandomTexturedSoups) {
     auto backend = makeSoftBackend();
     std::mt19937 rng(1414);

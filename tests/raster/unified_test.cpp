@@ -379,41 +379,127 @@ TEST(UnifiedEqualsMultipass, RenderingIntoAUsedOutputEqualsAFreshRender) {
     // holds another scene's pixels must equal a fresh render, every view, color and depth. The
     // first frame is the default scene; the second a small quad with another clear color, so
     // that a row left uncleared would show the first frame's pixels.
-    auto backend = makeSoftBackend();
-    const Scene first = makeDefaultScene();
-    const Scene second = test::quadScene({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.0f});
-    const Camera cam = defaultSceneCamera(64.0f / 48.0f);
-    long stale = 0;
-    for (auto [c, r] : {std::pair{1, 1}, {2, 1}, {45, 1}, {3, 3}}) {
-        RigParams p;
-        p.columns = c, p.rows = r, p.interaxial = 0.05f, p.convergence = 6.0f;
-        auto rig = makeRig(cam, p);
-        ASSERT_TRUE(rig) << rig.status().message();
-        for (const char* method : {"multipass", "unified"}) {
-            for (int mode = 0; mode < 3; ++mode) {
-                RenderSettings s;
-                s.width = 64, s.height = 48;
-                s.shading = static_cast<Shading>(mode);
-                s.clearColor = {0.1f, 0.2f, 0.3f};
-                RenderOutput out;
-                ASSERT_TRUE(backend->renderInto(first, *rig, s, method, out));
-                const RenderOutput before = out;
-                s.clearColor = {0.7f, 0.1f, 0.4f};
-                s.wireframe = mode == 2;
-                ASSERT_TRUE(backend->renderInto(second, *rig, s, method, out));
-                auto fresh = backend->render(second, *rig, s, method);
-                ASSERT_TRUE(fresh) << fresh.status().message();
-                EXPECT_EQ(firstDifference(out, *fresh), "")
-                    << method << " " << c << "x" << r << " shading " << mode;
-                for (std::size_t v = 0; v < before.depth.size(); ++v) {
-                    for (std::size_t i = 0; i < before.depth[v].depth.size(); ++i)
-                        stale +=
-                            before.depth[v].depth[i] < 1.0f && fresh->depth[v].depth[i] == 1.0f;
+    // Also with every frame's bands streamed (SoftOptions::streamAboveBytes = 0: unified draws
+    // into the workers' scratch and copies each band's rows into the images).
+    for (const std::size_t streamAbove : {SoftOptions{}.streamAboveBytes, std::size_t(0)}) {
+        auto backend = makeSoftBackend(SoftOptions{.streamAboveBytes = streamAbove});
+        const Scene first = makeDefaultScene();
+        const Scene second = test::quadScene({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.0f});
+        const Camera cam = defaultSceneCamera(64.0f / 48.0f);
+        long stale = 0;
+        for (auto [c, r] : {std::pair{1, 1}, {2, 1}, {45, 1}, {3, 3}}) {
+            RigParams p;
+            p.columns = c, p.rows = r, p.interaxial = 0.05f, p.convergence = 6.0f;
+            auto rig = makeRig(cam, p);
+            ASSERT_TRUE(rig) << rig.status().message();
+            for (const char* method : {"multipass", "unified"}) {
+                for (int mode = 0; mode < 3; ++mode) {
+                    RenderSettings s;
+                    s.width = 64, s.height = 48;
+                    s.shading = static_cast<Shading>(mode);
+                    s.clearColor = {0.1f, 0.2f, 0.3f};
+                    RenderOutput out;
+                    ASSERT_TRUE(backend->renderInto(first, *rig, s, method, out));
+                    const RenderOutput before = out;
+                    s.clearColor = {0.7f, 0.1f, 0.4f};
+                    s.wireframe = mode == 2;
+                    ASSERT_TRUE(backend->renderInto(second, *rig, s, method, out));
+                    auto fresh = backend->render(second, *rig, s, method);
+                    ASSERT_TRUE(fresh) << fresh.status().message();
+                    EXPECT_EQ(firstDifference(out, *fresh), "")
+                        << method << " " << c << "x" << r << " shading " << mode << " streamed "
+                        << (streamAbove == 0);
+                    for (std::size_t v = 0; v < before.depth.size(); ++v) {
+                        for (std::size_t i = 0; i < before.depth[v].depth.size(); ++i)
+                            stale +=
+                                before.depth[v].depth[i] < 1.0f && fresh->depth[v].depth[i] == 1.0f;
+                    }
                 }
             }
         }
+        EXPECT_GT(stale, 100000);  // pixels the first frame drew and the second must clear
     }
-    EXPECT_GT(stale, 100000);  // pixels the first frame drew and the second must clear
+}
+
+TEST(UnifiedEqualsMultipass, StreamedBandsEqualMultipass) {
+    // SoftOptions::streamAboveBytes = 0: every frame's bands are drawn into the workers' scratch
+    // and streamed into the images (by default only frames of more than 32 MiB of images). Rows
+    // of 1..9 views and grids of the default scene, long rows and a 9x9 grid of random soups,
+    // random rigs (toe-in, parallel, lists) and the bunny at 100 views, against multipass (which
+    // draws into the images).
+    auto backend = makeSoftBackend(SoftOptions{.streamAboveBytes = 0});
+    Stats stats;
+    const Scene scene = makeDefaultScene();
+    const Camera cam = defaultSceneCamera(80.0f / 60.0f);
+    for (int views = 2; views <= 9; views += 7) {
+        for (int mode = 0; mode < 6; ++mode) {
+            RenderSettings s;
+            s.width = 80, s.height = 60;
+            s.shading = static_cast<Shading>(mode % 3);
+            s.cullBackFaces = mode >= 3;
+            s.wireframe = mode == 5;
+            RigParams p;
+            p.columns = views, p.rows = 1, p.interaxial = 0.2f, p.convergence = 6.0f;
+            auto rig = makeRig(cam, p);
+            ASSERT_TRUE(rig);
+            expectSame(*backend, scene, *rig, s, stats);
+        }
+    }
+    std::mt19937 rng(909);
+    const std::vector<std::pair<int, int>> shapes = {{3, 3}, {16, 1}, {45, 1}, {100, 1}, {9, 9}};
+    for (auto [c, r] : shapes) {
+        for (int mode = 0; mode < 7; ++mode) {
+            SCOPED_TRACE(fmt::format("{}x{} mode {}", c, r, mode));
+            const Scene soup = randomSoup(rng, 12 + int(rng() % 12));
+            RenderSettings s;
+            s.width = 24 + int(rng() % 16), s.height = 16 + int(rng() % 12);
+            s.shading = static_cast<Shading>(mode % 3);
+            s.cullBackFaces = mode >= 3 && mode < 6;
+            s.wireframe = mode == 6;
+            Camera c0;
+            c0.position = {0.0f, 0.0f, 3.0f};
+            c0.target = {0.2f, -0.1f, 0.0f};
+            c0.near = 0.3f, c0.far = 30.0f;
+            c0.aspect = float(s.width) / float(s.height);
+            RigParams p;
+            p.kind = RigKind::OffAxis, p.columns = c, p.rows = r;
+            p.convergence = 3.0f, p.interaxial = 3.0f * (0.005f + 0.02f * float(rng() % 4));
+            auto rig = makeRig(c0, p);
+            ASSERT_TRUE(rig) << rig.status().message();
+            expectSame(*backend, soup, *rig, s, stats);
+        }
+    }
+    for (int i = 0; i < 15; ++i) {
+        SCOPED_TRACE(fmt::format("soup case {}", i));
+        const Scene soup = randomSoup(rng, 40 + int(rng() % 60));
+        const RenderSettings s = randomSettings(rng, i);
+        Camera c0;
+        c0.position = {0.0f, 0.0f, 3.0f};
+        c0.near = 0.3f, c0.far = 30.0f;
+        c0.aspect = float(s.width) / float(s.height);
+        expectSame(*backend, soup, randomRig(rng, c0, i), s, stats);
+    }
+    const auto path = modelsDir() / "stanford-bunny.obj";
+    if (std::filesystem::exists(path)) {
+        auto mesh = loadMesh(path);
+        ASSERT_TRUE(mesh) << mesh.status().message();
+        const Scene bunny = makeGridScene({std::move(mesh).value()}, 1);
+        const Bounds b = bunny.bounds();
+        RenderSettings s;
+        s.width = 42, s.height = 56;
+        Camera c0;
+        c0.target = b.center();
+        c0.position = b.center() + glm::vec3(0.0f, 0.0f, 2.5f * b.radius());
+        c0.near = 0.5f * b.radius(), c0.far = 10.0f * b.radius();
+        c0.aspect = float(s.width) / float(s.height);
+        RigParams p;
+        p.kind = RigKind::OffAxis, p.columns = 100, p.rows = 1;
+        p.convergence = 2.5f * b.radius(), p.interaxial = p.convergence / 60.0f;
+        auto rig = makeRig(c0, p);
+        ASSERT_TRUE(rig) << rig.status().message();
+        expectSame(*backend, bunny, *rig, s, stats);
+    }
+    EXPECT_GT(stats.covered, stats.renders * 100);
 }
 
 TEST(UnifiedEqualsMultipass, ManyViewsAreCheckedForMemoryUpFront) {

@@ -30,6 +30,7 @@
 // views' images into horizontal bands (screen tiles spanning every view).
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <string>
 
@@ -43,6 +44,11 @@ enum class SimdPath { Auto, Scalar, Avx2, Avx512 };
 struct SoftOptions {
     int threads = 0;                 ///< worker threads; 0 = one per core the process may use
     SimdPath simd = SimdPath::Auto;  ///< Auto: the best the CPU has and this build compiled
+    /// unified: a frame whose images (8 bytes a pixel a view) are larger than this is drawn band
+    /// by band into a scratch that stays in the workers' caches and streamed into the images
+    /// (non-temporal stores); smaller frames are drawn into the images (each band's rows cleared
+    /// just before). 0: always stream.
+    std::size_t streamAboveBytes = std::size_t(32) << 20;
 };
 
 /// "scalar" | "avx2" | "avx512".
