@@ -156,9 +156,10 @@ void forVertexChunks(const DrawList& draw, ThreadPool& pool, Fn&& fn) {
 
 /// Outputs sized for the views, plus Targets pointing into them; new buffers are allocated on
 /// the pool's workers. The images are not cleared here: each method's raster task clears the
-/// rows of its band (clearRows) just before drawing them, so that a frame touches its images
-/// once — clearing them all up front wrote every line out to memory and the raster read it
-/// back (at 100 views of 420x560, 188 MB a frame).
+/// rows of its band (clearRows) just before drawing them — or, for a streamed band (unified,
+/// FrameContext::streamBands), clears its scratch and copies the rows in (streamRows) — so that
+/// a frame touches its images once: clearing them all up front wrote every line out to memory
+/// and the raster read it back (at 100 views of 420x560, 188 MB a frame).
 void allocateOutputs(ThreadPool& pool, RenderOutput& out, int views, const RenderSettings& settings,
                      std::vector<Target>& targets);
 
