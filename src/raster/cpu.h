@@ -106,8 +106,8 @@ struct Kernels {
     SetupLanesFn setupLanes;      ///< lanes.h: (triangle, view) pairs side by side
     SetupShearedFn setupSheared;  ///< long sheared rows: x derived from the center per view
     ShadeLanesFn shadeLanes;      ///< one triangle's fragments in many views side by side
-    /// setupSheared + shadeLanes fused; nullptr where a path does not have it (AVX-512: the
-    /// caller then runs the two kernels)
+    /// setupSheared + shadeLanes fused (every table has one; a nullptr would make the caller
+    /// run the two kernels)
     DrawShearedFn drawSheared;
 };
 

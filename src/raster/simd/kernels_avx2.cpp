@@ -9,6 +9,7 @@
 
 #include "../cpu.h"
 #include "kernels_tail.h"
+#include "row_span.h"
 
 namespace mvr::raster::detail {
 
@@ -527,65 +528,13 @@ int drawPacked(const YSetup& ys, int m, int width, int height, const FragmentTri
 template <bool Culled>  // false: culled is nullptr
 inline int packOnRow(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
                      const std::uint64_t* culled, int width, float* ps, ViewsX& xs) {
-    // Vertex j's window x, in pixels from the first column's center (column c's center at c),
-    // is about alpha_j + s·beta_j (snapX of shearClipWc, unsnapped). Lanes 0..2: the vertices.
-    const __m128i three = _mm_setr_epi32(-1, -1, -1, 0);
-    const __m128 scale = _mm_set1_ps(0.5f * float(width));
-    const __m128 q = _mm_maskload_ps(t.q, three);
-    const __m128 alpha = _mm_sub_ps(
-        _mm_mul_ps(scale,
-                   _mm_add_ps(_mm_mul_ps(_mm_maskload_ps(t.cx, three), q), _mm_set1_ps(1.0f))),
-        _mm_set1_ps(0.5f));
-    const __m128 beta = _mm_mul_ps(scale, _mm_mul_ps(_mm_maskload_ps(t.wc, three), q));
-    // The span's ends on the center line: where the edges a -> b = a + 1 meet it, ends included
-    // (a vertex on the line is the end of its two edges; an edge along the line is not needed:
-    // its ends are those of the other two, or the triangle is degenerate and covers nothing).
-    const __m128i d = _mm_sub_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(ys.y)),
-                                    _mm_set1_epi32(ys.rowMin * kSubpixel + kHalfSubpixel));
-    const __m128i db = _mm_shuffle_epi32(d, _MM_SHUFFLE(3, 0, 2, 1));
-    const __m128i zeroI = _mm_setzero_si128();
-    const __m128i meets = _mm_and_si128(
-        _mm_andnot_si128(
-            _mm_cmpeq_epi32(d, db),
-            _mm_or_si128(
-                _mm_andnot_si128(_mm_cmpgt_epi32(d, zeroI),
-                                 _mm_xor_si128(_mm_cmpgt_epi32(zeroI, db), _mm_set1_epi32(-1))),
-                _mm_andnot_si128(_mm_cmpgt_epi32(zeroI, d),
-                                 _mm_xor_si128(_mm_cmpgt_epi32(db, zeroI), _mm_set1_epi32(-1))))),
-        three);
-    const unsigned edges = unsigned(_mm_movemask_ps(_mm_castsi128_ps(meets)));
-    if (edges == 0) return 0;
-    const __m128 tt = _mm_div_ps(_mm_cvtepi32_ps(d), _mm_cvtepi32_ps(_mm_sub_epi32(d, db)));
-    const __m128 pa0 = _mm_add_ps(
-        alpha,
-        _mm_mul_ps(tt, _mm_sub_ps(_mm_shuffle_ps(alpha, alpha, _MM_SHUFFLE(3, 0, 2, 1)), alpha)));
-    const __m128 pb0 = _mm_add_ps(
-        beta,
-        _mm_mul_ps(tt, _mm_sub_ps(_mm_shuffle_ps(beta, beta, _MM_SHUFFLE(3, 0, 2, 1)), beta)));
-    // Edges that miss the line take the first one that meets it.
-    const __m128i pick =
-        _mm_blendv_epi8(_mm_set1_epi32(__builtin_ctz(edges)), _mm_setr_epi32(0, 1, 2, 3), meets);
-    const __m128 pa = _mm_permutevar_ps(pa0, pick), pb = _mm_permutevar_ps(pb0, pick);
-    // |alpha| + scale and |beta| over the vertices: the magnitudes the rounding is relative to.
-    const __m128 absMask4 = _mm_set1_ps(-0.0f);
-    const __m128 fixed = _mm_add_ps(_mm_andnot_ps(absMask4, alpha), scale),
-                 shear = _mm_andnot_ps(absMask4, beta);
-    const __m128 mags01 = _mm_unpacklo_ps(fixed, shear);  // vertices 0 and 1, then vertex 2:
-    const __m128 mags2 =
-        _mm_and_ps(_mm_castsi128_ps(_mm_setr_epi32(-1, -1, 0, 0)), _mm_unpackhi_ps(fixed, shear));
-    const __m128 mags = _mm_max_ps(_mm_max_ps(mags01, _mm_movehl_ps(mags01, mags01)), mags2);
-    const float fixedMag = _mm_cvtss_f32(mags);
-    const float shearMag = _mm_cvtss_f32(_mm_shuffle_ps(mags, mags, _MM_SHUFFLE(1, 1, 1, 1)));
-    // Slack: snapping's half unit and more (2/256 px), float rounding of every step (relative
-    // 2^-24 each; 2^-16 of the largest magnitude is far more than they add up to).
-    const __m256 slack0 = _mm256_set1_ps(2.0f / float(kSubpixel) + fixedMag * (1.0f / 65536.0f));
-    const __m256 slack1 = _mm256_set1_ps(shearMag * (1.0f / 65536.0f));
-    const __m256 A[3] = {_mm256_broadcastss_ps(pa),
-                         _mm256_broadcastss_ps(_mm_shuffle_ps(pa, pa, _MM_SHUFFLE(1, 1, 1, 1))),
-                         _mm256_broadcastss_ps(_mm_shuffle_ps(pa, pa, _MM_SHUFFLE(2, 2, 2, 2)))};
-    const __m256 B[3] = {_mm256_broadcastss_ps(pb),
-                         _mm256_broadcastss_ps(_mm_shuffle_ps(pb, pb, _MM_SHUFFLE(1, 1, 1, 1))),
-                         _mm256_broadcastss_ps(_mm_shuffle_ps(pb, pb, _MM_SHUFFLE(2, 2, 2, 2)))};
+    RowSpan r;
+    if (!rowSpan(ys, t, width, r)) return 0;
+    const __m256 slack0 = _mm256_set1_ps(r.slack0), slack1 = _mm256_set1_ps(r.slack1);
+    const __m256 A[3] = {_mm256_set1_ps(lane<0>(r.pa)), _mm256_set1_ps(lane<1>(r.pa)),
+                         _mm256_set1_ps(lane<2>(r.pa))};
+    const __m256 B[3] = {_mm256_set1_ps(lane<0>(r.pb)), _mm256_set1_ps(lane<1>(r.pb)),
+                         _mm256_set1_ps(lane<2>(r.pb))};
     const __m256 absMask = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps(),
                  lastCol = _mm256_set1_ps(float(width - 1));
     int m = 0;

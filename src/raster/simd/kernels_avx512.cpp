@@ -4,6 +4,7 @@
 
 #include "../cpu.h"
 #include "kernels_tail.h"
+#include "row_span.h"
 
 namespace mvr::raster::detail {
 
@@ -76,14 +77,32 @@ void projectX(const float* x, const float* w, const float* q, std::size_t n, flo
     projectXTail(x + i, w + i, q + i, n - i, width, code + i, sx + i);
 }
 
-/// The coverage setup of 16 lanes — setupViewsTail's integer operations — from each lane's snapped
-/// x of the three vertices, snapped y and row range (broadcast by setupViews: one triangle's
-/// views; loaded per lane by setupLanes: (triangle, view) pairs). Writes columns [k, k + 16) of
-/// `o` (whole registers: lanes past the live ones are never read) and returns the live lanes
-/// whose mask is not 0.
-inline std::uint32_t setupCore(__m512i X0, __m512i X1, __m512i X2, const __m512i Y[3],
-                               __m512i rowMin, __m512i rowMax, __mmask16 live, int width,
-                               ViewsSetup& o, int k) {
+inline __mmask16 liveMask(int n, int k) {
+    return n - k >= 16 ? __mmask16(0xffff) : __mmask16((1u << (n - k)) - 1u);
+}
+
+/// The x extent's pixel-center columns of 16 lanes (setupViewsTail's colMin / colMax).
+inline void columnRange(__m512i xlo, __m512i xhi, int width, __m512i& colMin, __m512i& colMax) {
+    const __m512i half = _mm512_set1_epi32(kHalfSubpixel);
+    colMin = _mm512_max_epi32(_mm512_setzero_si512(),
+                              _mm512_srai_epi32(_mm512_add_epi32(_mm512_sub_epi32(xlo, half),
+                                                                 _mm512_set1_epi32(kSubpixel - 1)),
+                                                kSubpixelBits));
+    colMax = _mm512_min_epi32(_mm512_set1_epi32(width - 1),
+                              _mm512_srai_epi32(_mm512_sub_epi32(xhi, half), kSubpixelBits));
+}
+
+/// setupCore's results for 16 lanes, in registers (drawSheared shades from them directly).
+struct Cover16 {
+    __m512i mask, colMin, area, e[3], sx[3], sy[3], bias[3];
+};
+
+/// setupCore's operations without the stores. OneRow: every lane's rowMax == rowMin (sy is not
+/// computed: no lane has a second row of centers).
+template <bool OneRow>
+inline Cover16 cover16(__m512i X0, __m512i X1, __m512i X2, const __m512i Y[3], __m512i rowMin,
+                       __m512i rowMax, int width) {
+    Cover16 c{};
     const __m512i zero = _mm512_setzero_si512(), one = _mm512_set1_epi32(1);
     const __m512i half = _mm512_set1_epi32(kHalfSubpixel);
     const __mmask16 tall = _mm512_cmpgt_epi32_mask(rowMax, rowMin);
@@ -95,25 +114,19 @@ inline std::uint32_t setupCore(__m512i X0, __m512i X1, __m512i X2, const __m512i
     const __m512i py0 = _mm512_add_epi32(_mm512_slli_epi32(rowMin, kSubpixelBits), half);
     const __m512i yr[3] = {_mm512_sub_epi32(Y[0], py0), _mm512_sub_epi32(Y[1], py0),
                            _mm512_sub_epi32(Y[2], py0)};
-    // setupY's Δy: dy[0] = y2 − y1, dy[1] = y0 − y2, dy[2] = y1 − y0.
     const __m512i dyShared[3] = {_mm512_sub_epi32(Y[2], Y[1]), _mm512_sub_epi32(Y[0], Y[2]),
                                  _mm512_sub_epi32(Y[1], Y[0])};
     const __m512i yr20 = _mm512_sub_epi32(yr[2], yr[0]);
     const __m512i xlo = _mm512_min_epi32(X0, _mm512_min_epi32(X1, X2));
     const __m512i xhi = _mm512_max_epi32(X0, _mm512_max_epi32(X1, X2));
-    const __m512i colMin = _mm512_max_epi32(
-        zero, _mm512_srai_epi32(
-                  _mm512_add_epi32(_mm512_sub_epi32(xlo, half), _mm512_set1_epi32(kSubpixel - 1)),
-                  kSubpixelBits));
-    const __m512i colMax =
-        _mm512_min_epi32(_mm512_set1_epi32(width - 1),
-                         _mm512_srai_epi32(_mm512_sub_epi32(xhi, half), kSubpixelBits));
-    const __mmask16 empty = _mm512_cmpgt_epi32_mask(colMin, colMax);
-    const __m512i cols = _mm512_sub_epi32(colMax, colMin);
+    __m512i colMax;
+    columnRange(xlo, xhi, width, c.colMin, colMax);
+    const __mmask16 empty = _mm512_cmpgt_epi32_mask(c.colMin, colMax);
+    const __m512i cols = _mm512_sub_epi32(colMax, c.colMin);
     const __mmask16 small =
         __mmask16(rowsSmall & _mm512_cmple_epi32_mask(cols, one) &
                   _mm512_cmplt_epi32_mask(_mm512_sub_epi32(xhi, xlo), span) & ~empty);
-    const __m512i px0 = _mm512_add_epi32(_mm512_slli_epi32(colMin, kSubpixelBits), half);
+    const __m512i px0 = _mm512_add_epi32(_mm512_slli_epi32(c.colMin, kSubpixelBits), half);
     const __m512i xr[3] = {_mm512_sub_epi32(X0, px0), _mm512_sub_epi32(X1, px0),
                            _mm512_sub_epi32(X2, px0)};
     __m512i dx[3] = {_mm512_sub_epi32(xr[2], xr[1]), _mm512_sub_epi32(xr[0], xr[2]),
@@ -122,7 +135,7 @@ inline std::uint32_t setupCore(__m512i X0, __m512i X1, __m512i X2, const __m512i
         _mm512_sub_epi32(_mm512_mullo_epi32(dx[2], yr20),
                          _mm512_mullo_epi32(dyShared[2], _mm512_sub_epi32(xr[2], xr[0])));
     const __m512i flip = _mm512_srai_epi32(area, 31);
-    area = _mm512_sub_epi32(_mm512_xor_si512(area, flip), flip);
+    c.area = _mm512_sub_epi32(_mm512_xor_si512(area, flip), flip);
     __m512i any[4] = {zero, zero, zero, zero};
     for (int i = 0; i < 3; ++i) {
         const int a = i == 2 ? 0 : i + 1;
@@ -131,25 +144,24 @@ inline std::uint32_t setupCore(__m512i X0, __m512i X1, __m512i X2, const __m512i
         const __mmask16 tl =
             _mm512_cmplt_epi32_mask(dy, zero) |
             (_mm512_cmpeq_epi32_mask(dy, zero) & _mm512_cmplt_epi32_mask(dx[i], zero));
-        const __m512i bias = _mm512_maskz_mov_epi32(tl, one);
-        const __m512i e = _mm512_add_epi32(
+        c.bias[i] = _mm512_maskz_mov_epi32(tl, one);
+        c.e[i] = _mm512_add_epi32(
             _mm512_sub_epi32(_mm512_mullo_epi32(dy, xr[a]), _mm512_mullo_epi32(dx[i], yr[a])),
-            bias);
-        const __m512i sx = _mm512_slli_epi32(_mm512_sub_epi32(zero, dy), kSubpixelBits);
-        const __m512i sy = _mm512_slli_epi32(dx[i], kSubpixelBits);
-        _mm512_storeu_si512(o.e[i] + k, e);
-        _mm512_storeu_si512(o.sx[i] + k, sx);
-        _mm512_storeu_si512(o.sy[i] + k, sy);
-        _mm512_storeu_si512(o.bias[i] + k, bias);
-        const __m512i em1 = _mm512_sub_epi32(e, one);
+            c.bias[i]);
+        c.sx[i] = _mm512_slli_epi32(_mm512_sub_epi32(zero, dy), kSubpixelBits);
+        const __m512i em1 = _mm512_sub_epi32(c.e[i], one);
         any[0] = _mm512_or_si512(any[0], em1);
-        any[1] = _mm512_or_si512(any[1], _mm512_add_epi32(em1, sx));
-        any[2] = _mm512_or_si512(any[2], _mm512_add_epi32(em1, sy));
-        any[3] = _mm512_or_si512(any[3], _mm512_add_epi32(_mm512_add_epi32(em1, sx), sy));
+        any[1] = _mm512_or_si512(any[1], _mm512_add_epi32(em1, c.sx[i]));
+        if constexpr (!OneRow) {
+            c.sy[i] = _mm512_slli_epi32(dx[i], kSubpixelBits);
+            any[2] = _mm512_or_si512(any[2], _mm512_add_epi32(em1, c.sy[i]));
+            any[3] =
+                _mm512_or_si512(any[3], _mm512_add_epi32(_mm512_add_epi32(em1, c.sx[i]), c.sy[i]));
+        }
     }
-    const __mmask16 wide = _mm512_cmpgt_epi32_mask(colMax, colMin);
+    const __mmask16 wide = _mm512_cmpgt_epi32_mask(colMax, c.colMin);
     __m512i mask = zero;
-    for (int j = 0; j < 4; ++j) {
+    for (int j = 0; j < (OneRow ? 2 : 4); ++j) {
         const __mmask16 valid = j == 0   ? __mmask16(0xffff)
                                 : j == 1 ? wide
                                 : j == 2 ? tall
@@ -157,13 +169,31 @@ inline std::uint32_t setupCore(__m512i X0, __m512i X1, __m512i X2, const __m512i
         const __mmask16 in = _mm512_cmpge_epi32_mask(any[j], zero) & valid;
         mask = _mm512_mask_or_epi32(mask, in, mask, _mm512_set1_epi32(1 << j));
     }
-    mask = _mm512_maskz_mov_epi32(_mm512_cmpneq_epi32_mask(area, zero), mask);
+    mask = _mm512_maskz_mov_epi32(_mm512_cmpneq_epi32_mask(c.area, zero), mask);
     mask = _mm512_mask_mov_epi32(mask, __mmask16(~small & ~empty), _mm512_set1_epi32(-1));
-    mask = _mm512_maskz_mov_epi32(__mmask16(~empty), mask);
-    _mm512_storeu_si512(o.mask + k, mask);
-    _mm512_storeu_si512(o.colMin + k, colMin);
-    _mm512_storeu_si512(o.area + k, area);
-    return std::uint32_t(_mm512_test_epi32_mask(mask, mask) & live);
+    c.mask = _mm512_maskz_mov_epi32(__mmask16(~empty), mask);
+    return c;
+}
+
+/// The coverage setup of 16 lanes — setupViewsTail's integer operations — from each lane's snapped
+/// x of the three vertices, snapped y and row range (broadcast by setupViews: one triangle's
+/// views; loaded per lane by setupLanes: (triangle, view) pairs). Writes columns [k, k + 16) of
+/// `o` (whole registers: lanes past the live ones are never read) and returns the live lanes
+/// whose mask is not 0.
+inline std::uint32_t setupCore(__m512i X0, __m512i X1, __m512i X2, const __m512i Y[3],
+                               __m512i rowMin, __m512i rowMax, __mmask16 live, int width,
+                               ViewsSetup& o, int k) {
+    const Cover16 c = cover16<false>(X0, X1, X2, Y, rowMin, rowMax, width);
+    for (int i = 0; i < 3; ++i) {
+        _mm512_storeu_si512(o.e[i] + k, c.e[i]);
+        _mm512_storeu_si512(o.sx[i] + k, c.sx[i]);
+        _mm512_storeu_si512(o.sy[i] + k, c.sy[i]);
+        _mm512_storeu_si512(o.bias[i] + k, c.bias[i]);
+    }
+    _mm512_storeu_si512(o.mask + k, c.mask);
+    _mm512_storeu_si512(o.colMin + k, c.colMin);
+    _mm512_storeu_si512(o.area + k, c.area);
+    return std::uint32_t(_mm512_test_epi32_mask(c.mask, c.mask) & live);
 }
 
 /// setupViews, 16 views per pass (the scalar reference: setupViewsTail).
@@ -175,7 +205,7 @@ std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::in
     const __m512i rowMin = _mm512_set1_epi32(ys.rowMin), rowMax = _mm512_set1_epi32(ys.rowMax);
     std::uint64_t lanes = 0;
     for (int k = 0; k < n; k += 16) {
-        const __mmask16 live = n - k >= 16 ? __mmask16(0xffff) : __mmask16((1u << (n - k)) - 1u);
+        const __mmask16 live = liveMask(n, k);
         lanes |= std::uint64_t(setupCore(
                      _mm512_maskz_loadu_epi32(live, x0 + k), _mm512_maskz_loadu_epi32(live, x1 + k),
                      _mm512_maskz_loadu_epi32(live, x2 + k), Y, rowMin, rowMax, live, width, o, k))
@@ -184,51 +214,76 @@ std::uint64_t setupViews(const YSetup& ys, const std::int32_t* x0, const std::in
     return lanes;
 }
 
-/// setupSheared: x derived 16 views per pass (shearClipWc, snap: the scalar order), the views
-/// with a column packed with vpcompressd (register form), then setupCore 16 packed views a pass.
-std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
-                           int width, ViewsSetup& o, ViewsX& xs) {
-    const __m512 wd = _mm512_set1_ps(float(width));
-    const __m512i half = _mm512_set1_epi32(kHalfSubpixel);
-    const __m512 cx[3] = {_mm512_set1_ps(t.cx[0]), _mm512_set1_ps(t.cx[1]),
-                          _mm512_set1_ps(t.cx[2])};
-    const __m512 wc[3] = {_mm512_set1_ps(t.wc[0]), _mm512_set1_ps(t.wc[1]),
-                          _mm512_set1_ps(t.wc[2])};
-    const __m512 q[3] = {_mm512_set1_ps(t.q[0]), _mm512_set1_ps(t.q[1]), _mm512_set1_ps(t.q[2])};
-    const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-    int m = 0;
-    for (int k = 0; k < n; k += 16) {
-        const __mmask16 live = n - k >= 16 ? __mmask16(0xffff) : __mmask16((1u << (n - k)) - 1u);
-        const __m512 s = _mm512_maskz_loadu_ps(live, shears + k);
-        __m512i X[3];
+/// A sheared row's snapped x per view from its shear s (setupSheared's operations).
+struct ShearX16 {
+    __m512 cx[3], wc[3], q[3], wd;
+    ShearX16(const ShearedTri& t, int width) : wd(_mm512_set1_ps(float(width))) {
+        for (int j = 0; j < 3; ++j) {
+            cx[j] = _mm512_set1_ps(t.cx[j]);
+            wc[j] = _mm512_set1_ps(t.wc[j]);
+            q[j] = _mm512_set1_ps(t.q[j]);
+        }
+    }
+    void operator()(__m512 s, __m512i X[3]) const {
         for (int j = 0; j < 3; ++j)
             X[j] = snap(_mm512_add_ps(cx[j], _mm512_mul_ps(s, wc[j])), q[j], wd);
-        // A pixel-center column (setupCore's colMin <= colMax)?
-        const __m512i xlo = _mm512_min_epi32(X[0], _mm512_min_epi32(X[1], X[2]));
-        const __m512i xhi = _mm512_max_epi32(X[0], _mm512_max_epi32(X[1], X[2]));
-        const __m512i colMin = _mm512_max_epi32(
-            _mm512_setzero_si512(),
-            _mm512_srai_epi32(
-                _mm512_add_epi32(_mm512_sub_epi32(xlo, half), _mm512_set1_epi32(kSubpixel - 1)),
-                kSubpixelBits));
-        const __m512i colMax =
-            _mm512_min_epi32(_mm512_set1_epi32(width - 1),
-                             _mm512_srai_epi32(_mm512_sub_epi32(xhi, half), kSubpixelBits));
-        const __mmask16 keep = _mm512_cmple_epi32_mask(colMin, colMax) & live;
-        if (!keep) continue;
-        for (int j = 0; j < 3; ++j)
-            _mm512_storeu_si512(xs.x[j] + m, _mm512_maskz_compress_epi32(keep, X[j]));
-        const __m512i idx = _mm512_add_epi32(iota, _mm512_set1_epi32(k));
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(xs.view + m),
-                         _mm512_cvtepi32_epi8(_mm512_maskz_compress_epi32(keep, idx)));
-        m += __builtin_popcount(unsigned(keep));
     }
+};
+
+inline std::uint32_t culledBits(const std::uint64_t* culled, int k) {
+    return culled ? std::uint32_t(culled[k >> 6] >> (k & 63)) & 0xffffu : 0u;
+}
+
+/// The first `count` lanes of v stored at p (a masked store: nothing past them is written).
+inline void storeFirst(std::int32_t* p, int count, __m512i v) {
+    _mm512_mask_storeu_epi32(p, __mmask16((1u << count) - 1u), v);
+}
+
+/// The positions k + lane of the lanes of `keep`, as bytes at view[0, popcount) (16 written).
+inline void packViews16(__mmask16 keep, int k, std::uint8_t* view) {
+    const __m512i idx =
+        _mm512_add_epi32(_mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
+                         _mm512_set1_epi32(k));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(view),
+                     _mm512_cvtepi32_epi8(_mm512_maskz_compress_epi32(keep, idx)));
+}
+
+/// The AVX2 packSheared with 16 lanes: the views with a pixel-center column and not culled,
+/// their x packed in view order into xs.
+inline int packSheared16(const ShearedTri& t, const float* shears, int n,
+                         const std::uint64_t* culled, int width, ViewsX& xs) {
+    const ShearX16 deriveX(t, width);
+    int m = 0;
+    for (int k = 0; k < n; k += 16) {
+        const __mmask16 live = liveMask(n, k);
+        __m512i X[3];
+        deriveX(_mm512_maskz_loadu_ps(live, shears + k), X);
+        __m512i colMin, colMax;
+        columnRange(_mm512_min_epi32(X[0], _mm512_min_epi32(X[1], X[2])),
+                    _mm512_max_epi32(X[0], _mm512_max_epi32(X[1], X[2])), width, colMin, colMax);
+        const __mmask16 keep =
+            __mmask16(_mm512_cmple_epi32_mask(colMin, colMax) & live & ~culledBits(culled, k));
+        if (!keep) continue;
+        const int count = __builtin_popcount(unsigned(keep));
+        for (int j = 0; j < 3; ++j)
+            storeFirst(xs.x[j] + m, count, _mm512_maskz_compress_epi32(keep, X[j]));
+        packViews16(keep, k, xs.view + m);
+        m += count;
+    }
+    return m;
+}
+
+/// setupSheared: x derived 16 views per pass and the views with a column packed
+/// (packSheared16), then setupCore 16 packed views a pass.
+std::uint64_t setupSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
+                           int width, ViewsSetup& o, ViewsX& xs) {
+    const int m = packSheared16(t, shears, n, nullptr, width, xs);
     const __m512i Y[3] = {_mm512_set1_epi32(ys.y[0]), _mm512_set1_epi32(ys.y[1]),
                           _mm512_set1_epi32(ys.y[2])};
     const __m512i rowMin = _mm512_set1_epi32(ys.rowMin), rowMax = _mm512_set1_epi32(ys.rowMax);
     std::uint64_t lanes = 0;
     for (int i = 0; i < m; i += 16) {
-        const __mmask16 live = m - i >= 16 ? __mmask16(0xffff) : __mmask16((1u << (m - i)) - 1u);
+        const __mmask16 live = liveMask(m, i);
         lanes |= std::uint64_t(setupCore(
                      _mm512_loadu_si512(xs.x[0] + i), _mm512_loadu_si512(xs.x[1] + i),
                      _mm512_loadu_si512(xs.x[2] + i), Y, rowMin, rowMax, live, width, o, i))
@@ -449,17 +504,214 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
     specularPowTail(x + i, n - i, s, out + i);
 }
 
+/// The AVX2 packOnRow with 16 lanes (the same estimate of each view's span on the row's
+/// center line, the same slack): the shears of the views that may cover a center of the row
+/// into ps, their positions into xs.view.
+template <bool Culled>
+inline int packOnRow16(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
+                       const std::uint64_t* culled, int width, float* ps, ViewsX& xs) {
+    RowSpan r;
+    if (!rowSpan(ys, t, width, r)) return 0;
+    const __m512 slack0 = _mm512_set1_ps(r.slack0), slack1 = _mm512_set1_ps(r.slack1);
+    const __m512 A[3] = {_mm512_set1_ps(lane<0>(r.pa)), _mm512_set1_ps(lane<1>(r.pa)),
+                         _mm512_set1_ps(lane<2>(r.pa))};
+    const __m512 B[3] = {_mm512_set1_ps(lane<0>(r.pb)), _mm512_set1_ps(lane<1>(r.pb)),
+                         _mm512_set1_ps(lane<2>(r.pb))};
+    const __m512 zero = _mm512_setzero_ps(), lastCol = _mm512_set1_ps(float(width - 1));
+    int m = 0;
+    for (int k = 0; k < n; k += 16) {
+        const __mmask16 live = liveMask(n, k);
+        const __m512 s = _mm512_maskz_loadu_ps(live, shears + k);
+        const __m512 e0 = _mm512_fmadd_ps(s, B[0], A[0]), e1 = _mm512_fmadd_ps(s, B[1], A[1]),
+                     e2 = _mm512_fmadd_ps(s, B[2], A[2]);
+        const __m512 slack = _mm512_fmadd_ps(_mm512_abs_ps(s), slack1, slack0);
+        const __m512 lo =
+            _mm512_max_ps(zero, _mm512_sub_ps(_mm512_min_ps(e0, _mm512_min_ps(e1, e2)), slack));
+        const __m512 c = _mm512_min_ps(
+            lastCol,
+            _mm512_roundscale_ps(_mm512_add_ps(_mm512_max_ps(e0, _mm512_max_ps(e1, e2)), slack),
+                                 _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC));
+        __mmask16 keep = _mm512_cmp_ps_mask(lo, c, _CMP_LE_OQ) & live;
+        if constexpr (Culled) keep &= __mmask16(~culledBits(culled, k));
+        if (!keep) continue;
+        _mm512_storeu_ps(ps + m, _mm512_maskz_compress_ps(keep, s));
+        packViews16(keep, k, xs.view + m);
+        m += __builtin_popcount(unsigned(keep));
+    }
+    return m;
+}
+
+/// A triangle's fragment inputs broadcast to 16 lanes.
+struct LaneFragment16 {
+    __m512 z[3], q[3], a[3][3];
+    __m512i flatColor, top, W;
+    bool flat;
+};
+
+inline LaneFragment16 laneFragment16(const FragmentTri& tri, bool flat, int rowMin, int width,
+                                     int height) {
+    LaneFragment16 f;
+    for (int j = 0; j < 3; ++j) {
+        f.z[j] = _mm512_set1_ps(tri.z[j]);
+        f.q[j] = _mm512_set1_ps(tri.q[j]);
+        for (int c = 0; c < 3; ++c) f.a[j][c] = _mm512_set1_ps(flat ? 0.0f : tri.attr[j][c]);
+    }
+    f.flatColor = _mm512_set1_epi32(std::int32_t(tri.flat));
+    f.top = _mm512_set1_epi32(height - 1 - rowMin), f.W = _mm512_set1_epi32(width);
+    f.flat = flat;
+    return f;
+}
+
+/// The AVX2 shadeGroup with 16 lanes: per pass the lowest covered center of every lane,
+/// FragmentSink's operations, the depth gathered from each lane's view (masked: only the live
+/// lanes' slots are read), the passing fragments written lane by lane.
+template <bool OneRow>
+inline void shadeGroup16(const LaneFragment16& f, const Cover16& c, __m512i rem, __mmask16 live,
+                         const std::uint8_t* slot, float* const* depth,
+                         std::uint32_t* const* color) {
+    const __m512i zero = _mm512_setzero_si512(), one = _mm512_set1_epi32(1);
+    const __m512 fzero = _mm512_setzero_ps(), fone = _mm512_set1_ps(1.0f);
+    const __m512i slots =
+        _mm512_cvtepu8_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(slot)));
+    const auto* depthTable = reinterpret_cast<const long long*>(depth);
+    const __m512i dLo = _mm512_mask_i32gather_epi64(zero, __mmask8(live),
+                                                    _mm512_castsi512_si256(slots), depthTable, 8);
+    const __m512i dHi = _mm512_mask_i32gather_epi64(
+        zero, __mmask8(live >> 8), _mm512_extracti64x4_epi64(slots, 1), depthTable, 8);
+    const __m512 invArea = _mm512_div_ps(fone, _mm512_cvtepi32_ps(c.area));
+    for (__mmask16 todo = _mm512_test_epi32_mask(rem, rem); todo;
+         todo = _mm512_test_epi32_mask(rem, rem)) {
+        const __m512i low = _mm512_and_si512(rem, _mm512_sub_epi32(zero, rem));
+        rem = _mm512_xor_si512(rem, low);
+        const __mmask16 active = todo;  // low > 0 exactly where rem was not 0
+        const __mmask16 cx = _mm512_test_epi32_mask(low, _mm512_set1_epi32(0xA));
+        const __mmask16 cy =
+            OneRow ? __mmask16(0) : _mm512_test_epi32_mask(low, _mm512_set1_epi32(0xC));
+        __m512 l[3];
+        for (int i = 0; i < 3; ++i) {
+            __m512i ei = _mm512_mask_add_epi32(c.e[i], cx, c.e[i], c.sx[i]);
+            if constexpr (!OneRow) ei = _mm512_mask_add_epi32(ei, cy, ei, c.sy[i]);
+            ei = _mm512_sub_epi32(ei, c.bias[i]);
+            l[i] = _mm512_mul_ps(_mm512_cvtepi32_ps(ei), invArea);
+        }
+        const __m512 zf =
+            _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(l[0], f.z[0]), _mm512_mul_ps(l[1], f.z[1])),
+                          _mm512_mul_ps(l[2], f.z[2]));
+        const __m512i x = _mm512_mask_add_epi32(c.colMin, cx, c.colMin, one);
+        const __m512i index = _mm512_add_epi32(
+            _mm512_mullo_epi32(_mm512_mask_sub_epi32(f.top, cy, f.top, one), f.W), x);
+        const __m512i offLo =
+            _mm512_slli_epi64(_mm512_cvtepi32_epi64(_mm512_castsi512_si256(index)), 2);
+        const __m512i offHi =
+            _mm512_slli_epi64(_mm512_cvtepi32_epi64(_mm512_extracti64x4_epi64(index, 1)), 2);
+        const __m256 gLo = _mm512_mask_i64gather_ps(_mm256_setzero_ps(), __mmask8(active),
+                                                    _mm512_add_epi64(dLo, offLo), nullptr, 1);
+        const __m256 gHi = _mm512_mask_i64gather_ps(_mm256_setzero_ps(), __mmask8(active >> 8),
+                                                    _mm512_add_epi64(dHi, offHi), nullptr, 1);
+        const __m512 d = _mm512_insertf32x8(_mm512_castps256_ps512(gLo), gHi, 1);
+        const unsigned pass = _mm512_mask_cmp_ps_mask(active, zf, d, _CMP_LT_OQ);
+        if (!pass) continue;
+        __m512i packed = f.flatColor;
+        if (!f.flat) {
+            const __m512 p0 = _mm512_mul_ps(l[0], f.q[0]), p1 = _mm512_mul_ps(l[1], f.q[1]),
+                         p2 = _mm512_mul_ps(l[2], f.q[2]);
+            const __m512 inv = _mm512_div_ps(fone, _mm512_add_ps(_mm512_add_ps(p0, p1), p2));
+            packed = _mm512_set1_epi32(std::int32_t(0xff000000u));
+            for (int ch = 0; ch < 3; ++ch) {
+                const __m512 v = _mm512_mul_ps(
+                    _mm512_add_ps(
+                        _mm512_add_ps(_mm512_mul_ps(p0, f.a[0][ch]), _mm512_mul_ps(p1, f.a[1][ch])),
+                        _mm512_mul_ps(p2, f.a[2][ch])),
+                    inv);
+                // quantizeUnorm8: std::clamp(v, 0, 1) · 255 + 0.5, truncated to 8 bits.
+                __m512 t = _mm512_mask_mov_ps(v, _mm512_cmp_ps_mask(v, fzero, _CMP_LT_OQ), fzero);
+                t = _mm512_mask_mov_ps(t, _mm512_cmp_ps_mask(fone, t, _CMP_LT_OQ), fone);
+                t = _mm512_add_ps(_mm512_mul_ps(t, _mm512_set1_ps(255.0f)), _mm512_set1_ps(0.5f));
+                const __m512i u = _mm512_and_si512(_mm512_cvttps_epi32(t), _mm512_set1_epi32(0xff));
+                packed = _mm512_or_si512(packed, _mm512_slli_epi32(u, 8 * ch));
+            }
+        }
+        alignas(64) float zs[16];
+        alignas(64) std::int32_t is[16], cs[16];
+        _mm512_store_ps(zs, zf);
+        _mm512_store_si512(is, index);
+        _mm512_store_si512(cs, packed);
+        for (unsigned m = pass; m; m &= m - 1) {
+            const int k = __builtin_ctz(m);
+            depth[slot[k]][is[k]] = zs[k];
+            color[slot[k]][is[k]] = std::uint32_t(cs[k]);
+        }
+    }
+}
+
+/// The AVX2 drawPacked with 16 lanes: per 16 packed views cover16 and shadeGroup16; the views
+/// left to the general walk moved to the front of xs.
+template <bool OneRow>
+int drawPacked16(const YSetup& ys, int m, int width, int height, const FragmentTri& tri, bool flat,
+                 float* const* depth, std::uint32_t* const* color, ViewsX& xs,
+                 const ShearX16* deriveX = nullptr, const float* ps = nullptr) {
+    const __m512i zero = _mm512_setzero_si512();
+    const __m512i Y[3] = {_mm512_set1_epi32(ys.y[0]), _mm512_set1_epi32(ys.y[1]),
+                          _mm512_set1_epi32(ys.y[2])};
+    const __m512i rowMin = _mm512_set1_epi32(ys.rowMin), rowMax = _mm512_set1_epi32(ys.rowMax);
+    LaneFragment16 f;
+    bool haveFragment = false;
+    int general = 0;
+    for (int i = 0; i < m; i += 16) {
+        const __mmask16 live = liveMask(m, i);
+        __m512i X[3];
+        if (deriveX) {
+            (*deriveX)(_mm512_maskz_loadu_ps(live, ps + i), X);
+        } else {
+            for (int j = 0; j < 3; ++j) X[j] = _mm512_maskz_loadu_epi32(live, xs.x[j] + i);
+        }
+        const Cover16 c = cover16<OneRow>(X[0], X[1], X[2], Y, rowMin, rowMax, width);
+        const __mmask16 negative = _mm512_cmplt_epi32_mask(c.mask, zero) & live;
+        const __mmask16 drawn = __mmask16(live & ~negative);
+        const __m512i rem = _mm512_maskz_mov_epi32(drawn, c.mask);
+        if (_mm512_test_epi32_mask(rem, rem)) {
+            if (!haveFragment) f = laneFragment16(tri, flat, ys.rowMin, width, height);
+            haveFragment = true;
+            shadeGroup16<OneRow>(f, c, rem, drawn, xs.view + i, depth, color);
+        }
+        if (!negative) continue;
+        // General lanes to the front (general <= i: positions already read).
+        const int count = __builtin_popcount(unsigned(negative));
+        for (int j = 0; j < 3; ++j)
+            storeFirst(xs.x[j] + general, count, _mm512_maskz_compress_epi32(negative, X[j]));
+        const __m512i views =
+            _mm512_cvtepu8_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(xs.view + i)));
+        _mm_mask_storeu_epi8(xs.view + general, __mmask16((1u << count) - 1u),
+                             _mm512_cvtepi32_epi8(_mm512_maskz_compress_epi32(negative, views)));
+        general += count;
+    }
+    return general;
+}
+
+/// drawSheared, 16 views per register (the AVX2 kernel's structure and operations).
+int drawSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
+                const std::uint64_t* culled, int width, int height, const FragmentTri& tri,
+                bool flat, float* const* depth, std::uint32_t* const* color, ViewsX& xs) {
+    if (ys.rowMax == ys.rowMin) {
+        alignas(64) float ps[kMaxViews + 16];  // + room for a whole register's store
+        const int m = culled ? packOnRow16<true>(ys, t, shears, n, culled, width, ps, xs)
+                             : packOnRow16<false>(ys, t, shears, n, nullptr, width, ps, xs);
+        if (m == 0) return 0;
+        const ShearX16 deriveX(t, width);
+        return drawPacked16<true>(ys, m, width, height, tri, flat, depth, color, xs, &deriveX, ps);
+    }
+    const int m = packSheared16(t, shears, n, culled, width, xs);
+    return m == 0 ? 0 : drawPacked16<false>(ys, m, width, height, tri, flat, depth, color, xs);
+}
+
 }  // namespace
 
 const Kernels* avx512Kernels() {
-    // shadeLanes and drawSheared: the AVX2 kernels (8 lanes of fragments; their gathers of
-    // view pointers serve AVX-512 CPUs too). drawSheared against this table's 16-lane
-    // setupSheared + shadeLanes on a Sapphire Rapids host: 100 views 142 -> 104 ms
-    // (src/raster/README.md).
+    // shadeLanes: the AVX2 kernel (its 8-lane gathers of view pointers serve AVX-512 CPUs too).
     static const Kernels k{&projectYZW,    &projectX,        &setupViews,
                            &shadeVertices, &transformPoints, &specularPowN,
                            &setupLanes,    &setupSheared,    avx2Kernels()->shadeLanes,
-                           avx2Kernels()->drawSheared};
+                           &drawSheared};
     return &k;
 }
 
