@@ -1,6 +1,8 @@
 #include "frame.h"
 
-#if defined(__SSE2__)
+#if defined(__x86_64__)
+#include <immintrin.h>
+#elif defined(__SSE2__)
 #include <emmintrin.h>
 #endif
 
@@ -67,11 +69,14 @@ void Bins::reset(std::uint32_t triangleCount, int bands) {
 
 namespace {
 
-/// n values (4 bytes each) from src to dst, the 16-byte-aligned part of dst with streaming
-/// stores.
-template <typename T>
-void streamCopy(const T* src, T* dst, std::size_t n) {
-    static_assert(sizeof(T) == 4);
+/// n values (4 bytes each) from src to dst, the part of dst aligned to whole registers with
+/// streaming stores (non-temporal: the lines go to memory without being read first or kept in
+/// the cache). With AVX-512 a store writes a whole line (against 16-byte stores, Sapphire
+/// Rapids, 420x560, 3 rounds: 45 views 47.2 -> 46.5 ms, 100 views 81.2 -> 78.7 ms; 32-byte AVX2
+/// stores were no faster than 16-byte ones there, 48.8 / 82.8 ms).
+using StreamCopyFn = void (*)(const std::uint32_t* src, std::uint32_t* dst, std::size_t n);
+
+void streamCopy16(const std::uint32_t* src, std::uint32_t* dst, std::size_t n) {
     std::size_t i = 0;
 #if defined(__SSE2__)
     for (; i < n && (reinterpret_cast<std::uintptr_t>(dst + i) & 15u) != 0; ++i) dst[i] = src[i];
@@ -83,12 +88,34 @@ void streamCopy(const T* src, T* dst, std::size_t n) {
     for (; i < n; ++i) dst[i] = src[i];
 }
 
+#if defined(__x86_64__)
+__attribute__((target("avx512f"))) void streamCopy64(const std::uint32_t* src, std::uint32_t* dst,
+                                                     std::size_t n) {
+    std::size_t i = 0;
+    for (; i < n && (reinterpret_cast<std::uintptr_t>(dst + i) & 63u) != 0; ++i) dst[i] = src[i];
+    for (; i + 16 <= n; i += 16)
+        _mm512_stream_si512(reinterpret_cast<__m512i*>(dst + i), _mm512_loadu_si512(src + i));
+    for (; i < n; ++i) dst[i] = src[i];
+}
+#endif
+
+StreamCopyFn pickStreamCopy() {
+#if defined(__x86_64__)
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f")) return &streamCopy64;
+#endif
+    return &streamCopy16;
+}
+
+const StreamCopyFn streamCopy = pickStreamCopy();
+
 }  // namespace
 
 void streamRows(const Target& from, const Target& to, int rowLo, int rowHi) {
     const std::size_t count = std::size_t(rowHi - rowLo + 1) * std::size_t(to.width);
     streamCopy(from.color + from.index(0, rowHi), to.color + to.index(0, rowHi), count);
-    streamCopy(from.depth + from.index(0, rowHi), to.depth + to.index(0, rowHi), count);
+    streamCopy(reinterpret_cast<const std::uint32_t*>(from.depth + from.index(0, rowHi)),
+               reinterpret_cast<std::uint32_t*>(to.depth + to.index(0, rowHi)), count);
 #if defined(__SSE2__)
     _mm_sfence();
 #endif
