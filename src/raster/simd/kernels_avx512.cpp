@@ -533,7 +533,9 @@ inline int packOnRow16(const YSetup& ys, const ShearedTri& t, const float* shear
                                  _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC));
         __mmask16 keep = _mm512_cmp_ps_mask(lo, c, _CMP_LE_OQ) & live;
         if constexpr (Culled) keep &= __mmask16(~culledBits(culled, k));
-        if (!keep) continue;
+        // No branch on an empty group (whether a group keeps a view follows no pattern: a
+        // mispredicted branch cost more than the stores; single thread, 100 views 157.5 ->
+        // 152.2 ms): nothing is kept, m does not move, the next group overwrites the stores.
         _mm512_storeu_ps(ps + m, _mm512_maskz_compress_ps(keep, s));
         packViews16(keep, k, xs.view + m);
         m += __builtin_popcount(unsigned(keep));
