@@ -1,5 +1,7 @@
 #include "frame.h"
 
+#include "cpu.h"
+
 #if defined(__x86_64__)
 #include <immintrin.h>
 #elif defined(__SSE2__)
@@ -99,19 +101,18 @@ __attribute__((target("avx512f"))) void streamCopy64(const std::uint32_t* src, s
 }
 #endif
 
+/// The widest copy the CPU takes, by the kernels' own detection (cpu.h).
 StreamCopyFn pickStreamCopy() {
 #if defined(__x86_64__)
-    __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx512f")) return &streamCopy64;
+    if (bestSupportedSimd() == SimdPath::Avx512) return &streamCopy64;
 #endif
     return &streamCopy16;
 }
 
-const StreamCopyFn streamCopy = pickStreamCopy();
-
 }  // namespace
 
 void streamRows(const Target& from, const Target& to, int rowLo, int rowHi) {
+    static const StreamCopyFn streamCopy = pickStreamCopy();  // first streamed band, not start-up
     const std::size_t count = std::size_t(rowHi - rowLo + 1) * std::size_t(to.width);
     streamCopy(from.color + from.index(0, rowHi), to.color + to.index(0, rowHi), count);
     streamCopy(reinterpret_cast<const std::uint32_t*>(from.depth + from.index(0, rowHi)),
