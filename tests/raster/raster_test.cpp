@@ -999,6 +999,92 @@ TEST(Kernels, DrawShearedEqualsRasterTrianglePerView) {
     if (paths.size() > 1) EXPECT_GT(skippedGeneral, 10);  // wide views off the row's centers
 }
 
+TEST(Kernels, DrawShearedKeepsTheFirstOfEqualDepths) {
+    // Every fragment of a second draw of the same triangle, with other colors, ties the depth
+    // the first draw left: the depth test is GL_LESS, so the second draw writes nothing and the
+    // first colors stay — in every path, as in each view drawn on its own (rasterTriangle
+    // through FragmentSink). The random depths of DrawShearedEqualsRasterTrianglePerView are
+    // never equal to a fragment's, so a `<=` for `<` would pass there.
+    constexpr int kW = 96, kH = 64;
+    std::mt19937 rng(1357);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    const float conv = 4.0f;
+    const Images<float> depth0(kMaxViews, std::vector<float>(kW * kH, 1.0f));
+    const Images<std::uint32_t> color0(kMaxViews, std::vector<std::uint32_t>(kW * kH, 0u));
+    Images<float> refDepth = depth0, gotDepth = depth0;
+    Images<std::uint32_t> refColor = color0, gotColor = color0;
+    std::vector<const detail::Kernels*> paths{&detail::scalarKernels()};
+    for (const detail::Kernels* k : simdKernels()) {
+        if (k->drawSheared) paths.push_back(k);
+    }
+    int kept = 0;
+    for (int iter = 0; iter < 120; ++iter) {
+        const int n = 1 + int(rng() % kMaxViews);
+        ShearedCase row;
+        if (!randomShearedCase(rng, n, iter % 5 == 0, 0.03f, 0.03f * 64.0f / float(std::max(n, 64)),
+                               kH, row)) {
+            continue;
+        }
+        // Two draws: the same depths and 1/w, other attributes and flat colors.
+        detail::FragmentTri tris[2];
+        float attr[2][3][3];
+        for (int j = 0; j < 3; ++j) {
+            tris[0].z[j] = tris[1].z[j] = unit(rng);
+            tris[0].q[j] = tris[1].q[j] = row.t.q[j];
+            for (int d = 0; d < 2; ++d) {
+                for (float& a : attr[d][j]) a = unit(rng);
+                tris[d].attr[j] = attr[d][j];
+            }
+        }
+        tris[0].flat = 0xff0000ffu, tris[1].flat = 0xff00ff00u;
+        for (const bool flat : {false, true}) {
+            auto drawView = [&](Images<float>& depth, Images<std::uint32_t>& color, int v,
+                                const std::int32_t x[3], const detail::FragmentTri& tri) {
+                const detail::Target target{color[v].data(), depth[v].data(), kW, kH};
+                if (flat) {
+                    detail::FragmentSink<Shading::Flat> sink{target, &tri, {}};
+                    detail::rasterTriangle(row.ys, x, kW, sink);
+                } else {
+                    detail::FragmentSink<Shading::Vertex> sink{target, &tri, {}};
+                    detail::rasterTriangle(row.ys, x, kW, sink);
+                }
+            };
+            for (int v = 0; v < n; ++v) refDepth[v] = depth0[v], refColor[v] = color0[v];
+            for (const detail::FragmentTri& tri : tris) {
+                for (int k = 0; k < n; ++k) {
+                    std::int32_t x[3];
+                    for (int j = 0; j < 3; ++j) {
+                        x[j] = detail::snapX(
+                            detail::shearClip(row.t.cx[j], row.shears[k], row.t.wc[j] + conv, conv),
+                            row.t.q[j], float(kW));
+                    }
+                    drawView(refDepth, refColor, k, x, tri);
+                }
+            }
+            for (int v = 0; v < n; ++v) {
+                for (int i = 0; i < kW * kH; ++i) kept += refDepth[v][i] != 1.0f;
+            }
+            for (const detail::Kernels* k : paths) {
+                for (int v = 0; v < n; ++v) gotDepth[v] = depth0[v], gotColor[v] = color0[v];
+                std::vector<float*> dp(kMaxViews, nullptr);
+                std::vector<std::uint32_t*> cp(kMaxViews, nullptr);
+                for (int v = 0; v < n; ++v) dp[v] = gotDepth[v].data(), cp[v] = gotColor[v].data();
+                for (const detail::FragmentTri& tri : tris) {
+                    detail::ViewsX xs{};
+                    const int count = k->drawSheared(row.ys, row.t, row.shears, n, nullptr, kW, kH,
+                                                     tri, flat, dp.data(), cp.data(), xs);
+                    for (int i = 0; i < count; ++i) {
+                        const std::int32_t x[3] = {xs.x[0][i], xs.x[1][i], xs.x[2][i]};
+                        drawView(gotDepth, gotColor, xs.view[i], x, tri);
+                    }
+                }
+                ASSERT_TRUE(sameImages(n, gotDepth, gotColor, refDepth, refColor)) << iter;
+            }
+        }
+    }
+    EXPECT_GT(kept, 1000);  // fragments the first draw wrote and the second tied
+}
+
 TEST(Kernels, DrawShearedKeepsEveryViewThatCoversACenter) {
     // One-row triangles whose vertices sit on, or 1–3 / 256 px beside, pixel centers and the
     // row's center line (edges on the line, vertices on a center: the fill rule's ties), in
