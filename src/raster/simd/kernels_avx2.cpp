@@ -720,7 +720,10 @@ void shadeVertices(const glm::vec3* positions, const glm::vec3* normals, std::si
         for (int k = 0; k < 8; ++k)
             o[3 * k] = t[0][k], o[3 * k + 1] = t[1][k], o[3 * k + 2] = t[2][k];
     }
-    shadeVerticesTail(positions + i, normals + i, n - i, W, N, ctx, m, color + 3 * i);
+    // The tail through the scalar table: lighting.h's shadeBlinnPhong is an inline function with
+    // external linkage; an out-of-line copy compiled here, with this file's target flags, is
+    // one the linker may keep for every caller (tests/raster/simd_objects.cmake).
+    scalarKernels().shadeVertices(positions + i, normals + i, n - i, W, N, ctx, m, color + 3 * i);
 }
 
 /// transformPointsTail with 8 vertices per register.

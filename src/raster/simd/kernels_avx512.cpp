@@ -471,7 +471,10 @@ void shadeVertices(const glm::vec3* positions, const glm::vec3* normals, std::si
         cb = glmMin(glmMax(cb, zero), one);
         storeVec3x16(soa, color + 3 * i, cr, cg, cb);
     }
-    shadeVerticesTail(positions + i, normals + i, n - i, W, N, ctx, m, color + 3 * i);
+    // The tail through the scalar table: lighting.h's shadeBlinnPhong is an inline function with
+    // external linkage; an out-of-line copy compiled here, with this file's target flags, is
+    // one the linker may keep for every caller (tests/raster/simd_objects.cmake).
+    scalarKernels().shadeVertices(positions + i, normals + i, n - i, W, N, ctx, m, color + 3 * i);
 }
 
 /// transformPointsTail with 16 vertices per register.
