@@ -91,10 +91,15 @@ using ShadeLanesFn = std::uint64_t (*)(const ViewsSetup& s, std::uint64_t lanes,
 /// the row's center line, widened past what snapping and rounding can move it): it then draws
 /// the same pixels and returns a subset of those views (the ones left out would draw nothing).
 /// depth and color must be readable for kMaxViews entries, shears for n rounded up to 8.
+/// blockStride: 0, or — when the call's images lie in one block, as a streamed band's scratch
+/// does — the pixels between consecutive slots' images (depth[s] == depth[0] + s · blockStride,
+/// color[s] == color[0] + s · blockStride for every s < n; n · blockStride < 2^30): a kernel may
+/// then address a lane's pixel as a 32-bit offset from depth[0] / color[0] instead of gathering
+/// its view's address from the tables.
 using DrawShearedFn = int (*)(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
                               const std::uint64_t* culled, int width, int height,
                               const FragmentTri& tri, bool flat, float* const* depth,
-                              std::uint32_t* const* color, ViewsX& x);
+                              std::uint32_t* const* color, std::int32_t blockStride, ViewsX& x);
 
 struct Kernels {
     ProjectYZWFn projectYZW;

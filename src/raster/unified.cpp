@@ -211,6 +211,9 @@ struct ViewSlots {
     std::vector<std::size_t> first;
     std::vector<float*> depth;
     std::vector<std::uint32_t*> color;
+    /// Per family: drawSheared's blockStride — the pixels between its consecutive views'
+    /// images when they lie in one block (a streamed band's scratch), else 0.
+    std::vector<std::int32_t> blockStride;
 };
 
 template <Shading S>
@@ -427,7 +430,8 @@ void drawLongRow(BandContext<S>& b, const Family& fam, const std::uint32_t v[3],
     const std::size_t first = b.slots->first[std::size_t(&fam - d.families.data())];
     const int general = b.f.kernels.drawSheared(
         ys, t, fam.shears.data(), nv, mixed ? culledViews : nullptr, width, b.slotHeight, b.frag,
-        S == Shading::Flat, b.slots->depth.data() + first, b.slots->color.data() + first, b.xs);
+        S == Shading::Flat, b.slots->depth.data() + first, b.slots->color.data() + first,
+        b.slots->blockStride[std::size_t(&fam - d.families.data())], b.xs);
     for (int i = 0; i < general; ++i) {
         FragmentSink<S> sink = b.sinks[std::size_t(views[b.xs.view[i]])];
         const std::int32_t xk[3] = {b.xs.x[0][i], b.xs.x[1][i], b.xs.x[2][i]};
@@ -740,6 +744,27 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
     });
 }
 
+/// The pixels between consecutive images of slots [first, end) when depth and color both lie in
+/// one block at that stride (and 32-bit offsets reach every slot's image), else 0.
+std::int32_t blockStride(const ViewSlots& slots, std::size_t first) {
+    const std::size_t n = slots.depth.size() - first;
+    if (n < 2) return 0;
+    auto at = [](const void* p) { return std::intptr_t(reinterpret_cast<std::uintptr_t>(p)); };
+    const std::intptr_t step = at(slots.depth[first + 1]) - at(slots.depth[first]);
+    if (step <= 0 || step % std::intptr_t(sizeof(float)) != 0 ||
+        step / std::intptr_t(sizeof(float)) * std::intptr_t(n) >= (std::intptr_t(1) << 30)) {
+        return 0;
+    }
+    for (std::size_t i = 1; i < n; ++i) {
+        const std::intptr_t k = std::intptr_t(i) * step;
+        if (at(slots.depth[first + i]) - at(slots.depth[first]) != k ||
+            at(slots.color[first + i]) - at(slots.color[first]) != k) {
+            return 0;
+        }
+    }
+    return std::int32_t(step / std::intptr_t(sizeof(float)));
+}
+
 /// The views' images by family position (ViewSlots) for `targets`.
 ViewSlots makeSlots(const UnifiedData& d, std::span<const Target> targets) {
     ViewSlots slots;
@@ -749,6 +774,7 @@ ViewSlots makeSlots(const UnifiedData& d, std::span<const Target> targets) {
             slots.depth.push_back(targets[std::size_t(v)].depth);
             slots.color.push_back(targets[std::size_t(v)].color);
         }
+        slots.blockStride.push_back(blockStride(slots, slots.first.back()));
     }
     // shadeLanes and drawSheared read the table for all 8 lanes of a group (positions below
     // kMaxViews past a family's first slot), the unused ones only to be masked off.

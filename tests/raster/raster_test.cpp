@@ -793,6 +793,37 @@ using Images = std::vector<std::vector<T>>;  // one image per view
     return ::testing::AssertionSuccess();
 }
 
+/// k.drawSheared into views [0, n) of depth / color: through the tables of the separate images
+/// (block false: blockStride 0), or with the images copied into one block, the kernel told its
+/// stride (blockStride), and copied back after.
+int drawShearedInto(const detail::Kernels& k, bool block, const detail::YSetup& ys,
+                    const detail::ShearedTri& t, const float* shears, int n,
+                    const std::uint64_t* culled, int width, int height,
+                    const detail::FragmentTri& tri, bool flat, Images<float>& depth,
+                    Images<std::uint32_t>& color, detail::ViewsX& xs) {
+    const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    std::vector<float> depthBlock(block ? pixels * std::size_t(n) : 0);
+    std::vector<std::uint32_t> colorBlock(depthBlock.size());
+    std::vector<float*> dp(kMaxViews, nullptr);
+    std::vector<std::uint32_t*> cp(kMaxViews, nullptr);
+    for (int v = 0; v < n; ++v) {
+        if (block) {
+            std::copy(depth[v].begin(), depth[v].end(), depthBlock.begin() + v * pixels);
+            std::copy(color[v].begin(), color[v].end(), colorBlock.begin() + v * pixels);
+            dp[v] = depthBlock.data() + v * pixels, cp[v] = colorBlock.data() + v * pixels;
+        } else {
+            dp[v] = depth[v].data(), cp[v] = color[v].data();
+        }
+    }
+    const int count = k.drawSheared(ys, t, shears, n, culled, width, height, tri, flat, dp.data(),
+                                    cp.data(), block ? std::int32_t(pixels) : 0, xs);
+    for (int v = 0; block && v < n; ++v) {
+        std::copy_n(depthBlock.begin() + v * pixels, pixels, depth[v].begin());
+        std::copy_n(colorBlock.begin() + v * pixels, pixels, color[v].begin());
+    }
+    return count;
+}
+
 TEST(Kernels, ShadeLanesSimdEqualsScalar) {
     // One triangle's fragments in up to 64 views (Vertex and Flat, untextured): random
     // triangles set up by setupViews on a small image, views' depth images holding random
@@ -958,12 +989,11 @@ TEST(Kernels, DrawShearedEqualsRasterTrianglePerView) {
             std::vector<int> refViews;
             for (const detail::Kernels* k : paths) {
                 reset(gotDepth, gotColor);
-                std::vector<float*> dp(kMaxViews, nullptr);
-                std::vector<std::uint32_t*> cp(kMaxViews, nullptr);
-                for (int v = 0; v < n; ++v) dp[v] = gotDepth[v].data(), cp[v] = gotColor[v].data();
                 detail::ViewsX xs{};  // shadeGroup reads all 8 view bytes of a group
-                const int count = k->drawSheared(ys, t, shears, n, iter % 6 == 1 ? nullptr : culled,
-                                                 kW, kH, tri, flat, dp.data(), cp.data(), xs);
+                // Odd cases: the images in one block (blockStride).
+                const int count = drawShearedInto(*k, iter % 2 == 1, ys, t, shears, n,
+                                                  iter % 6 == 1 ? nullptr : culled, kW, kH, tri,
+                                                  flat, gotDepth, gotColor, xs);
                 std::vector<int> views;
                 for (int i = 0; i < count; ++i) {
                     views.push_back(xs.view[i]);
@@ -1066,13 +1096,11 @@ TEST(Kernels, DrawShearedKeepsTheFirstOfEqualDepths) {
             }
             for (const detail::Kernels* k : paths) {
                 for (int v = 0; v < n; ++v) gotDepth[v] = depth0[v], gotColor[v] = color0[v];
-                std::vector<float*> dp(kMaxViews, nullptr);
-                std::vector<std::uint32_t*> cp(kMaxViews, nullptr);
-                for (int v = 0; v < n; ++v) dp[v] = gotDepth[v].data(), cp[v] = gotColor[v].data();
                 for (const detail::FragmentTri& tri : tris) {
                     detail::ViewsX xs{};
-                    const int count = k->drawSheared(row.ys, row.t, row.shears, n, nullptr, kW, kH,
-                                                     tri, flat, dp.data(), cp.data(), xs);
+                    const int count =
+                        drawShearedInto(*k, iter % 2 == 1, row.ys, row.t, row.shears, n, nullptr,
+                                        kW, kH, tri, flat, gotDepth, gotColor, xs);
                     for (int i = 0; i < count; ++i) {
                         const std::int32_t x[3] = {xs.x[0][i], xs.x[1][i], xs.x[2][i]};
                         drawView(gotDepth, gotColor, xs.view[i], x, tri);
@@ -1159,12 +1187,9 @@ TEST(Kernels, DrawShearedKeepsEveryViewThatCoversACenter) {
         for (const detail::Kernels* k : simdKernels()) {
             if (!k->drawSheared) continue;
             for (int v = 0; v < n; ++v) gotDepth[v] = depth0[v], gotColor[v] = color0[v];
-            std::vector<float*> dp(kMaxViews, nullptr);
-            std::vector<std::uint32_t*> cp(kMaxViews, nullptr);
-            for (int v = 0; v < n; ++v) dp[v] = gotDepth[v].data(), cp[v] = gotColor[v].data();
             detail::ViewsX xs{};  // shadeGroup reads all 8 view bytes of a group
-            const int count = k->drawSheared(ys, t, shears, n, nullptr, kW, kH, tri, true,
-                                             dp.data(), cp.data(), xs);
+            const int count = drawShearedInto(*k, iter % 2 == 1, ys, t, shears, n, nullptr, kW, kH,
+                                              tri, true, gotDepth, gotColor, xs);
             for (int i = 0; i < count; ++i) {
                 const std::int32_t x[3] = {xs.x[0][i], xs.x[1][i], xs.x[2][i]};
                 detail::FragmentSink<Shading::Flat> sink{

@@ -362,17 +362,26 @@ inline LaneFragment laneFragment(const FragmentTri& tri, bool flat, int rowMin, 
 /// centers takes one pass each), FragmentSink's operations on vectors, the depth of each lane's
 /// pixel gathered from its own view, and the passing fragments written lane by lane. OneRow:
 /// no lane has centers 2 or 3 (cover<true>: sy is not read).
-template <bool OneRow = false>
+/// Block: the images lie in one block (drawSheared's blockStride): a lane's pixel is a 32-bit
+/// offset from depth[0] / color[0], one gather of 8 lanes instead of the views' addresses
+/// gathered from the tables and two gathers of 4.
+template <bool OneRow = false, bool Block = false>
 inline void shadeGroup(const LaneFragment& f, const Cover& c, __m256i rem, const std::uint8_t* slot,
-                       float* const* depth, std::uint32_t* const* color) {
+                       float* const* depth, std::uint32_t* const* color,
+                       std::int32_t blockStride = 0) {
     const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
     const __m256 fzero = _mm256_setzero_ps(), fone = _mm256_set1_ps(1.0f);
     // The lanes' views: slot[k] picks their images' addresses (gathered, 64-bit).
     const __m256i slots =
         _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(slot)));
-    const auto* depthTable = reinterpret_cast<const long long*>(depth);
-    const __m256i dLo = _mm256_i32gather_epi64(depthTable, _mm256_castsi256_si128(slots), 8);
-    const __m256i dHi = _mm256_i32gather_epi64(depthTable, _mm256_extracti128_si256(slots, 1), 8);
+    __m256i dLo = zero, dHi = zero, block = zero;
+    if constexpr (Block) {
+        block = _mm256_mullo_epi32(slots, _mm256_set1_epi32(blockStride));
+    } else {
+        const auto* depthTable = reinterpret_cast<const long long*>(depth);
+        dLo = _mm256_i32gather_epi64(depthTable, _mm256_castsi256_si128(slots), 8);
+        dHi = _mm256_i32gather_epi64(depthTable, _mm256_extracti128_si256(slots, 1), 8);
+    }
     const __m256 invArea = _mm256_div_ps(fone, _mm256_cvtepi32_ps(c.area));
     while (!_mm256_testz_si256(rem, rem)) {
         const __m256i low = _mm256_and_si256(rem, _mm256_sub_epi32(zero, rem));
@@ -395,18 +404,26 @@ inline void shadeGroup(const LaneFragment& f, const Cover& c, __m256i rem, const
         const __m256i x = _mm256_add_epi32(c.colMin, _mm256_and_si256(cx, one));
         const __m256i index = _mm256_add_epi32(
             _mm256_mullo_epi32(_mm256_sub_epi32(f.top, _mm256_and_si256(cy, one)), f.W), x);
-        // The lanes' depth: their view's image at their pixel (64-bit addresses).
-        const __m256i offLo =
-            _mm256_slli_epi64(_mm256_cvtepi32_epi64(_mm256_castsi256_si128(index)), 2);
-        const __m256i offHi =
-            _mm256_slli_epi64(_mm256_cvtepi32_epi64(_mm256_extracti128_si256(index, 1)), 2);
+        // The lanes' depth: their view's image at their pixel.
         const __m256 am = _mm256_castsi256_ps(active);
-        const __m128 gLo = _mm256_mask_i64gather_ps(
-            _mm_setzero_ps(), nullptr, _mm256_add_epi64(dLo, offLo), _mm256_castps256_ps128(am), 1);
-        const __m128 gHi =
-            _mm256_mask_i64gather_ps(_mm_setzero_ps(), nullptr, _mm256_add_epi64(dHi, offHi),
-                                     _mm256_extractf128_ps(am, 1), 1);
-        const __m256 d = _mm256_set_m128(gHi, gLo);
+        __m256i off = index;
+        __m256 d;
+        if constexpr (Block) {
+            off = _mm256_add_epi32(block, index);
+            d = _mm256_mask_i32gather_ps(fzero, depth[0], off, am, 4);
+        } else {
+            const __m256i offLo =
+                _mm256_slli_epi64(_mm256_cvtepi32_epi64(_mm256_castsi256_si128(index)), 2);
+            const __m256i offHi =
+                _mm256_slli_epi64(_mm256_cvtepi32_epi64(_mm256_extracti128_si256(index, 1)), 2);
+            const __m128 gLo =
+                _mm256_mask_i64gather_ps(_mm_setzero_ps(), nullptr, _mm256_add_epi64(dLo, offLo),
+                                         _mm256_castps256_ps128(am), 1);
+            const __m128 gHi =
+                _mm256_mask_i64gather_ps(_mm_setzero_ps(), nullptr, _mm256_add_epi64(dHi, offHi),
+                                         _mm256_extractf128_ps(am, 1), 1);
+            d = _mm256_set_m128(gHi, gLo);
+        }
         const unsigned pass =
             unsigned(_mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(zf, d, _CMP_LT_OQ), am)));
         if (!pass) continue;
@@ -433,10 +450,15 @@ inline void shadeGroup(const LaneFragment& f, const Cover& c, __m256i rem, const
         alignas(32) float zs[8];
         alignas(32) std::int32_t is[8], cs[8];
         _mm256_store_ps(zs, zf);
-        store(is, index);
+        store(is, off);
         store(cs, packed);
         for (unsigned m = pass; m; m &= m - 1) {
             const int k = __builtin_ctz(m);
+            if constexpr (Block) {
+                depth[0][is[k]] = zs[k];
+                color[0][is[k]] = std::uint32_t(cs[k]);
+                continue;
+            }
             depth[slot[k]][is[k]] = zs[k];
             color[slot[k]][is[k]] = std::uint32_t(cs[k]);
         }
@@ -475,10 +497,10 @@ std::uint64_t shadeLanes(const ViewsSetup& s, std::uint64_t lanes, int rowMin, i
 /// drawSheared's setup and fragments of the m packed views (OneRow: ys.rowMax == ys.rowMin, as
 /// for most triangles of a dense mesh within a band). Their x: xs.x, or with `deriveX` derived
 /// here from their shears ps[0, m) (then stored only for the views left to the general walk).
-template <bool OneRow>
+template <bool OneRow, bool Block>
 int drawPacked(const YSetup& ys, int m, int width, int height, const FragmentTri& tri, bool flat,
-               float* const* depth, std::uint32_t* const* color, ViewsX& xs,
-               const ShearX* deriveX = nullptr, const float* ps = nullptr) {
+               float* const* depth, std::uint32_t* const* color, std::int32_t blockStride,
+               ViewsX& xs, const ShearX* deriveX = nullptr, const float* ps = nullptr) {
     const __m256i zero = _mm256_setzero_si256();
     const __m256i Y[3] = {_mm256_set1_epi32(ys.y[0]), _mm256_set1_epi32(ys.y[1]),
                           _mm256_set1_epi32(ys.y[2])};
@@ -500,7 +522,7 @@ int drawPacked(const YSetup& ys, int m, int width, int height, const FragmentTri
         if (!_mm256_testz_si256(rem, rem)) {
             if (!haveFragment) f = laneFragment(tri, flat, ys.rowMin, width, height);
             haveFragment = true;
-            shadeGroup<OneRow>(f, c, rem, xs.view + i, depth, color);
+            shadeGroup<OneRow, Block>(f, c, rem, xs.view + i, depth, color, blockStride);
         }
         // General lanes to the front (general <= i + k: positions already read).
         const unsigned g0 = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(negative)));
@@ -571,17 +593,25 @@ inline int packOnRow(const YSetup& ys, const ShearedTri& t, const float* shears,
 /// the views that may cover a center of its row (packOnRow), and derives their x as it draws.
 int drawSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
                 const std::uint64_t* culled, int width, int height, const FragmentTri& tri,
-                bool flat, float* const* depth, std::uint32_t* const* color, ViewsX& xs) {
+                bool flat, float* const* depth, std::uint32_t* const* color,
+                std::int32_t blockStride, ViewsX& xs) {
     if (ys.rowMax == ys.rowMin) {
         alignas(32) float ps[kMaxViews + 8];  // + room for a whole register's store
         const int m = culled ? packOnRow<true>(ys, t, shears, n, culled, width, ps, xs)
                              : packOnRow<false>(ys, t, shears, n, nullptr, width, ps, xs);
         if (m == 0) return 0;
         const ShearX deriveX(t, width);
-        return drawPacked<true>(ys, m, width, height, tri, flat, depth, color, xs, &deriveX, ps);
+        return blockStride > 0 ? drawPacked<true, true>(ys, m, width, height, tri, flat, depth,
+                                                        color, blockStride, xs, &deriveX, ps)
+                               : drawPacked<true, false>(ys, m, width, height, tri, flat, depth,
+                                                         color, 0, xs, &deriveX, ps);
     }
     const int m = packSheared(t, shears, n, culled, width, xs);
-    return m == 0 ? 0 : drawPacked<false>(ys, m, width, height, tri, flat, depth, color, xs);
+    if (m == 0) return 0;
+    return blockStride > 0
+               ? drawPacked<false, true>(ys, m, width, height, tri, flat, depth, color, blockStride,
+                                         xs)
+               : drawPacked<false, false>(ys, m, width, height, tri, flat, depth, color, 0, xs);
 }
 
 /// setupLanes: two passes of 8 lanes.

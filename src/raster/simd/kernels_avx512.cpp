@@ -571,24 +571,32 @@ inline LaneFragment16 laneFragment16(const FragmentTri& tri, bool flat, int rowM
 /// FragmentSink's operations, the depth gathered from each lane's view (masked: only the live
 /// lanes' slots are read), the passing fragments scattered into their views (scatter against
 /// the AVX2 kernel's store loop: 45 views 49.9 -> 47.4 ms, 100 views 84.0 -> 80.4 ms).
-template <bool OneRow>
+template <bool OneRow, bool Block>
 inline void shadeGroup16(const LaneFragment16& f, const Cover16& c, __m512i rem, __mmask16 live,
-                         const std::uint8_t* slot, float* const* depth,
-                         std::uint32_t* const* color) {
+                         const std::uint8_t* slot, float* const* depth, std::uint32_t* const* color,
+                         std::int32_t blockStride) {
     const __m512i zero = _mm512_setzero_si512(), one = _mm512_set1_epi32(1);
     const __m512 fzero = _mm512_setzero_ps(), fone = _mm512_set1_ps(1.0f);
     const __m512i slots =
         _mm512_cvtepu8_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(slot)));
-    const auto* depthTable = reinterpret_cast<const long long*>(depth);
-    const __m512i dLo = _mm512_mask_i32gather_epi64(zero, __mmask8(live),
-                                                    _mm512_castsi512_si256(slots), depthTable, 8);
-    const __m512i dHi = _mm512_mask_i32gather_epi64(
-        zero, __mmask8(live >> 8), _mm512_extracti64x4_epi64(slots, 1), depthTable, 8);
-    const auto* colorTable = reinterpret_cast<const long long*>(color);
-    const __m512i cLo = _mm512_mask_i32gather_epi64(zero, __mmask8(live),
-                                                    _mm512_castsi512_si256(slots), colorTable, 8);
-    const __m512i cHi = _mm512_mask_i32gather_epi64(
-        zero, __mmask8(live >> 8), _mm512_extracti64x4_epi64(slots, 1), colorTable, 8);
+    // Block: a lane's pixel is at a 32-bit offset from depth[0] / color[0] (its slot's image at
+    // slot · blockStride; 16 lanes per gather and scatter). Otherwise the views' addresses are
+    // gathered from the tables (64-bit, 8 lanes per gather and scatter).
+    __m512i dLo = zero, dHi = zero, cLo = zero, cHi = zero, block = zero;
+    if constexpr (Block) {
+        block = _mm512_mullo_epi32(slots, _mm512_set1_epi32(blockStride));
+    } else {
+        const auto* depthTable = reinterpret_cast<const long long*>(depth);
+        dLo = _mm512_mask_i32gather_epi64(zero, __mmask8(live), _mm512_castsi512_si256(slots),
+                                          depthTable, 8);
+        dHi = _mm512_mask_i32gather_epi64(zero, __mmask8(live >> 8),
+                                          _mm512_extracti64x4_epi64(slots, 1), depthTable, 8);
+        const auto* colorTable = reinterpret_cast<const long long*>(color);
+        cLo = _mm512_mask_i32gather_epi64(zero, __mmask8(live), _mm512_castsi512_si256(slots),
+                                          colorTable, 8);
+        cHi = _mm512_mask_i32gather_epi64(zero, __mmask8(live >> 8),
+                                          _mm512_extracti64x4_epi64(slots, 1), colorTable, 8);
+    }
     const __m512 invArea = _mm512_div_ps(fone, _mm512_cvtepi32_ps(c.area));
     for (__mmask16 todo = _mm512_test_epi32_mask(rem, rem); todo;
          todo = _mm512_test_epi32_mask(rem, rem)) {
@@ -611,15 +619,21 @@ inline void shadeGroup16(const LaneFragment16& f, const Cover16& c, __m512i rem,
         const __m512i x = _mm512_mask_add_epi32(c.colMin, cx, c.colMin, one);
         const __m512i index = _mm512_add_epi32(
             _mm512_mullo_epi32(_mm512_mask_sub_epi32(f.top, cy, f.top, one), f.W), x);
-        const __m512i offLo =
-            _mm512_slli_epi64(_mm512_cvtepi32_epi64(_mm512_castsi512_si256(index)), 2);
-        const __m512i offHi =
-            _mm512_slli_epi64(_mm512_cvtepi32_epi64(_mm512_extracti64x4_epi64(index, 1)), 2);
-        const __m256 gLo = _mm512_mask_i64gather_ps(_mm256_setzero_ps(), __mmask8(active),
-                                                    _mm512_add_epi64(dLo, offLo), nullptr, 1);
-        const __m256 gHi = _mm512_mask_i64gather_ps(_mm256_setzero_ps(), __mmask8(active >> 8),
-                                                    _mm512_add_epi64(dHi, offHi), nullptr, 1);
-        const __m512 d = _mm512_insertf32x8(_mm512_castps256_ps512(gLo), gHi, 1);
+        __m512i off = zero, offLo = zero, offHi = zero;
+        __m512 d;
+        if constexpr (Block) {
+            off = _mm512_add_epi32(block, index);
+            d = _mm512_mask_i32gather_ps(fzero, active, off, depth[0], 4);
+        } else {
+            offLo = _mm512_slli_epi64(_mm512_cvtepi32_epi64(_mm512_castsi512_si256(index)), 2);
+            offHi =
+                _mm512_slli_epi64(_mm512_cvtepi32_epi64(_mm512_extracti64x4_epi64(index, 1)), 2);
+            const __m256 gLo = _mm512_mask_i64gather_ps(_mm256_setzero_ps(), __mmask8(active),
+                                                        _mm512_add_epi64(dLo, offLo), nullptr, 1);
+            const __m256 gHi = _mm512_mask_i64gather_ps(_mm256_setzero_ps(), __mmask8(active >> 8),
+                                                        _mm512_add_epi64(dHi, offHi), nullptr, 1);
+            d = _mm512_insertf32x8(_mm512_castps256_ps512(gLo), gHi, 1);
+        }
         const unsigned pass = _mm512_mask_cmp_ps_mask(active, zf, d, _CMP_LT_OQ);
         if (!pass) continue;
         __m512i packed = f.flatColor;
@@ -644,6 +658,11 @@ inline void shadeGroup16(const LaneFragment16& f, const Cover16& c, __m512i rem,
         }
         // The passing fragments into their lanes' views (distinct images: no two lanes of a
         // group write the same address).
+        if constexpr (Block) {
+            _mm512_mask_i32scatter_ps(depth[0], __mmask16(pass), off, zf, 4);
+            _mm512_mask_i32scatter_epi32(color[0], __mmask16(pass), off, packed, 4);
+            continue;
+        }
         _mm512_mask_i64scatter_ps(nullptr, __mmask8(pass), _mm512_add_epi64(dLo, offLo),
                                   _mm512_castps512_ps256(zf), 1);
         _mm512_mask_i64scatter_ps(nullptr, __mmask8(pass >> 8), _mm512_add_epi64(dHi, offHi),
@@ -657,10 +676,10 @@ inline void shadeGroup16(const LaneFragment16& f, const Cover16& c, __m512i rem,
 
 /// The AVX2 drawPacked with 16 lanes: per 16 packed views cover16 and shadeGroup16; the views
 /// left to the general walk moved to the front of xs.
-template <bool OneRow>
+template <bool OneRow, bool Block>
 int drawPacked16(const YSetup& ys, int m, int width, int height, const FragmentTri& tri, bool flat,
-                 float* const* depth, std::uint32_t* const* color, ViewsX& xs,
-                 const ShearX16* deriveX = nullptr, const float* ps = nullptr) {
+                 float* const* depth, std::uint32_t* const* color, std::int32_t blockStride,
+                 ViewsX& xs, const ShearX16* deriveX = nullptr, const float* ps = nullptr) {
     const __m512i zero = _mm512_setzero_si512();
     const __m512i Y[3] = {_mm512_set1_epi32(ys.y[0]), _mm512_set1_epi32(ys.y[1]),
                           _mm512_set1_epi32(ys.y[2])};
@@ -683,7 +702,7 @@ int drawPacked16(const YSetup& ys, int m, int width, int height, const FragmentT
         if (_mm512_test_epi32_mask(rem, rem)) {
             if (!haveFragment) f = laneFragment16(tri, flat, ys.rowMin, width, height);
             haveFragment = true;
-            shadeGroup16<OneRow>(f, c, rem, drawn, xs.view + i, depth, color);
+            shadeGroup16<OneRow, Block>(f, c, rem, drawn, xs.view + i, depth, color, blockStride);
         }
         if (!negative) continue;
         // General lanes to the front (general <= i: positions already read).
@@ -702,17 +721,25 @@ int drawPacked16(const YSetup& ys, int m, int width, int height, const FragmentT
 /// drawSheared, 16 views per register (the AVX2 kernel's structure and operations).
 int drawSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
                 const std::uint64_t* culled, int width, int height, const FragmentTri& tri,
-                bool flat, float* const* depth, std::uint32_t* const* color, ViewsX& xs) {
+                bool flat, float* const* depth, std::uint32_t* const* color,
+                std::int32_t blockStride, ViewsX& xs) {
     if (ys.rowMax == ys.rowMin) {
         alignas(64) float ps[kMaxViews + 16];  // + room for a whole register's store
         const int m = culled ? packOnRow16<true>(ys, t, shears, n, culled, width, ps, xs)
                              : packOnRow16<false>(ys, t, shears, n, nullptr, width, ps, xs);
         if (m == 0) return 0;
         const ShearX16 deriveX(t, width);
-        return drawPacked16<true>(ys, m, width, height, tri, flat, depth, color, xs, &deriveX, ps);
+        return blockStride > 0 ? drawPacked16<true, true>(ys, m, width, height, tri, flat, depth,
+                                                          color, blockStride, xs, &deriveX, ps)
+                               : drawPacked16<true, false>(ys, m, width, height, tri, flat, depth,
+                                                           color, 0, xs, &deriveX, ps);
     }
     const int m = packSheared16(t, shears, n, culled, width, xs);
-    return m == 0 ? 0 : drawPacked16<false>(ys, m, width, height, tri, flat, depth, color, xs);
+    if (m == 0) return 0;
+    return blockStride > 0
+               ? drawPacked16<false, true>(ys, m, width, height, tri, flat, depth, color,
+                                           blockStride, xs)
+               : drawPacked16<false, false>(ys, m, width, height, tri, flat, depth, color, 0, xs);
 }
 
 }  // namespace

@@ -162,7 +162,7 @@ inline std::uint64_t shadeLanesTail(const ViewsSetup& s, std::uint64_t lanes, in
 inline int drawShearedTail(const YSetup& ys, const ShearedTri& t, const float* shears, int n,
                            const std::uint64_t* culled, int width, int height,
                            const FragmentTri& tri, bool flat, float* const* depth,
-                           std::uint32_t* const* color, ViewsX& x) {
+                           std::uint32_t* const* color, std::int32_t /*blockStride*/, ViewsX& x) {
     int count = 0;
     for (int base = 0; base < n; base += 64) {
         ViewsSetup s;
