@@ -27,16 +27,19 @@ inline bool rowSpan(const YSetup& ys, const ShearedTri& t, int width, RowSpan& r
     // Vertex j's window x is about alpha_j + s·beta_j (snapX of shearClipWc, unsnapped).
     const __m128i three = _mm_setr_epi32(-1, -1, -1, 0);
     const __m128 scale = _mm_set1_ps(0.5f * float(width));
-    const __m128 q = _mm_maskload_ps(t.q, three);
+    // Lanes from scalar loads: t and ys were just stored field by field, and a wide load of them
+    // would wait for those stores (store-to-load forwarding cannot serve it).
+    const __m128 q = _mm_setr_ps(t.q[0], t.q[1], t.q[2], 0.0f);
     const __m128 alpha = _mm_sub_ps(
-        _mm_mul_ps(scale,
-                   _mm_add_ps(_mm_mul_ps(_mm_maskload_ps(t.cx, three), q), _mm_set1_ps(1.0f))),
+        _mm_mul_ps(scale, _mm_add_ps(_mm_mul_ps(_mm_setr_ps(t.cx[0], t.cx[1], t.cx[2], 0.0f), q),
+                                     _mm_set1_ps(1.0f))),
         _mm_set1_ps(0.5f));
-    const __m128 beta = _mm_mul_ps(scale, _mm_mul_ps(_mm_maskload_ps(t.wc, three), q));
+    const __m128 beta =
+        _mm_mul_ps(scale, _mm_mul_ps(_mm_setr_ps(t.wc[0], t.wc[1], t.wc[2], 0.0f), q));
     // The span's ends: where the edges a -> b = a + 1 meet the line, ends included (a vertex on
     // the line is the end of its two edges; an edge along the line is not needed: its ends are
     // those of the other two, or the triangle is degenerate and covers nothing).
-    const __m128i d = _mm_sub_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(ys.y)),
+    const __m128i d = _mm_sub_epi32(_mm_setr_epi32(ys.y[0], ys.y[1], ys.y[2], 0),
                                     _mm_set1_epi32(ys.rowMin * kSubpixel + kHalfSubpixel));
     const __m128i db = _mm_shuffle_epi32(d, _MM_SHUFFLE(3, 0, 2, 1));
     const __m128i zeroI = _mm_setzero_si128();
