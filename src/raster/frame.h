@@ -163,10 +163,10 @@ void forVertexChunks(const DrawList& draw, ThreadPool& pool, Fn&& fn) {
 void allocateOutputs(ThreadPool& pool, RenderOutput& out, int views, const RenderSettings& settings,
                      std::vector<Target>& targets);
 
-/// Rows [rowLo, rowHi] of `from` (a band's scratch) copied into `to` (the image) with
-/// non-temporal stores: the image's lines are written without being read first, and do not
-/// evict the scratch from the cache. Ends with a store fence.
-void streamRows(const Target& from, const Target& to, int rowLo, int rowHi);
+/// Rows [rowLo, rowHi] of every from[v] (a band's scratch) copied into to[v] (the images) with
+/// non-temporal stores: the images' lines are written without being read first, and do not
+/// evict the scratch from the cache. Ends with one store fence.
+void streamRows(std::span<const Target> from, std::span<const Target> to, int rowLo, int rowHi);
 
 /// Rows [rowLo, rowHi] of a target cleared: color to `clear` (packColor of the clear color,
 /// alpha 255), depth to 1.

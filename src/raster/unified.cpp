@@ -837,10 +837,7 @@ void rasterStage(FrameContext& f, UnifiedData& d, std::span<const Target> target
         if (laneFragments) b.slots = stream ? &scratch[std::size_t(worker)].slots : &slots;
         rasterBand(b, d.bins, band);
         flushLanes(b);
-        if (stream) {
-            for (std::size_t v = 0; v < targets.size(); ++v)
-                streamRows(local[v], targets[v], b.rowLo, b.rowHi);
-        }
+        if (stream) streamRows(local, targets, b.rowLo, b.rowHi);
     });
 }
 
