@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <random>
 
 #include <fmt/core.h>
@@ -371,9 +372,11 @@ TEST(UnifiedEqualsMultipass, BunnyAtHundredViews) {
     p.convergence = 2.5f * b.radius(), p.interaxial = p.convergence / 60.0f;
     auto rig = makeRig(cam, p);
     ASSERT_TRUE(rig) << rig.status().message();
-    // Drawn into the images, and streamed (SoftOptions::streamAboveBytes = 0: each band drawn
-    // into the workers' scratch and copied into the images).
-    for (const std::size_t streamAbove : {SoftOptions{}.streamAboveBytes, std::size_t(0)}) {
+    // Drawn into the images (streamAboveBytes at its largest: never streamed), and streamed
+    // (SoftOptions::streamAboveBytes = 0: each band drawn into the workers' scratch and copied
+    // into the images).
+    for (const std::size_t streamAbove :
+         {std::numeric_limits<std::size_t>::max(), std::size_t(0)}) {
         auto backend = makeSoftBackend(SoftOptions{.streamAboveBytes = streamAbove});
         for (int mode = 0; mode < 3; ++mode) {
             s.shading = static_cast<Shading>(mode);
@@ -390,9 +393,11 @@ TEST(UnifiedEqualsMultipass, RenderingIntoAUsedOutputEqualsAFreshRender) {
     // holds another scene's pixels must equal a fresh render, every view, color and depth. The
     // first frame is the default scene; the second a small quad with another clear color, so
     // that a row left uncleared would show the first frame's pixels.
-    // Also with every frame's bands streamed (SoftOptions::streamAboveBytes = 0: unified draws
-    // into the workers' scratch and copies each band's rows into the images).
-    for (const std::size_t streamAbove : {SoftOptions{}.streamAboveBytes, std::size_t(0)}) {
+    // Drawn into the images (never streamed), and with every frame's bands streamed
+    // (SoftOptions::streamAboveBytes = 0: unified draws into the workers' scratch and copies
+    // each band's rows into the images).
+    for (const std::size_t streamAbove :
+         {std::numeric_limits<std::size_t>::max(), std::size_t(0)}) {
         auto backend = makeSoftBackend(SoftOptions{.streamAboveBytes = streamAbove});
         const Scene first = makeDefaultScene();
         const Scene second = test::quadScene({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.0f});
