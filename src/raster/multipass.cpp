@@ -25,6 +25,9 @@ struct ViewVertexData : MethodScratch {
     std::size_t attrStride = 0;                // attributeCount(shading): only what is interpolated
     std::vector<glm::vec3> world;              // world positions (Flat's face normal)
     Bins bins;
+    /// Streamed bands (FrameContext::streamBands): per worker, one band's rows of the view.
+    std::vector<std::vector<std::uint32_t>> bandColor;
+    std::vector<std::vector<float>> bandDepth;
 
     void resize(std::size_t n, Shading shading, bool textured) {
         for (auto* v : {&x, &y, &z, &w, &cx, &cy, &zw, &q}) v->resize(n);
@@ -189,11 +192,29 @@ void drawWireframe(const FrameContext& f, const ViewVertexData& d, const std::ui
 }
 
 template <Shading S>
-void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, const Target& target) {
+void rasterStage(FrameContext& f, ViewVertexData& d, const Bins& bins, const Target& image) {
     const int attrCount = attributeCount(S, f.textured);
     const std::uint32_t clear = packColor(f.settings.clearColor);
-    f.pool.run(f.bands.count, [&](int band, int) {
+    // Streamed bands (as unified's, FrameContext::streamBands): each worker draws a band into a
+    // scratch that stays in its cache and streams the rows into the image (written once, never
+    // read from memory); otherwise each band's rows of the image are cleared just before they
+    // are drawn.
+    const bool stream = f.streamBands;
+    const std::size_t bandPixels = std::size_t(f.bands.rows) * std::size_t(image.width);
+    if (stream) {
+        d.bandColor.resize(std::size_t(f.pool.size()));
+        d.bandDepth.resize(std::size_t(f.pool.size()));
+        for (auto& c : d.bandColor) c.resize(bandPixels);
+        for (auto& z : d.bandDepth) z.resize(bandPixels);
+    }
+    f.pool.run(f.bands.count, [&](int band, int worker) {
         const int rowLo = f.bands.rowBegin(band), rowHi = f.bands.rowEnd(band) - 1;
+        Target target = image;
+        if (stream) {
+            target.color = d.bandColor[std::size_t(worker)].data();
+            target.depth = d.bandDepth[std::size_t(worker)].data();
+            target.offset = image.index(0, rowHi);
+        }
         clearRows(target, rowLo, rowHi, clear);  // into the cache just before it is drawn
         FragmentTri frag{};
         FragmentSink<S> sink{target, &frag, {&f.shading, nullptr, f.textured}};
@@ -243,6 +264,7 @@ void rasterStage(FrameContext& f, const ViewVertexData& d, const Bins& bins, con
             }
         });
         flush();
+        if (stream) streamRows({&target, 1}, {&image, 1}, rowLo, rowHi);
     });
 }
 

@@ -437,12 +437,61 @@ TEST(UnifiedEqualsMultipass, RenderingIntoAUsedOutputEqualsAFreshRender) {
     }
 }
 
+TEST(UnifiedEqualsMultipass, MultipassStreamedEqualsDrawnIntoTheImages) {
+    // Multipass streams its bands too (FrameContext::streamBands: each view's band drawn into a
+    // worker's scratch, then its rows copied into the image): always streamed (streamAboveBytes
+    // = 0) against never (the largest threshold), every shading, culling and wireframe, one and
+    // three views of the default scene and random soups crossing the near plane and the edges.
+    auto always = makeSoftBackend(SoftOptions{.streamAboveBytes = 0});
+    auto never =
+        makeSoftBackend(SoftOptions{.streamAboveBytes = std::numeric_limits<std::size_t>::max()});
+    long covered = 0;
+    auto compare = [&](const Scene& scene, const Rig& rig, const RenderSettings& s) {
+        auto a = always->render(scene, rig, s, "multipass");
+        ASSERT_TRUE(a) << a.status().message();
+        auto n = never->render(scene, rig, s, "multipass");
+        ASSERT_TRUE(n) << n.status().message();
+        ASSERT_EQ(firstDifference(*a, *n), "")
+            << "views " << rig.viewCount() << " shading " << shadingName(s.shading) << " cull "
+            << s.cullBackFaces << " wireframe " << s.wireframe;
+        covered += coveredPixels(*n);
+    };
+    const Scene scene = makeDefaultScene();
+    const Camera cam = defaultSceneCamera(96.0f / 70.0f);
+    for (int views = 1; views <= 3; views += 2) {
+        for (int mode = 0; mode < 6; ++mode) {
+            RenderSettings s;
+            s.width = 96, s.height = 70;  // bands of 16 rows and a shorter last one
+            s.shading = static_cast<Shading>(mode % 3);
+            s.cullBackFaces = mode >= 3;
+            s.wireframe = mode == 5;
+            RigParams p;
+            p.columns = views, p.rows = 1, p.interaxial = 0.2f, p.convergence = 6.0f;
+            auto rig = makeRig(cam, p);
+            ASSERT_TRUE(rig);
+            compare(scene, *rig, s);
+        }
+    }
+    std::mt19937 rng(4711);
+    for (int i = 0; i < 10; ++i) {
+        SCOPED_TRACE(fmt::format("soup case {}", i));
+        const Scene soup = randomSoup(rng, 40 + int(rng() % 60));
+        const RenderSettings s = randomSettings(rng, i);
+        Camera c0;
+        c0.position = {0.0f, 0.0f, 3.0f};
+        c0.near = 0.3f, c0.far = 30.0f;
+        c0.aspect = float(s.width) / float(s.height);
+        compare(soup, randomRig(rng, c0, i), s);
+    }
+    EXPECT_GT(covered, 20000);
+}
+
 TEST(UnifiedEqualsMultipass, StreamedBandsEqualMultipass) {
     // SoftOptions::streamAboveBytes = 0: every frame's bands are drawn into the workers' scratch
-    // and streamed into the images (by default only frames of more than 32 MiB of images). Rows
+    // and streamed into the images (by default only frames of more than 4 MiB of images). Rows
     // of 2 and 9 views of the default scene, a 3x3 grid, long rows and a 9x9 grid of random soups,
-    // random rigs (toe-in, parallel, lists), against multipass (which draws into the images);
-    // the bunny at 100 views: BunnyAtHundredViews.
+    // random rigs (toe-in, parallel, lists), against multipass (streamed too:
+    // MultipassStreamedEqualsDrawnIntoTheImages); the bunny at 100 views: BunnyAtHundredViews.
     auto backend = makeSoftBackend(SoftOptions{.streamAboveBytes = 0});
     Stats stats;
     const Scene scene = makeDefaultScene();
