@@ -437,6 +437,45 @@ TEST(UnifiedEqualsMultipass, RenderingIntoAUsedOutputEqualsAFreshRender) {
     }
 }
 
+/// check(scene, rig, settings) on rows of each of `viewCounts` views of the default scene in
+/// every shading, with and without culling, and wireframe, at width × height.
+template <class Check>
+void forDefaultSceneRows(std::initializer_list<int> viewCounts, int width, int height,
+                         Check&& check) {
+    const Scene scene = makeDefaultScene();
+    const Camera cam = defaultSceneCamera(float(width) / float(height));
+    for (const int views : viewCounts) {
+        for (int mode = 0; mode < 6; ++mode) {
+            RenderSettings s;
+            s.width = width, s.height = height;
+            s.shading = static_cast<Shading>(mode % 3);
+            s.cullBackFaces = mode >= 3;
+            s.wireframe = mode == 5;
+            RigParams p;
+            p.columns = views, p.rows = 1, p.interaxial = 0.2f, p.convergence = 6.0f;
+            auto rig = makeRig(cam, p);
+            ASSERT_TRUE(rig);
+            check(scene, *rig, s);
+        }
+    }
+}
+
+/// check(scene, rig, settings) on `count` random soups (crossing the near plane and the screen
+/// edges) with random settings and rigs.
+template <class Check>
+void forRandomSoups(std::mt19937& rng, int count, Check&& check) {
+    for (int i = 0; i < count; ++i) {
+        SCOPED_TRACE(fmt::format("soup case {}", i));
+        const Scene soup = randomSoup(rng, 40 + int(rng() % 60));
+        const RenderSettings s = randomSettings(rng, i);
+        Camera c0;
+        c0.position = {0.0f, 0.0f, 3.0f};
+        c0.near = 0.3f, c0.far = 30.0f;
+        c0.aspect = float(s.width) / float(s.height);
+        check(soup, randomRig(rng, c0, i), s);
+    }
+}
+
 TEST(UnifiedEqualsMultipass, MultipassStreamedEqualsDrawnIntoTheImages) {
     // Multipass streams its bands too (FrameContext::streamBands: each view's band drawn into a
     // worker's scratch, then its rows copied into the image): always streamed (streamAboveBytes
@@ -456,33 +495,9 @@ TEST(UnifiedEqualsMultipass, MultipassStreamedEqualsDrawnIntoTheImages) {
             << s.cullBackFaces << " wireframe " << s.wireframe;
         covered += coveredPixels(*n);
     };
-    const Scene scene = makeDefaultScene();
-    const Camera cam = defaultSceneCamera(96.0f / 70.0f);
-    for (int views = 1; views <= 3; views += 2) {
-        for (int mode = 0; mode < 6; ++mode) {
-            RenderSettings s;
-            s.width = 96, s.height = 70;  // bands of 16 rows and a shorter last one
-            s.shading = static_cast<Shading>(mode % 3);
-            s.cullBackFaces = mode >= 3;
-            s.wireframe = mode == 5;
-            RigParams p;
-            p.columns = views, p.rows = 1, p.interaxial = 0.2f, p.convergence = 6.0f;
-            auto rig = makeRig(cam, p);
-            ASSERT_TRUE(rig);
-            compare(scene, *rig, s);
-        }
-    }
+    forDefaultSceneRows({1, 3}, 96, 70, compare);  // bands of 16 rows and a shorter last one
     std::mt19937 rng(4711);
-    for (int i = 0; i < 10; ++i) {
-        SCOPED_TRACE(fmt::format("soup case {}", i));
-        const Scene soup = randomSoup(rng, 40 + int(rng() % 60));
-        const RenderSettings s = randomSettings(rng, i);
-        Camera c0;
-        c0.position = {0.0f, 0.0f, 3.0f};
-        c0.near = 0.3f, c0.far = 30.0f;
-        c0.aspect = float(s.width) / float(s.height);
-        compare(soup, randomRig(rng, c0, i), s);
-    }
+    forRandomSoups(rng, 10, compare);
     EXPECT_GT(covered, 20000);
 }
 
@@ -494,34 +509,13 @@ TEST(UnifiedEqualsMultipass, StreamedBandsEqualMultipass) {
     // MultipassStreamedEqualsDrawnIntoTheImages); the bunny at 100 views: BunnyAtHundredViews.
     auto backend = makeSoftBackend(SoftOptions{.streamAboveBytes = 0});
     Stats stats;
-    const Scene scene = makeDefaultScene();
-    const Camera cam = defaultSceneCamera(80.0f / 60.0f);
-    for (int views = 2; views <= 9; views += 7) {
-        for (int mode = 0; mode < 6; ++mode) {
-            RenderSettings s;
-            s.width = 80, s.height = 60;
-            s.shading = static_cast<Shading>(mode % 3);
-            s.cullBackFaces = mode >= 3;
-            s.wireframe = mode == 5;
-            RigParams p;
-            p.columns = views, p.rows = 1, p.interaxial = 0.2f, p.convergence = 6.0f;
-            auto rig = makeRig(cam, p);
-            ASSERT_TRUE(rig);
-            expectSame(*backend, scene, *rig, s, stats);
-        }
-    }
+    auto same = [&](const Scene& scene, const Rig& rig, const RenderSettings& s) {
+        expectSame(*backend, scene, rig, s, stats);
+    };
+    forDefaultSceneRows({2, 9}, 80, 60, same);
     std::mt19937 rng(909);
     expectSameOnSoups(*backend, rng, {{3, 3}, {16, 1}, {45, 1}, {100, 1}, {9, 9}}, stats);
-    for (int i = 0; i < 15; ++i) {
-        SCOPED_TRACE(fmt::format("soup case {}", i));
-        const Scene soup = randomSoup(rng, 40 + int(rng() % 60));
-        const RenderSettings s = randomSettings(rng, i);
-        Camera c0;
-        c0.position = {0.0f, 0.0f, 3.0f};
-        c0.near = 0.3f, c0.far = 30.0f;
-        c0.aspect = float(s.width) / float(s.height);
-        expectSame(*backend, soup, randomRig(rng, c0, i), s, stats);
-    }
+    forRandomSoups(rng, 15, same);
     const auto path = modelsDir() / "stanford-bunny.obj";
     EXPECT_GT(stats.covered, stats.renders * 100);
 }
