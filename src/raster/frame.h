@@ -163,6 +163,27 @@ void forVertexChunks(const DrawList& draw, ThreadPool& pool, Fn&& fn) {
 void allocateOutputs(ThreadPool& pool, RenderOutput& out, int views, const RenderSettings& settings,
                      std::vector<Target>& targets);
 
+/// Streamed bands' scratch (FrameContext::streamBands): per worker `pixels` values of color and
+/// depth, kept frame after frame (unified: one band's rows of every view; multipass: of the view).
+struct BandBuffers {
+    std::vector<std::vector<std::uint32_t>> color;
+    std::vector<std::vector<float>> depth;
+
+    void resize(int workers, std::size_t pixels) {
+        color.resize(std::size_t(workers)), depth.resize(std::size_t(workers));
+        for (auto& c : color) c.resize(pixels);
+        for (auto& z : depth) z.resize(pixels);
+    }
+    /// `image` drawn into worker w's buffers from pixel `at` on: the same size, its pointers
+    /// there (a band's Target::offset is set per band: image.index(0, rowHi)).
+    Target target(int worker, std::size_t at, const Target& image) {
+        Target t = image;
+        t.color = color[std::size_t(worker)].data() + at;
+        t.depth = depth[std::size_t(worker)].data() + at;
+        return t;
+    }
+};
+
 /// Rows [rowLo, rowHi] of every from[v] (a band's scratch) copied into to[v] (the images) with
 /// non-temporal stores: the images' lines are written without being read first, and do not
 /// evict the scratch from the cache. Ends with one store fence.

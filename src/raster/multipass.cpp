@@ -25,9 +25,7 @@ struct ViewVertexData : MethodScratch {
     std::size_t attrStride = 0;                // attributeCount(shading): only what is interpolated
     std::vector<glm::vec3> world;              // world positions (Flat's face normal)
     Bins bins;
-    /// Streamed bands (FrameContext::streamBands): per worker, one band's rows of the view.
-    std::vector<std::vector<std::uint32_t>> bandColor;
-    std::vector<std::vector<float>> bandDepth;
+    BandBuffers bandBuffers;  ///< streamed bands: per worker, one band's rows of the view
 
     void resize(std::size_t n, Shading shading, bool textured) {
         for (auto* v : {&x, &y, &z, &w, &cx, &cy, &zw, &q}) v->resize(n);
@@ -200,19 +198,12 @@ void rasterStage(FrameContext& f, ViewVertexData& d, const Bins& bins, const Tar
     // read from memory); otherwise each band's rows of the image are cleared just before they
     // are drawn.
     const bool stream = f.streamBands;
-    const std::size_t bandPixels = std::size_t(f.bands.rows) * std::size_t(image.width);
-    if (stream) {
-        d.bandColor.resize(std::size_t(f.pool.size()));
-        d.bandDepth.resize(std::size_t(f.pool.size()));
-        for (auto& c : d.bandColor) c.resize(bandPixels);
-        for (auto& z : d.bandDepth) z.resize(bandPixels);
-    }
+    if (stream) d.bandBuffers.resize(f.pool.size(), std::size_t(f.bands.rows) * image.width);
     f.pool.run(f.bands.count, [&](int band, int worker) {
         const int rowLo = f.bands.rowBegin(band), rowHi = f.bands.rowEnd(band) - 1;
         Target target = image;
         if (stream) {
-            target.color = d.bandColor[std::size_t(worker)].data();
-            target.depth = d.bandDepth[std::size_t(worker)].data();
+            target = d.bandBuffers.target(worker, 0, image);
             target.offset = image.index(0, rowHi);
         }
         clearRows(target, rowLo, rowHi, clear);  // into the cache just before it is drawn

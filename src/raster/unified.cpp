@@ -427,11 +427,12 @@ void drawLongRow(BandContext<S>& b, const Family& fam, const std::uint32_t v[3],
         for (int k = 0; k < nv; ++k)
             culledViews[k / 64] |= std::uint64_t(viewBack(d, fam, det, k)) << (k % 64);
     }
-    const std::size_t first = b.slots->first[std::size_t(&fam - d.families.data())];
+    const std::size_t family = std::size_t(&fam - d.families.data());
+    const std::size_t first = b.slots->first[family];
     const int general = b.f.kernels.drawSheared(
         ys, t, fam.shears.data(), nv, mixed ? culledViews : nullptr, width, b.slotHeight, b.frag,
         S == Shading::Flat, b.slots->depth.data() + first, b.slots->color.data() + first,
-        b.slots->blockStride[std::size_t(&fam - d.families.data())], b.xs);
+        b.slots->blockStride[family], b.xs);
     for (int i = 0; i < general; ++i) {
         FragmentSink<S> sink = b.sinks[std::size_t(views[b.xs.view[i]])];
         const std::int32_t xk[3] = {b.xs.x[0][i], b.xs.x[1][i], b.xs.x[2][i]};
@@ -804,16 +805,10 @@ void rasterStage(FrameContext& f, UnifiedData& d, std::span<const Target> target
     std::vector<BandScratch> scratch(stream ? std::size_t(f.pool.size()) : 0);
     const std::size_t stride = std::size_t(f.bands.rows) * std::size_t(f.settings.width);
     if (stream) {
-        d.bandColor.resize(scratch.size()), d.bandDepth.resize(scratch.size());
+        d.bandBuffers.resize(f.pool.size(), stride * targets.size());
         for (std::size_t w = 0; w < scratch.size(); ++w) {
-            d.bandColor[w].resize(stride * targets.size());
-            d.bandDepth[w].resize(stride * targets.size());
-            for (std::size_t v = 0; v < targets.size(); ++v) {
-                Target t = targets[v];
-                t.color = d.bandColor[w].data() + v * stride;
-                t.depth = d.bandDepth[w].data() + v * stride;
-                scratch[w].targets.push_back(t);
-            }
+            for (std::size_t v = 0; v < targets.size(); ++v)
+                scratch[w].targets.push_back(d.bandBuffers.target(int(w), v * stride, targets[v]));
             if (laneFragments) scratch[w].slots = makeSlots(d, scratch[w].targets);
         }
     }

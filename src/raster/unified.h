@@ -64,9 +64,8 @@ struct UnifiedData : MethodScratch {
     /// byte per vertex for both questions.
     std::vector<std::uint8_t> anyClipX;
     Bins bins;
-    /// Streamed bands (unified.cpp): per worker, one band's rows of every view.
-    std::vector<std::vector<std::uint32_t>> bandColor;
-    std::vector<std::vector<float>> bandDepth;
+    BandBuffers
+        bandBuffers;  ///< streamed bands (unified.cpp): per worker, one band's rows of every view
 
     const float* attrOf(std::uint32_t v) const { return attr.data() + v * attrStride; }
     const float* famZ(const Family& f) const { return f.sheared ? cz.data() : f.z.data(); }

@@ -44,10 +44,10 @@ enum class SimdPath { Auto, Scalar, Avx2, Avx512 };
 struct SoftOptions {
     int threads = 0;                 ///< worker threads; 0 = one per core the process may use
     SimdPath simd = SimdPath::Auto;  ///< Auto: the best the CPU has and this build compiled
-    /// unified: a frame whose images (8 bytes a pixel a view) are larger than this is drawn band
-    /// by band into a scratch that stays in the workers' caches and streamed into the images
-    /// (non-temporal stores); smaller frames are drawn into the images (each band's rows cleared
-    /// just before). 0: always stream. (4 MiB: streaming was as fast for a pair of 420x560 and
+    /// unified and multipass: a frame whose images (8 bytes a pixel a view) are larger than this
+    /// is drawn band by band into a scratch that stays in the workers' caches and streamed into
+    /// the images (non-temporal stores); smaller frames are drawn into the images (each band's
+    /// rows cleared just before). 0: always stream. (4 MiB: streaming was as fast for a pair of 420x560 and
     /// 256x256, faster from 4 views of 420x560 and a pair of 1024x768 on; src/raster/README.md.)
     std::size_t streamAboveBytes = std::size_t(4) << 20;
 };

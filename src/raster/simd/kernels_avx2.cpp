@@ -497,7 +497,7 @@ std::uint64_t shadeLanes(const ViewsSetup& s, std::uint64_t lanes, int rowMin, i
 /// drawSheared's setup and fragments of the m packed views (OneRow: ys.rowMax == ys.rowMin, as
 /// for most triangles of a dense mesh within a band). Their x: xs.x, or with `deriveX` derived
 /// here from their shears ps[0, m) (then stored only for the views left to the general walk).
-template <bool OneRow, bool Block>
+template <bool OneRow>
 int drawPacked(const YSetup& ys, int m, int width, int height, const FragmentTri& tri, bool flat,
                float* const* depth, std::uint32_t* const* color, std::int32_t blockStride,
                ViewsX& xs, const ShearX* deriveX = nullptr, const float* ps = nullptr) {
@@ -522,7 +522,11 @@ int drawPacked(const YSetup& ys, int m, int width, int height, const FragmentTri
         if (!_mm256_testz_si256(rem, rem)) {
             if (!haveFragment) f = laneFragment(tri, flat, ys.rowMin, width, height);
             haveFragment = true;
-            shadeGroup<OneRow, Block>(f, c, rem, xs.view + i, depth, color, blockStride);
+            if (blockStride > 0) {
+                shadeGroup<OneRow, true>(f, c, rem, xs.view + i, depth, color, blockStride);
+            } else {
+                shadeGroup<OneRow, false>(f, c, rem, xs.view + i, depth, color);
+            }
         }
         // General lanes to the front (general <= i + k: positions already read).
         const unsigned g0 = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(negative)));
@@ -601,17 +605,13 @@ int drawSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int 
                              : packOnRow<false>(ys, t, shears, n, nullptr, width, ps, xs);
         if (m == 0) return 0;
         const ShearX deriveX(t, width);
-        return blockStride > 0 ? drawPacked<true, true>(ys, m, width, height, tri, flat, depth,
-                                                        color, blockStride, xs, &deriveX, ps)
-                               : drawPacked<true, false>(ys, m, width, height, tri, flat, depth,
-                                                         color, 0, xs, &deriveX, ps);
+        return drawPacked<true>(ys, m, width, height, tri, flat, depth, color, blockStride, xs,
+                                &deriveX, ps);
     }
     const int m = packSheared(t, shears, n, culled, width, xs);
-    if (m == 0) return 0;
-    return blockStride > 0
-               ? drawPacked<false, true>(ys, m, width, height, tri, flat, depth, color, blockStride,
-                                         xs)
-               : drawPacked<false, false>(ys, m, width, height, tri, flat, depth, color, 0, xs);
+    return m == 0
+               ? 0
+               : drawPacked<false>(ys, m, width, height, tri, flat, depth, color, blockStride, xs);
 }
 
 /// setupLanes: two passes of 8 lanes.

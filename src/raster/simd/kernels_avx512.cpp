@@ -676,7 +676,7 @@ inline void shadeGroup16(const LaneFragment16& f, const Cover16& c, __m512i rem,
 
 /// The AVX2 drawPacked with 16 lanes: per 16 packed views cover16 and shadeGroup16; the views
 /// left to the general walk moved to the front of xs.
-template <bool OneRow, bool Block>
+template <bool OneRow>
 int drawPacked16(const YSetup& ys, int m, int width, int height, const FragmentTri& tri, bool flat,
                  float* const* depth, std::uint32_t* const* color, std::int32_t blockStride,
                  ViewsX& xs, const ShearX16* deriveX = nullptr, const float* ps = nullptr) {
@@ -702,7 +702,12 @@ int drawPacked16(const YSetup& ys, int m, int width, int height, const FragmentT
         if (_mm512_test_epi32_mask(rem, rem)) {
             if (!haveFragment) f = laneFragment16(tri, flat, ys.rowMin, width, height);
             haveFragment = true;
-            shadeGroup16<OneRow, Block>(f, c, rem, drawn, xs.view + i, depth, color, blockStride);
+            if (blockStride > 0) {
+                shadeGroup16<OneRow, true>(f, c, rem, drawn, xs.view + i, depth, color,
+                                           blockStride);
+            } else {
+                shadeGroup16<OneRow, false>(f, c, rem, drawn, xs.view + i, depth, color, 0);
+            }
         }
         if (!negative) continue;
         // General lanes to the front (general <= i: positions already read).
@@ -729,17 +734,13 @@ int drawSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int 
                              : packOnRow16<false>(ys, t, shears, n, nullptr, width, ps, xs);
         if (m == 0) return 0;
         const ShearX16 deriveX(t, width);
-        return blockStride > 0 ? drawPacked16<true, true>(ys, m, width, height, tri, flat, depth,
-                                                          color, blockStride, xs, &deriveX, ps)
-                               : drawPacked16<true, false>(ys, m, width, height, tri, flat, depth,
-                                                           color, 0, xs, &deriveX, ps);
+        return drawPacked16<true>(ys, m, width, height, tri, flat, depth, color, blockStride, xs,
+                                  &deriveX, ps);
     }
     const int m = packSheared16(t, shears, n, culled, width, xs);
-    if (m == 0) return 0;
-    return blockStride > 0
-               ? drawPacked16<false, true>(ys, m, width, height, tri, flat, depth, color,
-                                           blockStride, xs)
-               : drawPacked16<false, false>(ys, m, width, height, tri, flat, depth, color, 0, xs);
+    return m == 0 ? 0
+                  : drawPacked16<false>(ys, m, width, height, tri, flat, depth, color, blockStride,
+                                        xs);
 }
 
 }  // namespace
