@@ -34,14 +34,13 @@ struct Family {
     const std::int32_t* sxvData = nullptr;  ///< sxv, or the twin's
 };
 
-/// One view's clip x, snapped window x and left/right outcodes per vertex. Sheared views with the
-/// same shear.x (the views of one column of a grid) have the same x bit for bit: the later ones
-/// point at the first one's arrays (`twin`) instead of computing them again.
+/// One view's clip x, snapped window x and left/right outcodes per vertex: stored for a view with
+/// its own matrix; a sheared view stores none (`derived`: UnifiedData::viewX, viewCode, viewSx
+/// compute them from the centre; the fast paths read its family's sxv or derive x per triangle).
 struct ViewData {
     int family = 0;
     float shearX = 0.0f;
-    int twin = -1;
-    bool derived = false;  ///< a view of a `many` family: x, sx, code are nullptr (derive them)
+    bool derived = false;  ///< a sheared view: x, sx, code are nullptr (derive them)
     std::vector<float> xStore;
     std::vector<std::int32_t> sxStore;
     std::vector<std::uint8_t> codeStore;
@@ -78,8 +77,8 @@ struct UnifiedData : MethodScratch {
     float* famZW(Family& f) { return f.sheared ? czw.data() : f.zw.data(); }
     const float* famW(const Family& f) const { return f.sheared ? cw.data() : f.w.data(); }
     float convergence = 0.0f, width = 0.0f;
-    /// A view's clip x, outcodeX and snapped x of vertex i: stored, or (views of a `many`
-    /// family) derived from the center with the operations the vertex stage would have used.
+    /// A view's clip x, outcodeX and snapped x of vertex i: stored, or (sheared views) derived
+    /// from the center with the operations the vertex stage uses for sxv and the guard-band bits.
     float viewX(const ViewData& vd, std::uint32_t i) const {
         return vd.derived ? shearClip(cx[i], vd.shearX, cw[i], convergence) : vd.x[i];
     }

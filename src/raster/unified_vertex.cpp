@@ -60,23 +60,13 @@ void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t v
         for (int v : f.views) f.shears.push_back(d.views[std::size_t(v)].shearX);
         f.shears.resize((f.shears.size() + 15) / 16 * 16, 0.0f);
     }
-    for (ViewData& vd : d.views) vd.derived = d.families[std::size_t(vd.family)].many;
-    // Column twins: a sheared view whose shear.x has the bits of an earlier sheared view's
-    // (views of `many` families store no x: neither twins nor twinned).
-    for (std::size_t v = 0; v < d.views.size(); ++v) {
-        ViewData& vd = d.views[v];
-        vd.twin = -1;
-        if (!rig.views[v].clipShear || vd.derived) continue;
-        for (std::size_t u = 0; u < v && vd.twin < 0; ++u) {
-            if (rig.views[u].clipShear && !d.views[u].derived && d.views[u].twin < 0 &&
-                std::bit_cast<std::uint32_t>(d.views[u].shearX) ==
-                    std::bit_cast<std::uint32_t>(vd.shearX)) {
-                vd.twin = int(u);
-            }
-        }
-    }
-    // Family twins: the same number of views, each the twin of the other family's view in
-    // the same position (a grid's rows).
+    // Sheared views store no x per vertex: the vertex stage writes a row's snapped x straight
+    // into its family's interleaved sxv (rows of at most kLaneBlock views) or nothing (`many`),
+    // and the slow paths derive a view's x, outcode and snapped x from the centre (viewX, ...).
+    for (ViewData& vd : d.views) vd.derived = d.families[std::size_t(vd.family)].sheared;
+    // Family twins: sheared rows with the same number of views and, position by position, the
+    // same shear.x bits (a grid's rows) have the same snapped x: the later ones read the first
+    // one's sxv.
     for (std::size_t fi = 0; fi < d.families.size(); ++fi) {
         Family& f = d.families[fi];
         f.sxvTwin = -1;
@@ -84,7 +74,8 @@ void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t v
             const Family& g = d.families[fj];
             bool same = g.sheared && g.sxvTwin < 0 && g.views.size() == f.views.size();
             for (std::size_t k = 0; same && k < f.views.size(); ++k) {
-                same = d.views[std::size_t(f.views[k])].twin == g.views[k];
+                same = std::bit_cast<std::uint32_t>(d.views[std::size_t(f.views[k])].shearX) ==
+                       std::bit_cast<std::uint32_t>(d.views[std::size_t(g.views[k])].shearX);
             }
             if (same) f.sxvTwin = int(fj);
         }
@@ -104,18 +95,11 @@ void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t v
         f.sxvData = f.sxvTwin < 0 ? f.sxv.data() : d.families[std::size_t(f.sxvTwin)].sxv.data();
     }
     for (ViewData& vd : d.views) {
-        const std::size_t own = vd.twin < 0 && !vd.derived ? n : 0;
+        const std::size_t own = vd.derived ? 0 : n;
         vd.xStore.resize(own), vd.sxStore.resize(own), vd.codeStore.resize(own);
-    }
-    for (ViewData& vd : d.views) {
-        if (vd.derived) {
-            vd.x = nullptr, vd.sx = nullptr, vd.code = nullptr;
-            continue;
-        }
-        const ViewData& src = vd.twin < 0 ? vd : d.views[std::size_t(vd.twin)];
-        vd.x = const_cast<float*>(src.xStore.data());
-        vd.sx = const_cast<std::int32_t*>(src.sxStore.data());
-        vd.code = const_cast<std::uint8_t*>(src.codeStore.data());
+        vd.x = vd.derived ? nullptr : vd.xStore.data();
+        vd.sx = vd.derived ? nullptr : vd.sxStore.data();
+        vd.code = vd.derived ? nullptr : vd.codeStore.data();
     }
     d.attrStride = std::size_t(attributeCount(shading, textured));
     d.world.resize(shading == Shading::Flat ? n : 0), d.attr.resize(n * d.attrStride),
@@ -124,6 +108,30 @@ void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t v
         d.cx.resize(n), d.cy.resize(n), d.cz.resize(n), d.cw.resize(n), d.cq.resize(n),
             d.czw.resize(n);
 }
+
+namespace {
+
+/// out[k · nv + lane] = rows[lane][k] for k < m: a row's snapped x interleaved per vertex (sxv).
+/// The view count as a constant, so that the stores are contiguous and vectorized.
+template <int NV>
+void interleaveRows(const std::int32_t (*rows)[256], std::uint32_t m, std::int32_t* out) {
+    for (std::uint32_t k = 0; k < m; ++k)
+        for (int lane = 0; lane < NV; ++lane) out[k * NV + lane] = rows[lane][k];
+}
+void interleaveRows(const std::int32_t (*rows)[256], int nv, std::uint32_t m, std::int32_t* out) {
+    switch (nv) {
+        case 1: interleaveRows<1>(rows, m, out); break;
+        case 2: interleaveRows<2>(rows, m, out); break;
+        case 3: interleaveRows<3>(rows, m, out); break;
+        case 4: interleaveRows<4>(rows, m, out); break;
+        case 5: interleaveRows<5>(rows, m, out); break;
+        case 6: interleaveRows<6>(rows, m, out); break;
+        case 7: interleaveRows<7>(rows, m, out); break;
+        default: interleaveRows<8>(rows, m, out); break;
+    }
+}
+
+}  // namespace
 
 void vertexStage(FrameContext& f, UnifiedData& d) {
     const Shading shading = f.settings.shading;
@@ -187,19 +195,11 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
             }
             for (Family& fam : d.families) {
                 if (!fam.sheared) continue;
-                const float* cx = &d.cx[g];
                 const float* cy = &d.cy[g];
                 const float* cw = &d.cw[g];
                 float* y = &fam.y[g];
                 for (std::uint32_t k = 0; k < count; ++k)
                     y[k] = shearClip(cy[k], fam.shearY, cw[k], conv);
-                for (int v : fam.views) {
-                    ViewData& vd = d.views[std::size_t(v)];
-                    if (vd.twin >= 0 || vd.derived) continue;  // twin: its column's first view
-                    float* x = &vd.x[g];
-                    for (std::uint32_t k = 0; k < count; ++k)
-                        x[k] = shearClip(cx[k], vd.shearX, cw[k], conv);
-                }
             }
             std::fill_n(&d.anyClipX[g], count, std::uint8_t(0));
             for (Family& fam : d.families) {
@@ -221,9 +221,9 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                               kClipX;
                 }
             }
+            // Views with their own matrix: x, outcode and snapped x stored (a one-view family).
             for (ViewData& vd : d.views) {
-                // twin: the same x, code and sx as its twin, computed there; derived: none
-                if (vd.twin >= 0 || vd.derived) continue;
+                if (vd.derived) continue;
                 const Family& fam = d.families[std::size_t(vd.family)];
                 f.kernels.projectX(&vd.x[g], &d.famW(fam)[g], d.famQ(fam) + g, count, width,
                                    &vd.code[g], &vd.sx[g]);
@@ -236,9 +236,31 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 if (fam.sxvTwin >= 0 || fam.many) continue;  // twin: its twin's sxv is the same
                 const std::size_t nv = fam.views.size();
                 std::int32_t* sxv = &fam.sxv[std::size_t(g) * nv];
-                for (std::size_t lane = 0; lane < nv; ++lane) {
-                    const std::int32_t* sx = &d.views[std::size_t(fam.views[lane])].sx[g];
-                    for (std::uint32_t k = 0; k < count; ++k) sxv[k * nv + lane] = sx[k];
+                if (!fam.sheared) {
+                    std::copy_n(&d.views[std::size_t(fam.views[0])].sx[g], count, sxv);
+                    continue;
+                }
+                // A sheared row: each view's x, outcode and snapped x a block of vertices at a
+                // time in the stack (L1), its snapped x interleaved into sxv, its guard-band bits
+                // into anyClipX — nothing per view and vertex in memory.
+                constexpr std::uint32_t kBlock = 256;
+                const float* cx = &d.cx[g];
+                const float* cw = &d.cw[g];
+                const float* cq = d.cq.data() + g;
+                std::uint8_t* any = &d.anyClipX[g];
+                for (std::uint32_t base = 0; base < count; base += kBlock) {
+                    const std::uint32_t m = std::min(kBlock, count - base);
+                    alignas(64) std::int32_t sx[kLaneBlock][kBlock];
+                    for (std::size_t lane = 0; lane < nv; ++lane) {
+                        const float shear = d.views[std::size_t(fam.views[lane])].shearX;
+                        alignas(64) float x[kBlock];
+                        alignas(64) std::uint8_t code[kBlock];
+                        for (std::uint32_t k = 0; k < m; ++k)
+                            x[k] = shearClip(cx[base + k], shear, cw[base + k], conv);
+                        f.kernels.projectX(x, cw + base, cq + base, m, width, code, sx[lane]);
+                        for (std::uint32_t k = 0; k < m; ++k) any[base + k] |= code[k] & kClipX;
+                    }
+                    interleaveRows(sx, int(nv), m, sxv + std::size_t(base) * nv);
                 }
             }
             for (Family& fam : d.families) {
