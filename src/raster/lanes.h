@@ -82,13 +82,17 @@ struct LaneQueue {
         std::memcpy(&laneView[k], views, kLaneBlock);
         laneCount += n;
     }
-    /// Sets the queued lanes up in one pass and draws them; sinkFor(view) gives the view's sink.
+    /// Sets the queued lanes up in one pass and draws them; sinkFor(view) gives the view's sink
+    /// by reference: each lane sets its triangle there and puts the caller's back (it copied the
+    /// ~100-byte sink per lane before: 1024x768, instructions per frame one view 272.9 -> 269.7 M,
+    /// the pair 363.1 -> 359.7 M).
     template <class SinkFor>
     void flush(SetupLanesFn setup, int width, SinkFor&& sinkFor) {
         if (laneCount == 0) return;
         for (std::uint32_t bits = setup(lanes, laneCount, width); bits; bits &= bits - 1) {
             const int k = __builtin_ctz(bits);
-            FragmentSink<S> sink = sinkFor(laneView[k]);  // in registers
+            FragmentSink<S>& sink = sinkFor(laneView[k]);
+            const FragmentTri* const callers = sink.tri;  // put back below
             sink.tri = &slotFrag[laneSlot[k]];
             if (lanes.out.mask[k] > 0) {
                 if (sink.shade.texture) {
@@ -100,6 +104,7 @@ struct LaneQueue {
                 const std::int32_t xk[3] = {lanes.x[0][k], lanes.x[1][k], lanes.x[2][k]};
                 rasterTriangle(slotYs[laneSlot[k]], xk, width, sink);
             }
+            sink.tri = callers;
         }
         laneCount = slotCount = 0;
     }

@@ -213,7 +213,8 @@ void rasterStage(FrameContext& f, ViewVertexData& d, const Bins& bins, const Tar
         // everything drawn directly flushes the queue first (submission order).
         LaneQueue<S> queue;
         auto flush = [&] {
-            queue.flush(f.kernels.setupLanes, target.width, [&](int) { return sink; });
+            queue.flush(f.kernels.setupLanes, target.width,
+                        [&](int) -> FragmentSink<S>& { return sink; });
         };
         const Material* material = nullptr;
         auto onItem = [&](const DrawItem& it) {

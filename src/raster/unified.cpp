@@ -237,7 +237,7 @@ struct BandContext {
 template <Shading S>
 void flushLanes(BandContext<S>& b) {
     b.queue.flush(b.f.kernels.setupLanes, b.f.settings.width,
-                  [&](int view) { return b.sinks[std::size_t(view)]; });
+                  [&](int view) -> FragmentSink<S>& { return b.sinks[std::size_t(view)]; });
 }
 
 /// One family's replicas of a triangle that needs clipping against shared planes (or whose
