@@ -101,6 +101,13 @@ using DrawShearedFn = int (*)(const YSetup& ys, const ShearedTri& t, const float
                               const FragmentTri& tri, bool flat, float* const* depth,
                               std::uint32_t* const* color, std::int32_t blockStride, ViewsX& x);
 
+/// A sheared row's guard-band bits: any[k] |= the kClipX bits of outcodeX(x, w[k]) for
+/// x = shearClipWc(cx[k], s, w[k] − convergence) at s = lo and at s = hi — the row's outermost
+/// shears: x is monotone in the shear (a float multiply by a fixed w − c and an add are), so
+/// these are the OR over every view of the row.
+using RowClipXFn = void (*)(const float* cx, const float* w, std::size_t n, float lo, float hi,
+                            float convergence, std::uint8_t* any);
+
 struct Kernels {
     ProjectYZWFn projectYZW;
     ProjectXFn projectX;
@@ -114,6 +121,7 @@ struct Kernels {
     /// setupSheared + shadeLanes fused (every table has one; a nullptr would make the caller
     /// run the two kernels)
     DrawShearedFn drawSheared;
+    RowClipXFn rowClipX;  ///< a long row's guard-band bits from its outermost shears
 };
 
 /// The kernel table of a path (resolved first, so always a valid table).

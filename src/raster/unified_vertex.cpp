@@ -206,19 +206,11 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 f.kernels.projectYZW(&fam.y[g], &d.famZ(fam)[g], &d.famW(fam)[g], count, height,
                                      &fam.code[g], d.famQ(fam) + g, &fam.sy[g], d.famZW(fam) + g);
             }
-            for (Family& fam : d.families) {
-                if (!fam.many) continue;
-                // x is monotone in the shear (a float multiply and add are), so the outermost
-                // views' guard-band bits are the OR over all the row's views.
-                const float* cx = &d.cx[g];
-                const float* cw = &d.cw[g];
-                std::uint8_t* any = &d.anyClipX[g];
-                const float lo = fam.shearXMin, hi = fam.shearXMax;
-                for (std::uint32_t k = 0; k < count; ++k) {
-                    const float wc = cw[k] - conv;
-                    any[k] |= (outcodeX(shearClipWc(cx[k], lo, wc), cw[k]) |
-                               outcodeX(shearClipWc(cx[k], hi, wc), cw[k])) &
-                              kClipX;
+            for (const Family& fam : d.families) {
+                // A long row: its outermost views' guard-band bits are every view's (rowClipX).
+                if (fam.many) {
+                    f.kernels.rowClipX(&d.cx[g], &d.cw[g], count, fam.shearXMin, fam.shearXMax,
+                                       conv, &d.anyClipX[g]);
                 }
             }
             // Views with their own matrix: x, outcode and snapped x stored (a one-view family).

@@ -521,6 +521,43 @@ TEST(Kernels, SimdPathsEqualScalar) {
     }
 }
 
+TEST(Kernels, RowClipXSimdEqualsScalar) {
+    // A long row's guard-band bits from its outermost shears: centre x within a few w of the
+    // guard band's edges (±64 w), shears that move it across them, w of both signs and near 0,
+    // the convergence below and above w; every byte of any[] (pre-set bits kept) against the
+    // scalar reference, and the reference against outcodeX of every view between the shears.
+    std::mt19937 rng(64);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    const std::size_t n = 1000 + 9;
+    std::vector<float> cx(n), w(n);
+    std::vector<std::uint8_t> start(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        w[i] = i % 13 == 0 ? -2.0f * std::abs(u(rng)) : 0.001f + 4.0f * std::abs(u(rng));
+        const float edge = (i % 2 == 0 ? 64.0f : -64.0f) * w[i];
+        cx[i] = i % 3 == 0 ? u(rng) * w[i] : edge + 3.0f * u(rng);
+        start[i] = std::uint8_t(rng() % 4 == 0 ? detail::kClipLeft : 0);
+    }
+    const float lo = -0.8f, hi = 1.3f, convergence = 1.7f;
+    std::vector<std::uint8_t> ref = start;
+    detail::scalarKernels().rowClipX(cx.data(), w.data(), n, lo, hi, convergence, ref.data());
+    long clipped = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        std::uint8_t views = start[i];
+        for (int k = 0; k <= 20; ++k) {
+            const float s = k == 20 ? hi : lo + (hi - lo) * float(k) / 20.0f;
+            views |= detail::outcodeX(cx[i] + s * (w[i] - convergence), w[i]) & detail::kClipX;
+        }
+        ASSERT_EQ(ref[i], views) << i;
+        clipped += (ref[i] & ~start[i]) != 0;
+    }
+    EXPECT_GT(clipped, 100) << "the vertices must cross the guard band";
+    for (const detail::Kernels* k : simdKernels()) {
+        std::vector<std::uint8_t> got = start;
+        k->rowClipX(cx.data(), w.data(), n, lo, hi, convergence, got.data());
+        for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(got[i], ref[i]) << i;
+    }
+}
+
 TEST(Kernels, ShadeVerticesSimdEqualsScalar) {
     // Random positions and normals (some zero, some facing away from every light), 1..3 lights,
     // a rotated/scaled instance, several shininess values: every output float bit for bit.

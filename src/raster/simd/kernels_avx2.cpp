@@ -87,6 +87,37 @@ void projectX(const float* x, const float* w, const float* q, std::size_t n, flo
     projectXTail(x + i, w + i, q + i, n - i, width, code + i, sx + i);
 }
 
+void rowClipX(const float* cx, const float* w, std::size_t n, float lo, float hi, float convergence,
+              std::uint8_t* any) {
+    const __m256 gb = _mm256_set1_ps(kGuardBand), ngb = _mm256_set1_ps(-kGuardBand);
+    const __m256 L = _mm256_set1_ps(lo), H = _mm256_set1_ps(hi), C = _mm256_set1_ps(convergence);
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        const __m256 X = _mm256_loadu_ps(cx + i), W = _mm256_loadu_ps(w + i);
+        const __m256 wc = _mm256_sub_ps(W, C);
+        const __m256 xl = _mm256_add_ps(X, _mm256_mul_ps(L, wc));
+        const __m256 xh = _mm256_add_ps(X, _mm256_mul_ps(H, wc));
+        const __m256 left = _mm256_mul_ps(ngb, W), right = _mm256_mul_ps(gb, W);
+        const __m256i c = _mm256_or_si256(bitIf(_mm256_or_ps(_mm256_cmp_ps(xl, left, _CMP_LT_OQ),
+                                                             _mm256_cmp_ps(xh, left, _CMP_LT_OQ)),
+                                                kClipLeft),
+                                          bitIf(_mm256_or_ps(_mm256_cmp_ps(xl, right, _CMP_GT_OQ),
+                                                             _mm256_cmp_ps(xh, right, _CMP_GT_OQ)),
+                                                kClipRight));
+        // 8 codes as bytes (each < 256: the packs do not saturate), OR-ed into any[i, i + 8)
+        const __m128i w16 =
+            _mm_packs_epi32(_mm256_castsi256_si128(c), _mm256_extracti128_si256(c, 1));
+        const __m128i b8 = _mm_packus_epi16(w16, w16);
+        std::uint64_t bytes;
+        std::memcpy(&bytes, &b8, 8);
+        std::uint64_t old;
+        std::memcpy(&old, any + i, 8);
+        old |= bytes;
+        std::memcpy(any + i, &old, 8);
+    }
+    rowClipXTail(cx + i, w + i, n - i, lo, hi, convergence, any + i);
+}
+
 inline __m256i loadLanes(const std::int32_t* p, __m256i live) {
     return _mm256_maskload_epi32(reinterpret_cast<const int*>(p), live);
 }
@@ -789,7 +820,7 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 const Kernels* avx2Kernels() {
     static const Kernels k{&projectYZW,      &projectX,     &setupViews, &shadeVertices,
                            &transformPoints, &specularPowN, &setupLanes, &setupSheared,
-                           &shadeLanes,      &drawSheared};
+                           &shadeLanes,      &drawSheared,  &rowClipX};
     return &k;
 }
 

@@ -77,6 +77,29 @@ void projectX(const float* x, const float* w, const float* q, std::size_t n, flo
     projectXTail(x + i, w + i, q + i, n - i, width, code + i, sx + i);
 }
 
+void rowClipX(const float* cx, const float* w, std::size_t n, float lo, float hi, float convergence,
+              std::uint8_t* any) {
+    const __m512 gb = _mm512_set1_ps(kGuardBand), ngb = _mm512_set1_ps(-kGuardBand);
+    const __m512 L = _mm512_set1_ps(lo), H = _mm512_set1_ps(hi), C = _mm512_set1_ps(convergence);
+    std::size_t i = 0;
+    for (; i + 16 <= n; i += 16) {
+        const __m512 X = _mm512_loadu_ps(cx + i), W = _mm512_loadu_ps(w + i);
+        const __m512 wc = _mm512_sub_ps(W, C);
+        const __m512 xl = _mm512_add_ps(X, _mm512_mul_ps(L, wc));
+        const __m512 xh = _mm512_add_ps(X, _mm512_mul_ps(H, wc));
+        const __m512 left = _mm512_mul_ps(ngb, W), right = _mm512_mul_ps(gb, W);
+        const __m512i c = _mm512_or_si512(bitIf(_mm512_cmp_ps_mask(xl, left, _CMP_LT_OQ) |
+                                                    _mm512_cmp_ps_mask(xh, left, _CMP_LT_OQ),
+                                                kClipLeft),
+                                          bitIf(_mm512_cmp_ps_mask(xl, right, _CMP_GT_OQ) |
+                                                    _mm512_cmp_ps_mask(xh, right, _CMP_GT_OQ),
+                                                kClipRight));
+        __m128i* out = reinterpret_cast<__m128i*>(any + i);
+        _mm_storeu_si128(out, _mm_or_si128(_mm_loadu_si128(out), _mm512_cvtepi32_epi8(c)));
+    }
+    rowClipXTail(cx + i, w + i, n - i, lo, hi, convergence, any + i);
+}
+
 inline __mmask16 liveMask(int n, int k) {
     return n - k >= 16 ? __mmask16(0xffff) : __mmask16((1u << (n - k)) - 1u);
 }
@@ -750,7 +773,7 @@ const Kernels* avx512Kernels() {
     static const Kernels k{&projectYZW,    &projectX,        &setupViews,
                            &shadeVertices, &transformPoints, &specularPowN,
                            &setupLanes,    &setupSheared,    avx2Kernels()->shadeLanes,
-                           &drawSheared};
+                           &drawSheared,   &rowClipX};
     return &k;
 }
 

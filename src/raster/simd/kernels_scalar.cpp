@@ -21,7 +21,8 @@ const Kernels& scalarKernels() {
                                return setupShearedTail(ys, t, shears, n, width, out, x);
                            },
                            &shadeLanesTail,
-                           &drawShearedTail};
+                           &drawShearedTail,
+                           &rowClipXTail};
     return k;
 }
 

@@ -27,6 +27,16 @@ inline void projectXTail(const float* x, const float* w, const float* q, std::si
     }
 }
 
+inline void rowClipXTail(const float* cx, const float* w, std::size_t n, float lo, float hi,
+                         float convergence, std::uint8_t* any) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const float wc = w[i] - convergence;
+        any[i] |= (outcodeX(shearClipWc(cx[i], lo, wc), w[i]) |
+                   outcodeX(shearClipWc(cx[i], hi, wc), w[i])) &
+                  kClipX;
+    }
+}
+
 /// Vertex lighting, one vertex at a time: the reference (pipeline.h's vertexAttributes).
 inline void shadeVerticesTail(const glm::vec3* positions, const glm::vec3* normals, std::size_t n,
                               const glm::mat4& worldFromModel, const glm::mat3& normalFromModel,
