@@ -207,8 +207,9 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                                      &fam.code[g], d.famQ(fam) + g, &fam.sy[g], d.famZW(fam) + g);
             }
             for (const Family& fam : d.families) {
-                // A long row: its outermost views' guard-band bits are every view's (rowClipX).
-                if (fam.many) {
+                // A sheared row: its outermost views' guard-band bits are every view's (rowClipX;
+                // a twin row has the same shears).
+                if (fam.sheared && fam.sxvTwin < 0) {
                     f.kernels.rowClipX(&d.cx[g], &d.cw[g], count, fam.shearXMin, fam.shearXMax,
                                        conv, &d.anyClipX[g]);
                 }
@@ -233,13 +234,12 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                     continue;
                 }
                 // A sheared row: each view's x, outcode and snapped x a block of vertices at a
-                // time in the stack (L1), its snapped x interleaved into sxv, its guard-band bits
-                // into anyClipX — nothing per view and vertex in memory.
+                // time in the stack (L1), its snapped x interleaved into sxv (the guard-band bits:
+                // rowClipX above) — nothing per view and vertex in memory.
                 constexpr std::uint32_t kBlock = 256;
                 const float* cx = &d.cx[g];
                 const float* cw = &d.cw[g];
                 const float* cq = d.cq.data() + g;
-                std::uint8_t* any = &d.anyClipX[g];
                 for (std::uint32_t base = 0; base < count; base += kBlock) {
                     const std::uint32_t m = std::min(kBlock, count - base);
                     alignas(64) std::int32_t sx[kLaneBlock][kBlock];
@@ -250,7 +250,6 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                         for (std::uint32_t k = 0; k < m; ++k)
                             x[k] = shearClip(cx[base + k], shear, cw[base + k], conv);
                         f.kernels.projectX(x, cw + base, cq + base, m, width, code, sx[lane]);
-                        for (std::uint32_t k = 0; k < m; ++k) any[base + k] |= code[k] & kClipX;
                     }
                     interleaveRows(sx, int(nv), m, sxv + std::size_t(base) * nv);
                 }
