@@ -699,14 +699,6 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
             rows[rowCount++] =
                 Row{&fam, fam.code.data(), fam.sy.data(), fam.sxvData, int(fam.views.size())};
     }
-    // One long row (a light-field panel's views), no culling or wireframe, fragments in the row
-    // kernel: drawLongRow straight from here, the row's code loaded once per band.
-    const Family* longRow = !f.settings.cullBackFaces && !f.settings.wireframe &&
-                                    d.families.size() == 1 && d.families[0].many && b.slots &&
-                                    f.kernels.drawSheared
-                                ? &d.families[0]
-                                : nullptr;
-    const std::uint8_t* longCode = longRow ? longRow->code.data() : nullptr;
     const float* zw = d.czw.data();
     const float* q = d.cq.data();
     const float* attr = d.attr.data();
@@ -740,16 +732,6 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
             // View-independent: once for every view.
             setFlat(b.frag, f.textured, f.shading, *material, d.world[v[0]], d.world[v[1]],
                     d.world[v[2]]);
-        }
-        if (longRow) {
-            const std::uint8_t c0 = longCode[v[0]], c1 = longCode[v[1]], c2 = longCode[v[2]];
-            if (c0 & c1 & c2 & kRejectYZW) return;
-            if ((c0 | c1 | c2) & (kClipYZW | kClipX)) {
-                drawTriangleFamily(b, *longRow, v, ShearDet{});
-            } else {
-                drawLongRow(b, *longRow, v, FaceClass::AllFront, ShearDet{});
-            }
-            return;
         }
         if (!fast) {
             drawTriangle(b, v);
