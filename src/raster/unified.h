@@ -40,13 +40,10 @@ struct Family {
 struct ViewData {
     int family = 0;
     float shearX = 0.0f;
-    bool derived = false;  ///< a sheared view: x, sx, code are nullptr (derive them)
-    std::vector<float> xStore;
-    std::vector<std::int32_t> sxStore;
-    std::vector<std::uint8_t> codeStore;
-    float* x = nullptr;
-    std::int32_t* sx = nullptr;
-    std::uint8_t* code = nullptr;
+    bool derived = false;  ///< a sheared view: x, sx, code are empty (derive them)
+    std::vector<float> x;
+    std::vector<std::int32_t> sx;
+    std::vector<std::uint8_t> code;
 };
 
 struct UnifiedData : MethodScratch {

@@ -96,10 +96,7 @@ void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t v
     }
     for (ViewData& vd : d.views) {
         const std::size_t own = vd.derived ? 0 : n;
-        vd.xStore.resize(own), vd.sxStore.resize(own), vd.codeStore.resize(own);
-        vd.x = vd.derived ? nullptr : vd.xStore.data();
-        vd.sx = vd.derived ? nullptr : vd.sxStore.data();
-        vd.code = vd.derived ? nullptr : vd.codeStore.data();
+        vd.x.resize(own), vd.sx.resize(own), vd.code.resize(own);
     }
     d.attrStride = std::size_t(attributeCount(shading, textured));
     d.world.resize(shading == Shading::Flat ? n : 0), d.attr.resize(n * d.attrStride),
@@ -111,14 +108,19 @@ void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t v
 
 namespace {
 
+/// The vertices a sheared row's per-view x, outcode and snapped x are computed for at a time,
+/// in the stack (vertexStage).
+constexpr std::uint32_t kBlock = 256;
+
 /// out[k · nv + lane] = rows[lane][k] for k < m: a row's snapped x interleaved per vertex (sxv).
 /// The view count as a constant, so that the stores are contiguous and vectorized.
 template <int NV>
-void interleaveRows(const std::int32_t (*rows)[256], std::uint32_t m, std::int32_t* out) {
+void interleaveRows(const std::int32_t (*rows)[kBlock], std::uint32_t m, std::int32_t* out) {
     for (std::uint32_t k = 0; k < m; ++k)
         for (int lane = 0; lane < NV; ++lane) out[k * NV + lane] = rows[lane][k];
 }
-void interleaveRows(const std::int32_t (*rows)[256], int nv, std::uint32_t m, std::int32_t* out) {
+void interleaveRows(const std::int32_t (*rows)[kBlock], int nv, std::uint32_t m,
+                    std::int32_t* out) {
     switch (nv) {
         case 1: interleaveRows<1>(rows, m, out); break;
         case 2: interleaveRows<2>(rows, m, out); break;
@@ -236,7 +238,6 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 // A sheared row: each view's x, outcode and snapped x a block of vertices at a
                 // time in the stack (L1), its snapped x interleaved into sxv (the guard-band bits:
                 // rowClipX above) — nothing per view and vertex in memory.
-                constexpr std::uint32_t kBlock = 256;
                 const float* cx = &d.cx[g];
                 const float* cw = &d.cw[g];
                 const float* cq = d.cq.data() + g;
