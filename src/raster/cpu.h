@@ -122,6 +122,9 @@ struct Kernels {
     /// run the two kernels)
     DrawShearedFn drawSheared;
     RowClipXFn rowClipX;  ///< a long row's guard-band bits from its outermost shears
+    /// lanes.h: setupLanes and the lanes' fragments side by side; nullptr where the ISA has no
+    /// such kernel (the queue's ordered walk then draws every lane)
+    DrawLanesFn drawLanes = nullptr;
 };
 
 /// The kernel table of a path (resolved first, so always a valid table).

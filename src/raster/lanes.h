@@ -7,6 +7,12 @@
 // that view and its y setup (computed ONCE per triangle and family, then copied into each of its
 // views' lanes: adelson1991's shared y). The integers are those of setupViews lane for lane, so
 // images do not change; each view still receives its triangles in submission order.
+//
+// Where the kernels have one (Kernels::drawLanes, AVX-512) and the views' images are one block,
+// a flush sets the lanes up and draws their covered centres side by side — a pass per centre of
+// a lane, gathers and scatters — whenever that cannot differ from the ordered walk: no lane
+// needs the general walk and no two fragments fall on one pixel (then their order cannot
+// matter); otherwise the ordered walk draws the flush, as before.
 #pragma once
 
 #include <cstdint>
@@ -36,6 +42,60 @@ struct TriangleLanes {
 /// ones sharing their setupViews' code.
 using SetupLanesFn = std::uint32_t (*)(TriangleLanes& l, int n, int width);
 
+/// The queued slots' untextured fragment inputs by component (slot s in column s), for
+/// drawLanes: a lane's inputs are its slot's column, picked in registers. The vertex colors too
+/// when `colors` (the queue's owner sets it where a slot feeds several lanes: a family's views);
+/// else drawLanes reads them from the slots' FragmentTri for the lanes that pass a depth test.
+struct SlotFragments {
+    alignas(64) float z[3][kLaneCount];     ///< window depth of vertex j
+    alignas(64) float q[3][kLaneCount];     ///< 1/w of vertex j
+    alignas(64) float a[3][3][kLaneCount];  ///< Vertex, when `colors`: channel c of vertex j
+    bool colors = false;
+    alignas(64) std::uint32_t flat[kLaneCount];  ///< Flat: the triangle's packed color
+};
+
+/// Where drawLanes writes: view v's pixel (x, row) at depth[p] / color[p] with
+/// p = v · viewStride + origin − row · width + x (every view's image in one block; a single
+/// view: viewStride 0). origin = (height − 1) · width − Target::offset.
+struct LaneImages {
+    float* depth = nullptr;
+    std::uint32_t* color = nullptr;
+    std::int32_t viewStride = 0, origin = 0;
+};
+
+/// The LaneImages of `targets` (view v: targets[v]) when their depth and color images lie in one
+/// block each at one stride, with one offset, and every pixel's offset fits 31 bits (a single
+/// target always); else false.
+inline bool laneImages(const Target* targets, std::size_t n, LaneImages& out) {
+    if (n == 0) return false;
+    const Target& t0 = targets[0];
+    const std::int64_t origin = std::int64_t(t0.height - 1) * t0.width - std::int64_t(t0.offset);
+    std::int64_t stride = 0;
+    if (n > 1) stride = targets[1].depth - t0.depth;
+    if (stride < 0) return false;
+    for (std::size_t v = 0; v < n; ++v) {
+        const Target& t = targets[v];
+        const std::int64_t k = std::int64_t(v) * stride;
+        if (t.depth - t0.depth != k || t.color - t0.color != k || t.offset != t0.offset ||
+            t.width != t0.width || t.height != t0.height) {
+            return false;
+        }
+    }
+    if (std::int64_t(n - 1) * stride + origin + t0.width >= (std::int64_t(1) << 31)) return false;
+    out = LaneImages{t0.depth, t0.color, std::int32_t(stride), std::int32_t(origin)};
+    return true;
+}
+
+/// setupLanes and the fragments of lanes [0, n) at once, for untextured Vertex or Flat shading
+/// (flat): every covered centre's depth test and color with FragmentSink's operations, written
+/// into `img` (lane k's view laneView[k], fragment inputs column laneSlot[k] of `s`). Returns
+/// false, having written nothing, when the lanes need the ordered walk of LaneQueue::flush: a
+/// lane needs the general walk, two fragments fall on one pixel (their order decides depth
+/// ties), or there are more than 16 fragments. laneSlot and laneView readable for 16 bytes.
+using DrawLanesFn = bool (*)(TriangleLanes& l, int n, int width, const std::uint8_t* laneSlot,
+                             const std::uint8_t* laneView, const SlotFragments& s,
+                             const FragmentTri* slotFrag, bool flat, const LaneImages& img);
+
 /// A band's queue of (triangle, view) lanes waiting for setupLanes, in submission order. Slots
 /// hold what a queued triangle shares between its views: the y setup and the fragment inputs.
 /// A caller that draws anything without the queue flushes it first, so every view keeps
@@ -47,13 +107,32 @@ struct LaneQueue {
     std::uint8_t laneSlot[kLaneRoom], laneView[kLaneRoom];
     YSetup slotYs[kLaneCount];
     FragmentTri slotFrag[kLaneCount];
+    SlotFragments slotSoa;
+    /// Set (by the owner, per band) when the queue's fragments may go through drawLanes: then
+    /// addTriangle also stores the slot's inputs by component.
+    DrawLanesFn draw = nullptr;
+    LaneImages images;
 
     /// Flush first unless `views` more lanes fit.
     bool needsFlush(int views) const { return laneCount + views > kLaneCount; }
     int addTriangle(const YSetup& ys, const FragmentTri& frag) {
         slotYs[slotCount] = ys;
         slotFrag[slotCount] = frag;
+        storeSoa(slotCount, frag);
         return slotCount++;
+    }
+    void storeSoa(int slot, const FragmentTri& frag) {
+        if constexpr (S == Shading::Vertex || S == Shading::Flat) {
+            if (!draw) return;
+            for (int j = 0; j < 3; ++j) {
+                slotSoa.z[j][slot] = frag.z[j];
+                slotSoa.q[j][slot] = frag.q[j];
+                if constexpr (S == Shading::Vertex)
+                    if (slotSoa.colors)
+                        for (int c = 0; c < 3; ++c) slotSoa.a[j][c][slot] = frag.attr[j][c];
+            }
+            if constexpr (S == Shading::Flat) slotSoa.flat[slot] = frag.flat;
+        }
     }
     void addLane(int slot, int view, std::int32_t x0, std::int32_t x1, std::int32_t x2) {
         const int k = laneCount++;
@@ -89,6 +168,11 @@ struct LaneQueue {
     template <class SinkFor>
     void flush(SetupLanesFn setup, int width, SinkFor&& sinkFor) {
         if (laneCount == 0) return;
+        if (draw && draw(lanes, laneCount, width, laneSlot, laneView, slotSoa, slotFrag,
+                         S == Shading::Flat, images)) {
+            laneCount = slotCount = 0;
+            return;
+        }
         for (std::uint32_t bits = setup(lanes, laneCount, width); bits; bits &= bits - 1) {
             const int k = __builtin_ctz(bits);
             FragmentSink<S>& sink = sinkFor(laneView[k]);

@@ -1,8 +1,13 @@
 // setupLanes (lanes.h): every SIMD path equals the scalar reference, and a lane gives the very
 // integers setupViews gives the same triangle and view (so queuing lanes cannot change a pixel).
+// drawLanes: where it draws, the very pixels of the queue's ordered walk through FragmentSink;
+// where it declines, nothing written.
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <memory>
 #include <random>
+#include <vector>
 
 #include "cpu.h"
 #include "lanes.h"
@@ -108,6 +113,148 @@ TEST(Lanes, SimdPathsEqualScalar) {
     }
     if (best != SimdPath::Scalar) {
         EXPECT_GT(compared, 0);  // a SIMD path was really compared
+    }
+}
+
+/// A band's scratch of `views` images in one block (a streamed band: rows rowHi down to rowLo of
+/// a kW × kH image per view, view v at v · stride), as unified's streamed bands lay them out.
+struct LaneBlock {
+    static constexpr int kW = 40, kH = 64, kRowLo = 20, kRowHi = 35;
+    static constexpr int kStride = (kRowHi - kRowLo + 1) * kW;
+    int views = 1;
+    std::vector<float> depth;
+    std::vector<std::uint32_t> color;
+    explicit LaneBlock(int n) : views(n), depth(std::size_t(n) * kStride), color(depth.size()) {}
+    detail::Target target(int v) {
+        return detail::Target{color.data() + std::size_t(v) * kStride,
+                              depth.data() + std::size_t(v) * kStride, kW, kH,
+                              std::size_t(kH - 1 - kRowHi) * kW};
+    }
+};
+
+/// Triangles for a queue: mostly a pixel or two across (some larger: the general walk; some
+/// covering three centres) in a small part of the band, so that lanes of one view often cover the
+/// same pixel; some repeat an earlier triangle with its depths and other colors (a tie at every
+/// pixel it covers); in some queues all lie at one depth (ties between different triangles).
+struct QueuedTriangle {
+    detail::YSetup ys;
+    std::int32_t x[3];
+    detail::FragmentTri frag;
+    float attr[3][3];
+};
+
+template <Shading S>
+void drawLanesCase(std::mt19937& rng, const detail::Kernels& k, bool colors, int& drawn,
+                   int& declined, int& many) {
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f), color(-0.2f, 1.2f);
+    const int views = 1 + int(rng() % 3);
+    LaneBlock ref(views), got(views);
+    for (std::size_t i = 0; i < ref.depth.size(); ++i) {
+        ref.depth[i] = got.depth[i] = 0.3f + 0.7f * unit(rng);
+        ref.color[i] = got.color[i] = std::uint32_t(rng());
+    }
+    std::vector<detail::Target> targets;
+    for (int v = 0; v < views; ++v) targets.push_back(got.target(v));
+    detail::LaneQueue<S> queue;
+    ASSERT_TRUE(detail::laneImages(targets.data(), targets.size(), queue.images));
+    queue.draw = k.drawLanes;
+    queue.slotSoa.colors = colors;
+    std::vector<std::unique_ptr<QueuedTriangle>> pool;
+    const int spread = 2 + int(rng() % 24);  // pixels: small → many shared pixels
+    const bool quads = rng() % 3 == 0;       // more than 16 fragments in a queue
+    const bool wall = rng() % 4 == 0;        // one depth: ties between different triangles
+    for (int flushes = 0; flushes < 6; ++flushes) {
+        while (!queue.needsFlush(views)) {
+            auto t = std::make_unique<QueuedTriangle>();
+            if (!pool.empty() && rng() % (quads ? 3 : 16) == 0) {
+                *t = *pool[rng() % pool.size()];  // the same triangle again: ties
+            } else {
+                const bool big = rng() % 40 == 0;
+                const int r = big ? 6 * detail::kSubpixel : detail::kSubpixel * 3 / 4;
+                std::uniform_int_distribution<std::int32_t> jitter(-r, r);
+                const std::int32_t cx = std::int32_t(rng() % unsigned(spread * detail::kSubpixel)) +
+                                        8 * detail::kSubpixel;
+                const std::int32_t cy = std::int32_t(rng() % unsigned(spread * detail::kSubpixel)) +
+                                        (LaneBlock::kRowLo + 2) * detail::kSubpixel;
+                std::int32_t y[3];
+                for (int j = 0; j < 3; ++j) t->x[j] = cx + jitter(rng), y[j] = cy + jitter(rng);
+                if (quads && rng() % 2 == 0) {  // 3 centres of a 2 × 2 block: 3 fragments
+                    const std::int32_t px = cx & ~(detail::kSubpixel - 1),
+                                       py = cy & ~(detail::kSubpixel - 1);
+                    const std::int32_t e = detail::kSubpixel / 8;
+                    t->x[0] = px + e, y[0] = py + e;
+                    t->x[1] = px + 2 * detail::kSubpixel + 2 * e, y[1] = py + e;
+                    t->x[2] = px + e, y[2] = py + 2 * detail::kSubpixel + 2 * e;
+                    if (rng() % 2) std::swap(t->x[1], t->x[2]), std::swap(y[1], y[2]);
+                }
+                detail::setupY(t->ys, y[0], y[1], y[2], LaneBlock::kRowLo, LaneBlock::kRowHi);
+                if (t->ys.rowMin > t->ys.rowMax) continue;
+                for (int j = 0; j < 3; ++j) {
+                    t->frag.z[j] = wall ? 0.25f : unit(rng);
+                    t->frag.q[j] = 0.5f + unit(rng);
+                }
+            }
+            for (int j = 0; j < 3; ++j) {
+                for (float& a : t->attr[j]) a = color(rng);
+                t->frag.attr[j] = t->attr[j];
+            }
+            t->frag.flat = std::uint32_t(rng());
+            const int slot = queue.addTriangle(t->ys, t->frag);
+            for (int v = 0; v < views; ++v) {
+                const std::int32_t d = v * std::int32_t(rng() % 200);  // each view's shift
+                queue.addLane(slot, v, t->x[0] + d, t->x[1] + d, t->x[2] + d);
+            }
+            pool.push_back(std::move(t));
+        }
+        // The reference: the ordered walk; then the kernel on the same queue.
+        detail::LaneQueue<S> walk = queue;
+        walk.draw = nullptr;
+        std::vector<detail::FragmentSink<S>> sinks;
+        for (int v = 0; v < views; ++v)
+            sinks.push_back(detail::FragmentSink<S>{ref.target(v), nullptr, {}});
+        walk.flush(detail::scalarKernels().setupLanes, LaneBlock::kW,
+                   [&](int v) -> detail::FragmentSink<S>& { return sinks[std::size_t(v)]; });
+        int fragments = 0;
+        for (int l = 0; l < queue.laneCount; ++l)
+            fragments +=
+                walk.lanes.out.mask[l] > 0 ? std::popcount(unsigned(walk.lanes.out.mask[l])) : 0;
+        many += fragments > 16;
+        const LaneBlock before = got;
+        if (k.drawLanes(queue.lanes, queue.laneCount, LaneBlock::kW, queue.laneSlot, queue.laneView,
+                        queue.slotSoa, queue.slotFrag, S == Shading::Flat, queue.images)) {
+            ++drawn;
+            ASSERT_EQ(got.depth, ref.depth) << "flush " << flushes;
+            ASSERT_EQ(got.color, ref.color) << "flush " << flushes;
+        } else {
+            ++declined;
+            ASSERT_EQ(got.depth, before.depth) << "declined, but wrote";
+            ASSERT_EQ(got.color, before.color) << "declined, but wrote";
+            got = ref;  // as LaneQueue::flush continues: the ordered walk
+        }
+        queue.laneCount = queue.slotCount = 0;
+    }
+}
+
+TEST(Lanes, DrawLanesEqualsTheOrderedWalk) {
+    std::vector<const detail::Kernels*> paths;
+    for (const detail::Kernels* table : {detail::avx2Kernels(), detail::avx512Kernels()}) {
+        if (table && table->drawLanes && detail::bestSupportedSimd() == SimdPath::Avx512)
+            paths.push_back(table);
+    }
+    if (paths.empty()) GTEST_SKIP() << "no drawLanes kernel on this CPU";
+    std::mt19937 rng(4242);
+    for (const detail::Kernels* k : paths) {
+        int drawn = 0, declined = 0, many = 0;
+        for (int iter = 0; iter < 1500; ++iter) {
+            if (iter % 2 == 0) {
+                drawLanesCase<Shading::Vertex>(rng, *k, iter % 4 == 0, drawn, declined, many);
+            } else {
+                drawLanesCase<Shading::Flat>(rng, *k, false, drawn, declined, many);
+            }
+            if (HasFatalFailure()) return;
+        }
+        EXPECT_GT(drawn, 1000);     // the kernel's own path was compared
+        EXPECT_GT(declined, 1000);  // and its refusals (ties, general lanes) checked
     }
 }
 

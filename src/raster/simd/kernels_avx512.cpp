@@ -327,6 +327,146 @@ std::uint32_t setupLanes(TriangleLanes& l, int n, int width) {
                      _mm512_maskz_loadu_epi32(live, l.rowMax), live, width, l.out, 0);
 }
 
+/// drawLanes (lanes.h): cover16 of the 16 lanes, then the covered centres a pass per centre
+/// (a lane's lowest remaining one), with shadeGroup16's operations and each lane's fragment
+/// inputs picked from its slot's column in registers. The passes write in another order than
+/// the queue's walk (lane by lane): they run only when no two fragments share a pixel, which
+/// one conflict detection over every pass's offsets checks first.
+__attribute__((target("avx512cd"))) bool drawLanes(
+    TriangleLanes& l, int n, int width, const std::uint8_t* laneSlot, const std::uint8_t* laneView,
+    const SlotFragments& s, const FragmentTri* slotFrag, bool flat, const LaneImages& img) {
+    const __mmask16 live = n >= kLaneCount ? __mmask16(0xffff) : __mmask16((1u << n) - 1u);
+    const __m512i Y[3] = {_mm512_maskz_loadu_epi32(live, l.y[0]),
+                          _mm512_maskz_loadu_epi32(live, l.y[1]),
+                          _mm512_maskz_loadu_epi32(live, l.y[2])};
+    const __m512i rowMin = _mm512_maskz_loadu_epi32(live, l.rowMin);
+    const Cover16 c = cover16<false>(_mm512_maskz_loadu_epi32(live, l.x[0]),
+                                     _mm512_maskz_loadu_epi32(live, l.x[1]),
+                                     _mm512_maskz_loadu_epi32(live, l.x[2]), Y, rowMin,
+                                     _mm512_maskz_loadu_epi32(live, l.rowMax), width);
+    const __m512i zero = _mm512_setzero_si512(), one = _mm512_set1_epi32(1);
+    if (_mm512_mask_cmplt_epi32_mask(live, c.mask, zero)) return false;  // a general walk
+    __m512i rem = _mm512_maskz_mov_epi32(live, c.mask);
+    if (!_mm512_test_epi32_mask(rem, rem)) return true;  // nothing covered
+    // Each pass's pixel offsets; every pass's live offsets side by side in `all`, the rest
+    // distinct negative values (conflict detection compares every lane).
+    const __m512i W = _mm512_set1_epi32(width);
+    const __m512i views =
+        _mm512_cvtepu8_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(laneView)));
+    const __m512i base =
+        _mm512_add_epi32(_mm512_mullo_epi32(views, _mm512_set1_epi32(img.viewStride)),
+                         _mm512_set1_epi32(img.origin));
+    const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    __m512i all = _mm512_sub_epi32(_mm512_set1_epi32(-1), lane);
+    __m512i off[4], low[4];
+    __mmask16 act[4];
+    int passes = 0, count = 0;
+    for (__mmask16 todo = _mm512_test_epi32_mask(rem, rem); todo;
+         todo = _mm512_test_epi32_mask(rem, rem)) {
+        const __m512i lo = _mm512_and_si512(rem, _mm512_sub_epi32(zero, rem));
+        rem = _mm512_xor_si512(rem, lo);
+        const __mmask16 cx = _mm512_test_epi32_mask(lo, _mm512_set1_epi32(0xA));
+        const __mmask16 cy = _mm512_test_epi32_mask(lo, _mm512_set1_epi32(0xC));
+        const __m512i x = _mm512_mask_add_epi32(c.colMin, cx, c.colMin, one);
+        const __m512i row = _mm512_mask_add_epi32(rowMin, cy, rowMin, one);
+        const __m512i o = _mm512_add_epi32(_mm512_sub_epi32(base, _mm512_mullo_epi32(row, W)), x);
+        const int k = __builtin_popcount(unsigned(todo));
+        if (count + k > 16) return false;
+        all = _mm512_mask_expand_epi32(all, __mmask16(((1u << k) - 1u) << count),
+                                       _mm512_maskz_compress_epi32(todo, o));
+        count += k;
+        off[passes] = o, low[passes] = lo, act[passes] = todo;
+        ++passes;
+    }
+    const __m512i conflicts = _mm512_conflict_epi32(all);
+    if (_mm512_test_epi32_mask(conflicts, conflicts)) return false;
+    // No two fragments share a pixel: the passes' order does not matter.
+    const __m512i slots =
+        _mm512_cvtepu8_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(laneSlot)));
+    __m512 z[3];
+    for (int j = 0; j < 3; ++j) z[j] = _mm512_permutexvar_ps(slots, _mm512_load_ps(s.z[j]));
+    const __m512 fzero = _mm512_setzero_ps(), fone = _mm512_set1_ps(1.0f);
+    const __m512 invArea = _mm512_div_ps(fone, _mm512_cvtepi32_ps(c.area));
+    __m512 q[3], a[3][3];
+    for (auto& aj : a)
+        for (auto& ac : aj) ac = fzero;
+    unsigned colorsRead = 0;
+    __m512i flatColor = zero;
+    bool haveInputs = false;
+    for (int p = 0; p < passes; ++p) {
+        const __mmask16 cx = _mm512_test_epi32_mask(low[p], _mm512_set1_epi32(0xA));
+        const __mmask16 cy = _mm512_test_epi32_mask(low[p], _mm512_set1_epi32(0xC));
+        __m512 lb[3];
+        for (int i = 0; i < 3; ++i) {
+            __m512i ei = _mm512_mask_add_epi32(c.e[i], cx, c.e[i], c.sx[i]);
+            ei = _mm512_mask_add_epi32(ei, cy, ei, c.sy[i]);
+            ei = _mm512_sub_epi32(ei, c.bias[i]);
+            lb[i] = _mm512_mul_ps(_mm512_cvtepi32_ps(ei), invArea);
+        }
+        const __m512 zf =
+            _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(lb[0], z[0]), _mm512_mul_ps(lb[1], z[1])),
+                          _mm512_mul_ps(lb[2], z[2]));
+        const __m512 d = _mm512_mask_i32gather_ps(fzero, act[p], off[p], img.depth, 4);
+        const __mmask16 pass = _mm512_mask_cmp_ps_mask(act[p], zf, d, _CMP_LT_OQ);
+        if (!pass) continue;
+        if (!haveInputs) {
+            haveInputs = true;
+            if (flat) {
+                flatColor = _mm512_permutexvar_epi32(
+                    slots, _mm512_load_si512(reinterpret_cast<const void*>(s.flat)));
+            } else {
+                for (int j = 0; j < 3; ++j)
+                    q[j] = _mm512_permutexvar_ps(slots, _mm512_load_ps(s.q[j]));
+            }
+        }
+        if (!flat) {
+            // The vertex colors of the passing lanes not read yet: by component at queue time
+            // (s.colors), or lane by lane from the slots' FragmentTri.
+            if (s.colors) {
+                if (!colorsRead)
+                    for (int j = 0; j < 3; ++j)
+                        for (int ch = 0; ch < 3; ++ch)
+                            a[j][ch] = _mm512_permutexvar_ps(slots, _mm512_load_ps(s.a[j][ch]));
+                colorsRead = 1;
+            } else {
+                for (unsigned k = pass & ~colorsRead; k; k &= k - 1) {
+                    const int lk = __builtin_ctz(k);
+                    const __mmask16 bit = __mmask16(1u << lk);
+                    const FragmentTri& t = slotFrag[laneSlot[lk]];
+                    for (int j = 0; j < 3; ++j)
+                        for (int ch = 0; ch < 3; ++ch)
+                            a[j][ch] = _mm512_mask_broadcastss_ps(a[j][ch], bit,
+                                                                  _mm_load_ss(t.attr[j] + ch));
+                }
+                colorsRead |= pass;
+            }
+        }
+        __m512i packed = flatColor;
+        if (!flat) {
+            const __m512 p0 = _mm512_mul_ps(lb[0], q[0]), p1 = _mm512_mul_ps(lb[1], q[1]),
+                         p2 = _mm512_mul_ps(lb[2], q[2]);
+            const __m512 inv = _mm512_div_ps(fone, _mm512_add_ps(_mm512_add_ps(p0, p1), p2));
+            packed = _mm512_set1_epi32(std::int32_t(0xff000000u));
+            for (int ch = 0; ch < 3; ++ch) {
+                const __m512 v = _mm512_mul_ps(
+                    _mm512_add_ps(
+                        _mm512_add_ps(_mm512_mul_ps(p0, a[0][ch]), _mm512_mul_ps(p1, a[1][ch])),
+                        _mm512_mul_ps(p2, a[2][ch])),
+                    inv);
+                // quantizeUnorm8: std::clamp(v, 0, 1) · 255 + 0.5, truncated to 8 bits.
+                __m512 t = _mm512_mask_mov_ps(v, _mm512_cmp_ps_mask(v, fzero, _CMP_LT_OQ), fzero);
+                t = _mm512_mask_mov_ps(t, _mm512_cmp_ps_mask(fone, t, _CMP_LT_OQ), fone);
+                t = _mm512_add_ps(_mm512_mul_ps(t, _mm512_set1_ps(255.0f)), _mm512_set1_ps(0.5f));
+                const __m512i u = _mm512_and_si512(_mm512_cvttps_epi32(t), _mm512_set1_epi32(0xff));
+                packed = _mm512_or_si512(packed, _mm512_slli_epi32(u, 8 * ch));
+            }
+        }
+        _mm512_mask_i32scatter_ps(img.depth, pass, off[p], zf, 4);
+        _mm512_mask_i32scatter_epi32(img.color, pass, off[p], packed, 4);
+    }
+    return true;
+}
+
 /// glm's scalar semantics, lane by lane: max(x, y) = x < y ? y : x; min(x, y) = y < x ? y : x.
 inline __m512 glmMax(__m512 x, __m512 y) {
     return _mm512_mask_mov_ps(x, _mm512_cmp_ps_mask(x, y, _CMP_LT_OQ), y);
@@ -773,8 +913,15 @@ const Kernels* avx512Kernels() {
     static const Kernels k{&projectYZW,    &projectX,        &setupViews,
                            &shadeVertices, &transformPoints, &specularPowN,
                            &setupLanes,    &setupSheared,    avx2Kernels()->shadeLanes,
-                           &drawSheared,   &rowClipX};
-    return &k;
+                           &drawSheared,   &rowClipX,        nullptr};
+    // drawLanes' conflict detection is AVX-512 CD (every AVX-512 CPU so far has it).
+    static const Kernels withCd = [] {
+        Kernels t = k;
+        __builtin_cpu_init();
+        if (__builtin_cpu_supports("avx512cd")) t.drawLanes = &drawLanes;
+        return t;
+    }();
+    return &withCd;
 }
 
 }  // namespace mvr::raster::detail
