@@ -42,16 +42,14 @@ struct TriangleLanes {
 /// ones sharing their setupViews' code.
 using SetupLanesFn = std::uint32_t (*)(TriangleLanes& l, int n, int width);
 
-/// The queued slots' untextured fragment inputs by component (slot s in column s), for
-/// drawLanes: a lane's inputs are its slot's column, picked in registers. The vertex colors too
-/// when `colors` (the queue's owner sets it where a slot feeds several lanes: a family's views);
-/// else drawLanes reads them from the slots' FragmentTri for the lanes that pass a depth test.
-struct SlotFragments {
-    alignas(64) float z[3][kLaneCount];     ///< window depth of vertex j
-    alignas(64) float q[3][kLaneCount];     ///< 1/w of vertex j
-    alignas(64) float a[3][3][kLaneCount];  ///< Vertex, when `colors`: channel c of vertex j
+/// The queued slots' vertex colors by component (slot s in column s) for drawLanes, stored when
+/// `colors`: the queue's owner sets it where a slot feeds several lanes (a family's views), and
+/// a lane's colors are then its slot's column, picked in registers; else drawLanes reads them
+/// from the slots' FragmentTri for the lanes that pass a depth test. (Depth, 1/w and the flat
+/// color it gathers from the slots' FragmentTri.)
+struct SlotColors {
+    alignas(64) float a[3][3][kLaneCount];  ///< Vertex: channel c of vertex j
     bool colors = false;
-    alignas(64) std::uint32_t flat[kLaneCount];  ///< Flat: the triangle's packed color
 };
 
 /// Where drawLanes writes: view v's pixel (x, row) at depth[p] / color[p] with
@@ -88,13 +86,17 @@ inline bool laneImages(const Target* targets, std::size_t n, LaneImages& out) {
 
 /// setupLanes and the fragments of lanes [0, n) at once, for untextured Vertex or Flat shading
 /// (flat): every covered centre's depth test and color with FragmentSink's operations, written
-/// into `img` (lane k's view laneView[k], fragment inputs column laneSlot[k] of `s`). Returns
-/// false, having written nothing, when the lanes need the ordered walk of LaneQueue::flush: a
-/// lane needs the general walk, two fragments fall on one pixel (their order decides depth
-/// ties), or there are more than 16 fragments. laneSlot and laneView readable for 16 bytes.
-using DrawLanesFn = bool (*)(TriangleLanes& l, int n, int width, const std::uint8_t* laneSlot,
-                             const std::uint8_t* laneView, const SlotFragments& s,
-                             const FragmentTri* slotFrag, bool flat, const LaneImages& img);
+/// into `img` (lane k's view laneView[k], fragment inputs slotFrag[laneSlot[k]], vertex colors
+/// also in column laneSlot[k] of `s` when s.colors). Returns kLanesDrawn; or, having written
+/// no pixel, when the lanes need the ordered walk of LaneQueue::flush — a lane needs the
+/// general walk, two fragments fall on one pixel (their order decides depth ties), or there are
+/// more than 16 fragments — what setupLanes returns, with l.out filled as setupLanes fills it.
+/// laneSlot and laneView readable for 16 bytes.
+inline constexpr std::uint32_t kLanesDrawn = 1u << 31;
+using DrawLanesFn = std::uint32_t (*)(TriangleLanes& l, int n, int width,
+                                      const std::uint8_t* laneSlot, const std::uint8_t* laneView,
+                                      const SlotColors& s, const FragmentTri* slotFrag, bool flat,
+                                      const LaneImages& img);
 
 /// A band's queue of (triangle, view) lanes waiting for setupLanes, in submission order. Slots
 /// hold what a queued triangle shares between its views: the y setup and the fragment inputs.
@@ -107,7 +109,7 @@ struct LaneQueue {
     std::uint8_t laneSlot[kLaneRoom], laneView[kLaneRoom];
     YSetup slotYs[kLaneCount];
     FragmentTri slotFrag[kLaneCount];
-    SlotFragments slotSoa;
+    SlotColors slotColors;
     /// Set (by the owner, per band) when the queue's fragments may go through drawLanes: then
     /// addTriangle also stores the slot's inputs by component.
     DrawLanesFn draw = nullptr;
@@ -118,20 +120,14 @@ struct LaneQueue {
     int addTriangle(const YSetup& ys, const FragmentTri& frag) {
         slotYs[slotCount] = ys;
         slotFrag[slotCount] = frag;
-        storeSoa(slotCount, frag);
+        storeColors(slotCount, frag);
         return slotCount++;
     }
-    void storeSoa(int slot, const FragmentTri& frag) {
-        if constexpr (S == Shading::Vertex || S == Shading::Flat) {
-            if (!draw) return;
-            for (int j = 0; j < 3; ++j) {
-                slotSoa.z[j][slot] = frag.z[j];
-                slotSoa.q[j][slot] = frag.q[j];
-                if constexpr (S == Shading::Vertex)
-                    if (slotSoa.colors)
-                        for (int c = 0; c < 3; ++c) slotSoa.a[j][c][slot] = frag.attr[j][c];
-            }
-            if constexpr (S == Shading::Flat) slotSoa.flat[slot] = frag.flat;
+    void storeColors(int slot, const FragmentTri& frag) {
+        if constexpr (S == Shading::Vertex) {
+            if (!slotColors.colors) return;
+            for (int j = 0; j < 3; ++j)
+                for (int c = 0; c < 3; ++c) slotColors.a[j][c][slot] = frag.attr[j][c];
         }
     }
     void addLane(int slot, int view, std::int32_t x0, std::int32_t x1, std::int32_t x2) {
@@ -168,12 +164,18 @@ struct LaneQueue {
     template <class SinkFor>
     void flush(SetupLanesFn setup, int width, SinkFor&& sinkFor) {
         if (laneCount == 0) return;
-        if (draw && draw(lanes, laneCount, width, laneSlot, laneView, slotSoa, slotFrag,
-                         S == Shading::Flat, images)) {
-            laneCount = slotCount = 0;
-            return;
+        std::uint32_t bits;
+        if (draw) {
+            bits = draw(lanes, laneCount, width, laneSlot, laneView, slotColors, slotFrag,
+                        S == Shading::Flat, images);
+            if (bits == kLanesDrawn) {
+                laneCount = slotCount = 0;
+                return;
+            }
+        } else {
+            bits = setup(lanes, laneCount, width);
         }
-        for (std::uint32_t bits = setup(lanes, laneCount, width); bits; bits &= bits - 1) {
+        for (; bits; bits &= bits - 1) {
             const int k = __builtin_ctz(bits);
             FragmentSink<S>& sink = sinkFor(laneView[k]);
             const FragmentTri* const callers = sink.tri;  // put back below

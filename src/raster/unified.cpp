@@ -375,7 +375,7 @@ inline int queueSlot(BandContext<S>& b, const YSetup& ys, const std::uint32_t v[
     setFragmentInputs(frag, v, zw, q, attr, stride);
     frag.flat = b.frag.flat;
     frag.flatD = b.frag.flatD;
-    b.queue.storeSoa(slot, frag);
+    b.queue.storeColors(slot, frag);
     return slot;
 }
 
@@ -838,7 +838,7 @@ void rasterStage(FrameContext& f, UnifiedData& d, std::span<const Target> target
         if (laneFragments && f.kernels.drawLanes &&
             laneImages(draw.data(), draw.size(), b.queue.images)) {
             b.queue.draw = f.kernels.drawLanes;
-            b.queue.slotSoa.colors = true;
+            b.queue.slotColors.colors = true;
         }
         rasterBand(b, d.bins, band);
         flushLanes(b);

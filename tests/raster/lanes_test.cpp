@@ -158,7 +158,7 @@ void drawLanesCase(std::mt19937& rng, const detail::Kernels& k, bool colors, int
     detail::LaneQueue<S> queue;
     ASSERT_TRUE(detail::laneImages(targets.data(), targets.size(), queue.images));
     queue.draw = k.drawLanes;
-    queue.slotSoa.colors = colors;
+    queue.slotColors.colors = colors;
     std::vector<std::unique_ptr<QueuedTriangle>> pool;
     const int spread = 2 + int(rng() % 24);  // pixels: small → many shared pixels
     const bool quads = rng() % 3 == 0;       // more than 16 fragments in a queue
@@ -220,8 +220,13 @@ void drawLanesCase(std::mt19937& rng, const detail::Kernels& k, bool colors, int
                 walk.lanes.out.mask[l] > 0 ? std::popcount(unsigned(walk.lanes.out.mask[l])) : 0;
         many += fragments > 16;
         const LaneBlock before = got;
-        if (k.drawLanes(queue.lanes, queue.laneCount, LaneBlock::kW, queue.laneSlot, queue.laneView,
-                        queue.slotSoa, queue.slotFrag, S == Shading::Flat, queue.images)) {
+        detail::TriangleLanes setup = queue.lanes;  // the scalar setupLanes of the lanes
+        const std::uint32_t setupBits =
+            detail::scalarKernels().setupLanes(setup, queue.laneCount, LaneBlock::kW);
+        const std::uint32_t bits =
+            k.drawLanes(queue.lanes, queue.laneCount, LaneBlock::kW, queue.laneSlot, queue.laneView,
+                        queue.slotColors, queue.slotFrag, S == Shading::Flat, queue.images);
+        if (bits == detail::kLanesDrawn) {
             ++drawn;
             ASSERT_EQ(got.depth, ref.depth) << "flush " << flushes;
             ASSERT_EQ(got.color, ref.color) << "flush " << flushes;
@@ -229,7 +234,11 @@ void drawLanesCase(std::mt19937& rng, const detail::Kernels& k, bool colors, int
             ++declined;
             ASSERT_EQ(got.depth, before.depth) << "declined, but wrote";
             ASSERT_EQ(got.color, before.color) << "declined, but wrote";
-            got = ref;  // as LaneQueue::flush continues: the ordered walk
+            // The ordered walk continues from what the kernel left: setupLanes' lanes and setup.
+            ASSERT_EQ(bits, setupBits);
+            for (int l = 0; l < queue.laneCount; ++l)
+                expectSameSetup(queue.lanes.out, l, setup.out, l, "lane " + std::to_string(l));
+            got = ref;
         }
         queue.laneCount = queue.slotCount = 0;
     }

@@ -2,6 +2,8 @@
 // in kernels_tail.h.
 #include <immintrin.h>
 
+#include <cstddef>
+
 #include "../cpu.h"
 #include "kernels_tail.h"
 #include "row_span.h"
@@ -203,10 +205,7 @@ inline Cover16 cover16(__m512i X0, __m512i X1, __m512i X2, const __m512i Y[3], _
 /// views; loaded per lane by setupLanes: (triangle, view) pairs). Writes columns [k, k + 16) of
 /// `o` (whole registers: lanes past the live ones are never read) and returns the live lanes
 /// whose mask is not 0.
-inline std::uint32_t setupCore(__m512i X0, __m512i X1, __m512i X2, const __m512i Y[3],
-                               __m512i rowMin, __m512i rowMax, __mmask16 live, int width,
-                               ViewsSetup& o, int k) {
-    const Cover16 c = cover16<false>(X0, X1, X2, Y, rowMin, rowMax, width);
+inline std::uint32_t storeCover(const Cover16& c, __mmask16 live, ViewsSetup& o, int k) {
     for (int i = 0; i < 3; ++i) {
         _mm512_storeu_si512(o.e[i] + k, c.e[i]);
         _mm512_storeu_si512(o.sx[i] + k, c.sx[i]);
@@ -217,6 +216,12 @@ inline std::uint32_t setupCore(__m512i X0, __m512i X1, __m512i X2, const __m512i
     _mm512_storeu_si512(o.colMin + k, c.colMin);
     _mm512_storeu_si512(o.area + k, c.area);
     return std::uint32_t(_mm512_test_epi32_mask(c.mask, c.mask) & live);
+}
+
+inline std::uint32_t setupCore(__m512i X0, __m512i X1, __m512i X2, const __m512i Y[3],
+                               __m512i rowMin, __m512i rowMax, __mmask16 live, int width,
+                               ViewsSetup& o, int k) {
+    return storeCover(cover16<false>(X0, X1, X2, Y, rowMin, rowMax, width), live, o, k);
 }
 
 /// setupViews, 16 views per pass (the scalar reference: setupViewsTail).
@@ -328,13 +333,15 @@ std::uint32_t setupLanes(TriangleLanes& l, int n, int width) {
 }
 
 /// drawLanes (lanes.h): cover16 of the 16 lanes, then the covered centres a pass per centre
-/// (a lane's lowest remaining one), with shadeGroup16's operations and each lane's fragment
-/// inputs picked from its slot's column in registers. The passes write in another order than
-/// the queue's walk (lane by lane): they run only when no two fragments share a pixel, which
-/// one conflict detection over every pass's offsets checks first.
-__attribute__((target("avx512cd"))) bool drawLanes(
+/// (a lane's lowest remaining one), with shadeGroup16's operations; a lane's depth, 1/w and flat
+/// color gathered from its slot's FragmentTri, its vertex colors picked from its slot's column
+/// of SlotColors in registers or read lane by lane. The passes write in another order than the
+/// queue's walk (lane by lane): they run only when no two fragments share a pixel, which one
+/// conflict detection over every pass's offsets checks first; otherwise the setup is stored
+/// for the walk (setupLanes' stores) and its lanes returned.
+__attribute__((target("avx512cd"))) std::uint32_t drawLanes(
     TriangleLanes& l, int n, int width, const std::uint8_t* laneSlot, const std::uint8_t* laneView,
-    const SlotFragments& s, const FragmentTri* slotFrag, bool flat, const LaneImages& img) {
+    const SlotColors& s, const FragmentTri* slotFrag, bool flat, const LaneImages& img) {
     const __mmask16 live = n >= kLaneCount ? __mmask16(0xffff) : __mmask16((1u << n) - 1u);
     const __m512i Y[3] = {_mm512_maskz_loadu_epi32(live, l.y[0]),
                           _mm512_maskz_loadu_epi32(live, l.y[1]),
@@ -345,9 +352,11 @@ __attribute__((target("avx512cd"))) bool drawLanes(
                                      _mm512_maskz_loadu_epi32(live, l.x[2]), Y, rowMin,
                                      _mm512_maskz_loadu_epi32(live, l.rowMax), width);
     const __m512i zero = _mm512_setzero_si512(), one = _mm512_set1_epi32(1);
-    if (_mm512_mask_cmplt_epi32_mask(live, c.mask, zero)) return false;  // a general walk
+    // The ordered walk's lanes, their setup stored as setupLanes stores it.
+    auto walk = [&] { return storeCover(c, live, l.out, 0); };
+    if (_mm512_mask_cmplt_epi32_mask(live, c.mask, zero)) return walk();  // a general walk
     __m512i rem = _mm512_maskz_mov_epi32(live, c.mask);
-    if (!_mm512_test_epi32_mask(rem, rem)) return true;  // nothing covered
+    if (!_mm512_test_epi32_mask(rem, rem)) return kLanesDrawn;  // nothing covered
     // Each pass's pixel offsets; every pass's live offsets side by side in `all`, the rest
     // distinct negative values (conflict detection compares every lane).
     const __m512i W = _mm512_set1_epi32(width);
@@ -371,7 +380,7 @@ __attribute__((target("avx512cd"))) bool drawLanes(
         const __m512i row = _mm512_mask_add_epi32(rowMin, cy, rowMin, one);
         const __m512i o = _mm512_add_epi32(_mm512_sub_epi32(base, _mm512_mullo_epi32(row, W)), x);
         const int k = __builtin_popcount(unsigned(todo));
-        if (count + k > 16) return false;
+        if (count + k > 16) return walk();
         all = _mm512_mask_expand_epi32(all, __mmask16(((1u << k) - 1u) << count),
                                        _mm512_maskz_compress_epi32(todo, o));
         count += k;
@@ -379,12 +388,21 @@ __attribute__((target("avx512cd"))) bool drawLanes(
         ++passes;
     }
     const __m512i conflicts = _mm512_conflict_epi32(all);
-    if (_mm512_test_epi32_mask(conflicts, conflicts)) return false;
+    if (_mm512_test_epi32_mask(conflicts, conflicts)) return walk();
     // No two fragments share a pixel: the passes' order does not matter.
     const __m512i slots =
         _mm512_cvtepu8_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(laneSlot)));
     __m512 z[3];
-    for (int j = 0; j < 3; ++j) z[j] = _mm512_permutexvar_ps(slots, _mm512_load_ps(s.z[j]));
+    // A lane's slot inputs gathered from the slots' FragmentTri (64 bytes each: 16 floats).
+    static_assert(sizeof(FragmentTri) == 16 * sizeof(float));
+    const float* tris = reinterpret_cast<const float*>(slotFrag);
+    const __m512i slot16 = _mm512_slli_epi32(slots, 4);
+    auto slotField = [&](std::size_t offset) {
+        return _mm512_i32gather_ps(
+            _mm512_add_epi32(slot16, _mm512_set1_epi32(std::int32_t(offset / sizeof(float)))), tris,
+            4);
+    };
+    for (int j = 0; j < 3; ++j) z[j] = slotField(offsetof(FragmentTri, z) + j * sizeof(float));
     const __m512 fzero = _mm512_setzero_ps(), fone = _mm512_set1_ps(1.0f);
     const __m512 invArea = _mm512_div_ps(fone, _mm512_cvtepi32_ps(c.area));
     __m512 q[3], a[3][3];
@@ -412,11 +430,10 @@ __attribute__((target("avx512cd"))) bool drawLanes(
         if (!haveInputs) {
             haveInputs = true;
             if (flat) {
-                flatColor = _mm512_permutexvar_epi32(
-                    slots, _mm512_load_si512(reinterpret_cast<const void*>(s.flat)));
+                flatColor = _mm512_castps_si512(slotField(offsetof(FragmentTri, flat)));
             } else {
                 for (int j = 0; j < 3; ++j)
-                    q[j] = _mm512_permutexvar_ps(slots, _mm512_load_ps(s.q[j]));
+                    q[j] = slotField(offsetof(FragmentTri, q) + j * sizeof(float));
             }
         }
         if (!flat) {
@@ -464,7 +481,7 @@ __attribute__((target("avx512cd"))) bool drawLanes(
         _mm512_mask_i32scatter_ps(img.depth, pass, off[p], zf, 4);
         _mm512_mask_i32scatter_epi32(img.color, pass, off[p], packed, 4);
     }
-    return true;
+    return kLanesDrawn;
 }
 
 /// glm's scalar semantics, lane by lane: max(x, y) = x < y ? y : x; min(x, y) = y < x ? y : x.
