@@ -332,6 +332,30 @@ std::uint32_t setupLanes(TriangleLanes& l, int n, int width) {
                      _mm512_maskz_loadu_epi32(live, l.rowMax), live, width, l.out, 0);
 }
 
+/// FragmentSink's Vertex color of 16 fragments: the vertex colors a[j][channel] interpolated
+/// perspective-correctly from the screen barycentrics l and the vertices' 1/w q, packed as
+/// packColor packs them.
+inline __m512i vertexColor16(const __m512 l[3], const __m512 q[3], const __m512 a[3][3]) {
+    const __m512 fzero = _mm512_setzero_ps(), fone = _mm512_set1_ps(1.0f);
+    const __m512 p0 = _mm512_mul_ps(l[0], q[0]), p1 = _mm512_mul_ps(l[1], q[1]),
+                 p2 = _mm512_mul_ps(l[2], q[2]);
+    const __m512 inv = _mm512_div_ps(fone, _mm512_add_ps(_mm512_add_ps(p0, p1), p2));
+    __m512i packed = _mm512_set1_epi32(std::int32_t(0xff000000u));
+    for (int ch = 0; ch < 3; ++ch) {
+        const __m512 v = _mm512_mul_ps(
+            _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(p0, a[0][ch]), _mm512_mul_ps(p1, a[1][ch])),
+                          _mm512_mul_ps(p2, a[2][ch])),
+            inv);
+        // quantizeUnorm8: std::clamp(v, 0, 1) · 255 + 0.5, truncated to 8 bits.
+        __m512 t = _mm512_mask_mov_ps(v, _mm512_cmp_ps_mask(v, fzero, _CMP_LT_OQ), fzero);
+        t = _mm512_mask_mov_ps(t, _mm512_cmp_ps_mask(fone, t, _CMP_LT_OQ), fone);
+        t = _mm512_add_ps(_mm512_mul_ps(t, _mm512_set1_ps(255.0f)), _mm512_set1_ps(0.5f));
+        const __m512i u = _mm512_and_si512(_mm512_cvttps_epi32(t), _mm512_set1_epi32(0xff));
+        packed = _mm512_or_si512(packed, _mm512_slli_epi32(u, 8 * ch));
+    }
+    return packed;
+}
+
 /// drawLanes (lanes.h): cover16 of the 16 lanes, then the covered centres a pass per centre
 /// (a lane's lowest remaining one), with shadeGroup16's operations; a lane's depth, 1/w and flat
 /// color gathered from its slot's FragmentTri, its vertex colors picked from its slot's column
@@ -458,26 +482,7 @@ __attribute__((target("avx512cd"))) std::uint32_t drawLanes(
                 colorsRead |= pass;
             }
         }
-        __m512i packed = flatColor;
-        if (!flat) {
-            const __m512 p0 = _mm512_mul_ps(lb[0], q[0]), p1 = _mm512_mul_ps(lb[1], q[1]),
-                         p2 = _mm512_mul_ps(lb[2], q[2]);
-            const __m512 inv = _mm512_div_ps(fone, _mm512_add_ps(_mm512_add_ps(p0, p1), p2));
-            packed = _mm512_set1_epi32(std::int32_t(0xff000000u));
-            for (int ch = 0; ch < 3; ++ch) {
-                const __m512 v = _mm512_mul_ps(
-                    _mm512_add_ps(
-                        _mm512_add_ps(_mm512_mul_ps(p0, a[0][ch]), _mm512_mul_ps(p1, a[1][ch])),
-                        _mm512_mul_ps(p2, a[2][ch])),
-                    inv);
-                // quantizeUnorm8: std::clamp(v, 0, 1) · 255 + 0.5, truncated to 8 bits.
-                __m512 t = _mm512_mask_mov_ps(v, _mm512_cmp_ps_mask(v, fzero, _CMP_LT_OQ), fzero);
-                t = _mm512_mask_mov_ps(t, _mm512_cmp_ps_mask(fone, t, _CMP_LT_OQ), fone);
-                t = _mm512_add_ps(_mm512_mul_ps(t, _mm512_set1_ps(255.0f)), _mm512_set1_ps(0.5f));
-                const __m512i u = _mm512_and_si512(_mm512_cvttps_epi32(t), _mm512_set1_epi32(0xff));
-                packed = _mm512_or_si512(packed, _mm512_slli_epi32(u, 8 * ch));
-            }
-        }
+        const __m512i packed = flat ? flatColor : vertexColor16(lb, q, a);
         _mm512_mask_i32scatter_ps(img.depth, pass, off[p], zf, 4);
         _mm512_mask_i32scatter_epi32(img.color, pass, off[p], packed, 4);
     }
@@ -816,26 +821,7 @@ inline void shadeGroup16(const LaneFragment16& f, const Cover16& c, __m512i rem,
         }
         const unsigned pass = _mm512_mask_cmp_ps_mask(active, zf, d, _CMP_LT_OQ);
         if (!pass) continue;
-        __m512i packed = f.flatColor;
-        if (!f.flat) {
-            const __m512 p0 = _mm512_mul_ps(l[0], f.q[0]), p1 = _mm512_mul_ps(l[1], f.q[1]),
-                         p2 = _mm512_mul_ps(l[2], f.q[2]);
-            const __m512 inv = _mm512_div_ps(fone, _mm512_add_ps(_mm512_add_ps(p0, p1), p2));
-            packed = _mm512_set1_epi32(std::int32_t(0xff000000u));
-            for (int ch = 0; ch < 3; ++ch) {
-                const __m512 v = _mm512_mul_ps(
-                    _mm512_add_ps(
-                        _mm512_add_ps(_mm512_mul_ps(p0, f.a[0][ch]), _mm512_mul_ps(p1, f.a[1][ch])),
-                        _mm512_mul_ps(p2, f.a[2][ch])),
-                    inv);
-                // quantizeUnorm8: std::clamp(v, 0, 1) · 255 + 0.5, truncated to 8 bits.
-                __m512 t = _mm512_mask_mov_ps(v, _mm512_cmp_ps_mask(v, fzero, _CMP_LT_OQ), fzero);
-                t = _mm512_mask_mov_ps(t, _mm512_cmp_ps_mask(fone, t, _CMP_LT_OQ), fone);
-                t = _mm512_add_ps(_mm512_mul_ps(t, _mm512_set1_ps(255.0f)), _mm512_set1_ps(0.5f));
-                const __m512i u = _mm512_and_si512(_mm512_cvttps_epi32(t), _mm512_set1_epi32(0xff));
-                packed = _mm512_or_si512(packed, _mm512_slli_epi32(u, 8 * ch));
-            }
-        }
+        const __m512i packed = f.flat ? f.flatColor : vertexColor16(l, f.q, f.a);
         // The passing fragments into their lanes' views (distinct images: no two lanes of a
         // group write the same address).
         if constexpr (Block) {
