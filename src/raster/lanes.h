@@ -110,10 +110,23 @@ struct LaneQueue {
     YSetup slotYs[kLaneCount];
     FragmentTri slotFrag[kLaneCount];
     SlotColors slotColors;
-    /// Set (by the owner, per band) when the queue's fragments may go through drawLanes: then
-    /// addTriangle also stores the slot's inputs by component.
+    /// Set by useDrawLanes when the queue's fragments may go through drawLanes.
     DrawLanesFn draw = nullptr;
     LaneImages images;
+
+    /// Flushes through `fn` (a Kernels::drawLanes, or nullptr) from now on where it applies:
+    /// untextured Vertex or Flat shading into views whose images are one block (laneImages;
+    /// view v: targets[v]). colors: store the slots' vertex colors by component at queue time
+    /// (SlotColors) — worth it where a slot feeds several lanes.
+    void useDrawLanes(DrawLanesFn fn, bool textured, const Target* targets, std::size_t n,
+                      bool colors) {
+        if ((S != Shading::Vertex && S != Shading::Flat) || textured || !fn ||
+            !laneImages(targets, n, images)) {
+            return;
+        }
+        draw = fn;
+        slotColors.colors = colors;
+    }
 
     /// Flush first unless `views` more lanes fit.
     bool needsFlush(int views) const { return laneCount + views > kLaneCount; }

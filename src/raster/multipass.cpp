@@ -212,13 +212,9 @@ void rasterStage(FrameContext& f, ViewVertexData& d, const Bins& bins, const Tar
         // Small triangles wait in a queue and are set up 16 at a time (lanes.h), as in unified;
         // everything drawn directly flushes the queue first (submission order).
         LaneQueue<S> queue;
-        // The queue's fragments side by side (drawLanes, untextured Vertex / Flat); a slot is
-        // one lane here, so the kernel reads the vertex colors of the lanes that pass a depth
-        // test only (stored by component at queue time: one view 13.2 against 13.8 ms).
-        if ((S == Shading::Vertex || S == Shading::Flat) && !f.textured && f.kernels.drawLanes &&
-            laneImages(&target, 1, queue.images)) {
-            queue.draw = f.kernels.drawLanes;
-        }
+        // The queue's fragments side by side (drawLanes); a slot is one lane here, so the
+        // kernel reads the vertex colors of the lanes that pass a depth test only.
+        queue.useDrawLanes(f.kernels.drawLanes, f.textured, &target, 1, false);
         auto flush = [&] {
             queue.flush(f.kernels.setupLanes, target.width,
                         [&](int) -> FragmentSink<S>& { return sink; });

@@ -835,11 +835,7 @@ void rasterStage(FrameContext& f, UnifiedData& d, std::span<const Target> target
         // block (a streamed band's scratch); a slot serves all its views' lanes, so its vertex
         // colors are stored by component at queue time (lazily per lane: 3x3 grid at 1024x768
         // 50.4 against 48.3 ms).
-        if (laneFragments && f.kernels.drawLanes &&
-            laneImages(draw.data(), draw.size(), b.queue.images)) {
-            b.queue.draw = f.kernels.drawLanes;
-            b.queue.slotColors.colors = true;
-        }
+        b.queue.useDrawLanes(f.kernels.drawLanes, f.textured, draw.data(), draw.size(), true);
         rasterBand(b, d.bins, band);
         flushLanes(b);
         if (stream) streamRows(local, targets, b.rowLo, b.rowHi);

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <random>
 
 #include <fmt/core.h>
@@ -405,13 +406,22 @@ TEST(UnifiedEqualsMultipass, LongRowsAndBigGrids) {
     EXPECT_GT(stats.covered, stats.renders * 200);
 }
 
+/// The Stanford bunny from $MVR_SHARED_DIR/models in a grid of `copies`; nullopt when the file
+/// is not there (the caller skips) or does not load (a failure, reported here).
+std::optional<Scene> bunnyGrid(int copies) {
+    const auto path = modelsDir() / "stanford-bunny.obj";
+    if (!std::filesystem::exists(path)) return std::nullopt;
+    auto mesh = loadMesh(path);
+    EXPECT_TRUE(mesh) << mesh.status().message();
+    if (!mesh) return std::nullopt;
+    return makeGridScene({std::move(mesh).value()}, copies);
+}
+
 TEST(UnifiedEqualsMultipass, BunnyAtHundredViews) {
     // Real geometry (most triangles below a pixel) on a 100-view row, low resolution.
-    const auto path = modelsDir() / "stanford-bunny.obj";
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
-    auto mesh = loadMesh(path);
-    ASSERT_TRUE(mesh) << mesh.status().message();
-    const Scene scene = makeGridScene({std::move(mesh).value()}, 1);
+    const std::optional<Scene> bunny = bunnyGrid(1);
+    if (!bunny) GTEST_SKIP() << "no bunny in " << modelsDir();
+    const Scene& scene = *bunny;
     const Bounds b = scene.bounds();
     Stats stats;
     RenderSettings s;
@@ -570,7 +580,6 @@ TEST(UnifiedEqualsMultipass, StreamedBandsEqualMultipass) {
     std::mt19937 rng(909);
     expectSameOnSoups(*backend, rng, {{3, 3}, {16, 1}, {45, 1}, {100, 1}, {9, 9}}, stats);
     forRandomSoups(rng, 15, same);
-    const auto path = modelsDir() / "stanford-bunny.obj";
     EXPECT_GT(stats.covered, stats.renders * 100);
 }
 
@@ -633,11 +642,9 @@ TEST(UnifiedEqualsMultipass, ScalarPathEqualsSimdPathOnTheBunny) {
     // Kernels::drawLanes on AVX-512 CPUs — in multipass always, in unified when its bands are
     // streamed (the views' scratch is one block) — and through the ordered walk on the scalar
     // path. One view, a stereo pair and a 3x3 grid, every shading, streamed and not.
-    const auto path = modelsDir() / "stanford-bunny.obj";
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
-    auto mesh = loadMesh(path);
-    ASSERT_TRUE(mesh) << mesh.status().message();
-    const Scene scene = makeGridScene({std::move(mesh).value()}, 2);
+    const std::optional<Scene> bunny = bunnyGrid(2);
+    if (!bunny) GTEST_SKIP() << "no bunny in " << modelsDir();
+    const Scene& scene = *bunny;
     const Bounds b = scene.bounds();
     RenderSettings s;
     s.width = 160, s.height = 120;
@@ -653,7 +660,7 @@ TEST(UnifiedEqualsMultipass, ScalarPathEqualsSimdPathOnTheBunny) {
             SoftOptions{.threads = 1, .simd = SimdPath::Scalar, .streamAboveBytes = streamAbove});
         auto best = makeSoftBackend(
             SoftOptions{.threads = 2, .simd = SimdPath::Auto, .streamAboveBytes = streamAbove});
-        for (const auto [columns, rows] : {std::pair{1, 1}, {2, 1}, {3, 3}}) {
+        for (const auto& [columns, rows] : {std::pair{1, 1}, {2, 1}, {3, 3}}) {
             RigParams p;
             p.columns = columns, p.rows = rows;
             p.convergence = 2.2f * b.radius(), p.interaxial = p.convergence / 30.0f;

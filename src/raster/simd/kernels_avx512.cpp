@@ -391,8 +391,8 @@ __attribute__((target("avx512cd"))) std::uint32_t drawLanes(
                          _mm512_set1_epi32(img.origin));
     const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     __m512i all = _mm512_sub_epi32(_mm512_set1_epi32(-1), lane);
-    __m512i off[4], low[4];
-    __mmask16 act[4];
+    __m512i off[4];
+    __mmask16 act[4], right[4], up[4];  // per pass: its lanes, and which centre of the 2×2
     int passes = 0, count = 0;
     for (__mmask16 todo = _mm512_test_epi32_mask(rem, rem); todo;
          todo = _mm512_test_epi32_mask(rem, rem)) {
@@ -408,7 +408,7 @@ __attribute__((target("avx512cd"))) std::uint32_t drawLanes(
         all = _mm512_mask_expand_epi32(all, __mmask16(((1u << k) - 1u) << count),
                                        _mm512_maskz_compress_epi32(todo, o));
         count += k;
-        off[passes] = o, low[passes] = lo, act[passes] = todo;
+        off[passes] = o, act[passes] = todo, right[passes] = cx, up[passes] = cy;
         ++passes;
     }
     const __m512i conflicts = _mm512_conflict_epi32(all);
@@ -436,8 +436,7 @@ __attribute__((target("avx512cd"))) std::uint32_t drawLanes(
     __m512i flatColor = zero;
     bool haveInputs = false;
     for (int p = 0; p < passes; ++p) {
-        const __mmask16 cx = _mm512_test_epi32_mask(low[p], _mm512_set1_epi32(0xA));
-        const __mmask16 cy = _mm512_test_epi32_mask(low[p], _mm512_set1_epi32(0xC));
+        const __mmask16 cx = right[p], cy = up[p];
         __m512 lb[3];
         for (int i = 0; i < 3; ++i) {
             __m512i ei = _mm512_mask_add_epi32(c.e[i], cx, c.e[i], c.sx[i]);
@@ -913,18 +912,23 @@ int drawSheared(const YSetup& ys, const ShearedTri& t, const float* shears, int 
 
 const Kernels* avx512Kernels() {
     // shadeLanes: the AVX2 kernel (its 8-lane gathers of view pointers serve AVX-512 CPUs too).
-    static const Kernels k{&projectYZW,    &projectX,        &setupViews,
-                           &shadeVertices, &transformPoints, &specularPowN,
-                           &setupLanes,    &setupSheared,    avx2Kernels()->shadeLanes,
-                           &drawSheared,   &rowClipX,        nullptr};
     // drawLanes' conflict detection is AVX-512 CD (every AVX-512 CPU so far has it).
-    static const Kernels withCd = [] {
-        Kernels t = k;
+    static const Kernels k = [] {
         __builtin_cpu_init();
-        if (__builtin_cpu_supports("avx512cd")) t.drawLanes = &drawLanes;
-        return t;
+        return Kernels{&projectYZW,
+                       &projectX,
+                       &setupViews,
+                       &shadeVertices,
+                       &transformPoints,
+                       &specularPowN,
+                       &setupLanes,
+                       &setupSheared,
+                       avx2Kernels()->shadeLanes,
+                       &drawSheared,
+                       &rowClipX,
+                       __builtin_cpu_supports("avx512cd") ? &drawLanes : nullptr};
     }();
-    return &withCd;
+    return &k;
 }
 
 }  // namespace mvr::raster::detail
