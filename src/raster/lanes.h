@@ -156,9 +156,26 @@ struct LaneQueue {
     /// x1, x2 and views must be readable for kLaneBlock entries. ys: the slot's y setup, from the
     /// caller's copy (not reloaded from slotYs: a wide load of what was just stored field by
     /// field waits for the stores, store-to-load forwarding cannot serve it).
+    /// NV > 0: exactly NV views (n == NV), copied at their width: a stereo pair's lanes are
+    /// 8-byte copies, not 32-byte ones.
+    template <int NV = 0>
     void addLanes(int slot, const YSetup& ys, int n, const std::uint8_t* views,
                   const std::int32_t* x0, const std::int32_t* x1, const std::int32_t* x2) {
         const int k = laneCount;
+        if constexpr (NV > 0) {
+            std::memcpy(&lanes.x[0][k], x0, sizeof(std::int32_t) * NV);
+            std::memcpy(&lanes.x[1][k], x1, sizeof(std::int32_t) * NV);
+            std::memcpy(&lanes.x[2][k], x2, sizeof(std::int32_t) * NV);
+            for (int j = 0; j < NV; ++j) {
+                lanes.y[0][k + j] = ys.y[0], lanes.y[1][k + j] = ys.y[1],
+                               lanes.y[2][k + j] = ys.y[2];
+                lanes.rowMin[k + j] = ys.rowMin, lanes.rowMax[k + j] = ys.rowMax;
+                laneSlot[k + j] = std::uint8_t(slot);
+            }
+            std::memcpy(&laneView[k], views, NV);
+            laneCount += NV;
+            return;
+        }
         std::memcpy(&lanes.x[0][k], x0, sizeof(std::int32_t) * kLaneBlock);
         std::memcpy(&lanes.x[1][k], x1, sizeof(std::int32_t) * kLaneBlock);
         std::memcpy(&lanes.x[2][k], x2, sizeof(std::int32_t) * kLaneBlock);

@@ -373,8 +373,10 @@ inline int queueSlot(BandContext<S>& b, const YSetup& ys, const std::uint32_t v[
     b.queue.slotYs[slot] = ys;
     FragmentTri& frag = b.queue.slotFrag[slot];
     setFragmentInputs(frag, v, zw, q, attr, stride);
-    frag.flat = b.frag.flat;
-    frag.flatD = b.frag.flatD;
+    if constexpr (S == Shading::Flat) {
+        frag.flat = b.frag.flat;
+        frag.flatD = b.frag.flatD;
+    }
     b.queue.storeColors(slot, frag);
     return slot;
 }
@@ -705,7 +707,8 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
     const float* attr = d.attr.data();
     const std::size_t stride = d.attrStride;
     const Row row0 = rows[0];
-    auto queueRow = [&](const Row& row, const std::uint32_t v[3]) __attribute__((always_inline)) {
+    auto queueRow = [&]<int NV>(const Row& row, const std::uint32_t v[3])
+        __attribute__((always_inline)) {
         const std::uint8_t c0 = row.code[v[0]], c1 = row.code[v[1]], c2 = row.code[v[2]];
         if (c0 & c1 & c2 & kRejectYZW) return;
         if ((c0 | c1 | c2) & (kClipYZW | kClipX)) {
@@ -715,10 +718,11 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
         YSetup ys;
         setupY(ys, row.sy[v[0]], row.sy[v[1]], row.sy[v[2]], b.rowLo, b.rowHi);
         if (ys.rowMin > ys.rowMax) return;
-        const int slot = queueSlot(b, ys, v, row.nv, zw, q, attr, stride);
-        const std::size_t nv = std::size_t(row.nv);
-        b.queue.addLanes(slot, ys, row.nv, row.fam->views8, row.sxv + v[0] * nv,
-                         row.sxv + v[1] * nv, row.sxv + v[2] * nv);
+        const int nvi = NV > 0 ? NV : row.nv;
+        const int slot = queueSlot(b, ys, v, nvi, zw, q, attr, stride);
+        const std::size_t nv = std::size_t(nvi);
+        b.queue.template addLanes<NV>(slot, ys, nvi, row.fam->views8, row.sxv + v[0] * nv,
+                                      row.sxv + v[1] * nv, row.sxv + v[2] * nv);
     };
     const Material* material = nullptr;
     auto onItem = [&](const DrawItem& it) {
@@ -728,22 +732,36 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
         const MipChain* texture = f.textureOf(*material);
         for (auto& sink : b.sinks) sink.shade.material = material, sink.shade.texture = texture;
     };
-    forBandTriangles(f.draw, bins, band, f.bands.count, onItem, [&](const std::uint32_t v[3]) {
-        if constexpr (S == Shading::Flat) {
-            // View-independent: once for every view.
-            setFlat(b.frag, f.textured, f.shading, *material, d.world[v[0]], d.world[v[1]],
-                    d.world[v[2]]);
-        }
-        if (!fast) {
-            drawTriangle(b, v);
-            return;
-        }
-        if (rowCount == 1) {
-            queueRow(row0, v);  // a stereo pair / an off-axis row: row0 stays in registers
-        } else {
-            for (int r = 0; r < rowCount; ++r) queueRow(rows[r], v);
-        }
-    });
+    // Rows of one view count known at compile time (a stereo pair, a 3-view grid's rows): the
+    // lanes are copied at their width.
+    auto loop = [&]<int NV>() {
+        forBandTriangles(f.draw, bins, band, f.bands.count, onItem, [&](const std::uint32_t v[3]) {
+            if constexpr (S == Shading::Flat) {
+                // View-independent: once for every view.
+                setFlat(b.frag, f.textured, f.shading, *material, d.world[v[0]], d.world[v[1]],
+                        d.world[v[2]]);
+            }
+            if (!fast) {
+                drawTriangle(b, v);
+                return;
+            }
+            if (rowCount == 1) {
+                // a stereo pair / an off-axis row: row0 stays in registers
+                queueRow.template operator()<NV>(row0, v);
+            } else {
+                for (int r = 0; r < rowCount; ++r) queueRow.template operator()<NV>(rows[r], v);
+            }
+        });
+    };
+    bool sameCount = fast;
+    for (int r = 1; r < rowCount; ++r) sameCount = sameCount && rows[r].nv == row0.nv;
+    if (sameCount && row0.nv == 2) {
+        loop.template operator()<2>();
+    } else if (sameCount && row0.nv == 3) {
+        loop.template operator()<3>();
+    } else {
+        loop.template operator()<0>();
+    }
 }
 
 /// The pixels between consecutive images of slots [first, end) when depth and color both lie in
