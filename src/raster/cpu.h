@@ -108,6 +108,14 @@ using DrawShearedFn = int (*)(const YSetup& ys, const ShearedTri& t, const float
 using RowClipXFn = void (*)(const float* cx, const float* w, std::size_t n, float lo, float hi,
                             float convergence, std::uint8_t* any);
 
+/// A sheared row's snapped x, interleaved as Family::sxv keeps it (issue 12's vertex stage):
+/// sxv[i · nv + k] = snapX(x, q[i], width) for x = shearClip(cx[i], shears[k], w[i],
+/// convergence), or 0 where outcodeX(x, w[i]) has a kClipX bit — what shearClip + projectX
+/// store for view k, one row of nv <= kLaneBlock views at once, nothing per view in memory.
+using RowSnapXFn = void (*)(const float* cx, const float* w, const float* q, std::size_t n,
+                            const float* shears, int nv, float convergence, float width,
+                            std::int32_t* sxv);
+
 struct Kernels {
     ProjectYZWFn projectYZW;
     ProjectXFn projectX;
@@ -125,6 +133,7 @@ struct Kernels {
     /// lanes.h: setupLanes and the lanes' fragments side by side; nullptr where the ISA has no
     /// such kernel (the queue's ordered walk then draws every lane)
     DrawLanesFn drawLanes = nullptr;
+    RowSnapXFn rowSnapX = nullptr;  ///< a sheared row's interleaved snapped x (every table)
 };
 
 /// The kernel table of a path (resolved first, so always a valid table).

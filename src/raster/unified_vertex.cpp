@@ -106,35 +106,6 @@ void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t v
             d.czw.resize(n);
 }
 
-namespace {
-
-/// The vertices a sheared row's per-view x, outcode and snapped x are computed for at a time,
-/// in the stack (vertexStage).
-constexpr std::uint32_t kBlock = 256;
-
-/// out[k · nv + lane] = rows[lane][k] for k < m: a row's snapped x interleaved per vertex (sxv).
-/// The view count as a constant, so that the stores are contiguous and vectorized.
-template <int NV>
-void interleaveRows(const std::int32_t (*rows)[kBlock], std::uint32_t m, std::int32_t* out) {
-    for (std::uint32_t k = 0; k < m; ++k)
-        for (int lane = 0; lane < NV; ++lane) out[k * NV + lane] = rows[lane][k];
-}
-void interleaveRows(const std::int32_t (*rows)[kBlock], int nv, std::uint32_t m,
-                    std::int32_t* out) {
-    switch (nv) {
-        case 1: interleaveRows<1>(rows, m, out); break;
-        case 2: interleaveRows<2>(rows, m, out); break;
-        case 3: interleaveRows<3>(rows, m, out); break;
-        case 4: interleaveRows<4>(rows, m, out); break;
-        case 5: interleaveRows<5>(rows, m, out); break;
-        case 6: interleaveRows<6>(rows, m, out); break;
-        case 7: interleaveRows<7>(rows, m, out); break;
-        default: interleaveRows<8>(rows, m, out); break;
-    }
-}
-
-}  // namespace
-
 void vertexStage(FrameContext& f, UnifiedData& d) {
     const Shading shading = f.settings.shading;
     const float width = float(f.settings.width), height = float(f.settings.height);
@@ -235,25 +206,13 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                     std::copy_n(&d.views[std::size_t(fam.views[0])].sx[g], count, sxv);
                     continue;
                 }
-                // A sheared row: each view's x, outcode and snapped x a block of vertices at a
-                // time in the stack (L1), its snapped x interleaved into sxv (the guard-band bits:
-                // rowClipX above) — nothing per view and vertex in memory.
-                const float* cx = &d.cx[g];
-                const float* cw = &d.cw[g];
-                const float* cq = d.cq.data() + g;
-                for (std::uint32_t base = 0; base < count; base += kBlock) {
-                    const std::uint32_t m = std::min(kBlock, count - base);
-                    alignas(64) std::int32_t sx[kLaneBlock][kBlock];
-                    for (std::size_t lane = 0; lane < nv; ++lane) {
-                        const float shear = d.views[std::size_t(fam.views[lane])].shearX;
-                        alignas(64) float x[kBlock];
-                        alignas(64) std::uint8_t code[kBlock];
-                        for (std::uint32_t k = 0; k < m; ++k)
-                            x[k] = shearClip(cx[base + k], shear, cw[base + k], conv);
-                        f.kernels.projectX(x, cw + base, cq + base, m, width, code, sx[lane]);
-                    }
-                    interleaveRows(sx, int(nv), m, sxv + std::size_t(base) * nv);
-                }
+                // A sheared row: each view's snapped x straight into sxv, computed in registers
+                // (the guard-band bits: rowClipX above) — nothing per view and vertex in memory.
+                float shears[kLaneBlock];
+                for (std::size_t lane = 0; lane < nv; ++lane)
+                    shears[lane] = d.views[std::size_t(fam.views[lane])].shearX;
+                f.kernels.rowSnapX(&d.cx[g], &d.cw[g], d.cq.data() + g, count, shears, int(nv),
+                                   conv, width, sxv);
             }
             for (Family& fam : d.families) {
                 std::uint8_t* code = &fam.code[g];

@@ -558,6 +558,61 @@ TEST(Kernels, RowClipXSimdEqualsScalar) {
     }
 }
 
+TEST(Kernels, RowSnapXEqualsProjectXOfEveryView) {
+    // A sheared row's interleaved snapped x (the vertex stage's sxv) for rows of 1..8 views:
+    // centre x inside the view and near the guard band's edges, w of both signs and near 0, a
+    // vertex count that leaves a tail; the scalar reference against shearClip + projectX of each
+    // view (what the vertex stage stored before), and every SIMD table's kernel, where it has
+    // one, against the reference bit for bit.
+    std::mt19937 rng(65);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    const std::size_t n = 1000 + 11;
+    std::vector<float> cx(n), w(n), q(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        w[i] = i % 17 == 0 ? -2.0f * std::abs(u(rng)) : 0.001f + 4.0f * std::abs(u(rng));
+        q[i] = 1.0f / w[i];
+        const float edge = (i % 2 == 0 ? 64.0f : -64.0f) * w[i];
+        cx[i] = i % 3 == 0 ? edge + 3.0f * u(rng) : u(rng) * w[i];
+    }
+    const float convergence = 1.7f, width = 1024.0f;
+    const detail::Kernels& scalar = detail::scalarKernels();
+    ASSERT_NE(scalar.rowSnapX, nullptr);
+    int tested = 0;
+    for (int nv = 1; nv <= detail::kLaneBlock; ++nv) {
+        std::vector<float> rowShears(static_cast<std::size_t>(nv));
+        for (int k = 0; k < nv; ++k) rowShears[std::size_t(k)] = -0.9f + 0.31f * float(k);
+        std::vector<std::int32_t> ref(n * std::size_t(nv), -1);
+        scalar.rowSnapX(cx.data(), w.data(), q.data(), n, rowShears.data(), nv, convergence, width,
+                        ref.data());
+        long zeros = 0;
+        for (int k = 0; k < nv; ++k) {
+            std::vector<float> x(n);
+            for (std::size_t i = 0; i < n; ++i)
+                x[i] = detail::shearClip(cx[i], rowShears[std::size_t(k)], w[i], convergence);
+            std::vector<std::uint8_t> code(n);
+            std::vector<std::int32_t> sx(n);
+            scalar.projectX(x.data(), w.data(), q.data(), n, width, code.data(), sx.data());
+            for (std::size_t i = 0; i < n; ++i) {
+                ASSERT_EQ(ref[i * std::size_t(nv) + std::size_t(k)], sx[i]) << nv << " " << k;
+                zeros += (code[i] & detail::kClipX) != 0;
+            }
+        }
+        EXPECT_GT(zeros, 100) << "some vertices must lie past the guard band";
+        for (const detail::Kernels* kt : simdKernels()) {
+            if (!kt->rowSnapX) continue;
+            ++tested;
+            std::vector<std::int32_t> got(n * std::size_t(nv), -1);
+            kt->rowSnapX(cx.data(), w.data(), q.data(), n, rowShears.data(), nv, convergence, width,
+                         got.data());
+            for (std::size_t i = 0; i < got.size(); ++i)
+                ASSERT_EQ(got[i], ref[i]) << nv << " " << i;
+        }
+    }
+    if (detail::bestSupportedSimd() == SimdPath::Avx512) {
+        EXPECT_GT(tested, 0) << "AVX-512 has one";
+    }
+}
+
 TEST(Kernels, ShadeVerticesSimdEqualsScalar) {
     // Random positions and normals (some zero, some facing away from every light), 1..3 lights,
     // a rotated/scaled instance, several shininess values: every output float bit for bit.

@@ -87,6 +87,44 @@ void projectX(const float* x, const float* w, const float* q, std::size_t n, flo
     projectXTail(x + i, w + i, q + i, n - i, width, code + i, sx + i);
 }
 
+/// rowSnapX: 8 vertices a pass, each view's x as projectX snaps it; a pair interleaved in
+/// registers, other rows through a tile in the stack.
+void rowSnapX(const float* cx, const float* w, const float* q, std::size_t n, const float* shears,
+              int nv, float convergence, float width, std::int32_t* sxv) {
+    const __m256 gb = _mm256_set1_ps(kGuardBand), ngb = _mm256_set1_ps(-kGuardBand);
+    const __m256 wd = _mm256_set1_ps(width), C = _mm256_set1_ps(convergence);
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        const __m256 X = _mm256_loadu_ps(cx + i), W = _mm256_loadu_ps(w + i),
+                     Q = _mm256_loadu_ps(q + i);
+        const __m256 wc = _mm256_sub_ps(W, C);
+        const __m256 lo = _mm256_mul_ps(ngb, W), hi = _mm256_mul_ps(gb, W);
+        auto viewX = [&](float s) {
+            const __m256 x = _mm256_add_ps(X, _mm256_mul_ps(_mm256_set1_ps(s), wc));
+            const __m256 clip =
+                _mm256_or_ps(_mm256_cmp_ps(x, lo, _CMP_LT_OQ), _mm256_cmp_ps(x, hi, _CMP_GT_OQ));
+            return _mm256_andnot_si256(_mm256_castps_si256(clip), snap(x, Q, wd));
+        };
+        std::int32_t* out = sxv + i * std::size_t(nv);
+        if (nv == 2) {
+            const __m256i a = viewX(shears[0]), b = viewX(shears[1]);
+            const __m256i l = _mm256_unpacklo_epi32(a, b), h = _mm256_unpackhi_epi32(a, b);
+            _mm256_storeu_si256(reinterpret_cast<__m256i*>(out),
+                                _mm256_permute2x128_si256(l, h, 0x20));
+            _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + 8),
+                                _mm256_permute2x128_si256(l, h, 0x31));
+        } else {
+            alignas(32) std::int32_t tile[kLaneBlock][8];
+            for (int k = 0; k < nv; ++k)
+                _mm256_store_si256(reinterpret_cast<__m256i*>(tile[k]), viewX(shears[k]));
+            for (int j = 0; j < 8; ++j)
+                for (int k = 0; k < nv; ++k) out[j * nv + k] = tile[k][j];
+        }
+    }
+    rowSnapXTail(cx + i, w + i, q + i, n - i, shears, nv, convergence, width,
+                 sxv + i * std::size_t(nv));
+}
+
 void rowClipX(const float* cx, const float* w, std::size_t n, float lo, float hi, float convergence,
               std::uint8_t* any) {
     const __m256 gb = _mm256_set1_ps(kGuardBand), ngb = _mm256_set1_ps(-kGuardBand);
@@ -820,7 +858,8 @@ void specularPowN(const float* x, std::size_t n, float s, float* out) {
 const Kernels* avx2Kernels() {
     static const Kernels k{&projectYZW,      &projectX,     &setupViews, &shadeVertices,
                            &transformPoints, &specularPowN, &setupLanes, &setupSheared,
-                           &shadeLanes,      &drawSheared,  &rowClipX};
+                           &shadeLanes,      &drawSheared,  &rowClipX,   nullptr,
+                           &rowSnapX};
     return &k;
 }
 

@@ -79,6 +79,44 @@ void projectX(const float* x, const float* w, const float* q, std::size_t n, flo
     projectXTail(x + i, w + i, q + i, n - i, width, code + i, sx + i);
 }
 
+/// rowSnapX: 16 vertices a pass, each view's x as projectX snaps it; a pair interleaved in
+/// registers (two permutes), other rows scattered at stride nv.
+void rowSnapX(const float* cx, const float* w, const float* q, std::size_t n, const float* shears,
+              int nv, float convergence, float width, std::int32_t* sxv) {
+    const __m512 gb = _mm512_set1_ps(kGuardBand), ngb = _mm512_set1_ps(-kGuardBand);
+    const __m512 wd = _mm512_set1_ps(width), C = _mm512_set1_ps(convergence);
+    const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    // pair: out[2i] = view 0's lane i, out[2i + 1] = view 1's (16 + i in permutex2var's terms)
+    const __m512i pairLo =
+        _mm512_setr_epi32(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
+    const __m512i pairHi = _mm512_add_epi32(pairLo, _mm512_set1_epi32(8));
+    const __m512i strided = _mm512_mullo_epi32(lane, _mm512_set1_epi32(nv));
+    std::size_t i = 0;
+    for (; i + 16 <= n; i += 16) {
+        const __m512 X = _mm512_loadu_ps(cx + i), W = _mm512_loadu_ps(w + i),
+                     Q = _mm512_loadu_ps(q + i);
+        const __m512 wc = _mm512_sub_ps(W, C);
+        const __m512 lo = _mm512_mul_ps(ngb, W), hi = _mm512_mul_ps(gb, W);
+        auto viewX = [&](float s) {
+            const __m512 x = _mm512_add_ps(X, _mm512_mul_ps(_mm512_set1_ps(s), wc));
+            const __mmask16 clip = __mmask16(_mm512_cmp_ps_mask(x, lo, _CMP_LT_OQ) |
+                                             _mm512_cmp_ps_mask(x, hi, _CMP_GT_OQ));
+            return _mm512_maskz_mov_epi32(__mmask16(~clip), snap(x, Q, wd));
+        };
+        std::int32_t* out = sxv + i * std::size_t(nv);
+        if (nv == 2) {
+            const __m512i a = viewX(shears[0]), b = viewX(shears[1]);
+            _mm512_storeu_si512(out, _mm512_permutex2var_epi32(a, pairLo, b));
+            _mm512_storeu_si512(out + 16, _mm512_permutex2var_epi32(a, pairHi, b));
+        } else {
+            for (int k = 0; k < nv; ++k)
+                _mm512_i32scatter_epi32(out + k, strided, viewX(shears[k]), 4);
+        }
+    }
+    rowSnapXTail(cx + i, w + i, q + i, n - i, shears, nv, convergence, width,
+                 sxv + i * std::size_t(nv));
+}
+
 void rowClipX(const float* cx, const float* w, std::size_t n, float lo, float hi, float convergence,
               std::uint8_t* any) {
     const __m512 gb = _mm512_set1_ps(kGuardBand), ngb = _mm512_set1_ps(-kGuardBand);
@@ -926,7 +964,8 @@ const Kernels* avx512Kernels() {
                        avx2Kernels()->shadeLanes,
                        &drawSheared,
                        &rowClipX,
-                       __builtin_cpu_supports("avx512cd") ? &drawLanes : nullptr};
+                       __builtin_cpu_supports("avx512cd") ? &drawLanes : nullptr,
+                       &rowSnapX};
     }();
     return &k;
 }

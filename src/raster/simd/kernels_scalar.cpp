@@ -22,7 +22,9 @@ const Kernels& scalarKernels() {
                            },
                            &shadeLanesTail,
                            &drawShearedTail,
-                           &rowClipXTail};
+                           &rowClipXTail,
+                           nullptr,
+                           &rowSnapXTail};
     return k;
 }
 

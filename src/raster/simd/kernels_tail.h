@@ -37,6 +37,19 @@ inline void rowClipXTail(const float* cx, const float* w, std::size_t n, float l
     }
 }
 
+inline void rowSnapXTail(const float* cx, const float* w, const float* q, std::size_t n,
+                         const float* shears, int nv, float convergence, float width,
+                         std::int32_t* sxv) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const float wc = w[i] - convergence;
+        for (int k = 0; k < nv; ++k) {
+            const float x = shearClipWc(cx[i], shears[k], wc);
+            sxv[i * std::size_t(nv) + std::size_t(k)] =
+                outcodeX(x, w[i]) & kClipX ? 0 : snapX(x, q[i], width);
+        }
+    }
+}
+
 /// Vertex lighting, one vertex at a time: the reference (pipeline.h's vertexAttributes).
 inline void shadeVerticesTail(const glm::vec3* positions, const glm::vec3* normals, std::size_t n,
                               const glm::mat4& worldFromModel, const glm::mat3& normalFromModel,
