@@ -394,6 +394,81 @@ TEST(UnifiedEqualsMultipass, ViewsThatLeaveTheGuardBandOnTheirOwn) {
     EXPECT_GT(stats.covered, stats.renders * 300);
 }
 
+TEST(UnifiedEqualsMultipass, GridRowsBinnedFromTheOuterRowsKeepWhatOnlyAnInnerRowSees) {
+    // unified bins a grid's triangles from its two outermost rows (a vertex's y is monotone in
+    // the row's shear). A triangle near the camera with a vertical parallax larger than the
+    // screen lies above the screen in one outer row, below it in the other and on screen in the
+    // rows between: it must reach those rows' bands. Where each view sees it is computed here
+    // from the rig's own view matrices; then unified against multipass, 1 and 3 columns, 3 and
+    // 5 rows, every shading and wireframe.
+    auto backend = makeSoftBackend();
+    Stats stats;
+    Camera cam;
+    cam.position = {0.0f, 0.0f, 3.0f};
+    cam.target = {0.0f, 0.0f, 0.0f};
+    cam.near = 0.1f, cam.far = 30.0f;
+    RenderSettings s;
+    s.width = 48, s.height = 64;  // 4 bands of 16 rows
+    cam.aspect = float(s.width) / float(s.height);
+    int seenOnlyInside = 0;
+    for (auto [c, r] : {std::pair{1, 3}, {3, 3}, {1, 5}, {3, 5}}) {
+        RigParams p;
+        p.kind = RigKind::OffAxis, p.columns = c, p.rows = r;
+        p.convergence = 3.0f, p.interaxial = 0.4f;
+        auto rig = makeRig(cam, p);
+        ASSERT_TRUE(rig) << rig.status().message();
+        // A small triangle 0.5 in front of the camera, on its axis.
+        const glm::vec3 centre{0.0f, 0.0f, 2.5f};
+        const glm::vec3 tri[3] = {centre + glm::vec3(-0.01f, -0.01f, 0.0f),
+                                  centre + glm::vec3(0.01f, -0.01f, 0.0f),
+                                  centre + glm::vec3(0.0f, 0.01f, 0.0f)};
+        // Its NDC y in each view: all three vertices above (+1) or below (-1) the screen, or not.
+        auto side = [&](const View& v) {
+            int above = 0, below = 0;
+            for (const glm::vec3& q : tri) {
+                const glm::vec4 clip = v.clipFromWorld() * glm::vec4(q, 1.0f);
+                above += clip.y > clip.w, below += clip.y < -clip.w;
+            }
+            return above == 3 ? 1 : below == 3 ? -1 : 0;
+        };
+        const int first = side(rig->views.front()), last = side(rig->views.back());
+        ASSERT_EQ(first * last, -1)
+            << c << "x" << r << ": the outer rows must see it on opposite sides";
+        ASSERT_EQ(side(rig->views[std::size_t(c * (r / 2))]), 0) << "the middle row sees it";
+        Mesh m;
+        m.name = "parallax";
+        for (const glm::vec3& q : tri) {
+            m.positions.push_back(q);
+            m.normals.push_back({0.0f, 0.0f, 1.0f});
+            m.indices.push_back(std::uint32_t(m.positions.size() - 1));
+        }
+        Scene scene;
+        scene.lights = defaultLights();
+        scene.meshes = {std::move(m)};
+        scene.instances = {Instance{}};
+        for (int mode = 0; mode < 4; ++mode) {
+            s.shading = static_cast<Shading>(mode % 3);
+            s.wireframe = mode == 3;
+            expectSame(*backend, scene, *rig, s, stats);
+            auto mp = backend->render(scene, *rig, s, "multipass");
+            ASSERT_TRUE(mp);
+            long inner = 0, outer = 0;
+            for (int row = 0; row < r; ++row) {
+                for (int col = 0; col < c; ++col) {
+                    const DepthImage& d = mp->depth[std::size_t(row * c + col)];
+                    const long n = std::count_if(d.depth.begin(), d.depth.end(),
+                                                 [](float z) { return z < 1.0f; });
+                    (row == 0 || row == r - 1 ? outer : inner) += n;
+                }
+            }
+            EXPECT_EQ(outer, 0);
+            EXPECT_GT(inner, 0);
+            seenOnlyInside += inner > 0 && outer == 0;
+        }
+    }
+    EXPECT_EQ(seenOnlyInside, 16);
+}
+
 TEST(UnifiedEqualsMultipass, LongRowsAndBigGrids) {
     // Light-field panels: off-axis rows of 16..100 views and grids up to 9x9 (issue 12), every
     // shading, culling on and off, wireframe, on small random soups (near plane, guard band).
