@@ -136,23 +136,32 @@ void binStage(FrameContext& f, const View& view, const ViewVertexData& d, Bins& 
     f.pool.run(bins.chunkCount, [&](int chunk, int) {
         const std::uint32_t begin = bins.chunkSize * std::uint32_t(chunk);
         const std::uint32_t end = std::min(f.draw.triangleCount, begin + bins.chunkSize);
-        forTriangles(f.draw, begin, end, [&](std::uint32_t t, const TriangleRef& tri) {
-            const TriCodes codes = triCodes(d, tri.i);
-            if (codes.rejected()) return;
-            if (culled(f, view, d, tri)) return;
-            int rowMin = 0, rowMax = f.settings.height - 1;
-            if (!codes.planes()) {
-                if (f.settings.wireframe) {
-                    wireframeRows(d.sy[tri.i[0]], d.sy[tri.i[1]], d.sy[tri.i[2]], f.settings.height,
-                                  rowMin, rowMax);
-                } else {  // a direct call, so that it is inlined (not through a function pointer)
-                    triangleRows(d.sy[tri.i[0]], d.sy[tri.i[1]], d.sy[tri.i[2]], f.settings.height,
-                                 rowMin, rowMax);
+        // The arrays' pointers in registers (through the vectors they were reloaded after every
+        // bin's push_back: 1024x768, binning 2.66 -> 2.48 ms).
+        const std::uint8_t* codeYZW = d.codeYZW.data();
+        const std::uint8_t* codeX = d.codeX.data();
+        const std::int32_t* sy = d.sy.data();
+        const BandLayout bands = f.bands;
+        const int height = f.settings.height;
+        const bool wireframe = f.settings.wireframe, cull = f.settings.cullBackFaces;
+        const DrawItem* item = nullptr;
+        forItemTriangles(
+            f.draw, begin, end, [&](const DrawItem& it) { item = &it; },
+            [&](std::uint32_t t, const std::uint32_t v[3]) {
+                const std::uint8_t y0 = codeYZW[v[0]], y1 = codeYZW[v[1]], y2 = codeYZW[v[2]];
+                const std::uint8_t x0 = codeX[v[0]], x1 = codeX[v[1]], x2 = codeX[v[2]];
+                if ((y0 & y1 & y2 & kRejectYZW) || (x0 & x1 & x2 & kRejectX)) return;
+                if (cull && culled(f, view, d, TriangleRef{{v[0], v[1], v[2]}, item})) return;
+                int rowMin = 0, rowMax = height - 1;
+                if (!(((y0 | y1 | y2) & kClipYZW) | ((x0 | x1 | x2) & kClipX))) {
+                    if (wireframe) {
+                        wireframeRows(sy[v[0]], sy[v[1]], sy[v[2]], height, rowMin, rowMax);
+                    } else {  // a direct call, so that it is inlined (not through a function pointer)
+                        triangleRows(sy[v[0]], sy[v[1]], sy[v[2]], height, rowMin, rowMax);
+                    }
                 }
-                if (rowMin > rowMax) return;
-            }
-            bins.add(chunk, t, rowMin, rowMax, f.bands);
-        });
+                if (rowMin <= rowMax) bins.add(chunk, t, rowMin, rowMax, bands);
+            });
     });
 }
 
