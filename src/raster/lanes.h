@@ -161,30 +161,19 @@ struct LaneQueue {
     template <int NV = 0>
     void addLanes(int slot, const YSetup& ys, int n, const std::uint8_t* views,
                   const std::int32_t* x0, const std::int32_t* x1, const std::int32_t* x2) {
+        // Copy width: exactly NV lanes, or kLaneBlock of which the next triangle overwrites
+        // those past n.
+        constexpr int kWidth = NV > 0 ? NV : kLaneBlock;
         const int k = laneCount;
-        if constexpr (NV > 0) {
-            std::memcpy(&lanes.x[0][k], x0, sizeof(std::int32_t) * NV);
-            std::memcpy(&lanes.x[1][k], x1, sizeof(std::int32_t) * NV);
-            std::memcpy(&lanes.x[2][k], x2, sizeof(std::int32_t) * NV);
-            for (int j = 0; j < NV; ++j) {
-                lanes.y[0][k + j] = ys.y[0], lanes.y[1][k + j] = ys.y[1],
-                               lanes.y[2][k + j] = ys.y[2];
-                lanes.rowMin[k + j] = ys.rowMin, lanes.rowMax[k + j] = ys.rowMax;
-                laneSlot[k + j] = std::uint8_t(slot);
-            }
-            std::memcpy(&laneView[k], views, NV);
-            laneCount += NV;
-            return;
-        }
-        std::memcpy(&lanes.x[0][k], x0, sizeof(std::int32_t) * kLaneBlock);
-        std::memcpy(&lanes.x[1][k], x1, sizeof(std::int32_t) * kLaneBlock);
-        std::memcpy(&lanes.x[2][k], x2, sizeof(std::int32_t) * kLaneBlock);
-        for (int j = 0; j < kLaneBlock; ++j) {
+        std::memcpy(&lanes.x[0][k], x0, sizeof(std::int32_t) * kWidth);
+        std::memcpy(&lanes.x[1][k], x1, sizeof(std::int32_t) * kWidth);
+        std::memcpy(&lanes.x[2][k], x2, sizeof(std::int32_t) * kWidth);
+        for (int j = 0; j < kWidth; ++j) {
             lanes.y[0][k + j] = ys.y[0], lanes.y[1][k + j] = ys.y[1], lanes.y[2][k + j] = ys.y[2];
             lanes.rowMin[k + j] = ys.rowMin, lanes.rowMax[k + j] = ys.rowMax;
             laneSlot[k + j] = std::uint8_t(slot);
         }
-        std::memcpy(&laneView[k], views, kLaneBlock);
+        std::memcpy(&laneView[k], views, kWidth);
         laneCount += n;
     }
     /// Sets the queued lanes up in one pass and draws them; sinkFor(view) gives the view's sink

@@ -105,9 +105,9 @@ void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
         });
 }
 
-TriCodes triCodes(const ViewVertexData& d, const std::uint32_t v[3]) {
-    const std::uint8_t* y = d.codeYZW.data();
-    const std::uint8_t* x = d.codeX.data();
+/// A triangle's outcodes from the per-vertex y/z/w and x codes (raw pointers: the hot callers
+/// load them once, not after every store that might alias the vectors' internals).
+TriCodes triCodes(const std::uint8_t* y, const std::uint8_t* x, const std::uint32_t v[3]) {
     return {std::uint8_t(y[v[0]] & y[v[1]] & y[v[2]]), std::uint8_t(x[v[0]] & x[v[1]] & x[v[2]]),
             std::uint8_t(y[v[0]] | y[v[1]] | y[v[2]]), std::uint8_t(x[v[0]] | x[v[1]] | x[v[2]])};
 }
@@ -148,12 +148,11 @@ void binStage(FrameContext& f, const View& view, const ViewVertexData& d, Bins& 
         forItemTriangles(
             f.draw, begin, end, [&](const DrawItem& it) { item = &it; },
             [&](std::uint32_t t, const std::uint32_t v[3]) {
-                const std::uint8_t y0 = codeYZW[v[0]], y1 = codeYZW[v[1]], y2 = codeYZW[v[2]];
-                const std::uint8_t x0 = codeX[v[0]], x1 = codeX[v[1]], x2 = codeX[v[2]];
-                if ((y0 & y1 & y2 & kRejectYZW) || (x0 & x1 & x2 & kRejectX)) return;
+                const TriCodes codes = triCodes(codeYZW, codeX, v);
+                if (codes.rejected()) return;
                 if (cull && culled(f, view, d, TriangleRef{{v[0], v[1], v[2]}, item})) return;
                 int rowMin = 0, rowMax = height - 1;
-                if (!(((y0 | y1 | y2) & kClipYZW) | ((x0 | x1 | x2) & kClipX))) {
+                if (!codes.planes()) {
                     if (wireframe) {
                         wireframeRows(sy[v[0]], sy[v[1]], sy[v[2]], height, rowMin, rowMax);
                     } else {  // a direct call, so that it is inlined (not through a function pointer)
@@ -244,7 +243,7 @@ void rasterStage(FrameContext& f, ViewVertexData& d, const Bins& bins, const Tar
                 drawWireframe(f, d, v, target, rowLo, rowHi, sink, frag);
                 return;
             }
-            const std::uint8_t planes = triCodes(d, v).planes();
+            const std::uint8_t planes = triCodes(d.codeYZW.data(), d.codeX.data(), v).planes();
             if (!planes) {
                 YSetup ys;
                 setupY(ys, d.sy[v[0]], d.sy[v[1]], d.sy[v[2]], rowLo, rowHi);
