@@ -26,7 +26,11 @@ inline constexpr int kLaneCount = 16;
 /// Lanes of one triangle are appended 8 at a time (fixed-size copies; views past the family's
 /// count are overwritten by the next triangle or never read): the arrays have room for that.
 inline constexpr int kLaneBlock = 8;
-inline constexpr int kLaneRoom = kLaneCount + kLaneBlock;
+/// A grid's rows of one triangle (LaneQueue::addRows: up to kMaxGridRows rows of up to
+/// kMaxGridRows views, 4 lanes written per row) land after at most kLaneCount − 1 queued lanes.
+inline constexpr int kMaxGridRows = 4;
+inline constexpr int kLaneRoom = kLaneCount + kMaxGridRows * kMaxGridRows + 4;
+static_assert(kLaneRoom >= kLaneCount + kLaneBlock);
 
 struct TriangleLanes {
     alignas(64) std::int32_t x[3][kLaneRoom];    ///< snapped window x of the lane's view
@@ -98,16 +102,19 @@ using DrawLanesFn = std::uint32_t (*)(TriangleLanes& l, int n, int width,
                                       const SlotColors& s, const FragmentTri* slotFrag, bool flat,
                                       const LaneImages& img);
 
+/// A grid's rows' values of one vertex side by side (row r in element r): snapped y.
+using GridY = std::int32_t __attribute__((vector_size(16)));
+
 /// A band's queue of (triangle, view) lanes waiting for setupLanes, in submission order. Slots
-/// hold what a queued triangle shares between its views: the y setup and the fragment inputs.
+/// hold what a queued triangle shares between its views (and a grid's rows): the fragment
+/// inputs; each lane holds its own y setup (YSetup: laneYs).
 /// A caller that draws anything without the queue flushes it first, so every view keeps
 /// receiving its triangles in submission order (depth ties resolve as without the queue).
 template <Shading S>
 struct LaneQueue {
     TriangleLanes lanes{};
     int laneCount = 0, slotCount = 0;
-    std::uint8_t laneSlot[kLaneRoom], laneView[kLaneRoom];
-    YSetup slotYs[kLaneCount];
+    alignas(16) std::uint8_t laneSlot[kLaneRoom], laneView[kLaneRoom];
     FragmentTri slotFrag[kLaneCount];
     SlotColors slotColors;
     /// Set by useDrawLanes when the queue's fragments may go through drawLanes.
@@ -128,13 +135,22 @@ struct LaneQueue {
         slotColors.colors = colors;
     }
 
-    /// Flush first unless `views` more lanes fit.
-    bool needsFlush(int views) const { return laneCount + views > kLaneCount; }
-    int addTriangle(const YSetup& ys, const FragmentTri& frag) {
-        slotYs[slotCount] = ys;
+    /// Flush first unless `views` more lanes (and a slot) fit.
+    bool needsFlush(int views) const {
+        return laneCount + views > kLaneCount || slotCount == kLaneCount;
+    }
+    int addTriangle(const FragmentTri& frag) {
         slotFrag[slotCount] = frag;
         storeColors(slotCount, frag);
         return slotCount++;
+    }
+    /// Lane k's YSetup (its y, Δy and row range, as setupY gave them).
+    YSetup laneYs(int k) const {
+        YSetup ys;
+        for (int i = 0; i < 3; ++i) ys.y[i] = lanes.y[i][k];
+        ys.dy[0] = ys.y[2] - ys.y[1], ys.dy[1] = ys.y[0] - ys.y[2], ys.dy[2] = ys.y[1] - ys.y[0];
+        ys.rowMin = lanes.rowMin[k], ys.rowMax = lanes.rowMax[k];
+        return ys;
     }
     void storeColors(int slot, const FragmentTri& frag) {
         if constexpr (S == Shading::Vertex) {
@@ -143,9 +159,9 @@ struct LaneQueue {
                 for (int c = 0; c < 3; ++c) slotColors.a[j][c][slot] = frag.attr[j][c];
         }
     }
-    void addLane(int slot, int view, std::int32_t x0, std::int32_t x1, std::int32_t x2) {
+    void addLane(int slot, const YSetup& ys, int view, std::int32_t x0, std::int32_t x1,
+                 std::int32_t x2) {
         const int k = laneCount++;
-        const YSetup& ys = slotYs[slot];
         lanes.x[0][k] = x0, lanes.x[1][k] = x1, lanes.x[2][k] = x2;
         lanes.y[0][k] = ys.y[0], lanes.y[1][k] = ys.y[1], lanes.y[2][k] = ys.y[2];
         lanes.rowMin[k] = ys.rowMin, lanes.rowMax[k] = ys.rowMax;
@@ -176,21 +192,82 @@ struct LaneQueue {
         std::memcpy(&laneView[k], views, kWidth);
         laneCount += n;
     }
+    /// A grid's rows of one triangle (slot: its fragment inputs), NV views per row: row r's
+    /// lanes (views rowViews[r][0, NV), snapped x of vertex j in view k: x[j][k], y of vertex j:
+    /// y[j][r], rows [rowMin[r], rowMax[r]]) queued where keep[r] is not 0, in row order. Every
+    /// row is written (whole registers, branch-free) and only the kept ones advance the queue:
+    /// which rows of a grid a small triangle reaches in a band is as good as random. The caller
+    /// queues it with laneCount <= kLaneCount and a free slot, and flushes when full
+    /// (flushFull).
+    template <int NV>
+    void addRows(int slot, int rows, const GridY x[3], const GridY y[3], GridY rowMin, GridY rowMax,
+                 GridY keep, const std::uint8_t (*rowViews)[kLaneBlock]) {
+        static_assert(NV >= 2 && NV <= kMaxGridRows);
+        int k = laneCount;
+        const std::uint32_t slots = 0x01010101u * std::uint32_t(slot);
+        auto row = [&]<int R>() __attribute__((always_inline)) {
+            auto put = [&](std::int32_t* p, GridY v) { std::memcpy(p + k, &v, sizeof v); };
+            constexpr GridY pick = {R, R, R, R};
+            for (int j = 0; j < 3; ++j) {
+                put(lanes.x[j], x[j]);
+                put(lanes.y[j], __builtin_shuffle(y[j], pick));
+            }
+            put(lanes.rowMin, __builtin_shuffle(rowMin, pick));
+            put(lanes.rowMax, __builtin_shuffle(rowMax, pick));
+            std::memcpy(laneSlot + k, &slots, 4);
+            std::memcpy(laneView + k, rowViews[R], 4);
+            k += keep[R] & NV;
+        };
+        row.template operator()<0>();
+        row.template operator()<1>();
+        if (rows > 2) row.template operator()<2>();
+        if (rows > 3) row.template operator()<3>();
+        laneCount = k;
+    }
+    /// Sets up and draws the first kLaneCount lanes when the queue holds that many; the lanes
+    /// past them (all of the last slot's triangle: addRows is called with fewer than kLaneCount
+    /// queued) move to the front with their slot, so every flush but a band's last is full.
+    template <class SinkFor>
+    void flushFull(SetupLanesFn setup, int width, SinkFor&& sinkFor) {
+        if (laneCount < kLaneCount) return;
+        const int rest = laneCount - kLaneCount;
+        const int lastSlot = slotCount - 1;
+        laneCount = kLaneCount;
+        drawQueued(setup, width, sinkFor);
+        if (rest == 0) {
+            laneCount = slotCount = 0;
+            return;
+        }
+        // Whole blocks of kMaxGridRows² lanes (fixed-size copies; the arrays have the room).
+        constexpr int kMove = kMaxGridRows * kMaxGridRows;
+        static_assert(kLaneCount + kMove <= kLaneRoom);
+        auto move = [&](auto* a) { std::memcpy(a, a + kLaneCount, sizeof(*a) * kMove); };
+        for (int j = 0; j < 3; ++j) move(lanes.x[j]), move(lanes.y[j]);
+        move(lanes.rowMin), move(lanes.rowMax), move(laneView);
+        std::memset(laneSlot, 0, kMove);
+        slotFrag[0] = slotFrag[lastSlot];
+        storeColors(0, slotFrag[0]);
+        laneCount = rest, slotCount = 1;
+    }
     /// Sets the queued lanes up in one pass and draws them; sinkFor(view) gives the view's sink
     /// by reference: each lane sets its triangle there and puts the caller's back (it copied the
     /// ~100-byte sink per lane before: 1024x768, instructions per frame one view 272.9 -> 269.7 M,
     /// the pair 363.1 -> 359.7 M).
     template <class SinkFor>
     void flush(SetupLanesFn setup, int width, SinkFor&& sinkFor) {
+        drawQueued(setup, width, sinkFor);
+        laneCount = slotCount = 0;
+    }
+
+private:
+    template <class SinkFor>
+    void drawQueued(SetupLanesFn setup, int width, SinkFor&& sinkFor) {
         if (laneCount == 0) return;
         std::uint32_t bits;
         if (draw) {
             bits = draw(lanes, laneCount, width, laneSlot, laneView, slotColors, slotFrag,
                         S == Shading::Flat, images);
-            if (bits == kLanesDrawn) {
-                laneCount = slotCount = 0;
-                return;
-            }
+            if (bits == kLanesDrawn) return;
         } else {
             bits = setup(lanes, laneCount, width);
         }
@@ -202,16 +279,16 @@ struct LaneQueue {
             if (lanes.out.mask[k] > 0) {
                 if (sink.shade.texture) {
                     const std::int32_t xk[3] = {lanes.x[0][k], lanes.x[1][k], lanes.x[2][k]};
-                    sink.setTriangle(xk, slotYs[laneSlot[k]].y);
+                    const std::int32_t yk[3] = {lanes.y[0][k], lanes.y[1][k], lanes.y[2][k]};
+                    sink.setTriangle(xk, yk);
                 }
                 emitSmall(lanes.out, k, lanes.rowMin[k], sink);
             } else {
                 const std::int32_t xk[3] = {lanes.x[0][k], lanes.x[1][k], lanes.x[2][k]};
-                rasterTriangle(slotYs[laneSlot[k]], xk, width, sink);
+                rasterTriangle(laneYs(k), xk, width, sink);
             }
             sink.tri = callers;
         }
-        laneCount = slotCount = 0;
     }
 };
 

@@ -254,7 +254,7 @@ void rasterStage(FrameContext& f, ViewVertexData& d, const Bins& bins, const Tar
                     frag.attr[j] = d.attrOf(v[j]);
                 }
                 if (queue.needsFlush(1)) flush();
-                queue.addLane(queue.addTriangle(ys, frag), 0, d.sx[v[0]], d.sx[v[1]], d.sx[v[2]]);
+                queue.addLane(queue.addTriangle(frag), ys, 0, d.sx[v[0]], d.sx[v[1]], d.sx[v[2]]);
             } else {
                 flush();
                 ClipVertex poly[kMaxPolyVerts];

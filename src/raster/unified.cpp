@@ -292,6 +292,13 @@ void flushLanes(BandContext<S>& b) {
                   [&](int view) -> FragmentSink<S>& { return b.sinks[std::size_t(view)]; });
 }
 
+/// Draws the queue's first kLaneCount lanes once it holds that many (LaneQueue::flushFull).
+template <Shading S>
+void flushFullLanes(BandContext<S>& b) {
+    b.queue.flushFull(b.f.kernels.setupLanes, b.f.settings.width,
+                      [&](int view) -> FragmentSink<S>& { return b.sinks[std::size_t(view)]; });
+}
+
 /// One family's replicas of a triangle that needs clipping against shared planes (or whose
 /// views need left/right clipping).
 template <Shading S>
@@ -414,15 +421,10 @@ inline void setFragmentInputs(FragmentTri& frag, const std::uint32_t v[3], const
     }
 }
 
-/// Queues a triangle's slot (its y setup and fragment inputs, shared by its views' lanes),
-/// flushing first unless `views` more lanes fit; the caller adds the lanes. zw, q: the family's
-/// window depth and 1/w per vertex; attr, stride: the vertex attributes.
+/// Slot `slot`'s fragment inputs: the triangle's (setFragmentInputs), the flat color of b.frag.
 template <Shading S>
-inline int queueSlot(BandContext<S>& b, const YSetup& ys, const std::uint32_t v[3], int views,
-                     const float* zw, const float* q, const float* attr, std::size_t stride) {
-    if (b.queue.needsFlush(views)) flushLanes(b);
-    const int slot = b.queue.slotCount++;
-    b.queue.slotYs[slot] = ys;
+inline void setSlot(BandContext<S>& b, int slot, const std::uint32_t v[3], const float* zw,
+                    const float* q, const float* attr, std::size_t stride) {
     FragmentTri& frag = b.queue.slotFrag[slot];
     setFragmentInputs(frag, v, zw, q, attr, stride);
     if constexpr (S == Shading::Flat) {
@@ -430,6 +432,17 @@ inline int queueSlot(BandContext<S>& b, const YSetup& ys, const std::uint32_t v[
         frag.flatD = b.frag.flatD;
     }
     b.queue.storeColors(slot, frag);
+}
+
+/// Queues a triangle's slot (its fragment inputs, shared by its views' lanes — and a grid's
+/// rows'), flushing first unless `views` more lanes fit; the caller adds the lanes. zw, q: the
+/// family's window depth and 1/w per vertex; attr, stride: the vertex attributes.
+template <Shading S>
+inline int queueSlot(BandContext<S>& b, const std::uint32_t v[3], int views, const float* zw,
+                     const float* q, const float* attr, std::size_t stride) {
+    if (b.queue.needsFlush(views)) flushLanes(b);
+    const int slot = b.queue.slotCount++;
+    setSlot(b, slot, v, zw, q, attr, stride);
     return slot;
 }
 
@@ -523,12 +536,12 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
     auto culled = [&](int k) { return faces == FaceClass::Mixed && viewBack(d, fam, det, k); };
     if (nv <= kLaneCount / 2) {
         // Queue the views' lanes: y setup and fragment inputs once (the slot), x per view.
-        const int slot = queueSlot(b, ys, v, nv, zw, q, attr, stride);
+        const int slot = queueSlot(b, v, nv, zw, q, attr, stride);
         if (faces != FaceClass::Mixed) {
             b.queue.addLanes(slot, ys, nv, fam.views8, x0, x1, x2);
         } else {
             for (int k = 0; k < nv; ++k) {
-                if (!culled(k)) b.queue.addLane(slot, views[k], x0[k], x1[k], x2[k]);
+                if (!culled(k)) b.queue.addLane(slot, ys, views[k], x0[k], x1[k], x2[k]);
             }
         }
         return;
@@ -771,7 +784,7 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
         setupY(ys, row.sy[v[0]], row.sy[v[1]], row.sy[v[2]], b.rowLo, b.rowHi);
         if (ys.rowMin > ys.rowMax) return;
         const int nvi = NV > 0 ? NV : row.nv;
-        const int slot = queueSlot(b, ys, v, nvi, zw, q, attr, stride);
+        const int slot = queueSlot(b, v, nvi, zw, q, attr, stride);
         const std::size_t nv = std::size_t(nvi);
         b.queue.template addLanes<NV>(slot, ys, nvi, row.fam->views8, row.sxv + v[0] * nv,
                                       row.sxv + v[1] * nv, row.sxv + v[2] * nv);
@@ -805,6 +818,62 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
             }
         });
     };
+    // A grid of 2–4 rows of 2–4 views (gridCode filled): a triangle's rows at once (gridRows).
+    const bool grid = fast && d.gridFilled && rowCount == d.gridRows;
+    const std::uint8_t* gc = d.gridCode.data();
+    std::uint8_t gridViews[kMaxGridRows][kLaneBlock] = {};
+    for (int r = 0; grid && r < rowCount && r < kMaxGridRows; ++r)
+        std::memcpy(gridViews[r], rows[r].fam->views8, kLaneBlock);
+    auto gridRows = [&]<int NV>() {
+        const GridY rowLo = GridY{} + b.rowLo, rowHi = GridY{} + b.rowHi;
+        const std::int32_t* sxv = row0.sxv;
+        forBandTriangles(f.draw, bins, band, f.bands.count, onItem, [&](const std::uint32_t v[3]) {
+            if constexpr (S == Shading::Flat) {
+                setFlat(b.frag, f.textured, f.shading, *material, d.world[v[0]], d.world[v[1]],
+                        d.world[v[2]]);
+            }
+            if (gc[v[0]] | gc[v[1]] | gc[v[2]]) {
+                // A row needs clipping: row by row (drawTriangleFamily for that one).
+                for (int r = 0; r < rowCount; ++r) queueRow.template operator()<NV>(rows[r], v);
+                return;
+            }
+            GridY y[3], x[3];
+            for (int j = 0; j < 3; ++j) {
+                // (rows past rowCount: y 0, an empty row range)
+                y[j] =
+                    GridY{rows[0].sy[v[j]], rows[1].sy[v[j]], rowCount > 2 ? rows[2].sy[v[j]] : 0,
+                          rowCount > 3 ? rows[3].sy[v[j]] : 0};
+                std::memcpy(&x[j], sxv + std::size_t(v[j]) * NV, sizeof(GridY));
+            }
+            // setupY's row range, every row at once (no clip bits: inside the guard band, where
+            // 32 bits hold setupY's 64-bit intermediate values). A row that queueRow rejects
+            // without clip bits (all three vertices above or below the screen) has no pixel row
+            // in the band: no kRejectYZW test.
+            auto min = [](GridY a, GridY c) { return a < c ? a : c; };
+            auto max = [](GridY a, GridY c) { return a < c ? c : a; };
+            const GridY lo = min(y[0], min(y[1], y[2])), hi = max(y[0], max(y[1], y[2]));
+            const GridY rowMin =
+                max(rowLo, (lo - kHalfSubpixel + (kSubpixel - 1)) >> kSubpixelBits);
+            const GridY rowMax = min(rowHi, (hi - kHalfSubpixel) >> kSubpixelBits);
+            const GridY keep = rowMin <= rowMax;
+            if (!(keep[0] | keep[1] | keep[2] | keep[3])) return;
+            if (b.queue.slotCount == kLaneCount) flushLanes(b);
+            const int slot = b.queue.slotCount++;
+            setSlot(b, slot, v, zw, q, attr, stride);
+            b.queue.template addRows<NV>(slot, rowCount, x, y, rowMin, rowMax, keep, gridViews);
+            flushFullLanes(b);
+        });
+    };
+    if (grid && row0.nv == 2) {
+        gridRows.template operator()<2>();
+        return;
+    } else if (grid && row0.nv == 3) {
+        gridRows.template operator()<3>();
+        return;
+    } else if (grid && row0.nv == 4) {
+        gridRows.template operator()<4>();
+        return;
+    }
     bool sameCount = fast;
     for (int r = 1; r < rowCount; ++r) sameCount = sameCount && rows[r].nv == row0.nv;
     if (sameCount && row0.nv == 2) {

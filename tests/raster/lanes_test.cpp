@@ -199,10 +199,10 @@ void drawLanesCase(std::mt19937& rng, const detail::Kernels& k, bool colors, int
                 t->frag.attr[j] = t->attr[j];
             }
             t->frag.flat = std::uint32_t(rng());
-            const int slot = queue.addTriangle(t->ys, t->frag);
+            const int slot = queue.addTriangle(t->frag);
             for (int v = 0; v < views; ++v) {
                 const std::int32_t d = v * std::int32_t(rng() % 200);  // each view's shift
-                queue.addLane(slot, v, t->x[0] + d, t->x[1] + d, t->x[2] + d);
+                queue.addLane(slot, t->ys, v, t->x[0] + d, t->x[1] + d, t->x[2] + d);
             }
             pool.push_back(std::move(t));
         }
