@@ -105,6 +105,18 @@ using DrawLanesFn = std::uint32_t (*)(TriangleLanes& l, int n, int width,
 /// A grid's rows' values of one vertex side by side (row r in element r): snapped y.
 using GridY = std::int32_t __attribute__((vector_size(16)));
 
+/// setupY's rowMin / rowMax of 4 rows at once from their snapped y of the three vertices (y[j]
+/// element r: row r's), clamped to [rowLo, rowHi] (broadcast). 32-bit: exact where |y| stays
+/// below 2^31 − kSubpixel, as inside the guard band (setupY computes in 64 bits for any y).
+/// A row with y 0 at every vertex gets an empty range.
+inline void gridRowRange(const GridY y[3], GridY rowLo, GridY rowHi, GridY& rowMin, GridY& rowMax) {
+    auto min = [](GridY a, GridY c) { return a < c ? a : c; };
+    auto max = [](GridY a, GridY c) { return a < c ? c : a; };
+    const GridY lo = min(y[0], min(y[1], y[2])), hi = max(y[0], max(y[1], y[2]));
+    rowMin = max(rowLo, (lo - kHalfSubpixel + (kSubpixel - 1)) >> kSubpixelBits);
+    rowMax = min(rowHi, (hi - kHalfSubpixel) >> kSubpixelBits);
+}
+
 /// A band's queue of (triangle, view) lanes waiting for setupLanes, in submission order. Slots
 /// hold what a queued triangle shares between its views (and a grid's rows): the fragment
 /// inputs; each lane holds its own y setup (YSetup: laneYs).
@@ -135,10 +147,8 @@ struct LaneQueue {
         slotColors.colors = colors;
     }
 
-    /// Flush first unless `views` more lanes (and a slot) fit.
-    bool needsFlush(int views) const {
-        return laneCount + views > kLaneCount || slotCount == kLaneCount;
-    }
+    /// Flush first unless `views` more lanes fit.
+    bool needsFlush(int views) const { return laneCount + views > kLaneCount; }
     int addTriangle(const FragmentTri& frag) {
         slotFrag[slotCount] = frag;
         storeColors(slotCount, frag);

@@ -799,13 +799,19 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
     };
     // Rows of one view count known at compile time (a stereo pair, a 3-view grid's rows): the
     // lanes are copied at their width.
-    auto loop = [&]<int NV>() {
+    // fn(v) for the band's triangles, the flat color set first (view-independent: once for
+    // every view).
+    auto eachTriangle = [&](auto&& fn) {
         forBandTriangles(f.draw, bins, band, f.bands.count, onItem, [&](const std::uint32_t v[3]) {
             if constexpr (S == Shading::Flat) {
-                // View-independent: once for every view.
                 setFlat(b.frag, f.textured, f.shading, *material, d.world[v[0]], d.world[v[1]],
                         d.world[v[2]]);
             }
+            fn(v);
+        });
+    };
+    auto loop = [&]<int NV>() {
+        eachTriangle([&](const std::uint32_t v[3]) {
             if (!fast) {
                 drawTriangle(b, v);
                 return;
@@ -818,21 +824,23 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
             }
         });
     };
-    // A grid of 2–4 rows of 2–4 views (gridCode filled): a triangle's rows at once (gridRows).
-    const bool grid = fast && d.gridFilled && rowCount == d.gridRows;
-    const std::uint8_t* gc = d.gridCode.data();
+    // A grid of 2–4 rows of 2–4 views sharing their columns' x (a rig's grid: twin rows): a
+    // triangle's rows at once, their y ranges side by side and one slot for all of them.
+    bool grid = fast && rowCount >= 2 && rowCount <= kMaxGridRows && row0.nv >= 2 &&
+                row0.nv <= kMaxGridRows;
+    for (int r = 1; grid && r < rowCount; ++r)
+        grid = rows[r].nv == row0.nv && rows[r].sxv == row0.sxv;
     std::uint8_t gridViews[kMaxGridRows][kLaneBlock] = {};
     for (int r = 0; grid && r < rowCount && r < kMaxGridRows; ++r)
         std::memcpy(gridViews[r], rows[r].fam->views8, kLaneBlock);
     auto gridRows = [&]<int NV>() {
         const GridY rowLo = GridY{} + b.rowLo, rowHi = GridY{} + b.rowHi;
         const std::int32_t* sxv = row0.sxv;
-        forBandTriangles(f.draw, bins, band, f.bands.count, onItem, [&](const std::uint32_t v[3]) {
-            if constexpr (S == Shading::Flat) {
-                setFlat(b.frag, f.textured, f.shading, *material, d.world[v[0]], d.world[v[1]],
-                        d.world[v[2]]);
-            }
-            if (gc[v[0]] | gc[v[1]] | gc[v[2]]) {
+        eachTriangle([&](const std::uint32_t v[3]) {
+            std::uint8_t codes = 0;
+            for (int r = 0; r < rowCount; ++r)
+                codes |= rows[r].code[v[0]] | rows[r].code[v[1]] | rows[r].code[v[2]];
+            if (codes & (kClipYZW | kClipX)) {
                 // A row needs clipping: row by row (drawTriangleFamily for that one).
                 for (int r = 0; r < rowCount; ++r) queueRow.template operator()<NV>(rows[r], v);
                 return;
@@ -845,33 +853,26 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
                           rowCount > 3 ? rows[3].sy[v[j]] : 0};
                 std::memcpy(&x[j], sxv + std::size_t(v[j]) * NV, sizeof(GridY));
             }
-            // setupY's row range, every row at once (no clip bits: inside the guard band, where
-            // 32 bits hold setupY's 64-bit intermediate values). A row that queueRow rejects
-            // without clip bits (all three vertices above or below the screen) has no pixel row
-            // in the band: no kRejectYZW test.
-            auto min = [](GridY a, GridY c) { return a < c ? a : c; };
-            auto max = [](GridY a, GridY c) { return a < c ? c : a; };
-            const GridY lo = min(y[0], min(y[1], y[2])), hi = max(y[0], max(y[1], y[2]));
-            const GridY rowMin =
-                max(rowLo, (lo - kHalfSubpixel + (kSubpixel - 1)) >> kSubpixelBits);
-            const GridY rowMax = min(rowHi, (hi - kHalfSubpixel) >> kSubpixelBits);
+            // No clip bits: inside the guard band (gridRowRange is exact there). A row that
+            // queueRow would reject without clip bits (all three vertices above or below the
+            // screen) has no pixel row in the band either.
+            GridY rowMin, rowMax;
+            gridRowRange(y, rowLo, rowHi, rowMin, rowMax);
             const GridY keep = rowMin <= rowMax;
             if (!(keep[0] | keep[1] | keep[2] | keep[3])) return;
-            if (b.queue.slotCount == kLaneCount) flushLanes(b);
+            // (a free slot: every queued slot holds at least 2 of the < 16 queued lanes)
             const int slot = b.queue.slotCount++;
             setSlot(b, slot, v, zw, q, attr, stride);
             b.queue.template addRows<NV>(slot, rowCount, x, y, rowMin, rowMax, keep, gridViews);
             flushFullLanes(b);
         });
     };
-    if (grid && row0.nv == 2) {
-        gridRows.template operator()<2>();
-        return;
-    } else if (grid && row0.nv == 3) {
-        gridRows.template operator()<3>();
-        return;
-    } else if (grid && row0.nv == 4) {
-        gridRows.template operator()<4>();
+    if (grid) {
+        switch (row0.nv) {
+            case 2: gridRows.template operator()<2>(); break;
+            case 3: gridRows.template operator()<3>(); break;
+            default: gridRows.template operator()<4>(); break;
+        }
         return;
     }
     bool sameCount = fast;

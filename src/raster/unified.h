@@ -5,7 +5,6 @@
 
 #include <vector>
 
-#include "lanes.h"
 #include "methods.h"
 
 namespace mvr::raster::detail {
@@ -61,13 +60,6 @@ struct UnifiedData : MethodScratch {
     /// byte per vertex for both questions.
     std::vector<std::uint8_t> anyClipX;
     Bins bins;
-    /// A grid of 2–kMaxGridRows rows (sheared families, twins of the first) of 2–kMaxGridRows
-    /// views each: gridRows; else 0. Then per vertex whether any row needs clipping (gridCode:
-    /// the OR of the rows' kClipYZW and kClipX bits), filled by the vertex stage where the
-    /// raster stage reads it (gridFilled: no culling, filled).
-    int gridRows = 0;
-    bool gridFilled = false;
-    std::vector<std::uint8_t> gridCode;
     BandBuffers
         bandBuffers;  ///< streamed bands (unified.cpp): per worker, one band's rows of every view
 

@@ -98,20 +98,6 @@ void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t v
         const std::size_t own = vd.derived ? 0 : n;
         vd.x.resize(own), vd.sx.resize(own), vd.code.resize(own);
     }
-    // A small grid (rows sharing their columns' x): the raster stage takes a triangle's rows at
-    // once (rasterBand).
-    d.gridRows = 0;
-    const std::size_t rows = d.families.size();
-    if (rows >= 2 && rows <= std::size_t(kMaxGridRows)) {
-        const Family& first = d.families[0];
-        bool grid = first.views.size() >= 2 && first.views.size() <= std::size_t(kMaxGridRows);
-        for (const Family& f : d.families) {
-            grid = grid && f.sheared && !f.many && f.sxvData == first.sxvData &&
-                   f.views.size() == first.views.size();
-        }
-        if (grid) d.gridRows = int(rows);
-    }
-    d.gridCode.resize(d.gridRows ? n : 0);
     d.attrStride = std::size_t(attributeCount(shading, textured));
     d.world.resize(shading == Shading::Flat ? n : 0), d.attr.resize(n * d.attrStride),
         d.anyClipX.resize(n);
@@ -120,26 +106,7 @@ void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t v
             d.czw.resize(n);
 }
 
-namespace {
-
-/// Whether any row of a small grid needs clipping, per vertex of [g, g + count) (gridCode).
-template <int Rows>
-void gridClipFlags(UnifiedData& d, std::uint32_t g, std::uint32_t count) {
-    const std::uint8_t* code[Rows];
-    for (int r = 0; r < Rows; ++r) code[r] = &d.families[std::size_t(r)].code[g];
-    std::uint8_t* flags = &d.gridCode[g];
-    for (std::uint32_t k = 0; k < count; ++k) {
-        std::uint8_t c = 0;
-        for (int r = 0; r < Rows; ++r) c |= code[r][k];
-        flags[k] = c & (kClipYZW | kClipX);
-    }
-}
-
-}  // namespace
-
 void vertexStage(FrameContext& f, UnifiedData& d) {
-    // The raster stage's grid path takes filled triangles without culling (rasterBand).
-    d.gridFilled = d.gridRows > 0 && !f.settings.cullBackFaces && !f.settings.wireframe;
     const Shading shading = f.settings.shading;
     const float width = float(f.settings.width), height = float(f.settings.height);
     const float conv = f.rig.convergence;
@@ -251,13 +218,6 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                 std::uint8_t* code = &fam.code[g];
                 const std::uint8_t* any = &d.anyClipX[g];
                 for (std::uint32_t k = 0; k < count; ++k) code[k] |= any[k];
-            }
-            if (d.gridFilled) {
-                switch (d.gridRows) {
-                    case 2: gridClipFlags<2>(d, g, count); break;
-                    case 3: gridClipFlags<3>(d, g, count); break;
-                    default: gridClipFlags<4>(d, g, count); break;
-                }
             }
         });
 }
