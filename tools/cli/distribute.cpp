@@ -218,6 +218,14 @@ Status coordinator(int workers, const std::vector<int>& frames, int views,
 
 }  // namespace
 
+bool mpiAvailable() {
+#ifdef MVR_WITH_MPI
+    return true;
+#else
+    return false;
+#endif
+}
+
 bool isRankZero() {
 #ifdef MVR_WITH_MPI
     return sRank == 0;

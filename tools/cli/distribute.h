@@ -25,5 +25,7 @@ Status distributeFrames(const std::vector<int>& frames, int views, const RenderV
 
 /// False on the MPI workers (they write nothing and print nothing).
 bool isRankZero();
+/// Whether this build distributes frames over MPI ranks (built with Open MPI).
+bool mpiAvailable();
 
 }  // namespace mvr::cli

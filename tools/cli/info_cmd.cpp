@@ -4,7 +4,9 @@
 #include <fmt/core.h>
 
 #include "command.h"
+#include "distribute.h"
 #include "options.h"
+#include "video.h"
 
 namespace mvr::cli {
 namespace {
@@ -38,6 +40,9 @@ int runDisplays() {
 int runInfo() {
     fmt::print("mvr {} — multiple-viewpoint rendering\n", MVR_VERSION);
     fmt::print("max views per render: {}\n", kMaxViews);
+    // What this build has (-DMVR_WITH_VIDEO / -DMVR_WITH_MPI, or the libraries were missing).
+    fmt::print("build: video files (FFmpeg) {}, frames over MPI ranks {}\n",
+               videoAvailable() ? "yes" : "no", mpiAvailable() ? "yes" : "no");
     const auto names = backendNames();
     if (names.empty()) fmt::print("no rendering backend is built into this mvr\n");
     for (const std::string& name : names) {
