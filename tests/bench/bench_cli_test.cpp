@@ -440,6 +440,36 @@ TEST_F(BenchCli, SoftRowsHaveNoDeviceTimes) {
     for (const auto& row : j["results"]) EXPECT_FALSE(expectDeviceTimes(row, 1));
 }
 
+// The auto backend (--backend auto, auto:auto in --methods): its row says what it picked
+// ("ran": BACKEND:METHOD, one of the candidates), with the GPU timings where that is gl; the
+// paper benches refuse it like any "auto" method; `mvr render --backend auto` prints the pick
+// and the measured times in its note, and --method other than auto is one usage error.
+TEST_F(BenchCli, AutoBackendRowsAndRender) {
+    const std::string m = "'" + model("suzanne.obj") + "'";
+    const nlohmann::json j = runJson(
+        "bench " + m + " --size 64x48 --frames 2 --warmup 1 --methods soft:unified,auto:auto --json");
+    ASSERT_EQ(j["results"].size(), 2u) << j.dump();
+    const auto& a = j["results"][1];
+    EXPECT_EQ(a["backend"], "auto");
+    EXPECT_EQ(a["method"], "auto");
+    ASSERT_TRUE(a.contains("ran")) << a.dump();
+    const std::string ran = a["ran"];
+    EXPECT_TRUE(ran == "soft:unified" || (ran.rfind("gl:", 0) == 0 && ran != "gl:auto")) << ran;
+    expectDeviceTimes(a, 2);
+    expectError("bench sorbier " + m + " --methods auto:auto", 1, "'auto' is not a method");
+
+    const CliRun r = run("render " + m + " --size 64x48 --backend auto -o out");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("auto picked "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("soft:unified "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(" ms"), std::string::npos) << r.out;
+    EXPECT_TRUE(fs::exists(mDir / "out" / "view-1.png"));
+    expectError("render " + m + " --size 64x48 --backend auto --method multipass -o out", 1,
+                "backend auto has one method, auto");
+    const CliRun info = run("info");
+    EXPECT_NE(info.out.find("backend auto:"), std::string::npos) << info.out;
+}
+
 TEST_F(BenchCli, BadOptions) {
     const std::string m = "'" + model("suzanne.obj") + "'";
     expectError("bench sorbier " + m + " --methods soft:bogus", 1, "unknown method 'bogus'");

@@ -344,7 +344,8 @@ Machine describeMachine(const BackendSet& backends) {
     for (const BackendSet::Made& b : backends.made()) {
         const std::vector<std::string> info = b.backend->info();
         for (const std::string& line : info) m.backendInfo.push_back(b.name + ": " + line);
-        if (!b.gpu || sawGpu) continue;  // the first GPU backend names the renderer
+        // The first GPU backend names the renderer (not auto, which may render on one).
+        if (!b.gpu || sawGpu || b.name == kAutoBackend) continue;
         sawGpu = true;
         m.gpuRenderer = "none";
         if (Status s = b.backend->supports(kBaselineMethod); !s)
