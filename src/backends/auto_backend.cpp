@@ -75,8 +75,7 @@ public:
             "picks the fastest BACKEND:METHOD for each kind of request (view count, size, "
             "shading, scene size): each backend's default method measured on the first frame "
             "(one warm-up, then the best of two renders), the choice kept for later frames",
-            fmt::format("candidates: {}", fmt::join(backendNames(), ", ")),
-            "method: auto only"};
+            fmt::format("candidates: {}", fmt::join(backendNames(), ", ")), "method: auto only"};
         return lines;
     }
 
@@ -171,8 +170,8 @@ private:
             times.push_back({best, i, method, std::move(frame)});
         }
         if (times.empty()) {
-            return unsupportedError(fmt::format("auto: no backend can render this here: {}",
-                                                fmt::join(skipped, ", ")));
+            return unsupportedError(
+                fmt::format("auto: no backend can render this here: {}", fmt::join(skipped, ", ")));
         }
         std::stable_sort(times.begin(), times.end(),
                          [](const Measured& a, const Measured& b) { return a.ms < b.ms; });
@@ -187,8 +186,8 @@ private:
         c.note = fmt::format(
             "auto picked {}:{}: fastest of each backend's default method for {} view{} at {}x{}, "
             "{} shading (best of two renders after a warm-up: {}){}",
-            c.candidate->name, c.method, rig.viewCount(), rig.viewCount() == 1 ? "" : "s",
-            s.width, s.height, shadingName(s.shading), fmt::join(parts, ", "),
+            c.candidate->name, c.method, rig.viewCount(), rig.viewCount() == 1 ? "" : "s", s.width,
+            s.height, shadingName(s.shading), fmt::join(parts, ", "),
             skipped.empty() ? "" : fmt::format("; skipped: {}", fmt::join(skipped, ", ")));
         // The winner's last frame is the one returned (its backend's lastStats() are that
         // frame's: each candidate's renders run back to back).

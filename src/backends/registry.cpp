@@ -77,8 +77,7 @@ const BackendEntry& autoEntry() {
     static const BackendEntry entry = [] {
         BackendEntry e;
         e.name = kAutoBackend;
-        e.description =
-            "the fastest of the others for each request, measured on its first frame";
+        e.description = "the fastest of the others for each request, measured on its first frame";
         e.gpu = std::any_of(registry().rows.begin(), registry().rows.end(),
                             [](const BackendEntry& r) { return r.gpu; });
         e.make = [](const BackendOptions& o) -> Result<std::unique_ptr<Backend>> {
@@ -137,8 +136,9 @@ Status registerBackend(BackendEntry entry) {
         return usageError(fmt::format("registerBackend: '{}' is already registered", entry.name));
     }
     if (entry.name == kAutoBackend) {
-        return usageError("registerBackend: 'auto' is taken (the backend that picks one of the "
-                          "others)");
+        return usageError(
+            "registerBackend: 'auto' is taken (the backend that picks one of the "
+            "others)");
     }
     r.rows.push_back(std::move(entry));
     return {};

@@ -400,7 +400,8 @@ TEST_F(BenchCli, PaperBenchGlRowsCarryDeviceTimes) {
         "bench sorbier " + m +
             " --sizes 64x48 --copies 1 --shadings flat --textured-model none "
             "--methods soft:unified,gl:gs-layered",
-        "bench kalaiah " + m + " --sizes 64x48 --configs 2x1 --methods soft:unified,gl:kalaiah-emulation",
+        "bench kalaiah " + m +
+            " --sizes 64x48 --configs 2x1 --methods soft:unified,gl:kalaiah-emulation",
         "bench views " + m + " --counts 1,2 --size 32x24 --methods soft:unified,gl:viewport-array",
         "bench shadows " + m + " --lights 1,2 --map-size 64 --methods soft:unified,gl:gs-layered"};
     int ran = 0;
@@ -417,7 +418,8 @@ TEST_F(BenchCli, PaperBenchGlRowsCarryDeviceTimes) {
         const CliRun table = run(args + " --frames 1 --warmup 0");
         ASSERT_EQ(table.exitCode, 0) << table.err;
         EXPECT_NE(table.out.find("cell: draw / readback / gpu ms"), std::string::npos)
-            << args << "\n" << table.out;
+            << args << "\n"
+            << table.out;
     }
     if (ran == 0) GTEST_SKIP() << "gl cannot run here";
 }
@@ -425,12 +427,14 @@ TEST_F(BenchCli, PaperBenchGlRowsCarryDeviceTimes) {
 // Soft-only tables have no GPU-timing table; the CSV has the columns, empty for soft rows.
 TEST_F(BenchCli, SoftRowsHaveNoDeviceTimes) {
     const std::string m = "'" + model("suzanne.obj") + "'";
-    const CliRun table = run("bench views " + m +
-                             " --counts 1 --size 32x24 --frames 1 --warmup 0 --methods soft:unified");
+    const CliRun table =
+        run("bench views " + m +
+            " --counts 1 --size 32x24 --frames 1 --warmup 0 --methods soft:unified");
     ASSERT_EQ(table.exitCode, 0) << table.err;
     EXPECT_EQ(table.out.find("draw / readback / gpu"), std::string::npos) << table.out;
-    const CliRun csv = run("bench views " + m +
-                           " --counts 1 --size 32x24 --frames 1 --warmup 0 --methods soft:unified --csv");
+    const CliRun csv =
+        run("bench views " + m +
+            " --counts 1 --size 32x24 --frames 1 --warmup 0 --methods soft:unified --csv");
     ASSERT_EQ(csv.exitCode, 0) << csv.err;
     EXPECT_NE(csv.out.find(",draw_ms,readback_ms,gpu_ms,error"), std::string::npos) << csv.out;
     EXPECT_NE(csv.out.find(",,,\"\""), std::string::npos) << csv.out;
@@ -446,8 +450,9 @@ TEST_F(BenchCli, SoftRowsHaveNoDeviceTimes) {
 // and the measured times in its note, and --method other than auto is one usage error.
 TEST_F(BenchCli, AutoBackendRowsAndRender) {
     const std::string m = "'" + model("suzanne.obj") + "'";
-    const nlohmann::json j = runJson(
-        "bench " + m + " --size 64x48 --frames 2 --warmup 1 --methods soft:unified,auto:auto --json");
+    const nlohmann::json j =
+        runJson("bench " + m +
+                " --size 64x48 --frames 2 --warmup 1 --methods soft:unified,auto:auto --json");
     ASSERT_EQ(j["results"].size(), 2u) << j.dump();
     const auto& a = j["results"][1];
     EXPECT_EQ(a["backend"], "auto");

@@ -141,7 +141,7 @@ struct Measured {
 /// time (the first GL_TIME_ELAPSED on llvmpipe reads 5.9e6 ms); gpu is the median of the kept
 /// samples, nullopt when none was kept. CPU backends have none of this (`measured` false).
 struct DeviceTimes {
-    bool measured = false;  ///< the frames ran on a GPU backend (BackendEntry::gpu)
+    bool measured = false;              ///< the frames ran on a GPU backend (BackendEntry::gpu)
     double drawMs = 0, readbackMs = 0;  ///< medians over the frames
     std::optional<double> gpuMs;        ///< median of the kept GPU timer samples
     int gpuFrames = 0;                  ///< frames whose GPU timer was kept

@@ -336,10 +336,9 @@ int printRenderReport(const RenderReport& report, const CommonOptions& o) {
         for (const PivotTable& t : report.tables) {
             printPivot(t, report.rows);
             // A GPU backend's rows: the same table of its draw / readback / GPU timer.
-            const bool device = std::any_of(report.rows.begin(), report.rows.end(),
-                                            [&](const RenderRow& r) {
-                                                return t.filter(r) && r.device.measured;
-                                            });
+            const bool device =
+                std::any_of(report.rows.begin(), report.rows.end(),
+                            [&](const RenderRow& r) { return t.filter(r) && r.device.measured; });
             if (device) printPivot(deviceTable(t), report.rows);
         }
         for (const Skipped& s : report.skipped) fmt::print("skipped {}: {}\n", s.spec, s.reason);

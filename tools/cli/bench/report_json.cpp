@@ -56,9 +56,8 @@ void addDeviceTimes(json& e, const DeviceTimes& d) {
     e["gpu_frames"] = d.gpuFrames;
     json gpu = json::array();
     for (const std::optional<double>& g : d.frameGpuMs) gpu.push_back(g ? json(*g) : json(nullptr));
-    e["per_frame"] = {{"draw_ms", d.frameDrawMs},
-                      {"readback_ms", d.frameReadbackMs},
-                      {"gpu_ms", gpu}};
+    e["per_frame"] = {
+        {"draw_ms", d.frameDrawMs}, {"readback_ms", d.frameReadbackMs}, {"gpu_ms", gpu}};
 }
 
 }  // namespace
