@@ -225,8 +225,8 @@ TEST_P(GsEmitLimit, GeometryShaderMethodsBatchAtWhatTheDriverLinks) {
     }
 }
 
-// 78: NVIDIA's figure (26 views; above the 16 views a target holds, so it does not bind);
-// 24: 8 views, below it.
+// 78: NVIDIA's figure (26 views, below the 32 layers a target holds; viewport-array's 16
+// viewports stay below it); 24: 8 views, below both.
 INSTANTIATE_TEST_SUITE_P(Gl, GsEmitLimit, testing::Values(78, 24));
 
 // auto measures the exact methods, batched ones among them, and renders 100 views.

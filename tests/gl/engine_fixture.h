@@ -5,6 +5,7 @@
 // between renders: the sample failed on every gl method with GL_INVALID_OPERATION.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>

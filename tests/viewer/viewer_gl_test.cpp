@@ -35,6 +35,8 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
+#include "../gl/engine_fixture.h"
+
 #include "mvr/core/image.h"
 
 extern char** environ;
@@ -489,6 +491,24 @@ TEST_F(ViewCli, QuadBufferWithoutStereoVisualFallsBack) {
                   std::string::npos)
             << r.output;
     }
+}
+
+// A file shaped like Khronos's 2CylinderEngine (tests/gl/engine_fixture.h: 40 meshes and
+// materials, 16-bit indices), which made the gl backend fail on every method and mvr view die
+// on its first frame: the viewer shows it on gl, and its screenshot is `mvr render`'s anaglyph.
+TEST_F(ViewCli, ShowsAManyMeshFileOnTheGlBackend) {
+    needDisplay();
+    gl::test::writeEngineGlb(dir / "engine.glb");
+    const std::string view = "engine.glb --size 160x120 --backend gl --method multipass";
+    CliRun r = run("render " + view + " --format anaglyph-dubois -o render -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = run("view " + view + " --frames 3 --no-hud --compose cpu --screenshot shot.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const Image shot = read(dir / "shot.png"), expected = read(dir / "render" / "anaglyph-dubois.png");
+    ASSERT_EQ(shot.width, expected.width);
+    EXPECT_LE(compareImages(shot, expected).maxDelta, 1);
+    // Not an empty frame: the parts cover a good share of it.
+    EXPECT_GT(differingFraction(shot, Image(160, 120, shot.at(0, 0))), 0.05);
 }
 
 }  // namespace
