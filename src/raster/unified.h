@@ -1,6 +1,7 @@
 // src/raster/unified.h — the unified method's per-frame data (families of views that share
-// y, z, w; per-view x where it is stored; the view-independent vertex outputs) and its vertex
-// stage (unified_vertex.cpp). The bin and raster stages are in unified.cpp.
+// y, z, w; per-view x where it is stored; the view-independent vertex outputs), its back-face
+// classification of a family (bin and raster stages), its vertex stage (unified_vertex.cpp) and
+// bin stage (unified_bin.cpp). The raster stage is in unified.cpp.
 #pragma once
 
 #include <vector>
@@ -88,11 +89,48 @@ struct UnifiedData : MethodScratch {
     }
 };
 
+/// Back-face classification of a family's views for one triangle (adelson1991): all culled,
+/// all kept, or mixed (then per view).
+enum class FaceClass { AllBack, AllFront, Mixed };
+
+struct TriangleFaces {
+    ShearDet det;  ///< for sheared families (computed once per triangle)
+    bool haveDet = false;
+};
+
+inline FaceClass classify(const Family& fam, const ShearDet& det) {
+    const float lo = shearedDet(det, fam.shearXMin, fam.shearY);
+    const float hi = shearedDet(det, fam.shearXMax, fam.shearY);
+    if (lo < 0.0f && hi < 0.0f) return FaceClass::AllBack;
+    if (lo >= 0.0f && hi >= 0.0f) return FaceClass::AllFront;
+    return FaceClass::Mixed;
+}
+
+inline ShearDet triangleShearDet(const UnifiedData& d, const std::uint32_t v[3],
+                                 float convergence) {
+    const float cx[3] = {d.cx[v[0]], d.cx[v[1]], d.cx[v[2]]};
+    const float cy[3] = {d.cy[v[0]], d.cy[v[1]], d.cy[v[2]]};
+    const float w[3] = {d.cw[v[0]], d.cw[v[1]], d.cw[v[2]]};
+    return shearDet(cx, cy, w, convergence);
+}
+
+/// det[x, y, w] of an unsheared family's (single) view.
+inline bool ownViewCulled(const UnifiedData& d, const Family& fam, const std::uint32_t v[3]) {
+    const ViewData& vd = d.views[std::size_t(fam.views[0])];
+    const float x[3] = {vd.x[v[0]], vd.x[v[1]], vd.x[v[2]]};
+    const float y[3] = {fam.y[v[0]], fam.y[v[1]], fam.y[v[2]]};
+    const float w[3] = {fam.w[v[0]], fam.w[v[1]], fam.w[v[2]]};
+    return det3(x, y, w) < 0.0f;
+}
+
 /// This frame's families and views from the rig, reusing the previous frame's arrays.
 void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t vertexCount,
                    UnifiedData& d);
 /// Vertex stage: attributes, center clip position, per family y/z/w projection, per stored view
 /// x, and the guard-band bits of all views folded into the families' codes.
 void vertexStage(FrameContext& f, UnifiedData& d);
+/// Bin stage: each triangle's bands from its families' codes and snapped y (trivial reject,
+/// back faces when culling), into d.bins.
+void binStage(FrameContext& f, UnifiedData& d);
 
 }  // namespace mvr::raster::detail
