@@ -36,6 +36,7 @@
 #include "mvr/composite/jpeg.h"
 #include "mvr/core/image.h"
 #include "mvr/core/mesh.h"
+#include "mvr/session/outputs.h"
 
 namespace py = pybind11;
 
@@ -305,54 +306,6 @@ py::object composeOne(const std::string& format, std::vector<Image>& views,
     return py::bytes(reinterpret_cast<const char*>(b.data()), b.size());
 }
 
-/// The files `mvr render -o DIR` writes, in its order and under its names.
-Status writeRenderFiles(const std::filesystem::path& dir, const RenderOutput& out, bool depth,
-                        const std::vector<std::string>& formats,
-                        const composite::ComposeOptions& compose, const Backend& backend,
-                        std::vector<std::string>& written) {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec || !std::filesystem::is_directory(dir)) {
-        return outputError(fmt::format("cannot create output directory '{}': {}", dir.string(),
-                                       ec ? ec.message() : "not a directory"));
-    }
-    for (std::size_t v = 0; v < out.color.size(); ++v) {
-        const auto path = dir / fmt::format("view-{}.png", v);
-        if (Status s = writePng(path, out.color[v]); !s) return s;
-        written.push_back(path.string());
-        if (depth && v < out.depth.size()) {
-            const auto dpath = dir / fmt::format("depth-{}.png", v);
-            if (Status s = writeDepthPng(dpath, out.depth[v]); !s) return s;
-            written.push_back(dpath.string());
-        }
-    }
-    if (out.color.size() == 2) {
-        auto anaglyph = composeFor(backend, composite::kDefaultAnaglyph, out.color, compose);
-        if (!anaglyph) return anaglyph.status();
-        const auto path = dir / "anaglyph.png";
-        if (Status s = writePng(path, *anaglyph); !s) return s;
-        written.push_back(path.string());
-    }
-    for (const std::string& format : formats) {
-        auto info = composite::findFormat(format);
-        if (!info) return info.status();
-        if (info->extension == ".png") {
-            auto name = composite::compositeFileName(format, out.color, compose);
-            if (!name) return name.status();
-            auto image = composeFor(backend, format, out.color, compose);
-            if (!image) return image.status();
-            const auto path = dir / *name;
-            if (Status s = writePng(path, *image); !s) return s;
-            written.push_back(path.string());
-            continue;
-        }
-        auto path = composite::writeComposite(format, out.color, compose, dir);
-        if (!path) return path.status();
-        written.push_back(path->string());
-    }
-    return {};
-}
-
 RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     CLI::App app("mvr.render");
     cli::SceneOptions scene;
@@ -535,7 +488,10 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
             py::gil_scoped_release release;
             std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
             if (gpu) lock.lock();
-            s = writeRenderFiles(outDir, out, depth, formats, compose, *backend, written);
+            auto files = session::writeOutputs(outDir, out, p.rig, {formats, depth, compose},
+                                               backend.get());
+            if (files) written = std::move(files->paths);
+            s = files ? Status() : files.status();
         }
         if (!s) throwStatus(s);
     }

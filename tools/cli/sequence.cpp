@@ -185,12 +185,12 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
 
     // The video's composite: the first one-image format, else every view as a stream.
     std::string videoFormat;
-    for (const std::string& format : job.formats) {
+    for (const std::string& format : job.outputs.formats) {
         auto info = composite::findFormat(format);
         if (!info) return fail(info.status());
         if (videoFormat.empty() && info->extension == ".png") videoFormat = format;
     }
-    composite::ComposeOptions compose = job.compose;
+    composite::ComposeOptions compose = job.outputs.compose;
     compose.baseline = p.rig.interaxial;
     compose.convergence = p.rig.convergence;
 
@@ -288,7 +288,7 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
                 return Status(s.code(), fmt::format("frame {}: {}", f, s.message()));
             }
         }
-        if (!job.depth) rendered->depth.clear();  // not written, not sent between ranks
+        if (!job.outputs.depth) rendered->depth.clear();  // not written, not sent between ranks
         return rendered;
     };
     auto emitFrame = [&](int f, const RenderOutput& out) -> Status {
@@ -301,32 +301,11 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
             return (
                 outputError(fmt::format("cannot create '{}': {}", part.string(), ec.message())));
         }
-        for (int v = 0; v < int(out.color.size()); ++v) {
-            if (Status s = writePng(part / fmt::format("view-{}.png", v), out.color[v]); !s) {
-                return (s);
-            }
-            if (job.depth && v < int(out.depth.size())) {
-                if (Status s = writeDepthPng(part / fmt::format("depth-{}.png", v), out.depth[v]);
-                    !s) {
-                    return (s);
-                }
-            }
-        }
-        std::optional<Image> videoImage;
-        for (const std::string& format : job.formats) {
-            auto info = composite::findFormat(format);
-            if (info->extension == ".png") {
-                auto fileName = composite::compositeFileName(format, out.color, compose);
-                if (!fileName) return (fileName.status());
-                auto image = composeFor(backend, format, out.color, compose);
-                if (!image) return (image.status());
-                if (Status s = writePng(part / *fileName, *image); !s) return (s);
-                if (format == videoFormat) videoImage = std::move(image).value();
-                continue;
-            }
-            auto written = composite::writeComposite(format, out.color, compose, part);
-            if (!written) return (written.status());
-        }
+        // The frame's files, as a still's (anaglyph.png for a pair included).
+        auto files = session::writeOutputs(part, out, p.rig, job.outputs, &backend,
+                                           o.video.empty() ? std::string() : videoFormat);
+        if (!files) return files.status();
+        std::optional<Image> videoImage = std::move(files->kept);
         std::filesystem::remove_all(final, ec);
         std::filesystem::rename(part, final, ec);
         if (ec) {

@@ -1,16 +1,44 @@
-// tools/cli/display_options.cpp — the CLI side of issue 13 (docs/displays.md): a display
-// preset's outputs, --convergence auto / --separation auto (a depth pre-pass of the centre
-// view), the comfort report against a screen (--screen-width, --viewing-distance,
-// --report-json) and the warnings of "no silent nonsense".
+// src/session/report.cpp — the display side of a session (docs/displays.md): a display preset's
+// outputs, the views that see nothing of the scene, the depth pre-pass of --convergence auto /
+// --separation auto, and the reports after a render (parallax, screen comfort, their JSON,
+// the warnings of "no silent nonsense").
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/core.h>
 
-#include "display_options.h"
-#include "options.h"
+#include "mvr/backends.h"
+#include "mvr/session/prepare.h"
 
-namespace mvr::cli {
+namespace mvr::session {
+
+std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& out) {
+    if (out.depth.empty() || rig.columns <= 1) return std::nullopt;
+    float dMin = 1.0f, dMax = 0.0f;
+    for (float d : out.depth[0].depth) {
+        if (d < 1.0f) {
+            dMin = std::min(dMin, d);
+            dMax = std::max(dMax, d);
+        }
+    }
+    if (dMin > dMax) return std::nullopt;
+    ComfortReport report;
+    report.range =
+        parallaxRange(rig, distanceFromWindowDepth(dMin, rig.camera.near, rig.camera.far),
+                      distanceFromWindowDepth(dMax, rig.camera.near, rig.camera.far));
+    const ParallaxRange& r = report.range;
+    const std::string adjacent = rig.columns > 2
+                                     ? fmt::format(", between adjacent views {:+.2f}% .. {:+.2f}%",
+                                                   100.0 * r.minParallax / (rig.columns - 1),
+                                                   100.0 * r.maxParallax / (rig.columns - 1))
+                                     : std::string();
+    report.line = fmt::format(
+        "parallax between outer views: {:+.2f}% .. {:+.2f}% of screen width{} ({})",
+        100.0 * r.minParallax, 100.0 * r.maxParallax, adjacent,
+        r.comfortable ? std::string("comfortable: all within [convergence/2, 100 x convergence]")
+                      : "uncomfortable: " + r.why);
+    return report;
+}
 
 void displayOutputs(const DisplayPreset& d, bool calibrationGiven, bool quiltGiven,
                     float cameraAspect, std::vector<std::string>& formats,
@@ -224,4 +252,4 @@ std::vector<std::string> renderWarnings(const Prepared& p, const RenderOutput& o
     return w;
 }
 
-}  // namespace mvr::cli
+}  // namespace mvr::session
