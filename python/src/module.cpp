@@ -265,10 +265,6 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     for (const std::string& w : session::renderWarnings(p, out, range, screen)) notes.append(w);
     rd["notes"] = notes;  // what --convergence/--separation auto chose, and warnings
     rd["view_cone"] = p.viewConeDegrees;
-    const std::string& reportJson = recipe.outputs.reportJson;
-    if (!reportJson.empty() &&
-        !session::writeTextFile(reportJson, session::comfortJson(p, range, screen)))
-        throwStatus(outputError("report_json: cannot write " + reportJson));
 
     // Composites first (they read the views), then the views leave as arrays.
     compose.baseline = rig.interaxial;
@@ -291,6 +287,11 @@ RenderResult render(const py::object& models, const py::kwargs& kwargs) {
         }
         if (!s) throwStatus(s);
     }
+    // The report after the files, as `mvr render` writes it (its folder may be the output's).
+    const std::string& reportJson = recipe.outputs.reportJson;
+    if (!reportJson.empty() &&
+        !session::writeTextFile(reportJson, session::comfortJson(p, range, screen)))
+        throwStatus(outputError("report_json: cannot write " + reportJson));
     r.written = py::cast(written);
     {
         py::gil_scoped_release release;
