@@ -335,8 +335,8 @@ std::vector<std::string> modelPaths(const py::object& models) {
 
 }  // namespace
 
-RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs) {
-    static const std::vector<Spec> specs = [] {
+RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, bool sequence) {
+    static const std::vector<Spec> stillSpecs = [] {
         std::vector<Spec> s = {
             {"scene", Kind::Text},           {"grid", Kind::Int},
             {"views", Kind::Int},            {"view_grid", Kind::Text},
@@ -360,7 +360,18 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs) 
         s.insert(s.end(), std::begin(kComposeSpecs), std::end(kComposeSpecs));
         return s;
     }();
-    const std::map<std::string, Value> kw = readKeywords("render", specs, kwargs);
+    static const std::vector<Spec> sequenceSpecs = [] {
+        std::vector<Spec> s = stillSpecs;
+        s.insert(s.end(), {{"frames", Kind::Int},
+                           {"orbit", Kind::Float},
+                           {"camera_path", Kind::Text},
+                           {"frame_range", Kind::Text},
+                           {"shard", Kind::Text},
+                           {"fps", Kind::Float}});
+        return s;
+    }();
+    const std::map<std::string, Value> kw = readKeywords(
+        sequence ? "render_sequence" : "render", sequence ? sequenceSpecs : stillSpecs, kwargs);
     auto get = [&](const char* name) -> const Value* {
         auto it = kw.find(name);
         return it == kw.end() ? nullptr : &it->second;
@@ -428,6 +439,12 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs) 
     if (auto* v = get("letterbox")) r.surfaces.letterbox = v->number;
     if (auto* v = get("label")) r.surfaces.labels = v->list;
     if (auto* v = get("label_anchor")) r.surfaces.anchors = v->list;
+    if (auto* v = get("frames")) r.sequence.frames = int(v->integer);
+    if (auto* v = get("orbit")) r.sequence.orbit = v->number;
+    if (auto* v = get("camera_path")) r.sequence.cameraPath = v->text;
+    if (auto* v = get("frame_range")) r.sequence.frameRange = v->text;
+    if (auto* v = get("shard")) r.sequence.shard = v->text;
+    if (auto* v = get("fps")) r.sequence.fps = v->number;
     composeOptions(kw, r.outputs.compose, /*withStereoMetadata=*/false);
     r.outputs.calibrationGiven = get("lenticular_calibration") != nullptr;
     r.outputs.quiltGiven = get("quilt") != nullptr;

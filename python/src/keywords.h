@@ -37,7 +37,9 @@ struct RenderKeywords {
     session::RenderRecipe recipe;
     bool quiet = false;
 };
-RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs);
+/// `sequence`: also the keywords of a sequence (frames, orbit, camera_path, frame_range, shard,
+/// fps; mvr.render_sequence()).
+RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, bool sequence);
 
 /// What mvr.compose() was asked: the composite options and `output` (empty: none).
 struct ComposeKeywords {
