@@ -1,5 +1,5 @@
-// One recipe rendered three ways — through the library (session::prepare, the registry's first
-// backend, session::writeOutputs), through `mvr render` and through Python's mvr.render() (when
+// One recipe rendered three ways — through the library (session::renderStill: prepare(), the
+// registry's first backend, writeOutputs()), through `mvr render` and through Python's mvr.render() (when
 // the module is built) — gives the same files, byte for byte: views, depth, the anaglyph,
 // composites and the comfort report's JSON.
 #include <gtest/gtest.h>
@@ -13,11 +13,8 @@
 #include <fmt/core.h>
 
 #include "cli_util.h"
-#include "mvr/backends.h"
-#include "mvr/session/outputs.h"
-#include "mvr/session/prepare.h"
 #include "mvr/session/recipe.h"
-#include "mvr/session/surfaces.h"
+#include "mvr/session/render.h"
 
 namespace mvr::session {
 namespace {
@@ -48,27 +45,6 @@ const char* kPython =
     "sky='gradient', label='HI@0.5,0.4', depth=True, format=['sbs', 'jps'], output='py', "
     "report_json='py/report.json')";
 
-/// What `mvr render` does with a recipe, through the library alone.
-Status renderThroughLibrary(const RenderRecipe& r) {
-    auto p = prepare(r);
-    if (!p) return p.status();
-    auto backend = makeBackend(backendNames().front());
-    if (!backend) return backend.status();
-    auto surfaces = buildSurfaces(r.surfaces);
-    if (!surfaces) return surfaces.status();
-    auto out = (*backend)->render(p->scene, p->rig, p->settings, (*backend)->defaultMethod());
-    if (!out) return out.status();
-    if (Status s = applySurfaces(*surfaces, p->rig, *out); !s) return s;
-    auto written = writeOutputs(r.outputs.directory, *out, p->rig,
-                                {p->formats, r.outputs.depth, p->compose}, backend->get());
-    if (!written) return written.status();
-    const auto range = comfortReport(p->rig, *out);
-    if (!writeTextFile(r.outputs.reportJson,
-                       comfortJson(*p, range, screenComfortReport(*p, range))))
-        return outputError("cannot write the report");
-    return {};
-}
-
 std::vector<std::string> listing(const fs::path& dir) {
     std::vector<std::string> names;
     for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename());
@@ -86,7 +62,10 @@ TEST(SessionSameFiles, LibraryCliAndPythonWriteTheSameBytes) {
     const fs::path dir = fs::path(testing::TempDir()) / "mvr_session_same_files";
     fs::remove_all(dir);
     fs::create_directories(dir / "lib");
-    ASSERT_TRUE(renderThroughLibrary(recipe(dir / "lib")));
+    auto still = renderStill(recipe(dir / "lib"));  // `mvr render` in one library call
+    ASSERT_TRUE(still) << still.status().message();
+    EXPECT_EQ(still->files.size(), 8u);
+    EXPECT_EQ(still->prepared.notes.size(), 1u);  // what --convergence auto chose
 
     const test::CliRun cli = test::runMvr(dir, kCliArgs);
     ASSERT_EQ(cli.exitCode, 0) << cli.err;
@@ -105,6 +84,26 @@ TEST(SessionSameFiles, LibraryCliAndPythonWriteTheSameBytes) {
     GTEST_LOG_(INFO) << "no Python module in this build: library and CLI only";
 #endif
     fs::remove_all(dir);
+}
+
+TEST(SessionRenderStill, RefusesASequenceAndReportsTheBackend) {
+    RenderRecipe r;
+    r.size = "16x12";
+    r.sequence.frames = 3;
+    auto refused = renderStill(r);
+    ASSERT_FALSE(refused);
+    EXPECT_EQ(refused.status().code(), ErrorCode::Usage);
+    r.sequence.frames = 0;
+    r.backend = "nope";
+    auto bad = renderStill(r);
+    ASSERT_FALSE(bad);
+    EXPECT_EQ(bad.status().message().rfind("--backend nope: ", 0), 0u) << bad.status().message();
+    r.backend.clear();
+    auto ok = renderStill(r);
+    ASSERT_TRUE(ok) << ok.status().message();
+    EXPECT_EQ(ok->output.color.size(), 2u);
+    EXPECT_TRUE(ok->files.empty());
+    ASSERT_TRUE(ok->comfort);
 }
 
 }  // namespace

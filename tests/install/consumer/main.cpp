@@ -9,6 +9,7 @@
 #include "mvr/core/framing.h"
 #include "mvr/core/scene.h"
 #include "mvr/session/prepare.h"
+#include "mvr/session/render.h"
 
 namespace {
 
@@ -55,6 +56,10 @@ int main() {
         prepared->rig.interaxial != request->rig.interaxial) {
         return fail("session::prepare: not the framed request");
     }
+    auto still = mvr::session::renderStill(recipe);
+    if (!still) return fail("session::renderStill: " + still.status().message());
+    if (still->output.color.size() != 2 || still->output.color[0].rgba != out->color[0].rgba)
+        return fail("session::renderStill: not the image of the framed request");
     std::printf("mvr consumer: %s:%s rendered 2 views of 64x48\n", (*backend)->name().c_str(),
                 out->method.c_str());
     return 0;
