@@ -14,6 +14,8 @@ packages=(
     libpng-dev libjpeg-dev libstb-dev
     libassimp-dev libmeshoptimizer-dev
     libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev
+    # a second GL driver for the tests: zink over lavapipe (Mesa's Vulkan drivers)
+    mesa-vulkan-drivers
     # sequences: video files (FFmpeg's libraries, ffprobe for the tests) and MPI (Open MPI)
     ffmpeg libavcodec-dev libavformat-dev libswscale-dev libavutil-dev
     libopenmpi-dev openmpi-bin

@@ -46,14 +46,33 @@ struct BackendEntry {
         compose;
 };
 
+/// The backend that picks one of the others: "auto" (src/backends/auto_backend.cpp). For each
+/// kind of request (view count, size, shading, culling, wireframe, shadows, the scene's size:
+/// not the cameras) it measures every registered backend's default method on the first frame
+/// (soft: unified; gl: auto, i.e. the exact gl method gl measured fastest) — one warm-up, then
+/// the best of two renders by wall clock — renders with the fastest and keeps that choice for
+/// every later frame of the same kind. Its one method is "auto" (any other is refused with a
+/// Usage error: name the backend to pick a method); RenderOutput::method and
+/// RenderStats::method are the pick as "BACKEND:METHOD" (e.g. "gl:instanced-layer"), and
+/// RenderOutput::note says "auto picked BACKEND:METHOD: ..." with every candidate's time.
+/// It is not a row of backends() (which the conformance suite and the viewer walk: it has no
+/// pixels of its own); findBackend() / makeBackend() / parseMethodSpec() know it, and
+/// backendChoices() lists it. Its entry's `gpu` is true when a GPU backend is registered (it may
+/// render on it: callers that serialise GPU work treat it as one).
+inline constexpr const char* kAutoBackend = "auto";
+
 /// The registered backends in a stable order (soft first).
 std::span<const BackendEntry> backends();
 /// Their names.
 std::vector<std::string> backendNames();
-/// The entry of `name`. Errors: Usage for an unknown name, listing the known ones.
+/// Every name makeBackend() accepts: backendNames(), then "auto" (kAutoBackend).
+std::vector<std::string> backendChoices();
+/// The entry of `name` (a registered backend, or "auto"). Errors: Usage for an unknown name,
+/// listing the known ones.
 Result<const BackendEntry*> findBackend(std::string_view name);
-/// Adds a backend (for backends outside this library; the built-in ones are always there).
-/// Errors: Usage when the name is empty, taken, or contains ':'.
+/// Adds a backend (for backends outside this library; the built-in ones are always there). It
+/// is one of the auto backend's candidates from then on (for auto backends made after it).
+/// Errors: Usage when the name is empty, taken (or "auto"), or contains ':'.
 Status registerBackend(BackendEntry entry);
 
 /// Creates a backend by name. Errors: Usage for an unknown name or bad options (an unknown

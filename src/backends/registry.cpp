@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "auto_backend.h"
+
 #include "mvr/raster/soft_backend.h"
 #ifdef MVR_HAVE_GL
 #include "mvr/gl/composite_gpu.h"
@@ -70,6 +72,27 @@ Registry& registry() {
     return r;
 }
 
+/// The auto backend's entry (not a row: backends() lists only backends with pixels of their own).
+const BackendEntry& autoEntry() {
+    static const BackendEntry entry = [] {
+        BackendEntry e;
+        e.name = kAutoBackend;
+        e.description = "the fastest of the others for each request, measured on its first frame";
+        e.gpu = std::any_of(registry().rows.begin(), registry().rows.end(),
+                            [](const BackendEntry& r) { return r.gpu; });
+        e.make = [](const BackendOptions& o) -> Result<std::unique_ptr<Backend>> {
+            if (o.threads < 0) {
+                return usageError(
+                    fmt::format("threads {} is out of range (expected >= 0)", o.threads));
+            }
+            if (auto simd = parseSimd(o.simd); !simd) return simd.status();
+            return detail::makeAutoBackend(o);
+        };
+        return e;
+    }();
+    return entry;
+}
+
 }  // namespace
 
 std::span<const BackendEntry> backends() {
@@ -84,12 +107,19 @@ std::vector<std::string> backendNames() {
     return names;
 }
 
+std::vector<std::string> backendChoices() {
+    std::vector<std::string> names = backendNames();
+    names.push_back(kAutoBackend);
+    return names;
+}
+
 Result<const BackendEntry*> findBackend(std::string_view name) {
     for (const BackendEntry& e : backends()) {
         if (e.name == name) return &e;
     }
-    return usageError(
-        fmt::format("unknown backend '{}' (expected {})", name, fmt::join(backendNames(), " or ")));
+    if (name == kAutoBackend) return &autoEntry();
+    return usageError(fmt::format("unknown backend '{}' (expected {})", name,
+                                  fmt::join(backendChoices(), " or ")));
 }
 
 Status registerBackend(BackendEntry entry) {
@@ -104,6 +134,11 @@ Status registerBackend(BackendEntry entry) {
     if (std::any_of(r.rows.begin(), r.rows.end(),
                     [&](const BackendEntry& e) { return e.name == entry.name; })) {
         return usageError(fmt::format("registerBackend: '{}' is already registered", entry.name));
+    }
+    if (entry.name == kAutoBackend) {
+        return usageError(
+            "registerBackend: 'auto' is taken (the backend that picks one of the "
+            "others)");
     }
     r.rows.push_back(std::move(entry));
     return {};

@@ -27,6 +27,13 @@ std::string GlCaps::vertexLayerExtension() const {
     return {};
 }
 
+bool GlCaps::softwareRenderer() const {
+    for (const char* name : {"llvmpipe", "softpipe", "lavapipe", "LLVMPIPE", "SwiftShader"}) {
+        if (renderer.find(name) != std::string::npos) return true;
+    }
+    return false;
+}
+
 GlCaps GlCaps::query() {
     GlCaps c;
     c.vendor = getString(GL_VENDOR);

@@ -21,6 +21,10 @@ struct GlCaps {
     int maxViewsOvr = 0;  ///< GL_MAX_VIEWS_OVR, 0 without GL_OVR_multiview
     int timerBits = 0;    ///< GL_QUERY_COUNTER_BITS of GL_TIME_ELAPSED (0 = no timer)
 
+    /// A rasteriser on the CPU (Mesa llvmpipe / softpipe, or zink over lavapipe): a pixel-pack
+    /// buffer is a second CPU copy there, so the views are read straight into their images.
+    bool softwareRenderer() const;
+
     bool has(const std::string& ext) const { return extensions.count(ext) != 0; }
     /// gl_Layer from the vertex shader (ARB_shader_viewport_layer_array or AMD_vertex_shader_layer).
     bool vertexLayer() const;

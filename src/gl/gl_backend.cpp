@@ -15,7 +15,15 @@ public:
     Status supports(const std::string& method) const override { return mRenderer.supports(method); }
     Result<RenderOutput> render(const Scene& scene, const Rig& rig, const RenderSettings& settings,
                                 const std::string& method) override {
-        if (!settings.shadows) return mRenderer.render(scene, rig, settings, method);
+        RenderOutput out;
+        if (Status s = renderInto(scene, rig, settings, method, out); !s) return s;
+        return out;
+    }
+    // Frame after frame into one output: its images are reused (no allocation, no page
+    // faults) where they have the request's size.
+    Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& settings,
+                      const std::string& method, RenderOutput& out) override {
+        if (!settings.shadows) return mRenderer.renderInto(scene, rig, settings, method, out);
         // Shadows (issue 15): the casters' maps once for all views, as one multi-view pass
         // whose views are the lights (the same method where it returns per-view depth).
         if (Status s = validateRequest(scene, rig, settings); !s) return s;
@@ -24,9 +32,9 @@ public:
                                                 mRenderer.shadowPassMethod(method));
         if (!set) return set.status();
         mRenderer.setShadows(&*set, scene.lights);
-        Result<RenderOutput> out = mRenderer.render(scene, rig, settings, method);
+        const Status st = mRenderer.renderInto(scene, rig, settings, method, out);
         mRenderer.setShadows(nullptr);
-        return out;
+        return st;
     }
     std::vector<std::string> info() const override { return mRenderer.info(); }
 

@@ -61,14 +61,9 @@ Status Renderer::prepareTextures(const Scene& scene, Frame& frame, std::uint64_t
         const mvr::Texture& src = scene.textures[i];
         const std::uint64_t key = hashImage(src);
         sceneKey = (sceneKey ^ key) * 0x100000001B3ull;
-        auto it = mTextures.find(key);
-        if (it == mTextures.end()) {
-            while (mTextures.size() >= 64) {
-                auto lru = std::min_element(
-                    mTextures.begin(), mTextures.end(),
-                    [](auto& a, auto& b) { return a.second.lastUse < b.second.lastUse; });
-                mTextures.erase(lru);
-            }
+        auto it = mGpu->textures.find(key);
+        if (it == mGpu->textures.end()) {
+            evictLeastRecentlyUsed(mGpu->textures, kTexturesKept, mUseCounter);
             const int w = src.image.width, h = src.image.height;
             if (w <= 0 || h <= 0 || w > mCaps.maxTextureSize || h > mCaps.maxTextureSize) {
                 return unsupportedError(
@@ -87,7 +82,7 @@ Status Renderer::prepareTextures(const Scene& scene, Frame& frame, std::uint64_t
                                 src.image.rgba.data());
             glGenerateTextureMipmap(g.texture.get());
             if (Status s = checkGlError("uploading a texture"); !s) return s;
-            it = mTextures.emplace(key, std::move(g)).first;
+            it = mGpu->textures.emplace(key, std::move(g)).first;
         }
         it->second.lastUse = mUseCounter;
         frame.textures[i] = it->second.texture.get();
@@ -98,8 +93,8 @@ Status Renderer::prepareTextures(const Scene& scene, Frame& frame, std::uint64_t
 GLuint Renderer::sampler(const TextureSampler& s) {
     const int key = int(s.magFilter) | int(s.minFilter) << 1 | int(s.mipmaps) << 2 |
                     int(s.wrapS) << 3 | int(s.wrapT) << 5;
-    auto it = mSamplers.find(key);
-    if (it != mSamplers.end()) return it->second.get();
+    auto it = mGpu->samplers.find(key);
+    if (it != mGpu->samplers.end()) return it->second.get();
     Sampler smp = createSampler();
     const GLuint n = smp.get();
     const bool linMin = s.minFilter == TextureFilter::Linear;
@@ -111,7 +106,7 @@ GLuint Renderer::sampler(const TextureSampler& s) {
                         s.magFilter == TextureFilter::Linear ? GL_LINEAR : GL_NEAREST);
     glSamplerParameteri(n, GL_TEXTURE_WRAP_S, wrapMode(s.wrapS));
     glSamplerParameteri(n, GL_TEXTURE_WRAP_T, wrapMode(s.wrapT));
-    mSamplers.emplace(key, std::move(smp));
+    mGpu->samplers.emplace(key, std::move(smp));
     return n;
 }
 

@@ -78,6 +78,7 @@ void gsLoop(ProgramDesc& d, int views, const char* out) {
     addDefine(d, "VS_TO_GS");
     addDefine(d, "GS_VIEWS", views);
     addDefine(d, "GS_MAX_VERTICES", 3 * views);
+    d.gsMaxVertices = 3 * views;
     addDefine(d, out);
     d.geometry = true;
 }

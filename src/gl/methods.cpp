@@ -24,11 +24,11 @@ Status checkFramebuffer(GLuint fbo, const char* what) {
 // multipass: the reference. One full pass of the scene per view, each into its own layer.
 Status Renderer::drawMultipass(const Frame& f, GLuint prog) {
     ensureLayered(f.settings->width, f.settings->height, f.targetViews);
-    const GLuint fbo = mLayered.fbo.get();
+    const GLuint fbo = mGpu->layered.fbo.get();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
     for (int v = 0; v < f.views; ++v) {
-        glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, mLayered.color.get(), 0, v);
-        glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, mLayered.depth.get(), 0, v);
+        glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, mGpu->layered.color.get(), 0, v);
+        glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, mGpu->layered.depth.get(), 0, v);
         if (v == 0) {
             if (Status s = checkFramebuffer(fbo, f.method->name); !s) return s;
         }
@@ -42,9 +42,9 @@ Status Renderer::drawMultipass(const Frame& f, GLuint prog) {
 // gs-layered / gs-invocations: one pass; the geometry shader sends each copy to gl_Layer.
 Status Renderer::drawLayeredGs(const Frame& f, GLuint prog) {
     ensureLayered(f.settings->width, f.settings->height, f.targetViews);
-    attachLayered(mLayered.fbo.get(), mLayered.color.get(), mLayered.depth.get());
-    if (Status s = checkFramebuffer(mLayered.fbo.get(), "layered target"); !s) return s;
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mLayered.fbo.get());
+    attachLayered(mGpu->layered.fbo.get(), mGpu->layered.color.get(), mGpu->layered.depth.get());
+    if (Status s = checkFramebuffer(mGpu->layered.fbo.get(), "layered target"); !s) return s;
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mGpu->layered.fbo.get());
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);  // clears every layer
     drawScene(f, prog, 1);
     return Status::ok();
@@ -53,28 +53,28 @@ Status Renderer::drawLayeredGs(const Frame& f, GLuint prog) {
 // instanced-layer: N instances of every draw; the vertex shader picks gl_Layer = instance.
 Status Renderer::drawInstancedLayer(const Frame& f, GLuint prog) {
     ensureLayered(f.settings->width, f.settings->height, f.targetViews);
-    attachLayered(mLayered.fbo.get(), mLayered.color.get(), mLayered.depth.get());
-    if (Status s = checkFramebuffer(mLayered.fbo.get(), "layered target"); !s) return s;
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mLayered.fbo.get());
+    attachLayered(mGpu->layered.fbo.get(), mGpu->layered.color.get(), mGpu->layered.depth.get());
+    if (Status s = checkFramebuffer(mGpu->layered.fbo.get(), "layered target"); !s) return s;
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mGpu->layered.fbo.get());
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     drawScene(f, prog, f.views);
     return Status::ok();
 }
 
-// multiview: GL_OVR_multiview attachments of N layers; the driver replicates the draw.
+// multiview: GL_OVR_multiview attachments of N layers; the driver replicates the draw. Its
+// own framebuffer: re-attaching one framebuffer between multiview and per-layer / layered
+// attachments left NVIDIA's driver drawing views 1.. wrong after other methods had run.
 Status Renderer::drawMultiview(const Frame& f, GLuint prog) {
     ensureLayered(f.settings->width, f.settings->height, f.targetViews);
-    const GLuint fbo = mLayered.fbo.get();
+    const GLuint fbo = mGpu->layered.multiviewFbo.get();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
     glFramebufferTextureMultiviewOVR(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
-                                     mLayered.color.get(), 0, 0, f.views);
-    glFramebufferTextureMultiviewOVR(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, mLayered.depth.get(),
-                                     0, 0, f.views);
+                                     mGpu->layered.color.get(), 0, 0, f.views);
+    glFramebufferTextureMultiviewOVR(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
+                                     mGpu->layered.depth.get(), 0, 0, f.views);
     if (Status s = checkFramebuffer(fbo, "multiview target"); !s) return s;
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     drawScene(f, prog, 1);
-    // Back to plain attachments for the other methods.
-    attachLayered(fbo, 0, 0);
     return Status::ok();
 }
 
@@ -83,9 +83,9 @@ Status Renderer::drawMultiview(const Frame& f, GLuint prog) {
 Status Renderer::drawViewportArray(const Frame& f, GLuint prog) {
     const TileLayout& t = *f.tiles;
     ensureTiled(t.columns * t.width, t.rows * t.height);
-    if (Status s = checkFramebuffer(mTiled.fbo.get(), "tiled target"); !s) return s;
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mTiled.fbo.get());
-    glViewport(0, 0, mTiled.w, mTiled.h);
+    if (Status s = checkFramebuffer(mGpu->tiled.fbo.get(), "tiled target"); !s) return s;
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mGpu->tiled.fbo.get());
+    glViewport(0, 0, t.columns * t.width, t.rows * t.height);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     for (int v = 0; v < f.views; ++v) {
         const glm::ivec2 o = t.origin(v);
@@ -115,9 +115,9 @@ Status Renderer::prepareKalaiah(const Frame& f) {
 Status Renderer::drawKalaiah(const Frame& f, GLuint prog) {
     const TileLayout& t = *f.tiles;
     ensureTiled(t.columns * t.width, t.rows * t.height);
-    if (Status s = checkFramebuffer(mTiled.fbo.get(), "partitioned target"); !s) return s;
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mTiled.fbo.get());
-    glViewport(0, 0, mTiled.w, mTiled.h);
+    if (Status s = checkFramebuffer(mGpu->tiled.fbo.get(), "partitioned target"); !s) return s;
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mGpu->tiled.fbo.get());
+    glViewport(0, 0, t.columns * t.width, t.rows * t.height);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     for (int i = 0; i < 4; ++i) glEnable(GL_CLIP_DISTANCE0 + i);
     for (int idx : f.order) {
@@ -158,21 +158,21 @@ Status Renderer::drawSorbier(const Frame& f, GLuint prog, bool depthMap) {
     if (depthMap) {
         Result<GLuint> pre = program(depthPrepassName(), depthPrepassProgram());
         if (!pre) return pre.status();
-        if (Status s = checkFramebuffer(mMrt.depthFbo.get(), "depth map"); !s) return s;
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mMrt.depthFbo.get());
+        if (Status s = checkFramebuffer(mGpu->mrt.depthFbo.get(), "depth map"); !s) return s;
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mGpu->mrt.depthFbo.get());
         glClear(GL_DEPTH_BUFFER_BIT);
         glUseProgram(*pre);
         glProgramUniform1i(*pre, 0, 0);  // the left eye
         drawScene(sorted, *pre, 1);
-        glBindTextureUnit(1, mMrt.depthMap.get());
+        glBindTextureUnit(1, mGpu->mrt.depthMap.get());
         glUseProgram(prog);
     }
-    if (Status s = checkFramebuffer(mMrt.fbo.get(), "MRT target"); !s) return s;
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mMrt.fbo.get());
+    if (Status s = checkFramebuffer(mGpu->mrt.fbo.get(), "MRT target"); !s) return s;
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mGpu->mrt.fbo.get());
     const float clear[4] = {f.settings->clearColor.x, f.settings->clearColor.y,
                             f.settings->clearColor.z, 1.0f};
-    glClearNamedFramebufferfv(mMrt.fbo.get(), GL_COLOR, 0, clear);
-    glClearNamedFramebufferfv(mMrt.fbo.get(), GL_COLOR, 1, clear);
+    glClearNamedFramebufferfv(mGpu->mrt.fbo.get(), GL_COLOR, 0, clear);
+    glClearNamedFramebufferfv(mGpu->mrt.fbo.get(), GL_COLOR, 1, clear);
     glDisable(GL_DEPTH_TEST);
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <string_view>
 
@@ -40,6 +41,21 @@ std::uint64_t hashMesh(const Mesh& m) {
     return h;
 }
 
+// MVR_GL_GS_EMIT_LIMIT=N: programs whose geometry shader emits more than N vertices are
+// treated as refused by the driver (0 or unset: none are).
+int viewsPerTarget(TargetKind target) {
+    // MVR_GL_VIEWS_PER_TARGET=N measures other bounds (bench the read-back) without a build.
+    if (const char* v = std::getenv("MVR_GL_VIEWS_PER_TARGET"); v && std::atoi(v) > 0)
+        return std::min(std::atoi(v), kMaxViews);
+    return target == TargetKind::Tiled ? kTilesPerTarget : kLayersPerTarget;
+}
+
+// Read when a program is built (a test sets it before making a backend).
+int gsEmitLimit() {
+    const char* v = std::getenv("MVR_GL_GS_EMIT_LIMIT");
+    return v ? std::max(0, std::atoi(v)) : 0;
+}
+
 // Attributes 0 position, 1 normal, 2 texture coordinate, 3 (flat arrays) the face's centroid.
 void bindVertexArray(GLuint vao, GLuint positions, GLuint normals, GLuint texcoords, GLuint indices,
                      GLuint centers = 0) {
@@ -72,57 +88,13 @@ Buffer makeBuffer(const std::vector<T>& data) {
 }  // namespace
 
 Renderer::~Renderer() {
-    if (!mContext || !mContext->makeCurrent()) {
-        // Without the context current, GL objects must not be deleted through GL calls:
-        // hand the names over (the context, if any, frees them with itself).
-        for (auto& [k, m] : mMeshes) {
-            m.positions.release();
-            m.normals.release();
-            m.indices.release();
-            m.texcoords.release();
-            m.vao.release();
-            m.flatTexcoords.release();
-            m.flatCenters.release();
-            m.kalaiahTexcoords.release();
-            m.flatPositions.release();
-            m.flatNormals.release();
-            m.flatIndices.release();
-            m.flatVao.release();
-            m.kalaiahTriangles.release();
-            m.kalaiahVao.release();
-            m.kalaiahDummy.release();
-        }
-        for (auto& [k, p] : mPrograms) p.release();
-        for (auto& [k, t] : mTextures) t.texture.release();
-        for (auto& [k, smp] : mSamplers) smp.release();
-        mFrameUbo.release();
-        mTimer.release();
-        mEmptyVao.release();
-        mLayered.color.release();
-        mLayered.depth.release();
-        mLayered.fbo.release();
-        for (auto& t : mMrt.color) t.release();
-        mMrt.depthMap.release();
-        mMrt.fbo.release();
-        mMrt.depthFbo.release();
-        mTiled.color.release();
-        mTiled.depth.release();
-        mTiled.fbo.release();
+    if (mGpu && !(mContext && mContext->makeCurrent())) {
+        // Without its context current no GL object may be deleted through GL calls (on
+        // NVIDIA's driver that crashes): the names go with the context, the owners are left.
+        static_cast<void>(mGpu.release());
         return;
     }
-    mMeshes.clear();
-    mTextures.clear();
-    mSamplers.clear();
-    mPrograms.clear();
-    mFrameUbo.reset();
-    mTimer.reset();
-    mEmptyVao.reset();
-    mLayered = {};
-    mTiled = {};
-    for (auto& t : mMrt.color) t.reset();
-    mMrt.depthMap.reset();
-    mMrt.fbo.reset();
-    mMrt.depthFbo.reset();
+    mGpu.reset();  // while the context is current; mContext goes after it
 }
 
 Status Renderer::ensureContext() {
@@ -137,10 +109,10 @@ Status Renderer::ensureContext() {
     }
     mContext = std::move(ctx).value();
     mCaps = GlCaps::query();
-    mFrameUbo = createBuffer();
-    glNamedBufferStorage(mFrameUbo.get(), sizeof(FrameBlock), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    if (mCaps.timerBits > 0) mTimer = createQuery(GL_TIME_ELAPSED);
-    mEmptyVao = createVertexArray();
+    mGpu = std::make_unique<GpuObjects>();
+    mGpu->frameUbo = createBuffer();
+    glNamedBufferStorage(mGpu->frameUbo.get(), sizeof(FrameBlock), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    mGpu->emptyVao = createVertexArray();
     mContextStatus = checkGlError("creating the backend's objects");
     if (!*mContextStatus) return *mContextStatus;
     if (mCaps.maxUniformBlockSize < static_cast<int>(sizeof(FrameBlock))) {
@@ -166,18 +138,36 @@ std::vector<std::string> Renderer::info() {
             lines.push_back(fmt::format("method {}: unsupported: {}", m.name, why));
             continue;
         }
-        const int lf = viewLimit(m, Shading::Flat, 1024, 768);
-        const int lp = viewLimit(m, Shading::Pixel, 1024, 768);
-        if (m.fixedViews > 0 || std::min(lf, lp) >= kMaxViews) {
-            lines.push_back(fmt::format("method {}: supported, up to {} views", m.name, lf));
-        } else if (lf == lp) {
+        if (m.fixedViews > 0) {
             lines.push_back(
-                fmt::format("method {}: supported, {} views per pass, batches beyond", m.name, lf));
+                fmt::format("method {}: supported, up to {} views", m.name, m.fixedViews));
+            continue;
+        }
+        // What a pass takes: the driver's declared limits, what it links (a geometry-shader
+        // loop's program is built at the declared count, and at smaller ones when that is
+        // refused) and the bounded target.
+        const int bound = viewsPerTarget(m.target);
+        auto describe = [&](Shading sh) {
+            const int declared = viewLimit(m, sh, 1024, 768);
+            const bool loop = methodProgram(m, mCaps, sh, 1).gsMaxVertices > 0;
+            const int linked = loop ? linkedViewLimit(m, sh, false, declared) : declared;
+            std::string why = fmt::format("declared {}", declared);
+            if (linked < declared) why += fmt::format(", the driver links {}", linked);
+            return std::pair{std::min(linked, bound), why};
+        };
+        const auto [pf, wf] = describe(Shading::Flat);
+        const auto [pp, wp] = describe(Shading::Pixel);
+        const std::string target = fmt::format("targets of at most {} views", bound);
+        if (pf == pp && wf == wp) {
+            lines.push_back(
+                fmt::format("method {}: supported, {} views per pass ({}; {}), "
+                            "batches beyond",
+                            m.name, pf, wf, target));
         } else {
             lines.push_back(
-                fmt::format("method {}: supported, {} views per pass (flat/vertex), "
-                            "{} (pixel) at 1024x768, batches beyond",
-                            m.name, lf, lp));
+                fmt::format("method {}: supported, {} views per pass (flat/vertex: {}), "
+                            "{} (pixel: {}) at 1024x768 ({}), batches beyond",
+                            m.name, pf, wf, pp, wp, target));
         }
     }
     return lines;
@@ -226,6 +216,46 @@ int Renderer::viewLimit(const GlMethod& m, Shading shading, int width, int heigh
     return detail::viewLimit(m, mCaps, shading, width, height);
 }
 
+ProgramDesc Renderer::passProgram(const GlMethod& method, Shading shading, int views,
+                                  bool shadows) const {
+    ProgramDesc desc = methodProgram(method, mCaps, shading, views);
+    if (shadows) addDefine(desc, "SHADOWS");  // shadow_maps.cpp
+    return desc;
+}
+
+int Renderer::passLimit(const GlMethod& method, Shading shading, int width, int height,
+                        bool shadows, Status* why) {
+    const int limit = viewLimit(method, shading, width, height);
+    if (method.fixedViews > 0 || limit < 1) return limit;
+    return linkedViewLimit(method, shading, shadows, std::min(limit, viewsPerTarget(method.target)),
+                           why);
+}
+
+int Renderer::linkedViewLimit(const GlMethod& method, Shading shading, bool shadows, int limit,
+                              Status* why) {
+    if (method.fixedViews > 0 || limit < 1) return limit;
+    const std::string key = fmt::format("{}/{}/{}", method.name, shadingName(shading), shadows);
+    const auto known = mLinkedViewLimit.find(key);  // a count the driver refused above
+    // The count asked first; when the driver refuses that program, the largest count it links
+    // (a smaller loop emits less, so the counts that link are 1..k).
+    auto links = [&](int n) {
+        return program(method.name, passProgram(method, shading, n, shadows)).status();
+    };
+    if (known != mLinkedViewLimit.end() && known->second < limit) {
+        if (known->second < 1 && why) *why = links(1);
+        return known->second;
+    }
+    if (links(limit)) return limit;  // cached after the first build: no cost next time
+    int lo = 0, hi = limit;          // hi is refused; lo links (0: none known to)
+    while (hi - lo > 1) {
+        const int mid = lo + (hi - lo) / 2;
+        (links(mid) ? lo : hi) = mid;
+    }
+    if (lo < 1 && why) *why = links(1);
+    mLinkedViewLimit[key] = lo;
+    return lo;
+}
+
 Status Renderer::checkViews(const GlMethod& m, int views, const RenderSettings& s) const {
     // Colour (4 bytes) + depth (4 bytes) per pixel per view on the GPU side, the same again
     // for the images handed back: refuse what would not fit in memory instead of failing
@@ -249,15 +279,13 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
         const Mesh& src = scene.meshes[i];
         const std::uint64_t key = hashMesh(src);
         sceneKey = (sceneKey ^ key) * 0x100000001B3ull;
-        auto it = mMeshes.find(key);
-        if (it == mMeshes.end()) {
-            // Keep a few meshes; drop the least recently used beyond that.
-            while (mMeshes.size() >= 32) {
-                auto lru = std::min_element(mMeshes.begin(), mMeshes.end(), [](auto& a, auto& b) {
-                    return a.second.lastUse < b.second.lastUse;
-                });
-                mMeshes.erase(lru);
-            }
+        auto it = mGpu->meshes.find(key);
+        if (it == mGpu->meshes.end()) {
+            // Keep a few meshes beyond this scene's; drop the least recently used of the
+            // others. Never one this frame uses already (frame.meshes points at it): a scene
+            // of more meshes than the cache keeps (a glTF file of dozens of primitives) would
+            // otherwise draw a deleted vertex array (GL_INVALID_OPERATION).
+            evictLeastRecentlyUsed(mGpu->meshes, kMeshesKept, mUseCounter);
             GpuMesh g;
             g.indexCount = static_cast<GLsizei>(src.indices.size());
             g.triangleCount = static_cast<GLsizei>(src.triangleCount());
@@ -326,7 +354,7 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
             bindVertexArray(g.flatVao.get(), g.flatPositions.get(), g.flatNormals.get(),
                             g.flatTexcoords.get(), g.flatIndices.get(), g.flatCenters.get());
             if (Status s = checkGlError("uploading a mesh"); !s) return s;
-            it = mMeshes.emplace(key, std::move(g)).first;
+            it = mGpu->meshes.emplace(key, std::move(g)).first;
         }
         it->second.lastUse = mUseCounter;
         frame.meshes[i] = &it->second;
@@ -401,9 +429,9 @@ void Renderer::uploadFrameBlock(const Frame& f) {
         b.clipFromWorld[v] = f.rig->views[static_cast<std::size_t>(v)].clipFromWorld();
         if (tiles) {
             // ndc' = (ndc + 1) / C + 2c / C − 1, i.e. clip.x' = clip.x / C + clip.w ((1 + 2c) / C − 1).
-            const glm::ivec2 o = tiles->origin(v);
-            const float cx = static_cast<float>(o.x / tiles->width);
-            const float cy = static_cast<float>(o.y / tiles->height);
+            // In NDC, whose y points up whatever the clip origin: column c, row R − 1 − r.
+            const float cx = static_cast<float>(v % tiles->columns);
+            const float cy = static_cast<float>(tiles->rows - 1 - v / tiles->columns);
             const float nc = static_cast<float>(tiles->columns);
             const float nr = static_cast<float>(tiles->rows);
             b.tile[v] = {1.0f / nc, 1.0f / nr, (1.0f + 2.0f * cx) / nc - 1.0f,
@@ -425,14 +453,24 @@ void Renderer::uploadFrameBlock(const Frame& f) {
     b.centerEye = glm::vec4(f.rig->centerEye(), 1.0f);
     b.counts = {static_cast<int>(std::min<std::size_t>(lights.size(), kMaxLights)), f.views,
                 f.settings->width, f.settings->height};
-    glNamedBufferSubData(mFrameUbo.get(), 0, sizeof(FrameBlock), &b);
-    glBindBufferBase(GL_UNIFORM_BUFFER, 0, mFrameUbo.get());
+    glNamedBufferSubData(mGpu->frameUbo.get(), 0, sizeof(FrameBlock), &b);
+    glBindBufferBase(GL_UNIFORM_BUFFER, 0, mGpu->frameUbo.get());
 }
 
 Result<GLuint> Renderer::program(const std::string& label, const ProgramDesc& d) {
     const std::string key = d.vsExtensions + d.defines + (d.geometry ? "GS" : "");
-    if (auto it = mPrograms.find(key); it != mPrograms.end()) return it->second.get();
+    if (auto it = mGpu->programs.find(key); it != mGpu->programs.end()) return it->second.get();
     if (auto it = mProgramErrors.find(key); it != mProgramErrors.end()) return it->second;
+    if (const int emit = gsEmitLimit(); emit > 0 && d.gsMaxVertices > emit) {
+        // A driver that declares more than it links (NVIDIA: "error C6033: Hardware
+        // limitation reached, can only emit 78 vertices of this size"), reproduced anywhere.
+        Status s = internalError(fmt::format(
+            "gl: {}: the geometry shader emits {} vertices and the driver refuses more than "
+            "{} (MVR_GL_GS_EMIT_LIMIT)",
+            label, d.gsMaxVertices, emit));
+        mProgramErrors.emplace(key, s);
+        return s;
+    }
     auto p = buildProgram(d);
     if (!p) {
         Status s(p.status().code(), fmt::format("gl: {}: {}", label, p.status().message()));
@@ -440,7 +478,7 @@ Result<GLuint> Renderer::program(const std::string& label, const ProgramDesc& d)
         return s;
     }
     const GLuint name = p->get();
-    mPrograms.emplace(key, std::move(p).value());
+    mGpu->programs.emplace(key, std::move(p).value());
     return name;
 }
 
@@ -473,6 +511,9 @@ void Renderer::setCommonState(const RenderSettings& s) {
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    // Row 0 of every target is the image's top row, so read-backs need no flip. The facing
+    // of polygons is unchanged (glClipControl negates the area's sign with the origin).
+    glClipControl(GL_UPPER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
     glFrontFace(GL_CCW);
     glProvokingVertex(GL_LAST_VERTEX_CONVENTION);
     if (s.cullBackFaces) {
@@ -507,47 +548,56 @@ void Renderer::drawScene(const Frame& f, GLuint prog, int instances) {
 // ---- targets ---------------------------------------------------------------------------------
 
 void Renderer::ensureLayered(int w, int h, int layers) {
-    if (mLayered.w == w && mLayered.h == h && mLayered.layers == layers) return;
-    mLayered.color = createTexture(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(mLayered.color.get(), 1, GL_RGBA8, w, h, layers);
-    mLayered.depth = createTexture(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(mLayered.depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h, layers);
-    mLayered.fbo = createFramebuffer();
-    mLayered.w = w;
-    mLayered.h = h;
-    mLayered.layers = layers;
+    if (mGpu->layered.w == w && mGpu->layered.h == h && mGpu->layered.layers == layers) return;
+    mGpu->layered.color = createTexture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(mGpu->layered.color.get(), 1, GL_RGBA8, w, h, layers);
+    mGpu->layered.depth = createTexture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(mGpu->layered.depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h, layers);
+    mGpu->layered.fbo = createFramebuffer();
+    mGpu->layered.multiviewFbo = createFramebuffer();
+    mGpu->layered.w = w;
+    mGpu->layered.h = h;
+    mGpu->layered.layers = layers;
 }
 
 void Renderer::ensureMrt(int w, int h) {
-    if (mMrt.w == w && mMrt.h == h) return;
-    mMrt.fbo = createFramebuffer();
+    if (mGpu->mrt.w == w && mGpu->mrt.h == h) return;
+    mGpu->mrt.fbo = createFramebuffer();
     for (int i = 0; i < 2; ++i) {
-        mMrt.color[i] = createTexture(GL_TEXTURE_2D);
-        glTextureStorage2D(mMrt.color[i].get(), 1, GL_RGBA8, w, h);
-        glNamedFramebufferTexture(mMrt.fbo.get(), GL_COLOR_ATTACHMENT0 + i, mMrt.color[i].get(), 0);
+        mGpu->mrt.color[i] = createTexture(GL_TEXTURE_2D);
+        glTextureStorage2D(mGpu->mrt.color[i].get(), 1, GL_RGBA8, w, h);
+        glNamedFramebufferTexture(mGpu->mrt.fbo.get(), GL_COLOR_ATTACHMENT0 + i,
+                                  mGpu->mrt.color[i].get(), 0);
     }
     const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(mMrt.fbo.get(), 2, bufs);
-    mMrt.depthMap = createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(mMrt.depthMap.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
-    mMrt.depthFbo = createFramebuffer();
-    glNamedFramebufferTexture(mMrt.depthFbo.get(), GL_DEPTH_ATTACHMENT, mMrt.depthMap.get(), 0);
-    glNamedFramebufferDrawBuffer(mMrt.depthFbo.get(), GL_NONE);
-    mMrt.w = w;
-    mMrt.h = h;
+    glNamedFramebufferDrawBuffers(mGpu->mrt.fbo.get(), 2, bufs);
+    mGpu->mrt.depthMap = createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(mGpu->mrt.depthMap.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
+    mGpu->mrt.depthFbo = createFramebuffer();
+    glNamedFramebufferTexture(mGpu->mrt.depthFbo.get(), GL_DEPTH_ATTACHMENT,
+                              mGpu->mrt.depthMap.get(), 0);
+    glNamedFramebufferDrawBuffer(mGpu->mrt.depthFbo.get(), GL_NONE);
+    mGpu->mrt.w = w;
+    mGpu->mrt.h = h;
 }
 
 void Renderer::ensureTiled(int w, int h) {
-    if (mTiled.w == w && mTiled.h == h) return;
-    mTiled.color = createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(mTiled.color.get(), 1, GL_RGBA8, w, h);
-    mTiled.depth = createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(mTiled.depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
-    mTiled.fbo = createFramebuffer();
-    glNamedFramebufferTexture(mTiled.fbo.get(), GL_COLOR_ATTACHMENT0, mTiled.color.get(), 0);
-    glNamedFramebufferTexture(mTiled.fbo.get(), GL_DEPTH_ATTACHMENT, mTiled.depth.get(), 0);
-    mTiled.w = w;
-    mTiled.h = h;
+    // Kept while it holds w × h and is not much larger (passes of fewer views use its top-left
+    // corner); remade otherwise.
+    const TiledTarget& t = mGpu->tiled;
+    const double area = double(t.w) * t.h, need = double(w) * h;
+    if (t.w >= w && t.h >= h && area <= 4.0 * need) return;
+    mGpu->tiled.color = createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(mGpu->tiled.color.get(), 1, GL_RGBA8, w, h);
+    mGpu->tiled.depth = createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(mGpu->tiled.depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
+    mGpu->tiled.fbo = createFramebuffer();
+    glNamedFramebufferTexture(mGpu->tiled.fbo.get(), GL_COLOR_ATTACHMENT0, mGpu->tiled.color.get(),
+                              0);
+    glNamedFramebufferTexture(mGpu->tiled.fbo.get(), GL_DEPTH_ATTACHMENT, mGpu->tiled.depth.get(),
+                              0);
+    mGpu->tiled.w = w;
+    mGpu->tiled.h = h;
 }
 
 namespace {
@@ -565,91 +615,166 @@ std::pmr::memory_resource* depthMemory(OutputBlock* b, std::size_t view) {
     return b ? b->depthMemory(int(view)) : nullptr;
 }
 
-// Reads a w×h region of one layer, flipping rows (GL row 0 = bottom, image row 0 = top), into
-// an image allocated from `memory` (nullptr: the heap).
-void readRegion(GLuint tex, int x, int y, int layer, int w, int h, Image& img,
-                std::pmr::memory_resource* memory) {
-    img.reset(w, h, memory);
-    std::vector<std::uint8_t> tmp(static_cast<std::size_t>(w) * h * 4);
-    glGetTextureSubImage(tex, 0, x, y, layer, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
-                         static_cast<GLsizei>(tmp.size()), tmp.data());
-    const std::size_t row = static_cast<std::size_t>(w) * 4;
-    for (int r = 0; r < h; ++r) {
-        std::memcpy(img.row(r), tmp.data() + static_cast<std::size_t>(h - 1 - r) * row, row);
-    }
+// An image of w×h about to be overwritten whole: kept when it already has that size on the heap
+// (renderInto frame after frame: no allocation, no page faults), else reallocated from `memory`.
+void reuseOrReset(Image& img, int w, int h, std::pmr::memory_resource* memory) {
+    const bool same =
+        !memory && img.width == w && img.height == h && img.rgba.size() == std::size_t(w) * h * 4;
+    if (!same) img.reset(w, h, memory);
 }
-
-void readDepthRegion(GLuint tex, int x, int y, int layer, int w, int h, DepthImage& img,
-                     std::pmr::memory_resource* memory) {
-    img.reset(w, h, 1.0f, memory);
-    std::vector<float> tmp(static_cast<std::size_t>(w) * h);
-    glGetTextureSubImage(tex, 0, x, y, layer, w, h, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
-                         static_cast<GLsizei>(tmp.size() * sizeof(float)), tmp.data());
-    for (int r = 0; r < h; ++r) {
-        std::memcpy(img.depth.data() + static_cast<std::size_t>(r) * w,
-                    tmp.data() + static_cast<std::size_t>(h - 1 - r) * w, w * sizeof(float));
-    }
+void reuseOrReset(DepthImage& img, int w, int h, std::pmr::memory_resource* memory) {
+    const bool same =
+        !memory && img.width == w && img.height == h && img.depth.size() == std::size_t(w) * h;
+    if (!same) img.reset(w, h, 1.0f, memory);
 }
 
 }  // namespace
 
-void Renderer::readLayered(RenderOutput& out, const Frame& f, bool depth) {
-    const int w = f.settings->width, h = f.settings->height;
-    OutputBlock* block = blockFor(*f.settings, out.color.size(), w, h);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+std::vector<Renderer::ViewRegion> Renderer::viewRegions(const Frame& f) const {
+    std::vector<ViewRegion> regions(static_cast<std::size_t>(f.views));
     for (int v = 0; v < f.views; ++v) {
-        const auto i = static_cast<std::size_t>(f.firstView + v);
-        readRegion(mLayered.color.get(), 0, 0, v, w, h, out.color[i], colorMemory(block, i));
-        if (depth)
-            readDepthRegion(mLayered.depth.get(), 0, 0, v, w, h, out.depth[i],
-                            depthMemory(block, i));
+        ViewRegion& r = regions[static_cast<std::size_t>(v)];
+        switch (f.method->target) {
+            case TargetKind::Layered:
+                r = {mGpu->layered.color.get(), mGpu->layered.depth.get(), 0, 0, v};
+                break;
+            case TargetKind::Tiled: {
+                const glm::ivec2 o = f.tiles->origin(v);
+                r = {mGpu->tiled.color.get(), mGpu->tiled.depth.get(), o.x, o.y, 0};
+                break;
+            }
+            case TargetKind::Mrt: r = {mGpu->mrt.color[v].get(), 0, 0, 0, 0}; break;
+        }
     }
+    return regions;
 }
 
-void Renderer::readTiled(RenderOutput& out, const Frame& f) {
-    const TileLayout& t = *f.tiles;
-    OutputBlock* block = blockFor(*f.settings, out.color.size(), t.width, t.height);
+std::optional<PendingRead> Renderer::startRead(const Frame& f, RenderOutput& out, int pass) {
+    const int w = f.tiles ? f.tiles->width : f.settings->width;
+    const int h = f.tiles ? f.tiles->height : f.settings->height;
+    const bool mrt = f.method->target == TargetKind::Mrt;
+    const bool depth = f.settings->depth && !mrt;
+    if (mrt) out.color.resize(2);
+    const std::vector<ViewRegion> regions = viewRegions(f);
+    const std::size_t pixels = static_cast<std::size_t>(w) * h;
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    for (int v = 0; v < f.views; ++v) {
-        const glm::ivec2 o = t.origin(v);
-        const auto i = static_cast<std::size_t>(f.firstView + v);
-        readRegion(mTiled.color.get(), o.x, o.y, 0, t.width, t.height, out.color[i],
-                   colorMemory(block, i));
-        readDepthRegion(mTiled.depth.get(), o.x, o.y, 0, t.width, t.height, out.depth[i],
-                        depthMemory(block, i));
+    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+    if (mCaps.softwareRenderer()) {
+        OutputBlock* block = blockFor(*f.settings, out.color.size(), w, h);
+        for (int v = 0; v < f.views; ++v) {
+            const ViewRegion& r = regions[static_cast<std::size_t>(v)];
+            const auto i = static_cast<std::size_t>(f.firstView + v);
+            Image& img = out.color[i];
+            reuseOrReset(img, w, h, colorMemory(block, i));
+            glGetTextureSubImage(r.color, 0, r.x, r.y, r.layer, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                                 static_cast<GLsizei>(pixels * 4), img.rgba.data());
+            if (!depth) continue;
+            DepthImage& d = out.depth[i];
+            reuseOrReset(d, w, h, depthMemory(block, i));
+            glGetTextureSubImage(r.depth, 0, r.x, r.y, r.layer, w, h, 1, GL_DEPTH_COMPONENT,
+                                 GL_FLOAT, static_cast<GLsizei>(pixels * sizeof(float)),
+                                 d.depth.data());
+        }
+        return std::nullopt;
     }
+    PendingRead pending{f.firstView, f.views, w, h, depth, pass % 2, nullptr};
+    ReadBuffer& rb = mGpu->reads[pending.buffer];
+    const std::size_t bytes = pixels * 4 * static_cast<std::size_t>(f.views) * (depth ? 2 : 1);
+    if (rb.bytes < bytes) {
+        rb.buffer = createBuffer();
+        glNamedBufferStorage(rb.buffer.get(), static_cast<GLsizeiptr>(bytes), nullptr,
+                             GL_MAP_READ_BIT | GL_CLIENT_STORAGE_BIT);
+        rb.bytes = bytes;
+    }
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, rb.buffer.get());
+    const std::size_t colorBytes = pixels * 4 * static_cast<std::size_t>(f.views);
+    auto at = [](std::size_t offset) { return reinterpret_cast<void*>(offset); };
+    if (f.method->target == TargetKind::Layered) {
+        // One call per image kind for the whole pass: layers are the views, back to back.
+        glGetTextureSubImage(regions[0].color, 0, 0, 0, 0, w, h, f.views, GL_RGBA, GL_UNSIGNED_BYTE,
+                             static_cast<GLsizei>(colorBytes), at(0));
+        if (depth) {
+            glGetTextureSubImage(regions[0].depth, 0, 0, 0, 0, w, h, f.views, GL_DEPTH_COMPONENT,
+                                 GL_FLOAT, static_cast<GLsizei>(colorBytes), at(colorBytes));
+        }
+    } else {
+        for (int v = 0; v < f.views; ++v) {
+            const ViewRegion& r = regions[static_cast<std::size_t>(v)];
+            const std::size_t o = pixels * 4 * static_cast<std::size_t>(v);
+            glGetTextureSubImage(r.color, 0, r.x, r.y, r.layer, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                                 static_cast<GLsizei>(pixels * 4), at(o));
+            if (depth) {
+                glGetTextureSubImage(r.depth, 0, r.x, r.y, r.layer, w, h, 1, GL_DEPTH_COMPONENT,
+                                     GL_FLOAT, static_cast<GLsizei>(pixels * 4),
+                                     at(colorBytes + o));
+            }
+        }
+    }
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    pending.fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    glFlush();  // the copies start now, while the next pass is drawn
+    return pending;
 }
 
-void Renderer::readMrt(RenderOutput& out, const Frame& f) {
-    out.color.resize(2);
-    OutputBlock* block = blockFor(*f.settings, 2, f.settings->width, f.settings->height);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    for (int v = 0; v < 2; ++v) {
-        readRegion(mMrt.color[v].get(), 0, 0, 0, f.settings->width, f.settings->height,
-                   out.color[static_cast<std::size_t>(v)], colorMemory(block, std::size_t(v)));
+void Renderer::finishRead(PendingRead& r, RenderOutput& out, const RenderSettings& s) {
+    if (r.fence) {
+        while (glClientWaitSync(r.fence, GL_SYNC_FLUSH_COMMANDS_BIT, 1'000'000'000) ==
+               GL_TIMEOUT_EXPIRED) {
+        }
+        glDeleteSync(r.fence);
+        r.fence = nullptr;
     }
+    const std::size_t pixels = static_cast<std::size_t>(r.width) * r.height;
+    const std::size_t colorBytes = pixels * 4 * static_cast<std::size_t>(r.views);
+    const std::size_t bytes = colorBytes * (r.depth ? 2 : 1);
+    ReadBuffer& rb = mGpu->reads[r.buffer];
+    const auto* src = static_cast<const std::uint8_t*>(
+        glMapNamedBufferRange(rb.buffer.get(), 0, static_cast<GLsizeiptr>(bytes), GL_MAP_READ_BIT));
+    if (!src) return;  // checkGlError reports the failed map
+    OutputBlock* block = blockFor(s, out.color.size(), r.width, r.height);
+    for (int v = 0; v < r.views; ++v) {
+        const auto i = static_cast<std::size_t>(r.firstView + v);
+        const std::size_t o = pixels * 4 * static_cast<std::size_t>(v);
+        reuseOrReset(out.color[i], r.width, r.height, colorMemory(block, i));
+        std::memcpy(out.color[i].rgba.data(), src + o, pixels * 4);
+        if (!r.depth) continue;
+        reuseOrReset(out.depth[i], r.width, r.height, depthMemory(block, i));
+        std::memcpy(out.depth[i].depth.data(), src + colorBytes + o, pixels * sizeof(float));
+    }
+    glUnmapNamedBuffer(rb.buffer.get());
 }
 
 // ---- render ----------------------------------------------------------------------------------
 
 Result<RenderOutput> Renderer::render(const Scene& scene, const Rig& rig, const RenderSettings& s,
                                       const std::string& method) {
+    RenderOutput out;
+    if (Status st = renderInto(scene, rig, s, method, out); !st) return st;
+    return out;
+}
+
+Status Renderer::renderInto(const Scene& scene, const Rig& rig, const RenderSettings& s,
+                            const std::string& method, RenderOutput& out) {
     // The request first (the same message from every backend, driver or none), then what
     // this driver can do.
     if (Status st = validateRequest(scene, rig, s); !st) return st;
     if (Status st = supports(method); !st) return st;
     const GlMethod& m = *findMethod(method);  // the one look-up of the name
-    if (m.measuresExact) return renderAuto(scene, rig, s);
-    return renderOnce(scene, rig, s, m);
+    if (m.measuresExact) return renderAuto(scene, rig, s, out);
+    return renderOnce(scene, rig, s, m, out);
 }
 
-Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
-                                          const RenderSettings& s, const GlMethod& method) {
+Status Renderer::renderOnce(const Scene& scene, const Rig& rig, const RenderSettings& s,
+                            const GlMethod& method, RenderOutput& out) {
     const auto t0 = Clock::now();
     const int views = rig.viewCount();
     if (Status st = checkViews(method, views, s); !st) return st;
     // kalaiah2007 §3: as many views a pass as the method takes, then the next pass.
-    const int perPass = std::min(views, viewLimit(method, s.shading, s.width, s.height));
+    Status refused;
+    const int limit =
+        passLimit(method, s.shading, s.width, s.height, mShadows != nullptr, &refused);
+    if (limit < 1) return refused ? internalError("gl: no pass limit") : refused;
+    const int perPass = std::min(views, limit);
     const int passes = passCount(views, perPass);
     Frame f;
     f.method = &method;
@@ -662,16 +787,16 @@ Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
     f.order = drawOrder(scene);
     f.flatProvoking = s.shading == Shading::Flat && method.flatProvoking;
 
-    RenderOutput out;
+    // out's images are reused where they already have this size (renderInto, frame after frame).
     out.method = method.name;
-    if (method.artifact) out.note = method.artifact;
-    if (method.target != TargetKind::Mrt) {
-        out.color.resize(static_cast<std::size_t>(views));
-        out.depth.resize(static_cast<std::size_t>(views));
-    }
+    out.note = method.artifact ? method.artifact : "";
+    out.stages = {};
+    out.color.resize(static_cast<std::size_t>(method.target == TargetKind::Mrt ? 2 : views));
+    out.depth.resize(
+        static_cast<std::size_t>(method.target != TargetKind::Mrt && s.depth ? views : 0));
     GlFrameStats stats;
     stats.method = method.name;
-    stats.gpuMs = mTimer ? 0.0 : -1.0;
+    stats.gpuMs = mCaps.timerBits > 0 ? 0.0 : -1.0;
     stats.passes = passes;
     // A pass's rig: its views, side by side (the whole rig when one pass takes them all).
     Rig passRig;
@@ -681,13 +806,16 @@ Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
         passRig.rows = 1;
         passRig.views.resize(static_cast<std::size_t>(perPass));
     }
-    const Rig& layoutRig = passes > 1 ? passRig : rig;
-    if (method.target == TargetKind::Tiled) {
-        // One layout (of the largest pass) for every pass: the target is made once.
-        auto t = tileLayout(layoutRig, s.width, s.height);
-        if (!t) return t.status();
-        f.tiles = *t;
-    }
+    // Pass p's pixels travel while pass p + 1 is drawn (hardware drivers; software ones read
+    // synchronously, see startRead).
+    std::optional<PendingRead> pending;
+    auto finish = [&] {
+        if (!pending) return;
+        const auto tRead = Clock::now();
+        finishRead(*pending, out, s);
+        stats.readbackWallMs += msSince(tRead);
+        pending.reset();
+    };
     for (int p = 0; p < passes; ++p) {
         f.firstView = p * perPass;
         f.views = std::min(perPass, views - f.firstView);
@@ -697,59 +825,99 @@ Result<RenderOutput> Renderer::renderOnce(const Scene& scene, const Rig& rig,
             passRig.columns = f.views;
             f.rig = &passRig;
         }
-        if (Status st = drawPass(f, out, stats); !st) return st;
+        if (method.target == TargetKind::Tiled) {
+            // Each pass lays out its own views (a pass of k views draws as a rig of k views
+            // does, bit for bit) in the top-left corner of one target (ensureTiled).
+            auto t = tileLayout(*f.rig, s.width, s.height);
+            if (!t) return t.status();
+            f.tiles = *t;
+        }
+        if (Status st = drawPass(f, p, stats); !st) {
+            if (pending && pending->fence) glDeleteSync(pending->fence);
+            return st;
+        }
+        const auto tRead = Clock::now();
+        std::optional<PendingRead> next = startRead(f, out, p);
+        stats.readbackWallMs += msSince(tRead);
+        finish();
+        pending = next;
     }
+    finish();
+    if (Status st = checkGlError("reading back"); !st) return st;
     stats.totalWallMs = msSince(t0);
+    if (stats.gpuMs >= 0.0) {
+        for (int p = 0; p < passes; ++p) {
+            GLuint64 ns = 0;
+            glGetQueryObjectui64v(mGpu->timers[std::size_t(p)].get(), GL_QUERY_RESULT, &ns);
+            stats.gpuMs += static_cast<double>(ns) * 1e-6;
+        }
+        // The draws ran within the frame: a longer GPU time is no measurement (llvmpipe's
+        // first query reads ~6e6 ms). Not reported then.
+        if (stats.gpuMs > stats.totalWallMs + 0.5) stats.gpuMs = -1.0;
+    }
+    if (!mCaps.softwareRenderer()) {
+        // Draws and transfers overlap there: what the CPU spent on the pixels (issuing the
+        // reads, mapping, copying) is the read-back; the rest of the frame is the draw.
+        stats.drawWallMs = std::max(0.0, stats.totalWallMs - stats.readbackWallMs);
+    }
     mLastStats = stats;
-    return out;
+    return Status::ok();
 }
 
-Status Renderer::drawPass(Frame& f, RenderOutput& out, GlFrameStats& stats) {
+Status Renderer::drawPass(Frame& f, int pass, GlFrameStats& stats) {
     const GlMethod& method = *f.method;
     const RenderSettings& s = *f.settings;
-    ProgramDesc desc = methodProgram(method, mCaps, s.shading, f.views);
-    if (mShadows) addDefine(desc, "SHADOWS");  // issue 15: shadow_maps.cpp
-    Result<GLuint> prog = program(method.name, desc);
+    Result<GLuint> prog =
+        program(method.name, passProgram(method, s.shading, f.views, mShadows != nullptr));
     if (!prog) return prog.status();
     if (method.prepare) {
         if (Status st = (this->*method.prepare)(f); !st) return st;
     }
     uploadFrameBlock(f);
     setCommonState(s);
+    const ProgramDesc desc = passProgram(method, s.shading, f.views, mShadows != nullptr);
+    if (desc.geometry && mLastGeometryProgram && mLastGeometryProgram != *prog) {
+        // zink (Mesa 22.3) keeps the viewport count of the last geometry shader while one
+        // geometry shader replaces another: viewport-array after gs-layered drew nothing in
+        // views 1.. . A draw without a geometry shader in between resets it; this one draws
+        // nothing (one point, rasterizer discard).
+        Result<GLuint> plain = program(depthPrepassName(), depthPrepassProgram());
+        if (!plain) return plain.status();
+        glUseProgram(*plain);
+        glEnable(GL_RASTERIZER_DISCARD);
+        glBindVertexArray(mGpu->emptyVao.get());
+        glDrawArrays(GL_POINTS, 0, 1);
+        glDisable(GL_RASTERIZER_DISCARD);
+    }
+    mLastGeometryProgram = desc.geometry ? *prog : 0;
     glUseProgram(*prog);
     if (mShadows) setShadowUniforms(*prog);
     if (Status st = checkGlError("setting up the frame"); !st) return st;
 
     const auto tDraw = Clock::now();
-    if (mTimer) glBeginQuery(GL_TIME_ELAPSED, mTimer.get());
+    const bool timed = mCaps.timerBits > 0 && stats.gpuMs >= 0.0;
+    if (timed) {
+        // One query a pass, read when the frame is done (reading one waits for its draw).
+        while (mGpu->timers.size() <= std::size_t(pass))
+            mGpu->timers.push_back(createQuery(GL_TIME_ELAPSED));
+        glBeginQuery(GL_TIME_ELAPSED, mGpu->timers[std::size_t(pass)].get());
+    }
     const Status drawn = method.draw
                              ? (this->*method.draw)(f, *prog)
                              : internalError(fmt::format("gl: no draw path for {}", method.name));
-    if (mTimer) glEndQuery(GL_TIME_ELAPSED);
-    glFinish();
+    if (timed) glEndQuery(GL_TIME_ELAPSED);
+    // Software rasterisers draw on the CPU: wait, so that the draw's wall time is its own. A
+    // GPU keeps drawing while the CPU copies the previous pass's pixels (renderOnce).
+    if (mCaps.softwareRenderer()) glFinish();
     stats.drawWallMs += msSince(tDraw);
     if (!drawn) return drawn;
     if (Status st = checkGlError(fmt::format("drawing with {}", method.name).c_str()); !st)
         return st;
-
-    const auto tRead = Clock::now();
-    switch (method.target) {
-        case TargetKind::Mrt: readMrt(out, f); break;
-        case TargetKind::Tiled: readTiled(out, f); break;
-        case TargetKind::Layered: readLayered(out, f, true); break;
-    }
-    if (Status st = checkGlError("reading back"); !st) return st;
-    stats.readbackWallMs += msSince(tRead);
-    if (mTimer) {
-        GLuint64 ns = 0;
-        glGetQueryObjectui64v(mTimer.get(), GL_QUERY_RESULT, &ns);
-        stats.gpuMs += static_cast<double>(ns) * 1e-6;
-    }
     return Status::ok();
 }
 
-Result<RenderOutput> Renderer::renderAuto(const Scene& scene, const Rig& rig,
-                                          const RenderSettings& s) {
+Status Renderer::renderAuto(const Scene& scene, const Rig& rig, const RenderSettings& s,
+                            RenderOutput& out) {
     // Only the exact rows, which give every view its own depth buffer (identical images): the
     // artifact rows (sorbier2008's painter's order) trade correctness for speed, so auto never
     // picks them.
@@ -760,11 +928,10 @@ Result<RenderOutput> Renderer::renderAuto(const Scene& scene, const Rig& rig,
         fmt::format("{:x}/{}x{}/{}/{}/{}{}", sceneKey, s.width, s.height, rig.viewCount(),
                     shadingName(s.shading), s.cullBackFaces, s.wireframe);
     if (auto it = mAutoChoices.find(key); it != mAutoChoices.end()) {
-        auto r = renderOnce(scene, rig, s, *it->second.method);
-        if (!r) return r;
-        r->method = it->second.method->name;
-        r->note = it->second.note;
-        return r;
+        if (Status st = renderOnce(scene, rig, s, *it->second.method, out); !st) return st;
+        out.method = it->second.method->name;
+        out.note = it->second.note;
+        return Status::ok();
     }
     std::vector<std::pair<double, const GlMethod*>> times;
     std::vector<std::string> skipped;
@@ -783,9 +950,8 @@ Result<RenderOutput> Renderer::renderAuto(const Scene& scene, const Rig& rig,
         double ms = 1e300;
         bool failed = false;
         for (int run = 0; run < 3 && !failed; ++run) {
-            auto r = renderOnce(scene, rig, s, m);
-            if (!r) {
-                skipped.push_back(name + " (" + r.status().message() + ")");
+            if (Status st = renderOnce(scene, rig, s, m, out); !st) {
+                skipped.push_back(name + " (" + st.message() + ")");
                 failed = true;
                 break;
             }
@@ -814,11 +980,11 @@ Result<RenderOutput> Renderer::renderAuto(const Scene& scene, const Rig& rig,
         excluded.empty() ? "" : "; " + excluded,
         skipped.empty() ? "" : fmt::format("; skipped: {}", fmt::join(skipped, ", ")));
     mAutoChoices[key] = c;
-    auto r = renderOnce(scene, rig, s, *c.method);  // the returned images and stats are its
-    if (!r) return r;
-    r->method = c.method->name;
-    r->note = c.note;
-    return r;
+    // The returned images and stats are its.
+    if (Status st = renderOnce(scene, rig, s, *c.method, out); !st) return st;
+    out.method = c.method->name;
+    out.note = c.note;
+    return Status::ok();
 }
 
 }  // namespace mvr::gl::detail

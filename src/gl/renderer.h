@@ -50,6 +50,33 @@ struct GpuMesh {
     std::uint64_t lastUse = 0;
 };
 
+/// GPU copies kept between renders beyond what the current one uses.
+inline constexpr std::size_t kMeshesKept = 32;
+inline constexpr std::size_t kTexturesKept = 64;
+/// The most views one target holds (layers of an array, tiles of a partitioned target): a
+/// read-back of one view from a larger target costs more than the view itself on Mesa (it
+/// maps the whole target), so many views are drawn in passes of at most this many, each
+/// read back before the next. Measured on llvmpipe and zink: src/gl/README.md "Read-back".
+inline constexpr int kLayersPerTarget = 16;
+inline constexpr int kTilesPerTarget = 16;
+
+/// Drops least recently used entries of `cache` (values with a `lastUse`) while it holds
+/// `keep` or more, but never one used by the current render (lastUse == `now`): that one is
+/// still referenced by the frame being prepared.
+template <class Map>
+void evictLeastRecentlyUsed(Map& cache, std::size_t keep, std::uint64_t now) {
+    while (cache.size() >= keep) {
+        auto lru = cache.end();
+        for (auto it = cache.begin(); it != cache.end(); ++it) {
+            if (it->second.lastUse < now &&
+                (lru == cache.end() || it->second.lastUse < lru->second.lastUse))
+                lru = it;
+        }
+        if (lru == cache.end()) return;  // all in use by this render: keep them
+        cache.erase(lru);
+    }
+}
+
 /// The std140 "Frame" uniform block of shaders.cpp (its MAX_VIEWS / MAX_LIGHTS are these).
 struct FrameBlock {
     glm::mat4 clipFromWorld[kMaxViews];
@@ -90,9 +117,10 @@ struct GpuTexture {
 struct TileLayout {
     int columns = 1, rows = 1;
     int width = 0, height = 0;  ///< of one view
-    /// GL (bottom-up) pixel origin of view `view`'s tile; view 0 is the top-left tile.
+    /// Pixel origin of view `view`'s tile in the target, whose rows run top-down (the
+    /// renderer draws with an upper-left clip origin); view 0 is the top-left tile.
     glm::ivec2 origin(int view) const {
-        return {(view % columns) * width, (rows - 1 - view / columns) * height};
+        return {(view % columns) * width, (view / columns) * height};
     }
 };
 
@@ -116,6 +144,57 @@ struct Frame {
 /// the AlphaMode::Blend ones, in scene order too (unsorted, as the soft backend draws them).
 std::vector<int> drawOrder(const Scene& scene);
 
+/// The render targets: one colour + depth pair per target kind, reallocated when the size
+/// changes. Multiview attachments get a framebuffer of their own (never shared with the
+/// layered / per-layer attachments of the other methods).
+struct LayeredTarget {
+    int w = 0, h = 0, layers = 0;
+    Texture color, depth;
+    Framebuffer fbo, multiviewFbo;
+};
+struct MrtTarget {
+    int w = 0, h = 0;
+    Texture color[2], depthMap;
+    Framebuffer fbo, depthFbo;
+};
+struct TiledTarget {
+    int w = 0, h = 0;
+    Texture color, depth;
+    Framebuffer fbo;
+};
+
+/// A pixel-pack buffer the views' pixels are read into (mapped once they have arrived).
+struct ReadBuffer {
+    Buffer buffer;
+    std::size_t bytes = 0;
+};
+
+/// One pass's pixels on their way back: the reads went into `buffer` (an index into
+/// GpuObjects::reads), `fence` follows them. Colour of view k at k·w·h·4, depth after all
+/// colour (when asked).
+struct PendingRead {
+    int firstView = 0, views = 0, width = 0, height = 0;
+    bool depth = false;
+    int buffer = 0;
+    GLsync fence = nullptr;
+};
+
+/// Every GL object of a Renderer (see Renderer::mGpu).
+struct GpuObjects {
+    ReadBuffer reads[2];  ///< ping-pong: pass p reads into p % 2 while p − 1's is mapped
+    std::map<std::uint64_t, GpuMesh> meshes;
+    std::map<std::uint64_t, GpuTexture> textures;
+    std::map<int, Sampler> samplers;
+    std::map<std::string, Program> programs;
+    Buffer frameUbo;
+    std::vector<Query> timers;  ///< GL_TIME_ELAPSED, one a pass
+    VertexArray emptyVao;
+    LayeredTarget layered;
+    MrtTarget mrt;
+    TiledTarget tiled;
+    Texture shadowMaps;
+};
+
 class Renderer {
 public:
     Renderer() = default;
@@ -130,12 +209,26 @@ public:
     Status supports(const std::string& method);
     /// The largest view count `method` allows here for this shading and view size (0: none).
     int viewLimit(const GlMethod& method, Shading shading, int width, int height) const;
+    /// The views one pass of `method` draws here: its table limit (viewLimit), the bounded
+    /// target (kLayersPerTarget / kTilesPerTarget: a read costs what it reads) and the count
+    /// the driver links the method's program at (probed on first use by building smaller
+    /// programs when the table's count is refused; remembered per method, shading and
+    /// shadows). 0 when not even one view links (`why` says why).
+    int passLimit(const GlMethod& method, Shading shading, int width, int height, bool shadows,
+                  Status* why = nullptr);
+    /// At most `limit`: the views a pass of `method` draws with a program this driver links
+    /// (see passLimit). 0 when not even one view links (`why` says why).
+    int linkedViewLimit(const GlMethod& method, Shading shading, bool shadows, int limit,
+                        Status* why = nullptr);
     /// Checks `views` against the target budget and the method's limits, naming the limit
     /// that is exceeded.
     Status checkViews(const GlMethod& method, int views, const RenderSettings& s) const;
 
     Result<RenderOutput> render(const Scene& scene, const Rig& rig, const RenderSettings& s,
                                 const std::string& method);
+    /// render() into `out`, reusing its images where they have the request's size.
+    Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& s,
+                      const std::string& method, RenderOutput& out);
 
     const std::optional<GlFrameStats>& lastStats() const { return mLastStats; }
 
@@ -153,11 +246,12 @@ private:
     Status supportsMethod(const GlMethod& method);
     /// Draws the views in passes of at most the method's per-pass limit (kalaiah2007 §3),
     /// each pass into the same target, read back into its views' places.
-    Result<RenderOutput> renderOnce(const Scene& scene, const Rig& rig, const RenderSettings& s,
-                                    const GlMethod& method);
-    /// One pass of renderOnce: draws f's views, adds its times to `stats`, reads them back.
-    Status drawPass(Frame& f, RenderOutput& out, GlFrameStats& stats);
-    Result<RenderOutput> renderAuto(const Scene& scene, const Rig& rig, const RenderSettings& s);
+    Status renderOnce(const Scene& scene, const Rig& rig, const RenderSettings& s,
+                      const GlMethod& method, RenderOutput& out);
+    /// One pass of renderOnce: draws f's views, adds its times to `stats` (startRead reads them).
+    Status drawPass(Frame& f, int pass, GlFrameStats& stats);
+    Status renderAuto(const Scene& scene, const Rig& rig, const RenderSettings& s,
+                      RenderOutput& out);
 
     Status prepareScene(const Scene& scene, Frame& frame, std::uint64_t& sceneKey);
     /// Uploads the scene's textures not on the GPU yet (materials.cpp); frame.textures.
@@ -165,6 +259,8 @@ private:
     void uploadFrameBlock(const Frame& frame);
     /// The program of `desc`, built once; build errors say "gl: LABEL: …".
     Result<GLuint> program(const std::string& label, const ProgramDesc& desc);
+    /// The program one pass of `views` views of `method` draws with.
+    ProgramDesc passProgram(const GlMethod& method, Shading shading, int views, bool shadows) const;
     void setInstanceUniforms(GLuint program, const Instance& instance);
     /// The instance's material state: its texture and sampler bound (unit 2), culling off
     /// when double-sided, blending with depth writes off for AlphaMode::Blend.
@@ -196,38 +292,34 @@ private:
     void ensureLayered(int w, int h, int layers);
     void ensureMrt(int w, int h);
     void ensureTiled(int w, int h);
-    void readLayered(RenderOutput& out, const Frame& f, bool depth);
-    void readTiled(RenderOutput& out, const Frame& f);
-    void readMrt(RenderOutput& out, const Frame& f);
+    /// Reads pass f's views back. Software rasterisers: straight into out's images (rows in
+    /// image order: the targets are drawn with an upper-left origin, no flip). Else: into a
+    /// pixel-pack buffer with a fence, returned pending; finishRead() maps it after the next
+    /// pass is drawn, so the transfer overlaps that draw.
+    std::optional<PendingRead> startRead(const Frame& f, RenderOutput& out, int pass);
+    void finishRead(PendingRead& r, RenderOutput& out, const RenderSettings& s);
+    /// Each view's regions of f's target: texture, x, y (upper-left origin), layer.
+    struct ViewRegion {
+        GLuint color = 0, depth = 0;
+        int x = 0, y = 0, layer = 0;
+    };
+    std::vector<ViewRegion> viewRegions(const Frame& f) const;
 
+    // Declared first, so destroyed last: no GL object outlives its context.
     std::unique_ptr<EglContext> mContext;
     std::optional<Status> mContextStatus;
     GlCaps mCaps;
-    std::map<std::uint64_t, GpuMesh> mMeshes;
-    std::map<std::uint64_t, GpuTexture> mTextures;
-    std::map<int, Sampler> mSamplers;
+    /// Every GL object the renderer owns, made with the context and destroyed (in ~Renderer)
+    /// while it is current; one owner per object, no hand-kept list of names.
+    std::unique_ptr<GpuObjects> mGpu;
     std::uint64_t mUseCounter = 0;
-    std::map<std::string, Program> mPrograms;
     std::map<std::string, Status> mProgramErrors;
-    Buffer mFrameUbo;
-    Query mTimer;
-    VertexArray mEmptyVao;
-
-    struct {
-        int w = 0, h = 0, layers = 0;
-        Texture color, depth;
-        Framebuffer fbo;
-    } mLayered;
-    struct {
-        int w = 0, h = 0;
-        Texture color[2], depthMap;
-        Framebuffer fbo, depthFbo;
-    } mMrt;
-    struct {
-        int w = 0, h = 0;
-        Texture color, depth;
-        Framebuffer fbo;
-    } mTiled;
+    /// Views per pass that programs with a geometry-shader loop link at, found on this driver
+    /// (a driver may refuse below GL_MAX_GEOMETRY_OUTPUT_VERTICES / _TOTAL_OUTPUT_COMPONENTS:
+    /// NVIDIA's "can only emit 78 vertices of this size"); key: method / shading.
+    std::map<std::string, int> mLinkedViewLimit;
+    /// The geometry-shader program of the last pass (0: it had none); see drawPass.
+    GLuint mLastGeometryProgram = 0;
 
     struct AutoChoice {
         const GlMethod* method = nullptr;
@@ -238,7 +330,6 @@ private:
     std::uint64_t mLastSceneKey = 0;
     const ShadowSet* mShadows = nullptr;
     std::vector<Light> mShadowLights;
-    Texture mShadowMaps;
     void setShadowUniforms(GLuint program) const;
 };
 

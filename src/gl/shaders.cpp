@@ -417,7 +417,8 @@ void main() {
         bias = 1e-6;
     } else {
         vec2 ndc = iLeftClip.xy / iLeftClip.w;
-        texel = ivec2(floor((ndc * 0.5 + 0.5) * vec2(uCounts.zw)));
+        // Targets are drawn with an upper-left clip origin: window row 0 is NDC y = +1.
+        texel = ivec2(floor(vec2(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * vec2(uCounts.zw)));
         // The map holds the depth at the texel centre, the point is anywhere in the texel.
         bias = 1e-6 + slope;
     }

@@ -25,6 +25,7 @@ struct ProgramDesc {
     std::string defines;       ///< "#define X 1\n…"
     std::string vsExtensions;  ///< "#extension …: require\n" lines for the vertex shader
     bool geometry = false;     ///< link a geometry shader
+    int gsMaxVertices = 0;     ///< the geometry shader's max_vertices (0: none declared)
 };
 
 /// Appends "#define NAME VALUE\n" to d.defines.

@@ -15,14 +15,14 @@ void Renderer::setShadows(const ShadowSet* set, const std::vector<Light>& lights
     if (!mShadows) return;
     const int size = mShadows->maps.front().size;
     const int layers = int(mShadows->maps.size());
-    mShadowMaps = createTexture(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(mShadowMaps.get(), 1, GL_R32F, size, size, layers);
+    mGpu->shadowMaps = createTexture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(mGpu->shadowMaps.get(), 1, GL_R32F, size, size, layers);
     for (int k = 0; k < layers; ++k) {
-        glTextureSubImage3D(mShadowMaps.get(), 0, 0, 0, k, size, size, 1, GL_RED, GL_FLOAT,
+        glTextureSubImage3D(mGpu->shadowMaps.get(), 0, 0, 0, k, size, size, 1, GL_RED, GL_FLOAT,
                             mShadows->maps[std::size_t(k)].depth.data());
     }
-    glTextureParameteri(mShadowMaps.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(mShadowMaps.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(mGpu->shadowMaps.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(mGpu->shadowMaps.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 }
 
 std::string Renderer::shadowPassMethod(const std::string& method) const {
@@ -49,7 +49,7 @@ void Renderer::setShadowUniforms(GLuint prog) const {
     glProgramUniform4fv(prog, 12, kMaxLights, &info[0][0]);
     glProgramUniform4fv(prog, 16, kMaxLights, &texel[0][0]);
     // The lights' positions come from the Frame block (uLightPos); unit 2 is the base color.
-    glBindTextureUnit(3, mShadowMaps.get());
+    glBindTextureUnit(3, mGpu->shadowMaps.get());
 }
 
 }  // namespace mvr::gl::detail

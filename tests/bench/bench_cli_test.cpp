@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include <fmt/core.h>
@@ -308,6 +309,170 @@ TEST_F(BenchCli, PlainBenchKeepsItsJsonContract) {
             EXPECT_TRUE(r.contains(k)) << k;
         }
     }
+}
+
+// A result's GPU-backend timings (issue 36): a gl row has draw_ms, readback_ms (>= 0), gpu_ms
+// (null, or >= 0), gpu_frames (the frames whose GPU timer was kept: 0 exactly when gpu_ms is
+// null) and per_frame {draw_ms, readback_ms, gpu_ms}: one entry per timed frame, each GPU timer
+// null or at most its frame's draw time (a sample above it, like llvmpipe's first
+// GL_TIME_ELAPSED, is dropped). A soft row has none of these fields. Not a timing check.
+// Returns whether the row is a gl row.
+bool expectDeviceTimes(const nlohmann::json& r, int frames) {
+    const std::string ran = r.contains("ran") ? r["ran"].get<std::string>() : "";
+    const bool gl = r["backend"] == "gl" || ran.rfind("gl:", 0) == 0;
+    if (!gl) {
+        for (const char* k : {"draw_ms", "readback_ms", "gpu_ms", "gpu_frames", "per_frame"})
+            EXPECT_FALSE(r.contains(k)) << k << ": " << r.dump();
+        return false;
+    }
+    for (const char* k : {"draw_ms", "readback_ms", "gpu_ms", "gpu_frames", "per_frame"})
+        EXPECT_TRUE(r.contains(k)) << k << ": " << r.dump();
+    if (!r.contains("per_frame")) return true;
+    EXPECT_GE(r["draw_ms"].get<double>(), 0.0) << r.dump();
+    EXPECT_GE(r["readback_ms"].get<double>(), 0.0) << r.dump();
+    EXPECT_EQ(r["gpu_ms"].is_null(), r["gpu_frames"].get<int>() == 0) << r.dump();
+    if (!r["gpu_ms"].is_null()) {
+        EXPECT_GE(r["gpu_ms"].get<double>(), 0.0) << r.dump();
+    }
+    const auto& f = r["per_frame"];
+    EXPECT_EQ(f["draw_ms"].size(), std::size_t(frames)) << r.dump();
+    EXPECT_EQ(f["readback_ms"].size(), std::size_t(frames)) << r.dump();
+    EXPECT_EQ(f["gpu_ms"].size(), std::size_t(frames)) << r.dump();
+    int kept = 0;
+    for (std::size_t i = 0; i < f["gpu_ms"].size() && i < f["draw_ms"].size(); ++i) {
+        EXPECT_GE(f["draw_ms"][i].get<double>(), 0.0) << r.dump();
+        EXPECT_GE(f["readback_ms"][i].get<double>(), 0.0) << r.dump();
+        if (f["gpu_ms"][i].is_null()) continue;
+        ++kept;
+        EXPECT_GE(f["gpu_ms"][i].get<double>(), 0.0) << r.dump();
+        EXPECT_LE(f["gpu_ms"][i].get<double>(), f["draw_ms"][i].get<double>()) << r.dump();
+    }
+    EXPECT_EQ(kept, r["gpu_frames"].get<int>()) << r.dump();
+    return true;
+}
+
+/// The JSON of a bench run with gl methods; nullopt (the test skips) where gl cannot run here:
+/// exit code 3, or gl's jobs listed as skipped.
+std::optional<nlohmann::json> glBenchJson(const CliRun& r) {
+    if (r.exitCode == 3) return std::nullopt;
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    if (!nlohmann::json::accept(r.out)) {
+        ADD_FAILURE() << r.out;
+        return std::nullopt;
+    }
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    if (j.contains("skipped") && !j["skipped"].empty()) return std::nullopt;
+    return j;
+}
+
+// `mvr bench`: every gl row carries the draw / readback / GPU timer medians (JSON and a column
+// each in the table), soft rows none ('-'). --warmup 0: the first frame's GPU timer (llvmpipe's
+// 5.9e6 ms) is among the samples and must be dropped.
+TEST_F(BenchCli, PlainBenchGlRowsCarryDeviceTimes) {
+    const std::string args = fmt::format(
+        "bench '{}' --size 64x48 --frames 3 --warmup 0 --methods soft:unified,gl:multipass",
+        model("suzanne.obj"));
+    const CliRun r = run(args + " --json");
+    if (r.exitCode == 3) GTEST_SKIP() << r.err;
+    const auto j = glBenchJson(r);
+    ASSERT_TRUE(j);
+    int gl = 0;
+    for (const auto& row : (*j)["results"]) gl += expectDeviceTimes(row, 3);
+    EXPECT_EQ(gl, 1);
+    const CliRun table = run(args);
+    ASSERT_EQ(table.exitCode, 0) << table.err;
+    for (const char* column : {"draw ms", "read ms", "gpu ms"})
+        EXPECT_NE(table.out.find(column), std::string::npos) << table.out;
+    std::istringstream in(table.out);
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("soft:unified ", 0) == 0) {
+            EXPECT_NE(line.find(" - "), std::string::npos) << line;
+        }
+    }
+}
+
+// The paper benches: every gl row carries them too (JSON), the tables a twin table of
+// draw / readback / gpu cells.
+TEST_F(BenchCli, PaperBenchGlRowsCarryDeviceTimes) {
+    const std::string m = "'" + model("suzanne.obj") + "'";
+    const std::string timing = " --frames 2 --warmup 0 --json";
+    const std::vector<std::string> benches = {
+        "bench sorbier " + m +
+            " --sizes 64x48 --copies 1 --shadings flat --textured-model none "
+            "--methods soft:unified,gl:gs-layered",
+        "bench kalaiah " + m +
+            " --sizes 64x48 --configs 2x1 --methods soft:unified,gl:kalaiah-emulation",
+        "bench views " + m + " --counts 1,2 --size 32x24 --methods soft:unified,gl:viewport-array",
+        "bench shadows " + m + " --lights 1,2 --map-size 64 --methods soft:unified,gl:gs-layered"};
+    int ran = 0;
+    for (const std::string& args : benches) {
+        const auto j = glBenchJson(run(args + timing));
+        if (!j) continue;
+        ++ran;
+        int gl = 0;
+        for (const auto& row : (*j)["results"]) {
+            ASSERT_FALSE(row.contains("error")) << args << ": " << row.dump();
+            gl += expectDeviceTimes(row, 2);
+        }
+        EXPECT_GT(gl, 0) << args;
+        const CliRun table = run(args + " --frames 1 --warmup 0");
+        ASSERT_EQ(table.exitCode, 0) << table.err;
+        EXPECT_NE(table.out.find("cell: draw / readback / gpu ms"), std::string::npos)
+            << args << "\n"
+            << table.out;
+    }
+    if (ran == 0) GTEST_SKIP() << "gl cannot run here";
+}
+
+// Soft-only tables have no GPU-timing table; the CSV has the columns, empty for soft rows.
+TEST_F(BenchCli, SoftRowsHaveNoDeviceTimes) {
+    const std::string m = "'" + model("suzanne.obj") + "'";
+    const CliRun table =
+        run("bench views " + m +
+            " --counts 1 --size 32x24 --frames 1 --warmup 0 --methods soft:unified");
+    ASSERT_EQ(table.exitCode, 0) << table.err;
+    EXPECT_EQ(table.out.find("draw / readback / gpu"), std::string::npos) << table.out;
+    const CliRun csv =
+        run("bench views " + m +
+            " --counts 1 --size 32x24 --frames 1 --warmup 0 --methods soft:unified --csv");
+    ASSERT_EQ(csv.exitCode, 0) << csv.err;
+    EXPECT_NE(csv.out.find(",draw_ms,readback_ms,gpu_ms,error"), std::string::npos) << csv.out;
+    EXPECT_NE(csv.out.find(",,,\"\""), std::string::npos) << csv.out;
+    const nlohmann::json j = runJson("bench views " + m +
+                                     " --counts 1 --size 32x24 --frames 1 --warmup 0 "
+                                     "--methods soft:unified --json");
+    for (const auto& row : j["results"]) EXPECT_FALSE(expectDeviceTimes(row, 1));
+}
+
+// The auto backend (--backend auto, auto:auto in --methods): its row says what it picked
+// ("ran": BACKEND:METHOD, one of the candidates), with the GPU timings where that is gl; the
+// paper benches refuse it like any "auto" method; `mvr render --backend auto` prints the pick
+// and the measured times in its note, and --method other than auto is one usage error.
+TEST_F(BenchCli, AutoBackendRowsAndRender) {
+    const std::string m = "'" + model("suzanne.obj") + "'";
+    const nlohmann::json j =
+        runJson("bench " + m +
+                " --size 64x48 --frames 2 --warmup 1 --methods soft:unified,auto:auto --json");
+    ASSERT_EQ(j["results"].size(), 2u) << j.dump();
+    const auto& a = j["results"][1];
+    EXPECT_EQ(a["backend"], "auto");
+    EXPECT_EQ(a["method"], "auto");
+    ASSERT_TRUE(a.contains("ran")) << a.dump();
+    const std::string ran = a["ran"];
+    EXPECT_TRUE(ran == "soft:unified" || (ran.rfind("gl:", 0) == 0 && ran != "gl:auto")) << ran;
+    expectDeviceTimes(a, 2);
+    expectError("bench sorbier " + m + " --methods auto:auto", 1, "'auto' is not a method");
+
+    const CliRun r = run("render " + m + " --size 64x48 --backend auto -o out");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("auto picked "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("soft:unified "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(" ms"), std::string::npos) << r.out;
+    EXPECT_TRUE(fs::exists(mDir / "out" / "view-1.png"));
+    expectError("render " + m + " --size 64x48 --backend auto --method multipass -o out", 1,
+                "backend auto has one method, auto");
+    const CliRun info = run("info");
+    EXPECT_NE(info.out.find("backend auto:"), std::string::npos) << info.out;
 }
 
 TEST_F(BenchCli, BadOptions) {

@@ -120,5 +120,66 @@ TEST(BenchHarness, MeasuresEveryJobEveryTimedRound) {
     EXPECT_EQ(machine.backendInfo[0].rfind("soft: ", 0), 0u);
 }
 
+RenderStats frame(double draw, double readback, double gpu) {
+    RenderStats s;
+    s.drawWallMs = draw, s.readbackWallMs = readback, s.gpuMs = gpu;
+    return s;
+}
+
+// A GPU backend's draw / readback / GPU timer: medians over the frames; a GPU timer sample that
+// is negative (no timer) or above its own frame's draw time (llvmpipe's first GL_TIME_ELAPSED:
+// 5.9e6 ms) is dropped; none left: no GPU time. A CPU backend's frames give nothing.
+TEST(BenchHarness, DeviceTimesDropImpossibleGpuSamples) {
+    const std::vector<RenderStats> frames = {frame(4.0, 1.0, 5.9e6), frame(2.0, 0.5, 1.5),
+                                             frame(3.0, 0.7, -1.0), frame(5.0, 0.9, 4.5),
+                                             frame(1.0, 0.6, 1.0)};
+    const DeviceTimes d = deviceTimes(frames, true);
+    EXPECT_TRUE(d.measured);
+    EXPECT_DOUBLE_EQ(d.drawMs, 3.0);
+    EXPECT_DOUBLE_EQ(d.readbackMs, 0.7);
+    ASSERT_TRUE(d.gpuMs);
+    EXPECT_DOUBLE_EQ(*d.gpuMs, 1.5);  // median of 1.5, 4.5, 1.0
+    EXPECT_EQ(d.gpuFrames, 3);
+    ASSERT_EQ(d.frameGpuMs.size(), frames.size());
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        EXPECT_DOUBLE_EQ(d.frameDrawMs[i], frames[i].drawWallMs);
+        if (d.frameGpuMs[i]) {
+            EXPECT_LE(*d.frameGpuMs[i], d.frameDrawMs[i]);
+        }
+    }
+    EXPECT_FALSE(d.frameGpuMs[0]);
+    EXPECT_FALSE(d.frameGpuMs[2]);
+
+    const DeviceTimes none = deviceTimes({frame(4.0, 1.0, 5.9e6), frame(2.0, 0.5, -1.0)}, true);
+    EXPECT_TRUE(none.measured);
+    EXPECT_FALSE(none.gpuMs);
+    EXPECT_EQ(none.gpuFrames, 0);
+    EXPECT_FALSE(deviceTimes(frames, false).measured);
+}
+
+// The shadows bench's K passes: one frame's parts summed; the GPU timer only if every part's is
+// valid.
+TEST(BenchHarness, SumStatsKeepsTheGpuTimerOnlyWhenEveryPartHasOne) {
+    const RenderStats sum = sumStats({frame(2.0, 1.0, 1.5), frame(3.0, 0.5, 2.0)});
+    EXPECT_DOUBLE_EQ(sum.drawWallMs, 5.0);
+    EXPECT_DOUBLE_EQ(sum.readbackWallMs, 1.5);
+    EXPECT_DOUBLE_EQ(sum.gpuMs, 3.5);
+    EXPECT_TRUE(validGpuSample(sum));
+    EXPECT_LT(sumStats({frame(2.0, 1.0, 1.5), frame(3.0, 0.5, 9e6)}).gpuMs, 0.0);
+    EXPECT_LT(sumStats({frame(2.0, 1.0, -1.0), frame(3.0, 0.5, 2.0)}).gpuMs, 0.0);
+}
+
+// Which rows carry device times: a GPU row of the registry (or, for a backend that picks another
+// one, the picked backend's, named in "BACKEND:METHOD").
+TEST(BenchHarness, RanOnGpuFollowsTheRegistry) {
+    const Job soft{.spec = {"soft", "unified"}, .backend = nullptr};
+    EXPECT_FALSE(ranOnGpu(soft, "unified"));
+    for (const BackendEntry& e : backends()) {
+        const Job job{.spec = {e.name, "x"}, .backend = nullptr};
+        EXPECT_EQ(ranOnGpu(job, "x"), e.gpu) << e.name;
+        EXPECT_EQ(ranOnGpu(soft, e.name + ":x"), e.gpu) << e.name;
+    }
+}
+
 }  // namespace
 }  // namespace mvr::cli::bench

@@ -104,6 +104,47 @@ inline const Scene& octahedraScene() {
     return s;
 }
 
+/// A scene shaped like Khronos's 2CylinderEngine sample (82 nodes, 34 primitives and materials):
+/// 40 distinct meshes (more than the gl backend keeps on the GPU between renders, so a render
+/// that evicted its own meshes would draw deleted vertex arrays), a material each, 84
+/// instances scattered in depth on a 12 × 7 grid, each mesh scaled to about a unit.
+inline const Scene& engineScene() {
+    static const Scene s = [] {
+        const Scene& d = defaultScene();
+        Scene e;
+        e.lights = d.lights;
+        e.ambient = d.ambient;
+        constexpr int kMeshes = 40, kColumns = 12, kRows = 7;
+        for (int i = 0; i < kMeshes; ++i) {
+            Mesh m = d.meshes[static_cast<std::size_t>(i) % d.meshes.size()];
+            const Bounds b = m.bounds();
+            const glm::vec3 size = b.max - b.min;
+            // Each a little different in size, so that no two meshes have the same contents.
+            const float k =
+                (1.0f + 0.01f * static_cast<float>(i)) / std::max({size.x, size.y, size.z, 1e-6f});
+            for (glm::vec3& p : m.positions) p = (p - b.center()) * k;
+            m.name = "part " + std::to_string(i);
+            e.meshes.push_back(std::move(m));
+        }
+        for (int i = 0; i < kColumns * kRows; ++i) {
+            const int c = i % kColumns, r = i / kColumns;
+            const glm::vec3 at(1.2f * (c - 0.5f * (kColumns - 1)), 1.2f * (r - 0.5f * (kRows - 1)),
+                               -0.7f * static_cast<float>((i * 7) % 5));
+            glm::mat4 xf = glm::translate(glm::mat4(1.0f), at);
+            xf = glm::rotate(xf, 0.4f * static_cast<float>(i), glm::vec3(0.3f, 1.0f, 0.1f));
+            Material mat{{0.2f + 0.6f * static_cast<float>(i % 5) / 4.0f,
+                          0.2f + 0.6f * static_cast<float>(i % 7) / 6.0f,
+                          0.2f + 0.6f * static_cast<float>(i % 3) / 2.0f},
+                         0.3f,
+                         24.0f};
+            mat.name = "material " + std::to_string(i % 34);
+            e.instances.push_back({i % kMeshes, xf, mat});
+        }
+        return e;
+    }();
+    return s;
+}
+
 /// A camera framing `scene`, looking down −Z at its centre (closer than frameScene(), so that
 /// the pictures are full).
 inline Camera cameraFor(const Scene& scene, float aspect) {

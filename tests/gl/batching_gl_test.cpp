@@ -7,6 +7,7 @@
 #include <map>
 #include <regex>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "../conformance/tolerances.h"
@@ -156,6 +157,77 @@ TEST(GlBatching, JustOverTheLimitIsTheUnbatchedImages) {
         expectWithinGlExact(*ref, *r, m);
     }
 }
+
+// RenderSettings::depth = false: no depth images come back (RenderOutput::depth is empty),
+// and the colour is the same, byte for byte, on every method, batched or not.
+TEST(GlBatching, DepthNotAskedIsNotReadBack) {
+    MVR_SKIP_WITHOUT_GL();
+    const Scene& scene = defaultScene();
+    const Rig rig = rowOf(scene, 20);
+    RenderSettings s = smallSettings();
+    for (const std::string& m : batchingMethods()) {
+        auto with = backend().render(scene, rig, s, m);
+        s.depth = false;
+        auto without = backend().render(scene, rig, s, m);
+        s.depth = true;
+        ASSERT_TRUE(with && without) << m;
+        EXPECT_EQ(with->depth.size(), 20u) << m;
+        EXPECT_TRUE(without->depth.empty()) << m;
+        ASSERT_EQ(without->color.size(), 20u) << m;
+        for (std::size_t v = 0; v < 20; ++v)
+            EXPECT_EQ(with->color[v].rgba, without->color[v].rgba) << m << " view " << v;
+    }
+}
+
+// A driver that declares more geometry-shader output than it links (NVIDIA: "can only emit 78
+// vertices of this size" where GL_MAX_GEOMETRY_OUTPUT_VERTICES allows 42 views): reproduced by
+// MVR_GL_GS_EMIT_LIMIT. gs-layered and viewport-array then draw passes of the views the driver
+// links (emit / 3), info says so, and the images are still gl:multipass's.
+class GsEmitLimit : public testing::TestWithParam<int> {
+protected:
+    void SetUp() override { setenv("MVR_GL_GS_EMIT_LIMIT", std::to_string(GetParam()).c_str(), 1); }
+    void TearDown() override { unsetenv("MVR_GL_GS_EMIT_LIMIT"); }
+};
+
+TEST_P(GsEmitLimit, GeometryShaderMethodsBatchAtWhatTheDriverLinks) {
+    MVR_SKIP_WITHOUT_GL();
+    const int emit = GetParam();
+    auto b = makeGlBackend();
+    const Scene& scene = defaultScene();
+    const Rig rig = rowOf(scene, 45);
+    const RenderSettings s = smallSettings();
+    auto ref = backend().render(scene, rig, s, "multipass");
+    ASSERT_TRUE(ref) << ref.status().message();
+    std::map<std::string, std::string> lines;
+    for (const std::string& line : b->info()) {
+        const std::size_t colon = line.find(':');
+        if (line.rfind("method ", 0) == 0 && colon != std::string::npos)
+            lines[line.substr(7, colon - 7)] = line;
+    }
+    for (const std::string m : {"gs-layered", "viewport-array"}) {
+        if (!b->supports(m)) continue;
+        auto r = b->render(scene, rig, s, m);
+        ASSERT_TRUE(r) << m << ": " << r.status().message();
+        expectWithinGlExact(*ref, *r, m);
+        // Each pass draws at most emit / 3 views (3 vertices a view): at least that many passes.
+        const int linked = emit / 3;
+        ASSERT_TRUE(b->lastStats());
+        EXPECT_GE(b->lastStats()->passes, (45 + linked - 1) / linked) << m;
+        // info() names the count the driver links when it is below the declared one.
+        const std::string& line = lines[m];
+        const std::regex declared(R"(declared (\d+))");
+        std::smatch d;
+        ASSERT_TRUE(std::regex_search(line, d, declared)) << line;
+        if (std::atoi(d[1].str().c_str()) > linked) {
+            EXPECT_NE(line.find(fmt::format("the driver links {}", linked)), std::string::npos)
+                << line;
+        }
+    }
+}
+
+// 78: NVIDIA's figure (26 views; above the 16 views a target holds, so it does not bind);
+// 24: 8 views, below it.
+INSTANTIATE_TEST_SUITE_P(Gl, GsEmitLimit, testing::Values(78, 24));
 
 // auto measures the exact methods, batched ones among them, and renders 100 views.
 TEST(GlBatching, AutoRendersManyViews) {

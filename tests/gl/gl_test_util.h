@@ -16,6 +16,7 @@
 #include "mvr/core/rig.h"
 #include "mvr/core/scene.h"
 #include "mvr/gl/gl_backend.h"
+#include "../conformance/gl_requirements.h"
 #include "../conformance/test_scenes.h"
 
 namespace mvr::gl::test {
@@ -26,10 +27,16 @@ inline mvr::Backend& backend() {
 }
 
 /// Skips the current test when no GL context can be made here.
-#define MVR_SKIP_WITHOUT_GL()                                                             \
-    do {                                                                                  \
-        const ::mvr::Status glStatus_ = ::mvr::gl::test::backend().supports("multipass"); \
-        if (!glStatus_) GTEST_SKIP() << glStatus_.message();                              \
+/// Fails instead under MVR_REQUIRE_GL=1 (CI), and when MVR_REQUIRE_GL_DRIVER names another
+/// driver than the one running (tests/conformance/gl_requirements.h).
+#define MVR_SKIP_WITHOUT_GL()                                                                     \
+    do {                                                                                          \
+        const ::mvr::Status glStatus_ = ::mvr::gl::test::backend().supports("multipass");         \
+        if (!glStatus_ && ::mvr::test::requireGl())                                               \
+            FAIL() << "MVR_REQUIRE_GL=1: " << glStatus_.message();                                \
+        if (!glStatus_) GTEST_SKIP() << glStatus_.message();                                      \
+        const std::string wrong_ = ::mvr::test::wrongGlDriver(::mvr::gl::test::backend().info()); \
+        if (!wrong_.empty()) FAIL() << wrong_;                                                    \
     } while (0)
 
 // The scenes, rigs and measures the cross-backend tests share (tests/conformance/test_scenes.h).

@@ -43,7 +43,7 @@ int runInfo() {
     // What this build has (-DMVR_WITH_VIDEO / -DMVR_WITH_MPI, or the libraries were missing).
     fmt::print("build: video files (FFmpeg) {}, frames over MPI ranks {}\n",
                videoAvailable() ? "yes" : "no", mpiAvailable() ? "yes" : "no");
-    const auto names = backendNames();
+    const auto names = backendChoices();  // the registry's backends, then auto
     if (names.empty()) fmt::print("no rendering backend is built into this mvr\n");
     for (const std::string& name : names) {
         auto backend = makeBackend(name);

@@ -37,6 +37,10 @@ struct RenderSettings {
     /// Backends build view v's images with OutputBlock::colorMemory(v) / depthMemory(v); a
     /// backend that does not is still correct (the caller copies what is not in place).
     class OutputBlock* output = nullptr;
+    /// Whether the caller wants the views' depth images. false lets a backend skip their
+    /// read-back (gl: half the bytes; RenderOutput::depth is then empty); a backend for which
+    /// depth costs nothing may still return it.
+    bool depth = true;
 };
 
 /// Caller-owned memory for the images of one render: `views` colour images of width×height

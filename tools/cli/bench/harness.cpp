@@ -258,6 +258,49 @@ std::vector<Measured> measure(std::span<const Job> jobs, const Prepared& p, cons
     return out;
 }
 
+bool validGpuSample(const RenderStats& s) { return s.gpuMs >= 0.0 && s.gpuMs <= s.drawWallMs; }
+
+DeviceTimes deviceTimes(const std::vector<RenderStats>& frames, bool gpu) {
+    DeviceTimes d;
+    if (!gpu) return d;
+    d.measured = true;
+    std::vector<double> kept;
+    for (const RenderStats& s : frames) {
+        d.frameDrawMs.push_back(s.drawWallMs);
+        d.frameReadbackMs.push_back(s.readbackWallMs);
+        d.frameGpuMs.push_back(validGpuSample(s) ? std::optional<double>(s.gpuMs) : std::nullopt);
+        if (d.frameGpuMs.back()) kept.push_back(s.gpuMs);
+    }
+    d.drawMs = statsOf(d.frameDrawMs).median;
+    d.readbackMs = statsOf(d.frameReadbackMs).median;
+    d.gpuFrames = int(kept.size());
+    if (!kept.empty()) d.gpuMs = statsOf(kept).median;
+    return d;
+}
+
+bool ranOnGpu(const Job& job, const std::string& ran) {
+    const std::size_t colon = ran.find(':');
+    const std::string name = colon != std::string::npos ? ran.substr(0, colon) : job.spec.backend;
+    auto entry = findBackend(name);
+    return entry && (*entry)->gpu;
+}
+
+RenderStats sumStats(const std::vector<RenderStats>& parts) {
+    RenderStats sum;
+    if (parts.empty()) return sum;
+    sum.method = parts.front().method;
+    sum.gpuMs = 0.0;
+    sum.passes = 0;
+    for (const RenderStats& p : parts) {
+        sum.gpuMs = sum.gpuMs >= 0.0 && validGpuSample(p) ? sum.gpuMs + p.gpuMs : -1.0;
+        sum.drawWallMs += p.drawWallMs, sum.readbackWallMs += p.readbackWallMs;
+        sum.totalWallMs += p.totalWallMs, sum.passes += p.passes;
+        sum.stages.vertexMs += p.stages.vertexMs, sum.stages.setupMs += p.stages.setupMs;
+        sum.stages.rasterMs += p.stages.rasterMs, sum.stages.fillMs += p.stages.fillMs;
+    }
+    return sum;
+}
+
 std::vector<BatchSamples> measureBatches(std::span<const std::function<void()>> fns, int batches,
                                          int reps) {
     using Clock = std::chrono::steady_clock;
@@ -301,7 +344,8 @@ Machine describeMachine(const BackendSet& backends) {
     for (const BackendSet::Made& b : backends.made()) {
         const std::vector<std::string> info = b.backend->info();
         for (const std::string& line : info) m.backendInfo.push_back(b.name + ": " + line);
-        if (!b.gpu || sawGpu) continue;  // the first GPU backend names the renderer
+        // The first GPU backend names the renderer (not auto, which may render on one).
+        if (!b.gpu || sawGpu || b.name == kAutoBackend) continue;
         sawGpu = true;
         m.gpuRenderer = "none";
         if (Status s = b.backend->supports(kBaselineMethod); !s)

@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -133,6 +134,31 @@ struct Measured {
     Status error;                    ///< the failed render (this job was not rendered again)
     bool failed() const { return !error; }
 };
+
+/// A GPU backend's own timings of one job (RenderStats of each timed frame): draw (first draw
+/// to the finished frame), readback (handing the views back) and the GPU timer of the draws.
+/// A frame's GPU timer is kept only when it is non-negative and at most that frame's draw wall
+/// time (the first GL_TIME_ELAPSED on llvmpipe reads 5.9e6 ms); gpu is the median of the kept
+/// samples, nullopt when none was kept. CPU backends have none of this (`measured` false).
+struct DeviceTimes {
+    bool measured = false;              ///< the frames ran on a GPU backend (BackendEntry::gpu)
+    double drawMs = 0, readbackMs = 0;  ///< medians over the frames
+    std::optional<double> gpuMs;        ///< median of the kept GPU timer samples
+    int gpuFrames = 0;                  ///< frames whose GPU timer was kept
+    /// Per frame, in order: draw, readback and the GPU timer (nullopt: dropped or none).
+    std::vector<double> frameDrawMs, frameReadbackMs;
+    std::vector<std::optional<double>> frameGpuMs;
+};
+/// Whether a frame's GPU timer can be right: 0 <= gpuMs <= drawWallMs.
+bool validGpuSample(const RenderStats& stats);
+/// The DeviceTimes of frames' stats; `gpu` false: an unmeasured one (a CPU backend's).
+DeviceTimes deviceTimes(const std::vector<RenderStats>& frames, bool gpu);
+/// Whether `job`'s frames ran on a GPU backend: its registry row's `gpu`, or for a backend that
+/// picks another one (auto, whose RenderStats::method is "BACKEND:METHOD"), the picked one's.
+bool ranOnGpu(const Job& job, const std::string& ran);
+/// Frames' stats summed (one frame drawn as several renders: the shadows bench's K passes).
+/// The sum's GPU timer is negative where any part's sample is not valid.
+RenderStats sumStats(const std::vector<RenderStats>& parts);
 
 struct Rounds {
     int warmup = 0;  ///< untimed rounds first

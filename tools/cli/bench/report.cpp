@@ -187,6 +187,23 @@ void printPivot(const PivotTable& t, const std::vector<RenderRow>& rows) {
     }
 }
 
+/// The twin of a table whose cells are its rows' draw / readback / GPU timer ms.
+PivotTable deviceTable(const PivotTable& t) {
+    PivotTable d = t;
+    d.caption =
+        "The same rows' GPU-backend timings (RenderStats, medians over the timed frames) — cell: "
+        "draw / readback / gpu ms: draw = first draw to the finished frame (wall), readback = "
+        "handing the views back (wall), gpu = the GPU timer of the draws (GL_TIME_ELAPSED; a "
+        "frame's sample is dropped when negative or above its draw time, '-' when none is "
+        "left); '-' for a CPU backend's rows";
+    d.cell = [](const RenderRow& r) -> std::string {
+        return r.error.empty() ? deviceCell(r.device) : "error";
+    };
+    return d;
+}
+
+std::string csvMs(bool measured, double v) { return measured ? fmt::format("{:.3f}", v) : ""; }
+
 }  // namespace
 
 // ---- `mvr bench` ----------------------------------------------------------------------------
@@ -206,7 +223,14 @@ MethodRow methodRow(const Job& job, const Measured& m) {
     }
     r.stages = {statsOf(vertex).median, statsOf(setup).median, statsOf(raster).median,
                 statsOf(fill).median};
+    r.device = deviceTimes(m.stats, ranOnGpu(job, m.ran));
     return r;
+}
+
+std::string deviceCell(const DeviceTimes& d) {
+    if (!d.measured) return "-";
+    return fmt::format("{:.2f} / {:.2f} / {}", d.drawMs, d.readbackMs,
+                       d.gpuMs ? fmt::format("{:.2f}", *d.gpuMs) : "-");
 }
 
 int printMethodReport(const MethodReport& report, bool json) {
@@ -229,24 +253,30 @@ int printMethodReport(const MethodReport& report, bool json) {
         p.settings.width, p.settings.height, shadingName(p.settings.shading),
         p.settings.cullBackFaces ? " | cull" : "", p.settings.wireframe ? " | wireframe" : "",
         report.frames, report.warmup);
-    fmt::print("{:<24} {:>10} {:>10} {:>9} {:>10} {:>12}   {:>8} {:>8} {:>8} {:>8}\n",
-               "backend:method", "median ms", "min ms", "vs first", "cpu ms", "Mtri·view/s",
-               "vertex", "setup", "raster", "fill");
+    // draw / readback / gpu: a GPU backend's own timings (medians; '-' for a CPU backend, and
+    // for gpu where the timer gave no valid sample); vertex … fill: the CPU backend's stages.
+    fmt::print(
+        "{:<24} {:>10} {:>10} {:>9} {:>10} {:>12} {:>9} {:>9} {:>9}   {:>8} {:>8} {:>8} {:>8}\n",
+        "backend:method", "median ms", "min ms", "vs first", "cpu ms", "Mtri·view/s", "draw ms",
+        "read ms", "gpu ms", "vertex", "setup", "raster", "fill");
+    const auto ms = [](bool measured, double v) {
+        return measured ? fmt::format("{:.2f}", v) : std::string("-");
+    };
     for (const MethodRow& r : rows) {
         const std::string name =
             r.backend + ":" + r.method + (r.ran != r.method ? " (" + r.ran + ")" : "");
         const double rate = double(triangles) * views / (r.medianMs * 1e3);
         const double vsFirst = rows[0].medianMs / r.medianMs;
+        const DeviceTimes& d = r.device;
+        std::string line = fmt::format(
+            "{:<24} {:>10.2f} {:>10.2f} {:>8.2f}x {:>10.2f} {:>12.1f} {:>9} {:>9} {:>9}", name,
+            r.medianMs, r.minMs, vsFirst, r.cpuMs, rate, ms(d.measured, d.drawMs),
+            ms(d.measured, d.readbackMs), ms(d.gpuMs.has_value(), d.gpuMs.value_or(0.0)));
         if (r.hasStages) {
-            fmt::print(
-                "{:<24} {:>10.2f} {:>10.2f} {:>8.2f}x {:>10.2f} {:>12.1f}   {:>8.2f} {:>8.2f} "
-                "{:>8.2f} {:>8.2f}\n",
-                name, r.medianMs, r.minMs, vsFirst, r.cpuMs, rate, r.stages.vertexMs,
-                r.stages.setupMs, r.stages.rasterMs, r.stages.fillMs);
-        } else {
-            fmt::print("{:<24} {:>10.2f} {:>10.2f} {:>8.2f}x {:>10.2f} {:>12.1f}\n", name,
-                       r.medianMs, r.minMs, vsFirst, r.cpuMs, rate);
+            line += fmt::format("   {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f}", r.stages.vertexMs,
+                                r.stages.setupMs, r.stages.rasterMs, r.stages.fillMs);
         }
+        fmt::print("{}\n", line);
     }
     return 0;
 }
@@ -259,6 +289,7 @@ RenderRow renderRow(const Job& job, const Measured& m, std::size_t triangles) {
     r.triangles = triangles;
     r.error = m.failed() ? m.error.message() : "";
     r.wall = statsOf(m.wallMs), r.cpu = statsOf(m.cpuMs);
+    r.device = deviceTimes(m.stats, ranOnGpu(job, m.ran));
     return r;
 }
 
@@ -286,19 +317,30 @@ int printRenderReport(const RenderReport& report, const CommonOptions& o) {
         fmt::print(
             "bench,backend,method,model,copies,triangles,shading,views,config,width,height,frames,"
             "median_ms,min_ms,max_ms,q1_ms,q3_ms,cpu_median_ms,fps,speedup_vs_multipass,"
-            "cpu_speedup_vs_multipass,error\n");
+            "cpu_speedup_vs_multipass,draw_ms,readback_ms,gpu_ms,error\n");
         for (const RenderRow& r : report.rows) {
             fmt::print(
                 "{},{},{},\"{}\",{},{},{},{},{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},"
-                "{:.2f},{:.3f},{:.3f},\"{}\"\n",
+                "{:.2f},{:.3f},{:.3f},{},{},{},\"{}\"\n",
                 report.bench, r.backend, r.method, r.model, r.copies, r.triangles, r.shading,
                 r.views, r.config, r.width, r.height, r.wall.n, r.wall.median, r.wall.min,
                 r.wall.max, r.wall.q1, r.wall.q3, r.cpu.median,
-                r.wall.median > 0 ? 1000.0 / r.wall.median : 0.0, r.speedup, r.cpuSpeedup, r.error);
+                r.wall.median > 0 ? 1000.0 / r.wall.median : 0.0, r.speedup, r.cpuSpeedup,
+                csvMs(r.device.measured && r.error.empty(), r.device.drawMs),
+                csvMs(r.device.measured && r.error.empty(), r.device.readbackMs),
+                csvMs(r.device.gpuMs.has_value() && r.error.empty(), r.device.gpuMs.value_or(0)),
+                r.error);
         }
     } else {
         fmt::print("{}\n", machineLine(*report.machine));
-        for (const PivotTable& t : report.tables) printPivot(t, report.rows);
+        for (const PivotTable& t : report.tables) {
+            printPivot(t, report.rows);
+            // A GPU backend's rows: the same table of its draw / readback / GPU timer.
+            const bool device =
+                std::any_of(report.rows.begin(), report.rows.end(),
+                            [&](const RenderRow& r) { return t.filter(r) && r.device.measured; });
+            if (device) printPivot(deviceTable(t), report.rows);
+        }
         for (const Skipped& s : report.skipped) fmt::print("skipped {}: {}\n", s.spec, s.reason);
     }
     if (!o.plot.empty()) {

@@ -26,6 +26,7 @@ struct MethodRow {
     double cpuMs = 0;   ///< median process CPU time (all threads) per frame
     StageTimes stages;  ///< medians per stage (RenderStats::stages)
     bool hasStages = false;
+    DeviceTimes device;  ///< a GPU backend's draw / readback / GPU timer (harness.h)
 };
 MethodRow methodRow(const Job& job, const Measured& measured);
 
@@ -59,8 +60,13 @@ struct RenderRow {
     int passes = 0;
     /// sorbier: the textured row (a base color texture sampled with mipmaps, issue 14).
     bool textured = false;
+    DeviceTimes device;  ///< a GPU backend's draw / readback / GPU timer (harness.h)
     std::string spec() const { return backend + ":" + method; }
 };
+/// "draw / readback / gpu" ms of a row for the tables: "-" for each value not measured (a CPU
+/// backend's row: all three; no valid GPU timer sample: gpu).
+std::string deviceCell(const DeviceTimes& device);
+
 /// The row of one measured job: what every render bench records; the bench adds its columns.
 RenderRow renderRow(const Job& job, const Measured& measured, std::size_t triangles);
 /// Speed-ups of rows[first..] over the baseline of their backend among them.

@@ -3,6 +3,7 @@
 #include "bench/report.h"
 
 #include <fstream>
+#include <optional>
 
 #include <fmt/core.h>
 
@@ -44,6 +45,21 @@ json statsJson(const Stats& s) {
             {"q1", s.q1},         {"q3", s.q3},   {"n", s.n}};
 }
 
+/// A GPU backend's timings into a result: draw_ms, readback_ms, gpu_ms (null: no valid GPU
+/// timer sample), gpu_frames and per_frame {draw_ms, readback_ms, gpu_ms: [.., null, ..]}. A CPU
+/// backend's result has none of these fields.
+void addDeviceTimes(json& e, const DeviceTimes& d) {
+    if (!d.measured) return;
+    e["draw_ms"] = d.drawMs;
+    e["readback_ms"] = d.readbackMs;
+    e["gpu_ms"] = d.gpuMs ? json(*d.gpuMs) : json(nullptr);
+    e["gpu_frames"] = d.gpuFrames;
+    json gpu = json::array();
+    for (const std::optional<double>& g : d.frameGpuMs) gpu.push_back(g ? json(*g) : json(nullptr));
+    e["per_frame"] = {
+        {"draw_ms", d.frameDrawMs}, {"readback_ms", d.frameReadbackMs}, {"gpu_ms", gpu}};
+}
+
 }  // namespace
 
 Status emitJson(const MethodReport& report, bool print, const std::string& saveTo) {
@@ -76,6 +92,7 @@ Status emitJson(const MethodReport& report, bool print, const std::string& saveT
                   {"cpu_ms", r.cpuMs},
                   {"speedup_vs_first", report.rows[0].medianMs / r.medianMs}};
         if (r.ran != r.method) e["ran"] = r.ran;
+        addDeviceTimes(e, r.device);
         if (r.hasStages) {
             e["stages_ms"] = {{"vertex", r.stages.vertexMs},
                               {"setup", r.stages.setupMs},
@@ -112,6 +129,7 @@ Status emitJson(const RenderReport& report, const CommonOptions& o) {
             if (r.ran != r.method) e["ran"] = r.ran;
             if (r.timesOne > 0) e["times_one_view"] = r.timesOne;
             if (r.passes > 0) e["passes"] = r.passes;
+            addDeviceTimes(e, r.device);
             if (!r.artifactPercent.empty()) {
                 e["artifact_percent"] = r.artifactPercent;  // per view, vs multipass
                 e["artifact_max_delta"] = r.artifactMaxDelta;
