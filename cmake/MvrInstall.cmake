@@ -1,8 +1,9 @@
 # cmake/MvrInstall.cmake — what `cmake --install` puts under the prefix:
 #   include/mvr/**                   the public headers (mvr/gl/ only when the gl backend is built)
 #   lib/libmvr_*.a                   the libraries, exported as mvr::core, mvr::raster, mvr::composite,
-#                                    mvr::adelson, mvr::backends, mvr::gl (when built) and the
-#                                    interface target mvr::flags (C++20, GLM_FORCE_XYZW_ONLY)
+#                                    mvr::adelson, mvr::backends, mvr::session, mvr::gl (when built)
+#                                    and the interface target mvr::flags (C++20,
+#                                    GLM_FORCE_XYZW_ONLY)
 #   lib/cmake/mvr/                   mvrConfig.cmake, mvrConfigVersion.cmake, mvrTargets*.cmake
 #   bin/mvr                          the command line tool (tools/cli)
 # so that a project does
@@ -13,7 +14,7 @@ include(CMakePackageConfigHelpers)
 
 set(MVR_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/mvr")
 
-set(MVR_EXPORTED_TARGETS mvr_flags mvr_core mvr_raster mvr_composite mvr_scene_io mvr_adelson mvr_backends)
+set(MVR_EXPORTED_TARGETS mvr_flags mvr_core mvr_raster mvr_composite mvr_scene_io mvr_adelson mvr_backends mvr_session)
 if(TARGET mvr_gl)
     list(APPEND MVR_EXPORTED_TARGETS mvr_gl)
 endif()

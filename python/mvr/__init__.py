@@ -18,9 +18,10 @@ a :class:`TypeError` and a :class:`ValueError`.
 """
 
 from . import _core
-from ._core import ParameterError, RenderResult
+from ._core import ParameterError, RenderResult, RenderSequence
 
-__all__ = ["render", "compose", "load_mesh", "info", "write_png", "RenderResult", "ParameterError"]
+__all__ = ["render", "render_sequence", "compose", "load_mesh", "info", "write_png",
+           "RenderResult", "RenderSequence", "ParameterError"]
 __version__ = _core.info()["version"]
 
 
@@ -46,6 +47,21 @@ def render(models=None, **options):
     buffers (their ``.base`` is the owning capsule); the GIL is released while rendering.
     """
     return _core.render(models, **options)
+
+
+def render_sequence(models=None, **options):
+    """Render a sequence, as ``mvr render --frames F / --orbit DEG / --camera-path FILE`` does.
+
+    Takes the keywords of :func:`render` and the sequence's: frames, orbit (degrees about the
+    scene centre over the frames), camera_path (a keyframe JSON file, docs/animation.md), fps
+    (24), frame_range ("A:B") and shard ("I/N"); a model file's animation plays. Bad keywords
+    raise here, before any frame is rendered.
+
+    Returns an iterator of one :class:`RenderResult` per frame (``.frame`` is its number), each
+    rendered when it is asked for. output=DIR writes DIR/frame-NNNN/ per frame, the files
+    ``mvr render`` writes there (views, depth, anaglyph.png for a pair, the formats).
+    """
+    return _core.RenderSequence(models, **options)
 
 
 def compose(format, views, **options):

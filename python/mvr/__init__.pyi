@@ -74,11 +74,22 @@ class RenderResult:
     def elapsed_ms(self) -> float: ...
     @property
     def written(self) -> list[str]: ...
+    @property
+    def frame(self) -> int | None: ...  # the frame of render_sequence(); None for render()
+    def __len__(self) -> int: ...
+
+class RenderSequence:
+    """What render_sequence() returns: one RenderResult per frame, rendered when asked for."""
+    @property
+    def frames(self) -> list[int]: ...
+    def __iter__(self) -> RenderSequence: ...
+    def __next__(self) -> RenderResult: ...
     def __len__(self) -> int: ...
 
 def render(
     models: _Path | Sequence[_Path] | None = None,
     *,
+    scene: Literal["default", "village", "textured"] = ...,
     grid: int = ...,
     views: int = ...,
     view_grid: _Pair = ...,
@@ -98,6 +109,10 @@ def render(
     shading: Literal["flat", "vertex", "pixel"] = ...,
     cull: bool = ...,
     wireframe: bool = ...,
+    shadows: bool = ...,
+    shadow_map_size: int = ...,
+    billboards: int = ...,
+    billboard_size: float = ...,
     backend: str = ...,
     method: str = ...,
     depth: bool = ...,
@@ -126,6 +141,17 @@ def render(
     lenticular_flip_y: bool = ...,
     **options: Any,
 ) -> RenderResult: ...
+def render_sequence(
+    models: _Path | Sequence[_Path] | None = None,
+    *,
+    frames: int = ...,
+    orbit: float = ...,
+    camera_path: _Path = ...,
+    fps: float = ...,
+    frame_range: str = ...,
+    shard: str = ...,
+    **options: Any,  # every keyword of render()
+) -> RenderSequence: ...
 def compose(
     format: str,
     views: _Views,

@@ -1,9 +1,10 @@
 // python/src/module.cpp — mvr._core, the pybind11 module behind `import mvr`.
 //
 // The keywords of render() and compose() are the options of `mvr render` / `mvr compose`: they
-// are turned into those options' command-line words and parsed by the CLI's own option tables
-// (SceneOptions::addTo, addComposeOptions), so the scene, the rig and the validation are the
-// CLI's (SceneOptions::prepare → frameScene), and so are the images. Images leave as numpy arrays
+// are read into the session library's RenderRecipe / ComposeOptions (keywords.cpp, no
+// command-line code), and session::prepare() and session::writeOutputs() do what they do for
+// `mvr render`, so the scene, the rig, the validation, the images and the files are the
+// tool's. Images leave as numpy arrays
 // whose base is a capsule owning the C++ memory the backend rendered into: render() hands the
 // backend an OutputBlock (RenderSettings::output), N views back to back, and returns it as the
 // (N, H, W, 4) and (N, H, W) arrays without a copy (RenderResult.copied_views counts views a
@@ -27,538 +28,22 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "compose_options.h"
-#include "options.h"
-#include "stereo_options.h"
+#include "keywords.h"
+#include "render.h"
 
 #include "mvr/backends.h"
 #include "mvr/composite/compose.h"
 #include "mvr/composite/jpeg.h"
 #include "mvr/core/image.h"
 #include "mvr/core/mesh.h"
+#include "mvr/session/outputs.h"
+#include "mvr/session/prepare.h"
+#include "mvr/session/surfaces.h"
 
 namespace py = pybind11;
 
 namespace mvr::python {
 namespace {
-
-// ---- errors --------------------------------------------------------------------------------
-PyObject* gParameterError = nullptr;  // mvr.ParameterError(TypeError, ValueError)
-
-[[noreturn]] void throwParameter(const std::string& message) {
-    PyErr_SetString(gParameterError, message.c_str());
-    throw py::error_already_set();
-}
-
-[[noreturn]] void throwStatus(const Status& s) {
-    PyObject* type = PyExc_RuntimeError;
-    const std::string& m = s.message();
-    switch (s.code()) {
-        case ErrorCode::Usage: type = PyExc_ValueError; break;
-        case ErrorCode::Input:
-            type = m.find("not found") != std::string::npos ||
-                           m.find("No such file") != std::string::npos ||
-                           m.find("does not exist") != std::string::npos
-                       ? PyExc_FileNotFoundError
-                       : PyExc_OSError;
-            break;
-        case ErrorCode::Output: type = PyExc_OSError; break;
-        default: type = PyExc_RuntimeError; break;
-    }
-    PyErr_SetString(type, m.c_str());
-    throw py::error_already_set();
-}
-
-template <class T>
-T check(Result<T>&& r) {
-    if (!r) throwStatus(r.status());
-    return std::move(r).value();
-}
-
-// ---- arrays that own C++ buffers -------------------------------------------------------------
-template <class V>
-py::array adopt(V&& data, std::vector<py::ssize_t> shape) {
-    using E = typename std::decay_t<V>::value_type;
-    auto* owner = new std::decay_t<V>(std::move(data));
-    py::capsule base(owner, [](void* p) { delete static_cast<std::decay_t<V>*>(p); });
-    return py::array_t<E>(shape, owner->data(), base);
-}
-
-/// An array over the caller-owned block the backend rendered into (RenderSettings::output):
-/// its base is a capsule holding the block, so the pixels are never copied on the way out.
-template <class E>
-py::array adoptBlock(const std::shared_ptr<OutputBlock>& block, E* data,
-                     std::vector<py::ssize_t> shape) {
-    auto* owner = new std::shared_ptr<OutputBlock>(block);
-    py::capsule base(owner, [](void* p) { delete static_cast<std::shared_ptr<OutputBlock>*>(p); });
-    return py::array_t<E>(shape, data, base);
-}
-
-/// Puts every view the backend (or a post-process) left outside the block into its place and
-/// frees the images (their in-place memory is the block's; freeing it is a no-op). Returns how
-/// many views had to be copied (0 on every backend of this build; the tests check it).
-template <class Img>
-int settle(std::vector<Img>& views, OutputBlock& block) {
-    int copied = 0;
-    const std::size_t n = std::size_t(block.width()) * std::size_t(block.height());
-    if (views.size() != std::size_t(block.views()))
-        throwStatus(internalError(
-            fmt::format("backend returned {} images for {} views", views.size(), block.views())));
-    for (std::size_t v = 0; v < views.size(); ++v) {
-        if (!block.inPlace(views[v], int(v))) {
-            if (views[v].width != block.width() || views[v].height != block.height())
-                throwStatus(internalError(fmt::format("backend returned view {} of {}x{} for {}x{}",
-                                                      v, views[v].width, views[v].height,
-                                                      block.width(), block.height())));
-            ++copied;
-            if constexpr (std::is_same_v<Img, Image>) {
-                std::memcpy(block.color() + v * n * 4, views[v].rgba.data(), n * 4);
-            } else {
-                std::memcpy(block.depth() + v * n, views[v].depth.data(), n * sizeof(float));
-            }
-        }
-    }
-    views.clear();
-    return copied;
-}
-
-py::array imageArray(Image&& image) {
-    const py::ssize_t h = image.height, w = image.width;
-    return adopt(std::move(image.rgba), {h, w, 4});
-}
-
-// ---- keywords → the CLI's option words ---------------------------------------------------------
-std::string optionList(const CLI::App& app) {
-    std::string list;
-    for (const CLI::Option* o : app.get_options()) {
-        std::string name = o->get_name();
-        if (name.rfind("--", 0) != 0 || name == "--help") continue;
-        name = name.substr(2);
-        std::replace(name.begin(), name.end(), '-', '_');
-        list += (list.empty() ? "" : ", ") + name;
-    }
-    return list;
-}
-
-/// One value as the text of a command-line word, per the option's type.
-std::string word(const std::string& key, const std::string& type, const py::handle& v) {
-    if (PyBool_Check(v.ptr()))
-        throwParameter(fmt::format("{}: expected {}, got a bool", key, type));
-    if (type == "INT" || type == "UINT") {
-        if (!PyIndex_Check(v.ptr()))
-            throwParameter(
-                fmt::format("{}: expected an integer, got {}", key,
-                            std::string(py::str(py::type::handle_of(v).attr("__name__")))));
-        return py::str(py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr())));
-    }
-    if (type == "FLOAT|auto") {  // --convergence, --separation: a number or "auto"
-        if (PyUnicode_Check(v.ptr())) return py::str(v);
-        return word(key, "FLOAT", v);
-    }
-    if (type == "FLOAT") {
-        if (PyIndex_Check(v.ptr()))
-            return py::str(py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr())));
-        if (!PyFloat_Check(v.ptr()) && !py::hasattr(v, "__float__"))
-            throwParameter(
-                fmt::format("{}: expected a number, got {}", key,
-                            std::string(py::str(py::type::handle_of(v).attr("__name__")))));
-        const double d = PyFloat_AsDouble(v.ptr());
-        if (d == -1.0 && PyErr_Occurred()) throw py::error_already_set();
-        return fmt::format("{}", d);
-    }
-    if (PyUnicode_Check(v.ptr())) return py::str(v);
-    if (py::hasattr(v, "__fspath__")) {
-        py::object p = py::module_::import("os").attr("fspath")(v);
-        if (PyUnicode_Check(p.ptr())) return py::str(p);
-    }
-    // (W, H) / (C, R) pairs for --size, --view-grid, --quilt, --lenticular-screen.
-    if ((PyTuple_Check(v.ptr()) || PyList_Check(v.ptr())) && py::len(v) == 2) {
-        py::sequence s = py::reinterpret_borrow<py::sequence>(v);
-        if (!PyBool_Check(s[0].ptr()) && !PyBool_Check(s[1].ptr()) && PyIndex_Check(s[0].ptr()) &&
-            PyIndex_Check(s[1].ptr())) {
-            return fmt::format(
-                "{}x{}",
-                std::string(py::str(py::reinterpret_steal<py::object>(PyNumber_Index(s[0].ptr())))),
-                std::string(
-                    py::str(py::reinterpret_steal<py::object>(PyNumber_Index(s[1].ptr())))));
-        }
-    }
-    throwParameter(fmt::format("{}: expected a string{}, got {}", key,
-                               type == "TEXT" ? " (or a (width, height) pair)" : "",
-                               std::string(py::str(py::type::handle_of(v).attr("__name__")))));
-}
-
-/// Appends the words of the keywords to `args`. Unknown keyword, wrong type: ParameterError.
-void keywordsToArgs(const CLI::App& app, const char* fn, const py::dict& kwargs,
-                    std::vector<std::string>& args) {
-    for (auto [k, v] : kwargs) {
-        const std::string key = py::str(k);
-        std::string name = "--" + key;
-        std::replace(name.begin(), name.end(), '_', '-');
-        const CLI::Option* opt = app.get_option_no_throw(name);
-        if (!opt || name == "--help")
-            throwParameter(fmt::format("{}() got an unexpected keyword argument '{}' (options: {})",
-                                       fn, key, optionList(app)));
-        if (v.is_none()) continue;
-        if (opt->get_items_expected_max() == 0) {  // a flag
-            if (!PyBool_Check(v.ptr()))
-                throwParameter(
-                    fmt::format("{}: expected True or False, got {}", key,
-                                std::string(py::str(py::type::handle_of(v).attr("__name__")))));
-            if (v.ptr() == Py_True) args.push_back(name);
-            continue;
-        }
-        std::string type = opt->get_type_name();  // "INT", "FLOAT:POSITIVE", "TEXT", "WxH", …
-        type = type.substr(0, type.find(':'));
-        if (opt->get_items_expected_max() > 1 && !PyUnicode_Check(v.ptr())) {  // repeatable
-            if (!PyTuple_Check(v.ptr()) && !PyList_Check(v.ptr()))
-                throwParameter(fmt::format("{}: expected a string or a list of strings", key));
-            for (py::handle item : v) {
-                args.push_back(name + "=" + word(key, type, item));
-            }
-            continue;
-        }
-        // One word "--name=value", so that a value can never read as another option.
-        const std::string value = word(key, type, v);
-        if (type == "FILE") {
-            std::error_code ec;
-            if (!std::filesystem::exists(value, ec)) {
-                PyErr_SetString(PyExc_FileNotFoundError,
-                                fmt::format("{}: {}: file not found", key, value).c_str());
-                throw py::error_already_set();
-            }
-        }
-        args.push_back(name + "=" + value);
-    }
-}
-
-/// Parses `args` (in order) with the CLI's tables. CLI11's refusals: ValueError.
-void parse(CLI::App& app, std::vector<std::string> args) {
-    std::reverse(args.begin(), args.end());
-    try {
-        app.parse(args);
-    } catch (const CLI::ParseError& e) {
-        throwStatus(usageError(e.what()));
-    }
-}
-
-// ---- models --------------------------------------------------------------------------------
-std::vector<std::string> modelPaths(const py::object& models) {
-    std::vector<std::string> paths;
-    if (models.is_none()) return paths;
-    auto one = [](const py::handle& m) -> std::string {
-        if (PyUnicode_Check(m.ptr())) return py::str(m);
-        if (py::hasattr(m, "__fspath__")) {
-            py::object p = py::module_::import("os").attr("fspath")(m);
-            if (PyUnicode_Check(p.ptr())) return py::str(p);
-        }
-        throwParameter(fmt::format("models: expected file paths (str or os.PathLike), got {}",
-                                   std::string(py::str(py::type::handle_of(m).attr("__name__")))));
-    };
-    if (PyUnicode_Check(models.ptr()) || py::hasattr(models, "__fspath__")) {
-        paths.push_back(one(models));
-    } else if (PyTuple_Check(models.ptr()) || PyList_Check(models.ptr())) {
-        for (py::handle m : models) paths.push_back(one(m));
-    } else {
-        throwParameter("models: expected a list of file paths");
-    }
-    for (const std::string& p : paths)
-        if (p.empty()) throwStatus(usageError("models: an empty file name"));
-    return paths;
-}
-
-// ---- rendering -------------------------------------------------------------------------------
-std::mutex& gpuMutex() {
-    static std::mutex m;
-    return m;
-}
-
-struct RenderResult {
-    py::object color, depth, method, note, backend, rig, comfort, composites, scene, triangles;
-    py::object size, shading, elapsedMs, written;
-    int copiedViews = 0;  ///< images the backend left outside the output block (copied in)
-};
-
-/// Composes `views` as `format`: an array for image formats, bytes for jps / mpo.
-py::object composeOne(const std::string& format, std::vector<Image>& views,
-                      const composite::ComposeOptions& options, const Backend* backend, bool gpu) {
-    const composite::FormatInfo info = check(composite::findFormat(format));
-    Result<Image> image = usageError("");
-    Result<std::vector<std::uint8_t>> bytes = usageError("");
-    {
-        py::gil_scoped_release release;
-        std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
-        if (gpu && backend) lock.lock();
-        if (info.extension == ".png") {
-            image = backend ? composeFor(*backend, format, views, options)
-                            : composite::compose(format, views, options);
-        } else if (info.name == "mpo") {
-            bytes = composite::encodeMpo(views, options);
-        } else {
-            Result<Image> picture = composite::compose(format, views, options);
-            bytes = picture ? composite::encodeJpsPicture(*picture, options.jpegQuality)
-                            : Result<std::vector<std::uint8_t>>(picture.status());
-        }
-    }
-    if (info.extension == ".png") return imageArray(check(std::move(image)));
-    std::vector<std::uint8_t> b = check(std::move(bytes));
-    return py::bytes(reinterpret_cast<const char*>(b.data()), b.size());
-}
-
-/// The files `mvr render -o DIR` writes, in its order and under its names.
-Status writeRenderFiles(const std::filesystem::path& dir, const RenderOutput& out, bool depth,
-                        const std::vector<std::string>& formats,
-                        const composite::ComposeOptions& compose, const Backend& backend,
-                        std::vector<std::string>& written) {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec || !std::filesystem::is_directory(dir)) {
-        return outputError(fmt::format("cannot create output directory '{}': {}", dir.string(),
-                                       ec ? ec.message() : "not a directory"));
-    }
-    for (std::size_t v = 0; v < out.color.size(); ++v) {
-        const auto path = dir / fmt::format("view-{}.png", v);
-        if (Status s = writePng(path, out.color[v]); !s) return s;
-        written.push_back(path.string());
-        if (depth && v < out.depth.size()) {
-            const auto dpath = dir / fmt::format("depth-{}.png", v);
-            if (Status s = writeDepthPng(dpath, out.depth[v]); !s) return s;
-            written.push_back(dpath.string());
-        }
-    }
-    if (out.color.size() == 2) {
-        auto anaglyph = composeFor(backend, composite::kDefaultAnaglyph, out.color, compose);
-        if (!anaglyph) return anaglyph.status();
-        const auto path = dir / "anaglyph.png";
-        if (Status s = writePng(path, *anaglyph); !s) return s;
-        written.push_back(path.string());
-    }
-    for (const std::string& format : formats) {
-        auto info = composite::findFormat(format);
-        if (!info) return info.status();
-        if (info->extension == ".png") {
-            auto name = composite::compositeFileName(format, out.color, compose);
-            if (!name) return name.status();
-            auto image = composeFor(backend, format, out.color, compose);
-            if (!image) return image.status();
-            const auto path = dir / *name;
-            if (Status s = writePng(path, *image); !s) return s;
-            written.push_back(path.string());
-            continue;
-        }
-        auto path = composite::writeComposite(format, out.color, compose, dir);
-        if (!path) return path.status();
-        written.push_back(path->string());
-    }
-    return {};
-}
-
-RenderResult render(const py::object& models, const py::kwargs& kwargs) {
-    CLI::App app("mvr.render");
-    cli::SceneOptions scene;
-    std::string backendName = backendNames().empty() ? "" : backendNames().front();
-    std::string method;
-    bool depth = false, quiet = false;
-    std::vector<std::string> formats;
-    std::string outDir;
-    composite::ComposeOptions compose;
-    scene.addTo(&app, true);
-    app.add_option("--backend", backendName);
-    app.add_option("--method", method);
-    app.add_flag("--depth", depth);
-    app.add_flag("-q,--quiet", quiet);
-    app.add_option("--format", formats)->check(CLI::IsMember(composite::formatNames()));
-    app.add_option("-o,--output", outDir);
-    cli::addComposeOptions(&app, compose);
-    std::string reportJson;  // report_json=: the comfort report (docs/displays.md)
-    app.add_option("--report-json", reportJson)->type_name("FILE_OUT");
-    cli::StereoSurfaceOptions surfaceOptions;  // sky=, floating_window=, letterbox=, label=…
-    surfaceOptions.addTo(&app);
-    std::vector<std::string> args;
-    keywordsToArgs(app, "render", kwargs, args);
-    const std::vector<std::string> paths = modelPaths(models);
-    if (!paths.empty()) {
-        args.push_back("--");
-        args.insert(args.end(), paths.begin(), paths.end());
-    }
-    parse(app, std::move(args));
-    if (app.get_option("--lenticular-calibration")->count() > 0 &&
-        compose.lenticular.viewCone > 0.0)
-        scene.calibrationViewCone = compose.lenticular.viewCone;
-
-    Result<cli::Prepared> prepared = usageError("");
-    std::shared_ptr<OutputBlock> block;
-    Result<RenderOutput> rendered = usageError("");
-    std::unique_ptr<Backend> backend;
-    double ms = 0.0;
-    bool gpu = false;
-    {
-        py::gil_scoped_release release;
-        prepared = scene.prepare();
-        // The views are rendered straight into the memory the arrays will own (zero copy),
-        // when the request is within the budget every backend checks first.
-        if (prepared && framebufferBytes(prepared->rig.viewCount(), prepared->settings.width,
-                                         prepared->settings.height) <= kMaxFramebufferBytes) {
-            block = std::make_shared<OutputBlock>(
-                prepared->rig.viewCount(), prepared->settings.width, prepared->settings.height);
-            prepared->settings.output = block.get();
-        }
-        Result<StereoSurfaces> surfaces = surfaceOptions.build();
-        if (prepared && !surfaces) prepared = surfaces.status();
-        if (prepared) {
-            if (auto entry = findBackend(backendName)) gpu = (*entry)->gpu;
-            std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
-            if (gpu) lock.lock();
-            Result<std::unique_ptr<Backend>> made = makeBackend(backendName);
-            if (!made) {
-                rendered = made.status();
-            } else {
-                backend = std::move(made).value();
-                if (method.empty()) method = backend->defaultMethod();
-                if (Status s = backend->supports(method); !s) {
-                    rendered = s;
-                } else {
-                    const auto start = std::chrono::steady_clock::now();
-                    rendered =
-                        backend->render(prepared->scene, prepared->rig, prepared->settings, method);
-                    if (rendered) {
-                        if (Status st = cli::applySurfaces(*surfaces, prepared->rig, *rendered);
-                            !st)
-                            rendered = st;
-                    }
-                    ms = std::chrono::duration<double, std::milli>(
-                             std::chrono::steady_clock::now() - start)
-                             .count();
-                }
-            }
-        }
-    }
-    const cli::Prepared& p = check(std::move(prepared));
-    RenderOutput out = check(std::move(rendered));
-    if (p.display) {  // display=: the preset's outputs, as `mvr render --display`
-        cli::displayOutputs(
-            *p.display, app.get_option("--lenticular-calibration")->count() > 0,
-            app.get_option("--quilt")->count() > 0 || p.rig.viewCount() != p.display->views,
-            p.rig.camera.aspect, formats, compose);
-    }
-    if (int(out.color.size()) != p.rig.viewCount())
-        throwStatus(internalError(fmt::format("backend returned {} images for {} views",
-                                              out.color.size(), p.rig.viewCount())));
-
-    RenderResult r;
-    r.method = py::str(out.method);
-    r.note = py::str(out.note);
-    r.backend = py::str(backendName);
-    r.scene = py::str(p.sceneName);
-    r.triangles = py::int_(p.scene.triangleCount());
-    r.size = py::make_tuple(p.settings.width, p.settings.height);
-    r.shading = py::str(std::string(shadingName(p.settings.shading)));
-    r.elapsedMs = py::float_(ms);
-    const Rig& rig = p.rig;
-    py::dict rd;
-    rd["kind"] = std::string(rigKindName(rig.kind));
-    rd["columns"] = rig.columns;
-    rd["rows"] = rig.rows;
-    rd["views"] = rig.viewCount();
-    rd["interaxial"] = rig.interaxial;
-    rd["interaxial_y"] = rig.interaxialY;
-    rd["convergence"] = rig.convergence;
-    rd["separation"] = rig.separation();
-    rd["fov"] = rig.camera.fovYDegrees;
-    rd["aspect"] = rig.camera.aspect;
-    rd["near"] = rig.camera.near;
-    rd["far"] = rig.camera.far;
-    py::list eyes;
-    for (const View& v : rig.views)
-        eyes.append(py::make_tuple(v.eyeWorld.x, v.eyeWorld.y, v.eyeWorld.z));
-    rd["eyes"] = eyes;
-    r.rig = rd;
-    py::dict comfort;
-    if (auto c = cli::comfortReport(rig, out)) {
-        comfort["min_parallax"] = c->range.minParallax;
-        comfort["max_parallax"] = c->range.maxParallax;
-        comfort["min_parallax_percent"] = 100.0 * c->range.minParallax;
-        comfort["max_parallax_percent"] = 100.0 * c->range.maxParallax;
-        comfort["nearest_distance"] = c->range.nearestDistance;
-        comfort["farthest_distance"] = c->range.farthestDistance;
-        comfort["comfortable"] = c->range.comfortable;
-        comfort["why"] = c->range.why;
-        comfort["text"] = c->line;
-    }
-    const std::optional<cli::ComfortReport> range = cli::comfortReport(rig, out);
-    const std::optional<cli::ScreenComfortReport> screen = cli::screenComfortReport(p, range);
-    if (screen) {  // screen_width= (and viewing_distance=): the report against the screen
-        const ScreenComfort& s = screen->comfort;
-        py::dict sd;
-        sd["width_cm"] = s.screen.widthCm;
-        sd["viewing_distance_cm"] = s.screen.viewingDistanceCm;
-        sd["budget"] = s.budget.fraction;
-        sd["budget_cm"] = s.budget.fraction * s.screen.widthCm;
-        sd["desktop"] = s.budget.desktop;
-        sd["pair_views"] = s.pairViews;
-        sd["min_parallax_cm"] = s.minParallaxCm;
-        sd["max_parallax_cm"] = s.maxParallaxCm;
-        sd["nearest_vergence_deg"] = s.nearestVergenceDeg;
-        sd["farthest_vergence_deg"] = s.farthestVergenceDeg;
-        sd["screen_vergence_deg"] = s.screenVergenceDeg;
-        sd["comfortable"] = s.comfortable;
-        sd["why"] = s.why;
-        sd["text"] = screen->line;
-        comfort["screen"] = sd;
-    }
-    r.comfort = comfort;
-    py::list notes;
-    for (const std::string& n : p.notes) notes.append(n);
-    for (const std::string& w : cli::renderWarnings(p, out, range, screen)) notes.append(w);
-    rd["notes"] = notes;  // what --convergence/--separation auto chose, and warnings
-    rd["view_cone"] = p.viewConeDegrees;
-    if (!reportJson.empty()) {
-        const std::string json = cli::comfortJson(p, range, screen);
-        std::FILE* f = std::fopen(reportJson.c_str(), "wb");
-        const bool ok = f && std::fwrite(json.data(), 1, json.size(), f) == json.size();
-        if (f && std::fclose(f) != 0 && ok)
-            throwStatus(outputError("report_json: cannot write " + reportJson));
-        if (!ok) throwStatus(outputError("report_json: cannot write " + reportJson));
-    }
-
-    // Composites first (they read the views), then the views leave as arrays.
-    compose.baseline = rig.interaxial;
-    compose.convergence = rig.convergence;
-    py::dict composites;
-    for (const std::string& f : formats)
-        composites[py::str(f)] = composeOne(f, out.color, compose, backend.get(), gpu);
-    r.composites = composites;
-    std::vector<std::string> written;
-    if (!outDir.empty()) {
-        Status s;
-        {
-            py::gil_scoped_release release;
-            std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
-            if (gpu) lock.lock();
-            s = writeRenderFiles(outDir, out, depth, formats, compose, *backend, written);
-        }
-        if (!s) throwStatus(s);
-    }
-    r.written = py::cast(written);
-    {
-        py::gil_scoped_release release;
-        std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
-        if (gpu) lock.lock();
-        backend.reset();  // the driver context goes on the thread that used it
-    }
-    const py::ssize_t n = py::ssize_t(out.color.size()), h = p.settings.height,
-                      w = p.settings.width;
-    const bool hasDepth = int(out.depth.size()) == n;
-    if (!block) throwStatus(internalError("no output block for the views"));
-    {
-        py::gil_scoped_release release;
-        r.copiedViews = settle(out.color, *block);
-        if (hasDepth) r.copiedViews += settle(out.depth, *block);
-    }
-    r.color = adoptBlock(block, block->color(), {n, h, w, 4});
-    r.depth = hasDepth ? py::object(adoptBlock(block, block->depth(), {n, h, w})) : py::none();
-    return r;
-}
 
 // ---- compose ---------------------------------------------------------------------------------
 Image imageFromArray(const py::handle& obj, const std::string& what) {
@@ -631,16 +116,9 @@ py::object composeViews(const py::object& formatObj, const py::object& views,
                         const py::kwargs& kwargs) {
     if (!PyUnicode_Check(formatObj.ptr())) throwParameter("format: expected a string");
     const std::string format = py::str(formatObj);
-    CLI::App app("mvr.compose");
-    composite::ComposeOptions compose;
-    std::string output;
-    bool quiet = false;
-    app.add_option("-o,--output", output);
-    app.add_flag("-q,--quiet", quiet);
-    cli::addComposeOptions(&app, compose, /*withStereoMetadata=*/true);
-    std::vector<std::string> args;
-    keywordsToArgs(app, "compose", kwargs, args);
-    parse(app, std::move(args));
+    ComposeKeywords keywords = composeKeywords(kwargs);
+    composite::ComposeOptions& compose = keywords.compose;
+    const std::string& output = keywords.output;
     const composite::FormatInfo info = check(composite::findFormat(format));
     std::vector<Image> imgs = viewsFrom(views);
     for (std::size_t i = 1; i < imgs.size(); ++i) {
@@ -694,15 +172,6 @@ py::object composeViews(const py::object& formatObj, const py::object& views,
 }
 
 // ---- the rest --------------------------------------------------------------------------------
-std::string pathOf(const py::object& p, const char* what) {
-    if (PyUnicode_Check(p.ptr())) return py::str(p);
-    if (py::hasattr(p, "__fspath__")) {
-        py::object s = py::module_::import("os").attr("fspath")(p);
-        if (PyUnicode_Check(s.ptr())) return py::str(s);
-    }
-    throwParameter(fmt::format("{}: expected a file path (str or os.PathLike)", what));
-}
-
 py::dict loadMeshPy(const py::object& pathObj) {
     const std::string path = pathOf(pathObj, "path");
     Result<Mesh> loaded = usageError("");
@@ -866,6 +335,8 @@ PYBIND11_MODULE(_core, m) {
         .def_readonly("elapsed_ms", &RenderResult::elapsedMs)
         .def_readonly("written", &RenderResult::written,
                       "the files written for output=DIR, as `mvr render -o DIR` writes them")
+        .def_readonly("frame", &RenderResult::frame,
+                      "the frame of a sequence (mvr.render_sequence()); None for mvr.render()")
         .def("__len__", [](const RenderResult& r) { return py::len(r.color); })
         .def("__repr__", [](const RenderResult& r) {
             return fmt::format("<mvr.RenderResult {} views of {}x{}, {}:{}>", py::len(r.color),
@@ -874,6 +345,13 @@ PYBIND11_MODULE(_core, m) {
                                std::string(py::str(r.method)));
         });
     m.def("render", &render, py::arg("models") = py::none());
+    py::class_<Sequence>(m, "RenderSequence",
+                        "What mvr.render_sequence() returns: one RenderResult per frame.")
+        .def(py::init<const py::object&, const py::kwargs&>(), py::arg("models") = py::none())
+        .def("__iter__", [](Sequence& s) -> Sequence& { return s; })
+        .def("__next__", &Sequence::next)
+        .def("__len__", &Sequence::size)
+        .def_property_readonly("frames", &Sequence::frames, "the frames it renders, in order");
     m.def("compose", &composeViews, py::arg("format"), py::arg("views"));
     m.def("load_mesh", &loadMeshPy, py::arg("path"));
     m.def("info", &info);

@@ -28,6 +28,20 @@ diff -r "$tmp/whole" "$tmp/shards" || fail "--shard shares differ from the whole
 [[ $(ls "$tmp/range" | tr '\n' ' ') == "frame-0002 frame-0003 " ]] || fail "--frame-range 2:4: $(ls "$tmp/range")"
 diff -r "$tmp/range/frame-0003" "$tmp/whole/frame-0003" || fail "--frame-range frame differs"
 
+# A stereo pair's frames hold the anaglyph.png a still render writes (session::writeOutputs is
+# the one writer of both): Dubois' red-cyan of the frame's two views.
+"$mvr" render --views 2 --size 32x24 --orbit 90 --frames 2 -q -o "$tmp/pair"
+for f in 0000 0001; do
+    [[ -f $tmp/pair/frame-$f/anaglyph.png ]] || fail "no frame-$f/anaglyph.png in a stereo sequence"
+    "$mvr" compose "$tmp/pair/frame-$f/view-0.png" "$tmp/pair/frame-$f/view-1.png" \
+        -f anaglyph-dubois -q -o "$tmp/pair-$f.png"
+    cmp -s "$tmp/pair/frame-$f/anaglyph.png" "$tmp/pair-$f.png" ||
+        fail "frame-$f/anaglyph.png is not the anaglyph of its views"
+done
+"$mvr" render --views 2 --size 32x24 -q -o "$tmp/pair-still"
+diff -r "$tmp/pair/frame-0000" "$tmp/pair-still" || fail "frame 0 of an orbit differs from a still"
+[[ ! -e $tmp/whole/frame-0000/anaglyph.png ]] || fail "an anaglyph for 4 views"
+
 # The stereo surfaces (--sky, --label) are drawn into every frame of a sequence, as into a
 # single render: frame 3 of the sequence equals the single render of that frame's camera.
 "$mvr" render "${common[@]}" --sky gradient --label "HI@0.5,0.5" -o "$tmp/sky"

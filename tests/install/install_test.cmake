@@ -17,7 +17,7 @@ function(step what)
 endfunction()
 
 step("cmake --install" ${CMAKE_COMMAND} --install ${MVR_BUILD_DIR} --prefix ${prefix})
-foreach(file include/mvr/backends.h include/mvr/core/framing.h
+foreach(file include/mvr/backends.h include/mvr/core/framing.h include/mvr/session/recipe.h
         ${MVR_LIBDIR}/cmake/mvr/mvrConfig.cmake ${MVR_LIBDIR}/cmake/mvr/mvrConfigVersion.cmake
         ${MVR_LIBDIR}/cmake/mvr/mvrTargets.cmake bin/mvr)
     if(NOT EXISTS ${prefix}/${file})

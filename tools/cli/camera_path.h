@@ -1,17 +1,11 @@
-// tools/cli/camera_path.h — the keyframe file of `mvr render --camera-path FILE`
-// (docs/animation.md). Its own library (mvr_camera_path: mvr::core and nlohmann_json only) so
-// that the fuzz target tests/fuzz/camera_path_fuzz.cpp reads files the way `mvr` does.
+// tools/cli/camera_path.h — the keyframe file of `mvr render --camera-path FILE`: the session
+// library's reader (mvr/session/camera_path.h, library mvr_camera_path), under the tool's name.
 #pragma once
 
-#include <string>
-
-#include "mvr/core/animation.h"
-#include "mvr/core/status.h"
+#include "mvr/session/camera_path.h"
 
 namespace mvr::cli {
 
-/// Reads and validates (validateCameraPath()) a keyframe file. Errors (ErrorCode::Input) name
-/// the option, the file and the key: "--camera-path p.json: key 1 position: expected [x, y, z]".
-Result<CameraPath> readCameraPath(const std::string& file);
+using session::readCameraPath;
 
 }  // namespace mvr::cli

@@ -22,26 +22,24 @@
 #include "mvr/core/rig.h"
 #include "mvr/core/scene.h"
 #include "mvr/core/status.h"
+#include "mvr/session/prepare.h"
+#include "mvr/session/recipe.h"
 
 namespace mvr::cli {
 
-/// A scene, rig and settings ready to render.
-struct Prepared {
-    Scene scene;
-    Rig rig;
-    RenderSettings settings;
-    std::string sceneName;                 ///< "default scene" or the model file names
-    std::optional<DisplayPreset> display;  ///< --display NAME (its outputs: displayOutputs())
-    std::optional<ScreenGeometry> screen;  ///< --screen-width (and --viewing-distance)
-    float viewConeDegrees = 0.0f;          ///< the rig's view cone (0: none)
-    /// One-line notes for stderr: what --convergence auto / --separation auto chose ("note: …")
-    /// and warnings ("warning: …", e.g. views that see nothing of the scene).
-    std::vector<std::string> notes;
-    /// The model file's animation (glTF's first), played by sequences (docs/animation.md);
-    /// cameraNode is -1 when the file camera is not the rig's (--no-file-camera, --grid).
-    std::optional<SceneAnimation> animation;
-};
+/// A scene, rig and settings ready to render (the session library's, mvr/session/prepare.h).
+using Prepared = session::Prepared;
+using session::ComfortReport;
+using session::comfortJson;
+using session::comfortReport;
+using session::displayOutputs;
+using session::parseSize;
+using session::renderWarnings;
+using session::ScreenComfortReport;
+using session::screenComfortReport;
 
+/// The options of the scene, the rig and the image; prepare() maps them onto a
+/// session::RenderRecipe and prepares that.
 struct SceneOptions {
     std::vector<std::string> models;
     int grid = 1;
@@ -84,45 +82,13 @@ struct SceneOptions {
 
     /// Adds the options to a subcommand. `withModels`: also the positional MODEL... list.
     void addTo(CLI::App* app, bool withModels = true);
-    /// Loads the models (or the default scene), builds the rig and settings; validates all.
+    /// The recipe of these options (the scene, rig and image fields; a preset's options given
+    /// on the command line as given).
+    session::RenderRecipe recipe() const;
+    /// Loads the models (or the default scene), builds the rig and settings; validates all
+    /// (session::prepare() of recipe()).
     Result<Prepared> prepare() const;
 };
-
-/// The comfort report `mvr render` prints: the parallax between the outer views over the depth
-/// range view 0 saw, and that line's text. None for one column of views, without depth, or when
-/// nothing was drawn. Shared with the Python module (its `comfort` dict).
-struct ComfortReport {
-    ParallaxRange range;
-    std::string line;  ///< "parallax between outer views: ... (comfortable: ...)", no newline
-};
-std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& out);
-
-/// The comfort report against a screen (--screen-width / --viewing-distance), after
-/// comfortReport(): the parallax between the views the eyes see in cm and degrees of vergence
-/// against the interocular budget (displays.h), and its line. The JSON of --report-json.
-struct ScreenComfortReport {
-    ScreenComfort comfort;
-    std::string line;  ///< "on a 12 cm screen at 40 cm: ... (comfortable | uncomfortable: why)"
-};
-std::optional<ScreenComfortReport> screenComfortReport(const Prepared& p,
-                                                       const std::optional<ComfortReport>& range);
-/// The --report-json document (fields in docs/displays.md).
-std::string comfortJson(const Prepared& p, const std::optional<ComfortReport>& range,
-                        const std::optional<ScreenComfortReport>& screen);
-/// Warnings after a render (stderr lines, "warning: ..."): no view drew anything; parallax far
-/// above the budget (twice it with a screen, one screen width without).
-std::vector<std::string> renderWarnings(const Prepared& p, const RenderOutput& out,
-                                        const std::optional<ComfortReport>& range,
-                                        const std::optional<ScreenComfortReport>& screen);
-/// A display preset's outputs: its format (if not already asked for), the quilt grid unless
-/// --quilt was given (or --views changed the count: then the most square quilt), the quilt name's aspect (the camera's: `cameraAspect`), and lenticular
-/// when a calibration was given (its panel size unless the calibration names one).
-void displayOutputs(const DisplayPreset& d, bool calibrationGiven, bool quiltGiven,
-                    float cameraAspect, std::vector<std::string>& formats,
-                    composite::ComposeOptions& compose);
-
-/// Parses "WxH" (both 1..16384). Errors: ErrorCode::Usage.
-Result<std::pair<int, int>> parseSize(const std::string& text, const char* what);
 
 /// How far each view is from a reference render: the share of its pixels with an RGB channel
 /// more than kArtifactThreshold / 255 off (the conformance suite's and src/gl/README.md's

@@ -17,6 +17,8 @@
 
 #include "mvr/backends.h"
 #include "mvr/composite/compose.h"
+#include "mvr/session/outputs.h"
+#include "mvr/session/prepare.h"
 
 namespace mvr::cli {
 namespace {
@@ -66,20 +68,30 @@ Status checkAgainstReference(const std::string& backendName, const std::string& 
     return {};
 }
 
-int runRender(const RenderOptions& given) {
-    SceneOptions scene = given.scene;
-    if (given.calibrationOption && given.calibrationOption->count() > 0 &&
-        given.compose.lenticular.viewCone > 0.0)
-        scene.calibrationViewCone = given.compose.lenticular.viewCone;
-    auto prepared = scene.prepare();
+/// The recipe of the command line (mvr/session/recipe.h).
+session::RenderRecipe recipeOf(const RenderOptions& o) {
+    session::RenderRecipe r = o.scene.recipe();
+    const bool calibrationGiven = o.calibrationOption && o.calibrationOption->count() > 0;
+    if (calibrationGiven && o.compose.lenticular.viewCone > 0.0)
+        r.calibrationViewCone = o.compose.lenticular.viewCone;
+    r.surfaces = o.surfaces.recipe();
+    r.sequence = o.sequence;
+    r.outputs.directory = o.outDir;
+    r.outputs.formats = o.formats;
+    r.outputs.depth = o.depth;
+    r.outputs.reportJson = o.reportJson;
+    r.outputs.compose = o.compose;
+    r.outputs.calibrationGiven = calibrationGiven;
+    r.outputs.quiltGiven = o.quiltOption && o.quiltOption->count() > 0;
+    r.backend = o.backend;
+    r.method = o.method;
+    return r;
+}
+
+int runRender(const RenderOptions& o) {
+    const session::RenderRecipe recipe = recipeOf(o);
+    auto prepared = session::prepare(recipe);
     if (!prepared) return fail(prepared.status());
-    RenderOptions o = given;  // a display preset adds its outputs
-    if (prepared->display) {
-        displayOutputs(*prepared->display, o.calibrationOption && o.calibrationOption->count() > 0,
-                       (o.quiltOption && o.quiltOption->count() > 0) ||
-                           prepared->rig.viewCount() != prepared->display->views,
-                       prepared->rig.camera.aspect, o.formats, o.compose);
-    }
     for (const std::string& note : prepared->notes) {  // -q keeps the warnings only
         if (!o.quiet || note.rfind("note: ", 0) != 0) fmt::print(stderr, "{}\n", note);
     }
@@ -93,10 +105,10 @@ int runRender(const RenderOptions& given) {
         return fail(Status(s.code(), fmt::format("--method {}: {}", method, s.message())));
     }
     const Prepared& p = *prepared;
-    auto surfaces = o.surfaces.build();
+    auto surfaces = session::buildSurfaces(recipe.surfaces);
     if (!surfaces) return fail(surfaces.status());
 
-    if (Status s = checkSequenceOptions(o.sequence); !s) return fail(s);
+    if (Status s = checkSequenceOptions(recipe.sequence); !s) return fail(s);
 
     std::error_code ec;
     std::filesystem::create_directories(o.outDir, ec);
@@ -104,11 +116,12 @@ int runRender(const RenderOptions& given) {
         return fail(outputError(fmt::format("cannot create output directory '{}': {}", o.outDir,
                                             ec ? ec.message() : "not a directory")));
     }
+    const session::FrameOutputs outputs{p.formats, o.depth, p.compose};
 
-    if (o.sequence.active()) {
-        SequenceJob job{&p,        backend->get(), o.backend, method,  o.outDir,
-                        o.formats, o.compose,      o.depth,   o.quiet, &*surfaces};
-        return runSequence(o.sequence, job);
+    if (recipe.sequence.active()) {
+        SequenceJob job{&p,      backend->get(), o.backend, method,
+                        o.outDir, outputs,       o.quiet,   &*surfaces};
+        return runSequence(recipe.sequence, job);
     }
 
     const auto start = std::chrono::steady_clock::now();
@@ -128,65 +141,18 @@ int runRender(const RenderOptions& given) {
                                               out.color.size(), p.rig.viewCount())));
     }
 
-    const std::filesystem::path dir(o.outDir);
-    std::vector<std::string> written;
     progress.emplace(fmt::format("writing and composing {} view{}", p.rig.viewCount(),
                                  p.rig.viewCount() == 1 ? "" : "s"));
-    for (int v = 0; v < p.rig.viewCount(); ++v) {
-        const auto path = dir / fmt::format("view-{}.png", v);
-        if (Status s = writePng(path, out.color[v]); !s) return fail(s);
-        written.push_back(path.string());
-        if (o.depth && v < int(out.depth.size())) {
-            const auto dpath = dir / fmt::format("depth-{}.png", v);
-            if (Status s = writeDepthPng(dpath, out.depth[v]); !s) return fail(s);
-            written.push_back(dpath.string());
-        }
-    }
-    composite::ComposeOptions compose = o.compose;
-    compose.baseline = p.rig.interaxial;
-    compose.convergence = p.rig.convergence;
-    if (p.rig.viewCount() == 2) {
-        // The red-cyan anaglyph every stereo render gets: Dubois' least-squares red-cyan,
-        // composed where the backend composes (a GPU backend on its GPU).
-        auto anaglyph = composeFor(**backend, "anaglyph-dubois", out.color, compose);
-        if (!anaglyph) return fail(anaglyph.status());
-        const auto path = dir / "anaglyph.png";
-        if (Status s = writePng(path, *anaglyph); !s) return fail(s);
-        written.push_back(path.string());
-    }
-    for (const std::string& format : o.formats) {
-        auto info = composite::findFormat(format);
-        if (!info) return fail(info.status());
-        if (info->extension == ".png") {
-            // Image formats: composed where the backend composes (same pixels as the CPU,
-            // anaglyphs within 1/255; src/gl/README.md), under the CPU's file name.
-            auto name = composite::compositeFileName(format, out.color, compose);
-            if (!name) return fail(name.status());
-            auto image = composeFor(**backend, format, out.color, compose);
-            if (!image) return fail(image.status());
-            const auto path = dir / *name;
-            if (Status s = writePng(path, *image); !s) return fail(s);
-            written.push_back(path.string());
-            continue;
-        }
-        auto path = composite::writeComposite(format, out.color, compose, dir);
-        if (!path) return fail(path.status());
-        written.push_back(path->string());
-    }
+    auto files = session::writeOutputs(o.outDir, out, p.rig, outputs, backend->get());
     progress.reset();
+    if (!files) return fail(files.status());
+    std::vector<std::string> written = std::move(files->paths);
     const std::optional<ComfortReport> comfort = comfortReport(p.rig, out);
     const std::optional<ScreenComfortReport> screenComfort = screenComfortReport(p, comfort);
     for (const std::string& w : renderWarnings(p, out, comfort, screenComfort))
         fmt::print(stderr, "{}\n", w);
     if (!o.reportJson.empty()) {
-        std::FILE* f = std::fopen(o.reportJson.c_str(), "wb");
-        const std::string json = comfortJson(p, comfort, screenComfort);
-        if (!f || std::fwrite(json.data(), 1, json.size(), f) != json.size()) {
-            if (f) std::fclose(f);
-            return fail(
-                outputError(fmt::format("--report-json {}: cannot write the file", o.reportJson)));
-        }
-        if (std::fclose(f) != 0) {
+        if (!session::writeTextFile(o.reportJson, comfortJson(p, comfort, screenComfort))) {
             return fail(
                 outputError(fmt::format("--report-json {}: cannot write the file", o.reportJson)));
         }

@@ -17,12 +17,12 @@
 
 #include <fmt/core.h>
 
-#include "camera_path.h"
 #include "distribute.h"
 #include "video.h"
 
 #include "mvr/backends.h"
 #include "mvr/core/animation.h"
+#include "mvr/session/sequence.h"
 
 namespace mvr::cli {
 
@@ -57,41 +57,6 @@ void addSequenceOptions(CLI::App* app, SequenceOptions& o) {
 
 namespace {
 
-Result<std::pair<int, int>> parseRange(const std::string& text, int frames) {
-    if (text.empty()) return std::pair{0, frames};
-    static const std::regex kRange(R"(\s*(\d*)\s*:\s*(\d*)\s*)");
-    std::smatch m;
-    if (!std::regex_match(text, m, kRange)) {
-        return usageError(fmt::format("--frame-range '{}' is not of the form A:B", text));
-    }
-    // More than 9 digits is past any frame count (and past what std::stol may hold).
-    auto number = [](const std::string& digits, long none) {
-        if (digits.empty()) return none;
-        return digits.size() > 9 ? 1000000000L : std::stol(digits);
-    };
-    const long a = number(m[1].str(), 0);
-    const long b = number(m[2].str(), frames);
-    if (a >= b || b > frames) {
-        return usageError(fmt::format(
-            "--frame-range '{}' is out of range (expected 0 <= A < B <= {} frames)", text, frames));
-    }
-    return std::pair{int(a), int(b)};
-}
-
-Result<std::pair<int, int>> parseShard(const std::string& text) {
-    if (text.empty()) return std::pair{0, 1};
-    static const std::regex kShard(R"(\s*(\d{1,6})\s*/\s*(\d{1,6})\s*)");
-    std::smatch m;
-    if (!std::regex_match(text, m, kShard)) {
-        return usageError(fmt::format("--shard '{}' is not of the form I/N (e.g. 0/4)", text));
-    }
-    const int i = std::stoi(m[1].str()), n = std::stoi(m[2].str());
-    if (n < 1 || i >= n) {
-        return usageError(fmt::format("--shard '{}' is out of range (expected 0 <= I < N)", text));
-    }
-    return std::pair{i, n};
-}
-
 /// Rank 0's report: a bar on a terminal, else one line per finished frame.
 class FrameProgress {
 public:
@@ -125,72 +90,26 @@ private:
 
 }  // namespace
 
-Status checkSequenceOptions(const SequenceOptions& o) {
-    if (o.frames < 0) {
-        return usageError(
-            fmt::format("--frames {} is out of range (expected 1..1000000)", o.frames));
-    }
-    if (!(o.fps > 0.0 && o.fps <= 1000.0)) {
-        return usageError(fmt::format("--fps {} is out of range (expected 0 < fps <= 1000)", o.fps));
-    }
-    if (o.active()) return {};
-    // Options of a sequence without one would be ignored: say so instead.
-    for (const auto& [name, value] : {std::pair{"--video", o.video},
-                                      std::pair{"--frame-range", o.frameRange},
-                                      std::pair{"--shard", o.shard}}) {
-        if (!value.empty()) {
-            return usageError(fmt::format(
-                "{} {} needs a sequence (--frames F, --orbit DEG or --camera-path FILE)", name,
-                value));
-        }
-    }
-    return {};
-}
+Status checkSequenceOptions(const SequenceOptions& o) { return session::checkSequence(o); }
 
 int runSequence(const SequenceOptions& o, const SequenceJob& job) {
     const Prepared& p = *job.prepared;
-    if (!std::isfinite(o.orbit)) {
-        return fail(usageError(fmt::format("--orbit {} is not a finite angle (degrees)", o.orbit)));
-    }
-    if (!(o.fps > 0.0 && o.fps <= 1000.0)) {
-        return fail(
-            usageError(fmt::format("--fps {} is out of range (expected 0 < fps <= 1000)", o.fps)));
-    }
-    if (o.orbit != 0.0 && !o.cameraPath.empty()) {
-        return fail(usageError("--orbit and --camera-path exclude each other"));
-    }
-    std::optional<CameraPath> path;
-    if (!o.cameraPath.empty()) {
-        auto read = readCameraPath(o.cameraPath);
-        if (!read) return fail(read.status());
-        path = std::move(read).value();
-    }
-    int frames = o.frames;
-    if (frames == 0 && path) frames = int(std::floor(path->duration() * o.fps)) + 1;
-    if (frames < 1 || frames > 1000000) {
-        return fail(usageError(fmt::format(
-            "--frames {} is out of range (expected 1..1000000; --orbit needs --frames)", frames)));
-    }
-    auto range = parseRange(o.frameRange, frames);
-    if (!range) return fail(range.status());
-    auto shard = parseShard(o.shard);
-    if (!shard) return fail(shard.status());
-    if (!o.video.empty() && shard->second > 1) {
+    auto plan = session::planSequence(o);
+    if (!plan) return fail(plan.status());
+    if (!o.video.empty() && plan->shards > 1) {
         return fail(usageError("--video needs every frame in one process (not with --shard)"));
     }
-    std::vector<int> todo;
-    for (int f = range->first; f < range->second; ++f) {
-        if (f % shard->second == shard->first) todo.push_back(f);
-    }
+    const int frames = plan->frames;
+    const std::vector<int>& todo = plan->todo;
 
     // The video's composite: the first one-image format, else every view as a stream.
     std::string videoFormat;
-    for (const std::string& format : job.formats) {
+    for (const std::string& format : job.outputs.formats) {
         auto info = composite::findFormat(format);
         if (!info) return fail(info.status());
         if (videoFormat.empty() && info->extension == ".png") videoFormat = format;
     }
-    composite::ComposeOptions compose = job.compose;
+    composite::ComposeOptions compose = job.outputs.compose;
     compose.baseline = p.rig.interaxial;
     compose.convergence = p.rig.convergence;
 
@@ -244,33 +163,17 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
     std::unique_ptr<VideoWriter> video;
     const std::filesystem::path dir(job.outDir);
     FrameProgress progress(int(todo.size()), job.quiet);
-    const int digits = std::max(4, int(std::to_string(frames - 1).size()));
-    // The file's animation (glTF): its nodes move in a copy of the scene, made once.
-    std::optional<Scene> animated;
-    if (p.animation) animated = p.scene;
+    // Per frame: the scene the file's animation moves, the camera and the rig around it.
+    session::FrameStepper stepper(p, *plan);
     // Renders views [v0, v1) of frame f (the rig moving with the camera).
     auto renderViews = [&](int f, int v0, int v1) -> Result<RenderOutput> {
-        const double time = f / o.fps;
-        if (animated) animateScene(*animated, *p.animation, time);
-        Camera camera = p.rig.camera;
-        if (o.orbit != 0.0) {
-            camera = orbitCamera(camera, p.rig.camera.target, orbitDegrees(o.orbit, f, frames));
-        } else if (path) {
-            camera = cameraAt(*path, time, p.rig.camera);
-        } else if (animated && p.animation->cameraNode >= 0 && animated->camera) {
-            // The file's animated camera (--orbit and --camera-path win over it).
-            camera = cameraFromNode(animated->camera->worldFromCamera, p.rig.camera);
-        }
-        auto rig = rigAt(p.rig, camera);
-        if (!rig) {
-            return Status(rig.status().code(),
-                          fmt::format("frame {}: {}", f, rig.status().message()));
-        }
+        auto rig = stepper.advance(f);
+        if (!rig) return rig.status();
         if (v0 > 0 || v1 < rig->viewCount()) {
             // A share of the views: the culling frustum still encloses all of them.
             rig->views = std::vector<View>(rig->views.begin() + v0, rig->views.begin() + v1);
         }
-        auto rendered = backend.render(animated ? *animated : p.scene, *rig, p.settings, job.method);
+        auto rendered = backend.render(stepper.scene(), *rig, p.settings, job.method);
         if (!rendered) {
             return Status(rendered.status().code(),
                           fmt::format("frame {}: {}", f, rendered.status().message()));
@@ -288,51 +191,15 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
                 return Status(s.code(), fmt::format("frame {}: {}", f, s.message()));
             }
         }
-        if (!job.depth) rendered->depth.clear();  // not written, not sent between ranks
+        if (!job.outputs.depth) rendered->depth.clear();  // not written, not sent between ranks
         return rendered;
     };
     auto emitFrame = [&](int f, const RenderOutput& out) -> Status {
-        const std::string name = fmt::format("frame-{:0{}}", f, digits);
-        const std::filesystem::path part = dir / (name + ".part"), final = dir / name;
-        std::error_code ec;
-        std::filesystem::remove_all(part, ec);
-        std::filesystem::create_directories(part, ec);
-        if (ec) {
-            return (
-                outputError(fmt::format("cannot create '{}': {}", part.string(), ec.message())));
-        }
-        for (int v = 0; v < int(out.color.size()); ++v) {
-            if (Status s = writePng(part / fmt::format("view-{}.png", v), out.color[v]); !s) {
-                return (s);
-            }
-            if (job.depth && v < int(out.depth.size())) {
-                if (Status s = writeDepthPng(part / fmt::format("depth-{}.png", v), out.depth[v]);
-                    !s) {
-                    return (s);
-                }
-            }
-        }
-        std::optional<Image> videoImage;
-        for (const std::string& format : job.formats) {
-            auto info = composite::findFormat(format);
-            if (info->extension == ".png") {
-                auto fileName = composite::compositeFileName(format, out.color, compose);
-                if (!fileName) return (fileName.status());
-                auto image = composeFor(backend, format, out.color, compose);
-                if (!image) return (image.status());
-                if (Status s = writePng(part / *fileName, *image); !s) return (s);
-                if (format == videoFormat) videoImage = std::move(image).value();
-                continue;
-            }
-            auto written = composite::writeComposite(format, out.color, compose, part);
-            if (!written) return (written.status());
-        }
-        std::filesystem::remove_all(final, ec);
-        std::filesystem::rename(part, final, ec);
-        if (ec) {
-            return (outputError(fmt::format("cannot rename '{}' to '{}': {}", part.string(),
-                                            final.string(), ec.message())));
-        }
+        // The frame's folder, as a still's files (anaglyph.png for a pair included).
+        auto files = session::writeFrameFolder(dir, *plan, f, out, p.rig, job.outputs, &backend,
+                                               o.video.empty() ? std::string() : videoFormat);
+        if (!files) return files.status();
+        std::optional<Image> videoImage = std::move(files->kept);
         if (!o.video.empty()) {
             const Image& first = videoImage ? *videoImage : out.color[0];
             if (!video) {

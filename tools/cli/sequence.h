@@ -13,21 +13,13 @@
 #include "mvr/core/stereo_surfaces.h"
 
 #include "mvr/composite/compose.h"
+#include "mvr/session/outputs.h"
+#include "mvr/session/recipe.h"
 
 namespace mvr::cli {
 
-struct SequenceOptions {
-    double orbit = 0.0;      ///< --orbit DEG: turntable over the frames
-    int frames = 0;          ///< --frames F (0: no sequence)
-    std::string cameraPath;  ///< --camera-path FILE.json (docs/animation.md)
-    std::string frameRange;  ///< --frame-range A:B (inclusive A, exclusive B)
-    std::string shard;       ///< --shard I/N: frames f with f mod N == I
-    double fps = 24.0;       ///< --fps: times of the camera path, and the video's rate
-    std::string video;       ///< --video FILE.mkv|.mp4
-    bool gatherStats = false;  ///< --gather-stats: rank 0's gather time (MPI)
-    int threads = 0;         ///< --threads: CPU threads per process; 0 = cores / ranks on this node
-    bool active() const { return frames > 0 || orbit != 0.0 || !cameraPath.empty(); }
-};
+/// --frames, --orbit, --camera-path, ...: the recipe's sequence (mvr/session/recipe.h).
+using SequenceOptions = session::SequenceRecipe;
 
 void addSequenceOptions(CLI::App* app, SequenceOptions& o);
 
@@ -37,9 +29,7 @@ struct SequenceJob {
     Backend* backend = nullptr;
     std::string backendName, method;
     std::string outDir;
-    std::vector<std::string> formats;
-    composite::ComposeOptions compose;
-    bool depth = false;
+    session::FrameOutputs outputs;  ///< each frame's files (session::writeOutputs())
     bool quiet = false;
     const StereoSurfaces* surfaces = nullptr;  ///< --sky, --label…: drawn into every frame
 };

@@ -2,8 +2,6 @@
 
 #include <fmt/core.h>
 
-#include "mvr/core/scene_io.h"
-
 namespace mvr::cli {
 
 void StereoSurfaceOptions::addTo(CLI::App* app) {
@@ -27,40 +25,6 @@ void StereoSurfaceOptions::addTo(CLI::App* app) {
     app->add_option("--label-anchor", anchors,
                     "Text attached to a 3D anchor point: 'TEXT@X,Y,Z' (world units); repeatable")
         ->type_name("TEXT@X,Y,Z");
-}
-
-Result<StereoSurfaces> StereoSurfaceOptions::build() const {
-    StereoSurfaces s;
-    if (!sky.empty()) {
-        auto loaded = loadSky(sky);
-        if (!loaded) return loaded.status();
-        s.sky = std::move(*loaded);
-    }
-    s.floatingWindow = floatingWindow;
-    if (letterbox != 0.0) {
-        if (!(letterbox > 0.0 && letterbox < 50.0))
-            return usageError(
-                fmt::format("--letterbox {}: must be in (0, 50) percent of the height", letterbox));
-        s.letterboxPercent = float(letterbox);
-    }
-    for (const std::string& spec : labels) {
-        auto l = parseLabel(spec, false);
-        if (!l) return l.status();
-        s.labels.push_back(std::move(*l));
-    }
-    for (const std::string& spec : anchors) {
-        auto l = parseLabel(spec, true);
-        if (!l) return l.status();
-        s.labels.push_back(std::move(*l));
-    }
-    return s;
-}
-
-Status applySurfaces(const StereoSurfaces& surfaces, const Rig& rig, RenderOutput& out) {
-    if (!surfaces.any()) return {};
-    auto applied = applyStereoSurfaces(surfaces, rig, out);
-    if (!applied) return applied.status();
-    return {};
 }
 
 }  // namespace mvr::cli

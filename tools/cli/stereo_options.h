@@ -12,6 +12,7 @@
 #include "mvr/core/rig.h"
 #include "mvr/core/status.h"
 #include "mvr/core/stereo_surfaces.h"
+#include "mvr/session/surfaces.h"
 
 namespace mvr::cli {
 
@@ -22,11 +23,12 @@ struct StereoSurfaceOptions {
     std::vector<std::string> labels, anchors;
 
     void addTo(CLI::App* app);
+    /// The recipe of these options (session::buildSurfaces() parses it).
+    session::SurfaceRecipe recipe() const { return {sky, floatingWindow, letterbox, labels, anchors}; }
     /// Parses the options (loads the sky map, parses the labels).
-    Result<StereoSurfaces> build() const;
+    Result<StereoSurfaces> build() const { return session::buildSurfaces(recipe()); }
 };
 
-/// applyStereoSurfaces() without the strips; nothing asked: nothing done.
-Status applySurfaces(const StereoSurfaces& surfaces, const Rig& rig, RenderOutput& out);
+using session::applySurfaces;
 
 }  // namespace mvr::cli

@@ -1,4 +1,5 @@
 #include "viewer.h"
+#include "viewer_window.h"
 
 #include <algorithm>
 #include <chrono>
@@ -29,30 +30,6 @@
 #include "viewer_backends.h"
 
 namespace mvr::viewer {
-
-const std::vector<std::string>& viewerFormats() {
-    static const std::vector<std::string> kFormats = {"anaglyph-dubois",
-                                                      "anaglyph-color",
-                                                      "anaglyph-half-color",
-                                                      "anaglyph-gray",
-                                                      "anaglyph-true",
-                                                      "anaglyph-dubois-gm",
-                                                      "anaglyph-dubois-ab",
-                                                      "sbs",
-                                                      "sbs-half",
-                                                      "tb",
-                                                      "tb-half",
-                                                      "rows",
-                                                      "columns",
-                                                      "checkerboard",
-                                                      "quad-buffer"};
-    return kFormats;
-}
-
-const std::vector<std::string>& viewerViewFormats() {
-    static const std::vector<std::string> kFormats = {"view", "quilt", "lenticular"};
-    return kFormats;
-}
 
 namespace {
 
@@ -103,7 +80,7 @@ void onGlfwError(int code, const char* description) {
 
 class Viewer {
 public:
-    Viewer(const ViewerOptions& options, cli::Prepared prepared, std::vector<ScriptStep> script)
+    Viewer(const ViewerOptions& options, session::Prepared prepared, std::vector<ScriptStep> script)
         : mOptions(options),
           mPrepared(std::move(prepared)),
           mScript(std::move(script)),
@@ -153,7 +130,7 @@ private:
     std::vector<std::string> hudLines() const;
 
     const ViewerOptions& mOptions;
-    cli::Prepared mPrepared;
+    session::Prepared mPrepared;
     std::vector<ScriptStep> mScript;
     std::size_t mScriptNext = 0;
 
@@ -895,142 +872,10 @@ int Viewer::run() {
 
 }  // namespace
 
-int runViewer(const ViewerOptions& given) {
-    ViewerOptions options = given;
-    if (options.calibrationGiven && options.composeOptions.lenticular.viewCone > 0.0) {
-        options.scene.calibrationViewCone = options.composeOptions.lenticular.viewCone;
-    }
-    auto script = parseScript(options.script);
-    if (!script) return cli::fail(script.status());
-    if (options.frames < 0) {
-        return cli::fail(
-            usageError(fmt::format("--frames {} is out of range (expected >= 0)", options.frames)));
-    }
-    auto prepared = options.scene.prepare();
-    if (!prepared) return cli::fail(prepared.status());
-    for (const std::string& note : prepared->notes) {  // -q keeps the warnings only
-        if (!options.quiet || note.rfind("note: ", 0) != 0) fmt::print(stderr, "{}\n", note);
-    }
-    if (prepared->rig.rows != 1 || prepared->rig.viewCount() < 2) {
-        return cli::fail(usageError(fmt::format(
-            "mvr view shows a row of views: {}x{} views requested (expected --views N, N >= 2)",
-            prepared->rig.columns, prepared->rig.rows)));
-    }
-    ViewerOptions withPreset = options;
-    if (prepared->display) {  // the preset's quilt grid and aspect, the panel of a calibration
-        std::vector<std::string> formats;
-        cli::displayOutputs(
-            *prepared->display, options.calibrationGiven,
-            options.quiltGiven || prepared->rig.viewCount() != prepared->display->views,
-            prepared->rig.camera.aspect, formats, withPreset.composeOptions);
-    }
-    if (withPreset.composeOptions.quiltAspect <= 0.0) {
-        withPreset.composeOptions.quiltAspect = prepared->rig.camera.aspect;
-    }
-    Viewer viewer(withPreset, std::move(prepared).value(), std::move(script).value());
+int runViewerWindow(const ViewerOptions& options, session::Prepared prepared,
+                    std::vector<ScriptStep> script) {
+    Viewer viewer(options, std::move(prepared), std::move(script));
     return viewer.run();
-}
-
-std::function<int()> addViewCommand(CLI::App& root) {
-    auto o = std::make_shared<ViewerOptions>();
-    o->scene.size = "960x540";
-    CLI::App* app = root.add_subcommand(
-        "view",
-        "Interactive stereo viewer: orbit, pan and zoom a scene or model files in a window, "
-        "switch the method and the output format live, with a HUD and a 3D cursor");
-    o->scene.addTo(app);
-    o->backend = defaultViewerBackend();
-    const std::string fallback = fallbackViewerBackend();
-    auto* backend =
-        app->add_option("--backend", o->backend,
-                        fmt::format("Backend: {} (default: {}, the first GPU backend{})",
-                                    fmt::join(backendNames(), " or "), o->backend,
-                                    fallback.empty() || fallback == o->backend
-                                        ? std::string()
-                                        : fmt::format("; falls back to {} when it has no "
-                                                      "context, unless given",
-                                                      fallback)))
-            ->default_val(o->backend);
-    std::vector<std::string> interactive;
-    for (const BackendEntry& e : backends())
-        if (!e.interactiveMethod.empty()) interactive.push_back(e.name + " " + e.interactiveMethod);
-    app->add_option("--method", o->method,
-                    fmt::format("Method of the backend (see `mvr info`; default: the backend's "
-                                "default method{}); m/M cycle them",
-                                interactive.empty()
-                                    ? std::string()
-                                    : fmt::format(", except {}", fmt::join(interactive, ", "))));
-    std::vector<std::string> allFormats = viewerFormats();
-    allFormats.insert(allFormats.end(), viewerViewFormats().begin(), viewerViewFormats().end());
-    auto* format =
-        app->add_option("--format", o->format,
-                        "Output: a stereo format (of views i, i+1 of a row), or view (one view), "
-                        "quilt, lenticular (all N views); default: the --display preset's "
-                        "output, else anaglyph-dubois; f/F cycle them")
-            ->default_val(o->format)
-            ->check(CLI::IsMember(allFormats));
-    auto* quilt = app->add_option_function<std::string>(
-                         "--quilt",
-                         [o](const std::string& text) {
-                             Result<std::pair<int, int>> grid = composite::parseQuiltGrid(text);
-                             if (!grid)
-                                 throw CLI::ValidationError("--quilt", grid.status().message());
-                             o->composeOptions.quiltColumns = grid->first;
-                             o->composeOptions.quiltRows = grid->second;
-                         },
-                         "quilt: tile grid CxR (default: the --display preset's, else the most "
-                         "square quilt)")
-                      ->type_name("CxR");
-    auto* calibration =
-        app->add_option_function<std::string>(
-               "--lenticular-calibration",
-               [o](const std::string& path) {
-                   Result<composite::LenticularCalibration> loaded =
-                       composite::readLookingGlassCalibration(path);
-                   if (!loaded) {
-                       throw CLI::ValidationError("--lenticular-calibration",
-                                                  loaded.status().message());
-                   }
-                   o->composeOptions.lenticular = *loaded;
-               },
-               "lenticular: a Looking Glass visual.json: adds the lenticular output (the "
-               "default under --display) and its viewCone is the default --view-cone")
-            ->type_name("FILE");
-    app->add_flag("--swap-eyes", o->swapEyes, "Exchange the left and right views");
-    app->add_option("--compose", o->compose,
-                    "Where anaglyphs are mixed: gpu (composite::anaglyphGlsl in the window) or cpu "
-                    "(composite::compose, as mvr render); other formats are composed on the CPU")
-        ->default_val(o->compose)
-        ->check(CLI::IsMember({"gpu", "cpu"}));
-    app->add_option("--frames", o->frames, "Render N frames and exit (0: until the window closes)")
-        ->default_val(o->frames);
-    app->add_option(
-        "--screenshot", o->screenshot,
-        "Write the last frame (what the window shows) to FILE (PNG); p saves FILE-1.png, …");
-    app->add_option(
-        "--script", o->script,
-        "Comma-separated keys applied one per frame, e.g. \"m,m,+\" or \">,>,v\"; also left, right, up, "
-        "down, pgup, pgdn, esc, f1, f12, at:X:Y (mouse), drag:DX:DY, pan:DX:DY, wheel:N, size:W:H");
-    app->add_flag("--no-hud", o->noHud, "Hide the HUD and the 3D cursor");
-    app->add_flag("-q,--quiet", o->quiet, "Print nothing but errors");
-    std::string keys = "Keys (also shown in the window by ? or F1):\n";
-    for (const KeyHelp& k : keyHelp()) keys += fmt::format("  {:<12} {}\n", k.keys, k.what);
-    keys +=
-        "The view size follows the window (--size sets the first one); side-by-side shows two "
-        "half-width views, top-bottom two half-height views.\n"
-        "N views (--views N, --view-cone DEG, --display NAME): f cycles view (one view at a "
-        "time), quilt, lenticular (with --lenticular-calibration), then the stereo formats "
-        "(views i and i+1); . and , (> and <) step through the views; + and - change the view "
-        "cone by 5 degrees; v toggles the single view. Under --display the preset's output "
-        "is shown first.";
-    app->footer(keys);
-    return [o, backend, format, quilt, calibration] {
-        o->backendGiven = backend->count() > 0;
-        o->formatGiven = format->count() > 0;
-        o->quiltGiven = quilt->count() > 0;
-        o->calibrationGiven = calibration->count() > 0;
-        return runViewer(*o);
-    };
 }
 
 }  // namespace mvr::viewer

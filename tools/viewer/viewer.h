@@ -41,7 +41,7 @@ struct ViewerOptions {
     std::string format = "anaglyph-dubois";
     bool formatGiven = false;  ///< --format was on the command line (else a preset's output)
     /// --quilt CxR and --lenticular-calibration visual.json (a preset fills in the rest:
-    /// cli::displayOutputs()).
+    /// session::prepare(), as for `mvr render --display`).
     composite::ComposeOptions composeOptions;
     bool quiltGiven = false, calibrationGiven = false;
     bool swapEyes = false;

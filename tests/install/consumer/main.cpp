@@ -1,12 +1,15 @@
 // The installed mvr from a consumer's side: the soft backend by name (mvr::makeBackend), the
 // default scene framed as `mvr render` frames it (mvr::frameScene), one stereo pair at 64x48.
-// Prints one line and exits 0 when the backend returned two drawn images of that size.
+// Prints one line and exits 0 when the backend returned two drawn images of that size, and
+// mvr::session prepared the same request from a RenderRecipe (the rig `mvr render` renders).
 #include <cstdio>
 #include <string>
 
 #include "mvr/backends.h"
 #include "mvr/core/framing.h"
 #include "mvr/core/scene.h"
+#include "mvr/session/prepare.h"
+#include "mvr/session/render.h"
 
 namespace {
 
@@ -45,6 +48,18 @@ int main() {
         }
         if (!drawn) return fail("an image holds only the clear colour");
     }
+    mvr::session::RenderRecipe recipe;
+    recipe.size = "64x48";
+    auto prepared = mvr::session::prepare(recipe);
+    if (!prepared) return fail("session::prepare: " + prepared.status().message());
+    if (prepared->rig.viewCount() != 2 || prepared->settings.width != 64 ||
+        prepared->rig.interaxial != request->rig.interaxial) {
+        return fail("session::prepare: not the framed request");
+    }
+    auto still = mvr::session::renderStill(recipe);
+    if (!still) return fail("session::renderStill: " + still.status().message());
+    if (still->output.color.size() != 2 || still->output.color[0].rgba != out->color[0].rgba)
+        return fail("session::renderStill: not the image of the framed request");
     std::printf("mvr consumer: %s:%s rendered 2 views of 64x48\n", (*backend)->name().c_str(),
                 out->method.c_str());
     return 0;

@@ -1,5 +1,5 @@
-// tools/cli/camera_path.cpp — the keyframe file of --camera-path (camera_path.h).
-#include "camera_path.h"
+// src/session/camera_path.cpp — the keyframe file of --camera-path (mvr/session/camera_path.h).
+#include "mvr/session/camera_path.h"
 
 #include <exception>
 #include <filesystem>
@@ -10,7 +10,7 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
-namespace mvr::cli {
+namespace mvr::session {
 
 namespace {
 
@@ -76,4 +76,4 @@ Result<CameraPath> readCameraPath(const std::string& file) {
     return path;
 }
 
-}  // namespace mvr::cli
+}  // namespace mvr::session

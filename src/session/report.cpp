@@ -1,16 +1,45 @@
-// tools/cli/display_options.cpp — the CLI side of issue 13 (docs/displays.md): a display
-// preset's outputs, --convergence auto / --separation auto (a depth pre-pass of the centre
-// view), the comfort report against a screen (--screen-width, --viewing-distance,
-// --report-json) and the warnings of "no silent nonsense".
+// src/session/report.cpp — the display side of a session (docs/displays.md): a display preset's
+// outputs, the views that see nothing of the scene, the depth pre-pass of --convergence auto /
+// --separation auto, and the reports after a render (parallax, screen comfort, their JSON,
+// the warnings of "no silent nonsense").
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/core.h>
+#include <nlohmann/json.hpp>
 
-#include "display_options.h"
-#include "options.h"
+#include "mvr/backends.h"
+#include "mvr/session/prepare.h"
 
-namespace mvr::cli {
+namespace mvr::session {
+
+std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& out) {
+    if (out.depth.empty() || rig.columns <= 1) return std::nullopt;
+    float dMin = 1.0f, dMax = 0.0f;
+    for (float d : out.depth[0].depth) {
+        if (d < 1.0f) {
+            dMin = std::min(dMin, d);
+            dMax = std::max(dMax, d);
+        }
+    }
+    if (dMin > dMax) return std::nullopt;
+    ComfortReport report;
+    report.range =
+        parallaxRange(rig, distanceFromWindowDepth(dMin, rig.camera.near, rig.camera.far),
+                      distanceFromWindowDepth(dMax, rig.camera.near, rig.camera.far));
+    const ParallaxRange& r = report.range;
+    const std::string adjacent = rig.columns > 2
+                                     ? fmt::format(", between adjacent views {:+.2f}% .. {:+.2f}%",
+                                                   100.0 * r.minParallax / (rig.columns - 1),
+                                                   100.0 * r.maxParallax / (rig.columns - 1))
+                                     : std::string();
+    report.line = fmt::format(
+        "parallax between outer views: {:+.2f}% .. {:+.2f}% of screen width{} ({})",
+        100.0 * r.minParallax, 100.0 * r.maxParallax, adjacent,
+        r.comfortable ? std::string("comfortable: all within [convergence/2, 100 x convergence]")
+                      : "uncomfortable: " + r.why);
+    return report;
+}
 
 void displayOutputs(const DisplayPreset& d, bool calibrationGiven, bool quiltGiven,
                     float cameraAspect, std::vector<std::string>& formats,
@@ -112,84 +141,77 @@ std::optional<ScreenComfortReport> screenComfortReport(const Prepared& p,
 
 namespace {
 
-std::string jsonString(const std::string& s) {
-    std::string out = "\"";
-    for (char ch : s) {
-        if (ch == '"' || ch == '\\') {
-            out += '\\';
-            out += ch;
-        } else if (static_cast<unsigned char>(ch) < 0x20) {
-            out += fmt::format("\\u{:04x}", int(static_cast<unsigned char>(ch)));
-        } else {
-            out += ch;
-        }
-    }
-    return out + "\"";
-}
+using Json = nlohmann::ordered_json;  // the fields in the order docs/displays.md lists them
 
-std::string jsonNumber(double v) { return std::isfinite(v) ? fmt::format("{}", v) : "null"; }
+/// A number, or null when it is not finite.
+Json number(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
 }  // namespace
 
 std::string comfortJson(const Prepared& p, const std::optional<ComfortReport>& range,
                         const std::optional<ScreenComfortReport>& screen) {
     const Rig& rig = p.rig;
-    std::string j = "{\n";
-    j += fmt::format(
-        "  \"rig\": {{\"kind\": {}, \"views\": {}, \"columns\": {}, \"rows\": {}, "
-        "\"interaxial\": {}, \"convergence\": {}, \"separation\": {}, "
-        "\"view_cone\": {}}},\n",
-        jsonString(rigKindName(rig.kind)), rig.viewCount(), rig.columns, rig.rows,
-        jsonNumber(rig.interaxial), jsonNumber(rig.convergence), jsonNumber(rig.separation()),
-        jsonNumber(p.viewConeDegrees));
-    j += fmt::format("  \"display\": {},\n",
-                     p.display ? jsonString(std::string(p.display->name)) : "null");
+    Json j;
+    j["rig"] = {{"kind", std::string(rigKindName(rig.kind))},
+                {"views", rig.viewCount()},
+                {"columns", rig.columns},
+                {"rows", rig.rows},
+                {"interaxial", number(rig.interaxial)},
+                {"convergence", number(rig.convergence)},
+                {"separation", number(rig.separation())},
+                {"view_cone", number(p.viewConeDegrees)}};
+    j["display"] = p.display ? Json(std::string(p.display->name)) : Json(nullptr);
     bool comfortable = true;
     std::string why;
     if (range) {
         const ParallaxRange& r = range->range;
-        j += fmt::format(
-            "  \"parallax\": {{\"between\": \"outer views\", \"min\": {}, \"max\": {}, "
-            "\"min_percent\": {}, \"max_percent\": {}, \"nearest_distance\": {}, "
-            "\"farthest_distance\": {}, \"comfortable\": {}, \"why\": {}, \"text\": {}}},\n",
-            jsonNumber(r.minParallax), jsonNumber(r.maxParallax), jsonNumber(100.0 * r.minParallax),
-            jsonNumber(100.0 * r.maxParallax), jsonNumber(r.nearestDistance),
-            jsonNumber(r.farthestDistance), r.comfortable ? "true" : "false", jsonString(r.why),
-            jsonString(range->line));
+        j["parallax"] = {{"between", "outer views"},
+                         {"min", number(r.minParallax)},
+                         {"max", number(r.maxParallax)},
+                         {"min_percent", number(100.0 * r.minParallax)},
+                         {"max_percent", number(100.0 * r.maxParallax)},
+                         {"nearest_distance", number(r.nearestDistance)},
+                         {"farthest_distance", number(r.farthestDistance)},
+                         {"comfortable", r.comfortable},
+                         {"why", r.why},
+                         {"text", range->line}};
         comfortable = r.comfortable;
         why = r.why;
     } else {
-        j += "  \"parallax\": null,\n";
+        j["parallax"] = nullptr;
     }
     if (screen) {
         const ScreenComfort& c = screen->comfort;
-        j += fmt::format(
-            "  \"screen\": {{\"width_cm\": {}, \"viewing_distance_cm\": {}, \"interocular_cm\": "
-            "{}, \"desktop\": {}, \"eye_separation\": {}, \"budget\": {}, \"budget_cm\": {}, "
-            "\"pair_views\": {}, \"min_parallax\": {}, \"max_parallax\": {}, "
-            "\"min_parallax_cm\": {}, \"max_parallax_cm\": {}, \"nearest_vergence_deg\": {}, "
-            "\"farthest_vergence_deg\": {}, \"screen_vergence_deg\": {}, \"comfortable\": {}, "
-            "\"why\": {}, \"text\": {}}},\n",
-            jsonNumber(c.screen.widthCm),
-            c.screen.viewingDistanceCm > 0.0f ? jsonNumber(c.screen.viewingDistanceCm) : "null",
-            jsonNumber(c.screen.interocularCm), c.budget.desktop ? "true" : "false",
-            jsonNumber(c.budget.eyeSeparation), jsonNumber(c.budget.fraction),
-            jsonNumber(c.budget.fraction * c.screen.widthCm), c.pairViews,
-            jsonNumber(c.minParallax), jsonNumber(c.maxParallax), jsonNumber(c.minParallaxCm),
-            jsonNumber(c.maxParallaxCm), jsonNumber(c.nearestVergenceDeg),
-            jsonNumber(c.farthestVergenceDeg), jsonNumber(c.screenVergenceDeg),
-            c.comfortable ? "true" : "false", jsonString(c.why), jsonString(screen->line));
+        j["screen"] = {
+            {"width_cm", number(c.screen.widthCm)},
+            {"viewing_distance_cm",
+             c.screen.viewingDistanceCm > 0.0f ? number(c.screen.viewingDistanceCm) : Json(nullptr)},
+            {"interocular_cm", number(c.screen.interocularCm)},
+            {"desktop", c.budget.desktop},
+            {"eye_separation", number(c.budget.eyeSeparation)},
+            {"budget", number(c.budget.fraction)},
+            {"budget_cm", number(c.budget.fraction * c.screen.widthCm)},
+            {"pair_views", c.pairViews},
+            {"min_parallax", number(c.minParallax)},
+            {"max_parallax", number(c.maxParallax)},
+            {"min_parallax_cm", number(c.minParallaxCm)},
+            {"max_parallax_cm", number(c.maxParallaxCm)},
+            {"nearest_vergence_deg", number(c.nearestVergenceDeg)},
+            {"farthest_vergence_deg", number(c.farthestVergenceDeg)},
+            {"screen_vergence_deg", number(c.screenVergenceDeg)},
+            {"comfortable", c.comfortable},
+            {"why", c.why},
+            {"text", screen->line}};
         comfortable = comfortable && c.comfortable;
         if (!c.why.empty()) why += (why.empty() ? "" : "; ") + c.why;
     } else {
-        j += "  \"screen\": null,\n";
+        j["screen"] = nullptr;
     }
-    std::string notes = "[";
-    for (const std::string& n : p.notes) notes += (notes.size() > 1 ? ", " : "") + jsonString(n);
-    j += fmt::format("  \"notes\": {}],\n", notes);
-    j += fmt::format("  \"comfortable\": {},\n  \"why\": {}\n}}\n",
-                     range ? (comfortable ? "true" : "false") : "null", jsonString(why));
-    return j;
+    j["notes"] = p.notes;
+    j["comfortable"] = range ? Json(comfortable) : Json(nullptr);
+    j["why"] = why;
+    // Invalid UTF-8 in a note or a file name is replaced, not an exception.
+    return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 std::vector<std::string> renderWarnings(const Prepared& p, const RenderOutput& out,
@@ -224,4 +246,4 @@ std::vector<std::string> renderWarnings(const Prepared& p, const RenderOutput& o
     return w;
 }
 
-}  // namespace mvr::cli
+}  // namespace mvr::session

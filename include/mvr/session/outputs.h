@@ -1,0 +1,46 @@
+// mvr/session/outputs.h — the one writer of a rendered frame's files (library mvr::session),
+// used by `mvr render` (a still, every frame of a sequence, MPI rank 0) and by the Python
+// module: view-N.png (and depth-N.png), anaglyph.png for a stereo pair (Dubois' red-cyan,
+// composite::kDefaultAnaglyph), then one file per format under compositeFileName().
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mvr/backends.h"
+#include "mvr/composite/compose.h"
+#include "mvr/core/image.h"
+#include "mvr/core/render.h"
+#include "mvr/core/rig.h"
+#include "mvr/core/status.h"
+
+namespace mvr::session {
+
+/// What writeOutputs() writes besides the views.
+struct FrameOutputs {
+    std::vector<std::string> formats;  ///< composite formats, in order
+    bool depth = false;                ///< depth-N.png for the views that have depth
+    /// The composite options; writeOutputs() sets their baseline and convergence from the rig.
+    composite::ComposeOptions compose;
+};
+
+/// What writeOutputs() wrote.
+struct WrittenFrame {
+    std::vector<std::string> paths;  ///< every file, in the order written
+    /// The composed image of `keepFormat` (an image format among the formats), when asked.
+    std::optional<Image> kept;
+};
+
+/// Writes the files of one frame into `dir` (created when missing: "cannot create output
+/// directory '...'", ErrorCode::Output). Image composites are composed where `backend` composes
+/// (a GPU backend on its GPU; null: the CPU). Errors: the first file that fails.
+Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const RenderOutput& out,
+                                  const Rig& rig, const FrameOutputs& outputs,
+                                  const Backend* backend, const std::string& keepFormat = {});
+
+/// Writes `text` to the file `path` (the comfort report's JSON); false when it could not.
+bool writeTextFile(const std::string& path, const std::string& text);
+
+}  // namespace mvr::session

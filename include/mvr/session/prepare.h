@@ -1,0 +1,103 @@
+// mvr/session/prepare.h — a RenderRecipe made ready to render (library mvr::session): the scene
+// (models placed and combined, a named scene, exposure, billboards), the rig (views, display
+// preset, spacing including --convergence auto / --separation auto through a depth pre-pass on
+// the registry's first backend), the settings, the outputs a display preset adds, and the
+// reports `mvr render` prints after rendering (parallax, screen comfort, its JSON, warnings).
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mvr/composite/compose.h"
+#include "mvr/core/animation.h"
+#include "mvr/core/displays.h"
+#include "mvr/core/render.h"
+#include "mvr/core/rig.h"
+#include "mvr/core/scene.h"
+#include "mvr/core/status.h"
+#include "mvr/session/recipe.h"
+
+namespace mvr::session {
+
+/// A scene, rig and settings ready to render.
+struct Prepared {
+    Scene scene;
+    Rig rig;
+    RenderSettings settings;
+    std::string sceneName;                 ///< "default scene" or the model file names
+    std::optional<DisplayPreset> display;  ///< the recipe's display preset
+    std::optional<ScreenGeometry> screen;  ///< screenWidthCm (and viewingDistanceCm)
+    float viewConeDegrees = 0.0f;          ///< the rig's view cone (0: none)
+    /// One-line notes: what --convergence auto / --separation auto chose ("note: …") and
+    /// warnings ("warning: …", e.g. views that see nothing of the scene).
+    std::vector<std::string> notes;
+    /// The model file's animation (glTF's first), played by sequences (docs/animation.md);
+    /// cameraNode is -1 when the file camera is not the rig's (noFileCamera, grid).
+    std::optional<SceneAnimation> animation;
+    /// The recipe's formats and composite options plus what its display preset adds
+    /// (displayOutputs()).
+    std::vector<std::string> formats;
+    composite::ComposeOptions compose;
+};
+
+/// Where prepare() sends the warnings of loading models ("warning: ..."), as they happen.
+/// Default (none given): stderr, one line each.
+using WarningSink = std::function<void(const std::string&)>;
+
+/// Loads the models (or the named scene), builds the rig and settings; validates everything.
+/// Errors: ErrorCode::Usage for bad values (the message names the `mvr render` option), Input
+/// for unreadable models, the backends' errors for the depth pre-pass.
+Result<Prepared> prepare(const RenderRecipe& recipe, const WarningSink& warn = {});
+
+/// Parses "WxH" (both 1..16384). Errors: ErrorCode::Usage, naming `what` ("--size").
+Result<std::pair<int, int>> parseSize(const std::string& text, const char* what);
+
+/// A display preset's outputs: its format (if not already asked for), the quilt grid unless
+/// `quiltGiven` (or the view count changed: then the most square quilt), the quilt name's aspect
+/// (the camera's: `cameraAspect`), and lenticular when a calibration was given (its panel size
+/// unless the calibration names one).
+void displayOutputs(const DisplayPreset& d, bool calibrationGiven, bool quiltGiven,
+                    float cameraAspect, std::vector<std::string>& formats,
+                    composite::ComposeOptions& compose);
+
+/// The views whose frustum the scene's bounding sphere lies entirely outside of.
+std::vector<int> viewsMissingScene(const Scene& scene, const Rig& rig);
+
+/// Renders the depth of `camera` alone (at most 256 pixels across, on the registry's first
+/// backend) and returns the 1st / 99th percentile distances of what it hit; none when it hit
+/// nothing or the backend gives no depth.
+Result<std::optional<DepthPercentiles>> centreDepthPrepass(const Scene& scene, const Camera& camera,
+                                                           const RenderSettings& settings);
+
+// ---- the reports after a render ----------------------------------------------------------------
+
+/// The parallax between the outer views over the depth range view 0 saw, and its line. None for
+/// one column of views, without depth, or when nothing was drawn.
+struct ComfortReport {
+    ParallaxRange range;
+    std::string line;  ///< "parallax between outer views: ... (comfortable: ...)", no newline
+};
+std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& out);
+
+/// The comfort report against the screen (screenWidthCm / viewingDistanceCm), after
+/// comfortReport(): the parallax between the views the eyes see in cm and degrees of vergence
+/// against the interocular budget (displays.h), and its line.
+struct ScreenComfortReport {
+    ScreenComfort comfort;
+    std::string line;  ///< "on a 12 cm screen at 40 cm: ... (comfortable | uncomfortable: why)"
+};
+std::optional<ScreenComfortReport> screenComfortReport(const Prepared& p,
+                                                       const std::optional<ComfortReport>& range);
+/// The comfort report as JSON (`mvr render --report-json`; fields in docs/displays.md).
+std::string comfortJson(const Prepared& p, const std::optional<ComfortReport>& range,
+                        const std::optional<ScreenComfortReport>& screen);
+/// Warnings after a render ("warning: ..."): no view drew anything; parallax far above the
+/// budget (twice it with a screen, one screen width without).
+std::vector<std::string> renderWarnings(const Prepared& p, const RenderOutput& out,
+                                        const std::optional<ComfortReport>& range,
+                                        const std::optional<ScreenComfortReport>& screen);
+
+}  // namespace mvr::session

@@ -1,0 +1,106 @@
+// mvr/session/recipe.h — every input of `mvr render` as one plain struct (library mvr::session).
+//
+// A RenderRecipe says what to render: the models (or a named scene), the views and their rig,
+// the image, the surfaces drawn after the scene, the sequence and the outputs. prepare()
+// (mvr/session/prepare.h) turns it into the scene, rig and settings that `mvr render` renders,
+// with the same checks and the same messages (they name the command-line options: "--fov nan is
+// out of range ..."); writeOutputs() (mvr/session/outputs.h) writes a frame's files. The `mvr`
+// tool fills a recipe from its options, the Python module from its keywords, the viewer from
+// its own options: all three get the same scene for the same inputs.
+//
+// Optional fields are "not given": prepare() then uses the default (or a display preset's value,
+// which a given field overrides).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mvr/composite/compose.h"
+
+namespace mvr::session {
+
+/// What is drawn into every view after the scene (mvr/core/stereo_surfaces.h): --sky,
+/// --floating-window, --letterbox, --label, --label-anchor.
+struct SurfaceRecipe {
+    std::string sky;  ///< "gradient" or a PNG / JPEG map; empty: none
+    bool floatingWindow = false;
+    double letterbox = 0.0;           ///< percent of the height per band; 0: none
+    std::vector<std::string> labels;  ///< "TEXT@x,y[,distance]"
+    std::vector<std::string> anchors;  ///< "TEXT@X,Y,Z"
+};
+
+/// A sequence (--frames, --orbit, --camera-path ...): active() when any of the three is given.
+struct SequenceRecipe {
+    int frames = 0;          ///< 0: none (or the camera path's length)
+    double orbit = 0.0;      ///< degrees about the scene centre over the frames
+    std::string cameraPath;  ///< keyframes, JSON (docs/animation.md)
+    std::string frameRange;  ///< "A:B" (inclusive A, exclusive B); empty: all
+    std::string shard;       ///< "I/N": frames f with f mod N == I; empty: all
+    double fps = 24.0;       ///< camera path times, the video's rate
+    std::string video;       ///< .mkv | .mp4 (the `mvr` tool's FFmpeg); empty: none
+    int threads = 0;         ///< CPU threads of the backend per process; 0: the default
+    bool gatherStats = false;  ///< MPI: rank 0's gather time per frame
+    bool active() const { return frames > 0 || orbit != 0.0 || !cameraPath.empty(); }
+};
+
+/// The files of a render (writeOutputs()): DIR/view-N.png, depth-N.png, anaglyph.png for a
+/// pair, one file per format; for a sequence, the same per DIR/frame-NNNN/.
+struct OutputRecipe {
+    std::string directory;             ///< empty: nothing written (the library returns images)
+    std::vector<std::string> formats;  ///< composite formats (composite::formatNames())
+    bool depth = false;                ///< also depth-N.png (16-bit, near = black)
+    std::string reportJson;            ///< the comfort report as JSON; empty: none
+    /// The composite options. Their baseline and convergence are the rig's at writing time.
+    composite::ComposeOptions compose;
+    bool calibrationGiven = false;  ///< compose.lenticular comes from a visual.json
+    bool quiltGiven = false;        ///< compose.quilt* were given (a preset keeps them)
+};
+
+struct RenderRecipe {
+    // ---- the scene ----
+    /// Model files (OBJ, PLY, glTF), each optionally placed: FILE@X,Y,Z[,SCALE[,YAW]].
+    std::vector<std::string> models;
+    std::string scene = "default";  ///< without models: default | village | textured
+    int grid = 1;                   ///< copies of the model(s) in a grid
+    bool noFileCamera = false;      ///< frame the bounds instead of the file's camera
+    std::optional<double> exposure;  ///< EV (stops)
+    bool exposureAuto = false;
+    int billboards = 0;           ///< camera-facing quads scattered through the bounds
+    double billboardSize = 0.0;   ///< 0: 3 % of the scene's radius
+
+    // ---- the views and the rig ----
+    std::optional<int> views;  ///< a row of N views (default 2, or the display's)
+    std::string viewGrid;      ///< "CxR"; excludes views
+    std::string display;       ///< a display preset (mvr/core/displays.h); empty: none
+    std::string rig = "offaxis";  ///< offaxis | toein | parallel
+    std::optional<double> interaxial;
+    std::optional<double> separation;
+    bool separationAuto = false;  ///< needs screenWidthCm
+    std::optional<double> convergence;
+    bool convergenceAuto = false;
+    std::optional<double> viewCone;  ///< degrees; an off-axis row
+    /// A calibration's view cone (visual.json "viewCone"): the default cone where a preset's
+    /// would apply; viewCone wins.
+    std::optional<double> calibrationViewCone;
+    std::optional<double> fov;  ///< degrees (default: the file camera's, else 45)
+    std::optional<double> screenWidthCm;
+    std::optional<double> viewingDistanceCm;
+
+    // ---- the image ----
+    std::optional<std::string> size;  ///< "WxH" per view (default 1024x768, or the display's)
+    std::string shading = "vertex";  ///< flat | vertex | pixel
+    bool cull = false;
+    bool wireframe = false;
+    bool shadows = false;
+    int shadowMapSize = 1024;
+
+    // ---- what is drawn after the scene, the sequence, the outputs and the backend ----
+    SurfaceRecipe surfaces;
+    SequenceRecipe sequence;
+    OutputRecipe outputs;
+    std::string backend;  ///< empty: the registry's first backend
+    std::string method;   ///< empty: the backend's default method
+};
+
+}  // namespace mvr::session

@@ -1,0 +1,332 @@
+// python/src/render.cpp — mvr.render() and mvr.render_sequence() (render.h).
+#include "render.h"
+
+#include <chrono>
+#include <cstring>
+#include <optional>
+
+#include <fmt/core.h>
+
+#include "mvr/composite/jpeg.h"
+#include "mvr/session/outputs.h"
+#include "mvr/session/prepare.h"
+#include "mvr/session/surfaces.h"
+
+namespace mvr::python {
+
+namespace {
+
+/// An array over the caller-owned block the backend rendered into (RenderSettings::output):
+/// its base is a capsule holding the block, so the pixels are never copied on the way out.
+template <class E>
+py::array adoptBlock(const std::shared_ptr<OutputBlock>& block, E* data,
+                     std::vector<py::ssize_t> shape) {
+    auto* owner = new std::shared_ptr<OutputBlock>(block);
+    py::capsule base(owner, [](void* p) { delete static_cast<std::shared_ptr<OutputBlock>*>(p); });
+    return py::array_t<E>(shape, data, base);
+}
+
+/// Puts every view the backend (or a post-process) left outside the block into its place and
+/// frees the images (their in-place memory is the block's; freeing it is a no-op). Returns how
+/// many views had to be copied (0 on every backend of this build; the tests check it).
+template <class Img>
+int settle(std::vector<Img>& views, OutputBlock& block) {
+    int copied = 0;
+    const std::size_t n = std::size_t(block.width()) * std::size_t(block.height());
+    if (views.size() != std::size_t(block.views()))
+        throwStatus(internalError(
+            fmt::format("backend returned {} images for {} views", views.size(), block.views())));
+    for (std::size_t v = 0; v < views.size(); ++v) {
+        if (!block.inPlace(views[v], int(v))) {
+            if (views[v].width != block.width() || views[v].height != block.height())
+                throwStatus(internalError(fmt::format("backend returned view {} of {}x{} for {}x{}",
+                                                      v, views[v].width, views[v].height,
+                                                      block.width(), block.height())));
+            ++copied;
+            if constexpr (std::is_same_v<Img, Image>) {
+                std::memcpy(block.color() + v * n * 4, views[v].rgba.data(), n * 4);
+            } else {
+                std::memcpy(block.depth() + v * n, views[v].depth.data(), n * sizeof(float));
+            }
+        }
+    }
+    views.clear();
+    return copied;
+}
+
+}  // namespace
+
+py::array imageArray(Image&& image) {
+    const py::ssize_t h = image.height, w = image.width;
+    return adopt(std::move(image.rgba), {h, w, 4});
+}
+
+std::mutex& gpuMutex() {
+    static std::mutex m;
+    return m;
+}
+
+/// Composes `views` as `format`: an array for image formats, bytes for jps / mpo.
+py::object composeOne(const std::string& format, std::vector<Image>& views,
+                      const composite::ComposeOptions& options, const Backend* backend, bool gpu) {
+    const composite::FormatInfo info = check(composite::findFormat(format));
+    Result<Image> image = usageError("");
+    Result<std::vector<std::uint8_t>> bytes = usageError("");
+    {
+        py::gil_scoped_release release;
+        std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
+        if (gpu && backend) lock.lock();
+        if (info.extension == ".png") {
+            image = backend ? composeFor(*backend, format, views, options)
+                            : composite::compose(format, views, options);
+        } else if (info.name == "mpo") {
+            bytes = composite::encodeMpo(views, options);
+        } else {
+            Result<Image> picture = composite::compose(format, views, options);
+            bytes = picture ? composite::encodeJpsPicture(*picture, options.jpegQuality)
+                            : Result<std::vector<std::uint8_t>>(picture.status());
+        }
+    }
+    if (info.extension == ".png") return imageArray(check(std::move(image)));
+    std::vector<std::uint8_t> b = check(std::move(bytes));
+    return py::bytes(reinterpret_cast<const char*>(b.data()), b.size());
+}
+
+// ---- one call: the recipe prepared, its backend and surfaces ------------------------------------
+struct Job {
+    RenderKeywords keywords;
+    session::Prepared prepared;
+    StereoSurfaces surfaces;
+    std::unique_ptr<Backend> backend;
+    std::string backendName, method;
+    bool gpu = false;
+
+    ~Job() {  // the driver context goes on the thread that used it (called with the GIL held)
+        if (!backend) return;
+        py::gil_scoped_release release;
+        std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
+        if (gpu) lock.lock();
+        backend.reset();
+    }
+};
+
+namespace {
+
+/// Prepares the recipe, builds the surfaces, makes the backend and checks the method; errors in
+/// that order (as mvr render reports them).
+std::unique_ptr<Job> makeJob(RenderKeywords keywords) {
+    auto job = std::make_unique<Job>();
+    job->keywords = std::move(keywords);
+    const session::RenderRecipe& recipe = job->keywords.recipe;
+    job->backendName = !recipe.backend.empty()
+                           ? recipe.backend
+                           : (backendNames().empty() ? "" : backendNames().front());
+    job->method = recipe.method;
+    Result<session::Prepared> prepared = usageError("");
+    Result<StereoSurfaces> surfaces = usageError("");
+    Status failure;
+    {
+        py::gil_scoped_release release;
+        prepared = session::prepare(recipe);
+        surfaces = session::buildSurfaces(recipe.surfaces);
+        if (prepared && !surfaces) prepared = surfaces.status();
+        if (prepared) {
+            if (auto entry = findBackend(job->backendName)) job->gpu = (*entry)->gpu;
+            std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
+            if (job->gpu) lock.lock();
+            Result<std::unique_ptr<Backend>> made = makeBackend(job->backendName);
+            if (!made) {
+                failure = made.status();
+            } else {
+                job->backend = std::move(made).value();
+                if (job->method.empty()) job->method = job->backend->defaultMethod();
+                failure = job->backend->supports(job->method);
+            }
+        }
+    }
+    job->prepared = check(std::move(prepared));
+    if (!failure) throwStatus(failure);
+    job->surfaces = std::move(surfaces).value();
+    return job;
+}
+
+/// Renders one frame of the job — the prepared rig, or a sequence's frame `frame` (its scene and
+/// rig) — into a fresh output block, and returns it as the result; output= writes its files
+/// (the still's, or the sequence's frame folder).
+RenderResult renderFrame(Job& job, const Scene& scene, const Rig& rig,
+                         const session::SequencePlan* plan, int frame) {
+    const session::Prepared& p = job.prepared;
+    const session::RenderRecipe& recipe = job.keywords.recipe;
+    std::shared_ptr<OutputBlock> block;
+    Result<RenderOutput> rendered = usageError("");
+    double ms = 0.0;
+    {
+        py::gil_scoped_release release;
+        RenderSettings settings = p.settings;
+        // The views are rendered straight into the memory the arrays will own (zero copy),
+        // when the request is within the budget every backend checks first.
+        if (framebufferBytes(rig.viewCount(), settings.width, settings.height) <=
+            kMaxFramebufferBytes) {
+            block = std::make_shared<OutputBlock>(rig.viewCount(), settings.width, settings.height);
+            settings.output = block.get();
+        }
+        std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
+        if (job.gpu) lock.lock();
+        const auto start = std::chrono::steady_clock::now();
+        rendered = job.backend->render(scene, rig, settings, job.method);
+        if (rendered) {
+            if (Status st = session::applySurfaces(job.surfaces, rig, *rendered); !st)
+                rendered = st;
+        }
+        ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                 .count();
+    }
+    RenderOutput out = check(std::move(rendered));
+    // The formats with a display preset's (display=, as `mvr render --display`).
+    const std::vector<std::string>& formats = p.formats;
+    composite::ComposeOptions compose = p.compose;
+    if (int(out.color.size()) != rig.viewCount())
+        throwStatus(internalError(fmt::format("backend returned {} images for {} views",
+                                              out.color.size(), rig.viewCount())));
+
+    RenderResult r;
+    r.method = py::str(out.method);
+    r.note = py::str(out.note);
+    r.backend = py::str(job.backendName);
+    r.scene = py::str(p.sceneName);
+    r.triangles = py::int_(p.scene.triangleCount());
+    r.size = py::make_tuple(p.settings.width, p.settings.height);
+    r.shading = py::str(std::string(shadingName(p.settings.shading)));
+    r.elapsedMs = py::float_(ms);
+    py::dict rd;
+    rd["kind"] = std::string(rigKindName(rig.kind));
+    rd["columns"] = rig.columns;
+    rd["rows"] = rig.rows;
+    rd["views"] = rig.viewCount();
+    rd["interaxial"] = rig.interaxial;
+    rd["interaxial_y"] = rig.interaxialY;
+    rd["convergence"] = rig.convergence;
+    rd["separation"] = rig.separation();
+    rd["fov"] = rig.camera.fovYDegrees;
+    rd["aspect"] = rig.camera.aspect;
+    rd["near"] = rig.camera.near;
+    rd["far"] = rig.camera.far;
+    py::list eyes;
+    for (const View& v : rig.views)
+        eyes.append(py::make_tuple(v.eyeWorld.x, v.eyeWorld.y, v.eyeWorld.z));
+    rd["eyes"] = eyes;
+    r.rig = rd;
+    py::dict comfort;
+    if (auto c = session::comfortReport(rig, out)) {
+        comfort["min_parallax"] = c->range.minParallax;
+        comfort["max_parallax"] = c->range.maxParallax;
+        comfort["min_parallax_percent"] = 100.0 * c->range.minParallax;
+        comfort["max_parallax_percent"] = 100.0 * c->range.maxParallax;
+        comfort["nearest_distance"] = c->range.nearestDistance;
+        comfort["farthest_distance"] = c->range.farthestDistance;
+        comfort["comfortable"] = c->range.comfortable;
+        comfort["why"] = c->range.why;
+        comfort["text"] = c->line;
+    }
+    const std::optional<session::ComfortReport> range = session::comfortReport(rig, out);
+    const std::optional<session::ScreenComfortReport> screen = session::screenComfortReport(p, range);
+    if (screen) {  // screen_width= (and viewing_distance=): the report against the screen
+        const ScreenComfort& s = screen->comfort;
+        py::dict sd;
+        sd["width_cm"] = s.screen.widthCm;
+        sd["viewing_distance_cm"] = s.screen.viewingDistanceCm;
+        sd["budget"] = s.budget.fraction;
+        sd["budget_cm"] = s.budget.fraction * s.screen.widthCm;
+        sd["desktop"] = s.budget.desktop;
+        sd["pair_views"] = s.pairViews;
+        sd["min_parallax_cm"] = s.minParallaxCm;
+        sd["max_parallax_cm"] = s.maxParallaxCm;
+        sd["nearest_vergence_deg"] = s.nearestVergenceDeg;
+        sd["farthest_vergence_deg"] = s.farthestVergenceDeg;
+        sd["screen_vergence_deg"] = s.screenVergenceDeg;
+        sd["comfortable"] = s.comfortable;
+        sd["why"] = s.why;
+        sd["text"] = screen->line;
+        comfort["screen"] = sd;
+    }
+    r.comfort = comfort;
+    py::list notes;
+    for (const std::string& n : p.notes) notes.append(n);
+    for (const std::string& w : session::renderWarnings(p, out, range, screen)) notes.append(w);
+    rd["notes"] = notes;  // what --convergence/--separation auto chose, and warnings
+    rd["view_cone"] = p.viewConeDegrees;
+
+    // Composites first (they read the views), then the views leave as arrays.
+    compose.baseline = rig.interaxial;
+    compose.convergence = rig.convergence;
+    py::dict composites;
+    for (const std::string& f : formats)
+        composites[py::str(f)] = composeOne(f, out.color, compose, job.backend.get(), job.gpu);
+    r.composites = composites;
+    std::vector<std::string> written;
+    if (const std::string& outDir = recipe.outputs.directory; !outDir.empty()) {
+        Status s;
+        {
+            py::gil_scoped_release release;
+            std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
+            if (job.gpu) lock.lock();
+            const session::FrameOutputs outputs{formats, recipe.outputs.depth, compose};
+            auto files = plan ? session::writeFrameFolder(outDir, *plan, frame, out, p.rig,
+                                                          outputs, job.backend.get())
+                              : session::writeOutputs(outDir, out, p.rig, outputs,
+                                                      job.backend.get());
+            if (files) written = std::move(files->paths);
+            s = files ? Status() : files.status();
+        }
+        if (!s) throwStatus(s);
+    }
+    // The report after the files, as `mvr render` writes it (its folder may be the output's).
+    const std::string& reportJson = recipe.outputs.reportJson;
+    if (!plan && !reportJson.empty() &&
+        !session::writeTextFile(reportJson, session::comfortJson(p, range, screen)))
+        throwStatus(outputError("report_json: cannot write " + reportJson));
+    r.written = py::cast(written);
+    if (plan) r.frame = py::int_(frame);
+    const py::ssize_t n = py::ssize_t(out.color.size()), h = p.settings.height,
+                      w = p.settings.width;
+    const bool hasDepth = int(out.depth.size()) == n;
+    if (!block) throwStatus(internalError("no output block for the views"));
+    {
+        py::gil_scoped_release release;
+        r.copiedViews = settle(out.color, *block);
+        if (hasDepth) r.copiedViews += settle(out.depth, *block);
+    }
+    r.color = adoptBlock(block, block->color(), {n, h, w, 4});
+    r.depth = hasDepth ? py::object(adoptBlock(block, block->depth(), {n, h, w})) : py::none();
+    return r;
+}
+
+}  // namespace
+
+RenderResult render(const py::object& models, const py::kwargs& kwargs) {
+    std::unique_ptr<Job> job = makeJob(renderKeywords(models, kwargs, /*sequence=*/false));
+    return renderFrame(*job, job->prepared.scene, job->prepared.rig, nullptr, 0);
+}
+
+Sequence::Sequence(const py::object& models, const py::kwargs& kwargs) {
+    RenderKeywords keywords = renderKeywords(models, kwargs, /*sequence=*/true);
+    if (Status s = session::checkSequence(keywords.recipe.sequence); !s) throwStatus(s);
+    mPlan = check(session::planSequence(keywords.recipe.sequence));
+    mJob = makeJob(std::move(keywords));
+    mStepper = std::make_unique<session::FrameStepper>(mJob->prepared, mPlan);
+}
+
+Sequence::~Sequence() = default;
+
+RenderResult Sequence::next() {
+    if (mNext >= mPlan.todo.size()) throw py::stop_iteration();
+    const int f = mPlan.todo[mNext++];
+    Result<Rig> rig = usageError("");
+    {
+        py::gil_scoped_release release;
+        rig = mStepper->advance(f);
+    }
+    return renderFrame(*mJob, mStepper->scene(), check(std::move(rig)), &mPlan, f);
+}
+
+}  // namespace mvr::python

@@ -1,0 +1,113 @@
+// src/session/outputs.cpp — the one writer of a frame's files (mvr/session/outputs.h) and the
+// surfaces drawn after the scene (mvr/session/surfaces.h).
+#include "mvr/session/outputs.h"
+
+#include <cstdio>
+
+#include <fmt/core.h>
+
+#include "mvr/core/scene_io.h"
+#include "mvr/session/surfaces.h"
+
+namespace mvr::session {
+
+Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const RenderOutput& out,
+                                  const Rig& rig, const FrameOutputs& outputs,
+                                  const Backend* backend, const std::string& keepFormat) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir)) {
+        return outputError(fmt::format("cannot create output directory '{}': {}", dir.string(),
+                                       ec ? ec.message() : "not a directory"));
+    }
+    composite::ComposeOptions compose = outputs.compose;
+    compose.baseline = rig.interaxial;
+    compose.convergence = rig.convergence;
+    // Image composites where the backend composes (same pixels as the CPU, anaglyphs within
+    // 1/255; src/gl/README.md), else on the CPU.
+    auto composeImage = [&](std::string_view format) {
+        return backend ? composeFor(*backend, format, out.color, compose)
+                       : composite::compose(format, out.color, compose);
+    };
+    WrittenFrame written;
+    for (std::size_t v = 0; v < out.color.size(); ++v) {
+        const auto path = dir / fmt::format("view-{}.png", v);
+        if (Status s = writePng(path, out.color[v]); !s) return s;
+        written.paths.push_back(path.string());
+        if (outputs.depth && v < out.depth.size()) {
+            const auto dpath = dir / fmt::format("depth-{}.png", v);
+            if (Status s = writeDepthPng(dpath, out.depth[v]); !s) return s;
+            written.paths.push_back(dpath.string());
+        }
+    }
+    if (out.color.size() == 2) {
+        // The red-cyan anaglyph every stereo frame gets: Dubois' least-squares red-cyan.
+        auto anaglyph = composeImage(composite::kDefaultAnaglyph);
+        if (!anaglyph) return anaglyph.status();
+        const auto path = dir / "anaglyph.png";
+        if (Status s = writePng(path, *anaglyph); !s) return s;
+        written.paths.push_back(path.string());
+    }
+    for (const std::string& format : outputs.formats) {
+        auto info = composite::findFormat(format);
+        if (!info) return info.status();
+        if (info->extension == ".png") {
+            auto name = composite::compositeFileName(format, out.color, compose);
+            if (!name) return name.status();
+            auto image = composeImage(format);
+            if (!image) return image.status();
+            const auto path = dir / *name;
+            if (Status s = writePng(path, *image); !s) return s;
+            written.paths.push_back(path.string());
+            if (format == keepFormat && !written.kept) written.kept = std::move(image).value();
+            continue;
+        }
+        auto path = composite::writeComposite(format, out.color, compose, dir);
+        if (!path) return path.status();
+        written.paths.push_back(path->string());
+    }
+    return written;
+}
+
+bool writeTextFile(const std::string& path, const std::string& text) {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) return false;
+    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    return std::fclose(f) == 0 && ok;
+}
+
+Result<StereoSurfaces> buildSurfaces(const SurfaceRecipe& recipe) {
+    StereoSurfaces s;
+    if (!recipe.sky.empty()) {
+        auto loaded = loadSky(recipe.sky);
+        if (!loaded) return loaded.status();
+        s.sky = std::move(*loaded);
+    }
+    s.floatingWindow = recipe.floatingWindow;
+    if (recipe.letterbox != 0.0) {
+        if (!(recipe.letterbox > 0.0 && recipe.letterbox < 50.0))
+            return usageError(fmt::format("--letterbox {}: must be in (0, 50) percent of the height",
+                                          recipe.letterbox));
+        s.letterboxPercent = float(recipe.letterbox);
+    }
+    for (const std::string& spec : recipe.labels) {
+        auto l = parseLabel(spec, false);
+        if (!l) return l.status();
+        s.labels.push_back(std::move(*l));
+    }
+    for (const std::string& spec : recipe.anchors) {
+        auto l = parseLabel(spec, true);
+        if (!l) return l.status();
+        s.labels.push_back(std::move(*l));
+    }
+    return s;
+}
+
+Status applySurfaces(const StereoSurfaces& surfaces, const Rig& rig, RenderOutput& out) {
+    if (!surfaces.any()) return {};
+    auto applied = applyStereoSurfaces(surfaces, rig, out);
+    if (!applied) return applied.status();
+    return {};
+}
+
+}  // namespace mvr::session
