@@ -15,9 +15,7 @@ public:
     Status supports(const std::string& method) const override { return mRenderer.supports(method); }
     Result<RenderOutput> render(const Scene& scene, const Rig& rig, const RenderSettings& settings,
                                 const std::string& method) override {
-        RenderOutput out;
-        if (Status s = renderInto(scene, rig, settings, method, out); !s) return s;
-        return out;
+        return renderThroughInto(*this, scene, rig, settings, method);
     }
     // Frame after frame into one output: its images are reused (no allocation, no page
     // faults) where they have the request's size.

@@ -45,8 +45,8 @@ std::uint64_t hashMesh(const Mesh& m) {
 // treated as refused by the driver (0 or unset: none are).
 int viewsPerTarget(TargetKind target) {
     // MVR_GL_VIEWS_PER_TARGET=N measures other bounds (bench the read-back) without a build.
-    if (const char* v = std::getenv("MVR_GL_VIEWS_PER_TARGET"); v && std::atoi(v) > 0)
-        return std::min(std::atoi(v), kMaxViews);
+    const char* v = std::getenv("MVR_GL_VIEWS_PER_TARGET");
+    if (const int n = v ? std::atoi(v) : 0; n > 0) return std::min(n, kMaxViews);
     return target == TargetKind::Tiled ? kTilesPerTarget : kLayersPerTarget;
 }
 
@@ -746,13 +746,6 @@ void Renderer::finishRead(PendingRead& r, RenderOutput& out, const RenderSetting
 
 // ---- render ----------------------------------------------------------------------------------
 
-Result<RenderOutput> Renderer::render(const Scene& scene, const Rig& rig, const RenderSettings& s,
-                                      const std::string& method) {
-    RenderOutput out;
-    if (Status st = renderInto(scene, rig, s, method, out); !st) return st;
-    return out;
-}
-
 Status Renderer::renderInto(const Scene& scene, const Rig& rig, const RenderSettings& s,
                             const std::string& method, RenderOutput& out) {
     // The request first (the same message from every backend, driver or none), then what
@@ -867,15 +860,14 @@ Status Renderer::renderOnce(const Scene& scene, const Rig& rig, const RenderSett
 Status Renderer::drawPass(Frame& f, int pass, GlFrameStats& stats) {
     const GlMethod& method = *f.method;
     const RenderSettings& s = *f.settings;
-    Result<GLuint> prog =
-        program(method.name, passProgram(method, s.shading, f.views, mShadows != nullptr));
+    const ProgramDesc desc = passProgram(method, s.shading, f.views, mShadows != nullptr);
+    Result<GLuint> prog = program(method.name, desc);
     if (!prog) return prog.status();
     if (method.prepare) {
         if (Status st = (this->*method.prepare)(f); !st) return st;
     }
     uploadFrameBlock(f);
     setCommonState(s);
-    const ProgramDesc desc = passProgram(method, s.shading, f.views, mShadows != nullptr);
     if (desc.geometry && mLastGeometryProgram && mLastGeometryProgram != *prog) {
         // zink (Mesa 22.3) keeps the viewport count of the last geometry shader while one
         // geometry shader replaces another: viewport-array after gs-layered drew nothing in

@@ -226,9 +226,7 @@ public:
     /// that is exceeded.
     Status checkViews(const GlMethod& method, int views, const RenderSettings& s) const;
 
-    Result<RenderOutput> render(const Scene& scene, const Rig& rig, const RenderSettings& s,
-                                const std::string& method);
-    /// render() into `out`, reusing its images where they have the request's size.
+    /// Renders into `out`, reusing its images where they have the request's size.
     Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& s,
                       const std::string& method, RenderOutput& out);
 

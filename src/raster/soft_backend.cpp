@@ -89,9 +89,7 @@ public:
 
     Result<RenderOutput> render(const Scene& scene, const Rig& rig, const RenderSettings& settings,
                                 const std::string& method) override {
-        RenderOutput out;
-        if (Status s = renderInto(scene, rig, settings, method, out); !s) return s;
-        return out;
+        return renderThroughInto(*this, scene, rig, settings, method);
     }
 
     Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& settings,

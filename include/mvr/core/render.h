@@ -138,6 +138,16 @@ public:
     virtual std::optional<RenderStats> lastStats() const = 0;
 };
 
+/// render() of a backend whose renderInto() does the work (soft, gl, auto): a fresh output
+/// filled by it. Such a backend's render() is `return renderThroughInto(*this, …);`.
+inline Result<RenderOutput> renderThroughInto(Backend& backend, const Scene& scene, const Rig& rig,
+                                             const RenderSettings& settings,
+                                             const std::string& method) {
+    RenderOutput out;
+    if (Status s = backend.renderInto(scene, rig, settings, method, out); !s) return s;
+    return out;
+}
+
 /// Color + depth bytes a request of `views` views of width×height needs (8 bytes a pixel).
 double framebufferBytes(int views, int width, int height);
 /// The most any backend allocates for one request's color and depth images.
