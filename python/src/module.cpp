@@ -207,6 +207,8 @@ py::dict info() {
     limits["max_framebuffer_bytes"] = kMaxFramebufferBytes;
     limits["max_lights"] = kMaxLights;
     d["limits"] = limits;
+    // What backend= takes: the backends below, then "auto" (the fastest of them per request).
+    d["backend_choices"] = backendChoices();
     py::list list;
     for (const BackendEntry& e : backends()) {
         py::dict b;

@@ -163,6 +163,7 @@ RenderResult renderFrame(Job& job, const Scene& scene, const Rig& rig,
     {
         py::gil_scoped_release release;
         RenderSettings settings = p.settings;
+        settings.depth = true;  // mvr.render returns the depth images
         // The views are rendered straight into the memory the arrays will own (zero copy),
         // when the request is within the budget every backend checks first.
         if (framebufferBytes(rig.viewCount(), settings.width, settings.height) <=

@@ -24,3 +24,9 @@ def test_auto_has_one_method():
     with pytest.raises(ValueError, match="backend auto has one method, auto"):
         mvr.render(backend="auto", method="multipass", size=(16, 12))
     assert mvr.render(backend="auto", method="auto", size=(16, 12)).note.startswith("auto picked")
+
+
+def test_info_lists_auto_among_the_backend_choices():
+    info = mvr.info()
+    names = [b["name"] for b in info["backends"]]
+    assert info["backend_choices"] == names + ["auto"]

@@ -54,6 +54,23 @@ Status validateRig(const Rig& rig) {
 
 }  // namespace
 
+std::optional<DepthRange> depthRangeOf(const RenderOutput& out, int view) {
+    if (view < 0) return std::nullopt;
+    const auto v = std::size_t(view);
+    if (v < out.depth.size()) {
+        DepthRange r;
+        for (float d : out.depth[v].depth) {
+            if (d < 1.0f) {
+                r.nearest = std::min(r.nearest, d);
+                r.farthest = std::max(r.farthest, d);
+            }
+        }
+        return r;
+    }
+    if (out.depth.empty() && v < out.depthRange.size()) return out.depthRange[v];
+    return std::nullopt;
+}
+
 double framebufferBytes(int views, int width, int height) {
     return 8.0 * double(width) * double(height) * double(views);
 }

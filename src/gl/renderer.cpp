@@ -600,150 +600,6 @@ void Renderer::ensureTiled(int w, int h) {
     mGpu->tiled.h = h;
 }
 
-namespace {
-
-// The caller's memory for view `view` of `views` (RenderSettings::output), or nullptr (heap).
-OutputBlock* blockFor(const RenderSettings& s, std::size_t views, int w, int h) {
-    OutputBlock* b = s.output;
-    return b && std::size_t(b->views()) == views && b->width() == w && b->height() == h ? b
-                                                                                        : nullptr;
-}
-std::pmr::memory_resource* colorMemory(OutputBlock* b, std::size_t view) {
-    return b ? b->colorMemory(int(view)) : nullptr;
-}
-std::pmr::memory_resource* depthMemory(OutputBlock* b, std::size_t view) {
-    return b ? b->depthMemory(int(view)) : nullptr;
-}
-
-// An image of w×h about to be overwritten whole: kept when it already has that size on the heap
-// (renderInto frame after frame: no allocation, no page faults), else reallocated from `memory`.
-void reuseOrReset(Image& img, int w, int h, std::pmr::memory_resource* memory) {
-    const bool same =
-        !memory && img.width == w && img.height == h && img.rgba.size() == std::size_t(w) * h * 4;
-    if (!same) img.reset(w, h, memory);
-}
-void reuseOrReset(DepthImage& img, int w, int h, std::pmr::memory_resource* memory) {
-    const bool same =
-        !memory && img.width == w && img.height == h && img.depth.size() == std::size_t(w) * h;
-    if (!same) img.reset(w, h, 1.0f, memory);
-}
-
-}  // namespace
-
-std::vector<Renderer::ViewRegion> Renderer::viewRegions(const Frame& f) const {
-    std::vector<ViewRegion> regions(static_cast<std::size_t>(f.views));
-    for (int v = 0; v < f.views; ++v) {
-        ViewRegion& r = regions[static_cast<std::size_t>(v)];
-        switch (f.method->target) {
-            case TargetKind::Layered:
-                r = {mGpu->layered.color.get(), mGpu->layered.depth.get(), 0, 0, v};
-                break;
-            case TargetKind::Tiled: {
-                const glm::ivec2 o = f.tiles->origin(v);
-                r = {mGpu->tiled.color.get(), mGpu->tiled.depth.get(), o.x, o.y, 0};
-                break;
-            }
-            case TargetKind::Mrt: r = {mGpu->mrt.color[v].get(), 0, 0, 0, 0}; break;
-        }
-    }
-    return regions;
-}
-
-std::optional<PendingRead> Renderer::startRead(const Frame& f, RenderOutput& out, int pass) {
-    const int w = f.tiles ? f.tiles->width : f.settings->width;
-    const int h = f.tiles ? f.tiles->height : f.settings->height;
-    const bool mrt = f.method->target == TargetKind::Mrt;
-    const bool depth = f.settings->depth && !mrt;
-    if (mrt) out.color.resize(2);
-    const std::vector<ViewRegion> regions = viewRegions(f);
-    const std::size_t pixels = static_cast<std::size_t>(w) * h;
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
-    if (mCaps.softwareRenderer()) {
-        OutputBlock* block = blockFor(*f.settings, out.color.size(), w, h);
-        for (int v = 0; v < f.views; ++v) {
-            const ViewRegion& r = regions[static_cast<std::size_t>(v)];
-            const auto i = static_cast<std::size_t>(f.firstView + v);
-            Image& img = out.color[i];
-            reuseOrReset(img, w, h, colorMemory(block, i));
-            glGetTextureSubImage(r.color, 0, r.x, r.y, r.layer, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
-                                 static_cast<GLsizei>(pixels * 4), img.rgba.data());
-            if (!depth) continue;
-            DepthImage& d = out.depth[i];
-            reuseOrReset(d, w, h, depthMemory(block, i));
-            glGetTextureSubImage(r.depth, 0, r.x, r.y, r.layer, w, h, 1, GL_DEPTH_COMPONENT,
-                                 GL_FLOAT, static_cast<GLsizei>(pixels * sizeof(float)),
-                                 d.depth.data());
-        }
-        return std::nullopt;
-    }
-    PendingRead pending{f.firstView, f.views, w, h, depth, pass % 2, nullptr};
-    ReadBuffer& rb = mGpu->reads[pending.buffer];
-    const std::size_t bytes = pixels * 4 * static_cast<std::size_t>(f.views) * (depth ? 2 : 1);
-    if (rb.bytes < bytes) {
-        rb.buffer = createBuffer();
-        glNamedBufferStorage(rb.buffer.get(), static_cast<GLsizeiptr>(bytes), nullptr,
-                             GL_MAP_READ_BIT | GL_CLIENT_STORAGE_BIT);
-        rb.bytes = bytes;
-    }
-    glBindBuffer(GL_PIXEL_PACK_BUFFER, rb.buffer.get());
-    const std::size_t colorBytes = pixels * 4 * static_cast<std::size_t>(f.views);
-    auto at = [](std::size_t offset) { return reinterpret_cast<void*>(offset); };
-    if (f.method->target == TargetKind::Layered) {
-        // One call per image kind for the whole pass: layers are the views, back to back.
-        glGetTextureSubImage(regions[0].color, 0, 0, 0, 0, w, h, f.views, GL_RGBA, GL_UNSIGNED_BYTE,
-                             static_cast<GLsizei>(colorBytes), at(0));
-        if (depth) {
-            glGetTextureSubImage(regions[0].depth, 0, 0, 0, 0, w, h, f.views, GL_DEPTH_COMPONENT,
-                                 GL_FLOAT, static_cast<GLsizei>(colorBytes), at(colorBytes));
-        }
-    } else {
-        for (int v = 0; v < f.views; ++v) {
-            const ViewRegion& r = regions[static_cast<std::size_t>(v)];
-            const std::size_t o = pixels * 4 * static_cast<std::size_t>(v);
-            glGetTextureSubImage(r.color, 0, r.x, r.y, r.layer, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
-                                 static_cast<GLsizei>(pixels * 4), at(o));
-            if (depth) {
-                glGetTextureSubImage(r.depth, 0, r.x, r.y, r.layer, w, h, 1, GL_DEPTH_COMPONENT,
-                                     GL_FLOAT, static_cast<GLsizei>(pixels * 4),
-                                     at(colorBytes + o));
-            }
-        }
-    }
-    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-    pending.fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
-    glFlush();  // the copies start now, while the next pass is drawn
-    return pending;
-}
-
-void Renderer::finishRead(PendingRead& r, RenderOutput& out, const RenderSettings& s) {
-    if (r.fence) {
-        while (glClientWaitSync(r.fence, GL_SYNC_FLUSH_COMMANDS_BIT, 1'000'000'000) ==
-               GL_TIMEOUT_EXPIRED) {
-        }
-        glDeleteSync(r.fence);
-        r.fence = nullptr;
-    }
-    const std::size_t pixels = static_cast<std::size_t>(r.width) * r.height;
-    const std::size_t colorBytes = pixels * 4 * static_cast<std::size_t>(r.views);
-    const std::size_t bytes = colorBytes * (r.depth ? 2 : 1);
-    ReadBuffer& rb = mGpu->reads[r.buffer];
-    const auto* src = static_cast<const std::uint8_t*>(
-        glMapNamedBufferRange(rb.buffer.get(), 0, static_cast<GLsizeiptr>(bytes), GL_MAP_READ_BIT));
-    if (!src) return;  // checkGlError reports the failed map
-    OutputBlock* block = blockFor(s, out.color.size(), r.width, r.height);
-    for (int v = 0; v < r.views; ++v) {
-        const auto i = static_cast<std::size_t>(r.firstView + v);
-        const std::size_t o = pixels * 4 * static_cast<std::size_t>(v);
-        reuseOrReset(out.color[i], r.width, r.height, colorMemory(block, i));
-        std::memcpy(out.color[i].rgba.data(), src + o, pixels * 4);
-        if (!r.depth) continue;
-        reuseOrReset(out.depth[i], r.width, r.height, depthMemory(block, i));
-        std::memcpy(out.depth[i].depth.data(), src + colorBytes + o, pixels * sizeof(float));
-    }
-    glUnmapNamedBuffer(rb.buffer.get());
-}
-
 // ---- render ----------------------------------------------------------------------------------
 
 Status Renderer::renderInto(const Scene& scene, const Rig& rig, const RenderSettings& s,
@@ -787,6 +643,12 @@ Status Renderer::renderOnce(const Scene& scene, const Rig& rig, const RenderSett
     out.color.resize(static_cast<std::size_t>(method.target == TargetKind::Mrt ? 2 : views));
     out.depth.resize(
         static_cast<std::size_t>(method.target != TargetKind::Mrt && s.depth ? views : 0));
+    // No depth images asked: each view's range instead (RenderOutput::depthRange).
+    const bool ranges = !s.depth && method.target != TargetKind::Mrt;
+    out.depthRange.clear();
+    if (ranges) {
+        if (Status st = beginDepthRanges(views); !st) return st;
+    }
     GlFrameStats stats;
     stats.method = method.name;
     stats.gpuMs = mCaps.timerBits > 0 ? 0.0 : -1.0;
@@ -830,12 +692,23 @@ Status Renderer::renderOnce(const Scene& scene, const Rig& rig, const RenderSett
             return st;
         }
         const auto tRead = Clock::now();
+        if (ranges) {
+            if (Status st = reduceDepthRanges(f); !st) {
+                if (pending && pending->fence) glDeleteSync(pending->fence);
+                return st;
+            }
+        }
         std::optional<PendingRead> next = startRead(f, out, p);
         stats.readbackWallMs += msSince(tRead);
         finish();
         pending = next;
     }
     finish();
+    if (ranges) {
+        const auto tRead = Clock::now();
+        if (Status st = readDepthRanges(out, views); !st) return st;
+        stats.readbackWallMs += msSince(tRead);
+    }
     if (Status st = checkGlError("reading back"); !st) return st;
     stats.totalWallMs = msSince(t0);
     if (stats.gpuMs >= 0.0) {

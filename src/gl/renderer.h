@@ -195,6 +195,8 @@ struct GpuObjects {
     MrtTarget mrt;
     TiledTarget tiled;
     Texture shadowMaps;
+    Program depthRangeProgram;  ///< readback.cpp: the views' depth ranges (built on first use)
+    Buffer depthRanges;         ///< 2 uints a view: the nearest and farthest depth's bits
 };
 
 class Renderer {
@@ -304,6 +306,14 @@ private:
         int x = 0, y = 0, layer = 0;
     };
     std::vector<ViewRegion> viewRegions(const Frame& f) const;
+    /// RenderSettings::depth false: each view's DepthRange without reading its depth image
+    /// back. begin (before the first pass) resets the ranges of `views` views; reduce (after
+    /// each pass's draw) folds pass f's depth into them on the GPU (a compute shader, atomic
+    /// min / max of the float bits: non-negative floats order as their bits); read (after the
+    /// last pass) returns 8 bytes a view into out.depthRange.
+    Status beginDepthRanges(int views);
+    Status reduceDepthRanges(const Frame& f);
+    Status readDepthRanges(RenderOutput& out, int views);
 
     // Declared first, so destroyed last: no GL object outlives its context.
     std::unique_ptr<EglContext> mContext;

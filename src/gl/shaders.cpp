@@ -469,6 +469,7 @@ const char* stageName(GLenum stage) {
         case GL_VERTEX_SHADER: return "vertex";
         case GL_GEOMETRY_SHADER: return "geometry";
         case GL_FRAGMENT_SHADER: return "fragment";
+        case GL_COMPUTE_SHADER: return "compute";
         default: return "?";
     }
 }
@@ -536,6 +537,12 @@ Result<Program> buildFullScreenProgram(const std::string& fragmentSource) {
     auto fs = compile(GL_FRAGMENT_SHADER, head + fragmentSource);
     if (!fs) return fs.status();
     return link({&vs.value(), &fs.value()});
+}
+
+Result<Program> buildComputeProgram(const std::string& source) {
+    auto cs = compile(GL_COMPUTE_SHADER, "#version 450 core\n" + source);
+    if (!cs) return cs.status();
+    return link({&cs.value()});
 }
 
 }  // namespace mvr::gl::detail

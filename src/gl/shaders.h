@@ -38,4 +38,8 @@ Result<Program> buildProgram(const ProgramDesc& desc);
 /// "#version 450 core" is prepended). Errors: Internal with the compile or link log.
 Result<Program> buildFullScreenProgram(const std::string& fragmentSource);
 
+/// Compute program from `source` (without #version; "#version 450 core" is prepended).
+/// Errors: Internal with the compile or link log.
+Result<Program> buildComputeProgram(const std::string& source);
+
 }  // namespace mvr::gl::detail

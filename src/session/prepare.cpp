@@ -357,6 +357,11 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
             fmt::format("--shadow-map-size {} is out of range (expected 16..8192)", r.shadowMapSize));
     }
     out.settings.shadows = r.shadows;
+    // Depth images only when written or drawn into; the reports need only each view's range,
+    // which a backend measures without reading the images back (RenderOutput::depthRange).
+    const SurfaceRecipe& sf = r.surfaces;
+    out.settings.depth = r.outputs.depth || !sf.sky.empty() || sf.floatingWindow ||
+                         sf.letterbox > 0.0 || !sf.labels.empty() || !sf.anchors.empty();
     out.settings.shadowMapSize = r.shadowMapSize;
     auto kind = parseRigKind(r.rig);
     if (!kind) return usageError(fmt::format("--rig {}: {}", r.rig, kind.status().message()));

@@ -14,15 +14,10 @@
 namespace mvr::session {
 
 std::optional<ComfortReport> comfortReport(const Rig& rig, const RenderOutput& out) {
-    if (out.depth.empty() || rig.columns <= 1) return std::nullopt;
-    float dMin = 1.0f, dMax = 0.0f;
-    for (float d : out.depth[0].depth) {
-        if (d < 1.0f) {
-            dMin = std::min(dMin, d);
-            dMax = std::max(dMax, d);
-        }
-    }
-    if (dMin > dMax) return std::nullopt;
+    if (rig.columns <= 1) return std::nullopt;
+    const std::optional<DepthRange> depth = depthRangeOf(out, 0);
+    if (!depth || !depth->drew()) return std::nullopt;
+    const float dMin = depth->nearest, dMax = depth->farthest;
     ComfortReport report;
     report.range =
         parallaxRange(rig, distanceFromWindowDepth(dMin, rig.camera.near, rig.camera.far),
@@ -218,15 +213,14 @@ std::vector<std::string> renderWarnings(const Prepared& p, const RenderOutput& o
                                         const std::optional<ComfortReport>& range,
                                         const std::optional<ScreenComfortReport>& screen) {
     std::vector<std::string> w;
-    if (!out.depth.empty() && int(out.depth.size()) == p.rig.viewCount()) {
-        bool any = false;
-        for (const DepthImage& d : out.depth) {
-            any = any ||
-                  std::any_of(d.depth.begin(), d.depth.end(), [](float z) { return z < 1.0f; });
-            if (any) break;
-        }
-        if (!any) w.push_back("warning: no view drew anything of the scene (empty images)");
+    // Known only where every view has a depth image or a measured range.
+    bool known = true, any = false;
+    for (int v = 0; v < p.rig.viewCount() && known && !any; ++v) {
+        const std::optional<DepthRange> r = depthRangeOf(out, v);
+        known = r.has_value();
+        any = r && r->drew();
     }
+    if (known && !any) w.push_back("warning: no view drew anything of the scene (empty images)");
     if (screen) {
         const ScreenComfort& c = screen->comfort;
         const float budgetCm = c.budget.fraction * c.screen.widthCm;

@@ -415,6 +415,28 @@ TEST_F(Cli, CheckPrintsTheArtifactFractionPerView) {
         << multi.out;
 }
 
+// `mvr render` reads depth images back only when --depth (or a surface drawn against depth)
+// asks: the comfort report and the JSON come from each view's depth range, which gl measures
+// on the device, and say exactly what they say with the images.
+TEST_F(Cli, TheComfortReportNeedsNoDepthImages) {
+    const CliRun info = run("info");
+    std::vector<std::string> backends = {"soft"};
+    if (info.out.find("backend gl") != std::string::npos) backends.push_back("gl");
+    for (const std::string& b : backends) {
+        const std::string common = "render --views 5 --size 96x72 -q --backend " + b;
+        const CliRun plain = run(common + " -o plain --report-json plain.json");
+        if (b == "gl" && plain.exitCode == 3) GTEST_SKIP() << plain.err;  // no EGL driver here
+        ASSERT_EQ(plain.exitCode, 0) << plain.err;
+        const CliRun depth = run(common + " -o depth --depth --report-json depth.json");
+        ASSERT_EQ(depth.exitCode, 0) << depth.err;
+        EXPECT_FALSE(std::filesystem::exists(mDir / "plain/depth-0.png")) << b;
+        EXPECT_TRUE(std::filesystem::exists(mDir / "depth/depth-4.png")) << b;
+        const std::string a = test::slurp(mDir / "plain.json"), c = test::slurp(mDir / "depth.json");
+        EXPECT_NE(a.find("\"parallax\": {"), std::string::npos) << b << ": " << a;
+        EXPECT_EQ(a, c) << b;
+    }
+}
+
 // A long render shows progress on a terminal only (MVR_PROGRESS_AFTER_MS=0: at once).
 TEST_F(Cli, ProgressGoesToATerminalOnly) {
     const CliRun piped = run("render --size 160x120 -o out");

@@ -8,6 +8,8 @@
 #include <regex>
 
 #include <fmt/format.h>
+#include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include "../conformance/tolerances.h"
@@ -176,6 +178,51 @@ TEST(GlBatching, DepthNotAskedIsNotReadBack) {
         ASSERT_EQ(without->color.size(), 20u) << m;
         for (std::size_t v = 0; v < 20; ++v)
             EXPECT_EQ(with->color[v].rgba, without->color[v].rgba) << m << " view " << v;
+    }
+}
+
+// Without depth images each view's depth range is measured on the GPU (RenderOutput::
+// depthRange): the nearest and farthest drawn depth of the read-back images, bit for bit, on
+// every target kind, in one pass and across passes (40 views: two targets of 32 layers or more
+// than a geometry-shader pass); a rig looking away from the scene drew nothing in any view.
+TEST(GlBatching, DepthRangesWithoutDepthImagesAreTheImagesRanges) {
+    MVR_SKIP_WITHOUT_GL();
+    const Scene& scene = defaultScene();
+    RenderSettings s = smallSettings();
+    for (int views : {3, 40}) {
+        const Rig rig = rowOf(scene, views);
+        for (const std::string& m : batchingMethods()) {
+            s.depth = true;
+            auto with = backend().render(scene, rig, s, m);
+            s.depth = false;
+            auto without = backend().render(scene, rig, s, m);
+            ASSERT_TRUE(with && without) << m;
+            ASSERT_EQ(with->depth.size(), std::size_t(views)) << m;
+            EXPECT_TRUE(with->depthRange.empty()) << m;
+            ASSERT_TRUE(without->depth.empty()) << m;
+            ASSERT_EQ(without->depthRange.size(), std::size_t(views)) << m;
+            for (int v = 0; v < views; ++v) {
+                float nearest = 1.0f, farthest = 0.0f;
+                for (float d : with->depth[std::size_t(v)].depth) {
+                    if (d < 1.0f) nearest = std::min(nearest, d), farthest = std::max(farthest, d);
+                }
+                ASSERT_LT(nearest, farthest) << m << " view " << v << " drew the scene";
+                const DepthRange& r = without->depthRange[std::size_t(v)];
+                EXPECT_EQ(r.nearest, nearest) << m << " view " << v << " of " << views;
+                EXPECT_EQ(r.farthest, farthest) << m << " view " << v << " of " << views;
+                EXPECT_TRUE(r.drew()) << m;
+            }
+        }
+    }
+    Rig away = rowOf(scene, 4);
+    for (View& v : away.views) v.viewFromWorld = glm::rotate(glm::mat4(1.0f), glm::pi<float>(),
+                                                             glm::vec3(0, 1, 0)) * v.viewFromWorld;
+    s.depth = false;
+    for (const std::string& m : batchingMethods()) {
+        auto r = backend().render(scene, away, s, m);
+        ASSERT_TRUE(r) << m << ": " << r.status().message();
+        ASSERT_EQ(r->depthRange.size(), 4u) << m;
+        for (const DepthRange& d : r->depthRange) EXPECT_FALSE(d.drew()) << m;
     }
 }
 

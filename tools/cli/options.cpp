@@ -216,7 +216,10 @@ session::RenderRecipe SceneOptions::recipe() const {
 }
 
 Result<Prepared> SceneOptions::prepare() const {
-    return session::prepare(recipe());
+    // The benches time the views with their depth images (as bench/README.md's figures were).
+    auto p = session::prepare(recipe());
+    if (p) p->settings.depth = true;
+    return p;
 }
 
 }  // namespace mvr::cli

@@ -189,9 +189,11 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
     o->scene.addTo(app);
     o->backend = backendNames().front();
     std::string backendHelp = "Backend:";
-    for (const BackendEntry& e : backends()) {
-        backendHelp +=
-            fmt::format("{} {} ({})", backendHelp.back() == ':' ? "" : ";", e.name, e.description);
+    for (const std::string& name : backendChoices()) {  // the registry's rows, then auto
+        auto e = findBackend(name);
+        if (!e) continue;
+        backendHelp += fmt::format("{} {} ({})", backendHelp.back() == ':' ? "" : ";", name,
+                                   (*e)->description);
     }
     app->add_option("--backend", o->backend, backendHelp)->default_val(o->backend);
     app->add_option(

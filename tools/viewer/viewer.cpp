@@ -78,13 +78,19 @@ void onGlfwError(int code, const char* description) {
 
 // ---- the viewer --------------------------------------------------------------------------------
 
+/// The viewer reads view 0's depth (parallax line, 3D cursor).
+RenderSettings withDepth(RenderSettings s) {
+    s.depth = true;
+    return s;
+}
+
 class Viewer {
 public:
     Viewer(const ViewerOptions& options, session::Prepared prepared, std::vector<ScriptStep> script)
         : mOptions(options),
           mPrepared(std::move(prepared)),
           mScript(std::move(script)),
-          mSettings(mPrepared.settings),
+          mSettings(withDepth(mPrepared.settings)),
           mStereo(StereoCamera::fromRig(mPrepared.rig, mPrepared.scene.bounds().radius(),
                                         mPrepared.viewConeDegrees)),
           mInitialStereo(mStereo),

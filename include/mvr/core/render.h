@@ -97,10 +97,21 @@ struct RenderStats {
     int passes = 1;
 };
 
+/// The window depth of the nearest and the farthest pixel a view drew (depth < 1).
+struct DepthRange {
+    float nearest = 1.0f, farthest = 0.0f;
+    /// false: the view drew nothing of the scene.
+    bool drew() const { return nearest <= farthest; }
+};
+
 /// What one render produces: a color and a depth image per view, in rig view order.
 struct RenderOutput {
     std::vector<Image> color;
     std::vector<DepthImage> depth;  ///< empty for methods without a per-view depth buffer
+    /// Per view, when `depth` is empty because RenderSettings::depth was false and the backend
+    /// measured the range on its device instead (gl: a compute reduction, 8 bytes a view read
+    /// back instead of 4 a pixel); else empty. Read it through depthRangeOf().
+    std::vector<DepthRange> depthRange;
     std::string method;             ///< the method that actually ran (differs for "auto")
     std::string note;               ///< e.g. why "auto" picked that method
     StageTimes stages;              ///< per-stage times (zero where not measured)
@@ -147,6 +158,10 @@ inline Result<RenderOutput> renderThroughInto(Backend& backend, const Scene& sce
     if (Status s = backend.renderInto(scene, rig, settings, method, out); !s) return s;
     return out;
 }
+
+/// View `view`'s depth range: from its depth image when there is one, else from
+/// RenderOutput::depthRange; nullopt when the output has neither (gl gs-mrt).
+std::optional<DepthRange> depthRangeOf(const RenderOutput& out, int view);
 
 /// Color + depth bytes a request of `views` views of width×height needs (8 bytes a pixel).
 double framebufferBytes(int views, int width, int height);
