@@ -3,11 +3,17 @@
 // overlap the next pass's draw on hardware), and, when the caller asked for no depth images,
 // each view's depth range reduced on the GPU (reduceDepthRanges / readDepthRanges).
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
+#include <string_view>
 
 #include "renderer.h"
 
 namespace mvr::gl::detail {
+
+namespace {
+constexpr std::uint32_t kOneBits = 0x3F800000u;  // the bits of 1.0f
+}  // namespace
 
 namespace {
 
@@ -77,7 +83,10 @@ std::optional<PendingRead> Renderer::startRead(const Frame& f, RenderOutput& out
             reuseOrReset(img, w, h, colorMemory(block, i));
             glGetTextureSubImage(r.color, 0, r.x, r.y, r.layer, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
                                  static_cast<GLsizei>(pixels * 4), img.rgba.data());
-            if (!depth) continue;
+            if (!depth) {
+                if (i < out.depthRange.size()) out.depthRange[i] = scratchDepthRange(r, w, h);
+                continue;
+            }
             DepthImage& d = out.depth[i];
             reuseOrReset(d, w, h, depthMemory(block, i));
             glGetTextureSubImage(r.depth, 0, r.x, r.y, r.layer, w, h, 1, GL_DEPTH_COMPONENT,
@@ -157,10 +166,15 @@ void Renderer::finishRead(PendingRead& r, RenderOutput& out, const RenderSetting
 
 namespace {
 
-// One invocation a pixel, z the view of the pass; a workgroup folds its pixels in shared memory
-// first, then one atomic a workgroup on the view's pair.
+// One invocation a column of kRowsPerInvocation pixels (min / max in registers), z the view of
+// the pass; a workgroup folds its columns in shared memory, then one atomic a workgroup on the
+// view's pair. Few atomics: llvmpipe runs a shared atomic per pixel ~10x slower than reading
+// the depth image back.
+constexpr int kColumnsPerGroup = 64;
+constexpr int kRowsPerInvocation = 32;
 constexpr const char* kDepthRangeSource = R"glsl(
-layout(local_size_x = 16, local_size_y = 16) in;
+layout(local_size_x = 64) in;
+const int kRows = 32;
 layout(binding = 0) uniform sampler2DArray uLayers;
 layout(binding = 1) uniform sampler2D uTiled;
 uniform bool uLayered;
@@ -175,17 +189,25 @@ void main() {
         sFarthest = 0u;
     }
     barrier();
-    const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    const int x = int(gl_GlobalInvocationID.x);
+    const int y0 = int(gl_WorkGroupID.y) * kRows;
     const int v = int(gl_GlobalInvocationID.z);
-    if (p.x < uSize.x && p.y < uSize.y) {
-        const float d = uLayered
-            ? texelFetch(uLayers, ivec3(p, v), 0).r
-            : texelFetch(uTiled, p + ivec2(v % uColumns, v / uColumns) * uSize, 0).r;
-        if (d < 1.0) {
-            const uint bits = d > 0.0 ? floatBitsToUint(d) : 0u;
-            atomicMin(sNearest, bits);
-            atomicMax(sFarthest, bits);
+    const ivec2 origin = uLayered ? ivec2(0) : ivec2(v % uColumns, v / uColumns) * uSize;
+    float nearest = 1.0, farthest = -1.0;
+    if (x < uSize.x) {
+        const int y1 = min(y0 + kRows, uSize.y);
+        for (int y = y0; y < y1; ++y) {
+            const float d = uLayered ? texelFetch(uLayers, ivec3(x, y, v), 0).r
+                                     : texelFetch(uTiled, origin + ivec2(x, y), 0).r;
+            if (d < 1.0) {
+                nearest = min(nearest, d);
+                farthest = max(farthest, d);
+            }
         }
+    }
+    if (farthest >= 0.0 || nearest < 1.0) {
+        atomicMin(sNearest, nearest > 0.0 ? floatBitsToUint(nearest) : 0u);
+        atomicMax(sFarthest, farthest > 0.0 ? floatBitsToUint(farthest) : 0u);
     }
     barrier();
     if (gl_LocalInvocationIndex == 0u && sNearest <= sFarthest) {
@@ -195,9 +217,43 @@ void main() {
 }
 )glsl";
 
-constexpr std::uint32_t kOneBits = 0x3F800000u;  // the bits of 1.0f
-
 }  // namespace
+
+bool Renderer::gpuDepthRanges() const {
+    const char* force = std::getenv("MVR_GL_DEPTH_RANGES");  // tests: the GPU path on llvmpipe
+    return !mCaps.softwareRenderer() || (force && std::string_view(force) == "gpu");
+}
+
+DepthRange Renderer::scratchDepthRange(const ViewRegion& r, int w, int h) {
+    const std::size_t pixels = std::size_t(w) * h;
+    mDepthScratch.resize(pixels);
+    glGetTextureSubImage(r.depth, 0, r.x, r.y, r.layer, w, h, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
+                         static_cast<GLsizei>(pixels * sizeof(float)), mDepthScratch.data());
+    // Four lanes at a time (GCC / Clang vector extensions: one minps, one cmpltps + and, one
+    // maxps a step): the nearest is the plain minimum (nothing drawn is 1.0, the start value),
+    // the farthest the maximum of the depths below 1.
+    using Lanes = float __attribute__((vector_size(16)));
+    const Lanes ones = {1.0f, 1.0f, 1.0f, 1.0f}, zeros = {};
+    Lanes lo = ones, hi = zeros;
+    const float* d = mDepthScratch.data();
+    std::size_t i = 0;
+    for (; i + 4 <= pixels; i += 4) {
+        Lanes z;
+        std::memcpy(&z, d + i, sizeof z);
+        lo = z < lo ? z : lo;
+        const Lanes below = z < ones ? z : zeros;
+        hi = below > hi ? below : hi;
+    }
+    for (; i < pixels; ++i) {
+        lo[0] = std::min(lo[0], d[i]);
+        if (d[i] < 1.0f) hi[0] = std::max(hi[0], d[i]);
+    }
+    DepthRange range;
+    const float nearest = std::min(std::min(lo[0], lo[1]), std::min(lo[2], lo[3]));
+    const float farthest = std::max(std::max(hi[0], hi[1]), std::max(hi[2], hi[3]));
+    if (nearest < 1.0f) range = {nearest, farthest};
+    return range;
+}
 
 Status Renderer::beginDepthRanges(int views) {
     if (!mGpu->depthRangeProgram) {
@@ -236,7 +292,8 @@ Status Renderer::reduceDepthRanges(const Frame& f) {
     glBindTextureUnit(0, layered ? r.depth : mGpu->layered.depth.get());
     glBindTextureUnit(1, layered ? mGpu->tiled.depth.get() : r.depth);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, mGpu->depthRanges.get());
-    glDispatchCompute(GLuint((w + 15) / 16), GLuint((h + 15) / 16), GLuint(f.views));
+    glDispatchCompute(GLuint((w + kColumnsPerGroup - 1) / kColumnsPerGroup),
+                      GLuint((h + kRowsPerInvocation - 1) / kRowsPerInvocation), GLuint(f.views));
     glBindTextureUnit(0, 0);
     glBindTextureUnit(1, 0);
     return checkGlError("reducing the depth ranges");

@@ -643,10 +643,12 @@ Status Renderer::renderOnce(const Scene& scene, const Rig& rig, const RenderSett
     out.color.resize(static_cast<std::size_t>(method.target == TargetKind::Mrt ? 2 : views));
     out.depth.resize(
         static_cast<std::size_t>(method.target != TargetKind::Mrt && s.depth ? views : 0));
-    // No depth images asked: each view's range instead (RenderOutput::depthRange).
+    // No depth images asked: each view's range instead (RenderOutput::depthRange), reduced on
+    // the GPU (readback.cpp), or by startRead() from the depth it reads into scratch memory.
     const bool ranges = !s.depth && method.target != TargetKind::Mrt;
-    out.depthRange.clear();
-    if (ranges) {
+    const bool gpuRanges = ranges && gpuDepthRanges();
+    out.depthRange.assign(ranges ? std::size_t(views) : 0, DepthRange{});
+    if (gpuRanges) {
         if (Status st = beginDepthRanges(views); !st) return st;
     }
     GlFrameStats stats;
@@ -692,7 +694,7 @@ Status Renderer::renderOnce(const Scene& scene, const Rig& rig, const RenderSett
             return st;
         }
         const auto tRead = Clock::now();
-        if (ranges) {
+        if (gpuRanges) {
             if (Status st = reduceDepthRanges(f); !st) {
                 if (pending && pending->fence) glDeleteSync(pending->fence);
                 return st;
@@ -704,7 +706,7 @@ Status Renderer::renderOnce(const Scene& scene, const Rig& rig, const RenderSett
         pending = next;
     }
     finish();
-    if (ranges) {
+    if (gpuRanges) {
         const auto tRead = Clock::now();
         if (Status st = readDepthRanges(out, views); !st) return st;
         stats.readbackWallMs += msSince(tRead);

@@ -185,7 +185,22 @@ TEST(GlBatching, DepthNotAskedIsNotReadBack) {
 // depthRange): the nearest and farthest drawn depth of the read-back images, bit for bit, on
 // every target kind, in one pass and across passes (40 views: two targets of 32 layers or more
 // than a geometry-shader pass); a rig looking away from the scene drew nothing in any view.
-TEST(GlBatching, DepthRangesWithoutDepthImagesAreTheImagesRanges) {
+class DepthRanges : public testing::TestWithParam<const char*> {
+protected:
+    void SetUp() override {
+        if (*GetParam()) setenv("MVR_GL_DEPTH_RANGES", GetParam(), 1);
+    }
+    void TearDown() override { unsetenv("MVR_GL_DEPTH_RANGES"); }
+};
+
+// "": the driver's own path (software: read into scratch memory, reduced on the CPU);
+// "gpu": the compute reduction hardware drivers use, forced.
+INSTANTIATE_TEST_SUITE_P(GlBatching, DepthRanges, testing::Values("", "gpu"),
+                         [](const auto& info) {
+                             return std::string(*info.param ? info.param : "driver_default");
+                         });
+
+TEST_P(DepthRanges, WithoutDepthImagesAreTheImagesRanges) {
     MVR_SKIP_WITHOUT_GL();
     const Scene& scene = defaultScene();
     RenderSettings s = smallSettings();
