@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <fmt/core.h>
 
@@ -32,6 +33,13 @@ Camera frameCamera(const Scene& scene, float fovYDegrees, float aspect) {
     return camera;
 }
 
+float fitFileFov(float yfovRadians, float fileAspect, float aspect) {
+    if (!(fileAspect > 0.0f) || !(aspect > 0.0f) || aspect >= fileAspect) return yfovRadians;
+    // Narrower than the file's frame: its horizontal field of view kept, the vertical widened.
+    const float widened = 2.0f * std::atan(std::tan(yfovRadians * 0.5f) * fileAspect / aspect);
+    return std::min(widened, glm::radians(kMaxFittedFovDegrees));
+}
+
 Camera cameraFromScene(const SceneCamera& file, const Scene& scene,
                        std::optional<float> fovYDegrees, float aspect) {
     Camera camera;
@@ -43,21 +51,26 @@ Camera cameraFromScene(const SceneCamera& file, const Scene& scene,
     up = glm::length(up) > 0.0f ? glm::normalize(up) : glm::vec3(0, 1, 0);
     camera.up = up;
     camera.aspect = aspect;
-    camera.fovYDegrees = fovYDegrees.value_or(glm::degrees(file.yfovRadians));
+    camera.fovYDegrees =
+        fovYDegrees.value_or(glm::degrees(fitFileFov(file.yfovRadians, file.aspect, aspect)));
     const Bounds bounds = scene.bounds();
     const float radius = std::max(bounds.radius(), 1e-4f);
     float depth = glm::dot(bounds.center() - camera.position, forward);
-    float farthest = 0.0f;
-    for (int c = 0; c < 8; ++c) {
-        const glm::vec3 corner((c & 1) ? bounds.max.x : bounds.min.x,
-                               (c & 2) ? bounds.max.y : bounds.min.y,
-                               (c & 4) ? bounds.max.z : bounds.min.z);
-        farthest = std::max(farthest, glm::dot(corner - camera.position, forward));
-    }
     if (!(depth > file.znear)) depth = std::max(radius, file.znear * 2.0f);  // behind: ahead
     camera.target = camera.position + forward * depth;
+    // The file's planes are limits, not the depth range: a camera with znear 0.05 and zfar 1e6
+    // over a scene a few units deep would leave a few hundred depth values to the whole scene
+    // (z-fighting). Outside the bounding sphere the planes hug it with frameCamera()'s margins
+    // (room for an orbit); inside it (an interior), the file's znear stays.
+    const float centre = glm::length(bounds.center() - camera.position);
+    const float fileFar = file.zfar > file.znear ? file.zfar : std::numeric_limits<float>::max();
     camera.near = file.znear;
-    camera.far = file.zfar > file.znear ? file.zfar : std::max(farthest * 1.05f, depth * 2.0f);
+    if (centre > radius) {
+        const float floor = std::min(0.02f * centre, 0.5f * (centre - radius));
+        camera.near = std::max(file.znear, std::max(centre - 2.5f * radius, floor));
+    }
+    camera.far = std::min(fileFar, centre + 3.0f * radius);
+    if (!(camera.far > camera.near * 1.001f)) camera.far = std::max(fileFar, camera.near * 2.0f);
     return camera;
 }
 

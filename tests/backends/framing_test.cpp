@@ -7,8 +7,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 
 #include <fmt/core.h>
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include "mvr/backends.h"
@@ -151,6 +153,101 @@ TEST(FramingGeometry, AViewConeSpreadsTheRowOverItsAngle) {
     auto both = frameScene(s, params, RenderSettings{.width = 42, .height = 56});
     ASSERT_FALSE(both);
     EXPECT_NE(both.status().message().find("view cone"), std::string::npos);
+}
+
+namespace {
+
+// A unit cube (12 triangles) centred at the origin: a scene 1 unit deep.
+Scene cubeScene() {
+    Mesh m;
+    for (int face = 0; face < 6; ++face) {
+        const int axis = face / 2;
+        const float sign = face % 2 ? 1.0f : -1.0f;
+        glm::vec3 n(0.0f), u(0.0f), v(0.0f);
+        n[axis] = sign;
+        u[(axis + 1) % 3] = 0.5f;
+        v[(axis + 2) % 3] = 0.5f;
+        const auto base = static_cast<std::uint32_t>(m.positions.size());
+        for (const glm::vec2 c : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1),
+                                  glm::vec2(-1, 1)}) {
+            m.positions.push_back(0.5f * n + c.x * u + c.y * v);
+            m.normals.push_back(n);
+        }
+        for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) m.indices.push_back(base + i);
+    }
+    Scene s;
+    s.meshes = {m};
+    s.instances = {Instance{}};
+    return s;
+}
+
+// Distinct depth values among the drawn pixels of view 0 (soft:multipass).
+std::size_t distinctDepths(const Scene& scene, const FramingParams& params, int w, int h) {
+    auto req = frameScene(scene, params, RenderSettings{.width = w, .height = h});
+    EXPECT_TRUE(req) << req.status().message();
+    if (!req) return 0;
+    auto backend = makeBackend("soft");
+    auto out = (*backend)->render(scene, req->rig, req->settings, "multipass");
+    EXPECT_TRUE(out) << out.status().message();
+    if (!out) return 0;
+    std::set<float> values;
+    for (float d : out->depth[0].depth)
+        if (d < 1.0f) values.insert(d);
+    return values.size();
+}
+
+}  // namespace
+
+// Khronos's 2CylinderEngine: a file camera with znear 0.05 and zfar 1e6 over a scene a few
+// units deep left 208 distinct depth values for 139 589 pixels (z-fighting). The file's planes
+// are limits: the same camera, seen through them, resolves the scene's depth as finely as the
+// bounds' own near / far do (counted here, not computed from the code's planes).
+TEST(FramingGeometry, AFileCameraWithFarPlanesKeepsTheDepthResolution) {
+    Scene s = cubeScene();
+    s.instances[0].worldFromModel = glm::rotate(glm::mat4(1.0f), 0.6f, glm::vec3(1, 1, 0));
+    const Camera framed = frameCamera(s, 45.0f, 1.0f);
+    SceneCamera file;
+    file.worldFromCamera = glm::inverse(glm::lookAt(framed.position, framed.target, framed.up));
+    file.yfovRadians = glm::radians(45.0f);
+    file.aspect = 1.0f;
+    file.znear = 0.05f;
+    file.zfar = 1e6f;
+    s.camera = file;
+    FramingParams params;
+    params.columns = 1;
+    const std::size_t withFile = distinctDepths(s, params, 128, 128);
+    params.useSceneCamera = false;
+    const std::size_t withBounds = distinctDepths(s, params, 128, 128);
+    EXPECT_GT(withBounds, 1000u);
+    EXPECT_GE(withFile, withBounds);
+    // The file's planes stay limits: a near plane beyond the scene's front is kept.
+    file.znear = glm::length(framed.position) - 0.2f;
+    s.camera = file;
+    const Camera limited = cameraFromScene(file, s, std::nullopt, 1.0f);
+    EXPECT_FLOAT_EQ(limited.near, file.znear);
+}
+
+// A square file camera (yfov 18 degrees) seen in a Portrait view (aspect 0.75) kept its yfov
+// and cropped the sides; the file's horizontal field of view is kept instead, as a sensor fit
+// does; a wider output keeps the yfov.
+TEST(FramingGeometry, AFileCameraKeepsItsWholeFrameAtAnyAspect) {
+    Scene s = cubeScene();
+    SceneCamera file;
+    file.worldFromCamera = glm::translate(glm::mat4(1.0f), glm::vec3(0, 0, 10));
+    file.yfovRadians = glm::radians(18.0f);
+    file.aspect = 1.0f;
+    s.camera = file;
+    const float halfX = std::atan(std::tan(glm::radians(9.0f)) * 1.0f);  // the file's, aspect 1
+    const Camera portrait = cameraFromScene(file, s, std::nullopt, 0.75f);
+    const float portraitHalfX =
+        std::atan(std::tan(glm::radians(portrait.fovYDegrees) * 0.5f) * 0.75f);
+    EXPECT_NEAR(portraitHalfX, halfX, 1e-5f);
+    EXPECT_NEAR(portrait.fovYDegrees, 2.0f * glm::degrees(std::atan(std::tan(glm::radians(9.0f)) / 0.75f)), 1e-3f);
+    EXPECT_FLOAT_EQ(cameraFromScene(file, s, std::nullopt, 16.0f / 9.0f).fovYDegrees, 18.0f);
+    file.aspect = 0.0f;  // not given: yfov as given
+    EXPECT_FLOAT_EQ(cameraFromScene(file, s, std::nullopt, 0.75f).fovYDegrees, 18.0f);
+    file.aspect = 1.0f;  // --fov wins
+    EXPECT_FLOAT_EQ(cameraFromScene(file, s, 30.0f, 0.75f).fovYDegrees, 30.0f);
 }
 
 TEST(FramingGeometry, TheSceneViewpointWins) {

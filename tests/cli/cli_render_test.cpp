@@ -773,6 +773,53 @@ std::string planeWithPointLight(float intensity, float range) {
         test::base64(bin));
 }
 
+// A file camera at (0, 0, 6) (yfov 0.9: the frame's half-height at the plane z = 0 is
+// 6 tan 0.45 = 2.90) over the quad x0..x1, y0..y1 of that plane.
+std::string quadUnderFileCamera(float x0, float y0, float x1, float y1) {
+    const float pos[] = {x0, y0, 0, x1, y0, 0, x1, y1, 0, x0, y1, 0};
+    const float nrm[] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+    const std::uint16_t idx[] = {0, 1, 2, 0, 2, 3};
+    std::string bin(reinterpret_cast<const char*>(pos), sizeof pos);
+    bin.append(reinterpret_cast<const char*>(nrm), sizeof nrm);
+    bin.append(reinterpret_cast<const char*>(idx), sizeof idx);
+    return fmt::format(
+        R"({{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0,1]}}],)"
+        R"("nodes":[{{"mesh":0}},{{"camera":0,"name":"Shot","translation":[0,0,6]}}],)"
+        R"("cameras":[{{"type":"perspective","perspective":{{"yfov":0.9,"znear":0.05,"zfar":1000000}}}}],)"
+        R"("meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1}},"indices":2}}]}}],)"
+        R"("accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3",)"
+        R"("min":[{},{},0],"max":[{},{},0]}},)"
+        R"({{"bufferView":1,"componentType":5126,"count":4,"type":"VEC3"}},)"
+        R"({{"bufferView":2,"componentType":5123,"count":6,"type":"SCALAR"}}],)"
+        R"("bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},)"
+        R"({{"buffer":0,"byteOffset":48,"byteLength":48}},)"
+        R"({{"buffer":0,"byteOffset":96,"byteLength":12}}],)"
+        R"("buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}]}})",
+        x0, y0, x1, y1, bin.size(), test::base64(bin));
+}
+
+// A file camera that cuts the scene off on one side says so and names the way out; one whose
+// frame the scene fills on every side (a ground plane, a room) does not; --no-file-camera
+// frames the whole scene, silently.
+TEST_F(Cli, AFileCameraThatCutsTheSceneOffSaysSo) {
+    const auto cut = write("cut.gltf", quadUnderFileCamera(-1, -6, 1, 0.5f));
+    const CliRun r = run(fmt::format("render '{}' --views 1 --size 64x48 -o cut", cut.string()));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("warning: the file's camera 'Shot' cuts the scene off at the bottom ("),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("--no-file-camera frames the whole scene"), std::string::npos) << r.err;
+    const CliRun framed = run(
+        fmt::format("render '{}' --views 1 --size 64x48 --no-file-camera -o f", cut.string()));
+    ASSERT_EQ(framed.exitCode, 0) << framed.err;
+    EXPECT_EQ(framed.err.find("warning"), std::string::npos) << framed.err;
+    const auto ground = write("ground.gltf", quadUnderFileCamera(-40, -40, 40, 40));
+    const CliRun filled =
+        run(fmt::format("render '{}' --views 1 --size 64x48 -o g", ground.string()));
+    ASSERT_EQ(filled.exitCode, 0) << filled.err;
+    EXPECT_EQ(filled.err.find("warning"), std::string::npos) << filled.err;
+}
+
 // KHR_lights_punctual's range: a point light at height 1 over the plane with range 2 lights
 // the disc of radius sqrt(2² - 1²) around its foot and nothing beyond (computed here). A pixel
 // of the plane at radius 2.2 gets what an unlit render (intensity 0) gives it, exactly; at

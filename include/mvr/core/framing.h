@@ -37,9 +37,10 @@ struct FramingParams {
     std::optional<float> aspect;
     // Appended (issue 14): a camera from the file (Scene::camera) is the centre camera: its
     // position and orientation, its yfov unless fovOverridesSceneCamera (then fovYDegrees),
-    // its znear / zfar (zfar absent: 1.05 × the farthest bounds corner along the view axis);
-    // the target (and default convergence) is the bounds' centre's depth along its axis.
-    // The output size's aspect is used, not the file's aspectRatio (yfov is kept).
+    // its znear / zfar as limits of the depth range, which hugs the scene's bounding sphere
+    // (frameCamera()'s margins) when the camera is outside it; the target (and default
+    // convergence) is the bounds' centre's depth along its axis. The output's aspect is used,
+    // with the field of view fitted so that the file's frame stays whole (fitFileFov()).
     bool useSceneCamera = true;
     bool fovOverridesSceneCamera = false;
 };
@@ -52,6 +53,17 @@ struct RenderRequest {
 
 /// The centre camera for `scene` seen at `aspect` (width / height of one view).
 Camera frameCamera(const Scene& scene, float fovYDegrees, float aspect);
+
+/// The widest vertical field of view fitFileFov() gives (a very narrow output of a wide file
+/// camera).
+inline constexpr float kMaxFittedFovDegrees = 170.0f;
+
+/// A file camera's vertical field of view (radians) at an output of `aspect` (width / height):
+/// the file's whole frame stays in the picture, as a camera's sensor fit does. At least as
+/// wide as the file's `fileAspect`: yfov as given (more is seen left and right); narrower:
+/// the file's horizontal field of view kept (a Portrait view of a square camera sees its full
+/// width, and more above and below). fileAspect 0 (not given): yfov as given.
+float fitFileFov(float yfovRadians, float fileAspect, float aspect);
 
 /// The centre camera from a file's camera (see FramingParams::useSceneCamera).
 Camera cameraFromScene(const SceneCamera& fileCamera, const Scene& scene,
