@@ -19,8 +19,9 @@ public:
     }
     // Frame after frame into one output: its images are reused (no allocation, no page
     // faults) where they have the request's size.
-    Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& settings,
+    Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& requested,
                       const std::string& method, RenderOutput& out) override {
+        const RenderSettings settings = shadedSettings(requested);
         if (!settings.shadows) return mRenderer.renderInto(scene, rig, settings, method, out);
         // Shadows (issue 15): the casters' maps once for all views, as one multi-view pass
         // whose views are the lights (the same method where it returns per-view depth).

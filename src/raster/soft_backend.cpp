@@ -92,8 +92,9 @@ public:
         return renderThroughInto(*this, scene, rig, settings, method);
     }
 
-    Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& settings,
+    Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& requested,
                       const std::string& method, RenderOutput& out) override {
+        const RenderSettings settings = shadedSettings(requested);
         if (Status s = validateRequest(scene, rig, settings); !s) return s;
         if (Status s = supports(method); !s) return s;
         try {

@@ -402,6 +402,12 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
             fmt::format("--shadow-map-size {} is out of range (expected 16..8192)", r.shadowMapSize));
     }
     out.settings.shadows = r.shadows;
+    if (r.shadows && out.settings.shading == Shading::Vertex) {
+        out.settings = shadedSettings(out.settings);  // what the backends render (render.h)
+        out.notes.push_back(
+            "note: --shadows shades per pixel (looked up per vertex, a shadow vanishes inside "
+            "large triangles)");
+    }
     // Depth images only when written or drawn into; the reports need only each view's range,
     // which a backend measures without reading the images back (RenderOutput::depthRange).
     const SurfaceRecipe& sf = r.surfaces;

@@ -68,9 +68,9 @@ Mesh planeMesh(float half, int cells) {
 
 const glm::vec3 kBoxLo{-0.5f, 1.0f, -0.5f}, kBoxHi{0.5f, 1.5f, 0.5f};
 
-Scene boxScene(const Light& light) {
+Scene boxScene(const Light& light, int planeCells = 16) {
     Scene s;
-    s.meshes = {planeMesh(4.0f, 16), boxMesh(kBoxLo, kBoxHi)};
+    s.meshes = {planeMesh(4.0f, planeCells), boxMesh(kBoxLo, kBoxHi)};
     s.instances = {Instance{0, glm::mat4(1.0f), Material{}},
                    Instance{1, glm::mat4(1.0f), Material{}}};
     s.lights = {light};
@@ -171,8 +171,9 @@ std::vector<Case> cases() {
 /// `textured`: every material gets a white base color texture, so that the frame takes the
 /// textured paths (lighting.h flatTerms / blinnPhongTerms; soft's textured attribute layout,
 /// gl's LightTerms shaders), which must apply the shadow factors as the untextured ones do.
-void checkShadow(const Light& light, const Rect& shadow, Shading shading, bool textured = false) {
-    Scene scene = boxScene(light);
+void checkShadow(const Light& light, const Rect& shadow, Shading shading, bool textured = false,
+                 int planeCells = 16) {
+    Scene scene = boxScene(light, planeCells);
     if (textured) {
         scene.textures.push_back(Texture{"white", Image(2, 2, Rgba8{255, 255, 255, 255})});
         for (Mesh& m : scene.meshes) m.texcoords.assign(m.positions.size(), glm::vec2(0.5f));
@@ -187,6 +188,8 @@ void checkShadow(const Light& light, const Rect& shadow, Shading shading, bool t
         SCOPED_TRACE(c.backend + ":" + c.method);
         Backend* backend = backendNamed(c.backend);
         RenderSettings off = s;
+        // Compared with the shading the shadowed render uses (vertex: per pixel).
+        off.shading = shadedSettings(RenderSettings{.shading = s.shading, .shadows = true}).shading;
         auto lit = backend->render(scene, rig, off, c.method);
         ASSERT_TRUE(lit) << lit.status().message();
         RenderSettings on = s;
@@ -212,11 +215,28 @@ TEST(Shadows, DirectionalShadowFallsWhereTheProjectionPutsIt) {
     Light l;
     l.towardLight = glm::normalize(glm::vec3(1, 2, 0));
     l.color = glm::vec3(0.8f);
-    for (Shading sh : {Shading::Pixel, Shading::Vertex}) {
+    for (Shading sh : {Shading::Pixel, Shading::Vertex}) {  // vertex: shaded per pixel
         SCOPED_TRACE(int(sh));
-        if (sh == Shading::Vertex) continue;  // per vertex: the 0.5-unit plane grid blurs edges
         checkShadow(l, Rect{-1.25f, 0.0f, -0.5f, 0.5f}, sh);
     }
+}
+
+// A ground of one quad (four vertices, two triangles) under a floating box, the light straight
+// down: per vertex the shadow vanished (every vertex is lit, so every pixel was: issue 39's
+// plate). Vertex shading with shadows is shaded per pixel (shadedSettings): the footprint is
+// dark, everything else unchanged, on every backend and method.
+TEST(Shadows, AGroundOfFourVerticesShowsTheShadowUnderVertexShading) {
+    Light l;
+    l.towardLight = {0, 1, 0};
+    l.color = glm::vec3(0.8f);
+    checkShadow(l, Rect{-0.5f, 0.5f, -0.5f, 0.5f}, Shading::Vertex, false, 1);
+    RenderSettings s;
+    s.shading = Shading::Vertex;
+    EXPECT_EQ(shadedSettings(s).shading, Shading::Vertex);  // no shadows: as asked
+    s.shadows = true;
+    EXPECT_EQ(shadedSettings(s).shading, Shading::Pixel);
+    s.shading = Shading::Flat;
+    EXPECT_EQ(shadedSettings(s).shading, Shading::Flat);
 }
 
 // Light straight down: the shadow is the box's footprint x, z ∈ [−0.5, 0.5].

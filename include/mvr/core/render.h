@@ -159,6 +159,15 @@ inline Result<RenderOutput> renderThroughInto(Backend& backend, const Scene& sce
     return out;
 }
 
+/// The settings a backend renders `s` with. Shadow maps are looked up where the lighting is
+/// evaluated, and per vertex they vanish inside large triangles (a ground quad of four
+/// vertices under a floating plate shows no shadow at all): vertex shading with shadows is
+/// shaded per pixel. Flat keeps one shadow factor per triangle (at its centroid).
+inline RenderSettings shadedSettings(RenderSettings s) {
+    if (s.shadows && s.shading == Shading::Vertex) s.shading = Shading::Pixel;
+    return s;
+}
+
 /// View `view`'s depth range: from its depth image when there is one, else from
 /// RenderOutput::depthRange; nullopt when the output has neither (gl gs-mrt).
 std::optional<DepthRange> depthRangeOf(const RenderOutput& out, int view);
