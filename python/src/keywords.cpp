@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <span>
 #include <vector>
@@ -61,6 +62,8 @@ enum class Kind {
     Text,         ///< a string, os.PathLike, or an (a, b) pair of integers for "axb"
     TextList,     ///< a string or a list of them (a repeatable option)
     File,         ///< Text naming a file that exists
+    Numbers,      ///< a string ("1,2,3", a file name), or numbers: a sequence, nested ones
+                  ///< (a 4x4 list) or a numpy array, as "n,n,..."
 };
 
 struct Spec {
@@ -127,6 +130,25 @@ std::string text(const std::string& key, const py::handle& v, bool pairNote) {
                                pairNote ? " (or a (width, height) pair)" : "", typeName(v)));
 }
 
+/// Kind::Numbers: the leaves of a (nested) sequence or array, in order, as "n,n,...".
+std::string numbersText(const std::string& key, const py::handle& v) {
+    if (PyUnicode_Check(v.ptr()) || py::hasattr(v, "__fspath__")) return text(key, v, false);
+    py::object seq = py::reinterpret_borrow<py::object>(v);
+    if (py::hasattr(seq, "tolist")) seq = seq.attr("tolist")();  // numpy
+    std::string out;
+    std::function<void(const py::handle&)> walk = [&](const py::handle& h) {
+        if (PyTuple_Check(h.ptr()) || PyList_Check(h.ptr())) {
+            for (py::handle item : h) walk(item);
+            return;
+        }
+        if (PyBool_Check(h.ptr()) || !(PyFloat_Check(h.ptr()) || PyIndex_Check(h.ptr())))
+            throwParameter(fmt::format("{}: expected numbers, got {}", key, typeName(h)));
+        out += (out.empty() ? "" : ",") + fmt::format("{}", number(key, h));
+    };
+    walk(seq);
+    return out;
+}
+
 /// The keywords, type-checked in the caller's order; None is "not given".
 std::map<std::string, Value> readKeywords(const char* fn, std::span<const Spec> specs,
                                           const py::dict& kwargs) {
@@ -186,6 +208,7 @@ std::map<std::string, Value> readKeywords(const char* fn, std::span<const Spec> 
                 value.number = number(key, v);
                 break;
             case Kind::Text: value.text = text(key, v, true); break;
+            case Kind::Numbers: value.text = numbersText(key, v); break;
             case Kind::File: {
                 value.text = text(key, v, false);
                 std::error_code ec;
@@ -356,6 +379,12 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"sky", Kind::Text},             {"floating_window", Kind::Flag},
             {"letterbox", Kind::Float},      {"label", Kind::TextList},
             {"label_anchor", Kind::TextList},
+            {"azimuth", Kind::Float},        {"elevation", Kind::Float},
+            {"distance", Kind::FloatOrAuto}, {"target", Kind::Numbers},
+            {"camera_position", Kind::Numbers}, {"look_at", Kind::Numbers},
+            {"up", Kind::Numbers},           {"camera_matrix", Kind::Numbers},
+            {"focal_length_mm", Kind::Float}, {"sensor_width_mm", Kind::Float},
+            {"background", Kind::Numbers},
         };
         s.insert(s.end(), std::begin(kComposeSpecs), std::end(kComposeSpecs));
         return s;
@@ -402,6 +431,17 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     }
     if (auto* v = get("fov")) r.fov = v->number;
     if (auto* v = get("no_file_camera")) r.noFileCamera = v->flag;
+    if (auto* v = get("azimuth")) r.camera.azimuth = v->number;
+    if (auto* v = get("elevation")) r.camera.elevation = v->number;
+    if (auto* v = get("distance"); v && !v->isAuto) r.camera.distance = v->number;
+    if (auto* v = get("target")) r.camera.target = v->text;
+    if (auto* v = get("camera_position")) r.camera.position = v->text;
+    if (auto* v = get("look_at")) r.camera.lookAt = v->text;
+    if (auto* v = get("up")) r.camera.up = v->text;
+    if (auto* v = get("camera_matrix")) r.camera.matrix = v->text;
+    if (auto* v = get("focal_length_mm")) r.camera.focalLengthMm = v->number;
+    if (auto* v = get("sensor_width_mm")) r.camera.sensorWidthMm = v->number;
+    if (auto* v = get("background")) r.background = v->text;
     if (auto* v = get("exposure")) {
         r.exposureAuto = v->isAuto;
         if (!v->isAuto) r.exposure = v->number;

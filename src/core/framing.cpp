@@ -10,6 +10,46 @@
 
 namespace mvr {
 
+namespace {
+
+/// near / far around the scene's bounding sphere seen from camera.position, within the limits:
+/// outside the sphere, frameCamera()'s margins (room for an orbit); inside it (an interior),
+/// nearLimit.
+void hugBounds(Camera& camera, const Bounds& bounds, float nearLimit, float farLimit) {
+    const float radius = std::max(bounds.radius(), 1e-4f);
+    const float centre = glm::length(bounds.center() - camera.position);
+    camera.near = nearLimit;
+    if (centre > radius) {
+        const float floor = std::min(0.02f * centre, 0.5f * (centre - radius));
+        camera.near = std::max(nearLimit, std::max(centre - 2.5f * radius, floor));
+    }
+    camera.far = std::min(farLimit, centre + 3.0f * radius);
+    if (!(camera.far > camera.near * 1.001f)) camera.far = std::max(farLimit, camera.near * 2.0f);
+}
+
+}  // namespace
+
+float fitDistance(const Scene& scene, float fovYDegrees, float aspect) {
+    const float radius = std::max(scene.bounds().radius(), 1e-4f);
+    const float halfFov = glm::radians(fovYDegrees) * 0.5f;
+    const float halfFovX = std::atan(std::tan(halfFov) * aspect);
+    return 1.05f * radius / std::sin(std::min(halfFov, halfFovX));
+}
+
+Camera cameraFromViewpoint(const Viewpoint& viewpoint, const Scene& scene, float fovYDegrees,
+                           float aspect) {
+    Camera camera;
+    camera.position = viewpoint.position;
+    camera.target = viewpoint.target;
+    camera.up = viewpoint.up;
+    camera.fovYDegrees = fovYDegrees;
+    camera.aspect = aspect;
+    const Bounds bounds = scene.bounds();
+    hugBounds(camera, bounds, 1e-3f * std::max(bounds.radius(), 1e-4f),
+              std::numeric_limits<float>::max());
+    return camera;
+}
+
 Camera frameCamera(const Scene& scene, float fovYDegrees, float aspect) {
     const Bounds bounds = scene.bounds();
     const glm::vec3 center = bounds.center();
@@ -19,13 +59,13 @@ Camera frameCamera(const Scene& scene, float fovYDegrees, float aspect) {
     camera.aspect = aspect;
     const float halfFov = glm::radians(camera.fovYDegrees) * 0.5f;
     const float halfFovX = std::atan(std::tan(halfFov) * camera.aspect);
-    const float fitDistance = radius / std::sin(std::min(halfFov, halfFovX));
+    const float fit = radius / std::sin(std::min(halfFov, halfFovX));
     if (scene.viewpoint) {
         camera.position = scene.viewpoint->position;
         camera.target = scene.viewpoint->target;
     } else {
         camera.target = center;
-        camera.position = center + glm::vec3(0.0f, 0.0f, fitDistance * 1.05f);
+        camera.position = center + glm::vec3(0.0f, 0.0f, fit * 1.05f);
     }
     const float distance = glm::length(camera.position - camera.target);
     camera.near = std::max(distance - radius * 2.5f, distance * 0.02f);
@@ -62,19 +102,13 @@ Camera cameraFromScene(const SceneCamera& file, const Scene& scene,
     // over a scene a few units deep would leave a few hundred depth values to the whole scene
     // (z-fighting). Outside the bounding sphere the planes hug it with frameCamera()'s margins
     // (room for an orbit); inside it (an interior), the file's znear stays.
-    const float centre = glm::length(bounds.center() - camera.position);
-    const float fileFar = file.zfar > file.znear ? file.zfar : std::numeric_limits<float>::max();
-    camera.near = file.znear;
-    if (centre > radius) {
-        const float floor = std::min(0.02f * centre, 0.5f * (centre - radius));
-        camera.near = std::max(file.znear, std::max(centre - 2.5f * radius, floor));
-    }
-    camera.far = std::min(fileFar, centre + 3.0f * radius);
-    if (!(camera.far > camera.near * 1.001f)) camera.far = std::max(fileFar, camera.near * 2.0f);
+    hugBounds(camera, bounds, file.znear,
+              file.zfar > file.znear ? file.zfar : std::numeric_limits<float>::max());
     return camera;
 }
 
 Camera centreCamera(const Scene& scene, const FramingParams& params, float aspect) {
+    if (params.viewpoint) return cameraFromViewpoint(*params.viewpoint, scene, params.fovYDegrees, aspect);
     if (params.useSceneCamera && scene.camera) {
         return cameraFromScene(*scene.camera, scene,
                                params.fovOverridesSceneCamera

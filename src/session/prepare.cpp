@@ -19,6 +19,7 @@
 #include "mvr/core/displays.h"
 #include "mvr/core/framing.h"
 #include "mvr/core/scene_io.h"
+#include "mvr/session/camera.h"
 
 namespace mvr::session {
 
@@ -513,7 +514,26 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     params.aspect = aspect;
     params.fovOverridesSceneCamera = r.fov.has_value();
     params.useSceneCamera = !r.noFileCamera;
-    if (out.animation && r.noFileCamera) out.animation->cameraNode = -1;
+    // The caller's lens and viewpoint (mvr/session/camera.h): over the file's camera.
+    const float viewAspect =
+        aspect.value_or(float(out.settings.width) / float(out.settings.height));
+    auto lens = fovFromFocalLength(r.camera, viewAspect);
+    if (!lens) return lens.status();
+    if (*lens) {
+        if (r.fov) return usageError("--focal-length-mm excludes --fov (give one of them)");
+        params.fovYDegrees = float(**lens);
+        params.fovOverridesSceneCamera = true;
+    }
+    auto viewpoint = viewpointOf(r.camera, out.scene, params.fovYDegrees, viewAspect);
+    if (!viewpoint) return viewpoint.status();
+    if (*viewpoint) {
+        params.viewpoint = **viewpoint;
+        params.useSceneCamera = false;
+    }
+    if (out.animation && !params.useSceneCamera) out.animation->cameraNode = -1;
+    auto background = backgroundOf(r.background);
+    if (!background) return background.status();
+    if (*background) params.clearColor = **background;
     if (r.interaxial) params.interaxial = static_cast<float>(*r.interaxial);
     if (r.separation) params.separation = static_cast<float>(*r.separation);
     if (r.convergence) params.convergence = static_cast<float>(*r.convergence);

@@ -167,9 +167,20 @@ TEST_F(Cli, TheComfortLineFlagsAnAbsurdSeparation) {
         << wide.out;
 }
 
+TEST_F(Cli, VersionPrintsTheVersion) {
+    const CliRun r = run("--version");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.out, std::string("mvr ") + MVR_VERSION + "\n");
+}
+
 TEST_F(Cli, BadNumbersAreUsageErrors) {
     expectError("render --views 0", 1, "view count");
     expectError("render --views 129", 1, "view count");
+    expectError("render --elevation 95", 1, "--elevation 95 is out of range (expected -90..90");
+    expectError("render --camera-position 1,2", 1,
+                "--camera-position 1,2: expected X,Y,Z (three numbers)");
+    expectError("render --background 2,0,0", 1, "--background 2,0,0: each of R,G,B must be in 0..1");
+    expectError("render --distance far", 1, "'far' is not a number or auto");
     expectError("render --convergence 1000", 1,
                 "--convergence 1000: convergence 1000 is beyond the far plane");
     expectError("render --views 4 --view-cone 180", 1, "--view-cone 180 is out of range");

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     CLI::App app{
         "mvr — render one 3D scene from 2..N viewpoints (stereo pairs, autostereo rows, "
         "view grids) cheaper than N renders."};
+    app.set_version_flag("--version", std::string("mvr ") + MVR_VERSION);
     app.require_subcommand(1);
     app.fallthrough(false);
     auto& registry = commandRegistry();
@@ -53,6 +54,8 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         fmt::print(stderr, "error: {}\n", e.what());

@@ -139,6 +139,45 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
         ->each([this](const std::string&) { fovGiven = true; });
     app->add_flag("--no-file-camera", noFileCamera,
                   "Frame the scene's bounds instead of using the model file's camera");
+    // The viewpoint (mvr/session/camera.h): orbit-style, eye and look-at, or a matrix.
+    app->add_option("--azimuth", camera.azimuth,
+                    "View the scene from this angle about +Y, degrees (0: from +Z, the default "
+                    "framing; 90: from +X), at --distance from --target");
+    app->add_option("--elevation", camera.elevation,
+                    "...and from this angle above the horizontal plane, degrees (-90..90)");
+    app->add_option_function<std::string>(
+           "--distance",
+           [this](const std::string& text) {
+               if (text == "auto") return camera.distance.reset();
+               try {
+                   std::size_t used = 0;
+                   camera.distance = std::stod(text, &used);
+                   if (used == text.size()) return;
+               } catch (const std::exception&) {
+               }
+               throw CLI::ValidationError("--distance",
+                                          fmt::format("'{}' is not a number or auto", text));
+           },
+           "...from the target, world units; auto (default): the whole scene in view")
+        ->type_name("D|auto");
+    app->add_option("--target", camera.target,
+                    "The point the orbit-style camera looks at, X,Y,Z, or centre (default)");
+    app->add_option("--camera-position", camera.position,
+                    "The camera's eye, X,Y,Z (with --look-at, default the scene's centre, and "
+                    "--up, default 0,1,0)");
+    app->add_option("--look-at", camera.lookAt, "The point the camera looks at, X,Y,Z");
+    app->add_option("--up", camera.up, "The camera's up direction, X,Y,Z");
+    app->add_option("--camera-matrix", camera.matrix,
+                    "The camera as a 4x4 world-from-camera matrix, row-major (looking down its "
+                    "-Z, +Y up): 16 numbers, or a file holding them");
+    app->add_option("--focal-length-mm", camera.focalLengthMm,
+                    "Field of view from a lens: focal length on a --sensor-width-mm sensor "
+                    "(the horizontal field of view); excludes --fov");
+    app->add_option("--sensor-width-mm", camera.sensorWidthMm,
+                    "Sensor width for --focal-length-mm")
+        ->default_val(camera.sensorWidthMm);
+    app->add_option("--background", background,
+                    "Background colour: R,G,B in 0..1, or #RRGGBB (default: the scene's)");
     app->add_option_function<std::string>(
            "--exposure", numberOrAuto("--exposure", exposure, exposureAuto),
            "Scale every light by 2^EV (stops). Lights are in glTF's units with no tone "
@@ -186,6 +225,8 @@ session::RenderRecipe SceneOptions::recipe() const {
     r.scene = namedScene;
     r.grid = grid;
     r.noFileCamera = noFileCamera;
+    r.camera = camera;
+    r.background = background;
     r.exposure = exposure;
     r.exposureAuto = exposureAuto;
     r.billboards = billboards;

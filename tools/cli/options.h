@@ -79,6 +79,8 @@ struct SceneOptions {
     // its yfov unless --fov is given (fovGiven).
     bool fovGiven = false;
     bool noFileCamera = false;
+    session::CameraRecipe camera;  ///< --azimuth ... --camera-matrix, --focal-length-mm
+    std::string background;        ///< --background R,G,B | #RRGGBB
 
     /// Adds the options to a subcommand. `withModels`: also the positional MODEL... list.
     void addTo(CLI::App* app, bool withModels = true);

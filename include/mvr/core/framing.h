@@ -20,6 +20,14 @@
 
 namespace mvr {
 
+/// A viewpoint given by the caller (`mvr render --azimuth / --camera-position / --camera-matrix`):
+/// the centre camera's eye, the point it looks at and its up direction.
+struct Viewpoint {
+    glm::vec3 position{0.0f, 0.0f, 5.0f};
+    glm::vec3 target{0.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+};
+
 struct FramingParams {
     RigKind kind = RigKind::OffAxis;
     int columns = 2;                   ///< views per row
@@ -43,6 +51,9 @@ struct FramingParams {
     // with the field of view fitted so that the file's frame stays whole (fitFileFov()).
     bool useSceneCamera = true;
     bool fovOverridesSceneCamera = false;
+    /// The centre camera's viewpoint, over the file's camera and the scene's own viewpoint;
+    /// fovYDegrees is its field of view, near / far hug the scene's bounding sphere.
+    std::optional<Viewpoint> viewpoint;
 };
 
 /// A rig and settings ready for Backend::render().
@@ -69,8 +80,17 @@ float fitFileFov(float yfovRadians, float fileAspect, float aspect);
 Camera cameraFromScene(const SceneCamera& fileCamera, const Scene& scene,
                        std::optional<float> fovYDegrees, float aspect);
 
-/// The centre camera frameScene() builds its rig around: cameraFromScene() of the file's
-/// camera when params.useSceneCamera and the scene has one, else frameCamera() of the bounds.
+/// The distance at which frameCamera() sees the whole bounding sphere of `scene` at this field
+/// of view and aspect (5 % margin): what `--distance auto` means.
+float fitDistance(const Scene& scene, float fovYDegrees, float aspect);
+
+/// The centre camera of a viewpoint (FramingParams::viewpoint).
+Camera cameraFromViewpoint(const Viewpoint& viewpoint, const Scene& scene, float fovYDegrees,
+                           float aspect);
+
+/// The centre camera frameScene() builds its rig around: cameraFromViewpoint() of
+/// params.viewpoint when given, else cameraFromScene() of the file's camera when
+/// params.useSceneCamera and the scene has one, else frameCamera() of the bounds.
 /// `aspect`: width / height of one view. (Also what `--convergence auto`'s depth pre-pass sees.)
 Camera centreCamera(const Scene& scene, const FramingParams& params, float aspect);
 

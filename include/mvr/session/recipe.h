@@ -57,6 +57,29 @@ struct OutputRecipe {
     bool quiltGiven = false;        ///< compose.quilt* were given (a preset keeps them)
 };
 
+/// The centre camera's viewpoint when the caller gives one (over the file's camera and the
+/// framed default). One family at a time: orbit-style (azimuth / elevation / distance /
+/// target, about the framed scene: f3d's and Blender's habit), eye and look-at, or a matrix.
+/// Any of them: the file's camera (and its animation) is not used.
+struct CameraRecipe {
+    std::optional<double> azimuth;    ///< degrees about +Y; 0: from +Z, 90: from +X
+    std::optional<double> elevation;  ///< degrees above the horizontal plane, [-90, 90]
+    std::optional<double> distance;   ///< world units from the target; nullopt: fit the scene
+    std::string target;               ///< "X,Y,Z", or "centre" (default: the bounds' centre)
+    std::string position;             ///< "X,Y,Z": the eye
+    std::string lookAt;               ///< "X,Y,Z" (default: the bounds' centre)
+    std::string up;                   ///< "X,Y,Z" (default 0,1,0)
+    /// A 4x4 world-from-camera matrix, row-major (the camera looks down its -Z, +Y up): 16
+    /// numbers, or a file holding them (whitespace, commas or a JSON array).
+    std::string matrix;
+    std::optional<double> focalLengthMm;  ///< with sensorWidthMm: the horizontal field of view
+    double sensorWidthMm = 36.0;
+    bool given() const {
+        return azimuth || elevation || distance || !target.empty() || !position.empty() ||
+               !lookAt.empty() || !up.empty() || !matrix.empty();
+    }
+};
+
 struct RenderRecipe {
     // ---- the scene ----
     /// Model files (OBJ, PLY, glTF), each optionally placed: FILE@X,Y,Z[,SCALE[,YAW]].
@@ -86,6 +109,7 @@ struct RenderRecipe {
     std::optional<double> fov;  ///< degrees (default: the file camera's, else 45)
     std::optional<double> screenWidthCm;
     std::optional<double> viewingDistanceCm;
+    CameraRecipe camera;  ///< the centre camera's viewpoint, when given
 
     // ---- the image ----
     std::optional<std::string> size;  ///< "WxH" per view (default 1024x768, or the display's)
@@ -94,6 +118,7 @@ struct RenderRecipe {
     bool wireframe = false;
     bool shadows = false;
     int shadowMapSize = 1024;
+    std::string background;  ///< "R,G,B" in [0, 1] or "#RRGGBB"; empty: the scene's
 
     // ---- what is drawn after the scene, the sequence, the outputs and the backend ----
     SurfaceRecipe surfaces;

@@ -1,0 +1,48 @@
+"""The viewpoint keywords (azimuth=, elevation=, distance=, target=, camera_position=, look_at=,
+up=, camera_matrix=, focal_length_mm=, sensor_width_mm=) and background=, as the CLI's options."""
+import math
+
+import numpy as np
+import pytest
+
+import mvr
+
+
+def test_an_eye_a_matrix_and_a_numpy_matrix_are_the_same_camera():
+    eye = mvr.render(views=1, size=(64, 48), camera_position=(0, 1, 8), look_at=(0, 1, 0))
+    m = np.eye(4)
+    m[:3, 3] = (0, 1, 8)
+    as_array = mvr.render(views=1, size=(64, 48), camera_matrix=m)
+    as_text = mvr.render(views=1, size=(64, 48), camera_matrix=" ".join(str(x) for x in m.ravel()))
+    np.testing.assert_array_equal(eye.color, as_array.color)
+    np.testing.assert_array_equal(eye.color, as_text.color)
+
+
+def test_azimuth_changes_the_view_and_zero_is_the_default_framing():
+    default = mvr.render(views=1, size=(64, 48))
+    zero = mvr.render(views=1, size=(64, 48), azimuth=0, elevation=0, distance="auto")
+    side = mvr.render(views=1, size=(64, 48), azimuth=90)
+    assert not np.array_equal(default.color, side.color)
+    # The default scene has a viewpoint of its own: azimuth 0 frames the bounds from +Z.
+    assert zero.color.shape == default.color.shape
+
+
+def test_focal_length_sets_the_field_of_view():
+    r = mvr.render(views=1, size=(64, 48), focal_length_mm=50)
+    assert r.color.shape == (1, 48, 64, 4)
+    with pytest.raises(ValueError, match="--focal-length-mm excludes --fov"):
+        mvr.render(views=1, size=(64, 48), focal_length_mm=50, fov=30)
+
+
+def test_background_colour():
+    r = mvr.render(views=1, size=(64, 48), background=(0.2, 0.4, 0.6), azimuth=0, distance=500)
+    assert tuple(r.color[0, 0, 0, :3]) == (51, 102, 153)
+
+
+def test_bad_camera_keywords_raise_value_error_naming_the_option():
+    with pytest.raises(ValueError, match=r"--camera-position 1,2: expected X,Y,Z"):
+        mvr.render(views=1, size=(64, 48), camera_position=(1, 2))
+    with pytest.raises(ValueError, match="the camera is given twice"):
+        mvr.render(views=1, size=(64, 48), azimuth=10, camera_position=(1, 2, 3))
+    with pytest.raises(ValueError, match="expected numbers"):
+        mvr.render(views=1, size=(64, 48), up=("a", 1, 0))
