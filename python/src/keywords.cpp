@@ -384,7 +384,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"camera_position", Kind::Numbers}, {"look_at", Kind::Numbers},
             {"up", Kind::Numbers},           {"camera_matrix", Kind::Numbers},
             {"focal_length_mm", Kind::Float}, {"sensor_width_mm", Kind::Float},
-            {"background", Kind::Numbers},
+            {"background", Kind::Numbers},   {"write_cameras", Kind::Flag},
         };
         s.insert(s.end(), std::begin(kComposeSpecs), std::end(kComposeSpecs));
         return s;
@@ -461,6 +461,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     if (auto* v = get("method")) r.method = v->text;
     if (auto* v = get("output")) r.outputs.directory = v->text;
     if (auto* v = get("depth")) r.outputs.depth = v->flag;
+    if (auto* v = get("write_cameras")) r.outputs.cameras = v->flag;
     if (auto* v = get("quiet")) out.quiet = v->flag;
     if (auto* v = get("format")) {
         const std::vector<std::string> names = composite::formatNames();

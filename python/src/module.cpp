@@ -332,6 +332,13 @@ PYBIND11_MODULE(_core, m) {
                       "arrays because the backend did not render them in place; 0 means the "
                       "arrays are the memory the backend rendered into (no copy).")
         .def_readonly("triangles", &RenderResult::triangles)
+        .def_readonly("views", &RenderResult::views,
+                      "per view: world_from_camera, view_matrix, projection (4x4 row-major, "
+                      "OpenGL camera: -Z forward, +Y up), intrinsics (fx, fy, cx, cy, matrix: "
+                      "OpenCV pinhole, pixel (0, 0)'s centre at (0, 0)), near, far")
+        .def_readonly("distance", &RenderResult::distance,
+                      "float32 (N, H, W): eye-space distance along the view axis, world units; "
+                      "inf where nothing was drawn (None without depth)")
         .def_readonly("size", &RenderResult::size, "(width, height) of one view")
         .def_readonly("shading", &RenderResult::shading)
         .def_readonly("elapsed_ms", &RenderResult::elapsedMs)

@@ -8,6 +8,7 @@
 #include <fmt/core.h>
 
 #include "mvr/composite/jpeg.h"
+#include "mvr/session/cameras.h"
 #include "mvr/session/outputs.h"
 #include "mvr/session/prepare.h"
 #include "mvr/session/surfaces.h"
@@ -271,7 +272,8 @@ RenderResult renderFrame(Job& job, const Scene& scene, const Rig& rig,
             py::gil_scoped_release release;
             std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
             if (job.gpu) lock.lock();
-            const session::FrameOutputs outputs{formats, recipe.outputs.depth, compose};
+            const session::FrameOutputs outputs{formats, recipe.outputs.depth, compose,
+                                                recipe.outputs.cameras};
             auto files = plan ? session::writeFrameFolder(outDir, *plan, frame, out, p.rig,
                                                           outputs, job.backend.get())
                               : session::writeOutputs(outDir, out, p.rig, outputs,
@@ -299,6 +301,50 @@ RenderResult renderFrame(Job& job, const Scene& scene, const Rig& rig,
     }
     r.color = adoptBlock(block, block->color(), {n, h, w, 4});
     r.depth = hasDepth ? py::object(adoptBlock(block, block->depth(), {n, h, w})) : py::none();
+    // Every view's camera (mvr/session/cameras.h) and the depth as distances along the axis.
+    const std::vector<session::ViewCamera> cams = session::viewCameras(rig, int(w), int(h));
+    py::object ns = py::module_::import("types").attr("SimpleNamespace");
+    auto matrix = [](const glm::mat4& m) {  // row-major numpy (4, 4)
+        py::array_t<double> a({4, 4});
+        auto v = a.mutable_unchecked<2>();
+        for (int row = 0; row < 4; ++row)
+            for (int col = 0; col < 4; ++col) v(row, col) = m[col][row];
+        return a;
+    };
+    py::list views;
+    for (const session::ViewCamera& c : cams) {
+        py::array_t<double> k({3, 3});
+        auto kv = k.mutable_unchecked<2>();
+        for (int row = 0; row < 3; ++row)
+            for (int col = 0; col < 3; ++col) kv(row, col) = 0.0;
+        kv(0, 0) = c.fx, kv(1, 1) = c.fy, kv(0, 2) = c.cx, kv(1, 2) = c.cy, kv(2, 2) = 1.0;
+        py::dict intrinsics;
+        intrinsics["fx"] = c.fx, intrinsics["fy"] = c.fy, intrinsics["cx"] = c.cx,
+        intrinsics["cy"] = c.cy, intrinsics["matrix"] = k;
+        views.append(ns(py::arg("world_from_camera") = matrix(c.worldFromCamera),
+                        py::arg("view_matrix") = matrix(c.viewMatrix),
+                        py::arg("projection") = matrix(c.projection),
+                        py::arg("intrinsics") = intrinsics, py::arg("near") = c.near,
+                        py::arg("far") = c.far));
+    }
+    r.views = views;
+    if (hasDepth) {
+        py::array_t<float> dist({n, h, w});
+        float* dst = dist.mutable_data();
+        const float* src = block->depth();
+        const std::size_t pixels = std::size_t(w) * std::size_t(h);
+        {
+            py::gil_scoped_release release;
+            for (std::size_t v = 0; v < cams.size(); ++v) {
+                for (std::size_t i = 0; i < pixels; ++i)
+                    dst[v * pixels + i] =
+                        session::distanceOfDepth(cams[v].projection, src[v * pixels + i]);
+            }
+        }
+        r.distance = dist;
+    } else {
+        r.distance = py::none();
+    }
     return r;
 }
 

@@ -39,6 +39,7 @@ std::mutex& gpuMutex();
 struct RenderResult {
     py::object color, depth, method, note, backend, rig, comfort, composites, scene, triangles;
     py::object size, shading, elapsedMs, written;
+    py::object views, distance;  ///< per view cameras (cameras.h); distances (N, H, W)
     py::object frame = py::none();  ///< the frame of a sequence (None: a still)
     int copiedViews = 0;  ///< images the backend left outside the output block (copied in)
 };

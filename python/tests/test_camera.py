@@ -46,3 +46,23 @@ def test_bad_camera_keywords_raise_value_error_naming_the_option():
         mvr.render(views=1, size=(64, 48), azimuth=10, camera_position=(1, 2, 3))
     with pytest.raises(ValueError, match="expected numbers"):
         mvr.render(views=1, size=(64, 48), up=("a", 1, 0))
+
+
+def test_distance_of_a_plane_is_its_distance_and_the_views_carry_the_cameras(tmp_path):
+    # A plane z = 0 seen from (0, 0, d): every drawn pixel is d away along the axis.
+    d = 7.5
+    obj = tmp_path / "plane.obj"
+    obj.write_text("v -20 -20 0\nv 20 -20 0\nv 20 20 0\nv -20 20 0\nf 1 2 3 4\n")
+    r = mvr.render([obj], views=2, size=(64, 48), camera_position=(0, 0, d), look_at=(0, 0, 0))
+    assert r.distance.shape == (2, 48, 64) and r.distance.dtype == np.float32
+    np.testing.assert_allclose(r.distance, d, rtol=1e-4)
+    away = mvr.render([obj], views=1, size=(64, 48), camera_position=(30, 0, 1), look_at=(0, 0, 1))
+    assert np.isinf(away.distance).any()  # nothing drawn there: inf
+    # The intrinsics agree with the projection matrix (the OpenCV pinhole of the same camera).
+    v = r.views[1]
+    k, p = v.intrinsics, v.projection
+    assert k["fx"] == pytest.approx(0.5 * 64 * p[0, 0])
+    assert k["cx"] == pytest.approx(0.5 * 64 * (1 - p[0, 2]) - 0.5)
+    np.testing.assert_allclose(v.world_from_camera @ v.view_matrix, np.eye(4), atol=1e-5)
+    np.testing.assert_allclose(v.world_from_camera[:3, 3], r.views[1].world_from_camera[:3, 3])
+    assert v.near > 0 and v.far > v.near

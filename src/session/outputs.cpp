@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 
 #include "mvr/core/scene_io.h"
+#include "mvr/session/cameras.h"
 #include "mvr/session/surfaces.h"
 
 namespace mvr::session {
@@ -46,6 +47,14 @@ Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const Render
         if (!anaglyph) return anaglyph.status();
         const auto path = dir / "anaglyph.png";
         if (Status s = writePng(path, *anaglyph); !s) return s;
+        written.paths.push_back(path.string());
+    }
+    if (outputs.cameras && !out.color.empty()) {
+        const auto path = dir / "cameras.json";
+        if (!writeTextFile(path.string(),
+                           camerasJson(rig, out.color[0].width, out.color[0].height))) {
+            return outputError(fmt::format("cannot write '{}'", path.string()));
+        }
         written.paths.push_back(path.string());
     }
     for (const std::string& format : outputs.formats) {

@@ -105,6 +105,39 @@ TEST_F(ComposeCli, MpoAndJpsInputsAreSplitIntoViews) {
     EXPECT_LE(std::abs(cols.at(1, 2).b - tag(1, 1, 2).b), 12);
 }
 
+// `mvr compose view-*.png`: the shell gives view-0, view-1, view-10, view-11, view-2, ...; the
+// views are taken by their numbers (the quilt equals the one of the numeric order, and a note
+// says so); an order that is not the text order (reversed) is the caller's, kept.
+TEST_F(ComposeCli, AShellGlobOfNumberedViewsIsTakenInNumericOrder) {
+    std::vector<std::string> names;
+    for (int v = 0; v < 12; ++v) {
+        names.push_back(fmt::format("view-{}.png", v));
+        ASSERT_TRUE(writePng(dir / names.back(), taggedView(v, 8, 6)));
+    }
+    auto joined = [](const std::vector<std::string>& list) {
+        std::string s;
+        for (const std::string& n : list) s += n + " ";
+        return s;
+    };
+    std::vector<std::string> glob = names;
+    std::sort(glob.begin(), glob.end());  // as the shell sorts: view-10.png before view-2.png
+    ASSERT_NE(glob, names);
+    CliRun numeric = run(joined(names) + "-f quilt --quilt 4x3 -o numeric.png");
+    ASSERT_EQ(numeric.exitCode, 0) << numeric.output;
+    EXPECT_EQ(numeric.output.find("note:"), std::string::npos) << numeric.output;
+    CliRun globbed = run(joined(glob) + "-f quilt --quilt 4x3 -o glob.png");
+    ASSERT_EQ(globbed.exitCode, 0) << globbed.output;
+    EXPECT_NE(globbed.output.find("note: the views are taken in the order of their numbers "
+                                  "(view-0.png before view-1.png)"),
+              std::string::npos)
+        << globbed.output;
+    EXPECT_EQ(readOne(dir / "glob.png").rgba, readOne(dir / "numeric.png").rgba);
+    std::vector<std::string> reversed(names.rbegin(), names.rend());
+    CliRun kept = run(joined(reversed) + "-f quilt --quilt 4x3 -o reversed.png");
+    ASSERT_EQ(kept.exitCode, 0) << kept.output;
+    EXPECT_NE(readOne(dir / "reversed.png").rgba, readOne(dir / "numeric.png").rgba);
+}
+
 TEST_F(ComposeCli, ViewsOfDifferentSizesAreAnInputError) {
     ASSERT_TRUE(writePng(dir / "small.png", taggedView(1, 4, 6)));
     const CliRun r = run("left.png small.png -o out");

@@ -10,6 +10,7 @@
 
 #include <fmt/core.h>
 #include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 
 #include "mvr/session/camera.h"
 #include "mvr/session/render.h"
@@ -148,6 +149,54 @@ TEST_F(SessionCamera, AnEyeAndLookAtPutAPointWhereThePinholeDoes) {
     std::ofstream(mDir / "camera.json") << "[[1,0,0,0],[0,1,0,0],[0,0,1,10],[0,0,0,1]]";
     matrix.matrix = (mDir / "camera.json").string();
     EXPECT_EQ(eye.rgba, render(obj, matrix, w, h).rgba);
+}
+
+// cameras.json (--write-cameras): for every view of a stereo pair and of a 3x3 grid (off-axis
+// shifts in x and y), a red square's centre at a known world position lands at the pixel the
+// test computes from the written world_from_camera and intrinsics (OpenCV pinhole), within
+// half a pixel of the drawn square's centroid.
+TEST_F(SessionCamera, WrittenCamerasProjectAPointWhereItIsDrawn) {
+    const glm::vec3 mark(0.4f, 0.3f, 0.2f);
+    std::ofstream(mDir / "s.obj") << "mtllib m.mtl\n"
+                                  << objBox({-1, -1, -1}, {1, 1, -0.8f}, "white", 1)
+                                  << objSquare(mark, 0.12f, "red", 9);
+    for (const char* grid : {"", "3x3"}) {
+        SCOPED_TRACE(*grid ? grid : "stereo pair");
+        RenderRecipe r;
+        r.models = {(mDir / "s.obj").string()};
+        if (*grid) r.viewGrid = grid;
+        r.size = "160x120";
+        r.shading = "flat";
+        r.separation = 0.05;  // clearly different views
+        r.outputs.directory = (mDir / "out").string();
+        r.outputs.cameras = true;
+        auto out = renderStill(r, [](const std::string&) {});
+        ASSERT_TRUE(out) << out.status().message();
+        std::ifstream in(mDir / "out" / "cameras.json");
+        const nlohmann::json j = nlohmann::json::parse(in);
+        ASSERT_EQ(j["views"].size(), out->output.color.size());
+        EXPECT_EQ(j["width"], 160);
+        for (std::size_t v = 0; v < out->output.color.size(); ++v) {
+            const nlohmann::json& cam = j["views"][v];
+            glm::mat4 worldFromCamera;
+            for (int row = 0; row < 4; ++row)
+                for (int col = 0; col < 4; ++col)
+                    worldFromCamera[col][row] = cam["world_from_camera"][row][col].get<float>();
+            const glm::vec3 p = glm::vec3(glm::inverse(worldFromCamera) * glm::vec4(mark, 1.0f));
+            const double X = p.x, Y = -p.y, Z = -p.z;  // OpenCV axes
+            const nlohmann::json& k = cam["intrinsics"];
+            const double u = k["fx"].get<double>() * X / Z + k["cx"].get<double>();
+            const double w = k["fy"].get<double>() * Y / Z + k["cy"].get<double>();
+            const Marks m = marks(out->output.color[v]);
+            ASSERT_GT(m.red, 20) << "view " << v;
+            EXPECT_NEAR(m.redCentre.x - 0.5, u, 0.5) << "view " << v;
+            EXPECT_NEAR(m.redCentre.y - 0.5, w, 0.5) << "view " << v;
+        }
+        if (*grid) {  // the grid's corner views are shifted both ways
+            EXPECT_NE(j["views"][0]["intrinsics"]["cy"], j["views"][8]["intrinsics"]["cy"]);
+        }
+        fs::remove_all(mDir / "out");
+    }
 }
 
 // A 50 mm lens on a 36 mm sensor: horizontal field of view 2 atan(18 / 50); the vertical

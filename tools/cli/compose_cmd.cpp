@@ -1,9 +1,11 @@
 // `mvr compose`: existing view images (PNG, JPEG; an MPO or JPS is split into its views) →
 // any output format of the composite module.
+#include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <optional>
 #include <memory>
+#include <optional>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -38,7 +40,40 @@ bool isFileName(const std::filesystem::path& p) {
     return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".jps" || ext == ".mpo";
 }
 
+/// `mvr compose view-*.png`: a shell glob sorts view-10.png before view-2.png. Files named
+/// PREFIX<N>SUFFIX (one prefix and suffix, distinct N) given in text order that is not their
+/// numeric order are put in numeric order (returned); any other order is the caller's.
+std::optional<std::vector<std::string>> numericOrder(const std::vector<std::string>& files) {
+    static const std::regex numbered(R"(^(.*?)(\d+)(\D*)$)");
+    std::vector<std::pair<unsigned long long, std::string>> keyed;
+    std::string prefix, suffix;
+    for (const std::string& f : files) {
+        std::smatch m;
+        if (!std::regex_match(f, m, numbered) || m[2].length() > 18) return std::nullopt;
+        if (keyed.empty()) prefix = m[1], suffix = m[3];
+        if (m[1] != prefix || m[3] != suffix) return std::nullopt;
+        keyed.emplace_back(std::stoull(m[2]), f);
+    }
+    if (keyed.size() < 2 || !std::is_sorted(files.begin(), files.end())) return std::nullopt;
+    auto sorted = keyed;
+    std::stable_sort(sorted.begin(), sorted.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    if (sorted == keyed) return std::nullopt;
+    for (std::size_t i = 1; i < sorted.size(); ++i)
+        if (sorted[i].first == sorted[i - 1].first) return std::nullopt;
+    std::vector<std::string> out;
+    for (auto& k : sorted) out.push_back(std::move(k.second));
+    return out;
+}
+
 int runCompose(ComposeCommandOptions o) {
+    if (auto ordered = numericOrder(o.inputs)) {
+        fmt::print(stderr,
+                   "note: the views are taken in the order of their numbers ({} before {}): "
+                   "a shell glob sorts them as text\n",
+                   (*ordered)[0], o.inputs[0] == (*ordered)[0] ? (*ordered)[1] : o.inputs[0]);
+        o.inputs = std::move(*ordered);
+    }
     // `-o pair.mpo` / `-o pair.jps` without --format: the file name says what to write.
     if (!o.formatGiven) {
         const std::string ext = lowerExtension(o.output);

@@ -30,6 +30,7 @@ struct RenderOptions {
     std::string outDir = "out";
     std::vector<std::string> formats;
     bool depth = false;
+    bool cameras = false;  ///< --write-cameras
     bool quiet = false;
     bool check = false;
     composite::ComposeOptions compose;
@@ -79,6 +80,7 @@ session::RenderRecipe recipeOf(const RenderOptions& o) {
     r.outputs.directory = o.outDir;
     r.outputs.formats = o.formats;
     r.outputs.depth = o.depth;
+    r.outputs.cameras = o.cameras;
     r.outputs.reportJson = o.reportJson;
     r.outputs.compose = o.compose;
     r.outputs.calibrationGiven = calibrationGiven;
@@ -116,7 +118,7 @@ int runRender(const RenderOptions& o) {
         return fail(outputError(fmt::format("cannot create output directory '{}': {}", o.outDir,
                                             ec ? ec.message() : "not a directory")));
     }
-    const session::FrameOutputs outputs{p.formats, o.depth, p.compose};
+    const session::FrameOutputs outputs{p.formats, o.depth, p.compose, o.cameras};
 
     if (recipe.sequence.active()) {
         SequenceJob job{&p,      backend->get(), o.backend, method,
@@ -203,6 +205,10 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
         "measured)");
     app->add_option("-o,--output", o->outDir, "Output directory")->default_val(o->outDir);
     app->add_flag("--depth", o->depth, "Also write depth-0.png ... (16-bit, near = black)");
+    app->add_flag("--write-cameras", o->cameras,
+                  "Also write cameras.json: every view's world-from-camera, view and projection "
+                  "matrices, pinhole intrinsics (fx, fy, cx, cy) and near / far "
+                  "(conventions: include/mvr/session/cameras.h)");
     app->add_flag("-q,--quiet", o->quiet, "Print nothing on success");
     app->add_flag("--check", o->check,
                   "Also render the reference (the backend's multipass; for a multipass method, "

@@ -194,9 +194,18 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
         if (!job.outputs.depth) rendered->depth.clear();  // not written, not sent between ranks
         return rendered;
     };
+    // --write-cameras: each frame's own rig (the camera moves), wherever the frame was rendered.
+    std::optional<session::FrameStepper> cameraStepper;
+    if (job.outputs.cameras) cameraStepper.emplace(p, *plan);
     auto emitFrame = [&](int f, const RenderOutput& out) -> Status {
+        Rig frameRig = p.rig;
+        if (cameraStepper) {
+            auto r = cameraStepper->advance(f);
+            if (!r) return r.status();
+            frameRig = std::move(*r);
+        }
         // The frame's folder, as a still's files (anaglyph.png for a pair included).
-        auto files = session::writeFrameFolder(dir, *plan, f, out, p.rig, job.outputs, &backend,
+        auto files = session::writeFrameFolder(dir, *plan, f, out, frameRig, job.outputs, &backend,
                                                o.video.empty() ? std::string() : videoFormat);
         if (!files) return files.status();
         std::optional<Image> videoImage = std::move(files->kept);

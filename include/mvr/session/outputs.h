@@ -24,6 +24,7 @@ struct FrameOutputs {
     bool depth = false;                ///< depth-N.png for the views that have depth
     /// The composite options; writeOutputs() sets their baseline and convergence from the rig.
     composite::ComposeOptions compose;
+    bool cameras = false;  ///< cameras.json: every view's matrices and intrinsics (cameras.h)
 };
 
 /// What writeOutputs() wrote.
