@@ -36,6 +36,7 @@
 #include "mvr/composite/jpeg.h"
 #include "mvr/core/image.h"
 #include "mvr/core/mesh.h"
+#include "mvr/session/cameras.h"
 #include "mvr/session/outputs.h"
 #include "mvr/session/prepare.h"
 #include "mvr/session/surfaces.h"
@@ -336,9 +337,31 @@ PYBIND11_MODULE(_core, m) {
                       "per view: world_from_camera, view_matrix, projection (4x4 row-major, "
                       "OpenGL camera: -Z forward, +Y up), intrinsics (fx, fy, cx, cy, matrix: "
                       "OpenCV pinhole, pixel (0, 0)'s centre at (0, 0)), near, far")
-        .def_readonly("distance", &RenderResult::distance,
-                      "float32 (N, H, W): eye-space distance along the view axis, world units; "
-                      "inf where nothing was drawn (None without depth)")
+        .def_property_readonly(
+            "distance",
+            [](const RenderResult& r) -> py::object {
+                if (r.depth.is_none()) return py::none();
+                auto depth = py::array_t<float, py::array::c_style | py::array::forcecast>(r.depth);
+                if (depth.ndim() != 3 || std::size_t(depth.shape(0)) != r.depthToDistance.size())
+                    return py::none();
+                py::array_t<float> out({depth.shape(0), depth.shape(1), depth.shape(2)});
+                const std::size_t pixels = std::size_t(depth.shape(1)) * std::size_t(depth.shape(2));
+                const float* src = depth.data();
+                float* dst = out.mutable_data();
+                {
+                    py::gil_scoped_release release;
+                    for (std::size_t v = 0; v < r.depthToDistance.size(); ++v) {
+                        glm::mat4 p(1.0f);
+                        p[2][2] = r.depthToDistance[v].first;
+                        p[3][2] = r.depthToDistance[v].second;
+                        for (std::size_t i = 0; i < pixels; ++i)
+                            dst[v * pixels + i] = mvr::session::distanceOfDepth(p, src[v * pixels + i]);
+                    }
+                }
+                return out;
+            },
+            "float32 (N, H, W), computed on access from .depth: eye-space distance along the "
+            "view axis, world units; inf where nothing was drawn (None without depth)")
         .def_readonly("size", &RenderResult::size, "(width, height) of one view")
         .def_readonly("shading", &RenderResult::shading)
         .def_readonly("elapsed_ms", &RenderResult::elapsedMs)

@@ -328,23 +328,8 @@ RenderResult renderFrame(Job& job, const Scene& scene, const Rig& rig,
                         py::arg("far") = c.far));
     }
     r.views = views;
-    if (hasDepth) {
-        py::array_t<float> dist({n, h, w});
-        float* dst = dist.mutable_data();
-        const float* src = block->depth();
-        const std::size_t pixels = std::size_t(w) * std::size_t(h);
-        {
-            py::gil_scoped_release release;
-            for (std::size_t v = 0; v < cams.size(); ++v) {
-                for (std::size_t i = 0; i < pixels; ++i)
-                    dst[v * pixels + i] =
-                        session::distanceOfDepth(cams[v].projection, src[v * pixels + i]);
-            }
-        }
-        r.distance = dist;
-    } else {
-        r.distance = py::none();
-    }
+    for (const session::ViewCamera& c : cams)
+        r.depthToDistance.emplace_back(c.projection[2][2], c.projection[3][2]);
     return r;
 }
 

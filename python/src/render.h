@@ -39,7 +39,10 @@ std::mutex& gpuMutex();
 struct RenderResult {
     py::object color, depth, method, note, backend, rig, comfort, composites, scene, triangles;
     py::object size, shading, elapsedMs, written;
-    py::object views, distance;  ///< per view cameras (cameras.h); distances (N, H, W)
+    py::object views;  ///< per view cameras (mvr/session/cameras.h)
+    /// Per view, the projection's (P[2][2], P[3][2]): result.distance from .depth on access
+    /// (computed when asked: an array as large as the depth).
+    std::vector<std::pair<float, float>> depthToDistance;
     py::object frame = py::none();  ///< the frame of a sequence (None: a still)
     int copiedViews = 0;  ///< images the backend left outside the output block (copied in)
 };
