@@ -18,18 +18,18 @@ a :class:`TypeError` and a :class:`ValueError`.
 """
 
 from . import _core
-from ._core import ParameterError, RenderResult, RenderSequence
+from ._core import Mesh, ParameterError, RenderResult, RenderSequence
 
 __all__ = ["render", "render_sequence", "compose", "load_mesh", "info", "write_png",
-           "RenderResult", "RenderSequence", "ParameterError"]
+           "Mesh", "RenderResult", "RenderSequence", "ParameterError"]
 __version__ = _core.info()["version"]
 
 
 def render(models=None, **options):
     """Render a scene from N viewpoints, as ``mvr render MODELS... --OPTION VALUE...`` does.
 
-    models: model files (OBJ, PLY, glTF 2.0; str or os.PathLike, one or a list); none: the
-    procedural default scene.
+    models: model files (OBJ, PLY, glTF 2.0; str or os.PathLike) and :class:`Mesh` objects (numpy
+    arrays), one or a list (meshes after the files); none: the procedural default scene.
 
     options (every ``mvr render`` option, dashes as underscores): views (2), view_grid ((C, R)
     or "CxR"), rig ("offaxis" | "toein" | "parallel"), interaxial, separation, convergence,

@@ -76,7 +76,30 @@ class RenderResult:
     def written(self) -> list[str]: ...
     @property
     def frame(self) -> int | None: ...  # the frame of render_sequence(); None for render()
+    @property
+    def views(self) -> list[Any]: ...  # per view: world_from_camera, view_matrix, projection, intrinsics, near, far
+    @property
+    def distance(self) -> npt.NDArray[np.float32] | None: ...  # (N, H, W), inf where empty
     def __len__(self) -> int: ...
+
+class Mesh:
+    def __init__(
+        self,
+        vertices: npt.ArrayLike,
+        faces: npt.ArrayLike,
+        normals: npt.ArrayLike | None = None,
+        uvs: npt.ArrayLike | None = None,
+        colors: None = None,
+        texture: npt.NDArray[np.uint8] | None = None,
+        name: str = "mesh",
+        placement: str | None = None,
+    ) -> None: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def vertex_count(self) -> int: ...
+    @property
+    def triangle_count(self) -> int: ...
 
 class RenderSequence:
     """What render_sequence() returns: one RenderResult per frame, rendered when asked for."""
@@ -87,7 +110,7 @@ class RenderSequence:
     def __len__(self) -> int: ...
 
 def render(
-    models: _Path | Sequence[_Path] | None = None,
+    models: _Path | Mesh | Sequence[_Path | Mesh] | None = None,
     *,
     scene: Literal["default", "village", "textured"] = ...,
     grid: int = ...,

@@ -1,4 +1,5 @@
 #include "keywords.h"
+#include "mesh.h"
 
 #include <algorithm>
 #include <climits>
@@ -332,27 +333,38 @@ void composeOptions(const std::map<std::string, Value>& kw, composite::ComposeOp
     if (auto* v = get("lenticular_flip_y")) cal.flipY = v->flag;
 }
 
-std::vector<std::string> modelPaths(const py::object& models) {
+std::vector<std::string> modelPaths(const py::object& models,
+                                    std::vector<session::InlineModel>& meshes) {
     std::vector<std::string> paths;
     if (models.is_none()) return paths;
-    auto one = [](const py::handle& m) -> std::string {
+    auto one = [&](const py::handle& m) -> std::string {
+        if (py::isinstance<PyMesh>(m)) {
+            meshes.push_back(m.cast<const PyMesh&>().model);
+            return {};
+        }
         if (PyUnicode_Check(m.ptr())) return py::str(m);
         if (py::hasattr(m, "__fspath__")) {
             py::object p = py::module_::import("os").attr("fspath")(m);
             if (PyUnicode_Check(p.ptr())) return py::str(p);
         }
-        throwParameter(fmt::format("models: expected file paths (str or os.PathLike), got {}",
-                                   typeName(m)));
+        throwParameter(fmt::format(
+            "models: expected file paths (str or os.PathLike) or mvr.Mesh, got {}", typeName(m)));
     };
-    if (PyUnicode_Check(models.ptr()) || py::hasattr(models, "__fspath__")) {
-        paths.push_back(one(models));
-    } else if (PyTuple_Check(models.ptr()) || PyList_Check(models.ptr())) {
-        for (py::handle m : models) paths.push_back(one(m));
-    } else {
-        throwParameter("models: expected a list of file paths");
-    }
-    for (const std::string& p : paths)
+    auto add = [&](const py::handle& m) {
+        const bool mesh = py::isinstance<PyMesh>(m);
+        std::string p = one(m);
+        if (mesh) return;
         if (p.empty()) throwStatus(usageError("models: an empty file name"));
+        paths.push_back(std::move(p));
+    };
+    if (PyUnicode_Check(models.ptr()) || py::hasattr(models, "__fspath__") ||
+        py::isinstance<PyMesh>(models)) {
+        add(models);
+    } else if (PyTuple_Check(models.ptr()) || PyList_Check(models.ptr())) {
+        for (py::handle m : models) add(m);
+    } else {
+        throwParameter("models: expected a list of file paths or mvr.Mesh");
+    }
     return paths;
 }
 
@@ -407,7 +419,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     };
     RenderKeywords out;
     session::RenderRecipe& r = out.recipe;
-    r.models = modelPaths(models);
+    r.models = modelPaths(models, r.meshes);
     // The options that exclude each other, as CLI11 says it.
     for (const auto& [a, b] : {std::pair{"views", "view_grid"}, std::pair{"interaxial", "separation"},
                                std::pair{"interaxial", "view_cone"}}) {

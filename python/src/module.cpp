@@ -29,6 +29,7 @@
 #include <pybind11/stl.h>
 
 #include "keywords.h"
+#include "mesh.h"
 #include "render.h"
 
 #include "mvr/backends.h"
@@ -386,6 +387,7 @@ PYBIND11_MODULE(_core, m) {
         .def_property_readonly("frames", &Sequence::frames, "the frames it renders, in order");
     m.def("compose", &composeViews, py::arg("format"), py::arg("views"));
     m.def("load_mesh", &loadMeshPy, py::arg("path"));
+    defineMesh(m);
     m.def("info", &info);
     m.def("write_png", &writePngPy, py::arg("path"), py::arg("array"));
 }

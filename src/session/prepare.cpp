@@ -237,7 +237,8 @@ Result<std::pair<std::string, std::optional<Placement>>> parseModelArg(const std
 /// laid out together by makeGridScene(). Otherwise each file is its scene (scene_io.h), placed,
 /// and --grid K lays out K copies of the whole combined scene (the file camera is then not
 /// used: it framed one copy).
-Result<Scene> loadModels(const std::vector<std::string>& args, int grid, std::string& name,
+Result<Scene> loadModels(const std::vector<std::string>& args,
+                         const std::vector<InlineModel>& inlineModels, int grid, std::string& name,
                          std::optional<SceneAnimation>& animation, const WarningSink& warn) {
     std::vector<Scene> scenes;
     std::vector<std::optional<Placement>> placements;
@@ -255,6 +256,31 @@ Result<Scene> loadModels(const std::vector<std::string>& args, int grid, std::st
         placements.push_back(parsed->second);
         infos.push_back(std::move(info));
         name += (name.empty() ? "" : " + ") + parsed->first;
+    }
+    for (const InlineModel& m : inlineModels) {  // Python's mvr.Mesh: as a plain file's mesh
+        if (!m.mesh) return usageError(fmt::format("{}: no mesh", m.name));
+        std::optional<Placement> placement;
+        if (!m.placement.empty()) {
+            auto parsed = parseModelArg(m.name + "@" + m.placement);
+            if (!parsed) return parsed.status();
+            placement = parsed->second;
+        }
+        Scene s;
+        s.meshes = {*m.mesh};
+        s.instances = {Instance{0, glm::mat4(1.0f), Material{}}};
+        SceneLoadInfo info;
+        if (m.texture) {
+            if (m.mesh->texcoords.size() != m.mesh->positions.size())
+                return usageError(fmt::format("{}: a texture needs uvs (one per vertex)", m.name));
+            s.textures.push_back(Texture{m.name, *m.texture});
+            s.instances[0].material.baseColorTexture = 0;
+            info.fromMaterials = true;
+        }
+        plain = plain && !info.fromMaterials && !placement;
+        scenes.push_back(std::move(s));
+        placements.push_back(placement);
+        infos.push_back(std::move(info));
+        name += (name.empty() ? "" : " + ") + m.name;
     }
     if (plain) {
         std::vector<Mesh> meshes;
@@ -476,25 +502,26 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
         return usageError(fmt::format(
             "--scene {} is not a known scene (expected default, village or textured)", r.scene));
     }
-    if (r.scene != "default" && !r.models.empty()) {
+    const bool noModels = r.models.empty() && r.meshes.empty();
+    if (r.scene != "default" && !noModels) {
         return usageError(
             fmt::format("--scene {} cannot be combined with model files", r.scene));
     }
-    if (r.models.empty() && r.scene == "village") {
+    if (noModels && r.scene == "village") {
         out.scene = adelson::makeVillageScene();
         out.sceneName = "village scene";
         if (r.grid != 1) {
             return usageError(fmt::format(
                 "--grid {} needs a model file (the village scene is not gridded)", r.grid));
         }
-    } else if (r.models.empty() && r.scene == "textured") {
+    } else if (noModels && r.scene == "textured") {
         out.scene = makeTexturedScene();
         out.sceneName = "textured scene";
         if (r.grid != 1) {
             return usageError(fmt::format(
                 "--grid {} needs a model file (the textured scene is not gridded)", r.grid));
         }
-    } else if (r.models.empty()) {
+    } else if (noModels) {
         out.scene = makeDefaultScene();
         out.sceneName = "default scene";
         if (r.grid != 1) {
@@ -502,12 +529,12 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
                 "--grid {} needs a model file (the default scene is not gridded)", r.grid));
         }
     } else {
-        auto loaded = loadModels(r.models, r.grid, out.sceneName, out.animation, warn);
+        auto loaded = loadModels(r.models, r.meshes, r.grid, out.sceneName, out.animation, warn);
         if (!loaded) return loaded.status();
         out.scene = std::move(loaded).value();
     }
     if (Status s = validateScene(out.scene); !s) return s;
-    if (Status s = applyExposure(out, r.exposure, r.exposureAuto, !r.models.empty()); !s) return s;
+    if (Status s = applyExposure(out, r.exposure, r.exposureAuto, !noModels); !s) return s;
 
     // The camera, near/far, convergence and spacing: the library's framing (framing.h).
     params.fovYDegrees = static_cast<float>(fov);

@@ -12,11 +12,14 @@
 // which a given field overrides).
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "mvr/composite/compose.h"
+#include "mvr/core/image.h"
+#include "mvr/core/mesh.h"
 
 namespace mvr::session {
 
@@ -81,10 +84,19 @@ struct CameraRecipe {
     }
 };
 
+/// A mesh given in memory (Python's mvr.Mesh), rendered with the model files (after them).
+struct InlineModel {
+    std::string name;                  ///< for the scene's name and messages
+    std::shared_ptr<const Mesh> mesh;  ///< validated, with normals
+    std::optional<Image> texture;      ///< base colour texture (the mesh has texcoords)
+    std::string placement;             ///< "X,Y,Z[,SCALE[,YAW]]" as a model's FILE@...; empty: none
+};
+
 struct RenderRecipe {
     // ---- the scene ----
     /// Model files (OBJ, PLY, glTF), each optionally placed: FILE@X,Y,Z[,SCALE[,YAW]].
     std::vector<std::string> models;
+    std::vector<InlineModel> meshes;  ///< in-memory meshes, after the files
     std::string scene = "default";  ///< without models: default | village | textured
     int grid = 1;                   ///< copies of the model(s) in a grid
     bool noFileCamera = false;      ///< frame the bounds instead of the file's camera
