@@ -91,9 +91,13 @@ Result<SequencePlan> planSequence(const SequenceRecipe& o) {
     }
     int frames = o.frames;
     if (frames == 0 && plan.path) frames = int(std::floor(plan.path->duration() * o.fps)) + 1;
+    // --orbit alone: one frame every kOrbitDegreesPerFrame degrees (360: 72 frames, 3 s at 24
+    // frames a second), at least 2.
+    if (frames == 0 && o.orbit != 0.0 && std::abs(o.orbit) <= 360.0 * 1000.0)
+        frames = std::max(2, int(std::ceil(std::abs(o.orbit) / kOrbitDegreesPerFrame)));
     if (frames < 1 || frames > 1000000) {
-        return usageError(fmt::format(
-            "--frames {} is out of range (expected 1..1000000; --orbit needs --frames)", frames));
+        return usageError(
+            fmt::format("--frames {} is out of range (expected 1..1000000)", frames));
     }
     plan.frames = frames;
     auto range = parseRange(o.frameRange, frames);

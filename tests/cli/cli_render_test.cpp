@@ -167,6 +167,17 @@ TEST_F(Cli, TheComfortLineFlagsAnAbsurdSeparation) {
         << wide.out;
 }
 
+// --orbit without --frames: a frame every 5 degrees (session::kOrbitDegreesPerFrame).
+TEST_F(Cli, AnOrbitWithoutFramesTakesAFrameEveryFiveDegrees) {
+    const CliRun r = run("render --views 1 --size 16x12 --orbit 20 -q -o orbit");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    int frames = 0;
+    for (const auto& e : std::filesystem::directory_iterator(mDir / "orbit"))
+        frames += e.is_directory() && e.path().filename().string().rfind("frame-", 0) == 0;
+    EXPECT_EQ(frames, 4);  // 20 / 5
+    EXPECT_TRUE(std::filesystem::exists(mDir / "orbit/frame-0003/view-0.png"));
+}
+
 TEST_F(Cli, VersionPrintsTheVersion) {
     const CliRun r = run("--version");
     EXPECT_EQ(r.exitCode, 0) << r.err;
@@ -315,7 +326,7 @@ TEST_F(Cli, EveryRefusalNamesItsCulprit) {
          "--camera-path " + backwards + ": camera path: key 1: time 0.5 does not follow key 0's 1"},
         {"--frames -3", 1, "--frames -3 is out of range (expected 1..1000000)"},
         {"--frames 2000000", 1, "--frames 2000000 is out of range (expected 1..1000000"},
-        {"--orbit 90", 1, "--orbit needs --frames"},
+        {"--orbit 1e300", 1, "--frames 0 is out of range (expected 1..1000000)"},
         {"--frames 3 --orbit nan", 1, "--orbit nan is not a finite angle"},
         {"--frames 3 --fps 0", 1, "--fps 0 is out of range (expected 0 < fps <= 1000)"},
         {"--frames 3 --frame-range 5:2", 1,

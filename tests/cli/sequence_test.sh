@@ -86,7 +86,7 @@ expect_error() {
 }
 expect_error "--frame-range" --frames 4 --frame-range 3:9 -o "$tmp/bad"
 expect_error "--shard" --frames 4 --shard 4/4 -o "$tmp/bad"
-expect_error "--frames" --orbit 90 -o "$tmp/bad"
+expect_error "--frames" --frames 2000000 --orbit 90 -o "$tmp/bad"
 echo '{"keys": [{"time": 1, "position": [0,0,5], "target": [0,0,0]}, {"time": 0.5, "position": [0,0,6], "target": [0,0,0]}]}' >"$tmp/back.json"
 expect_error "key 1" --camera-path "$tmp/back.json" -o "$tmp/bad"
 

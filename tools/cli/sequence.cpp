@@ -32,7 +32,8 @@ void addSequenceOptions(CLI::App* app, SequenceOptions& o) {
                     "per frame)");
     app->add_option("--orbit", o.orbit,
                     "Turntable: turn the camera (and the rig with it) DEG degrees about the "
-                    "scene centre over the frames (frame f at DEG·f/F)");
+                    "scene centre over the frames (frame f at DEG·f/F); without --frames, a "
+                    "frame every 5 degrees");
     app->add_option(
         "--camera-path", o.cameraPath,
         "Keyframed camera path, a JSON file (docs/animation.md); frame f at time f/fps");

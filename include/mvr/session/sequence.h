@@ -21,6 +21,9 @@
 
 namespace mvr::session {
 
+/// --orbit without --frames: one frame every this many degrees (at least 2 frames).
+inline constexpr double kOrbitDegreesPerFrame = 5.0;
+
 /// The checks of the sequence fields before anything is rendered or written: frames >= 0, fps in
 /// (0, 1000], and video / frameRange / shard only with a sequence.
 Status checkSequence(const SequenceRecipe& s);
