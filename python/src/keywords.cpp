@@ -397,6 +397,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"up", Kind::Numbers},           {"camera_matrix", Kind::Numbers},
             {"focal_length_mm", Kind::Float}, {"sensor_width_mm", Kind::Float},
             {"background", Kind::Numbers},   {"write_cameras", Kind::Flag},
+            {"strict", Kind::Flag},
         };
         s.insert(s.end(), std::begin(kComposeSpecs), std::end(kComposeSpecs));
         return s;
@@ -443,6 +444,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     }
     if (auto* v = get("fov")) r.fov = v->number;
     if (auto* v = get("no_file_camera")) r.noFileCamera = v->flag;
+    if (auto* v = get("strict")) r.strict = v->flag;
     if (auto* v = get("azimuth")) r.camera.azimuth = v->number;
     if (auto* v = get("elevation")) r.camera.elevation = v->number;
     if (auto* v = get("distance"); v && !v->isAuto) r.camera.distance = v->number;

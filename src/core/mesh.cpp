@@ -276,7 +276,7 @@ Result<detail::ModelPreflight> detail::preflightModel(const std::filesystem::pat
     return out;
 }
 
-Result<Mesh> loadMesh(const std::filesystem::path& path) {
+Result<Mesh> loadMesh(const std::filesystem::path& path, std::vector<std::string>* warnings) {
     const std::string what = fmt::format("mvr::loadMesh(): {}", path.string());
     auto pre = detail::preflightModel(path, what);
     if (!pre) return pre.status();
@@ -284,7 +284,7 @@ Result<Mesh> loadMesh(const std::filesystem::path& path) {
         std::ifstream in(path, std::ios::binary);
         const std::string data((std::istreambuf_iterator<char>(in)),
                                std::istreambuf_iterator<char>());
-        auto mesh = detail::loadPly(data, what);
+        auto mesh = detail::loadPly(data, what, warnings);
         if (!mesh) return mesh.status();
         mesh->name = path.filename().string();
         if (Status s = validateMesh(*mesh, what); !s) return s;

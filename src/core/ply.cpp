@@ -172,7 +172,8 @@ bool looksLikePly(const std::string& head) {
     return head.rfind("ply\n", 0) == 0 || head.rfind("ply\r\n", 0) == 0;
 }
 
-Result<Mesh> loadPly(const std::string& data, const std::string& what) {
+Result<Mesh> loadPly(const std::string& data, const std::string& what,
+                     std::vector<std::string>* warnings) {
     auto bad = [&](const std::string& why) {
         return inputError(fmt::format("{}: malformed PLY: {}", what, why));
     };
@@ -238,8 +239,10 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what) {
                 p.type = *t;
             }
             elements.back().properties.push_back(p);
-        } else {
-            return bad(fmt::format("header line {}: unknown keyword '{}'", lineNo, key));
+        } else if (warnings) {
+            warnings->push_back(fmt::format("{}: PLY header line {}: '{}' is not a PLY keyword "
+                                            "(a comment without 'comment'?): skipped",
+                                            what, lineNo, line));
         }
     }
     if (!encoding) return bad("no format line");

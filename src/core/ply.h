@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "mvr/core/mesh.h"
 
@@ -11,6 +12,9 @@ namespace mvr::detail {
 bool looksLikePly(const std::string& head);
 
 /// Parses a whole PLY file held in memory. `what` prefixes error messages.
-Result<Mesh> loadPly(const std::string& data, const std::string& what);
+/// Header lines with a keyword PLY does not define (Blender 2.47 wrote "Created by Blender3D
+/// 247 ..." without "comment") are skipped, each with a line in `warnings` when given.
+Result<Mesh> loadPly(const std::string& data, const std::string& what,
+                     std::vector<std::string>* warnings = nullptr);
 
 }  // namespace mvr::detail

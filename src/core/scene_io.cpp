@@ -173,6 +173,7 @@ struct Loader {
     std::map<std::string, int> textureByKey;  ///< one Texture per image, however many users
     std::vector<MtlMaterial> mtl;             ///< OBJ only
     bool isObj = false;
+    SceneLoadInfo* info = nullptr;  ///< strict in, warnings out
 
     Result<int> texture(const std::string& key, const std::string& materialName) {
         if (auto it = textureByKey.find(key); it != textureByKey.end()) return it->second;
@@ -200,7 +201,23 @@ struct Loader {
         } else if (!key.empty() && key[0] == '*') {
             return inputError(fmt::format("{}: no such embedded image", where));
         } else {
-            const std::filesystem::path file = path.parent_path() / detail::uriDecode(key);
+            std::filesystem::path file = path.parent_path() / detail::uriDecode(key);
+            std::error_code ec;
+            if (!std::filesystem::exists(file, ec) && key.find('\\') != std::string::npos) {
+                std::string slashed = detail::uriDecode(key);  // ".\\tex.jpg" (LightWave's MTL)
+                std::replace(slashed.begin(), slashed.end(), '\\', '/');
+                file = path.parent_path() / slashed;
+            }
+            if (!std::filesystem::exists(file, ec) && !(info && info->strict)) {
+                if (info) {
+                    info->warnings.push_back(fmt::format(
+                        "{}: file not found: the material's base colour is used (--strict: an "
+                        "error)",
+                        where));
+                }
+                textureByKey.emplace(key, -1);
+                return -1;
+            }
             name = file.string();
             image = readImageFile(file, where);
         }
@@ -378,6 +395,7 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
     loader.path = path;
     loader.what = fmt::format("mvr::loadScene(): {}", path.string());
     loader.isObj = ext == ".obj";
+    loader.info = &out;
     // PLY, OBJ without materials, ...: loadMesh()'s merged mesh (one read), default material,
     // default lights.
     auto plain = [](Result<Mesh> merged) -> Result<Scene> {
@@ -389,7 +407,7 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
         return s;
     };
     const bool gltf = ext == ".gltf" || ext == ".glb";
-    if (!gltf && !loader.isObj) return plain(loadMesh(path));
+    if (!gltf && !loader.isObj) return plain(loadMesh(path, &out.warnings));
     if (loader.isObj) {
         auto mtl = loadObjMaterials(path);
         // An OBJ whose material library is missing or malformed still loads, as before
@@ -400,12 +418,12 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
         } else {
             loader.mtl = std::move(mtl).value();
         }
-        if (loader.mtl.empty()) return plain(loadMesh(path));
+        if (loader.mtl.empty()) return plain(loadMesh(path, &out.warnings));
     }
     // glTF and OBJ + MTL: loadMesh()'s checks (model_guard.h), then one import below.
     auto pre = detail::preflightModel(path, loader.what);
     if (!pre) return pre.status();
-    if (pre->ply) return plain(loadMesh(path));  // PLY content: mvr's reader, never assimp
+    if (pre->ply) return plain(loadMesh(path, &out.warnings));  // PLY content: mvr's reader, never assimp
     out.fromMaterials = true;
 
     Assimp::Importer importer;

@@ -238,8 +238,9 @@ Result<std::pair<std::string, std::optional<Placement>>> parseModelArg(const std
 /// and --grid K lays out K copies of the whole combined scene (the file camera is then not
 /// used: it framed one copy).
 Result<Scene> loadModels(const std::vector<std::string>& args,
-                         const std::vector<InlineModel>& inlineModels, int grid, std::string& name,
-                         std::optional<SceneAnimation>& animation, const WarningSink& warn) {
+                         const std::vector<InlineModel>& inlineModels, int grid, bool strict,
+                         std::string& name, std::optional<SceneAnimation>& animation,
+                         const WarningSink& warn) {
     std::vector<Scene> scenes;
     std::vector<std::optional<Placement>> placements;
     std::vector<SceneLoadInfo> infos;
@@ -248,6 +249,7 @@ Result<Scene> loadModels(const std::vector<std::string>& args,
         auto parsed = parseModelArg(arg);
         if (!parsed) return parsed.status();
         SceneLoadInfo info;
+        info.strict = strict;
         auto scene = loadScene(parsed->first, &info);
         if (!scene) return scene.status();
         for (const std::string& w : info.warnings) warn("warning: " + w);
@@ -529,7 +531,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
                 "--grid {} needs a model file (the default scene is not gridded)", r.grid));
         }
     } else {
-        auto loaded = loadModels(r.models, r.meshes, r.grid, out.sceneName, out.animation, warn);
+        auto loaded = loadModels(r.models, r.meshes, r.grid, r.strict, out.sceneName, out.animation, warn);
         if (!loaded) return loaded.status();
         out.scene = std::move(loaded).value();
     }

@@ -165,6 +165,27 @@ TEST(MeshVariants, PlyLayoutsLoadLikeThePlainFile) {
     }
 }
 
+// Blender 2.47's PLY exporter wrote "Created by Blender3D 247 - www.blender.org, source file: "
+// as a header line of its own, without "comment": the line is skipped with a warning naming it
+// (assimp skips unknown header lines too), and the mesh is the plain file's.
+TEST(MeshVariants, PlyHeaderLinesThatAreNoKeywordAreSkippedWithAWarning) {
+    TempDir dir("mvr-variants-test");
+    const Mesh plain = load(dir.write("plain.ply", ply({})));
+    std::string text = ply({});
+    const std::string blender = "Created by Blender3D 247 - www.blender.org, source file: ";
+    text.insert(text.find('\n', text.find("format")) + 1, blender + "\n");
+    const auto path = dir.write("blender.ply", text);
+    std::vector<std::string> warnings;
+    auto m = loadMesh(path, &warnings);
+    ASSERT_TRUE(m) << m.status().message();
+    EXPECT_EQ(triangles(*m), triangles(plain));
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("PLY header line 3: '" + blender +
+                               "' is not a PLY keyword (a comment without 'comment'?): skipped"),
+              std::string::npos)
+        << warnings[0];
+}
+
 TEST(MeshVariants, PlyTristripsKeepTheirWinding) {
     // A strip's odd triangles are flipped back: every triangle of the grid faces +z or -z the
     // same way as the first.

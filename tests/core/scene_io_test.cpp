@@ -189,6 +189,21 @@ TEST(LoadSceneObj, WithoutMtllibIsThePlainMergedMesh) {
 }
 
 // The choice (scene_io.h): a bad texture is an error naming the model, material and image.
+// LightWave writes MTL texture paths with Windows separators ("map_Kd .\\SpiderTex.jpg"): the
+// texture beside the file is found, as other readers find it.
+TEST(LoadSceneTexturePaths, WindowsSeparatorsInMtlFindTheFile) {
+    test::TempDir dir("mvr-scene-io");
+    dir.write("s.obj", std::string(kQuadsObj).replace(7, 5, "s"));
+    dir.write("s.mtl", "newmtl Tex\nmap_Kd .\\tex.png\nnewmtl Plain\nKd 1 0 0\n");
+    ASSERT_TRUE(writePng(dir.path() / "tex.png", test::fixtureTexture()));
+    SceneLoadInfo info;
+    info.strict = true;
+    auto scene = loadScene(dir.path() / "s.obj", &info);
+    ASSERT_TRUE(scene) << scene.status().message();
+    ASSERT_EQ(scene->textures.size(), 1u);
+    EXPECT_EQ(scene->textures[0].image.rgba, test::fixtureTexture().rgba);
+}
+
 TEST(LoadSceneBadTexture, MissingCorruptAndTruncatedTexturesNameFileAndMaterial) {
     test::TempDir dir("mvr-scene-io");
     const std::string notPng = "this is not an image";
@@ -201,8 +216,21 @@ TEST(LoadSceneBadTexture, MissingCorruptAndTruncatedTexturesNameFileAndMaterial)
               std::string::npos)
         << scene.status().message();
 
+    // A missing texture file: a warning naming it, the material's base colour (as viewers
+    // do); --strict (SceneLoadInfo::strict) keeps it an error.
     std::filesystem::remove(dir.path() / "bad.png");
-    scene = loadScene(path);
+    SceneLoadInfo info;
+    scene = loadScene(path, &info);
+    ASSERT_TRUE(scene) << scene.status().message();
+    ASSERT_EQ(info.warnings.size(), 1u);
+    EXPECT_NE(info.warnings[0].find("material 'Checker': texture 'bad.png': file not found: the "
+                                    "material's base colour is used (--strict: an error)"),
+              std::string::npos)
+        << info.warnings[0];
+    for (const Instance& i : scene->instances) EXPECT_EQ(i.material.baseColorTexture, -1);
+    SceneLoadInfo strict;
+    strict.strict = true;
+    scene = loadScene(path, &strict);
     ASSERT_FALSE(scene);
     EXPECT_NE(
         scene.status().message().find("material 'Checker': texture 'bad.png': file not found"),
@@ -223,7 +251,7 @@ TEST(LoadSceneBadTexture, MissingCorruptAndTruncatedTexturesNameFileAndMaterial)
     // OBJ: map_Kd names a missing file.
     dir.write("q.obj", std::string(kQuadsObj).replace(7, 5, "q"));
     dir.write("q.mtl", "newmtl Tex\nmap_Kd nothere.png\nnewmtl Plain\nKd 1 0 0\n");
-    scene = loadScene(dir.path() / "q.obj");
+    scene = loadScene(dir.path() / "q.obj", &strict);
     ASSERT_FALSE(scene);
     EXPECT_NE(
         scene.status().message().find("material 'Tex': texture 'nothere.png': file not found"),

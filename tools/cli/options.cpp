@@ -139,6 +139,9 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
         ->each([this](const std::string&) { fovGiven = true; });
     app->add_flag("--no-file-camera", noFileCamera,
                   "Frame the scene's bounds instead of using the model file's camera");
+    app->add_flag("--strict", strict,
+                  "A model's texture file that is missing is an error (default: a warning, "
+                  "the material's base colour used)");
     // The viewpoint (mvr/session/camera.h): orbit-style, eye and look-at, or a matrix.
     app->add_option("--azimuth", camera.azimuth,
                     "View the scene from this angle about +Y, degrees (0: from +Z, the default "
@@ -226,6 +229,7 @@ session::RenderRecipe SceneOptions::recipe() const {
     r.grid = grid;
     r.noFileCamera = noFileCamera;
     r.camera = camera;
+    r.strict = strict;
     r.background = background;
     r.exposure = exposure;
     r.exposureAuto = exposureAuto;

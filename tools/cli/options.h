@@ -80,6 +80,7 @@ struct SceneOptions {
     bool fovGiven = false;
     bool noFileCamera = false;
     session::CameraRecipe camera;  ///< --azimuth ... --camera-matrix, --focal-length-mm
+    bool strict = false;           ///< --strict: a missing texture is an error
     std::string background;        ///< --background R,G,B | #RRGGBB
 
     /// Adds the options to a subcommand. `withModels`: also the positional MODEL... list.

@@ -63,6 +63,8 @@ void optimizeMeshLocality(Mesh& mesh);
 /// normals when absent, validates, and reorders for locality.
 /// Errors: ErrorCode::Input — "mvr::loadMesh(): PATH: file not found" / "not a readable model
 /// (assimp: ...)" / "has no triangles" / ...
-Result<Mesh> loadMesh(const std::filesystem::path& path);
+/// `warnings`: what was skipped (unknown PLY header lines), when given.
+Result<Mesh> loadMesh(const std::filesystem::path& path,
+                      std::vector<std::string>* warnings = nullptr);
 
 }  // namespace mvr

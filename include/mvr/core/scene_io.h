@@ -38,6 +38,8 @@
 namespace mvr {
 
 struct SceneLoadInfo {
+    /// In: a texture file that is not there is an error (else a warning, the base colour used).
+    bool strict = false;
     std::vector<std::string> warnings;  ///< one line each, no newline (dropped lights, ...)
     bool fromMaterials = false;   ///< the file has materials of its own (glTF, OBJ with mtllib)
     bool lightsFromFile = false;  ///< Scene::lights are the file's (else defaultLights())
@@ -51,7 +53,9 @@ struct SceneLoadInfo {
 /// loadMesh()'s checks (its messages, "mvr::loadScene(): PATH" in front) and are read here;
 /// anything else is loadMesh()'s merged mesh (its messages as they are). Errors:
 /// ErrorCode::Input — those; "PATH: material 'M': texture 'T': ..."
-/// for a bad texture; "PATH: has no triangles".
+/// for a bad texture (a missing one only when info->strict: else a warning, and the material
+/// keeps its base colour); "PATH: has no triangles". Texture paths with Windows separators
+/// ('.\tex.jpg', as LightWave's MTL writes them) are found with '/'.
 Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info = nullptr);
 
 /// A sky for StereoSurfaces (stereo_surfaces.h): "gradient", or a PNG / JPEG file decoded by

@@ -100,6 +100,7 @@ struct RenderRecipe {
     std::string scene = "default";  ///< without models: default | village | textured
     int grid = 1;                   ///< copies of the model(s) in a grid
     bool noFileCamera = false;      ///< frame the bounds instead of the file's camera
+    bool strict = false;            ///< a model's missing texture is an error (else a warning)
     std::optional<double> exposure;  ///< EV (stops)
     bool exposureAuto = false;
     int billboards = 0;           ///< camera-facing quads scattered through the bounds
