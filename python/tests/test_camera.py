@@ -66,3 +66,10 @@ def test_distance_of_a_plane_is_its_distance_and_the_views_carry_the_cameras(tmp
     np.testing.assert_allclose(v.world_from_camera @ v.view_matrix, np.eye(4), atol=1e-5)
     np.testing.assert_allclose(v.world_from_camera[:3, 3], r.views[1].world_from_camera[:3, 3])
     assert v.near > 0 and v.far > v.near
+
+
+def test_a_quilt_layout_without_a_quilt_is_refused():
+    with pytest.raises(ValueError, match="--quilt lays out a quilt, and no quilt is written"):
+        mvr.render(views=2, size=(32, 24), quilt=(2, 1))
+    r = mvr.render(views=2, size=(32, 24), quilt=(2, 1), format="quilt")
+    assert r.composites["quilt"].shape[:2] == (24, 64)

@@ -635,6 +635,13 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
                        r.outputs.quiltGiven || out.rig.viewCount() != out.display->views,
                        out.rig.camera.aspect, out.formats, out.compose);
     }
+    // No silent nonsense: a quilt layout nothing uses.
+    if (r.outputs.quiltGiven &&
+        std::find(out.formats.begin(), out.formats.end(), "quilt") == out.formats.end()) {
+        return usageError(
+            "--quilt lays out a quilt, and no quilt is written (give --format quilt, or a "
+            "--display whose output is a quilt)");
+    }
     return out;
 }
 
