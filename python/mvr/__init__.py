@@ -96,8 +96,9 @@ def info():
     return _core.info()
 
 
-def write_png(path, array):
+def write_png(path, array, png_compression="fast"):
     """Write an image as PNG: uint8 (H, W, 4), (H, W, 3) or (H, W) gray; a float (H, W) depth
     image is written as ``mvr render --depth`` does (16-bit gray, near = black).
-    Errors: OSError when the file cannot be written."""
-    _core.write_png(path, array)
+    png_compression: "fast" (the default, as ``mvr render`` writes), "default" or "small": the
+    same pixels in every mode. Errors: OSError when the file cannot be written."""
+    _core.write_png(path, array, png_compression)

@@ -397,7 +397,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"up", Kind::Numbers},           {"camera_matrix", Kind::Numbers},
             {"focal_length_mm", Kind::Float}, {"sensor_width_mm", Kind::Float},
             {"background", Kind::Numbers},   {"write_cameras", Kind::Flag},
-            {"strict", Kind::Flag},
+            {"strict", Kind::Flag},          {"png_compression", Kind::Text},
         };
         s.insert(s.end(), std::begin(kComposeSpecs), std::end(kComposeSpecs));
         return s;
@@ -476,6 +476,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     if (auto* v = get("output")) r.outputs.directory = v->text;
     if (auto* v = get("depth")) r.outputs.depth = v->flag;
     if (auto* v = get("write_cameras")) r.outputs.cameras = v->flag;
+    if (auto* v = get("png_compression")) r.outputs.pngCompression = v->text;
     if (auto* v = get("quiet")) out.quiet = v->flag;
     if (auto* v = get("format")) {
         const std::vector<std::string> names = composite::formatNames();

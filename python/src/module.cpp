@@ -272,8 +272,10 @@ py::dict info() {
     return d;
 }
 
-void writePngPy(const py::object& pathObj, const py::object& arrayObj) {
+void writePngPy(const py::object& pathObj, const py::object& arrayObj,
+                const std::string& compression) {
     const std::string path = pathOf(pathObj, "path");
+    const PngCompression mode = check(parsePngCompression(compression));
     if (!py::isinstance<py::array>(arrayObj)) throwParameter("array: expected a numpy array");
     py::array a = py::reinterpret_borrow<py::array>(arrayObj);
     Status s;
@@ -287,7 +289,7 @@ void writePngPy(const py::object& pathObj, const py::object& arrayObj) {
         for (std::size_t i = 0; i < d.depth.size(); ++i)  // NaN: nothing drawn
             d.depth[i] = std::isnan(src[i]) ? 1.0f : src[i];
         py::gil_scoped_release release;
-        s = writeDepthPng(path, d);
+        s = writeDepthPng(path, d, mode);
     } else {
         Image img;
         if (a.ndim() == 2 && a.dtype().is(py::dtype::of<std::uint8_t>())) {
@@ -298,7 +300,7 @@ void writePngPy(const py::object& pathObj, const py::object& arrayObj) {
             img = imageFromArray(a, "array");
         }
         py::gil_scoped_release release;
-        s = writePng(path, img);
+        s = writePng(path, img, mode);
     }
     if (!s) throwStatus(s);
 }
@@ -389,5 +391,6 @@ PYBIND11_MODULE(_core, m) {
     m.def("load_mesh", &loadMeshPy, py::arg("path"));
     defineMesh(m);
     m.def("info", &info);
-    m.def("write_png", &writePngPy, py::arg("path"), py::arg("array"));
+    m.def("write_png", &writePngPy, py::arg("path"), py::arg("array"),
+          py::arg("png_compression") = "fast");
 }

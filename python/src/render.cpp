@@ -273,7 +273,7 @@ RenderResult renderFrame(Job& job, const Scene& scene, const Rig& rig,
             std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
             if (job.gpu) lock.lock();
             const session::FrameOutputs outputs{formats, recipe.outputs.depth, compose,
-                                                recipe.outputs.cameras};
+                                                recipe.outputs.cameras, p.png};
             auto files = plan ? session::writeFrameFolder(outDir, *plan, frame, out, p.rig,
                                                           outputs, job.backend.get())
                               : session::writeOutputs(outDir, out, p.rig, outputs,

@@ -73,3 +73,14 @@ def test_a_quilt_layout_without_a_quilt_is_refused():
         mvr.render(views=2, size=(32, 24), quilt=(2, 1))
     r = mvr.render(views=2, size=(32, 24), quilt=(2, 1), format="quilt")
     assert r.composites["quilt"].shape[:2] == (24, 64)
+
+
+def test_png_compression_changes_the_bytes_not_the_pixels(tmp_path):
+    sizes = {}
+    for mode in ("fast", "default", "small"):
+        r = mvr.render(views=1, size=(160, 120), output=str(tmp_path / mode), png_compression=mode)
+        sizes[mode] = (tmp_path / mode / "view-0.png").stat().st_size
+        assert r.written == [str(tmp_path / mode / "view-0.png")]
+    assert sizes["small"] <= sizes["default"] <= sizes["fast"], sizes
+    with pytest.raises(ValueError, match="--png-compression tiny: expected fast, default or small"):
+        mvr.render(views=1, size=(16, 12), png_compression="tiny")

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csetjmp>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -86,8 +87,67 @@ struct FileCloser {
 
 // libpng reports errors by longjmp; the simplified png_image API wraps that for us and
 // returns failure with a message in image.message, which keeps this code exception-free.
+// The full libpng API for a chosen zlib level and filter set (the simplified API has neither).
+// libpng reports errors by longjmp: nothing with a destructor lives in this function.
+struct PngError {
+    char message[256] = "";
+};
+void onPngError(png_structp png, png_const_charp message) {
+    auto* e = static_cast<PngError*>(png_get_error_ptr(png));
+    std::snprintf(e->message, sizeof e->message, "%s", message);
+    png_longjmp(png, 1);
+}
+void onPngWarning(png_structp, png_const_charp) {}
+
+bool writePngTuned(std::FILE* file, int width, int height, bool gray16, const void* pixels,
+                   std::ptrdiff_t rowBytes, int level, int filters, PngError& error) {
+    png_structp png =
+        png_create_write_struct(PNG_LIBPNG_VER_STRING, &error, onPngError, onPngWarning);
+    if (!png) return false;
+    png_infop info = png_create_info_struct(png);
+    if (!info || setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        return false;
+    }
+    png_init_io(png, file);
+    png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), gray16 ? 16 : 8,
+                 gray16 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGBA, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_compression_level(png, level);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, filters);
+    png_write_info(png, info);
+    if (gray16) {
+        const std::uint16_t probe = 1;
+        if (*reinterpret_cast<const std::uint8_t*>(&probe) == 1) png_set_swap(png);  // LE host
+    }
+    const auto* row = static_cast<const std::uint8_t*>(pixels);
+    for (int y = 0; y < height; ++y) png_write_row(png, row + std::ptrdiff_t(y) * rowBytes);
+    png_write_end(png, info);
+    png_destroy_write_struct(&png, &info);
+    return true;
+}
+
 Status writePngRaw(const std::filesystem::path& path, int width, int height, png_uint_32 format,
-                   const void* pixels, std::ptrdiff_t rowStride) {
+                   const void* pixels, std::ptrdiff_t rowStride, PngCompression compression) {
+    if (compression != PngCompression::Default) {
+        std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
+        if (!file) {
+            return outputError(
+                fmt::format("mvr::writePng(): {}: cannot open for writing", path.string()));
+        }
+        const bool gray16 = format == PNG_FORMAT_LINEAR_Y;
+        const std::ptrdiff_t rowBytes = rowStride * (gray16 ? 2 : 1);  // stride is in components
+        PngError error;
+        const bool fast = compression == PngCompression::Fast;
+        if (!writePngTuned(file.get(), width, height, gray16, pixels, rowBytes, fast ? 1 : 9,
+                           fast ? PNG_FILTER_SUB : PNG_ALL_FILTERS, error)) {
+            return outputError(fmt::format("mvr::writePng(): {}: {}", path.string(),
+                                           *error.message ? error.message : "libpng failed"));
+        }
+        if (std::fflush(file.get()) != 0 || std::ferror(file.get()))
+            return outputError(fmt::format("mvr::writePng(): {}: write failed", path.string()));
+        return {};
+    }
     png_image image{};
     image.version = PNG_IMAGE_VERSION;
     image.width = static_cast<png_uint_32>(width);
@@ -112,7 +172,23 @@ Status writePngRaw(const std::filesystem::path& path, int width, int height, png
 
 }  // namespace
 
-Status writePng(const std::filesystem::path& path, const Image& image) {
+Result<PngCompression> parsePngCompression(std::string_view name) {
+    if (name == "fast") return PngCompression::Fast;
+    if (name == "default") return PngCompression::Default;
+    if (name == "small") return PngCompression::Small;
+    return usageError(fmt::format("--png-compression {}: expected fast, default or small", name));
+}
+
+const char* pngCompressionName(PngCompression c) {
+    switch (c) {
+        case PngCompression::Fast: return "fast";
+        case PngCompression::Small: return "small";
+        default: return "default";
+    }
+}
+
+Status writePng(const std::filesystem::path& path, const Image& image,
+                PngCompression compression) {
     if (image.empty() || image.rgba.size() != std::size_t(image.width) * image.height * 4) {
         return outputError(
             fmt::format("mvr::writePng(): {}: image is empty or its size ({}x{}) "
@@ -120,10 +196,11 @@ Status writePng(const std::filesystem::path& path, const Image& image) {
                         path.string(), image.width, image.height));
     }
     return writePngRaw(path, image.width, image.height, PNG_FORMAT_RGBA, image.rgba.data(),
-                       image.width * 4);
+                       image.width * 4, compression);
 }
 
-Status writeDepthPng(const std::filesystem::path& path, const DepthImage& depth) {
+Status writeDepthPng(const std::filesystem::path& path, const DepthImage& depth,
+                     PngCompression compression) {
     if (depth.width <= 0 || depth.height <= 0) {
         return outputError(
             fmt::format("mvr::writeDepthPng(): {}: empty depth image", path.string()));
@@ -136,7 +213,7 @@ Status writeDepthPng(const std::filesystem::path& path, const DepthImage& depth)
     }
     // PNG_FORMAT_LINEAR_Y: 16-bit gray samples in native byte order; libpng swaps them.
     return writePngRaw(path, depth.width, depth.height, PNG_FORMAT_LINEAR_Y, gray.data(),
-                       depth.width);
+                       depth.width, compression);
 }
 
 Result<Image> readPng(const std::filesystem::path& path) {

@@ -2,7 +2,12 @@
 // surfaces drawn after the scene (mvr/session/surfaces.h).
 #include "mvr/session/outputs.h"
 
+#include <atomic>
 #include <cstdio>
+#include <deque>
+#include <functional>
+#include <optional>
+#include <thread>
 
 #include <fmt/core.h>
 
@@ -11,6 +16,24 @@
 #include "mvr/session/surfaces.h"
 
 namespace mvr::session {
+
+Status runParallel(const std::vector<std::function<Status()>>& jobs, int threads) {
+    if (jobs.empty()) return {};
+    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    threads = std::min<int>(threads, int(jobs.size()));
+    std::vector<Status> results(jobs.size());
+    std::atomic<std::size_t> next{0};
+    auto work = [&] {
+        for (std::size_t i = next++; i < jobs.size(); i = next++) results[i] = jobs[i]();
+    };
+    std::vector<std::thread> workers;
+    for (int t = 1; t < threads; ++t) workers.emplace_back(work);
+    work();
+    for (std::thread& w : workers) w.join();
+    for (Status& s : results)
+        if (!s) return s;  // the first in order, whatever finished first
+    return {};
+}
 
 Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const RenderOutput& out,
                                   const Rig& rig, const FrameOutputs& outputs,
@@ -30,24 +53,32 @@ Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const Render
         return backend ? composeFor(*backend, format, out.color, compose)
                        : composite::compose(format, out.color, compose);
     };
+    // The images are composed here, in order (a GPU backend composes on its context, which is
+    // this thread's); their PNGs are encoded and written by workers, each file independent,
+    // and `paths` lists them in this order whatever order they finish in.
     WrittenFrame written;
-    for (std::size_t v = 0; v < out.color.size(); ++v) {
-        const auto path = dir / fmt::format("view-{}.png", v);
-        if (Status s = writePng(path, out.color[v]); !s) return s;
+    std::vector<std::function<Status()>> jobs;
+    std::deque<Image> composed;  // stable addresses while the jobs read them
+    const PngCompression png = outputs.png;
+    auto writeImage = [&](std::filesystem::path path, const Image* image) {
         written.paths.push_back(path.string());
+        jobs.push_back([path = std::move(path), image, png] { return writePng(path, *image, png); });
+    };
+    for (std::size_t v = 0; v < out.color.size(); ++v) {
+        writeImage(dir / fmt::format("view-{}.png", v), &out.color[v]);
         if (outputs.depth && v < out.depth.size()) {
-            const auto dpath = dir / fmt::format("depth-{}.png", v);
-            if (Status s = writeDepthPng(dpath, out.depth[v]); !s) return s;
+            auto dpath = dir / fmt::format("depth-{}.png", v);
             written.paths.push_back(dpath.string());
+            const DepthImage* d = &out.depth[v];
+            jobs.push_back([dpath = std::move(dpath), d, png] { return writeDepthPng(dpath, *d, png); });
         }
     }
     if (out.color.size() == 2) {
         // The red-cyan anaglyph every stereo frame gets: Dubois' least-squares red-cyan.
         auto anaglyph = composeImage(composite::kDefaultAnaglyph);
         if (!anaglyph) return anaglyph.status();
-        const auto path = dir / "anaglyph.png";
-        if (Status s = writePng(path, *anaglyph); !s) return s;
-        written.paths.push_back(path.string());
+        composed.push_back(std::move(anaglyph).value());
+        writeImage(dir / "anaglyph.png", &composed.back());
     }
     if (outputs.cameras && !out.color.empty()) {
         const auto path = dir / "cameras.json";
@@ -57,6 +88,7 @@ Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const Render
         }
         written.paths.push_back(path.string());
     }
+    std::optional<std::size_t> keptIndex;
     for (const std::string& format : outputs.formats) {
         auto info = composite::findFormat(format);
         if (!info) return info.status();
@@ -65,16 +97,17 @@ Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const Render
             if (!name) return name.status();
             auto image = composeImage(format);
             if (!image) return image.status();
-            const auto path = dir / *name;
-            if (Status s = writePng(path, *image); !s) return s;
-            written.paths.push_back(path.string());
-            if (format == keepFormat && !written.kept) written.kept = std::move(image).value();
+            composed.push_back(std::move(image).value());
+            if (format == keepFormat && !keptIndex) keptIndex = composed.size() - 1;
+            writeImage(dir / *name, &composed.back());
             continue;
         }
         auto path = composite::writeComposite(format, out.color, compose, dir);
         if (!path) return path.status();
         written.paths.push_back(path->string());
     }
+    if (Status s = runParallel(jobs); !s) return s;
+    if (keptIndex) written.kept = std::move(composed[*keptIndex]);
     return written;
 }
 

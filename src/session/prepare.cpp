@@ -630,6 +630,9 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     // The outputs: the recipe's, and what a display preset adds.
     out.formats = r.outputs.formats;
     out.compose = r.outputs.compose;
+    auto png = parsePngCompression(r.outputs.pngCompression);
+    if (!png) return png.status();
+    out.png = *png;
     if (out.display) {
         displayOutputs(*out.display, r.outputs.calibrationGiven,
                        r.outputs.quiltGiven || out.rig.viewCount() != out.display->views,

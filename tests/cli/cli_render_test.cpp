@@ -193,6 +193,8 @@ TEST_F(Cli, BadNumbersAreUsageErrors) {
     expectError("render --background 2,0,0", 1, "--background 2,0,0: each of R,G,B must be in 0..1");
     expectError("render --distance far", 1, "'far' is not a number or auto");
     expectError("render --quilt 2x1", 1, "--quilt lays out a quilt, and no quilt is written");
+    expectError("render --png-compression tiny", 1,
+                "--png-compression tiny: expected fast, default or small");
     expectError("render --convergence 1000", 1,
                 "--convergence 1000: convergence 1000 is beyond the far plane");
     expectError("render --views 4 --view-cone 180", 1, "--view-cone 180 is out of range");

@@ -6,6 +6,7 @@
 
 #include <fmt/core.h>
 #include <gtest/gtest.h>
+#include <png.h>
 #include <unistd.h>
 
 namespace mvr {
@@ -49,6 +50,53 @@ TEST(Image, DepthPngIsSixteenBitGray) {
     EXPECT_EQ(back->at(3, 1).r, 255);  // NaN → far
     EXPECT_GT(back->at(1, 0).r, 100);
     std::filesystem::remove(path);
+}
+
+/// A PNG's samples as 16-bit gray (PNG_FORMAT_LINEAR_Y), read with libpng's own reader.
+std::vector<std::uint16_t> gray16(const std::filesystem::path& path) {
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_file(&image, path.c_str())) return {};
+    image.format = PNG_FORMAT_LINEAR_Y;
+    std::vector<std::uint16_t> out(PNG_IMAGE_SIZE(image) / 2);
+    if (!png_image_finish_read(&image, nullptr, out.data(), 0, nullptr)) return {};
+    return out;
+}
+
+// Every compression mode is lossless: the colour PNGs decode to the image and the 16-bit depth
+// PNGs to the samples of libpng's default writer (read with libpng's own reader).
+TEST(Image, EveryPngCompressionDecodesToTheSamePixels) {
+    Image img(97, 61);
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x)
+            img.set(x, y, {std::uint8_t((x * x + y) & 255), std::uint8_t((x * y) >> 3),
+                           std::uint8_t(std::lround(127 + 120 * std::sin(x * 0.1 + y * 0.07))),
+                           std::uint8_t(255 - (x ^ y))});
+    DepthImage d(97, 61);
+    for (std::size_t i = 0; i < d.depth.size(); ++i) d.depth[i] = float(i % 1013) / 1013.0f;
+    const auto reference = tempPath("default-depth.png");
+    ASSERT_TRUE(writeDepthPng(reference, d, PngCompression::Default));
+    const std::vector<std::uint16_t> samples = gray16(reference);
+    ASSERT_EQ(samples.size(), d.depth.size());
+    EXPECT_EQ(samples[5], std::uint16_t(std::lround(d.depth[5] * 65535.0f)));
+    for (PngCompression c : {PngCompression::Fast, PngCompression::Default, PngCompression::Small}) {
+        SCOPED_TRACE(pngCompressionName(c));
+        const auto path = tempPath(fmt::format("{}.png", pngCompressionName(c)));
+        ASSERT_TRUE(writePng(path, img, c));
+        auto back = readPng(path);
+        ASSERT_TRUE(back) << back.status().message();
+        EXPECT_EQ(*back, img);
+        const auto dpath = tempPath(fmt::format("{}-depth.png", pngCompressionName(c)));
+        ASSERT_TRUE(writeDepthPng(dpath, d, c));
+        EXPECT_EQ(gray16(dpath), samples);
+        std::filesystem::remove(path);
+        std::filesystem::remove(dpath);
+    }
+    std::filesystem::remove(reference);
+    EXPECT_EQ(*parsePngCompression("small"), PngCompression::Small);
+    auto bad = parsePngCompression("tiny");
+    ASSERT_FALSE(bad);
+    EXPECT_EQ(bad.status().message(), "--png-compression tiny: expected fast, default or small");
 }
 
 TEST(Image, CompareReportsWorstPixel) {

@@ -1,11 +1,14 @@
 // mvr::session: a recipe prepared as `mvr render` prepares it (defaults, a display preset's
 // values and outputs, the options' messages) and written by writeOutputs(), the one writer of a
 // frame's files.
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -165,6 +168,34 @@ TEST(SessionSurfaces, BuildsAndRefuses) {
     auto bad = buildSurfaces(s);
     ASSERT_FALSE(bad);
     EXPECT_EQ(bad.status().message(), "--letterbox 60: must be in (0, 50) percent of the height");
+}
+
+}  // namespace
+}  // namespace mvr::session
+
+namespace mvr::session {
+namespace {
+
+// writeOutputs() encodes a frame's PNGs on workers: every job runs once, and the error is the
+// first in the jobs' order, whichever finishes first.
+TEST(SessionParallelWrites, EveryJobRunsOnceAndTheFirstErrorInOrderWins) {
+    std::vector<std::atomic<int>> runs(40);
+    std::vector<std::function<Status()>> jobs;
+    for (int i = 0; i < 40; ++i) {
+        jobs.push_back([&runs, i]() -> Status {
+            ++runs[std::size_t(i)];
+            if (i == 7 || i == 31) return outputError(fmt::format("job {}", i));
+            return {};
+        });
+    }
+    for (int threads : {1, 2, 5, 0}) {
+        for (auto& r : runs) r = 0;
+        const Status s = runParallel(jobs, threads);
+        ASSERT_FALSE(s);
+        EXPECT_EQ(s.message(), "job 7") << threads << " threads";
+        for (auto& r : runs) EXPECT_EQ(r.load(), 1);
+    }
+    EXPECT_TRUE(runParallel({}, 4));
 }
 
 }  // namespace

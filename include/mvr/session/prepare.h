@@ -41,6 +41,7 @@ struct Prepared {
     /// (displayOutputs()).
     std::vector<std::string> formats;
     composite::ComposeOptions compose;
+    PngCompression png = PngCompression::Fast;  ///< the recipe's outputs.pngCompression
 };
 
 /// Where prepare() sends the warnings of loading models ("warning: ..."), as they happen.

@@ -54,6 +54,7 @@ struct OutputRecipe {
     std::vector<std::string> formats;  ///< composite formats (composite::formatNames())
     bool depth = false;                ///< also depth-N.png (16-bit, near = black)
     bool cameras = false;              ///< also cameras.json (mvr/session/cameras.h)
+    std::string pngCompression = "fast";  ///< fast | default | small (PngCompression)
     std::string reportJson;            ///< the comfort report as JSON; empty: none
     /// The composite options. Their baseline and convergence are the rig's at writing time.
     composite::ComposeOptions compose;
