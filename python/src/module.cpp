@@ -354,11 +354,10 @@ PYBIND11_MODULE(_core, m) {
                 {
                     py::gil_scoped_release release;
                     for (std::size_t v = 0; v < r.depthToDistance.size(); ++v) {
-                        glm::mat4 p(1.0f);
-                        p[2][2] = r.depthToDistance[v].first;
-                        p[3][2] = r.depthToDistance[v].second;
+                        const auto [p22, p32] = r.depthToDistance[v];
                         for (std::size_t i = 0; i < pixels; ++i)
-                            dst[v * pixels + i] = mvr::session::distanceOfDepth(p, src[v * pixels + i]);
+                            dst[v * pixels + i] =
+                                mvr::session::distanceOfDepth(p22, p32, src[v * pixels + i]);
                     }
                 }
                 return out;

@@ -229,30 +229,7 @@ DepthRange Renderer::scratchDepthRange(const ViewRegion& r, int w, int h) {
     mDepthScratch.resize(pixels);
     glGetTextureSubImage(r.depth, 0, r.x, r.y, r.layer, w, h, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
                          static_cast<GLsizei>(pixels * sizeof(float)), mDepthScratch.data());
-    // Four lanes at a time (GCC / Clang vector extensions: one minps, one cmpltps + and, one
-    // maxps a step): the nearest is the plain minimum (nothing drawn is 1.0, the start value),
-    // the farthest the maximum of the depths below 1.
-    using Lanes = float __attribute__((vector_size(16)));
-    const Lanes ones = {1.0f, 1.0f, 1.0f, 1.0f}, zeros = {};
-    Lanes lo = ones, hi = zeros;
-    const float* d = mDepthScratch.data();
-    std::size_t i = 0;
-    for (; i + 4 <= pixels; i += 4) {
-        Lanes z;
-        std::memcpy(&z, d + i, sizeof z);
-        lo = z < lo ? z : lo;
-        const Lanes below = z < ones ? z : zeros;
-        hi = below > hi ? below : hi;
-    }
-    for (; i < pixels; ++i) {
-        lo[0] = std::min(lo[0], d[i]);
-        if (d[i] < 1.0f) hi[0] = std::max(hi[0], d[i]);
-    }
-    DepthRange range;
-    const float nearest = std::min(std::min(lo[0], lo[1]), std::min(lo[2], lo[3]));
-    const float farthest = std::max(std::max(hi[0], hi[1]), std::max(hi[2], hi[3]));
-    if (nearest < 1.0f) range = {nearest, farthest};
-    return range;
+    return depthRangeOfImage(mDepthScratch);
 }
 
 Status Renderer::beginDepthRanges(int views) {

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -767,60 +768,61 @@ TEST_P(CliGltfBackends, BlenderExporterLayoutRendersAsItsHandWrittenEquivalent) 
     EXPECT_GT(covered, w * h / 20) << backend;
 }
 
+/// A glTF of one quad (mesh 0: corners `pos`, normal +Z, in a data URI) after `head`, the JSON
+/// members before "meshes" (asset, scenes, nodes, cameras, lights, materials); `material`:
+/// whether the quad uses material 0.
+std::string quadGltf(const std::array<float, 12>& pos, const std::string& head, bool material) {
+    const float nrm[] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+    const std::uint16_t idx[] = {0, 1, 2, 0, 2, 3};
+    std::string bin(reinterpret_cast<const char*>(pos.data()), sizeof(float) * pos.size());
+    bin.append(reinterpret_cast<const char*>(nrm), sizeof nrm);
+    bin.append(reinterpret_cast<const char*>(idx), sizeof idx);
+    glm::vec3 lo(pos[0], pos[1], pos[2]), hi = lo;
+    for (std::size_t i = 3; i < pos.size(); i += 3) {
+        lo = glm::min(lo, glm::vec3(pos[i], pos[i + 1], pos[i + 2]));
+        hi = glm::max(hi, glm::vec3(pos[i], pos[i + 1], pos[i + 2]));
+    }
+    return head +
+           fmt::format(
+               R"("meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1}},"indices":2{}}}]}}],)"
+               R"("accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3",)"
+               R"("min":[{},{},{}],"max":[{},{},{}]}},)"
+               R"({{"bufferView":1,"componentType":5126,"count":4,"type":"VEC3"}},)"
+               R"({{"bufferView":2,"componentType":5123,"count":6,"type":"SCALAR"}}],)"
+               R"("bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},)"
+               R"({{"buffer":0,"byteOffset":48,"byteLength":48}},)"
+               R"({{"buffer":0,"byteOffset":96,"byteLength":12}}],)"
+               R"("buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}]}})",
+               material ? R"(,"material":0)" : "", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z,
+               bin.size(), test::base64(bin));
+}
+
 /// A plane z = 0 (8 x 8, albedo 0.8) seen from (0, 0, 6) down -Z (yfov 0.9) and one point light
 /// at (0, 0, 1) of `intensity` with `range` (0: not written). As a .gltf with data URIs.
 std::string planeWithPointLight(float intensity, float range) {
-    const float pos[] = {-4, -4, 0, 4, -4, 0, 4, 4, 0, -4, 4, 0};
-    const float nrm[] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
-    const std::uint16_t idx[] = {0, 1, 2, 0, 2, 3};
-    std::string bin(reinterpret_cast<const char*>(pos), sizeof pos);
-    bin.append(reinterpret_cast<const char*>(nrm), sizeof nrm);
-    bin.append(reinterpret_cast<const char*>(idx), sizeof idx);
-    return fmt::format(
-        R"({{"asset":{{"version":"2.0"}},"extensionsUsed":["KHR_lights_punctual"],)"
-        R"("extensions":{{"KHR_lights_punctual":{{"lights":[{{"type":"point","intensity":{}{}}}]}}}},)"
-        R"("scene":0,"scenes":[{{"nodes":[0,1,2]}}],)"
-        R"("nodes":[{{"mesh":0}},{{"camera":0,"translation":[0,0,6]}},)"
-        R"({{"translation":[0,0,1],"extensions":{{"KHR_lights_punctual":{{"light":0}}}}}}],)"
-        R"("cameras":[{{"type":"perspective","perspective":{{"yfov":0.9,"znear":0.1,"zfar":50}}}}],)"
-        R"("materials":[{{"pbrMetallicRoughness":{{"baseColorFactor":[0.8,0.8,0.8,1]}}}}],)"
-        R"("meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1}},"indices":2,)"
-        R"("material":0}}]}}],)"
-        R"("accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3",)"
-        R"("min":[-4,-4,0],"max":[4,4,0]}},)"
-        R"({{"bufferView":1,"componentType":5126,"count":4,"type":"VEC3"}},)"
-        R"({{"bufferView":2,"componentType":5123,"count":6,"type":"SCALAR"}}],)"
-        R"("bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},)"
-        R"({{"buffer":0,"byteOffset":48,"byteLength":48}},)"
-        R"({{"buffer":0,"byteOffset":96,"byteLength":12}}],)"
-        R"("buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}]}})",
-        intensity, range > 0 ? fmt::format(",\"range\":{}", range) : "", bin.size(),
-        test::base64(bin));
+    return quadGltf(
+        {-4, -4, 0, 4, -4, 0, 4, 4, 0, -4, 4, 0},
+        fmt::format(
+            R"({{"asset":{{"version":"2.0"}},"extensionsUsed":["KHR_lights_punctual"],)"
+            R"("extensions":{{"KHR_lights_punctual":{{"lights":[{{"type":"point","intensity":{}{}}}]}}}},)"
+            R"("scene":0,"scenes":[{{"nodes":[0,1,2]}}],)"
+            R"("nodes":[{{"mesh":0}},{{"camera":0,"translation":[0,0,6]}},)"
+            R"({{"translation":[0,0,1],"extensions":{{"KHR_lights_punctual":{{"light":0}}}}}}],)"
+            R"("cameras":[{{"type":"perspective","perspective":{{"yfov":0.9,"znear":0.1,"zfar":50}}}}],)"
+            R"("materials":[{{"pbrMetallicRoughness":{{"baseColorFactor":[0.8,0.8,0.8,1]}}}}],)",
+            intensity, range > 0 ? fmt::format(",\"range\":{}", range) : ""),
+        true);
 }
 
 // A file camera at (0, 0, 6) (yfov 0.9: the frame's half-height at the plane z = 0 is
 // 6 tan 0.45 = 2.90) over the quad x0..x1, y0..y1 of that plane.
 std::string quadUnderFileCamera(float x0, float y0, float x1, float y1) {
-    const float pos[] = {x0, y0, 0, x1, y0, 0, x1, y1, 0, x0, y1, 0};
-    const float nrm[] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
-    const std::uint16_t idx[] = {0, 1, 2, 0, 2, 3};
-    std::string bin(reinterpret_cast<const char*>(pos), sizeof pos);
-    bin.append(reinterpret_cast<const char*>(nrm), sizeof nrm);
-    bin.append(reinterpret_cast<const char*>(idx), sizeof idx);
-    return fmt::format(
-        R"({{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0,1]}}],)"
-        R"("nodes":[{{"mesh":0}},{{"camera":0,"name":"Shot","translation":[0,0,6]}}],)"
-        R"("cameras":[{{"type":"perspective","perspective":{{"yfov":0.9,"znear":0.05,"zfar":1000000}}}}],)"
-        R"("meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1}},"indices":2}}]}}],)"
-        R"("accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3",)"
-        R"("min":[{},{},0],"max":[{},{},0]}},)"
-        R"({{"bufferView":1,"componentType":5126,"count":4,"type":"VEC3"}},)"
-        R"({{"bufferView":2,"componentType":5123,"count":6,"type":"SCALAR"}}],)"
-        R"("bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},)"
-        R"({{"buffer":0,"byteOffset":48,"byteLength":48}},)"
-        R"({{"buffer":0,"byteOffset":96,"byteLength":12}}],)"
-        R"("buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}]}})",
-        x0, y0, x1, y1, bin.size(), test::base64(bin));
+    return quadGltf(
+        {x0, y0, 0, x1, y0, 0, x1, y1, 0, x0, y1, 0},
+        R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1]}],)"
+        R"("nodes":[{"mesh":0},{"camera":0,"name":"Shot","translation":[0,0,6]}],)"
+        R"("cameras":[{"type":"perspective","perspective":{"yfov":0.9,"znear":0.05,"zfar":1000000}}],)",
+        false);
 }
 
 // A file camera that cuts the scene off on one side says so and names the way out; one whose

@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -167,6 +168,9 @@ inline RenderSettings shadedSettings(RenderSettings s) {
     if (s.shadows && s.shading == Shading::Vertex) s.shading = Shading::Pixel;
     return s;
 }
+
+/// The range of the drawn pixels (depth < 1) of one window-depth image.
+DepthRange depthRangeOfImage(std::span<const float> depth);
 
 /// View `view`'s depth range: from its depth image when there is one, else from
 /// RenderOutput::depthRange; nullopt when the output has neither (gl gs-mrt).

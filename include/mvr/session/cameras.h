@@ -40,12 +40,12 @@ std::vector<ViewCamera> viewCameras(const Rig& rig, int width, int height);
 /// "fy", "cx", "cy"}, "near", "far"}, ...]}.
 std::string camerasJson(const Rig& rig, int width, int height);
 
-/// The distance (see the header) of window depth `d` of a view with `projection`; +inf for
-/// d >= 1 (nothing drawn).
-inline float distanceOfDepth(const glm::mat4& projection, float d) {
+/// The distance (see the header) of window depth `d` of a perspective projection whose
+/// glm (column-major) entries are p22 = P[2][2] and p32 = P[3][2]; +inf for d >= 1 (nothing
+/// drawn). z_ndc = (p22 z + p32) / (-z), so -z = p32 / (z_ndc + p22).
+inline float distanceOfDepth(float p22, float p32, float d) {
     if (!(d < 1.0f)) return std::numeric_limits<float>::infinity();
-    // z_ndc = (P22 z + P32) / (-z) with glm's column-major P[col][row]: -z = P[3][2] / (z_ndc + P[2][2]).
-    return projection[3][2] / ((2.0f * d - 1.0f) + projection[2][2]);
+    return p32 / ((2.0f * d - 1.0f) + p22);
 }
 
 }  // namespace mvr::session
