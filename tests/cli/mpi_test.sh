@@ -13,6 +13,11 @@ command -v mpirun >/dev/null || { echo "mpi_test: SKIPPED: no mpirun (openmpi-bi
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 # Two cores for many ranks: no busy polling fights, no network interfaces needed.
 export OMPI_MCA_mpi_yield_when_idle=1 OMPI_MCA_btl=self,vader OMPI_MCA_rmaps_base_oversubscribe=1
+# When a rank dies, mpirun sends the others SIGCONT, SIGTERM 1 s later and SIGKILL 1 s after
+# that. On a loaded machine (ctest -j2 beside 3 ranks) rank 0 sometimes got no CPU time in that
+# second and was killed before its SIGTERM handler could print its line (1 run in 8 with 8
+# busy loops beside it; none of 25 with 4 s). A user's own setting wins.
+export OMPI_MCA_odls_base_sigkill_timeout=${OMPI_MCA_odls_base_sigkill_timeout:-5}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
