@@ -14,7 +14,7 @@ include(CMakePackageConfigHelpers)
 
 set(MVR_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/mvr")
 
-set(MVR_EXPORTED_TARGETS mvr_flags mvr_core mvr_raster mvr_composite mvr_scene_io mvr_adelson mvr_backends mvr_session)
+set(MVR_EXPORTED_TARGETS mvr_flags mvr_core mvr_raster mvr_composite mvr_io mvr_adelson mvr_backends mvr_session)
 if(TARGET mvr_gl)
     list(APPEND MVR_EXPORTED_TARGETS mvr_gl)
 endif()

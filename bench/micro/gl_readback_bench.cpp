@@ -20,6 +20,7 @@
 #include "mvr/core/rig.h"
 #include "mvr/core/scene.h"
 #include "mvr/gl/gl_backend.h"
+#include "mvr/io/mesh_io.h"
 
 namespace {
 

@@ -37,6 +37,8 @@
 #include "mvr/composite/jpeg.h"
 #include "mvr/core/image.h"
 #include "mvr/core/mesh.h"
+#include "mvr/io/mesh_io.h"
+#include "mvr/io/png.h"
 #include "mvr/session/cameras.h"
 #include "mvr/session/outputs.h"
 #include "mvr/session/prepare.h"

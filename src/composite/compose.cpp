@@ -14,6 +14,7 @@
 #include "mvr/composite/jpeg.h"
 #include "mvr/composite/layout.h"
 #include "mvr/composite/lenticular.h"
+#include "mvr/io/png.h"
 
 namespace mvr::composite {
 namespace {

@@ -11,7 +11,8 @@
 
 #include <fmt/core.h>
 
-#include "mvr/core/scene_io.h"
+#include "mvr/io/png.h"
+#include "mvr/io/scene_io.h"
 #include "mvr/session/cameras.h"
 #include "mvr/session/surfaces.h"
 

@@ -18,7 +18,8 @@
 #include "mvr/core/billboards.h"
 #include "mvr/core/displays.h"
 #include "mvr/core/framing.h"
-#include "mvr/core/scene_io.h"
+#include "mvr/io/png.h"
+#include "mvr/io/scene_io.h"
 #include "mvr/session/camera.h"
 
 namespace mvr::session {

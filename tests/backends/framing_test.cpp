@@ -15,6 +15,8 @@
 
 #include "mvr/backends.h"
 #include "mvr/core/framing.h"
+#include "mvr/io/mesh_io.h"
+#include "mvr/io/png.h"
 
 namespace mvr {
 namespace {

@@ -16,6 +16,7 @@
 
 #include "cli_util.h"
 #include "mvr/core/image.h"
+#include "mvr/io/png.h"
 
 namespace mvr {
 namespace {

@@ -14,6 +14,7 @@
 
 #include "mvr/composite/compose.h"
 #include "mvr/composite/jpeg.h"
+#include "mvr/io/png.h"
 #include "test_views.h"
 
 namespace mvr::composite {

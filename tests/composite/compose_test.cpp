@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "mvr/composite/jpeg.h"
+#include "mvr/io/png.h"
 #include "test_views.h"
 
 namespace mvr::composite {

@@ -22,6 +22,7 @@
 #include "mvr/core/render.h"
 #include "mvr/core/rig.h"
 #include "mvr/core/scene.h"
+#include "mvr/io/mesh_io.h"
 
 namespace mvr::test {
 

@@ -31,6 +31,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "gltf_fixture.h"
+#include "mvr/io/png.h"
 
 namespace mvr::test {
 

@@ -6,7 +6,7 @@
 
 #include "gltf_anim_fixture.h"
 #include "mvr/core/animation.h"
-#include "mvr/core/scene_io.h"
+#include "mvr/io/scene_io.h"
 
 namespace mvr {
 namespace {

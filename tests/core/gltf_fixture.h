@@ -19,6 +19,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "mvr/core/image.h"
+#include "mvr/io/png.h"
 #include "test_files.h"
 
 namespace mvr::test {

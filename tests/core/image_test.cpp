@@ -1,5 +1,6 @@
 // Images: PNG round trips through libpng, depth PNGs, comparison, and bad files.
 #include "mvr/core/image.h"
+#include "mvr/io/png.h"
 
 #include <cmath>
 #include <fstream>

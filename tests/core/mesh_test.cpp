@@ -1,5 +1,6 @@
 // Mesh loading: the shared models, every format on tiny files, and bad input of every kind.
 #include "mvr/core/mesh.h"
+#include "mvr/io/mesh_io.h"
 
 #include <cstdlib>
 #include <fstream>

@@ -20,6 +20,7 @@
 #include "test_files.h"
 
 #include "mvr/core/mesh.h"
+#include "mvr/io/mesh_io.h"
 
 namespace mvr {
 namespace {

@@ -1,6 +1,6 @@
 // mvr's own MTL reader: Kd, map_Kd (options dropped), d / Tr, errors with file and line, and an
 // OBJ's mtllib libraries resolved beside it.
-#include "mvr/core/mtl.h"
+#include "mvr/io/mtl.h"
 
 #include <gtest/gtest.h>
 

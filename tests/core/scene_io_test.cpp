@@ -1,7 +1,9 @@
 // Tests of loadScene() (scene_io.h) on files written here: the glTF fixture (gltf_fixture.h) in
 // its three layouts, the layout Blender's exporter writes against its hand-written equivalent
 // (blender_fixture.h), OBJ + MTL, and bad textures.
-#include "mvr/core/scene_io.h"
+#include "mvr/io/mesh_io.h"
+#include "mvr/io/png.h"
+#include "mvr/io/scene_io.h"
 
 #include <gtest/gtest.h>
 

@@ -9,7 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "mvr/core/scene_io.h"
+#include "mvr/io/png.h"
+#include "mvr/io/scene_io.h"
 #include "test_files.h"
 
 namespace mvr {

@@ -12,6 +12,8 @@
 #include <fstream>
 #include <string>
 #include <system_error>
+#include "mvr/io/png.h"
+#include "mvr/io/mesh_io.h"
 
 namespace mvr::fuzz {
 

@@ -7,6 +7,7 @@
 
 #include "fuzz_util.h"
 #include "mvr/core/mesh.h"
+#include "mvr/io/mesh_io.h"
 
 #ifndef MVR_FUZZ_EXTENSION
 #error "MVR_FUZZ_EXTENSION (e.g. \".obj\") must be defined"

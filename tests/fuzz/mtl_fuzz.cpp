@@ -6,6 +6,7 @@
 
 #include "fuzz_util.h"
 #include "mvr/core/mesh.h"
+#include "mvr/io/mesh_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     static const auto obj = mvr::fuzz::writeScratch(

@@ -5,6 +5,7 @@
 
 #include "fuzz_util.h"
 #include "mvr/core/image.h"
+#include "mvr/io/png.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const auto path = mvr::fuzz::writeScratch("input.png", data, size);

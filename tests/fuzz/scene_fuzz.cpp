@@ -6,7 +6,7 @@
 #include <cstdlib>
 
 #include "fuzz_util.h"
-#include "mvr/core/scene_io.h"
+#include "mvr/io/scene_io.h"
 
 #ifndef MVR_FUZZ_EXTENSION
 #error "MVR_FUZZ_EXTENSION (e.g. \".gltf\") must be defined"

@@ -10,7 +10,9 @@
 
 #include "fuzz_util.h"
 #include "mvr/core/image.h"
-#include "mvr/core/scene_io.h"
+#include "mvr/io/mesh_io.h"
+#include "mvr/io/png.h"
+#include "mvr/io/scene_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     static const bool ready = [] {

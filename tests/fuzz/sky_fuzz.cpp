@@ -7,7 +7,7 @@
 #include <cstdlib>
 
 #include "fuzz_util.h"
-#include "mvr/core/scene_io.h"
+#include "mvr/io/scene_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const auto path = mvr::fuzz::writeScratch("sky", data, size);

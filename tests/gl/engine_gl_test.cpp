@@ -13,7 +13,7 @@
 #include "engine_fixture.h"
 #include "gl_test_util.h"
 #include "mvr/core/framing.h"
-#include "mvr/core/scene_io.h"
+#include "mvr/io/scene_io.h"
 #include "mvr/raster/soft_backend.h"
 
 namespace mvr::gl::test {

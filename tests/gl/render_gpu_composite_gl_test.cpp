@@ -16,6 +16,7 @@
 #include "mvr/composite/compose.h"
 #include "mvr/core/image.h"
 #include "mvr/gl/composite_gpu.h"
+#include "mvr/io/png.h"
 
 namespace mvr::gl::test {
 namespace {

@@ -30,6 +30,8 @@
 #include "mvr/core/image.h"
 #include "mvr/core/mesh.h"
 #include "mvr/core/scene.h"
+#include "mvr/io/mesh_io.h"
+#include "mvr/io/png.h"
 
 namespace mvr {
 namespace {

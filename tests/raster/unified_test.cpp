@@ -13,6 +13,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include "mvr/io/mesh_io.h"
 #include "mvr/raster/soft_backend.h"
 #include "test_scenes.h"
 

@@ -16,6 +16,7 @@
 #include "mvr/composite/compose.h"
 #include "mvr/core/framing.h"
 #include "mvr/core/image.h"
+#include "mvr/io/png.h"
 #include "mvr/session/outputs.h"
 #include "mvr/session/prepare.h"
 #include "mvr/session/recipe.h"

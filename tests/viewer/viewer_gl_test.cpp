@@ -38,6 +38,7 @@
 #include "../gl/engine_fixture.h"
 
 #include "mvr/core/image.h"
+#include "mvr/io/png.h"
 
 extern char** environ;
 

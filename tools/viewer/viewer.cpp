@@ -23,6 +23,7 @@
 #include "mvr/composite/anaglyph.h"
 #include "mvr/composite/compose.h"
 #include "mvr/composite/lenticular.h"
+#include "mvr/io/png.h"
 #include "overlay.h"
 #include "presenter.h"
 #include "render_worker.h"

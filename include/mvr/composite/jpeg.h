@@ -26,6 +26,7 @@
 #include "mvr/composite/compose.h"
 #include "mvr/core/image.h"
 #include "mvr/core/status.h"
+#include "mvr/io/jpeg.h"
 
 namespace mvr::composite {
 
@@ -33,10 +34,8 @@ namespace mvr::composite {
 /// Errors: Usage (empty image, quality out of range), Internal (libjpeg failure).
 Result<std::vector<std::uint8_t>> encodeJpeg(const Image& image, int quality);
 
-/// Decodes a JPEG (any libjpeg-supported kind except CMYK) to RGBA8 (alpha 255).
-/// `what` names the source in messages (a path). Errors: Input for data that is not JPEG,
-/// corrupt or truncated; Unsupported for CMYK/YCCK.
-Result<Image> decodeJpeg(std::span<const std::uint8_t> data, const std::string& what);
+/// The decoder is mvr::io's (mvr/io/jpeg.h), here under its old name too.
+using mvr::decodeJpeg;
 
 /// Builds an MPO file of `views` (2..N, one size), in view order; options.swapEyes reverses
 /// it. Uses options.jpegQuality, baseline, convergence, baseViewpoint.

@@ -54,17 +54,4 @@ Status validateMesh(const Mesh& mesh, const std::string& what);
 /// vertex with no usable triangle gets +Z).
 void computeSmoothNormals(Mesh& mesh);
 
-/// Reorders triangles and vertices for post-transform cache and fetch locality
-/// (meshopt_optimizeVertexCache + meshopt_optimizeVertexFetch). Pixels do not change.
-void optimizeMeshLocality(Mesh& mesh);
-
-/// Loads every mesh in a model file (OBJ, PLY, glTF 2.0 .gltf/.glb; whatever assimp reads) and
-/// merges them into one mesh with node transforms applied. Triangulates, generates smooth
-/// normals when absent, validates, and reorders for locality.
-/// Errors: ErrorCode::Input — "mvr::loadMesh(): PATH: file not found" / "not a readable model
-/// (assimp: ...)" / "has no triangles" / ...
-/// `warnings`: what was skipped (unknown PLY header lines), when given.
-Result<Mesh> loadMesh(const std::filesystem::path& path,
-                      std::vector<std::string>* warnings = nullptr);
-
 }  // namespace mvr

@@ -16,6 +16,7 @@
 #include "mvr/core/render.h"
 #include "mvr/core/rig.h"
 #include "mvr/core/status.h"
+#include "mvr/io/png.h"
 
 namespace mvr::session {
 

@@ -20,6 +20,7 @@
 #include "mvr/composite/compose.h"
 #include "mvr/core/image.h"
 #include "mvr/core/mesh.h"
+#include "mvr/io/png.h"
 
 namespace mvr::session {
 

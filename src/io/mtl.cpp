@@ -1,5 +1,5 @@
 // mtl.cpp — mvr's Wavefront MTL reader (see mtl.h).
-#include "mvr/core/mtl.h"
+#include "mvr/io/mtl.h"
 
 #include <algorithm>
 #include <charconv>

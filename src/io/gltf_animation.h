@@ -1,5 +1,5 @@
 // gltf_animation.h — a glTF file's node hierarchy and first animation, read from its JSON and
-// buffers (internal to mvr_scene_io).
+// buffers (internal to mvr::io).
 //
 // assimp 5.2.5's glTF2 importer turns every sampler into plain keys and drops the
 // interpolation (STEP plays as LINEAR, CUBICSPLINE's tangents are lost), so mvr reads the

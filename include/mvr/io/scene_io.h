@@ -1,9 +1,9 @@
-// mvr/core/scene_io.h — model files as whole scenes (issue 14): glTF 2.0 (.gltf with external
+// mvr/io/scene_io.h — model files as whole scenes (issue 14): glTF 2.0 (.gltf with external
 // or data-URI buffers and images, .glb) with its node hierarchy, materials, base color
 // textures, first camera and KHR_lights_punctual lights; OBJ with its MTL (usemtl: Kd, d,
-// map_Kd); PLY and anything else assimp reads as plain meshes. loadMesh() (mesh.h) stays for
-// callers that want one merged mesh. Library mvr::scene_io (it decodes JPEG textures through
-// mvr::composite's libjpeg-turbo decoder, PNG through core's libpng reader).
+// map_Kd); PLY and anything else assimp reads as plain meshes. loadMesh() (io/mesh_io.h) stays
+// for callers that want one merged mesh. Library mvr::io (JPEG textures through its
+// libjpeg-turbo decoder, io/jpeg.h; PNG through its libpng reader, io/png.h).
 //
 // Mapping (docs/architecture.md, "Scenes from files"):
 // - every mesh instance of a node → one Instance per primitive, worldFromModel = the node's

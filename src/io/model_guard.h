@@ -8,6 +8,7 @@
 #include <assimp/DefaultIOSystem.h>
 
 #include "mvr/core/status.h"
+#include "mvr/io/mesh_io.h"
 
 namespace mvr::detail {
 

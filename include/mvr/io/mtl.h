@@ -1,4 +1,4 @@
-// mvr/core/mtl.h — mvr's own reader of Wavefront material libraries (.mtl), the part an OBJ's
+// mvr/io/mtl.h — mvr's own reader of Wavefront material libraries (.mtl), the part an OBJ's
 // `mtllib` / `usemtl` need for color: the diffuse color Kd, its texture map_Kd and the
 // dissolve d / Tr. assimp never sees MTL files (model_guard.h: its MTL parser crashed on
 // malformed input); this reader is small, bounded and fuzzed (tests/fuzz/mtl_reader_fuzz.cpp).

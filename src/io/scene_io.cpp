@@ -10,7 +10,7 @@
 // model_guard.h), which keep assimp's known faults from being reached and whose messages name
 // the problem, and is then imported once (plain files through loadMesh() itself); OBJ
 // materials come from mvr's own MTL reader (mtl.h), never assimp's.
-#include "mvr/core/scene_io.h"
+#include "mvr/io/scene_io.h"
 
 #include <algorithm>
 #include <cctype>
@@ -31,8 +31,10 @@
 
 #include "gltf_animation.h"
 #include "model_guard.h"
-#include "mvr/composite/jpeg.h"
-#include "mvr/core/mtl.h"
+#include "mvr/io/jpeg.h"
+#include "mvr/io/mesh_io.h"
+#include "mvr/io/mtl.h"
+#include "mvr/io/png.h"
 
 namespace mvr {
 namespace {
@@ -64,7 +66,7 @@ bool isJpegBytes(std::span<const std::uint8_t> d) {
 }
 
 Result<Image> decodeImageBytes(std::span<const std::uint8_t> data, const std::string& what) {
-    if (isJpegBytes(data)) return composite::decodeJpeg(data, what);
+    if (isJpegBytes(data)) return decodeJpeg(data, what);
     return decodePng(data, what);
 }
 
