@@ -28,59 +28,115 @@ constexpr FormatSize kSideBySideHalf{SizeRule::Tiled, 2, 1, 2, 1};
 constexpr FormatSize kTopBottom{SizeRule::Tiled, 1, 2, 1, 1};
 constexpr FormatSize kTopBottomHalf{SizeRule::Tiled, 1, 2, 1, 2};
 
-const std::array kFormats = {
+// The composers of the built-in rows (FormatInfo::composer): views checked and in order.
+Result<std::pair<int, int>> quiltGridFor(std::span<const Image> views,
+                                         const ComposeOptions& options, const char* who);
+
+template <AnaglyphMethod M>
+Result<Image> composeAnaglyph(std::span<const Image> v, const ComposeOptions&,
+                              const std::string&) {
+    return anaglyph(v[0], v[1], M);
+}
+Result<Image> composeSbs(std::span<const Image> v, const ComposeOptions& options,
+                         const std::string&) {
+    const bool rightFirst = options.crossEyed;
+    return sideBySide(v[rightFirst ? 1 : 0], v[rightFirst ? 0 : 1], false);
+}
+Result<Image> composeSbsHalf(std::span<const Image> v, const ComposeOptions& options,
+                             const std::string&) {
+    const bool rightFirst = options.crossEyed;
+    return sideBySide(v[rightFirst ? 1 : 0], v[rightFirst ? 0 : 1], true);
+}
+Result<Image> composeTb(std::span<const Image> v, const ComposeOptions&, const std::string&) {
+    return topBottom(v[0], v[1], false);
+}
+Result<Image> composeTbHalf(std::span<const Image> v, const ComposeOptions&, const std::string&) {
+    return topBottom(v[0], v[1], true);
+}
+Result<Image> composeRows(std::span<const Image> v, const ComposeOptions&, const std::string&) {
+    return interleaveRows(v);
+}
+Result<Image> composeColumns(std::span<const Image> v, const ComposeOptions&,
+                             const std::string&) {
+    return interleaveColumns(v);
+}
+Result<Image> composeCheckerboard(std::span<const Image> v, const ComposeOptions&,
+                                  const std::string&) {
+    return checkerboard(v[0], v[1]);
+}
+Result<Image> composeFramePacking(std::span<const Image> v, const ComposeOptions&,
+                                  const std::string&) {
+    return hdmiFramePacking(v[0], v[1]);
+}
+Result<Image> composeQuilt(std::span<const Image> v, const ComposeOptions& options,
+                           const std::string& who) {
+    Result<std::pair<int, int>> grid = quiltGridFor(v, options, who.c_str());
+    if (!grid) return grid.status();
+    return quilt(v, grid->first, grid->second);
+}
+Result<Image> composeLenticular(std::span<const Image> v, const ComposeOptions& options,
+                                const std::string&) {
+    return lenticular(v, options.lenticular);
+}
+// jps: the side-by-side picture of its file, right view on the left.
+Result<Image> composeJps(std::span<const Image> v, const ComposeOptions&, const std::string&) {
+    return sideBySide(v[1], v[0], false);
+}
+
+const std::array kBuiltinFormats = {
     FormatInfo{"anaglyph-dubois", 2, 2, false, ".png",
-               "red-cyan, Dubois least squares (the default anaglyph)", kOneCell},
-    FormatInfo{"anaglyph-color", 2, 2, false, ".png", "red-cyan, full color", kOneCell},
+               "red-cyan, Dubois least squares (the default anaglyph)", kOneCell, FileKind::Png, composeAnaglyph<AnaglyphMethod::Dubois>, GpuPlan::Anaglyph},
+    FormatInfo{"anaglyph-color", 2, 2, false, ".png", "red-cyan, full color", kOneCell, FileKind::Png, composeAnaglyph<AnaglyphMethod::Color>, GpuPlan::Anaglyph},
     FormatInfo{"anaglyph-half-color", 2, 2, false, ".png", "red-cyan, left eye as luminance",
-               kOneCell},
-    FormatInfo{"anaglyph-gray", 2, 2, false, ".png", "red-cyan, luminance only", kOneCell},
+               kOneCell, FileKind::Png, composeAnaglyph<AnaglyphMethod::HalfColor>, GpuPlan::Anaglyph},
+    FormatInfo{"anaglyph-gray", 2, 2, false, ".png", "red-cyan, luminance only", kOneCell, FileKind::Png, composeAnaglyph<AnaglyphMethod::Gray>, GpuPlan::Anaglyph},
     FormatInfo{"anaglyph-true", 2, 2, false, ".png", "red-blue, luminance (true anaglyph)",
-               kOneCell},
+               kOneCell, FileKind::Png, composeAnaglyph<AnaglyphMethod::True>, GpuPlan::Anaglyph},
     FormatInfo{"anaglyph-dubois-gm", 2, 2, false, ".png", "green-magenta, Dubois least squares",
-               kOneCell},
+               kOneCell, FileKind::Png, composeAnaglyph<AnaglyphMethod::DuboisGreenMagenta>, GpuPlan::Anaglyph},
     FormatInfo{"anaglyph-dubois-ab", 2, 2, false, ".png", "amber-blue, Dubois least squares",
-               kOneCell},
-    FormatInfo{"sbs", 2, 2, false, ".png", "side by side, full width (2W x H)", kSideBySide},
-    FormatInfo{"sbs-half", 2, 2, false, ".png", "side by side, squeezed (W x H)", kSideBySideHalf},
-    FormatInfo{"tb", 2, 2, false, ".png", "top-bottom, left on top (W x 2H)", kTopBottom},
-    FormatInfo{"tb-half", 2, 2, false, ".png", "top-bottom, squeezed (W x H)", kTopBottomHalf},
+               kOneCell, FileKind::Png, composeAnaglyph<AnaglyphMethod::DuboisAmberBlue>, GpuPlan::Anaglyph},
+    FormatInfo{"sbs", 2, 2, false, ".png", "side by side, full width (2W x H)", kSideBySide, FileKind::Png, composeSbs, GpuPlan::SideBySide},
+    FormatInfo{"sbs-half", 2, 2, false, ".png", "side by side, squeezed (W x H)", kSideBySideHalf, FileKind::Png, composeSbsHalf, GpuPlan::SideBySideHalf},
+    FormatInfo{"tb", 2, 2, false, ".png", "top-bottom, left on top (W x 2H)", kTopBottom, FileKind::Png, composeTb, GpuPlan::TopBottom},
+    FormatInfo{"tb-half", 2, 2, false, ".png", "top-bottom, squeezed (W x H)", kTopBottomHalf, FileKind::Png, composeTbHalf, GpuPlan::TopBottomHalf},
     FormatInfo{"rows", 2, kAny, false, ".png", "row-interleaved: row y from view y mod N",
-               kOneCell},
+               kOneCell, FileKind::Png, composeRows, GpuPlan::Rows},
     FormatInfo{"columns", 2, kAny, false, ".png",
-               "column-interleaved: column x from view x mod N (parallax barrier)", kOneCell},
+               "column-interleaved: column x from view x mod N (parallax barrier)", kOneCell, FileKind::Png, composeColumns, GpuPlan::Columns},
     FormatInfo{"checkerboard", 2, 2, false, ".png", "checkerboard: (x + y) even from the left",
-               kOneCell},
+               kOneCell, FileKind::Png, composeCheckerboard, GpuPlan::Checkerboard},
     FormatInfo{"hdmi-frame-packing",
                2,
                2,
                false,
                ".png",
                "HDMI 1.4a frame packing: 720p -> 1280x1470, 1080p -> 1920x2205",
-               {SizeRule::FramePacked}},
+               {SizeRule::FramePacked}, FileKind::Png, composeFramePacking, GpuPlan::FramePacking},
     FormatInfo{"quilt",
                1,
                kAny,
                false,
                ".png",
                "Looking Glass quilt, view 0 bottom left: quilt_qsCxRaA.png",
-               {SizeRule::QuiltGrid}},
+               {SizeRule::QuiltGrid}, FileKind::Png, composeQuilt, GpuPlan::Quilt},
     FormatInfo{"lenticular",
                2,
                kAny,
                false,
                ".png",
                "slanted-lens sub-pixel interleave from a panel calibration",
-               {SizeRule::Panel}},
+               {SizeRule::Panel}, FileKind::Png, composeLenticular, GpuPlan::Lenticular},
     FormatInfo{"jps", 2, 2, false, ".jps", "JPEG side by side, right view on the left",
-               kSideBySide},
+               kSideBySide, FileKind::Jps, composeJps, GpuPlan::None},
     FormatInfo{"mpo",
                2,
                4096,
                true,
                ".mpo",
                "CIPA multi-picture JPEG, one image per view",
-               {SizeRule::PerView}},
+               {SizeRule::PerView}, FileKind::Mpo, nullptr, GpuPlan::None},
+
 };
 
 // As composite::quilt(): no side of a quilt beyond this.
@@ -141,27 +197,50 @@ Status checkViewCount(const FormatInfo& f, int viewCount, const std::string& who
                                   (f.minViews == 1 && f.maxViews == 1) ? "" : "s", viewCount));
 }
 
+// The formats table: the built-in rows, then those registerFormat() added.
+std::vector<FormatInfo>& table() {
+    static std::vector<FormatInfo> rows(kBuiltinFormats.begin(), kBuiltinFormats.end());
+    return rows;
+}
+
 }  // namespace
 
-std::span<const FormatInfo> formats() { return kFormats; }
+std::span<const FormatInfo> formats() { return table(); }
+
+Status registerFormat(const FormatInfo& format) {
+    const std::string who = fmt::format("mvr::composite::registerFormat(): '{}'", format.name);
+    if (format.name.empty()) return usageError(who + ": a format needs a name");
+    for (const FormatInfo& f : table())
+        if (f.name == format.name) return usageError(who + ": the name is taken");
+    if (format.minViews < 1 || format.maxViews < format.minViews)
+        return usageError(fmt::format("{}: views {}..{} (expected 1 <= min <= max)", who,
+                                      format.minViews, format.maxViews));
+    if (format.file == FileKind::Mpo || format.fileOnly)
+        return usageError(who + ": only image formats (FileKind::Png / Jps) can be registered");
+    if (!format.composer) return usageError(who + ": an image format needs a composer");
+    if (format.gpu != GpuPlan::None)
+        return usageError(who + ": a registered format has no GPU plan (GpuPlan::None)");
+    table().push_back(format);
+    return Status::ok();
+}
 
 std::vector<std::string> formatNames() {
     std::vector<std::string> names;
-    for (const FormatInfo& f : kFormats) names.emplace_back(f.name);
+    for (const FormatInfo& f : table()) names.emplace_back(f.name);
     return names;
 }
 
 Result<FormatInfo> findFormat(std::string_view name) {
-    for (const FormatInfo& f : kFormats)
+    for (const FormatInfo& f : table())
         if (f.name == name) return f;
     std::string all;
-    for (const FormatInfo& f : kFormats) all += (all.empty() ? "" : ", ") + std::string(f.name);
+    for (const FormatInfo& f : table()) all += (all.empty() ? "" : ", ") + std::string(f.name);
     return usageError(fmt::format("unknown output format '{}' (expected one of: {})", name, all));
 }
 
 std::string formatHelp() {
     std::string out;
-    for (const FormatInfo& f : kFormats) {
+    for (const FormatInfo& f : table()) {
         const std::string views = f.minViews == f.maxViews ? fmt::format("{} views", f.minViews)
                                   : f.maxViews >= kAny
                                       ? fmt::format("{}+ views", f.minViews)
@@ -364,30 +443,10 @@ Result<Image> compose(std::string_view format, std::span<const Image> views,
             fmt::format("{}: a multi-image file, not one image (write it with "
                         "writeComposite(), or `mvr compose -o DIR`)",
                         who));
+    if (!info->composer)
+        return internalError(fmt::format("{}: format without an implementation", who));
     const Ordered o = ordered(views, options.swapEyes);
-    const std::span<const Image> v = o.span;
-    const std::string_view name = info->name;
-
-    if (const std::optional<AnaglyphMethod> method = anaglyphMethod(name))
-        return anaglyph(v[0], v[1], *method);
-
-    if (name == "sbs" || name == "sbs-half") {
-        const bool rightFirst = options.crossEyed;
-        return sideBySide(v[rightFirst ? 1 : 0], v[rightFirst ? 0 : 1], name == "sbs-half");
-    }
-    if (name == "tb" || name == "tb-half") return topBottom(v[0], v[1], name == "tb-half");
-    if (name == "rows") return interleaveRows(v);
-    if (name == "columns") return interleaveColumns(v);
-    if (name == "checkerboard") return checkerboard(v[0], v[1]);
-    if (name == "hdmi-frame-packing") return hdmiFramePacking(v[0], v[1]);
-    if (name == "quilt") {
-        Result<std::pair<int, int>> grid = quiltGridFor(v, options, who.c_str());
-        if (!grid) return grid.status();
-        return quilt(v, grid->first, grid->second);
-    }
-    if (name == "lenticular") return lenticular(v, options.lenticular);
-    if (name == "jps") return sideBySide(v[1], v[0], false);
-    return internalError(fmt::format("{}: format without an implementation", who));
+    return info->composer(o.span, options, who);
 }
 
 Result<std::string> compositeFileName(std::string_view format, std::span<const Image> views,
@@ -396,7 +455,7 @@ Result<std::string> compositeFileName(std::string_view format, std::span<const I
     if (!info) return info.status();
     const std::string who = fmt::format("mvr::composite::compositeFileName(): {}", info->name);
     if (Status s = validateViews(views, info->minViews, info->maxViews, who.c_str()); !s) return s;
-    if (info->name == "quilt") {
+    if (info->size.rule == SizeRule::QuiltGrid) {  // the Looking Glass file name
         Result<std::pair<int, int>> grid = quiltGridFor(views, options, who.c_str());
         if (!grid) return grid.status();
         if (options.quiltAspect > 0.0) {
@@ -417,7 +476,7 @@ Status writeCompositeFile(std::string_view format, std::span<const Image> views,
     if (!info) return info.status();
     const std::string ext = lower(file.extension().string());
     const std::string who = fmt::format("mvr::composite::writeCompositeFile(): {}", info->name);
-    if (info->name == "mpo") {
+    if (info->file == FileKind::Mpo) {
         if (ext != ".mpo")
             return usageError(
                 fmt::format("{}: output '{}' (expected a .mpo file name)", who, file.string()));
@@ -425,7 +484,7 @@ Status writeCompositeFile(std::string_view format, std::span<const Image> views,
         if (!bytes) return bytes.status();
         return writeFileBytes(file, *bytes);
     }
-    if (info->name == "jps") {
+    if (info->file == FileKind::Jps) {
         if (ext != ".jps" && ext != ".jpg" && ext != ".jpeg")
             return usageError(
                 fmt::format("{}: output '{}' (expected a .jps file name)", who, file.string()));

@@ -171,9 +171,14 @@ Result<Plan> makePlan(const composite::FormatInfo& info, std::span<const Image> 
     plan.width = size->width;
     plan.height = size->height;
     plan.source = "#define FAMILY_LAYOUT 1\n" + std::string(kFragment);
-    const std::string_view name = info.name;
+    using composite::GpuPlan;
+    const GpuPlan kind = info.gpu;
 
-    if (const std::optional<composite::AnaglyphMethod> method = composite::anaglyphMethod(name)) {
+    if (kind == GpuPlan::Anaglyph) {
+        const std::optional<composite::AnaglyphMethod> method =
+            composite::anaglyphMethod(info.name);
+        if (!method) return internalError(fmt::format("{}: an anaglyph plan for a format that "
+                                                      "is no anaglyph", who));
         if (!gpu.anaglyphMix.empty()) {
             plan.source = "#define FAMILY_ANAGLYPH 1\n" + gpu.anaglyphMix + "\n" + kFragment;
             plan.customMix = true;
@@ -186,39 +191,39 @@ Result<Plan> makePlan(const composite::FormatInfo& info, std::span<const Image> 
         }
         return plan;
     }
-    if (name == "sbs" || name == "sbs-half") {
+    if (kind == GpuPlan::SideBySide || kind == GpuPlan::SideBySideHalf) {
         if (options.crossEyed) std::swap(plan.first, plan.second);
-        plan.mode = name == "sbs" ? kSbs : kSbsHalf;
+        plan.mode = kind == GpuPlan::SideBySide ? kSbs : kSbsHalf;
         return plan;
     }
-    if (name == "tb" || name == "tb-half") {
-        plan.mode = name == "tb" ? kTb : kTbHalf;
+    if (kind == GpuPlan::TopBottom || kind == GpuPlan::TopBottomHalf) {
+        plan.mode = kind == GpuPlan::TopBottom ? kTb : kTbHalf;
         return plan;
     }
-    if (name == "rows") {
+    if (kind == GpuPlan::Rows) {
         plan.mode = kRows;
         return plan;
     }
-    if (name == "columns") {
+    if (kind == GpuPlan::Columns) {
         plan.mode = kColumns;
         return plan;
     }
-    if (name == "checkerboard") {
+    if (kind == GpuPlan::Checkerboard) {
         plan.mode = kCheckerboard;
         return plan;
     }
-    if (name == "hdmi-frame-packing") {
+    if (kind == GpuPlan::FramePacking) {
         plan.mode = kHdmi;
         plan.gap = plan.height - 2 * h;  // composite::hdmiActiveSpaceLines()
         return plan;
     }
-    if (name == "quilt") {
+    if (kind == GpuPlan::Quilt) {
         plan.mode = kQuilt;
         plan.gridColumns = plan.width / w;
         plan.gridRows = plan.height / h;
         return plan;
     }
-    if (name == "lenticular") {
+    if (kind == GpuPlan::Lenticular) {
         const composite::LenticularCalibration& cal = options.lenticular;
         Result<composite::LenticularShaderParams> params =
             composite::lenticularShaderParams(cal, plan.width, plan.height);
@@ -382,7 +387,7 @@ Result<Image> draw(detail::CompositeContext& c, const Plan& plan, std::span<cons
 
 bool composeGpuSupports(const std::string& format) {
     Result<composite::FormatInfo> info = composite::findFormat(format);
-    return info && !info->fileOnly && info->name != "jps";
+    return info && !info->fileOnly && info->gpu != composite::GpuPlan::None;
 }
 
 Result<Image> composeGpu(const std::string& format, std::span<const Image> views,
@@ -393,11 +398,11 @@ Result<Image> composeGpu(const std::string& format, std::span<const Image> views
     const std::string who = fmt::format("mvr::gl::composeGpu(): {}", info->name);
     if (Status s = composite::validateViews(views, info->minViews, info->maxViews, who.c_str()); !s)
         return s;
-    if (info->fileOnly || info->name == "jps")
-        return unsupportedError(
-            fmt::format("{}: a JPEG file, composed on the CPU only (mvr::composite::compose() / "
-                        "writeComposite())",
-                        who));
+    if (info->fileOnly || info->gpu == composite::GpuPlan::None)
+        return unsupportedError(fmt::format(
+            "{}: {}, composed on the CPU only (mvr::composite::compose() / writeComposite())",
+            who, info->file == composite::FileKind::Png ? "a format without a GPU plan"
+                                                        : "a JPEG file"));
     Result<Plan> plan = makePlan(*info, views, options, gpu, who);
     if (!plan) return plan.status();
 

@@ -77,8 +77,13 @@ int runCompose(ComposeCommandOptions o) {
     // `-o pair.mpo` / `-o pair.jps` without --format: the file name says what to write.
     if (!o.formatGiven) {
         const std::string ext = lowerExtension(o.output);
-        if (ext == ".mpo") o.format = "mpo";
-        if (ext == ".jps") o.format = "jps";
+        for (const composite::FormatInfo& f : composite::formats()) {
+            // The first JPEG-file format (mpo, jps) whose own extension it is.
+            if (f.file != composite::FileKind::Png && f.extension == ext) {
+                o.format = std::string(f.name);
+                break;
+            }
+        }
     }
     std::vector<Image> views;
     std::vector<std::string> sources;  // where each view came from, for messages

@@ -20,28 +20,28 @@
 
 namespace mvr::viewer {
 
-const std::vector<std::string>& viewerFormats() {
-    static const std::vector<std::string> kFormats = {"anaglyph-dubois",
-                                                      "anaglyph-color",
-                                                      "anaglyph-half-color",
-                                                      "anaglyph-gray",
-                                                      "anaglyph-true",
-                                                      "anaglyph-dubois-gm",
-                                                      "anaglyph-dubois-ab",
-                                                      "sbs",
-                                                      "sbs-half",
-                                                      "tb",
-                                                      "tb-half",
-                                                      "rows",
-                                                      "columns",
-                                                      "checkerboard",
-                                                      "quad-buffer"};
-    return kFormats;
+std::vector<std::string> viewerFormats() {
+    // The formats table's image formats of one cell grid that take a pair (anaglyphs, sbs, tb,
+    // their halves, rows, columns, checkerboard and any registered one), then quad-buffer.
+    std::vector<std::string> names;
+    for (const composite::FormatInfo& f : composite::formats()) {
+        if (f.file == composite::FileKind::Png && f.size.rule == composite::SizeRule::Tiled &&
+            f.minViews <= 2 && f.maxViews >= 2)
+            names.emplace_back(f.name);
+    }
+    names.emplace_back("quad-buffer");
+    return names;
 }
 
-const std::vector<std::string>& viewerViewFormats() {
-    static const std::vector<std::string> kFormats = {"view", "quilt", "lenticular"};
-    return kFormats;
+std::vector<std::string> viewerViewFormats() {
+    // "view", then the table's formats of all N views in one picture: quilt, lenticular.
+    std::vector<std::string> names = {"view"};
+    for (const composite::FormatInfo& f : composite::formats()) {
+        if (f.file == composite::FileKind::Png && (f.size.rule == composite::SizeRule::QuiltGrid ||
+                                                   f.size.rule == composite::SizeRule::Panel))
+            names.emplace_back(f.name);
+    }
+    return names;
 }
 
 session::RenderRecipe viewerRecipe(const ViewerOptions& o) {
@@ -112,7 +112,8 @@ std::function<int()> addViewCommand(CLI::App& root) {
                                     ? std::string()
                                     : fmt::format(", except {}", fmt::join(interactive, ", "))));
     std::vector<std::string> allFormats = viewerFormats();
-    allFormats.insert(allFormats.end(), viewerViewFormats().begin(), viewerViewFormats().end());
+    const std::vector<std::string> viewFormats = viewerViewFormats();
+    allFormats.insert(allFormats.end(), viewFormats.begin(), viewFormats.end());
     auto* format =
         app->add_option("--format", o->format,
                         "Output: a stereo format (of views i, i+1 of a row), or view (one view), "

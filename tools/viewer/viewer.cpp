@@ -765,9 +765,10 @@ int Viewer::run() {
         if (f != "lenticular" || mOptions.calibrationGiven || mOptions.format == f)
             nView.push_back(f);
     }
-    mFormats = viewCount() > 2 ? nView : viewerFormats();
-    mFormats.insert(mFormats.end(), viewCount() > 2 ? viewerFormats().begin() : nView.begin(),
-                    viewCount() > 2 ? viewerFormats().end() : nView.end());
+    const std::vector<std::string> stereo = viewerFormats();
+    mFormats = viewCount() > 2 ? nView : stereo;
+    mFormats.insert(mFormats.end(), viewCount() > 2 ? stereo.begin() : nView.begin(),
+                    viewCount() > 2 ? stereo.end() : nView.end());
     const auto& formats = mFormats;
     std::string first = mOptions.format;
     if (!mOptions.formatGiven && mPrepared.display) {

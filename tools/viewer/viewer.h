@@ -53,14 +53,16 @@ struct ViewerOptions {
     bool quiet = false;
 };
 
-/// The stereo output formats: the seven anaglyphs, sbs, sbs-half, tb, tb-half, rows, columns,
-/// checkerboard, quad-buffer. With a row of N > 2 views they show views i and i + 1.
-const std::vector<std::string>& viewerFormats();
+/// The stereo output formats, from the formats table (composite::formats()): its image formats
+/// of one cell grid that take two views — the seven anaglyphs, sbs, sbs-half, tb, tb-half, rows,
+/// columns, checkerboard and any registerFormat() added — then quad-buffer. With a row of N > 2
+/// views they show views i and i + 1.
+std::vector<std::string> viewerFormats();
 /// The N-view outputs: "view" (one view at a time, stepped by . and ,), "quilt" (all N views,
 /// the preset's or --quilt's grid, view 0 bottom left) and "lenticular" (the panel's interleave
 /// of a --lenticular-calibration). `f` cycles these first for N > 2 views, then the stereo
 /// formats; after them for a stereo pair. "lenticular" only with a calibration (or when asked).
-const std::vector<std::string>& viewerViewFormats();
+std::vector<std::string> viewerViewFormats();
 
 /// Adds the `view` subcommand to `root`; returns the function that runs it after parsing.
 std::function<int()> addViewCommand(CLI::App& root);

@@ -117,6 +117,40 @@ struct FormatSize {
     int squeezeX = 1, squeezeY = 1;
 };
 
+struct ComposeOptions;
+struct FormatInfo;
+
+/// The container a format's file is written as (writeCompositeFile(), readViewFile()).
+enum class FileKind {
+    Png,  ///< one image: .png (or .jpg / .jpeg when the caller's file name says so)
+    Jps,  ///< one side-by-side picture in a JPEG with the JPS APP3 descriptor (.jps, .jpg, .jpeg)
+    Mpo,  ///< one JPEG per view in a CIPA multi-picture file (.mpo); fileOnly
+};
+
+/// How the gl backend composes a format on the GPU (mvr::gl::composeGpu() turns it into a
+/// shader plan); None: the GPU does not compose it, and `--backend gl` composes it on the CPU
+/// (composeFor() falls back to compose()). The composite module only names the plans.
+enum class GpuPlan {
+    None,
+    Anaglyph,        ///< the row's name is an anaglyphMethod()
+    SideBySide,      ///< sbs: 2W×H (options.crossEyed swaps the halves)
+    SideBySideHalf,  ///< sbs-half
+    TopBottom,       ///< tb
+    TopBottomHalf,   ///< tb-half
+    Rows,
+    Columns,
+    Checkerboard,
+    FramePacking,  ///< hdmi-frame-packing
+    Quilt,
+    Lenticular,
+};
+
+/// Composes one format: `views` are already checked against the row (count, equal non-empty
+/// sizes) and already reversed for options.swapEyes; `who` prefixes error messages
+/// ("mvr::composite::compose(): NAME").
+using Composer = Result<Image> (*)(std::span<const Image> views, const ComposeOptions& options,
+                                   const std::string& who);
+
 /// One output format and what it needs.
 struct FormatInfo {
     std::string_view name;
@@ -126,11 +160,22 @@ struct FormatInfo {
     std::string_view extension;  ///< of the file writeComposite() writes: ".png", ".jps", ".mpo"
     std::string_view summary;    ///< one line for --help
     FormatSize size;             ///< how big the output is (outputSize(), largestViewSize())
+    FileKind file = FileKind::Png;  ///< the container writeCompositeFile() writes
+    Composer composer = nullptr;    ///< compose()'s work; null only for fileOnly rows (mpo)
+    GpuPlan gpu = GpuPlan::None;    ///< how mvr::gl::composeGpu() composes it, or None
 };
 inline constexpr int kAnyViewCount = 1 << 20;
 
-/// All formats, in --help order.
+/// All formats, in --help order (the built-in rows, then registered ones).
 std::span<const FormatInfo> formats();
+/// Adds a format by its row, after the built-in ones: compose(), writeComposite(), `mvr
+/// compose` / `mvr render --format`, the viewer's list and (with gpu == GpuPlan::None, composed
+/// on the CPU) `--backend gl` take it from then on. For tests and plugins: call it before any
+/// other thread uses the formats; name, extension and summary must outlive the process (string
+/// literals). Errors (ErrorCode::Usage): an empty or taken name, no composer for an image
+/// format, minViews < 1 or maxViews < minViews, a GPU plan other than None (the gl backend only
+/// knows the built-in plans' shaders), a FileKind::Mpo row.
+Status registerFormat(const FormatInfo& format);
 /// The names of all formats, in --help order.
 std::vector<std::string> formatNames();
 /// The format called `name`. Errors: ErrorCode::Usage listing the valid names.

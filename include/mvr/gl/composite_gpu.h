@@ -64,8 +64,9 @@ Result<Image> composeGpu(const std::string& format, std::span<const Image> views
                          const composite::ComposeOptions& options = {},
                          const GpuComposeOptions& gpu = {});
 
-/// True for the formats composeGpu() composes: every format of composite::formats() except
-/// the JPEG files (jps, mpo).
+/// True for the formats composeGpu() composes: the rows of composite::formats() with a GPU plan
+/// (FormatInfo::gpu != GpuPlan::None) — every built-in image format; not the JPEG files (jps,
+/// mpo) nor a registered format, which `--backend gl` composes on the CPU (composeFor()).
 bool composeGpuSupports(const std::string& format);
 
 }  // namespace mvr::gl
