@@ -15,6 +15,7 @@
 
 #include "mvr/backends.h"
 #include "mvr/core/framing.h"
+#include "mvr_test_support.h"
 
 namespace mvr {
 namespace {
@@ -22,8 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path mvrBinary() {
-    const char* bin = std::getenv("MVR_BINARY_DIR");
-    return fs::path(bin ? bin : MVR_TEST_BINARY_DIR) / "tools" / "cli" / "mvr";
+    return ::mvr::test::mvrBinary();
 }
 
 fs::path sharedModel(const char* name) {

@@ -38,6 +38,7 @@
 #include "../gl/engine_fixture.h"
 
 #include "mvr/core/image.h"
+#include "mvr_test_support.h"
 
 extern char** environ;
 
@@ -147,8 +148,8 @@ protected:
     }
 
     void SetUp() override {
-        mvr = fs::path(envOr("MVR_BINARY_DIR", MVR_TEST_BINARY_DIR)) / "tools" / "cli" / "mvr";
-        if (!fs::exists(mvr)) GTEST_SKIP() << mvr << " not built";
+        mvr = ::mvr::test::mvrBinary();
+        if (!fs::exists(mvr)) FAIL() << mvr << " not built";
         bunny = fs::path(envOr("MVR_SHARED_DIR", MVR_TEST_SHARED_DIR)) / "models" /
                 "stanford-bunny.obj";
         dir = fs::temp_directory_path() /
@@ -162,8 +163,8 @@ protected:
     }
 
     void needDisplay() {
-        if (!sXvfb) GTEST_SKIP() << sWhyNoDisplay;
-        if (!fs::exists(bunny)) GTEST_SKIP() << bunny << " not found (set MVR_SHARED_DIR)";
+        if (!sXvfb) MVR_SKIP(NoDisplay) << sWhyNoDisplay;
+        if (!fs::exists(bunny)) MVR_SKIP(ModelsMissing) << bunny << " not found (set MVR_SHARED_DIR)";
     }
 
     /// Runs `mvr ARGS` in `dir`, on the test's display (or none with display = false).
