@@ -12,6 +12,7 @@
 
 #include "mvr/backends.h"
 #include "mvr/raster/soft_backend.h"
+#include "mvr_test_support.h"
 
 namespace mvr {
 namespace {
@@ -200,7 +201,7 @@ TEST(Validation, EveryBackendRefusesABadRequestWithTheSameMessageAndCode) {
 // The same without any EGL driver (glvnd pointed at nothing): a GPU backend that cannot make a
 // context still gives validateRequest's message for a bad request, not "no EGL display".
 TEST(Validation, TheSameMessageWithoutADisplay) {
-    if (std::getenv("MVR_BACKENDS_TEST_NO_EGL")) GTEST_SKIP() << "the child run";
+    if (std::getenv("MVR_BACKENDS_TEST_NO_EGL")) MVR_SKIP(NotApplicable) << "the child run";
     char exe[4096] = {};
     const ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
     ASSERT_GT(n, 0);

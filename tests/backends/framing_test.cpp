@@ -17,6 +17,7 @@
 #include "mvr/core/framing.h"
 #include "mvr/io/mesh_io.h"
 #include "mvr/io/png.h"
+#include "mvr_test_support.h"
 
 namespace mvr {
 namespace {
@@ -24,8 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path mvrBinary() {
-    const char* bin = std::getenv("MVR_BINARY_DIR");
-    return fs::path(bin ? bin : MVR_TEST_BINARY_DIR) / "tools" / "cli" / "mvr";
+    return ::mvr::test::mvrBinary();
 }
 
 fs::path sharedModel(const char* name) {

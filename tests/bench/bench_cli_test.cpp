@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "mvr_test_support.h"
 
 namespace {
 
@@ -258,7 +259,7 @@ TEST_F(BenchCli, AdelsonCsvOnly) {
 }
 
 TEST_F(BenchCli, Plots) {
-    if (!haveGnuplot()) GTEST_SKIP() << "gnuplot is not installed";
+    if (!haveGnuplot()) MVR_SKIP(ToolMissing) << "gnuplot is not installed";
     CliRun r = run(fmt::format(
         "bench sorbier '{}' --sizes 64x48 --copies 1,2 --frames 1 --warmup 0 --methods soft:unified "
         "--plot s.png",
@@ -373,7 +374,7 @@ TEST_F(BenchCli, PlainBenchGlRowsCarryDeviceTimes) {
         "bench '{}' --size 64x48 --frames 3 --warmup 0 --methods soft:unified,gl:multipass",
         model("suzanne.obj"));
     const CliRun r = run(args + " --json");
-    if (r.exitCode == 3) GTEST_SKIP() << r.err;
+    if (r.exitCode == 3) MVR_SKIP(NoGlContext) << r.err;
     const auto j = glBenchJson(r);
     ASSERT_TRUE(j);
     int gl = 0;
@@ -421,7 +422,7 @@ TEST_F(BenchCli, PaperBenchGlRowsCarryDeviceTimes) {
             << args << "\n"
             << table.out;
     }
-    if (ran == 0) GTEST_SKIP() << "gl cannot run here";
+    if (ran == 0) MVR_SKIP(NoGlContext) << "gl cannot run here";
 }
 
 // Soft-only tables have no GPU-timing table; the CSV has the columns, empty for soft rows.
@@ -588,10 +589,10 @@ TEST_F(BenchCli, ViewsJsonGlAndPlot) {
                         "--methods gl:viewport-array --json --plot v.png",
                         model("suzanne.obj")));
     ASSERT_EQ(r.exitCode == 3 ? 3 : 0, r.exitCode) << r.err;
-    if (r.exitCode == 3) GTEST_SKIP() << r.err;
+    if (r.exitCode == 3) MVR_SKIP(NoGlContext) << r.err;
     ASSERT_TRUE(nlohmann::json::accept(r.out)) << r.out;
     const nlohmann::json j = nlohmann::json::parse(r.out);
-    if (!j["skipped"].empty()) GTEST_SKIP() << j["skipped"].dump();
+    if (!j["skipped"].empty()) MVR_SKIP(MethodUnsupportedByDriver) << j["skipped"].dump();
     expectViewsJson(j, {"gl:multipass", "gl:viewport-array"});
     EXPECT_TRUE(fs::file_size(mDir / "v.png") > 1000);
 }

@@ -133,7 +133,7 @@ Coverage coverage(const Image& img) {
 // no vertical parallax) and the right eye sees it further right (positive parallax).
 TEST_F(Cli, BunnyEyesOffsetHorizontallyOnly) {
     const auto bunny = sharedModels() / "stanford-bunny.obj";
-    if (!std::filesystem::exists(bunny)) GTEST_SKIP() << "no " << bunny;
+    if (!std::filesystem::exists(bunny)) MVR_SKIP(ModelsMissing) << "no " << bunny;
     const CliRun r = run(fmt::format(
         "render '{}' --size 200x150 --separation 0.05 --convergence 0.1 -o bunny", bunny.string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -405,7 +405,7 @@ TEST_F(Cli, EveryBackendRefusesAnOutputOverTheBudgetAlike) {
 // thread pool hands the exception to the caller, whose error names the request.
 TEST_F(Cli, RunningOutOfMemoryIsOneErrorLine) {
 #if defined(__SANITIZE_ADDRESS__)
-    GTEST_SKIP() << "ASan reserves terabytes of address space: no ulimit -v under it";
+    MVR_SKIP(NotApplicable) << "ASan reserves terabytes of address space: no ulimit -v under it";
 #else
     const CliRun r = test::runMvr(mDir, "render -o out --backend soft --views 40 --size 2048x2048",
                                   "ulimit -v 1500000 && ");
@@ -426,9 +426,9 @@ TEST_F(Cli, CheckPrintsTheArtifactFractionPerView) {
         EXPECT_NE(soft.out.find(line), std::string::npos) << soft.out;
     }
     const CliRun info = run("info");
-    if (info.out.find("backend gl") == std::string::npos) GTEST_SKIP() << "no gl backend";
+    if (info.out.find("backend gl") == std::string::npos) MVR_SKIP(FeatureNotBuilt) << "no gl backend";
     const CliRun mrt = run("render --size 160x120 -o out --backend gl --method gs-mrt --check");
-    if (mrt.exitCode == 3) GTEST_SKIP() << mrt.err;  // no EGL driver here
+    if (mrt.exitCode == 3) MVR_SKIP(NoGlContext) << mrt.err;  // no EGL driver here
     ASSERT_EQ(mrt.exitCode, 0) << mrt.err;
     EXPECT_NE(mrt.out.find("check: view 0: gl:gs-mrt vs gl:multipass: "), std::string::npos)
         << mrt.out;
@@ -452,7 +452,7 @@ TEST_F(Cli, TheComfortReportNeedsNoDepthImages) {
     for (const std::string& b : backends) {
         const std::string common = "render --views 5 --size 96x72 -q --backend " + b;
         const CliRun plain = run(common + " -o plain --report-json plain.json");
-        if (b == "gl" && plain.exitCode == 3) GTEST_SKIP() << plain.err;  // no EGL driver here
+        if (b == "gl" && plain.exitCode == 3) MVR_SKIP(NoGlContext) << plain.err;  // no EGL driver here
         ASSERT_EQ(plain.exitCode, 0) << plain.err;
         const CliRun depth = run(common + " -o depth --depth --report-json depth.json");
         ASSERT_EQ(depth.exitCode, 0) << depth.err;
@@ -472,7 +472,7 @@ TEST_F(Cli, ProgressGoesToATerminalOnly) {
         "cd '{}' && MVR_PROGRESS_AFTER_MS=0 script -qec \"'{}' render --size 160x120 -o out\" "
         "/dev/null >tty.txt 2>&1 </dev/null",
         mDir.string(), mvrBinary().string());
-    if (std::system("script --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "no script(1)";
+    if (std::system("script --version >/dev/null 2>&1") != 0) MVR_SKIP(ToolMissing) << "no script(1)";
     ASSERT_EQ(std::system(cmd.c_str()), 0);
     std::ifstream in(mDir / "tty.txt");
     std::stringstream tty;
@@ -530,7 +530,7 @@ TEST_F(Cli, VariantsRenderLikeTheirPlainFiles) {
 TEST_F(Cli, DocsQuoteTheDefaultCameraArtifacts) {
     const CliRun info = run("info");
     if (info.out.find("GL_RENDERER: llvmpipe") == std::string::npos)
-        GTEST_SKIP() << "the figures are llvmpipe's";
+        MVR_SKIP(NotApplicable) << "the figures are llvmpipe's";
     auto slurp = [](const std::filesystem::path& p) {
         std::ifstream in(p);
         std::stringstream ss;
@@ -598,6 +598,7 @@ TEST_F(Cli, StereoSurfaces) {
 
 #include "../core/blender_fixture.h"
 #include "../core/gltf_fixture.h"
+#include "mvr_test_support.h"
 
 namespace mvr {
 namespace {
@@ -649,7 +650,7 @@ TEST_P(CliGltfBackends, NodesWhereTheirTransformsPutThemAndTexelsAtTheirTextureC
     if (backend != "soft") {
         const CliRun info = run("info");
         if (info.out.find("backend " + backend) == std::string::npos)
-            GTEST_SKIP() << "no " << backend << " backend in this build";
+            MVR_SKIP(FeatureNotBuilt) << "no " << backend << " backend in this build";
     }
     const glm::mat4 worldA = GltfFixtureTruth::parent() * GltfFixtureTruth::childA();
     const glm::mat4 worldB = GltfFixtureTruth::parent() * GltfFixtureTruth::childB();
@@ -658,7 +659,7 @@ TEST_P(CliGltfBackends, NodesWhereTheirTransformsPutThemAndTexelsAtTheirTextureC
         const int w = 300, h = 200;
         const CliRun r = run(fmt::format("render '{}' --backend {} --views 1 --size {}x{} -o o",
                                          model.string(), backend, w, h));
-        if (backend != "soft" && r.exitCode == 3) GTEST_SKIP() << r.err;  // no EGL driver here
+        if (backend != "soft" && r.exitCode == 3) MVR_SKIP(NoGlContext) << r.err;  // no EGL driver here
         ASSERT_EQ(r.exitCode, 0) << r.err;
         auto img = readPng(mDir / "o/view-0.png");
         ASSERT_TRUE(img) << img.status().message();
@@ -738,7 +739,7 @@ TEST_P(CliGltfBackends, NodesWhereTheirTransformsPutThemAndTexelsAtTheirTextureC
 TEST_P(CliGltfBackends, BlenderExporterLayoutRendersAsItsHandWrittenEquivalent) {
     const std::string backend = GetParam();
     if (backend != "soft" && run("info").out.find("backend " + backend) == std::string::npos)
-        GTEST_SKIP() << "no " << backend << " backend in this build";
+        MVR_SKIP(FeatureNotBuilt) << "no " << backend << " backend in this build";
     const auto exported = test::writeBlenderGltf(mDir, "exported", test::BlenderLayout::Exporter);
     const auto hand = test::writeBlenderGltf(mDir, "hand", test::BlenderLayout::HandWritten);
     const int w = 192, h = 108;
@@ -746,7 +747,7 @@ TEST_P(CliGltfBackends, BlenderExporterLayoutRendersAsItsHandWrittenEquivalent) 
     for (const auto& [model, out] : {std::pair{exported, "e"}, std::pair{hand, "h"}}) {
         const CliRun r = run(fmt::format("render '{}' --backend {} --views 2 --size {}x{} -o {}",
                                          model.string(), backend, w, h, out));
-        if (backend != "soft" && r.exitCode == 3) GTEST_SKIP() << r.err;
+        if (backend != "soft" && r.exitCode == 3) MVR_SKIP(NoGlContext) << r.err;
         ASSERT_EQ(r.exitCode, 0) << r.err;
         EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
         for (int v = 0; v < 2; ++v) {
@@ -855,7 +856,7 @@ TEST_F(Cli, AFileCameraThatCutsTheSceneOffSaysSo) {
 TEST_P(CliGltfBackends, PointLightRangeLeavesWhatLiesBeyondItUnlit) {
     const std::string backend = GetParam();
     if (backend != "soft" && run("info").out.find("backend " + backend) == std::string::npos)
-        GTEST_SKIP() << "no " << backend << " backend in this build";
+        MVR_SKIP(FeatureNotBuilt) << "no " << backend << " backend in this build";
     const float height = 1.0f, range = 2.0f;
     const float litRadius = std::sqrt(range * range - height * height);  // 1.732
     const int w = 160, h = 120;
@@ -903,7 +904,7 @@ TEST_P(CliGltfBackends, PointLightRangeLeavesWhatLiesBeyondItUnlit) {
 TEST_P(CliGltfBackends, ExposureScalesTheFilesLights) {
     const std::string backend = GetParam();
     if (backend != "soft" && run("info").out.find("backend " + backend) == std::string::npos)
-        GTEST_SKIP() << "no " << backend << " backend in this build";
+        MVR_SKIP(FeatureNotBuilt) << "no " << backend << " backend in this build";
     auto render = [&](const std::string& file, float intensity, const std::string& extra,
                       std::string* err) -> std::optional<Image> {
         const auto model = write(file, planeWithPointLight(intensity, 0.0f));
@@ -919,7 +920,7 @@ TEST_P(CliGltfBackends, ExposureScalesTheFilesLights) {
     };
     std::string err;
     const auto one = render("one.gltf", 1.0f, "", &err);
-    if (!one) GTEST_SKIP() << err;
+    if (!one) MVR_SKIP(MethodUnsupportedByDriver) << err;
     EXPECT_EQ(err.find("warning"), std::string::npos) << err;
     const auto bright = render("bright.gltf", 1000.0f, "", &err);
     ASSERT_TRUE(bright);

@@ -1,5 +1,4 @@
-// tests/cli — what the CLI tests share: where the `mvr` binary and the shared models are, and
-// running `mvr ARGS` in a folder with its stdout, stderr and exit code captured.
+// tests/cli — what the CLI tests share (the binary and models: tests/support): running `mvr ARGS` in a folder with its stdout, stderr and exit code captured.
 #pragma once
 
 #include <sys/wait.h>
@@ -11,18 +10,12 @@
 #include <string>
 
 #include <fmt/core.h>
+#include "mvr_test_support.h"
 
 namespace mvr::test {
 
-inline std::filesystem::path mvrBinary() {
-    const char* bin = std::getenv("MVR_BINARY_DIR");
-    return std::filesystem::path(bin ? bin : MVR_TEST_BINARY_DIR) / "tools" / "cli" / "mvr";
-}
-
-inline std::filesystem::path sharedModels() {
-    const char* dir = std::getenv("MVR_SHARED_DIR");
-    return std::filesystem::path(dir ? dir : MVR_TEST_SHARED_DIR) / "models";
-}
+// mvrBinary(), modelsDir(): tests/support/mvr_test_support.h
+inline std::filesystem::path sharedModels() { return modelsDir(); }
 
 inline std::string slurp(const std::filesystem::path& p) {
     std::ifstream in(p);

@@ -16,6 +16,7 @@
 #include "cli_util.h"
 #include "mvr/core/image.h"
 #include "mvr/io/png.h"
+#include "mvr_test_support.h"
 
 namespace mvr {
 namespace {
@@ -293,7 +294,7 @@ TEST_F(Displays, AutoConvergenceLandsInsideTheScene) {
         EXPECT_GT(jsonNumber(json, "max", "parallax"), 0.0) << json;
         EXPECT_NE(r.out.find("comfortable: all within"), std::string::npos) << r.out;
     }
-    if (models == 0) GTEST_SKIP() << "no shared models in " << sharedModels();
+    if (models == 0) MVR_SKIP(ModelsMissing) << "no shared models in " << sharedModels();
 }
 
 // --separation auto fills the screen's budget (and needs the screen).

@@ -11,6 +11,7 @@
 
 #include "mvr/composite/anaglyph.h"
 #include "mvr/gl/composite_gpu.h"
+#include "mvr_test_support.h"
 
 namespace mvr::composite {
 namespace {
@@ -33,7 +34,7 @@ TEST(AnaglyphGl, MatchesTheCpuAnaglyphForEveryMethod) {
     for (AnaglyphMethod method : methods) {
         Result<Image> composed = gl::composeGpu(std::string(anaglyphFormatName(method)), views);
         if (!composed && composed.status().code() == ErrorCode::Unsupported)
-            GTEST_SKIP() << composed.status().message();
+            MVR_SKIP(MethodUnsupportedByDriver) << composed.status().message();
         ASSERT_TRUE(composed) << composed.status().message();
         const auto& gpu = composed->rgba;
         ASSERT_EQ(gpu.size(), left.size());

@@ -16,6 +16,7 @@
 #include "mvr/composite/jpeg.h"
 #include "mvr/io/png.h"
 #include "test_views.h"
+#include "mvr_test_support.h"
 
 namespace mvr::composite {
 namespace {
@@ -29,9 +30,8 @@ struct CliRun {
 class ComposeCli : public ::testing::Test {
 protected:
     void SetUp() override {
-        const char* bin = std::getenv("MVR_BINARY_DIR");
-        mvr = std::filesystem::path(bin ? bin : MVR_TEST_BINARY_DIR) / "tools" / "cli" / "mvr";
-        if (!std::filesystem::exists(mvr)) GTEST_SKIP() << mvr << " not built";
+        mvr = ::mvr::test::mvrBinary();
+        if (!std::filesystem::exists(mvr)) FAIL() << mvr << " not built";
         dir = freshDir(::testing::UnitTest::GetInstance()->current_test_info()->name());
         ASSERT_TRUE(writePng(dir / "left.png", taggedView(0, 8, 6)));
         ASSERT_TRUE(writePng(dir / "right.png", taggedView(1, 8, 6)));

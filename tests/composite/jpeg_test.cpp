@@ -10,6 +10,7 @@
 
 #include "mvr/composite/compose.h"
 #include "test_views.h"
+#include "mvr_test_support.h"
 
 namespace mvr::composite {
 namespace {
@@ -253,7 +254,7 @@ std::string run(const std::string& command) {
 
 TEST(Mpo, ExiftoolReadsTwoImagesAndTheMpTagsAndTheJpsDescriptor) {
     if (std::system("exiftool -ver > /dev/null 2>&1") != 0)
-        GTEST_SKIP() << "exiftool not installed (Debian: libimage-exiftool-perl)";
+        MVR_SKIP(ToolMissing) << "exiftool not installed (Debian: libimage-exiftool-perl)";
     const auto dir = freshDir("exiftool");
     const std::vector<Image> views = {smoothView(32, 24, 0), smoothView(32, 24, 2)};
     ComposeOptions o;

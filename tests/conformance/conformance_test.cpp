@@ -22,6 +22,7 @@
 #include "gl_requirements.h"
 #include "test_scenes.h"
 #include "tolerances.h"
+#include "mvr_test_support.h"
 
 namespace mvr::conformance {
 namespace {
@@ -307,7 +308,7 @@ void checkCase(const std::string& name, Backend& backend, Backend& reference,
     do {                                                                                  \
         const ::mvr::Status s_ = (status);                                                \
         if (!s_) {                                                                        \
-            if (s_.code() == ::mvr::ErrorCode::Unsupported) GTEST_SKIP() << s_.message(); \
+            if (s_.code() == ::mvr::ErrorCode::Unsupported) MVR_SKIP(MethodUnsupportedByDriver) << s_.message(); \
             FAIL() << (what) << ": " << s_.message();                                     \
         }                                                                                 \
     } while (0)
@@ -355,7 +356,7 @@ TEST_P(Conformance, MatchesSoftMultipass) {
         }
         ++ran;
     }
-    if (ran == 0) GTEST_SKIP() << "no case could run here";
+    if (ran == 0) MVR_SKIP(NoGlContext) << "no case could run here";
 }
 
 INSTANTIATE_TEST_SUITE_P(Cpu, Conformance, testing::ValuesIn(registryMethods(false)), paramName);
@@ -424,7 +425,7 @@ TEST(GpuSorbier2008, DepthMapErrsNoMoreThanGsMrt) {
         }
         ++tested;
     }
-    if (tested == 0) GTEST_SKIP() << "no backend here runs both gs-mrt and gs-depthmap";
+    if (tested == 0) MVR_SKIP(MethodUnsupportedByDriver) << "no backend here runs both gs-mrt and gs-depthmap";
 }
 
 }  // namespace

@@ -23,17 +23,11 @@
 #include "mvr/core/rig.h"
 #include "mvr/core/scene.h"
 #include "mvr/io/mesh_io.h"
+#include "mvr_test_support.h"
 
 namespace mvr::test {
 
-inline std::filesystem::path sharedDir() {
-    if (const char* d = std::getenv("MVR_SHARED_DIR")) return d;
-#ifdef MVR_TEST_SHARED_DIR
-    return MVR_TEST_SHARED_DIR;
-#else
-    return "../shared";
-#endif
-}
+// sharedDir(), modelsDir(): tests/support/mvr_test_support.h
 
 inline std::filesystem::path modelPath(const std::string& file) {
     return sharedDir() / "models" / file;

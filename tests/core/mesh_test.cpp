@@ -10,13 +10,13 @@
 #include <gtest/gtest.h>
 
 #include "test_files.h"
+#include "mvr_test_support.h"
 
 namespace mvr {
 namespace {
 
 std::filesystem::path sharedModels() {
-    const char* dir = std::getenv("MVR_SHARED_DIR");
-    return std::filesystem::path(dir ? dir : "../shared") / "models";
+    return ::mvr::test::modelsDir();
 }
 
 using test::TempDir;
@@ -98,7 +98,7 @@ TEST(Mesh, LoadsSharedModels) {
          {Expect{"stanford-bunny.obj", 69451, false}, Expect{"spot.obj", 5856, true},
           Expect{"teapot.obj", 6320, false}, Expect{"suzanne.obj", 0, false}}) {
         const auto path = sharedModels() / e.file;
-        if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+        if (!std::filesystem::exists(path)) MVR_SKIP(ModelsMissing) << "no " << path;
         auto mesh = loadMesh(path);
         ASSERT_TRUE(mesh) << mesh.status().message();
         if (e.triangles) {
@@ -113,7 +113,7 @@ TEST(Mesh, LoadsSharedModels) {
 
 TEST(Mesh, BunnyNormalsPointOutward) {
     const auto path = sharedModels() / "stanford-bunny.obj";
-    if (!std::filesystem::exists(path)) GTEST_SKIP();
+    if (!std::filesystem::exists(path)) MVR_SKIP(ModelsMissing);
     auto mesh = loadMesh(path);
     ASSERT_TRUE(mesh);
     const glm::vec3 c = mesh->bounds().center();
@@ -264,7 +264,7 @@ TEST(Mesh, SurvivesEveryTruncatedPrefix) {
 
 TEST(Mesh, SurvivesSampledPrefixesOfABigModel) {
     const auto path = sharedModels() / "suzanne.obj";
-    if (!std::filesystem::exists(path)) GTEST_SKIP();
+    if (!std::filesystem::exists(path)) MVR_SKIP(ModelsMissing);
     std::ifstream in(path, std::ios::binary);
     const std::string content((std::istreambuf_iterator<char>(in)), {});
     TempDir dir;

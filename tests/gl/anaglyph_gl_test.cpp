@@ -8,6 +8,7 @@
 #include "gl_test_util.h"
 #include "mvr/composite/anaglyph.h"
 #include "mvr/gl/composite_gpu.h"
+#include "mvr_test_support.h"
 
 namespace mvr::gl::test {
 namespace {
@@ -29,7 +30,7 @@ Result<Image> composePair(const std::string& format, const Image& left, const Im
 TEST(AnaglyphGpu, MatchesCpuMappingExactly) {
     const Image left = randomImage(37, 23, 1), right = randomImage(37, 23, 2);
     auto r = composePair("anaglyph-color", left, right);
-    if (!r && r.status().code() == ErrorCode::Unsupported) GTEST_SKIP() << r.status().message();
+    if (!r && r.status().code() == ErrorCode::Unsupported) MVR_SKIP(MethodUnsupportedByDriver) << r.status().message();
     ASSERT_TRUE(r) << r.status().message();
     ASSERT_EQ(r->width, 37);
     ASSERT_EQ(r->height, 23);
@@ -58,7 +59,7 @@ TEST(AnaglyphGpu, RejectsMismatchedSizes) {
 TEST(AnaglyphGpu, BrokenMixGlslIsAUsageErrorWithTheLog) {
     auto r = composePair("anaglyph-color", Image(4, 4), Image(4, 4),
                          {.anaglyphMix = "vec3 mvrAnaglyph(vec3 l) { oops }"});
-    if (!r && r.status().code() == ErrorCode::Unsupported) GTEST_SKIP() << r.status().message();
+    if (!r && r.status().code() == ErrorCode::Unsupported) MVR_SKIP(MethodUnsupportedByDriver) << r.status().message();
     ASSERT_FALSE(r);
     EXPECT_EQ(r.status().code(), ErrorCode::Usage);
     EXPECT_NE(r.status().message().find("does not compile"), std::string::npos)
@@ -77,7 +78,7 @@ TEST(AnaglyphGpu, EveryCompositeAnaglyphMatchesTheCpuWithin1) {
                              AnaglyphMethod::DuboisGreenMagenta, AnaglyphMethod::DuboisAmberBlue}) {
         auto gpu = composePair(std::string(composite::anaglyphFormatName(m)), left, right);
         if (!gpu && gpu.status().code() == ErrorCode::Unsupported)
-            GTEST_SKIP() << gpu.status().message();
+            MVR_SKIP(MethodUnsupportedByDriver) << gpu.status().message();
         ASSERT_TRUE(gpu) << gpu.status().message();
         auto cpu = composite::anaglyph(left, right, m);
         ASSERT_TRUE(cpu) << cpu.status().message();
@@ -96,7 +97,7 @@ TEST(AnaglyphGpu, AnaglyphMixReplacesTheFormatsMix) {
     using composite::AnaglyphMethod;
     auto own = composePair("anaglyph-gray", left, right);
     if (!own && own.status().code() == ErrorCode::Unsupported)
-        GTEST_SKIP() << own.status().message();
+        MVR_SKIP(MethodUnsupportedByDriver) << own.status().message();
     ASSERT_TRUE(own) << own.status().message();
     auto mixed = composePair("anaglyph-color", left, right,
                              {.anaglyphMix = composite::anaglyphGlsl(AnaglyphMethod::Gray)});

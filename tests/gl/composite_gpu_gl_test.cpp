@@ -23,6 +23,7 @@
 #include "mvr/gl/composite_gpu.h"
 #include "mvr/gl/gl_backend.h"
 #include "gl_test_util.h"
+#include "mvr_test_support.h"
 
 namespace mvr::gl::test {
 namespace {
@@ -81,7 +82,7 @@ bool compareOne(const std::string& format, const std::vector<Image>& views,
 
 #define MVR_COMPARE(format, views, options, what)                                            \
     do {                                                                                     \
-        if (!compareOne(format, views, options, what)) GTEST_SKIP() << "no GL context here"; \
+        if (!compareOne(format, views, options, what)) MVR_SKIP(NoGlContext) << "no GL context here"; \
     } while (0)
 
 std::string label(const std::string& format, int n, int w, int h, const std::string& extra = "") {
@@ -275,7 +276,7 @@ TEST(ComposeGpu, WorksFromAnotherThreadAndLeavesNoContextCurrent) {
     const std::vector<Image> views = randomViews(2, 16, 8, 21);
     Result<Image> here = composeGpu("checkerboard", views, {});
     if (!here && here.status().code() == ErrorCode::Unsupported)
-        GTEST_SKIP() << here.status().message();
+        MVR_SKIP(MethodUnsupportedByDriver) << here.status().message();
     ASSERT_TRUE(here) << here.status().message();
     Result<Image> there = internalError("not run");
     std::thread t([&] { there = composeGpu("checkerboard", views, {}); });
@@ -291,7 +292,7 @@ TEST(ComposeGpu, GivesBackTheCallersCurrentContext) {
     // A gl backend's render leaves its own context current on this thread; a composite in
     // between must not take it away.
     std::unique_ptr<mvr::Backend> backend = makeGlBackend();
-    if (Status s = backend->supports("multipass"); !s) GTEST_SKIP() << s.message();
+    if (Status s = backend->supports("multipass"); !s) MVR_SKIP(NoGlContext) << s.message();
     const Scene& scene = defaultScene();
     const Rig rig = rigFor(scene, 2, 1);
     RenderSettings settings;

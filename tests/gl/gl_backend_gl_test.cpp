@@ -11,6 +11,7 @@
 #include "../conformance/tolerances.h"
 #include "gl_test_util.h"
 #include "mvr/gl/composite_gpu.h"
+#include "mvr_test_support.h"
 
 namespace mvr::gl::test {
 namespace {
@@ -64,7 +65,7 @@ int runChild(const std::string& env, const std::string& test) {
 TEST(GlBackend, NoDisplayIsUnsupportedNotACrash) {
     if (std::getenv("MVR_GL_TEST_EXPECT_NO_EGL")) {
         const Status s = makeGlBackend()->supports("multipass");
-        if (s) GTEST_SKIP() << "this libEGL ignores __EGL_VENDOR_LIBRARY_FILENAMES";
+        if (s) MVR_SKIP(NotApplicable) << "this libEGL ignores __EGL_VENDOR_LIBRARY_FILENAMES";
         EXPECT_EQ(s.code(), ErrorCode::Unsupported);
         EXPECT_EQ(s.message().rfind("no EGL display", 0), 0u) << s.message();
         const std::vector<Image> pair = {Image(2, 2), Image(2, 2)};
@@ -92,7 +93,7 @@ TEST(GlBackend, ForcedPlatforms) {
                 << s.message();
             return;
         }
-        if (!s) GTEST_SKIP() << s.message();
+        if (!s) MVR_SKIP(NoGlContext) << s.message();
         std::string all;
         for (const auto& l : b->info()) all += l + "\n";
         EXPECT_NE(all.find(std::string("EGL platform: ") + p), std::string::npos) << all;

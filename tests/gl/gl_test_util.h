@@ -18,6 +18,7 @@
 #include "mvr/gl/gl_backend.h"
 #include "../conformance/gl_requirements.h"
 #include "../conformance/test_scenes.h"
+#include "mvr_test_support.h"
 
 namespace mvr::gl::test {
 
@@ -34,7 +35,7 @@ inline mvr::Backend& backend() {
         const ::mvr::Status glStatus_ = ::mvr::gl::test::backend().supports("multipass");         \
         if (!glStatus_ && ::mvr::test::requireGl())                                               \
             FAIL() << "MVR_REQUIRE_GL=1: " << glStatus_.message();                                \
-        if (!glStatus_) GTEST_SKIP() << glStatus_.message();                                      \
+        if (!glStatus_) MVR_SKIP(NoGlContext) << glStatus_.message();                                      \
         const std::string wrong_ = ::mvr::test::wrongGlDriver(::mvr::gl::test::backend().info()); \
         if (!wrong_.empty()) FAIL() << wrong_;                                                    \
     } while (0)

@@ -17,13 +17,13 @@
 #include "mvr/core/image.h"
 #include "mvr/gl/composite_gpu.h"
 #include "mvr/io/png.h"
+#include "mvr_test_support.h"
 
 namespace mvr::gl::test {
 namespace {
 
 std::filesystem::path mvrBinary() {
-    const char* bin = std::getenv("MVR_BINARY_DIR");
-    return std::filesystem::path(bin ? bin : MVR_TEST_BINARY_DIR) / "tools" / "cli" / "mvr";
+    return ::mvr::test::mvrBinary();
 }
 
 int maxDelta(const Image& a, const Image& b) {
@@ -50,7 +50,7 @@ protected:
         // Is there a GL context at all? (A 1-pixel GPU composite says so without the CLI.)
         const std::vector<Image> probe(2, Image(1, 1));
         Result<Image> g = composeGpu("sbs", probe, {});
-        if (!g && g.status().code() == ErrorCode::Unsupported) GTEST_SKIP() << g.status().message();
+        if (!g && g.status().code() == ErrorCode::Unsupported) MVR_SKIP(MethodUnsupportedByDriver) << g.status().message();
         std::string args = fmt::format(
             "render --backend gl --method multipass --size 42x30 "
             "--views {} -q -o '{}' {}",

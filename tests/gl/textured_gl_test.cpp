@@ -13,6 +13,7 @@
 
 #include "../conformance/tolerances.h"
 #include "gl_test_util.h"
+#include "mvr_test_support.h"
 
 namespace mvr::gl::test {
 namespace {
@@ -272,7 +273,7 @@ TEST(GlTextured, EveryExactMethodMatchesMultipass) {
 // when other methods had used the backend first; llvmpipe has no GL_OVR_multiview: skipped).
 TEST(GlTextured, MultiviewAfterAnyMethodIsMultiviewAlone) {
     MVR_SKIP_WITHOUT_GL();
-    if (!backend().supports("multiview")) GTEST_SKIP() << "no GL_OVR_multiview here";
+    if (!backend().supports("multiview")) MVR_SKIP(MethodUnsupportedByDriver) << "no GL_OVR_multiview here";
     const Scene scene = makeTexturedScene();
     const Rig rig = rigFor(scene, 3, 2);
     const RenderSettings s = settings(Shading::Pixel);

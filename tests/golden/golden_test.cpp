@@ -32,6 +32,7 @@
 #include "mvr/core/scene.h"
 #include "mvr/io/mesh_io.h"
 #include "mvr/io/png.h"
+#include "mvr_test_support.h"
 
 namespace mvr {
 namespace {
@@ -203,7 +204,7 @@ TEST_P(Golden, MatchesReferenceImages) {
         scene = makeDefaultScene();
     } else {
         auto mesh = loadMesh(sharedModels() / g.model);
-        if (!mesh) GTEST_SKIP() << mesh.status().message() << " (set MVR_SHARED_DIR)";
+        if (!mesh) MVR_SKIP(ModelsMissing) << mesh.status().message() << " (set MVR_SHARED_DIR)";
         std::vector<Mesh> meshes;
         meshes.push_back(std::move(mesh).value());
         scene = makeGridScene(std::move(meshes), 1);  // as `mvr render MODEL` lays it out
@@ -245,9 +246,9 @@ INSTANTIATE_TEST_SUITE_P(Soft, Golden, testing::ValuesIn(allParams()), paramName
 // The goldens are what `mvr render` writes: the built mvr, run with each case's arguments,
 // writes the same view-N.png pixels.
 TEST(GoldenCli, MvrRenderWritesTheGoldens) {
-    const fs::path mvr = fs::path(MVR_TEST_BINARY_DIR) / "tools" / "cli" / "mvr";
-    if (!fs::exists(mvr)) GTEST_SKIP() << mvr << " is not built";
-    if (updating()) GTEST_SKIP() << "MVR_UPDATE_GOLDENS=1: the goldens are being rewritten";
+    const fs::path mvr = ::mvr::test::mvrBinary();
+    if (!fs::exists(mvr)) FAIL() << mvr << " is not built";
+    if (updating()) MVR_SKIP(NotApplicable) << "MVR_UPDATE_GOLDENS=1: the goldens are being rewritten";
     const Variant cli{"mvr-render", "", "", 0};
     for (const GoldenCase& g : kCases) {
         if (*g.model != '\0' && !fs::exists(sharedModels() / g.model)) continue;

@@ -11,6 +11,7 @@
 
 #include "cpu.h"
 #include "lanes.h"
+#include "mvr_test_support.h"
 
 namespace mvr::raster {
 namespace {
@@ -250,7 +251,7 @@ TEST(Lanes, DrawLanesEqualsTheOrderedWalk) {
         if (table && table->drawLanes && detail::bestSupportedSimd() == SimdPath::Avx512)
             paths.push_back(table);
     }
-    if (paths.empty()) GTEST_SKIP() << "no drawLanes kernel on this CPU";
+    if (paths.empty()) MVR_SKIP(NotApplicable) << "no drawLanes kernel on this CPU";
     std::mt19937 rng(4242);
     for (const detail::Kernels* k : paths) {
         int drawn = 0, declined = 0, many = 0;

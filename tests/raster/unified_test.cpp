@@ -16,13 +16,13 @@
 #include "mvr/io/mesh_io.h"
 #include "mvr/raster/soft_backend.h"
 #include "test_scenes.h"
+#include "mvr_test_support.h"
 
 namespace mvr::raster {
 namespace {
 
 std::filesystem::path modelsDir() {
-    const char* dir = std::getenv("MVR_SHARED_DIR");
-    return std::filesystem::path(dir ? dir : "../shared") / "models";
+    return ::mvr::test::modelsDir();  // MVR_SHARED_DIR, else the configured folder
 }
 
 /// First difference between two renders, or "" when identical bit for bit.
@@ -174,7 +174,7 @@ TEST(UnifiedEqualsMultipass, Models) {
             expectSame(*backend, scene, rig, s, stats);
         }
     }
-    if (models == 0) GTEST_SKIP() << "no models in " << modelsDir();
+    if (models == 0) MVR_SKIP(ModelsMissing) << "no models in " << modelsDir();
     EXPECT_GT(stats.covered, stats.renders * 50) << "the renders must draw something";
 }
 
@@ -559,7 +559,7 @@ std::optional<Scene> bunnyGrid(int copies) {
 TEST(UnifiedEqualsMultipass, BunnyAtHundredViews) {
     // Real geometry (most triangles below a pixel) on a 100-view row, low resolution.
     const std::optional<Scene> bunny = bunnyGrid(1);
-    if (!bunny) GTEST_SKIP() << "no bunny in " << modelsDir();
+    if (!bunny) MVR_SKIP(ModelsMissing) << "no bunny in " << modelsDir();
     const Scene& scene = *bunny;
     const Bounds b = scene.bounds();
     Stats stats;
@@ -782,7 +782,7 @@ TEST(UnifiedEqualsMultipass, ScalarPathEqualsSimdPathOnTheBunny) {
     // streamed (the views' scratch is one block) — and through the ordered walk on the scalar
     // path. One view, a stereo pair and a 3x3 grid, every shading, streamed and not.
     const std::optional<Scene> bunny = bunnyGrid(2);
-    if (!bunny) GTEST_SKIP() << "no bunny in " << modelsDir();
+    if (!bunny) MVR_SKIP(ModelsMissing) << "no bunny in " << modelsDir();
     const Scene& scene = *bunny;
     const Bounds b = scene.bounds();
     RenderSettings s;

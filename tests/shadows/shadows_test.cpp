@@ -22,6 +22,7 @@
 #include "mvr/core/rig.h"
 #include "mvr/core/scene.h"
 #include "mvr/core/shadows.h"
+#include "mvr_test_support.h"
 
 namespace mvr {
 namespace {
@@ -347,8 +348,8 @@ TEST(Shadows, GlWithinBoundOfSoft) {
     Scene scene = makeDefaultScene();
     Backend* soft = backendNamed("soft");
     Backend* gl = backendNamed("gl");
-    if (!gl) GTEST_SKIP() << "no gl backend";
-    if (Status st = gl->supports("multipass"); !st) GTEST_SKIP() << st.message();
+    if (!gl) MVR_SKIP(FeatureNotBuilt) << "no gl backend";
+    if (Status st = gl->supports("multipass"); !st) MVR_SKIP(NoGlContext) << st.message();
     Camera cam;
     cam.position = {0, 2.5f, 7};
     RigParams p;

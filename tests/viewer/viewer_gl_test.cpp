@@ -39,6 +39,7 @@
 
 #include "mvr/core/image.h"
 #include "mvr/io/png.h"
+#include "mvr_test_support.h"
 
 extern char** environ;
 
@@ -148,8 +149,8 @@ protected:
     }
 
     void SetUp() override {
-        mvr = fs::path(envOr("MVR_BINARY_DIR", MVR_TEST_BINARY_DIR)) / "tools" / "cli" / "mvr";
-        if (!fs::exists(mvr)) GTEST_SKIP() << mvr << " not built";
+        mvr = ::mvr::test::mvrBinary();
+        if (!fs::exists(mvr)) FAIL() << mvr << " not built";
         bunny = fs::path(envOr("MVR_SHARED_DIR", MVR_TEST_SHARED_DIR)) / "models" /
                 "stanford-bunny.obj";
         dir = fs::temp_directory_path() /
@@ -163,8 +164,8 @@ protected:
     }
 
     void needDisplay() {
-        if (!sXvfb) GTEST_SKIP() << sWhyNoDisplay;
-        if (!fs::exists(bunny)) GTEST_SKIP() << bunny << " not found (set MVR_SHARED_DIR)";
+        if (!sXvfb) MVR_SKIP(NoDisplay) << sWhyNoDisplay;
+        if (!fs::exists(bunny)) MVR_SKIP(ModelsMissing) << bunny << " not found (set MVR_SHARED_DIR)";
     }
 
     /// Runs `mvr ARGS` in `dir`, on the test's display (or none with display = false).

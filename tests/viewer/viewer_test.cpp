@@ -11,6 +11,7 @@
 #include "view_state.h"
 #include "viewer.h"
 #include "viewer_backends.h"
+#include "mvr_test_support.h"
 
 namespace mvr::viewer {
 namespace {
@@ -266,7 +267,7 @@ TEST(ViewerBackends, ComeFromTheRegistry) {
         std::string& first = e.gpu ? firstGpu : firstOther;
         if (first.empty()) first = e.name;
     }
-    if (firstGpu.empty()) GTEST_SKIP() << "no GPU backend in this build";
+    if (firstGpu.empty()) MVR_SKIP(FeatureNotBuilt) << "no GPU backend in this build";
     EXPECT_EQ(defaultViewerBackend(), firstGpu);
     EXPECT_EQ(fallbackViewerBackend(), firstOther);
     ViewerBackends made;
@@ -287,7 +288,7 @@ TEST(ViewerBackends, InitialMethodAndFallback) {
     ViewerBackends made;
     ASSERT_TRUE(made.make());
     const std::string gpu = defaultViewerBackend(), cpu = fallbackViewerBackend();
-    if (gpu == cpu || cpu.empty()) GTEST_SKIP() << "no fallback in this build";
+    if (gpu == cpu || cpu.empty()) MVR_SKIP(FeatureNotBuilt) << "no fallback in this build";
     const auto start = [&](const std::string& name) {
         return startMethod(name, made.backend(name).defaultMethod());
     };
