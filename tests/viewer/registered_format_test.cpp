@@ -11,6 +11,7 @@
 
 #include "mvr/backends.h"
 #include "mvr/composite/compose.h"
+#include "mvr_test_support.h"
 #include "viewer.h"
 
 namespace mvr {
@@ -80,7 +81,7 @@ TEST(RegisteredFormat, RowsThatCannotWorkAreRefused) {
 TEST(RegisteredFormat, TheGlBackendComposesItOnTheCpu) {
     registerTestFormat();
     Result<const BackendEntry*> gl = findBackend("gl");
-    if (!gl) GTEST_SKIP() << "no gl backend in this build";
+    if (!gl) MVR_SKIP(FeatureNotBuilt) << "no gl backend in this build";
     ASSERT_TRUE((*gl)->compose);
     const std::vector<Image> views = pair();
     // No GPU plan: the hook declines, so composeFor() composes on the CPU.
@@ -88,7 +89,7 @@ TEST(RegisteredFormat, TheGlBackendComposesItOnTheCpu) {
     // The built-in rows with a plan stay on the GPU's side; jps (a JPEG file) does not.
     EXPECT_FALSE((*gl)->compose("jps", views, {}).has_value());
     Result<std::unique_ptr<Backend>> backend = makeBackend("gl", {});
-    if (!backend) GTEST_SKIP() << backend.status().message();
+    if (!backend) MVR_SKIP(NoGlContext) << backend.status().message();
     Result<Image> image = composeFor(**backend, "test-left", views, {});
     ASSERT_TRUE(image) << image.status().message();
     EXPECT_EQ(image->rgba, views[0].rgba);
