@@ -22,10 +22,7 @@ namespace mvr::composite {
 namespace {
 using namespace mvr::composite::test;
 
-struct CliRun {
-    int exitCode = -1;
-    std::string output;  // stdout and stderr together
-};
+using ::mvr::test::CliRun;
 
 class ComposeCli : public ::testing::Test {
 protected:
@@ -40,16 +37,8 @@ protected:
         if (!dir.empty()) std::filesystem::remove_all(dir);
     }
     CliRun run(const std::string& args) const {
-        const std::string command =
-            "cd '" + dir.string() + "' && '" + mvr.string() + "' compose " + args + " 2>&1";
-        CliRun r;
-        std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-        if (!pipe) return r;
-        std::array<char, 512> buf;
-        while (fgets(buf.data(), buf.size(), pipe.get())) r.output += buf.data();
-        const int status = pclose(pipe.release());
-        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        return r;
+        return ::mvr::test::runShell("cd '" + dir.string() + "' && '" + mvr.string() +
+                                     "' compose " + args);
     }
     Image readOne(const std::filesystem::path& p) const {
         Result<std::vector<Image>> views = readViewFile(p);

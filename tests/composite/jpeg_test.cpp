@@ -243,14 +243,7 @@ TEST(Jps, RightViewOnTheLeftAndRoundTrip) {
 }
 
 // exiftool (Debian libimage-exiftool-perl) must read mvr's MPO: 2 images and the MP tags.
-std::string run(const std::string& command) {
-    std::string out;
-    std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-    if (!pipe) return out;
-    std::array<char, 512> buf;
-    while (fgets(buf.data(), buf.size(), pipe.get())) out += buf.data();
-    return out;
-}
+std::string run(const std::string& command) { return ::mvr::test::runShell(command).output; }
 
 TEST(Mpo, ExiftoolReadsTwoImagesAndTheMpTagsAndTheJpsDescriptor) {
     if (std::system("exiftool -ver > /dev/null 2>&1") != 0)
@@ -263,7 +256,7 @@ TEST(Mpo, ExiftoolReadsTwoImagesAndTheMpTagsAndTheJpsDescriptor) {
     Result<std::filesystem::path> path = writeComposite("mpo", views, o, dir);
     ASSERT_TRUE(path) << path.status().message();
     EXPECT_EQ(path->filename(), "mpo.mpo");
-    const std::string out = run("exiftool -a -s -ee -G3 '" + path->string() + "' 2>&1");
+    const std::string out = run("exiftool -a -s -ee -G3 '" + path->string() + "'");
     const auto has = [&](const std::string& line) {
         EXPECT_NE(out.find(line), std::string::npos) << "missing '" << line << "' in:\n" << out;
     };
@@ -280,7 +273,7 @@ TEST(Mpo, ExiftoolReadsTwoImagesAndTheMpTagsAndTheJpsDescriptor) {
     EXPECT_EQ(out.find("Error"), std::string::npos) << out;
     Result<std::filesystem::path> jps = writeComposite("jps", views, o, dir);
     ASSERT_TRUE(jps);
-    const std::string jpsOut = run("exiftool -a -s '" + jps->string() + "' 2>&1");
+    const std::string jpsOut = run("exiftool -a -s '" + jps->string() + "'");
     EXPECT_NE(jpsOut.find("JPSLayout                       : Side By Side"), std::string::npos)
         << jpsOut;
     EXPECT_NE(jpsOut.find("JPSType                         : Stereo"), std::string::npos) << jpsOut;

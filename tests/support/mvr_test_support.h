@@ -8,13 +8,24 @@
 //   MVR_REQUIRE_MODELS=1  ModelsMissing fails
 // A missing `mvr` binary is never a skip: the same build builds it (FAIL, see requireMvr()).
 // No raw GTEST_SKIP outside tests/support (grep -rn GTEST_SKIP tests finds only this file).
+//
+// Processes: runMvr(dir, args) runs the built `mvr` with stdout and stderr apart; runShell(command)
+// runs any command line with both together. No test spawns a process another way (the viewer's
+// Xvfb server, which must outlive a command, is the one exception).
 #pragma once
 
-#include <gtest/gtest.h>
+#include <sys/wait.h>
 
+#include <array>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
 #include <string>
+
+#include <gtest/gtest.h>
 
 namespace mvr::test {
 
@@ -86,6 +97,52 @@ inline std::filesystem::path sharedDir() {
 }
 
 inline std::filesystem::path modelsDir() { return sharedDir() / "models"; }
+
+inline std::string slurp(const std::filesystem::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+/// A finished process: its exit code (128 + the signal when one ended it) and what it printed
+/// (`out` and `err` apart from runMvr; `output`, both together, from runShell).
+struct CliRun {
+    int exitCode = -1;
+    std::string out, err, output;
+};
+
+inline int exitCodeOf(int status) {
+    if (status == -1) return -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+/// `command` run by /bin/sh with stderr joined to stdout (no standard input).
+inline CliRun runShell(const std::string& command) {
+    CliRun r;
+    std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen((command + " 2>&1 </dev/null").c_str(), "r"),
+                                               pclose);
+    if (!pipe) return r;
+    std::array<char, 512> buf;
+    while (std::fgets(buf.data(), int(buf.size()), pipe.get())) r.output += buf.data();
+    r.exitCode = exitCodeOf(pclose(pipe.release()));
+    return r;
+}
+
+/// `mvr ARGS` run in `dir` (no standard input); its output goes through files in `dir`.
+/// `shellPrefix` runs in the same shell first (e.g. "ulimit -v 1500000 && ").
+inline CliRun runMvr(const std::filesystem::path& dir, const std::string& args,
+                     const std::string& shellPrefix = "") {
+    const auto outFile = dir / "stdout.txt", errFile = dir / "stderr.txt";
+    const std::string cmd = "cd '" + dir.string() + "' && " + shellPrefix + "'" +
+                            mvrBinary().string() + "' " + args + " >'" + outFile.string() +
+                            "' 2>'" + errFile.string() + "' </dev/null";
+    CliRun r;
+    r.exitCode = exitCodeOf(std::system(cmd.c_str()));
+    r.out = slurp(outFile);
+    r.err = slurp(errFile);
+    return r;
+}
 
 }  // namespace mvr::test
 

@@ -48,10 +48,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-    int exitCode = -1;
-    std::string output;  // stdout and stderr together
-};
+using test::CliRun;
 
 std::string envOr(const char* name, const char* fallback) {
     const char* v = std::getenv(name);
@@ -175,16 +172,8 @@ protected:
             (display ? fmt::format("DISPLAY='{}'", sXvfb ? sXvfb->display() : "")
                      : std::string("-u DISPLAY")) +
             " " + extraEnv;
-        const std::string command =
-            fmt::format("cd '{}' && env {} '{}' {} 2>&1", dir.string(), env, mvr.string(), args);
-        CliRun r;
-        std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-        if (!pipe) return r;
-        std::array<char, 512> buf;
-        while (fgets(buf.data(), buf.size(), pipe.get())) r.output += buf.data();
-        const int status = pclose(pipe.release());
-        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        return r;
+        return test::runShell(
+            fmt::format("cd '{}' && env {} '{}' {}", dir.string(), env, mvr.string(), args));
     }
 
     Image read(const fs::path& p) const {
