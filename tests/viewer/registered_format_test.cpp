@@ -1,6 +1,7 @@
 // A format added by one row (composite::registerFormat()): the library composes and writes
 // it, the gl backend's compose hook leaves it to the CPU (it has no GPU plan, so `--backend gl`
-// does not fail on it) and the viewer's format list shows it.
+// does not fail on it), a render's session writes it on both backends and the viewer's format
+// list shows it.
 #include <algorithm>
 #include <filesystem>
 #include <span>
@@ -11,6 +12,8 @@
 
 #include "mvr/backends.h"
 #include "mvr/composite/compose.h"
+#include "mvr/io/png.h"
+#include "mvr/session/render.h"
 #include "mvr_test_support.h"
 #include "viewer.h"
 
@@ -93,6 +96,31 @@ TEST(RegisteredFormat, TheGlBackendComposesItOnTheCpu) {
     Result<Image> image = composeFor(**backend, "test-left", views, {});
     ASSERT_TRUE(image) << image.status().message();
     EXPECT_EQ(image->rgba, views[0].rgba);
+}
+
+// `mvr render --format test-left` is this recipe (the CLI's --format accepts formatNames()):
+// the session writes the row's file, on the CPU backend and on gl (composed on the CPU there).
+TEST(RegisteredFormat, ARenderWritesItOnEveryBackend) {
+    registerTestFormat();
+    for (const std::string backend : {"soft", "gl"}) {
+        SCOPED_TRACE(backend);
+        const auto dir = std::filesystem::temp_directory_path() / ("mvr_registered_" + backend);
+        std::filesystem::remove_all(dir);
+        session::RenderRecipe recipe;
+        recipe.views = 2;
+        recipe.size = "32x24";
+        recipe.backend = backend;
+        recipe.outputs.directory = dir.string();
+        recipe.outputs.formats = {"test-left"};
+        Result<session::Rendered> done = session::renderStill(recipe);
+        if (!done && backend == "gl" && done.status().code() == ErrorCode::Unsupported)
+            MVR_SKIP(NoGlContext) << done.status().message();
+        ASSERT_TRUE(done) << done.status().message();
+        Result<Image> written = readPng(dir / "test-left.png");
+        ASSERT_TRUE(written) << written.status().message();
+        EXPECT_EQ(written->rgba, done->output.color.at(0).rgba);
+        std::filesystem::remove_all(dir);
+    }
 }
 
 TEST(RegisteredFormat, TheViewerListsIt) {
