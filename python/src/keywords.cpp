@@ -398,6 +398,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"focal_length_mm", Kind::Float}, {"sensor_width_mm", Kind::Float},
             {"background", Kind::Numbers},   {"write_cameras", Kind::Flag},
             {"strict", Kind::Flag},          {"png_compression", Kind::Text},
+            {"write", Kind::TextList},
         };
         s.insert(s.end(), std::begin(kComposeSpecs), std::end(kComposeSpecs));
         return s;
@@ -477,6 +478,12 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     if (auto* v = get("depth")) r.outputs.depth = v->flag;
     if (auto* v = get("write_cameras")) r.outputs.cameras = v->flag;
     if (auto* v = get("png_compression")) r.outputs.pngCompression = v->text;
+    if (auto* v = get("write")) {  // write=["views", "depth"] or "views,depth", as --write
+        std::string list;
+        for (const std::string& w : v->list) list += (list.empty() ? "" : ",") + w;
+        if (list.empty()) throwStatus(usageError("--write: an empty list (nothing to write)"));
+        r.outputs.write = list;
+    }
     if (auto* v = get("quiet")) out.quiet = v->flag;
     if (auto* v = get("format")) {
         const std::vector<std::string> names = composite::formatNames();

@@ -272,8 +272,9 @@ RenderResult renderFrame(Job& job, const Scene& scene, const Rig& rig,
             py::gil_scoped_release release;
             std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
             if (job.gpu) lock.lock();
-            const session::FrameOutputs outputs{formats, recipe.outputs.depth, compose,
-                                                recipe.outputs.cameras, p.png};
+            session::FrameOutputs outputs = session::frameOutputs(p);
+            outputs.formats = formats;
+            outputs.compose = compose;
             auto files = plan ? session::writeFrameFolder(outDir, *plan, frame, out, p.rig,
                                                           outputs, job.backend.get())
                               : session::writeOutputs(outDir, out, p.rig, outputs,

@@ -1,6 +1,8 @@
 """The viewpoint keywords (azimuth=, elevation=, distance=, target=, camera_position=, look_at=,
-up=, camera_matrix=, focal_length_mm=, sensor_width_mm=) and background=, as the CLI's options."""
+up=, camera_matrix=, focal_length_mm=, sensor_width_mm=), background=, png_compression= and
+write=, as the CLI's options."""
 import math
+import os
 
 import numpy as np
 import pytest
@@ -84,3 +86,17 @@ def test_png_compression_changes_the_bytes_not_the_pixels(tmp_path):
     assert sizes["small"] <= sizes["default"] <= sizes["fast"], sizes
     with pytest.raises(ValueError, match="--png-compression tiny: expected fast, default or small"):
         mvr.render(views=1, size=(16, 12), png_compression="tiny")
+
+
+def test_write_chooses_the_files_as_the_cli(tmp_path, cli):
+    r = mvr.render(size=(32, 24), format="sbs", write=["composites"], output=str(tmp_path / "py"))
+    assert sorted(p.rsplit("/", 1)[1] for p in r.written) == ["anaglyph.png", "sbs.png"]
+    assert r.color.shape[0] == 2  # the images come back whatever is written
+    cli("render", "--size", "32x24", "--format", "sbs", "--write", "composites", "-q",
+        "-o", tmp_path / "cli")
+    assert sorted(os.listdir(tmp_path / "cli")) == sorted(os.listdir(tmp_path / "py"))
+    r = mvr.render(size=(32, 24), write="views,depth", output=str(tmp_path / "vd"))
+    assert sorted(os.listdir(tmp_path / "vd")) == ["depth-0.png", "depth-1.png", "view-0.png",
+                                                   "view-1.png"]
+    with pytest.raises(ValueError, match="--write nope: unknown 'nope'"):
+        mvr.render(size=(16, 12), write="nope")

@@ -39,11 +39,13 @@ Status runParallel(const std::vector<std::function<Status()>>& jobs, int threads
 Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const RenderOutput& out,
                                   const Rig& rig, const FrameOutputs& outputs,
                                   const Backend* backend, const std::string& keepFormat) {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec || !std::filesystem::is_directory(dir)) {
-        return outputError(fmt::format("cannot create output directory '{}': {}", dir.string(),
-                                       ec ? ec.message() : "not a directory"));
+    if (outputs.writesFiles(out.color.size(), out.depth.size())) {
+        std::error_code ec;
+        std::filesystem::create_directories(dir, ec);
+        if (ec || !std::filesystem::is_directory(dir)) {
+            return outputError(fmt::format("cannot create output directory '{}': {}",
+                                           dir.string(), ec ? ec.message() : "not a directory"));
+        }
     }
     composite::ComposeOptions compose = outputs.compose;
     compose.baseline = rig.interaxial;
@@ -66,7 +68,7 @@ Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const Render
         jobs.push_back([path = std::move(path), image, png] { return writePng(path, *image, png); });
     };
     for (std::size_t v = 0; v < out.color.size(); ++v) {
-        writeImage(dir / fmt::format("view-{}.png", v), &out.color[v]);
+        if (outputs.views) writeImage(dir / fmt::format("view-{}.png", v), &out.color[v]);
         if (outputs.depth && v < out.depth.size()) {
             auto dpath = dir / fmt::format("depth-{}.png", v);
             written.paths.push_back(dpath.string());
@@ -74,7 +76,7 @@ Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const Render
             jobs.push_back([dpath = std::move(dpath), d, png] { return writeDepthPng(dpath, *d, png); });
         }
     }
-    if (out.color.size() == 2) {
+    if (out.color.size() == 2 && outputs.composites) {
         // The red-cyan anaglyph every stereo frame gets: Dubois' least-squares red-cyan.
         auto anaglyph = composeImage(composite::kDefaultAnaglyph);
         if (!anaglyph) return anaglyph.status();
@@ -91,6 +93,8 @@ Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const Render
     }
     std::optional<std::size_t> keptIndex;
     for (const std::string& format : outputs.formats) {
+        const bool keep = format == keepFormat && !keptIndex;
+        if (!outputs.composites && !keep) continue;
         auto info = composite::findFormat(format);
         if (!info) return info.status();
         if (info->extension == ".png") {
@@ -99,8 +103,8 @@ Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const Render
             auto image = composeImage(format);
             if (!image) return image.status();
             composed.push_back(std::move(image).value());
-            if (format == keepFormat && !keptIndex) keptIndex = composed.size() - 1;
-            writeImage(dir / *name, &composed.back());
+            if (keep) keptIndex = composed.size() - 1;
+            if (outputs.composites) writeImage(dir / *name, &composed.back());
             continue;
         }
         auto path = composite::writeComposite(format, out.color, compose, dir);
@@ -110,6 +114,18 @@ Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const Render
     if (Status s = runParallel(jobs); !s) return s;
     if (keptIndex) written.kept = std::move(composed[*keptIndex]);
     return written;
+}
+
+FrameOutputs frameOutputs(const Prepared& p) {
+    FrameOutputs o;
+    o.formats = p.formats;
+    o.depth = p.write.depth;
+    o.compose = p.compose;
+    o.cameras = p.write.cameras;
+    o.png = p.png;
+    o.views = p.write.views;
+    o.composites = p.write.composites;
+    return o;
 }
 
 bool writeTextFile(const std::string& path, const std::string& text) {

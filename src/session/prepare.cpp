@@ -357,6 +357,48 @@ Result<Scene> loadModels(const std::vector<std::string>& args,
 
 }  // namespace
 
+Result<WriteSet> writeSetOf(const RenderRecipe& r, bool display) {
+    WriteSet w;
+    const bool video = !r.sequence.video.empty();
+    if (r.outputs.write.empty()) {
+        w.views = !display && !video;
+        w.composites = !video;
+        w.video = video;
+    } else {
+        w = WriteSet{false, false, false, false, false};
+        std::size_t start = 0;
+        for (;;) {
+            const std::size_t comma = r.outputs.write.find(',', start);
+            const std::string word = r.outputs.write.substr(
+                start, comma == std::string::npos ? std::string::npos : comma - start);
+            if (word == "views") w.views = true;
+            else if (word == "depth") w.depth = true;
+            else if (word == "composites") w.composites = true;
+            else if (word == "cameras") w.cameras = true;
+            else if (word == "video") w.video = true;
+            else {
+                return usageError(fmt::format(
+                    "--write {}: {} (expected a comma list of views, depth, composites, "
+                    "cameras, video)",
+                    r.outputs.write, word.empty() ? "an empty item" : "unknown '" + word + "'"));
+            }
+            if (comma == std::string::npos) break;
+            start = comma + 1;
+        }
+        if (w.video && !video) {
+            return usageError(
+                fmt::format("--write {}: video, and no --video FILE to write", r.outputs.write));
+        }
+        if (video && !w.video) {
+            return usageError(fmt::format("--video {}: --write {} leaves the video out",
+                                          r.sequence.video, r.outputs.write));
+        }
+    }
+    w.depth = w.depth || r.outputs.depth;
+    w.cameras = w.cameras || r.outputs.cameras;
+    return w;
+}
+
 Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     const WarningSink warn =
         warnIn ? warnIn : [](const std::string& line) { fmt::print(stderr, "{}\n", line); };
@@ -440,8 +482,11 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     }
     // Depth images only when written or drawn into; the reports need only each view's range,
     // which a backend measures without reading the images back (RenderOutput::depthRange).
+    auto write = writeSetOf(r, !r.display.empty());
+    if (!write) return write.status();
+    out.write = *write;
     const SurfaceRecipe& sf = r.surfaces;
-    out.settings.depth = r.outputs.depth || !sf.sky.empty() || sf.floatingWindow ||
+    out.settings.depth = out.write.depth || !sf.sky.empty() || sf.floatingWindow ||
                          sf.letterbox > 0.0 || !sf.labels.empty() || !sf.anchors.empty();
     out.settings.shadowMapSize = r.shadowMapSize;
     auto kind = parseRigKind(r.rig);

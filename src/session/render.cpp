@@ -42,7 +42,7 @@ Result<Rendered> renderStill(const RenderRecipe& recipe, const WarningSink& warn
     r.output = std::move(out).value();
     if (!recipe.outputs.directory.empty()) {
         auto written = writeOutputs(recipe.outputs.directory, r.output, p.rig,
-                                    {p.formats, recipe.outputs.depth, p.compose, recipe.outputs.cameras, p.png}, backend->get());
+                                    frameOutputs(p), backend->get());
         if (!written) return written.status();
         r.files = std::move(written->paths);
     }

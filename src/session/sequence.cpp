@@ -143,6 +143,10 @@ Result<WrittenFrame> writeFrameFolder(const std::filesystem::path& dir, const Se
                                       int f, const RenderOutput& out, const Rig& rig,
                                       const FrameOutputs& outputs, const Backend* backend,
                                       const std::string& keepFormat) {
+    if (!outputs.writesFiles(out.color.size(), out.depth.size())) {
+        // Nothing for the frame's folder (a video alone): the video's image is still composed.
+        return writeOutputs(dir / plan.folder(f), out, rig, outputs, backend, keepFormat);
+    }
     const std::string name = plan.folder(f);
     const std::filesystem::path part = dir / (name + ".part"), final = dir / name;
     std::error_code ec;

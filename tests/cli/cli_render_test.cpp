@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include <fmt/core.h>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "cli_util.h"
@@ -85,6 +86,35 @@ TEST_F(Cli, DefaultSceneWritesViewsAndAnaglyph) {
     auto left = readPng(mDir / "out/view-0.png");
     auto right = readPng(mDir / "out/view-1.png");
     EXPECT_GT(compareImages(*left, *right).differingPixels, 100);  // two different eyes
+}
+
+// --write chooses the files: each kind alone, and a display preset's default (its quilt).
+TEST_F(Cli, WriteChoosesTheFiles) {
+    auto files = [&](const std::string& dir) {
+        std::vector<std::string> names;
+        for (const auto& e : std::filesystem::directory_iterator(mDir / dir))
+            names.push_back(e.path().filename().string());
+        std::sort(names.begin(), names.end());
+        return fmt::format("{}", fmt::join(names, " "));
+    };
+    ASSERT_EQ(run("render --size 32x24 --write views -q -o a").exitCode, 0);
+    EXPECT_EQ(files("a"), "view-0.png view-1.png");
+    ASSERT_EQ(run("render --size 32x24 --format sbs --write composites -q -o b").exitCode, 0);
+    EXPECT_EQ(files("b"), "anaglyph.png sbs.png");
+    ASSERT_EQ(run("render --size 32x24 --write depth,cameras -q -o c").exitCode, 0);
+    EXPECT_EQ(files("c"), "cameras.json depth-0.png depth-1.png");
+    // --depth adds its files to a --write that leaves them out.
+    ASSERT_EQ(run("render --size 32x24 --views 3 --write views --depth -q -o d").exitCode, 0);
+    EXPECT_EQ(files("d"), "depth-0.png depth-1.png depth-2.png view-0.png view-1.png view-2.png");
+    const CliRun quilt = run("render --display portrait --views 4 --size 30x40 -q -o e");
+    ASSERT_EQ(quilt.exitCode, 0) << quilt.err;
+    EXPECT_EQ(files("e"), "quilt_qs2x2a0.75.png");
+    // The same pixels whatever else is written.
+    ASSERT_EQ(run("render --size 32x24 --format sbs -q -o f").exitCode, 0);
+    auto alone = readPng(mDir / "b/sbs.png");
+    auto full = readPng(mDir / "f/sbs.png");
+    ASSERT_TRUE(alone && full);
+    EXPECT_EQ(alone->rgba, full->rgba);
 }
 
 TEST_F(Cli, VillageSceneRendersLikeAnyScene) {
@@ -344,6 +374,13 @@ TEST_F(Cli, EveryRefusalNamesItsCulprit) {
         {"--frame-range 0:1", 1, "--frame-range 0:1 needs a sequence (--frames F, --orbit DEG"},
         {"--shard 0/2", 1, "--shard 0/2 needs a sequence"},
         {"--video out.mkv", 1, "--video out.mkv needs a sequence"},
+        {"--write nope", 1,
+         "--write nope: unknown 'nope' (expected a comma list of views, depth, composites, "
+         "cameras, video)"},
+        {"--write views,", 1, "--write views,: an empty item"},
+        {"--write video", 1, "--write video: video, and no --video FILE to write"},
+        {"--frames 3 --video out.mkv --write views", 1,
+         "--video out.mkv: --write views leaves the video out"},
         {"--frames 3 --video out.avi", 1, "--video out.avi: expected a .mkv or .mp4 file"},
         {"--interaxial 1e30", 1, "--interaxial 1e+30: view 0 has a non-finite matrix or shear"},
         {"--separation 1e30", 1, "--separation 1e+30: view 0 has a non-finite matrix"},

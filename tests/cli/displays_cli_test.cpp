@@ -65,7 +65,7 @@ protected:
 // The done-when of issue 13: 48 views of 420x560 and quilt_qs8x6a0.75.png of 3360x3360, the
 // quilt's tiles the views (view 0 bottom left), the rig a 40-degree view cone.
 TEST_F(Displays, PortraitWritesFortyEightViewsAndItsQuilt) {
-    const ToolRun r = run("render pyramid.obj --display portrait --report-json rig.json -o lg");
+    const ToolRun r = run("render pyramid.obj --display portrait --write views,composites --report-json rig.json -o lg");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     std::vector<Image> views;
     for (int v = 0; v < 48; ++v) {
@@ -110,7 +110,8 @@ TEST_F(Displays, PortraitWritesFortyEightViewsAndItsQuilt) {
 // A preset's values give way to the command line's; the quilt name follows the views.
 TEST_F(Displays, ExplicitOptionsOverrideThePreset) {
     const ToolRun r =
-        run("render pyramid.obj --display portrait --views 4 --size 64x48 --quilt 2x2 -o small");
+        run("render pyramid.obj --display portrait --views 4 --size 64x48 --quilt 2x2 "
+            "--write views,composites -o small");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_TRUE(std::filesystem::exists(mDir / "small/view-3.png"));
     EXPECT_FALSE(std::filesystem::exists(mDir / "small/view-4.png"));
@@ -142,6 +143,8 @@ TEST_F(Displays, ACalibrationAddsTheLenticularImage) {
     EXPECT_EQ(len->width, 1536);
     EXPECT_EQ(len->height, 2048);
     EXPECT_TRUE(std::filesystem::exists(mDir / "len/quilt_qs2x2a0.75.png"));
+    // A display preset writes its composites, and its views only when --write names them.
+    EXPECT_FALSE(std::filesystem::exists(mDir / "len/view-0.png"));
 }
 
 // visual.json's viewCone is the default cone: it replaces the preset's, spreads a plain row of

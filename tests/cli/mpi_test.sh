@@ -26,7 +26,9 @@ run() { mpirun -n "$1" --oversubscribe "${@:2}"; }
 video=0
 "$mvr" render --frames 1 --size 32x24 -q --video "$tmp/probe.mkv" -o "$tmp/probe" 2>/dev/null && video=1
 quilt=(--views 48 --size 64x48 --orbit 360 --frames 24 --format quilt -q)
-[[ $video == 1 ]] && one=(--video "$tmp/one/quilt.mkv") two=(--video "$tmp/two/quilt.mkv") || one=() two=()
+# The frames' folders too (a video alone is written by default).
+w=(--write views,composites,video)
+[[ $video == 1 ]] && one=("${w[@]}" --video "$tmp/one/quilt.mkv") two=("${w[@]}" --video "$tmp/two/quilt.mkv") || one=() two=()
 "$mvr" render "${quilt[@]}" "${one[@]}" -o "$tmp/one"
 run 2 "$mvr" render "${quilt[@]}" "${two[@]}" -o "$tmp/two"
 diff -r "$tmp/one" "$tmp/two" || fail "mpirun -n 2 differs from one process"
@@ -62,7 +64,7 @@ diff -r "$tmp/d1" "$tmp/d4" || fail "one frame's views and depth over 4 ranks di
 
 # A rank killed mid-run: an error line from rank 0, a non-zero exit, no video under its name.
 long=(--views 48 --size 128x96 --orbit 360 --frames 400 --format quilt -q)
-[[ $video == 1 ]] && long+=(--video "$tmp/k/quilt.mkv")
+[[ $video == 1 ]] && long+=(--write composites,video --video "$tmp/k/quilt.mkv")
 set +e
 run 3 "$mvr" render "${long[@]}" -o "$tmp/k" >"$tmp/k.log" 2>&1 &
 job=$!

@@ -101,6 +101,14 @@ if "$mvr" render --frames 1 --size 32x24 -q --video "$tmp/probe.mkv" -o "$tmp/pr
     for want in codec_name=h264 width=64 height=24 nb_read_frames=5 TAG:stereo_mode=left_right; do
         grep -qx "$want" <<<"$p" || fail "sbs.mkv: no $want in: $p"
     done
+    # A video alone by default; --write adds the frames' folders, and must keep the video.
+    [[ -z $(ls "$tmp/v" | grep '^frame-' || true) ]] || fail "a video alone wrote frame folders"
+    "$mvr" render --views 2 --size 32x24 --frames 2 -q --format sbs --write views,composites,video \
+        --video "$tmp/w.mkv" -o "$tmp/w"
+    [[ -f $tmp/w/frame-0001/sbs.png && -f $tmp/w/frame-0001/view-1.png ]] ||
+        fail "--write views,composites,video wrote no frames"
+    [[ $(probe "$tmp/w.mkv") == *nb_read_frames=2* ]] || fail "w.mkv: expected 2 frames"
+    expect_error "leaves the video out" --frames 2 --write views --video "$tmp/w2.mkv" -o "$tmp/w2"
     "$mvr" render --views 2 --size 32x24 --frames 3 -q --format tb --video "$tmp/tb.mp4" -o "$tmp/v"
     p=$(probe "$tmp/tb.mp4")
     for want in width=32 height=48 nb_read_frames=3 "type=top and bottom"; do

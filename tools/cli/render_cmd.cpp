@@ -32,6 +32,7 @@ struct RenderOptions {
     bool depth = false;
     bool cameras = false;  ///< --write-cameras
     std::string pngCompression = "fast";  ///< --png-compression
+    std::string write;                    ///< --write: what is written (empty: the defaults)
     bool quiet = false;
     bool check = false;
     composite::ComposeOptions compose;
@@ -83,6 +84,7 @@ session::RenderRecipe recipeOf(const RenderOptions& o) {
     r.outputs.depth = o.depth;
     r.outputs.cameras = o.cameras;
     r.outputs.pngCompression = o.pngCompression;
+    r.outputs.write = o.write;
     r.outputs.reportJson = o.reportJson;
     r.outputs.compose = o.compose;
     r.outputs.calibrationGiven = calibrationGiven;
@@ -120,7 +122,7 @@ int runRender(const RenderOptions& o) {
         return fail(outputError(fmt::format("cannot create output directory '{}': {}", o.outDir,
                                             ec ? ec.message() : "not a directory")));
     }
-    const session::FrameOutputs outputs{p.formats, o.depth, p.compose, o.cameras, p.png};
+    const session::FrameOutputs outputs = session::frameOutputs(p);
 
     if (recipe.sequence.active()) {
         SequenceJob job{&p,      backend->get(), o.backend, method,
@@ -215,6 +217,12 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
                   "Also write cameras.json: every view's world-from-camera, view and projection "
                   "matrices, pinhole intrinsics (fx, fy, cx, cy) and near / far "
                   "(conventions: include/mvr/session/cameras.h)");
+    app->add_option("--write", o->write,
+                    "What to write, a comma list of views, depth, composites (anaglyph.png of "
+                    "a pair, --format's files), cameras, video. Default: views and composites; "
+                    "a --display preset only its composite; a sequence with --video only the "
+                    "video. --depth and --write-cameras add theirs")
+        ->type_name("LIST");
     app->add_flag("-q,--quiet", o->quiet, "Print nothing on success");
     app->add_flag("--check", o->check,
                   "Also render the reference (the backend's multipass; for a multipass method, "

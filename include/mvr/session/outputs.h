@@ -17,6 +17,7 @@
 #include "mvr/core/rig.h"
 #include "mvr/core/status.h"
 #include "mvr/io/png.h"
+#include "mvr/session/prepare.h"
 
 namespace mvr::session {
 
@@ -30,7 +31,18 @@ struct FrameOutputs {
     /// The PNGs' compression: Fast by default (zlib level 1: ~3.7x faster to write than
     /// libpng's default for ~10 % more bytes; the pixels are the same in every mode).
     PngCompression png = PngCompression::Fast;
+    bool views = true;       ///< view-N.png
+    bool composites = true;  ///< anaglyph.png for a pair and the formats' files
+    /// Whether a frame of `viewCount` views (`depthViews` with depth) writes any file.
+    bool writesFiles(std::size_t viewCount, std::size_t depthViews) const {
+        return (views && viewCount > 0) || (depth && depthViews > 0) ||
+               (cameras && viewCount > 0) || (composites && (viewCount == 2 || !formats.empty()));
+    }
 };
+
+/// The files a prepared recipe writes per frame: its formats, composite options, compression
+/// and WriteSet.
+FrameOutputs frameOutputs(const Prepared& prepared);
 
 /// Runs `jobs` on up to `threads` threads (0: the machine's cores; the caller's thread is one
 /// of them); the first failure in the jobs' order, or ok.
@@ -43,8 +55,9 @@ struct WrittenFrame {
     std::optional<Image> kept;
 };
 
-/// Writes the files of one frame into `dir` (created when missing: "cannot create output
-/// directory '...'", ErrorCode::Output). Image composites are composed where `backend` composes
+/// Writes the files of one frame into `dir` (created when missing, and only when a file is
+/// written: "cannot create output directory '...'", ErrorCode::Output). `keepFormat` is composed
+/// even when composites are not written. Image composites are composed where `backend` composes
 /// (a GPU backend on its GPU; null: the CPU). Errors: the first file that fails.
 Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const RenderOutput& out,
                                   const Rig& rig, const FrameOutputs& outputs,

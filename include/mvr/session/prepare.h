@@ -22,6 +22,23 @@
 
 namespace mvr::session {
 
+/// What a render writes (RenderRecipe::outputs.write, `--write`), each kind of file on or off.
+/// Without --write: a still writes its views and composites (anaglyph.png for a pair, the
+/// formats' files); a display preset only its composite (the quilt; the views on request); a
+/// sequence with a video only the video. depth-N.png and cameras.json when asked for.
+struct WriteSet {
+    bool views = true;       ///< view-N.png
+    bool depth = false;      ///< depth-N.png
+    bool composites = true;  ///< anaglyph.png for a pair and the formats' files
+    bool cameras = false;    ///< cameras.json
+    bool video = false;      ///< a sequence's video (sequence.video)
+};
+
+/// The WriteSet of a recipe (`display`: a display preset is in use). Errors (ErrorCode::Usage):
+/// an unknown or empty word in --write, video without --video FILE, --video FILE with a --write
+/// that leaves it out.
+Result<WriteSet> writeSetOf(const RenderRecipe& recipe, bool display);
+
 /// A scene, rig and settings ready to render.
 struct Prepared {
     Scene scene;
@@ -42,6 +59,7 @@ struct Prepared {
     std::vector<std::string> formats;
     composite::ComposeOptions compose;
     PngCompression png = PngCompression::Fast;  ///< the recipe's outputs.pngCompression
+    WriteSet write;  ///< what is written (writeSetOf())
 };
 
 /// Where prepare() sends the warnings of loading models ("warning: ..."), as they happen.

@@ -56,6 +56,10 @@ struct OutputRecipe {
     bool depth = false;                ///< also depth-N.png (16-bit, near = black)
     bool cameras = false;              ///< also cameras.json (mvr/session/cameras.h)
     std::string pngCompression = "fast";  ///< fast | default | small (PngCompression)
+    /// What is written (--write): a comma list of views, depth, composites, cameras, video;
+    /// empty: the defaults (prepare()'s WriteSet). depth and cameras also follow `depth` and
+    /// `cameras`.
+    std::string write;
     std::string reportJson;            ///< the comfort report as JSON; empty: none
     /// The composite options. Their baseline and convergence are the rig's at writing time.
     composite::ComposeOptions compose;
