@@ -568,7 +568,7 @@ Status Renderer::recordBatch(Slot& slot, Method m, const RenderSettings& s, int 
 }
 
 Status Renderer::finishBatch(Slot& slot, RenderOutput& out, const RenderSettings& s,
-                             int totalViews) {
+                             int totalViews, double* copyMs) {
     if (!slot.pending) return {};
     slot.pending = false;
     VkFence fence = slot.fence.get();
@@ -576,6 +576,7 @@ Status Renderer::finishBatch(Slot& slot, RenderOutput& out, const RenderSettings
                           "vkWaitForFences");
         !st)
         return st;
+    const auto copyStart = Clock::now();
     const std::size_t px = std::size_t(s.width) * s.height;
     const auto* base = static_cast<const std::uint8_t*>(slot.staging.mapped);
     OutputBlock* block = blockFor(s, std::size_t(totalViews));
@@ -589,6 +590,7 @@ Status Renderer::finishBatch(Slot& slot, RenderOutput& out, const RenderSettings
             std::memcpy(out.depth[v].depth.data(), base + px * 4 * slot.views + px * 4 * k, px * 4);
         }
     }
+    *copyMs += msSince(copyStart);
     return {};
 }
 
@@ -614,29 +616,23 @@ Status Renderer::renderMethod(const Scene& scene, const Rig& rig, const RenderSe
     out.method = methodName(m);
     out.note.clear();
     out.stages = {};
-    double readMs = 0.0;
+    double readMs = 0.0;  // copying out of the staging buffers (the fence waits are drawing)
     // Batch b draws in slot b % 2 while batch b − 1's pixels are copied out of the other.
-    Status failed;
-    for (int b = 0; b < batches && failed; ++b) {
+    Status status;
+    for (int b = 0; b < batches && status; ++b) {
         Slot& slot = mSlots[b % 2];
         const int first = b * limit;
-        failed = recordBatch(slot, m, s, first, std::min(limit, total - first), scene, meshes);
-        if (failed && b > 0) {
-            const auto t = Clock::now();
-            failed = finishBatch(mSlots[(b - 1) % 2], out, s, total);
-            readMs += msSince(t);
-        }
+        status = recordBatch(slot, m, s, first, std::min(limit, total - first), scene, meshes);
+        if (status && b > 0) status = finishBatch(mSlots[(b - 1) % 2], out, s, total, &readMs);
     }
-    const auto tr = Clock::now();
     for (Slot& slot : mSlots) {
-        if (Status st = finishBatch(slot, out, s, total); !st && failed) failed = st;
+        if (Status st = finishBatch(slot, out, s, total, &readMs); !st && status) status = st;
     }
-    if (!failed) {
+    if (!status) {
         vkDeviceWaitIdle(mContext->device());
         for (Slot& slot : mSlots) slot.pending = false;
-        return failed;
+        return status;
     }
-    readMs += msSince(tr);
     RenderStats stats;
     stats.method = methodName(m);
     stats.totalWallMs = msSince(t0);

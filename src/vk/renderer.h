@@ -90,7 +90,9 @@ private:
     Status uploadFrame(const Scene& scene, const Rig& rig);
     Status recordBatch(Slot& slot, Method m, const RenderSettings& s, int firstView, int views,
                        const Scene& scene, const std::vector<GpuMesh*>& meshes);
-    Status finishBatch(Slot& slot, RenderOutput& out, const RenderSettings& s, int totalViews);
+    /// Waits for the slot's fence and copies its views out (adding the copy's time to copyMs).
+    Status finishBatch(Slot& slot, RenderOutput& out, const RenderSettings& s, int totalViews,
+                       double* copyMs);
 
     // Declared first: destroyed last, after every object made from its device.
     std::unique_ptr<Context> mContext;
