@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <cstdlib>
 #include <limits>
+#include <mutex>
+#include <set>
 
 #include <fmt/format.h>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -101,14 +104,46 @@ const char* methodName(Method m) {
     return "?";
 }
 
-Renderer::~Renderer() {
+namespace {
+// The live renderers with a device, released by the exit handler (releaseAtExit).
+std::mutex gLiveMutex;
+std::set<Renderer*> gLive;
+void releaseAtExit() {
+    std::set<Renderer*> live;
+    {
+        std::lock_guard lock(gLiveMutex);
+        live = gLive;
+    }
+    for (Renderer* r : live) r->releaseDevice();  // (takes the lock itself)
+}
+}  // namespace
+
+Renderer::~Renderer() { releaseDevice(); }
+
+void Renderer::releaseDevice() {
+    {
+        std::lock_guard lock(gLiveMutex);
+        gLive.erase(this);
+    }
     if (!mContext) return;
     vkDeviceWaitIdle(mContext->device());
     for (Slot& s : mSlots) {
         if (s.cmd) vkFreeCommandBuffers(mContext->device(), mContext->commandPool(), 1, &s.cmd);
-        s.cmd = VK_NULL_HANDLE;
+        s = Slot{};
     }
-    // Members go in reverse order; mContext (declared first) last.
+    mMeshes.clear();
+    mPipelines.clear();
+    mModules.clear();
+    mMultiviewPasses.clear();
+    mSinglePass = {};
+    mFrameBuffer = {};
+    mInstanceBuffer = {};
+    mPipelineLayout = {};
+    mSet = VK_NULL_HANDLE;
+    mDescriptorPool = {};
+    mSetLayout = {};
+    mContext.reset();
+    mContextStatus = unsupportedError("vk: the device was released (the process is exiting)");
 }
 
 Status Renderer::ensureContext() {
@@ -119,6 +154,14 @@ Status Renderer::ensureContext() {
         return *mContextStatus;
     }
     mContext = std::move(*ctx);
+    {
+        // After the driver's exit handlers (registered while the instance was made): ours
+        // runs first.
+        static std::once_flag once;
+        std::call_once(once, [] { std::atexit(releaseAtExit); });
+        std::lock_guard lock(gLiveMutex);
+        gLive.insert(this);
+    }
     Status s = ensureStatic();
     if (s) s = mContext->checkMessages("setting up");
     mContextStatus = s;

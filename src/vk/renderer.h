@@ -64,6 +64,11 @@ public:
     Renderer& operator=(const Renderer&) = delete;
 
     Status ensureContext();
+    /// Destroys every Vulkan object and the device now (later calls: Unsupported). Run for
+    /// every live renderer by an exit handler registered after the driver's own, so that it
+    /// runs before the driver (Mesa) tears its threads down: a backend held in a static is
+    /// then destroyed safely after main() returns.
+    void releaseDevice();
     std::vector<std::string> info();
     /// Usage for an unknown name, Unsupported when this device cannot run it.
     Status supports(const std::string& method);
