@@ -16,6 +16,9 @@ packages=(
     libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev
     # a second GL driver for the tests: zink over lavapipe (Mesa's Vulkan drivers)
     mesa-vulkan-drivers
+    # the vk backend: the Vulkan loader and headers, glslc (shaders to SPIR-V at build time) and
+    # the validation layers every vk test runs with
+    libvulkan-dev glslc vulkan-validationlayers
     # sequences: video files (FFmpeg's libraries, ffprobe for the tests) and MPI (Open MPI)
     ffmpeg libavcodec-dev libavformat-dev libswscale-dev libavutil-dev
     libopenmpi-dev openmpi-bin

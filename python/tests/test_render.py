@@ -150,3 +150,14 @@ def test_output_writes_the_cli_files(cli, tmp_path):
     mvr.compose("mpo", files, output=tmp_path / "sub" / "pair.mpo")
     cli("compose", *files, "-q", "-o", tmp_path / "pair.mpo")
     assert (tmp_path / "sub" / "pair.mpo").read_bytes() == (tmp_path / "pair.mpo").read_bytes()
+
+
+def test_vk_backend_equals_cli(cli, tmp_path):
+    info = {b["name"]: b for b in mvr.info()["backends"]}
+    if not info.get("vk", {}).get("available"):
+        pytest.skip("no vk backend here")
+    cli("render", "--backend", "vk", "--method", "multiview", "--views", "8", "--size", "64x48",
+        "-o", tmp_path)
+    r = mvr.render(backend="vk", method="multiview", views=8, size=(64, 48))
+    assert r.method == "multiview"
+    _compare(r, tmp_path, 8)

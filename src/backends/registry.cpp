@@ -13,6 +13,9 @@
 #include "mvr/gl/composite_gpu.h"
 #include "mvr/gl/gl_backend.h"
 #endif
+#ifdef MVR_HAVE_VULKAN
+#include "mvr/vk/vk_backend.h"
+#endif
 
 namespace mvr {
 
@@ -58,6 +61,17 @@ std::vector<BackendEntry> builtIn() {
             if (!gl::composeGpuSupports(std::string(format))) return std::nullopt;
             return gl::composeGpu(std::string(format), views, options);
         }});
+#endif
+#ifdef MVR_HAVE_VULKAN
+    rows.push_back(BackendEntry{
+        .name = "vk",
+        .description = "Vulkan 1.2, headless (VK_KHR_multiview)",
+        .gpu = true,
+        .make = [](const BackendOptions&) -> Result<std::unique_ptr<Backend>> {
+            return vk::makeVkBackend();
+        },
+        .interactiveMethod = "multiview",
+        .compose = {}});
 #endif
     return rows;
 }

@@ -192,10 +192,13 @@ void checkShadow(const Light& light, const Rect& shadow, Shading shading, bool t
         // Compared with the shading the shadowed render uses (vertex: per pixel).
         off.shading = shadedSettings(RenderSettings{.shading = s.shading, .shadows = true}).shading;
         auto lit = backend->render(scene, rig, off, c.method);
-        ASSERT_TRUE(lit) << lit.status().message();
         RenderSettings on = s;
         on.shadows = true;
         auto sh = backend->render(scene, rig, on, c.method);
+        // A backend without shadows or textures yet (vk, issue 41) says so: Unsupported.
+        if (!lit && lit.status().code() == ErrorCode::Unsupported) continue;
+        if (!sh && sh.status().code() == ErrorCode::Unsupported) continue;
+        ASSERT_TRUE(lit) << lit.status().message();
         ASSERT_TRUE(sh) << sh.status().message();
         if (sh->depth.size() != std::size_t(rig.viewCount())) continue;  // no depth: not checkable
         // Margin: the 3x3 PCF reaches 1.5 texels; the map spans the scene (about 8.5 world

@@ -3,7 +3,7 @@
 //
 // Skips: a closed set of reasons (SkipReason) and one macro, MVR_SKIP(reason) << detail, which
 // GTEST_SKIPs with a standard message — or FAILs when the environment requires what is missing:
-//   MVR_REQUIRE_GL=1      NoGlContext fails (a method the driver lacks stays a skip: which
+//   MVR_REQUIRE_GL=1      NoGlContext and NoVulkanDevice fail (a method the driver lacks stays a skip: which
 //                         methods a driver must run is tests/conformance/gl_requirements.h's list)
 //   MVR_REQUIRE_MODELS=1  ModelsMissing fails
 // A missing `mvr` binary is never a skip: the same build builds it (FAIL, see requireMvr()).
@@ -31,6 +31,7 @@ namespace mvr::test {
 
 enum class SkipReason {
     NoGlContext,                // no EGL/GL context can be made here
+    NoVulkanDevice,             // no Vulkan device (lavapipe or a GPU) here
     MethodUnsupportedByDriver,  // the driver refuses one method (e.g. no GL_OVR_multiview)
     ModelsMissing,              // MVR_SHARED_DIR/models lacks the file
     FeatureNotBuilt,            // a backend / viewer / video / mpi this build left out
@@ -42,6 +43,7 @@ enum class SkipReason {
 inline const char* skipReasonName(SkipReason r) {
     switch (r) {
         case SkipReason::NoGlContext: return "NoGlContext";
+        case SkipReason::NoVulkanDevice: return "NoVulkanDevice";
         case SkipReason::MethodUnsupportedByDriver: return "MethodUnsupportedByDriver";
         case SkipReason::ModelsMissing: return "ModelsMissing";
         case SkipReason::FeatureNotBuilt: return "FeatureNotBuilt";
@@ -60,7 +62,8 @@ inline bool envIsOne(const char* name) {
 /// The variable that turns a skip for `r` into a failure ("" when none does).
 inline const char* requiringVariable(SkipReason r) {
     switch (r) {
-        case SkipReason::NoGlContext: return "MVR_REQUIRE_GL";
+        case SkipReason::NoGlContext:
+        case SkipReason::NoVulkanDevice: return "MVR_REQUIRE_GL";
         case SkipReason::ModelsMissing: return "MVR_REQUIRE_MODELS";
         default: return "";
     }

@@ -1,0 +1,121 @@
+// src/vk/renderer.h — the vk backend's internals: the context, GPU copies of meshes, the
+// batch targets (two, so that one is read back while the next is drawn), render passes,
+// pipelines and the per-method draws.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "context.h"
+#include "mvr/core/render.h"
+#include "spirv.h"
+
+namespace mvr::vk::detail {
+
+enum class Method { Multipass, Multiview, InstancedLayer };
+const char* methodName(Method m);
+/// Colour + depth, cleared, stored and left in TRANSFER_SRC for the copy; `viewMask` 0: no
+/// multiview.
+Result<RenderPass> makeRenderPassFor(VkDevice device, std::uint32_t viewMask);
+
+/// The most views one batch target holds (layers of one image array): larger batches repeat
+/// less vertex work, smaller ones keep the targets and the staging buffers small.
+inline constexpr int kLayersPerBatch = 16;
+
+struct GpuMesh {
+    BufferMemory vertices;  ///< position, normal (24 bytes a vertex)
+    BufferMemory indices;
+    BufferMemory flat;      ///< unrolled triangles: position, face edge cross, face centroid
+    std::uint32_t indexCount = 0, flatVertexCount = 0;
+    std::uint64_t lastUse = 0;
+};
+
+/// A view of `layers` layers of a batch target and its framebuffers.
+struct ArrayTarget {
+    ImageView color, depth;
+    Framebuffer layered;    ///< single-view render pass, `layers` framebuffer layers
+    Framebuffer multiview;  ///< the multiview render pass of `layers` views
+};
+
+/// One batch in flight: its images, staging buffer, command buffer and fence.
+struct Slot {
+    int w = 0, h = 0, layers = 0;
+    ImageMemory color, depth;
+    std::vector<ImageView> colorLayer, depthLayer;  ///< one 2D view a layer
+    std::vector<Framebuffer> layerFb;               ///< one a layer (multipass)
+    std::map<int, ArrayTarget> arrays;              ///< by layer count
+    BufferMemory staging;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    Fence fence;
+    bool pending = false;
+    int firstView = 0, views = 0;
+    bool readDepth = false;
+};
+
+class Renderer {
+public:
+    Renderer() = default;
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    Status ensureContext();
+    /// Destroys every Vulkan object and the device now (later calls: Unsupported). Run for
+    /// every live renderer by an exit handler registered after the driver's own, so that it
+    /// runs before the driver (Mesa) tears its threads down: a backend held in a static is
+    /// then destroyed safely after main() returns.
+    void releaseDevice();
+    std::vector<std::string> info();
+    /// Usage for an unknown name, Unsupported when this device cannot run it.
+    Status supports(const std::string& method);
+    Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& s,
+                      const std::string& method, RenderOutput& out);
+    const std::optional<RenderStats>& lastStats() const { return mLastStats; }
+
+private:
+    Status supportsMethod(Method m);
+    Status checkRequest(const Scene& scene, const RenderSettings& s) const;
+    Status renderMethod(const Scene& scene, const Rig& rig, const RenderSettings& s, Method m,
+                        RenderOutput& out);
+    Status renderAuto(const Scene& scene, const Rig& rig, const RenderSettings& s,
+                      RenderOutput& out);
+    int batchLimit(Method m) const;
+
+    Status ensureStatic();
+    Status ensureSlots(int w, int h, int layers);
+    Result<ArrayTarget*> arrayTarget(Slot& slot, int layers, Method m);
+    Result<VkRenderPass> multiviewPass(int views);
+    Result<VkPipeline> pipeline(Method m, Shading shading, int views, bool cull, bool blend,
+                                bool wire);
+    Status prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes);
+    Status uploadFrame(const Scene& scene, const Rig& rig);
+    Status recordBatch(Slot& slot, Method m, const RenderSettings& s, int firstView, int views,
+                       const Scene& scene, const std::vector<GpuMesh*>& meshes);
+    /// Waits for the slot's fence and copies its views out (adding the copy's time to copyMs).
+    Status finishBatch(Slot& slot, RenderOutput& out, const RenderSettings& s, int totalViews,
+                       double* copyMs);
+
+    // Declared first: destroyed last, after every object made from its device.
+    std::unique_ptr<Context> mContext;
+    std::optional<Status> mContextStatus;
+    RenderPass mSinglePass;
+    std::map<int, RenderPass> mMultiviewPasses;
+    DescriptorSetLayout mSetLayout;
+    DescriptorPool mDescriptorPool;
+    VkDescriptorSet mSet = VK_NULL_HANDLE;
+    PipelineLayout mPipelineLayout;
+    std::map<std::uint32_t, Pipeline> mPipelines;
+    std::map<int, ShaderModule> mModules;
+    BufferMemory mFrameBuffer, mInstanceBuffer;
+    std::map<std::uint64_t, GpuMesh> mMeshes;
+    std::uint64_t mUseCounter = 0;
+    Slot mSlots[2];
+    std::map<std::string, std::pair<Method, std::string>> mAutoChoices;
+    std::optional<RenderStats> mLastStats;
+};
+
+}  // namespace mvr::vk::detail

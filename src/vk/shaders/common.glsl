@@ -1,0 +1,88 @@
+// Shared by scene.vert and scene.frag: the frame and instance buffers and lighting.h in GLSL
+// (the gl backend's shaders.cpp, line for line, without textures and shadows).
+#define MAX_VIEWS 128
+#define MAX_LIGHTS 4
+
+layout(std430, set = 0, binding = 0) readonly buffer FrameData {
+    vec4 uLightDir[MAX_LIGHTS];    // unit, toward the light (spot: −axis)
+    vec4 uLightColor[MAX_LIGHTS];
+    vec4 uLightPos[MAX_LIGHTS];    // xyz position, w: 0 directional, 1 point, 2 spot
+    vec4 uLightCone[MAX_LIGHTS];   // x range (0 = infinite), y cos inner, z cos outer
+    vec4 uAmbient;
+    vec4 uCenterEye;
+    ivec4 uCounts;                 // x lights
+    mat4 uClipFromWorld[MAX_VIEWS];
+};
+
+struct InstanceData {
+    mat4 worldFromModel;
+    mat4 normalFromModel;  // inverse transpose (upper 3x3)
+    mat4 cofactor;         // model edge cross -> world edge cross
+    vec4 material;         // albedo rgb, specular
+    vec4 params;           // x shininess, y alpha, z mask cutoff
+    ivec4 flags;           // x textured, y alpha mode (0 opaque, 1 mask, 2 blend), z double-sided
+};
+layout(std430, set = 0, binding = 1) readonly buffer Instances { InstanceData uInstances[]; };
+
+layout(push_constant) uniform Push {
+    int instance;
+    int viewBase;  // the request's index of this pass's view 0 (multipass: the view)
+} pc;
+
+vec3 lightAt(int i, vec3 p, out vec3 l) {
+    if (uLightPos[i].w == 0.0) {
+        l = uLightDir[i].xyz;
+        return uLightColor[i].rgb;
+    }
+    vec3 d = uLightPos[i].xyz - p;
+    float d2 = dot(d, d);
+    l = d2 > 0.0 ? d / sqrt(d2) : uLightDir[i].xyz;
+    float dd = max(d2, 1e-8);
+    float att = 1.0 / dd;
+    float range = uLightCone[i].x;
+    if (range > 0.0) {
+        float r = dd / (range * range);
+        att = clamp(1.0 - r * r, 0.0, 1.0) / dd;
+    }
+    if (uLightPos[i].w == 2.0) {
+        float scale = 1.0 / max(0.001, uLightCone[i].y - uLightCone[i].z);
+        float offset = -uLightCone[i].z * scale;
+        float t = clamp(dot(uLightDir[i].xyz, l) * scale + offset, 0.0, 1.0);
+        att *= t * t;
+    }
+    return uLightColor[i].rgb * att;
+}
+
+vec3 facingNormal(InstanceData m, vec3 n, vec3 p) {
+    return (m.flags.z != 0 && dot(n, uCenterEye.xyz - p) < 0.0) ? -n : n;
+}
+
+vec3 shadeFlat(InstanceData m, vec3 faceNormal, vec3 p) {
+    faceNormal = facingNormal(m, faceNormal, p);
+    vec3 albedo = m.material.rgb;
+    vec3 c = uAmbient.rgb * albedo;
+    for (int i = 0; i < uCounts.x; ++i) {
+        vec3 l;
+        vec3 lc = lightAt(i, p, l);
+        c += max(dot(faceNormal, l), 0.0) * albedo * lc;
+    }
+    return clamp(c, 0.0, 1.0);
+}
+
+vec3 shadeBlinnPhong(InstanceData m, vec3 normal, vec3 worldPos) {
+    vec3 albedo = m.material.rgb;
+    vec3 n = normalize(facingNormal(m, normal, worldPos));
+    vec3 v = normalize(uCenterEye.xyz - worldPos);
+    vec3 c = uAmbient.rgb * albedo;
+    for (int i = 0; i < uCounts.x; ++i) {
+        vec3 l;
+        vec3 lc = lightAt(i, worldPos, l);
+        float nl = dot(n, l);
+        if (nl > 0.0) {
+            vec3 h = normalize(l + v);
+            float spec = m.material.w * pow(max(dot(n, h), 0.0), m.params.x);
+            c += (nl * albedo + vec3(spec)) * lc;
+        }
+    }
+    return clamp(c, 0.0, 1.0);
+}

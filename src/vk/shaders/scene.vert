@@ -1,0 +1,54 @@
+#version 450
+// Defines: SHADING_FLAT | SHADING_VERTEX | SHADING_PIXEL and VIEW_PASS | VIEW_MULTIVIEW |
+// VIEW_LAYER (where the view index comes from: the push constant, gl_ViewIndex, the instance).
+#ifdef VIEW_MULTIVIEW
+#extension GL_EXT_multiview : require
+#endif
+#ifdef VIEW_LAYER
+#extension GL_ARB_shader_viewport_layer_array : require
+#endif
+#include "common.glsl"
+
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec3 aNormal;      // flat: the face's model-space edge cross product
+#ifdef SHADING_FLAT
+layout(location = 2) in vec3 aFaceCenter;  // the face's model-space centroid
+#endif
+
+// Only what the fragment shader reads (validation: no output it does not consume).
+#ifdef SHADING_PIXEL
+layout(location = 0) out vec3 oWorld;
+layout(location = 1) out vec3 oNormal;
+#elif defined(SHADING_FLAT)
+layout(location = 2) flat out vec3 oColor;
+#else
+layout(location = 2) out vec3 oColor;
+#endif
+
+void main() {
+    InstanceData m = uInstances[pc.instance];
+    vec4 world = m.worldFromModel * vec4(aPosition, 1.0);
+#if defined(SHADING_PIXEL)
+    oWorld = world.xyz;
+    oNormal = mat3(m.normalFromModel) * aNormal;
+#elif defined(SHADING_VERTEX)
+    oColor = shadeBlinnPhong(m, mat3(m.normalFromModel) * aNormal, world.xyz);
+#elif defined(SHADING_FLAT)
+    // Every corner of a flat triangle carries the same face data (the vertices are unrolled).
+    vec3 fn = normalize(mat3(m.cofactor) * aNormal);
+    vec3 centre = (m.worldFromModel * vec4(aFaceCenter, 1.0)).xyz;
+    oColor = shadeFlat(m, fn, centre);
+#endif
+#if defined(VIEW_PASS)
+    int view = pc.viewBase;
+#elif defined(VIEW_MULTIVIEW)
+    int view = pc.viewBase + int(gl_ViewIndex);
+#else
+    int view = pc.viewBase + gl_InstanceIndex;
+    gl_Layer = gl_InstanceIndex;
+#endif
+    vec4 clip = uClipFromWorld[view] * world;
+    // mvr's clip space is OpenGL's (z in [-w, w], +y up): Vulkan's y points down and its depth
+    // is z in [0, w], so window depth = z/2w + 1/2 and row 0 is the top, as image.h wants.
+    gl_Position = vec4(clip.x, -clip.y, 0.5 * (clip.z + clip.w), clip.w);
+}
