@@ -3,6 +3,7 @@
 formulas (docs/displays.md)."""
 import json
 import math
+import os
 
 import numpy as np
 import pytest
@@ -12,8 +13,10 @@ from conftest import read_png
 
 
 def test_portrait_preset_follows_the_view_cone(cli, tmp_path, model):
-    cli("render", model, "--display", "portrait", "-q", "-o", tmp_path)
+    cli("render", model, "--display", "portrait", "--write", "views,composites", "-q", "-o", tmp_path)
     r = mvr.render([model], display="portrait", output=tmp_path / "py")
+    # A preset writes its quilt alone unless write= names the views (as --write).
+    assert sorted(os.listdir(tmp_path / "py")) == ["quilt_qs8x6a0.75.png"]
     assert r.color.shape == (48, 560, 420, 4)
     assert r.rig["views"] == 48 and r.rig["view_cone"] == 40.0
     assert abs(r.rig["aspect"] - 0.75) < 1e-6

@@ -366,7 +366,7 @@ TEST_F(ViewCli, StepsThroughTheViewsOfAQuilt) {
     needDisplay();
     constexpr int kW = 120, kH = 160, kColumns = 8, kRows = 6, kViews = 48;
     const std::string scene = "--display portrait --size 120x160 --backend soft --method unified";
-    CliRun r = run("render " + scene + " -o render -q");
+    CliRun r = run("render " + scene + " --write views,composites -o render -q");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     auto renderedView = [&](int v) { return read(dir / "render" / fmt::format("view-{}.png", v)); };
 
@@ -414,9 +414,9 @@ TEST_F(ViewCli, ConeKeysAndTheCalibrationsViewCone) {
     // 50`'s view 0 (and no longer the 40-degree one).
     needDisplay();
     const std::string scene = "--display portrait --size 120x160 --backend soft --method unified";
-    CliRun r = run("render " + scene + " --view-cone 50 -o cone50 -q");
+    CliRun r = run("render " + scene + " --view-cone 50 --write views -o cone50 -q");
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    r = run("render " + scene + " -o cone40 -q");
+    r = run("render " + scene + " --write views -o cone40 -q");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     r = run("view " + scene +
             " --format view --no-hud --frames 3 --script '+,+' --screenshot c.png");
