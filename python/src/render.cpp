@@ -129,7 +129,7 @@ std::unique_ptr<Job> makeJob(RenderKeywords keywords) {
     {
         py::gil_scoped_release release;
         prepared = session::prepare(recipe);
-        surfaces = session::buildSurfaces(recipe.surfaces);
+        surfaces = session::buildSurfaces(recipe);
         if (prepared && !surfaces) prepared = surfaces.status();
         if (prepared) {
             if (auto entry = findBackend(job->backendName)) job->gpu = (*entry)->gpu;

@@ -100,3 +100,14 @@ def test_write_chooses_the_files_as_the_cli(tmp_path, cli):
                                                    "view-1.png"]
     with pytest.raises(ValueError, match="--write nope: unknown 'nope'"):
         mvr.render(size=(16, 12), write="nope")
+
+
+def test_a_transparent_background_is_alpha_zero_where_nothing_is_drawn(model):
+    t = mvr.render([model], size=(64, 48), background="transparent")
+    o = mvr.render([model], size=(64, 48))
+    np.testing.assert_array_equal(t.color[..., :3], o.color[..., :3])
+    alpha = t.color[..., 3]
+    assert set(np.unique(alpha)) == {0, 255}
+    assert alpha[0, 0, 0] == 0 and alpha[0, 24, 32] == 255
+    with pytest.raises(ValueError, match="--background transparent: not with --letterbox"):
+        mvr.render(size=(16, 12), background="transparent", letterbox=5)

@@ -418,6 +418,15 @@ Result<Label> parseLabel(const std::string& spec, bool anchored) {
 Result<std::vector<WindowStrips>> applyStereoSurfaces(const StereoSurfaces& surfaces,
                                                       const Rig& rig, RenderOutput& out) {
     std::vector<WindowStrips> strips;
+    if (surfaces.transparentBackground) {
+        if (Status s = needsDepth("--background transparent", out); !s) return s;
+        for (std::size_t v = 0; v < out.color.size(); ++v) {
+            Image& im = out.color[v];
+            const DepthImage& d = out.depth[v];
+            for (std::size_t i = 0; i < d.depth.size(); ++i)
+                if (d.depth[i] >= 1.0f) im.rgba[4 * i + 3] = 0;
+        }
+    }
     if (surfaces.sky) {
         if (Status s = needsDepth("--sky", out); !s) return s;
         if (Status s = drawSky(*surfaces.sky, rig, out.color, out.depth); !s) return s;

@@ -162,6 +162,27 @@ Result<StereoSurfaces> buildSurfaces(const SurfaceRecipe& recipe) {
     return s;
 }
 
+bool isTransparentBackground(const std::string& background) {
+    return background == "transparent";
+}
+
+Result<StereoSurfaces> buildSurfaces(const RenderRecipe& recipe) {
+    auto s = buildSurfaces(recipe.surfaces);
+    if (!s || !isTransparentBackground(recipe.background)) return s;
+    const SurfaceRecipe& r = recipe.surfaces;
+    for (const auto& [given, name] :
+         {std::pair{!r.sky.empty(), "--sky"}, std::pair{r.floatingWindow, "--floating-window"},
+          std::pair{r.letterbox != 0.0, "--letterbox"},
+          std::pair{!r.labels.empty() || !r.anchors.empty(), "--label"}}) {
+        if (given) {
+            return usageError(fmt::format(
+                "--background transparent: not with {} (it paints over the background)", name));
+        }
+    }
+    s->transparentBackground = true;
+    return s;
+}
+
 Status applySurfaces(const StereoSurfaces& surfaces, const Rig& rig, RenderOutput& out) {
     if (!surfaces.any()) return {};
     auto applied = applyStereoSurfaces(surfaces, rig, out);

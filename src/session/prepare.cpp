@@ -21,6 +21,7 @@
 #include "mvr/io/png.h"
 #include "mvr/io/scene_io.h"
 #include "mvr/session/camera.h"
+#include "mvr/session/surfaces.h"
 
 namespace mvr::session {
 
@@ -486,7 +487,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     if (!write) return write.status();
     out.write = *write;
     const SurfaceRecipe& sf = r.surfaces;
-    out.settings.depth = out.write.depth || !sf.sky.empty() || sf.floatingWindow ||
+    out.settings.depth = out.write.depth || isTransparentBackground(r.background) || !sf.sky.empty() || sf.floatingWindow ||
                          sf.letterbox > 0.0 || !sf.labels.empty() || !sf.anchors.empty();
     out.settings.shadowMapSize = r.shadowMapSize;
     auto kind = parseRigKind(r.rig);
@@ -606,7 +607,9 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
         params.useSceneCamera = false;
     }
     if (out.animation && !params.useSceneCamera) out.animation->cameraNode = -1;
-    auto background = backgroundOf(r.background);
+    // "transparent": the scene's colour stays, the views' alpha is 0 there (buildSurfaces()).
+    auto background =
+        backgroundOf(isTransparentBackground(r.background) ? std::string() : r.background);
     if (!background) return background.status();
     if (*background) params.clearColor = **background;
     if (r.interaxial) params.interaxial = static_cast<float>(*r.interaxial);

@@ -117,6 +117,39 @@ TEST_F(Cli, WriteChoosesTheFiles) {
     EXPECT_EQ(alone->rgba, full->rgba);
 }
 
+// --background transparent: alpha 0 where nothing is drawn (the framed bunny's corners), 255
+// on the bunny (the centre), and the colours the opaque render has everywhere.
+TEST_F(Cli, ATransparentBackgroundIsAlphaZeroWhereNothingIsDrawn) {
+    const std::string bunny = "'" + (test::modelsDir() / "stanford-bunny.obj").string() + "'";
+    if (!std::filesystem::exists(test::modelsDir() / "stanford-bunny.obj"))
+        MVR_SKIP(ModelsMissing) << bunny;
+    ASSERT_EQ(run("render " + bunny + " --size 64x48 --background transparent -q -o t").exitCode, 0);
+    ASSERT_EQ(run("render " + bunny + " --size 64x48 -q -o o").exitCode, 0);
+    for (const char* view : {"view-0.png", "view-1.png"}) {
+        auto t = readPng(mDir / "t" / view);
+        auto o = readPng(mDir / "o" / view);
+        ASSERT_TRUE(t && o) << view;
+        int clear = 0, opaque = 0;
+        for (std::size_t i = 0; i < t->rgba.size(); i += 4) {
+            for (int c = 0; c < 3; ++c) ASSERT_EQ(t->rgba[i + c], o->rgba[i + c]) << view << i;
+            ASSERT_EQ(o->rgba[i + 3], 255);
+            const std::uint8_t a = t->rgba[i + 3];
+            ASSERT_TRUE(a == 0 || a == 255) << int(a);
+            (a == 0 ? clear : opaque)++;
+        }
+        EXPECT_GT(clear, 0) << view;
+        EXPECT_GT(opaque, 0) << view;
+        EXPECT_EQ(t->rgba[3], 0) << view;  // the top-left corner
+        EXPECT_EQ(t->rgba[4 * (24 * 64 + 32) + 3], 255) << view;  // the centre: the bunny
+    }
+    // A composite laid out from the views keeps their alpha.
+    ASSERT_EQ(run("render " + bunny + " --size 64x48 --background transparent --format sbs "
+                  "--write composites -q -o s").exitCode, 0);
+    auto sbs = readPng(mDir / "s/sbs.png");
+    ASSERT_TRUE(sbs);
+    EXPECT_EQ(sbs->rgba[3], 0);
+}
+
 TEST_F(Cli, VillageSceneRendersLikeAnyScene) {
     const CliRun r = run("render --scene village --size 160x120 -o out");
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -374,6 +407,8 @@ TEST_F(Cli, EveryRefusalNamesItsCulprit) {
         {"--frame-range 0:1", 1, "--frame-range 0:1 needs a sequence (--frames F, --orbit DEG"},
         {"--shard 0/2", 1, "--shard 0/2 needs a sequence"},
         {"--video out.mkv", 1, "--video out.mkv needs a sequence"},
+        {"--background transparent --letterbox 5", 1,
+         "--background transparent: not with --letterbox (it paints over the background)"},
         {"--write nope", 1,
          "--write nope: unknown 'nope' (expected a comma list of views, depth, composites, "
          "cameras, video)"},

@@ -180,7 +180,8 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
                     "Sensor width for --focal-length-mm")
         ->default_val(camera.sensorWidthMm);
     app->add_option("--background", background,
-                    "Background colour: R,G,B in 0..1, or #RRGGBB (default: the scene's)");
+                    "Background colour: R,G,B in 0..1, or #RRGGBB (default: the scene's), or "
+                    "transparent (alpha 0 where nothing is drawn, in the PNGs)");
     app->add_option_function<std::string>(
            "--exposure", numberOrAuto("--exposure", exposure, exposureAuto),
            "Scale every light by 2^EV (stops). Lights are in glTF's units with no tone "

@@ -111,7 +111,7 @@ int runRender(const RenderOptions& o) {
         return fail(Status(s.code(), fmt::format("--method {}: {}", method, s.message())));
     }
     const Prepared& p = *prepared;
-    auto surfaces = session::buildSurfaces(recipe.surfaces);
+    auto surfaces = session::buildSurfaces(recipe);
     if (!surfaces) return fail(surfaces.status());
 
     if (Status s = checkSequenceOptions(recipe.sequence); !s) return fail(s);

@@ -168,11 +168,18 @@ Result<Label> parseLabel(const std::string& spec, bool anchored);
 
 /// What to draw after the scene (the CLI's --sky, --floating-window, --letterbox, --label).
 struct StereoSurfaces {
+    /// --background transparent: where nothing was drawn (depth 1) the views' alpha is 0, so
+    /// their PNGs (and the composites laid out from them) are transparent there. First, before
+    /// anything else is drawn; not with the surfaces that paint the background.
+    bool transparentBackground = false;
     std::optional<Sky> sky;
     bool floatingWindow = false;
     float letterboxPercent = 0.0f;  ///< 0: none
     std::vector<Label> labels;
-    bool any() const { return sky || floatingWindow || letterboxPercent > 0.0f || !labels.empty(); }
+    bool any() const {
+        return transparentBackground || sky || floatingWindow || letterboxPercent > 0.0f ||
+               !labels.empty();
+    }
 };
 
 /// Applies them to `out` in the order above. Errors: Unsupported when a feature needing depth

@@ -12,6 +12,12 @@ namespace mvr::session {
 
 /// The surfaces of a recipe, parsed (the sky map loaded, the labels parsed).
 Result<StereoSurfaces> buildSurfaces(const SurfaceRecipe& recipe);
+/// The same, with the recipe's --background transparent (refused beside the surfaces that paint
+/// the background: --sky, --letterbox, --floating-window, labels).
+Result<StereoSurfaces> buildSurfaces(const RenderRecipe& recipe);
+
+/// Whether a --background value asks for a transparent background ("transparent").
+bool isTransparentBackground(const std::string& background);
 /// applyStereoSurfaces() without the strips; nothing asked: nothing done.
 Status applySurfaces(const StereoSurfaces& surfaces, const Rig& rig, RenderOutput& out);
 
