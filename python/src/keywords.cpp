@@ -422,6 +422,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     RenderKeywords out;
     session::RenderRecipe& r = out.recipe;
     r.models = modelPaths(models, r.meshes);
+    for (const auto& [key, value] : kw) r.given.push_back(optionName(key));
     // The options that exclude each other, as CLI11 says it.
     for (const auto& [a, b] : {std::pair{"views", "view_grid"}, std::pair{"interaxial", "separation"},
                                std::pair{"interaxial", "view_cone"}}) {

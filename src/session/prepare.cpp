@@ -358,6 +358,38 @@ Result<Scene> loadModels(const std::vector<std::string>& args,
 
 }  // namespace
 
+std::vector<std::string> ignoredOptionWarnings(const RenderRecipe& r,
+                                               const std::vector<std::string>& formats) {
+    std::vector<std::string> out;
+    if (r.given.empty()) return out;
+    auto given = [&](std::string_view name) {
+        return std::find(r.given.begin(), r.given.end(), name) != r.given.end();
+    };
+    auto writes = [&](std::string_view f) {
+        return std::find(formats.begin(), formats.end(), f) != formats.end();
+    };
+    auto warn = [&](std::string_view name, std::string_view why) {
+        if (given(name)) out.push_back(fmt::format("warning: {} is ignored {}", name, why));
+    };
+    if (!r.shadows) warn("--shadow-map-size", "without --shadows");
+    if (r.billboards == 0) warn("--billboard-size", "without --billboards");
+    if (!r.camera.focalLengthMm) warn("--sensor-width-mm", "without --focal-length-mm");
+    if (!r.sequence.active()) {
+        for (const char* name : {"--fps", "--threads", "--gather-stats"})
+            warn(name, "without a sequence (--frames, --orbit or --camera-path)");
+    }
+    if (!writes("jps") && !writes("mpo")) warn("--jpeg-quality", "without --format jps or mpo");
+    if (!writes("lenticular")) {
+        for (const char* name :
+             {"--lenticular-pitch", "--lenticular-slope", "--lenticular-center", "--lenticular-dpi",
+              "--lenticular-screen", "--lenticular-calibration",
+              "--lenticular-bgr", "--lenticular-invert-views",
+              "--lenticular-flip-x", "--lenticular-flip-y"})
+            warn(name, "without a lenticular image (--format lenticular)");
+    }
+    return out;
+}
+
 Result<WriteSet> writeSetOf(const RenderRecipe& r, bool display) {
     WriteSet w;
     const bool video = !r.sequence.video.empty();
@@ -687,6 +719,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
                        r.outputs.quiltGiven || out.rig.viewCount() != out.display->views,
                        out.rig.camera.aspect, out.formats, out.compose);
     }
+    for (std::string& w : ignoredOptionWarnings(r, out.formats)) out.notes.push_back(std::move(w));
     // No silent nonsense: a quilt layout nothing uses.
     if (r.outputs.quiltGiven &&
         std::find(out.formats.begin(), out.formats.end(), "quilt") == out.formats.end()) {

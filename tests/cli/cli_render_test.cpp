@@ -150,6 +150,25 @@ TEST_F(Cli, ATransparentBackgroundIsAlphaZeroWhereNothingIsDrawn) {
     EXPECT_EQ(sbs->rgba[3], 0);
 }
 
+// An option the command would ignore is a warning naming it (the render goes on).
+TEST_F(Cli, IgnoredOptionsAreWarnings) {
+    const CliRun r = run("render --size 32x24 --shadow-map-size 512 --fps 30 --jpeg-quality 80 "
+                         "--lenticular-pitch 50 -q -o w");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const char* line :
+         {"warning: --shadow-map-size is ignored without --shadows\n",
+          "warning: --fps is ignored without a sequence (--frames, --orbit or --camera-path)\n",
+          "warning: --jpeg-quality is ignored without --format jps or mpo\n",
+          "warning: --lenticular-pitch is ignored without a lenticular image (--format "
+          "lenticular)\n"})
+        EXPECT_NE(r.err.find(line), std::string::npos) << line << r.err;
+    // Used, they are not warned of.
+    const CliRun used = run("render --size 32x24 --shadows --shadow-map-size 512 --format jps "
+                            "--jpeg-quality 80 -q -o u");
+    ASSERT_EQ(used.exitCode, 0) << used.err;
+    EXPECT_EQ(used.err.find("is ignored"), std::string::npos) << used.err;
+}
+
 TEST_F(Cli, VillageSceneRendersLikeAnyScene) {
     const CliRun r = run("render --scene village --size 160x120 -o out");
     ASSERT_EQ(r.exitCode, 0) << r.err;

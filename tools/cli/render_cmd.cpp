@@ -39,6 +39,7 @@ struct RenderOptions {
     StereoSurfaceOptions surfaces;  ///< --sky, --floating-window, --letterbox, --label…
     SequenceOptions sequence;       ///< --frames, --orbit, ...: sequence.cpp owns the frame loop
     std::string reportJson;         ///< --report-json FILE: the comfort report (docs/displays.md)
+    const CLI::App* app = nullptr;  ///< the parsed command: which options were given
     CLI::Option* calibrationOption = nullptr;  ///< --lenticular-calibration (a preset's lenticular)
     CLI::Option* quiltOption = nullptr;        ///< --quilt (overrides a preset's grid)
 };
@@ -91,6 +92,10 @@ session::RenderRecipe recipeOf(const RenderOptions& o) {
     r.outputs.quiltGiven = o.quiltOption && o.quiltOption->count() > 0;
     r.backend = o.backend;
     r.method = o.method;
+    if (o.app) {
+        for (const CLI::Option* opt : o.app->get_options())
+            if (opt->count() > 0) r.given.push_back(opt->get_name());
+    }
     return r;
 }
 
@@ -193,6 +198,7 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
         "Render a scene or model files from N viewpoints into DIR/view-0.png ... view-{N-1}.png "
         "(views numbered left to right, then top to bottom), plus DIR/anaglyph.png for a stereo pair");
     o->scene.addTo(app);
+    o->app = app;
     o->backend = backendNames().front();
     std::string backendHelp = "Backend:";
     for (const std::string& name : backendChoices()) {  // the registry's rows, then auto

@@ -34,6 +34,13 @@ struct WriteSet {
     bool video = false;      ///< a sequence's video (sequence.video)
 };
 
+/// "warning: --X is ignored ..." for each option in recipe.given that the recipe ignores
+/// (--shadow-map-size without --shadows, --fps or --threads without a sequence, the lenticular
+/// calibration without a lenticular image, ...). `formats`: the formats written, a display
+/// preset's included.
+std::vector<std::string> ignoredOptionWarnings(const RenderRecipe& recipe,
+                                               const std::vector<std::string>& formats);
+
 /// The WriteSet of a recipe (`display`: a display preset is in use). Errors (ErrorCode::Usage):
 /// an unknown or empty word in --write, video without --video FILE, --video FILE with a --write
 /// that leaves it out.

@@ -146,6 +146,9 @@ struct RenderRecipe {
     OutputRecipe outputs;
     std::string backend;  ///< empty: the registry's first backend
     std::string method;   ///< empty: the backend's default method
+    /// The options given explicitly, by their `mvr render` names ("--fps"): prepare() warns of
+    /// those this recipe ignores (ignoredOptionWarnings()). Optional: empty, no such warning.
+    std::vector<std::string> given;
 };
 
 }  // namespace mvr::session
