@@ -115,6 +115,6 @@ def test_a_transparent_background_is_alpha_zero_where_nothing_is_drawn(model):
 
 def test_an_ignored_keyword_is_a_warning_in_the_notes():
     r = mvr.render(size=(16, 12), shadow_map_size=512)
-    assert "warning: --shadow-map-size is ignored without --shadows" in r.notes
+    assert "warning: --shadow-map-size is ignored without --shadows" in r.rig["notes"]
     assert not any("is ignored" in n for n in mvr.render(size=(16, 12), shadows=True,
-                                                       shadow_map_size=512).notes)
+                                                       shadow_map_size=512).rig["notes"])
