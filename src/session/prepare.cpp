@@ -378,6 +378,9 @@ std::vector<std::string> ignoredOptionWarnings(const RenderRecipe& r,
         for (const char* name : {"--fps", "--threads", "--gather-stats"})
             warn(name, "without a sequence (--frames, --orbit or --camera-path)");
     }
+    if (r.sequence.video.empty()) {
+        for (const char* name : {"--codec", "--crf", "--encoder-preset"}) warn(name, "without --video");
+    }
     if (!writes("jps") && !writes("mpo")) warn("--jpeg-quality", "without --format jps or mpo");
     if (!writes("lenticular")) {
         for (const char* name :

@@ -117,6 +117,29 @@ if "$mvr" render --frames 1 --size 32x24 -q --video "$tmp/probe.mkv" -o "$tmp/pr
     "$mvr" render --views 3 --size 32x24 --frames 2 -q --video "$tmp/views.mkv" -o "$tmp/v"
     [[ $(ffprobe -v error -show_entries stream=index -of csv=p=0 "$tmp/views.mkv" | wc -l) == 3 ]] ||
         fail "views.mkv: expected 3 streams"
+    # The codecs: each file read back by ffprobe, with the stereo tag of side by side.
+    for c in h265:hevc av1:av1; do
+        "$mvr" render --views 2 --size 64x64 --frames 2 -q --format sbs --codec "${c%%:*}" \
+            --video "$tmp/c-${c%%:*}.mkv" -o "$tmp/c"
+        p=$(probe "$tmp/c-${c%%:*}.mkv")
+        for want in "codec_name=${c#*:}" width=128 height=64 nb_read_frames=2 TAG:stereo_mode=left_right; do
+            grep -qx "$want" <<<"$p" || fail "${c%%:*}: no $want in: $p"
+        done
+    done
+    # ffv1 is lossless: its frames decode to the PNGs' pixels, bit for bit (odd sizes too).
+    "$mvr" render --views 2 --size 33x25 --frames 3 --orbit 30 -q --format sbs --codec ffv1 \
+        --write composites,video --video "$tmp/l.mkv" -o "$tmp/l"
+    ffmpeg -v error -i "$tmp/l.mkv" -f rawvideo -pix_fmt rgba "$tmp/l.rgba"
+    ffmpeg -v error -i "$tmp/l/frame-%04d/sbs.png" -f rawvideo -pix_fmt rgba "$tmp/p.rgba"
+    [[ -s $tmp/p.rgba ]] && cmp "$tmp/l.rgba" "$tmp/p.rgba" || fail "ffv1 frames differ from the PNGs"
+    expect_error "--codec ffv1: lossless FFV1 goes in a .mkv file" --frames 2 --codec ffv1 --video "$tmp/l.mp4" -o "$tmp/bad"
+    expect_error "--codec vp9: unknown codec" --frames 2 --codec vp9 --video "$tmp/x.mkv" -o "$tmp/bad"
+    expect_error "--crf 52 is out of range for h264 (expected 0..51)" --frames 2 --crf 52 --video "$tmp/x.mkv" -o "$tmp/bad"
+    expect_error "--codec av1: libsvtav1 needs frames of at least 64x64" --size 32x24 --frames 2 --codec av1 --video "$tmp/x.mkv" -o "$tmp/bad"
+    expect_error "--encoder-preset warp: libx264 refused it" --size 32x24 --frames 2 --encoder-preset warp --video "$tmp/x.mkv" -o "$tmp/bad"
+    # A quilt video named without the layout: a warning with the name players read.
+    out=$("$mvr" render --views 4 --size 32x24 --frames 1 -q --format quilt --quilt 2x2 --video "$tmp/q.mkv" -o "$tmp/q" 2>&1)
+    grep -q "^warning: --video $tmp/q.mkv: .*call it q_qs2x2a1.3333.mkv" <<<"$out" || fail "no quilt name warning: $out"
     expect_error "even width" --size 33x24 --frames 2 --video "$tmp/odd.mkv" -o "$tmp/odd"
     [[ -z $(ls "$tmp/odd" 2>/dev/null) ]] || fail "a refused video still rendered frames"
     expect_error ".mkv or .mp4" --frames 2 --video "$tmp/x.avi" -o "$tmp/bad"

@@ -52,8 +52,18 @@ void addSequenceOptions(CLI::App* app, SequenceOptions& o) {
                   "Under mpirun: rank 0 prints the time it spent receiving the views (the "
                   "gather) per frame");
     app->add_option("--video", o.video,
-                    "Also write a video (.mkv or .mp4, H.264) of the first --format that is one "
-                    "image per frame, or of every view (one stream each) without one");
+                    "Also write a video (.mkv or .mp4) of the first --format that is one image "
+                    "per frame, or of every view (one stream each) without one");
+    app->add_option("--codec", o.codec,
+                    "The video's codec: h264 (libx264), h265 (libx265), av1 (SVT-AV1, frames of "
+                    "64x64 or more) or ffv1 (lossless RGBA, .mkv)")
+        ->default_val(o.codec);
+    app->add_option("--crf", o.crf,
+                    "The video's constant rate factor, lower is better (h264/h265 0..51, default "
+                    "18/20; av1 0..63, default 30)");
+    app->add_option("--encoder-preset", o.encoderPreset,
+                    "The encoder's speed preset (x264/x265: ultrafast ... veryslow, default "
+                    "fast; SVT-AV1: 0..13, default 10)");
 }
 
 namespace {
@@ -114,6 +124,7 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
     compose.baseline = p.rig.interaxial;
     compose.convergence = p.rig.convergence;
 
+    const VideoCodec codec{o.codec, o.crf, o.encoderPreset};
     if (!o.video.empty()) {
         // Refuse what the video cannot take before rendering anything.
         const std::string ext = std::filesystem::path(o.video).extension().string();
@@ -134,11 +145,7 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
             if (!s) return fail(s.status());
             size = *s;
         }
-        if (size.width % 2 || size.height % 2) {
-            return fail(usageError(fmt::format(
-                "--video {}: H.264 4:2:0 needs an even width and height (the frames are {}x{})",
-                o.video, size.width, size.height)));
-        }
+        if (Status s = checkVideo(o.video, codec, size.width, size.height); !s) return fail(s);
     }
     // Threads per process: the cores shared by the ranks of this node, so they do not fight.
     int threads = o.threads;
@@ -216,9 +223,25 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
                 const int streams = videoImage ? 1 : int(out.color.size());
                 auto opened = VideoWriter::open(
                     o.video, streams, first.width, first.height, o.fps,
-                    videoImage ? matroskaStereoMode(videoFormat, compose.swapEyes) : std::string());
+                    videoImage ? matroskaStereoMode(videoFormat, compose.swapEyes) : std::string(),
+                    codec);
                 if (!opened) return (opened.status());
                 video = std::move(opened).value();
+                // Looking Glass players read a quilt's layout from the file name.
+                const std::filesystem::path file(o.video);
+                if (videoFormat == "quilt" &&
+                    file.stem().string().find("_qs") == std::string::npos) {
+                    auto name = composite::compositeFileName(videoFormat, out.color, compose);
+                    const std::string qs =
+                        name ? std::filesystem::path(*name).stem().string() : std::string();
+                    if (qs.find("_qs") != std::string::npos) {
+                        fmt::print(stderr,
+                                   "warning: --video {}: Looking Glass players read a quilt's "
+                                   "layout from its name: call it {}{}{}\n",
+                                   o.video, file.stem().string(), qs.substr(qs.find("_qs")),
+                                   file.extension().string());
+                    }
+                }
             }
             if (videoImage) {
                 if (Status s = video->add(0, *videoImage); !s) return (s);

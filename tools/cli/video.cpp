@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -53,12 +54,81 @@ bool removeUnfinishedVideo() {
     return true;
 }
 
+namespace {
+
+/// The codecs of --codec: FFmpeg's encoder, the default preset and CRF (docs/animation.md), the
+/// CRF's range (0: none), the smallest side, and whether frames are 4:2:0 (even sizes) or
+/// lossless BGRA.
+struct CodecRow {
+    const char* name;
+    const char* label;
+    const char* encoder;
+    const char* preset;
+    int crf;
+    int maxCrf;
+    int minSide;
+    bool yuv420;
+};
+constexpr CodecRow kCodecs[] = {
+    {"h264", "H.264", "libx264", "fast", 18, 51, 2, true},
+    {"h265", "H.265", "libx265", "fast", 20, 51, 2, true},
+    {"av1", "AV1", "libsvtav1", "10", 30, 63, 64, true},
+    {"ffv1", "FFV1", "ffv1", "", -1, 0, 1, false},
+};
+
+const CodecRow* findCodec(const std::string& name) {
+    for (const CodecRow& row : kCodecs)
+        if (name == row.name) return &row;
+    return nullptr;
+}
+
+}  // namespace
+
+Status checkVideo(const std::string& path, const VideoCodec& c, int width, int height) {
+    const std::string ext = std::filesystem::path(path).extension().string();
+    if (ext != ".mkv" && ext != ".mp4") {
+        return usageError(fmt::format("--video {}: expected a .mkv or .mp4 file", path));
+    }
+    const CodecRow* row = findCodec(c.codec);
+    if (!row) {
+        return usageError(
+            fmt::format("--codec {}: unknown codec (expected h264, h265, av1 or ffv1)", c.codec));
+    }
+    if (row->maxCrf == 0 && c.crf != -1) {
+        return usageError(fmt::format("--crf {}: {} is lossless (no CRF)", c.crf, row->name));
+    }
+    if (row->maxCrf > 0 && (c.crf < -1 || c.crf > row->maxCrf)) {
+        return usageError(fmt::format("--crf {} is out of range for {} (expected 0..{})", c.crf,
+                                      row->name, row->maxCrf));
+    }
+    if (!*row->preset && !c.preset.empty()) {
+        return usageError(
+            fmt::format("--encoder-preset {}: {} has no presets", c.preset, row->name));
+    }
+    if (!row->yuv420 && ext != ".mkv") {
+        return usageError(
+            fmt::format("--codec {}: lossless FFV1 goes in a .mkv file (--video {})", c.codec, path));
+    }
+    if (row->yuv420 && (width % 2 || height % 2)) {
+        return usageError(fmt::format(
+            "--video {}: {} 4:2:0 needs an even width and height (the frames are {}x{})", path,
+            row->label, width, height));
+    }
+    if (width < row->minSide || height < row->minSide) {
+        return usageError(fmt::format(
+            "--codec {}: {} needs frames of at least {}x{} (they are {}x{})", c.codec,
+            row->encoder, row->minSide, row->minSide, width, height));
+    }
+    return {};
+}
+
 #ifndef MVR_WITH_VIDEO
 
 bool videoAvailable() { return false; }
 
 Result<std::unique_ptr<VideoWriter>> VideoWriter::open(const std::string& path, int, int, int,
-                                                       double, const std::string&) {
+                                                       double, const std::string&,
+                                                       const VideoCodec&) {
     return unsupportedError(fmt::format(
         "--video {}: this mvr was built without FFmpeg (libavcodec, libavformat, libswscale)",
         path));
@@ -105,7 +175,7 @@ public:
     }
 
     Status init(const std::string& path, int streams, int width, int height, double fps,
-                const std::string& stereoMode) {
+                const std::string& stereoMode, const VideoCodec& choice) {
         mPath = path;
         const std::filesystem::path p(path);
         mTemp = (p.parent_path() / (p.stem().string() + ".part" + p.extension().string())).string();
@@ -113,9 +183,16 @@ public:
         if (rc < 0 || !mFc) return outputError(fmt::format("--video {}: {}", path, averr(rc)));
         mFc->flags |= AVFMT_FLAG_BITEXACT;  // no dates or library versions: reproducible files
         mFc->strict_std_compliance = FF_COMPLIANCE_UNOFFICIAL;  // MP4: st3d is "unofficial"
-        const AVCodec* codec = avcodec_find_encoder_by_name("libx264");
-        if (!codec) codec = avcodec_find_encoder(AV_CODEC_ID_H264);
-        if (!codec) return unsupportedError(fmt::format("--video {}: no H.264 encoder", path));
+        const CodecRow& row = *findCodec(choice.codec);  // checkVideo() found it
+        const AVCodec* codec = avcodec_find_encoder_by_name(row.encoder);
+        if (!codec && std::string(row.name) == "h264") codec = avcodec_find_encoder(AV_CODEC_ID_H264);
+        if (!codec) {
+            return unsupportedError(fmt::format("--codec {}: this FFmpeg has no {} encoder",
+                                                choice.codec, row.encoder));
+        }
+        const AVPixelFormat pixels = row.yuv420 ? AV_PIX_FMT_YUV420P : AV_PIX_FMT_BGRA;
+        const std::string preset = choice.preset.empty() ? row.preset : choice.preset;
+        const int crf = choice.crf >= 0 ? choice.crf : row.crf;
         const AVRational rate = av_d2q(fps, 1000);
         mPacket = av_packet_alloc();
         for (int i = 0; i < streams; ++i) {
@@ -125,7 +202,7 @@ public:
             if (!s.st || !s.ctx) return internalError("--video: out of memory");
             s.ctx->width = width;
             s.ctx->height = height;
-            s.ctx->pix_fmt = AV_PIX_FMT_YUV420P;
+            s.ctx->pix_fmt = pixels;
             s.ctx->time_base = av_inv_q(rate);
             s.ctx->framerate = rate;
             s.ctx->gop_size = 24;
@@ -134,11 +211,23 @@ public:
             if (mFc->oformat->flags & AVFMT_GLOBALHEADER) {
                 s.ctx->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
             }
-            av_opt_set(s.ctx->priv_data, "preset", "fast", 0);
-            av_opt_set(s.ctx->priv_data, "crf", "18", 0);
-            if ((rc = avcodec_open2(s.ctx, codec, nullptr)) < 0) {
-                return unsupportedError(
-                    fmt::format("--video {}: cannot open {}: {}", path, codec->name, averr(rc)));
+            if (!preset.empty() &&
+                av_opt_set(s.ctx->priv_data, "preset", preset.c_str(), 0) < 0) {
+                return usageError(fmt::format("--encoder-preset {}: {} does not know it", preset,
+                                              row.encoder));
+            }
+            if (crf >= 0) av_opt_set(s.ctx->priv_data, "crf", std::to_string(crf).c_str(), 0);
+            if (std::string(row.name) == "h265") {  // quiet, and the same bytes on every run
+                av_opt_set(s.ctx->priv_data, "x265-params",
+                           "log-level=error:pools=none:frame-threads=1", 0);
+            }
+            if ((rc = avcodec_open2(s.ctx, codec, nullptr)) < 0 && !choice.preset.empty()) {
+                return usageError(fmt::format("--encoder-preset {}: {} refused it ({})", preset,
+                                              row.encoder, averr(rc)));
+            }
+            if (rc < 0) {
+                return unsupportedError(fmt::format("--video {}: cannot open {} (preset {}): {}",
+                                                    path, codec->name, preset, averr(rc)));
             }
             avcodec_parameters_from_context(s.st->codecpar, s.ctx);
             s.st->time_base = s.ctx->time_base;
@@ -166,14 +255,15 @@ public:
                 }
             }
             s.frame = av_frame_alloc();
-            s.frame->format = AV_PIX_FMT_YUV420P;
+            s.frame->format = pixels;
             s.frame->width = width;
             s.frame->height = height;
             if (av_frame_get_buffer(s.frame, 0) < 0) return internalError("--video: out of memory");
             s.sws = sws_getContext(
-                width, height, AV_PIX_FMT_RGBA, width, height, AV_PIX_FMT_YUV420P,
-                SWS_BICUBIC | SWS_BITEXACT | SWS_ACCURATE_RND, nullptr, nullptr, nullptr);
-            if (!s.sws) return internalError("--video: no RGBA to YUV 4:2:0 conversion");
+                width, height, AV_PIX_FMT_RGBA, width, height, pixels,
+                (row.yuv420 ? SWS_BICUBIC : SWS_POINT) | SWS_BITEXACT | SWS_ACCURATE_RND, nullptr,
+                nullptr, nullptr);
+            if (!s.sws) return internalError("--video: no conversion from RGBA");
             mStreams.push_back(s);
         }
         if (mTemp.size() < sizeof sUnfinished) {
@@ -251,19 +341,13 @@ private:
 
 Result<std::unique_ptr<VideoWriter>> VideoWriter::open(const std::string& path, int streams,
                                                        int width, int height, double fps,
-                                                       const std::string& stereoMode) {
-    const std::string ext = std::filesystem::path(path).extension().string();
-    if (ext != ".mkv" && ext != ".mp4") {
-        return usageError(fmt::format("--video {}: expected a .mkv or .mp4 file", path));
-    }
-    if (width % 2 || height % 2) {
-        return usageError(fmt::format(
-            "--video {}: H.264 4:2:0 needs an even width and height (the frames are {}x{})", path,
-            width, height));
-    }
-    av_log_set_level(AV_LOG_ERROR);
+                                                       const std::string& stereoMode,
+                                                       const VideoCodec& codec) {
+    if (Status s = checkVideo(path, codec, width, height); !s) return s;
+    av_log_set_level(AV_LOG_FATAL);  // the encoders' own lines: mvr says it in one
+    ::setenv("SVT_LOG", "1", 0);  // SVT-AV1: errors only (its banner goes to stderr)
     auto w = std::make_unique<FfmpegWriter>();
-    if (Status s = w->init(path, streams, width, height, fps, stereoMode); !s) return s;
+    if (Status s = w->init(path, streams, width, height, fps, stereoMode, codec); !s) return s;
     return std::unique_ptr<VideoWriter>(std::move(w));
 }
 

@@ -43,6 +43,9 @@ struct SequenceRecipe {
     std::string shard;       ///< "I/N": frames f with f mod N == I; empty: all
     double fps = 24.0;       ///< camera path times, the video's rate
     std::string video;       ///< .mkv | .mp4 (the `mvr` tool's FFmpeg); empty: none
+    std::string codec = "h264";  ///< the video's: h264 | h265 | av1 | ffv1 (lossless, .mkv)
+    int crf = -1;                ///< the video's quality (lower: better); -1: the codec's default
+    std::string encoderPreset;   ///< the encoder's speed preset; empty: the codec's default
     int threads = 0;         ///< CPU threads of the backend per process; 0: the default
     bool gatherStats = false;  ///< MPI: rank 0's gather time per frame
     bool active() const { return frames > 0 || orbit != 0.0 || !cameraPath.empty(); }
