@@ -11,7 +11,7 @@ packages=(
     clang libclang-rt-14-dev llvm
     # libraries
     libglm-dev libfmt-dev libcli11-dev nlohmann-json3-dev
-    libpng-dev libjpeg-dev libstb-dev
+    libpng-dev libjpeg-dev libopenexr-dev libstb-dev
     libassimp-dev libmeshoptimizer-dev
     libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev
     # a second GL driver for the tests: zink over lavapipe (Mesa's Vulkan drivers)

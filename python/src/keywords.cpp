@@ -398,7 +398,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"focal_length_mm", Kind::Float}, {"sensor_width_mm", Kind::Float},
             {"background", Kind::Numbers},   {"write_cameras", Kind::Flag},
             {"strict", Kind::Flag},          {"png_compression", Kind::Text},
-            {"write", Kind::TextList},
+            {"write", Kind::TextList},      {"depth_format", Kind::Text},
         };
         s.insert(s.end(), std::begin(kComposeSpecs), std::end(kComposeSpecs));
         return s;
@@ -479,6 +479,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     if (auto* v = get("depth")) r.outputs.depth = v->flag;
     if (auto* v = get("write_cameras")) r.outputs.cameras = v->flag;
     if (auto* v = get("png_compression")) r.outputs.pngCompression = v->text;
+    if (auto* v = get("depth_format")) r.outputs.depthFormat = v->text;
     if (auto* v = get("write")) {  // write=["views", "depth"] or "views,depth", as --write
         std::string list;
         for (const std::string& w : v->list) list += (list.empty() ? "" : ",") + w;

@@ -118,3 +118,11 @@ def test_an_ignored_keyword_is_a_warning_in_the_notes():
     assert "warning: --shadow-map-size is ignored without --shadows" in r.rig["notes"]
     assert not any("is ignored" in n for n in mvr.render(size=(16, 12), shadows=True,
                                                        shadow_map_size=512).rig["notes"])
+
+
+def test_depth_format_exr_writes_distances_beside_the_views(tmp_path):
+    r = mvr.render(views=1, size=(32, 24), depth=True, depth_format="exr", output=str(tmp_path))
+    assert sorted(os.listdir(tmp_path)) == ["depth-0.exr", "view-0.png"]
+    assert (tmp_path / "depth-0.exr").read_bytes()[:4] == b"\x76\x2f\x31\x01"  # OpenEXR's magic
+    with pytest.raises(ValueError, match="--depth-format tiff: expected png16 or exr"):
+        mvr.render(views=1, size=(16, 12), depth=True, depth_format="tiff")

@@ -11,6 +11,7 @@
 
 #include <fmt/core.h>
 
+#include "mvr/io/exr.h"
 #include "mvr/io/png.h"
 #include "mvr/io/scene_io.h"
 #include "mvr/session/cameras.h"
@@ -70,10 +71,22 @@ Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const Render
     for (std::size_t v = 0; v < out.color.size(); ++v) {
         if (outputs.views) writeImage(dir / fmt::format("view-{}.png", v), &out.color[v]);
         if (outputs.depth && v < out.depth.size()) {
-            auto dpath = dir / fmt::format("depth-{}.png", v);
+            auto dpath = dir / fmt::format("depth-{}.{}", v, outputs.depthExr ? "exr" : "png");
             written.paths.push_back(dpath.string());
             const DepthImage* d = &out.depth[v];
-            jobs.push_back([dpath = std::move(dpath), d, png] { return writeDepthPng(dpath, *d, png); });
+            if (outputs.depthExr && v < rig.views.size()) {
+                // Window depth to eye-space distance, with this view's projection.
+                const glm::mat4& p = rig.views[v].clipFromView;
+                jobs.push_back([dpath = std::move(dpath), d, p22 = p[2][2], p32 = p[3][2]] {
+                    std::vector<float> distance(d->depth.size());
+                    for (std::size_t i = 0; i < distance.size(); ++i)
+                        distance[i] = distanceOfDepth(p22, p32, d->depth[i]);
+                    return writeDepthExr(dpath, d->width, d->height, distance);
+                });
+            } else {
+                jobs.push_back(
+                    [dpath = std::move(dpath), d, png] { return writeDepthPng(dpath, *d, png); });
+            }
         }
     }
     if (out.color.size() == 2 && outputs.composites) {
@@ -123,6 +136,7 @@ FrameOutputs frameOutputs(const Prepared& p) {
     o.compose = p.compose;
     o.cameras = p.write.cameras;
     o.png = p.png;
+    o.depthExr = p.depthExr;
     o.views = p.write.views;
     o.composites = p.write.composites;
     return o;

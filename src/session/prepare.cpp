@@ -378,6 +378,8 @@ std::vector<std::string> ignoredOptionWarnings(const RenderRecipe& r,
         for (const char* name : {"--fps", "--threads", "--gather-stats"})
             warn(name, "without a sequence (--frames, --orbit or --camera-path)");
     }
+    if (!r.outputs.depth && r.outputs.write.find("depth") == std::string::npos)
+        warn("--depth-format", "without --depth");
     if (r.sequence.video.empty()) {
         for (const char* name : {"--codec", "--crf", "--encoder-preset"}) warn(name, "without --video");
     }
@@ -717,6 +719,11 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     auto png = parsePngCompression(r.outputs.pngCompression);
     if (!png) return png.status();
     out.png = *png;
+    if (r.outputs.depthFormat != "png16" && r.outputs.depthFormat != "exr") {
+        return usageError(fmt::format("--depth-format {}: expected png16 or exr",
+                                      r.outputs.depthFormat));
+    }
+    out.depthExr = r.outputs.depthFormat == "exr";
     if (out.display) {
         displayOutputs(*out.display, r.outputs.calibrationGiven,
                        r.outputs.quiltGiven || out.rig.viewCount() != out.display->views,

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -17,6 +18,7 @@
 
 #include "cli_util.h"
 #include "mvr/core/image.h"
+#include "mvr/io/exr.h"
 #include "mvr/io/png.h"
 
 namespace mvr {
@@ -86,6 +88,26 @@ TEST_F(Cli, DefaultSceneWritesViewsAndAnaglyph) {
     auto left = readPng(mDir / "out/view-0.png");
     auto right = readPng(mDir / "out/view-1.png");
     EXPECT_GT(compareImages(*left, *right).differingPixels, 100);  // two different eyes
+}
+
+// --depth-format exr: a plane at z = 0 seen from (0, 0, 5) looking down -Z is at eye-space
+// distance 5 everywhere it is drawn (the test's own geometry), +inf where it is not; read back
+// with OpenEXR's reader.
+TEST_F(Cli, ExrDepthIsTheEyeSpaceDistance) {
+    write("plane.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n");
+    const CliRun r = run("render plane.obj --views 1 --size 64x48 --camera-position 0,0,5 "
+                         "--look-at 0,0,0 --depth --depth-format exr --write depth -q -o e");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto depth = readDepthExr(mDir / "e/depth-0.exr");
+    ASSERT_TRUE(depth) << depth.status().message();
+    ASSERT_EQ(depth->width, 64);
+    ASSERT_EQ(depth->height, 48);
+    EXPECT_NEAR(depth->distance[24 * 64 + 32], 5.0f, 1e-3f);  // the centre: on the plane
+    EXPECT_NEAR(depth->distance[10 * 64 + 40], 5.0f, 1e-3f);  // off-centre: the same plane
+    EXPECT_TRUE(std::isinf(depth->distance[0]));               // a corner: 2.07 > 1 half-height
+    EXPECT_FALSE(std::filesystem::exists(mDir / "e/depth-0.png"));
+    expectError("render --depth --depth-format tiff -o x", 1,
+                "--depth-format tiff: expected png16 or exr");
 }
 
 // --write chooses the files: each kind alone, and a display preset's default (its quilt).

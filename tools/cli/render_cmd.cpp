@@ -32,6 +32,7 @@ struct RenderOptions {
     bool depth = false;
     bool cameras = false;  ///< --write-cameras
     std::string pngCompression = "fast";  ///< --png-compression
+    std::string depthFormat = "png16";    ///< --depth-format
     std::string write;                    ///< --write: what is written (empty: the defaults)
     bool quiet = false;
     bool check = false;
@@ -85,6 +86,7 @@ session::RenderRecipe recipeOf(const RenderOptions& o) {
     r.outputs.depth = o.depth;
     r.outputs.cameras = o.cameras;
     r.outputs.pngCompression = o.pngCompression;
+    r.outputs.depthFormat = o.depthFormat;
     r.outputs.write = o.write;
     r.outputs.reportJson = o.reportJson;
     r.outputs.compose = o.compose;
@@ -215,6 +217,10 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
         "measured)");
     app->add_option("-o,--output", o->outDir, "Output directory")->default_val(o->outDir);
     app->add_flag("--depth", o->depth, "Also write depth-0.png ... (16-bit, near = black)");
+    app->add_option("--depth-format", o->depthFormat,
+                    "The depth files: png16 (depth-N.png, 16-bit, near = black) or exr "
+                    "(depth-N.exr: linear eye-space distance in world units, +inf where empty)")
+        ->default_val(o->depthFormat);
     app->add_option("--png-compression", o->pngCompression,
                     "PNG compression, lossless in every mode: fast (zlib level 1: ~4x faster "
                     "to write, ~10 % larger), default (libpng's), small (level 9, slowest)")

@@ -31,6 +31,7 @@ struct FrameOutputs {
     /// The PNGs' compression: Fast by default (zlib level 1: ~3.7x faster to write than
     /// libpng's default for ~10 % more bytes; the pixels are the same in every mode).
     PngCompression png = PngCompression::Fast;
+    bool depthExr = false;   ///< depth-N.exr (distances) instead of depth-N.png
     bool views = true;       ///< view-N.png
     bool composites = true;  ///< anaglyph.png for a pair and the formats' files
     /// Whether a frame of `viewCount` views (`depthViews` with depth) writes any file.

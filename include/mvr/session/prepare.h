@@ -67,6 +67,7 @@ struct Prepared {
     composite::ComposeOptions compose;
     PngCompression png = PngCompression::Fast;  ///< the recipe's outputs.pngCompression
     WriteSet write;  ///< what is written (writeSetOf())
+    bool depthExr = false;  ///< the recipe's outputs.depthFormat is exr
 };
 
 /// Where prepare() sends the warnings of loading models ("warning: ..."), as they happen.

@@ -59,6 +59,9 @@ struct OutputRecipe {
     bool depth = false;                ///< also depth-N.png (16-bit, near = black)
     bool cameras = false;              ///< also cameras.json (mvr/session/cameras.h)
     std::string pngCompression = "fast";  ///< fast | default | small (PngCompression)
+    /// The depth files: png16 (depth-N.png, 16-bit, near = black) or exr (depth-N.exr, linear
+    /// eye-space distance in world units: mvr/io/exr.h).
+    std::string depthFormat = "png16";
     /// What is written (--write): a comma list of views, depth, composites, cameras, video;
     /// empty: the defaults (prepare()'s WriteSet). depth and cameras also follow `depth` and
     /// `cameras`.
