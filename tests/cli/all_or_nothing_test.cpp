@@ -3,12 +3,15 @@
 //  - Only regular files are read: a FIFO blocks its reader, /dev/zero and /dev/urandom never
 //    end. Each `mvr` run here is wrapped in `timeout 20`, so a regression fails (exit 124)
 //    instead of hanging the test run.
+//  - Every --format is checked against the views and their size before anything is rendered:
+//    the -o directory is left exactly as it was (not even created).
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 
 #include <fmt/core.h>
@@ -66,6 +69,15 @@ protected:
     void write(const std::string& name, const std::string& bytes) const {
         std::ofstream(mDir / name, std::ios::binary) << bytes;
     }
+    /// The names in a directory of the test's (empty when there is none).
+    std::set<std::string> listing(const std::string& name) const {
+        std::set<std::string> names;
+        std::error_code ec;
+        for (const auto& e : std::filesystem::directory_iterator(mDir / name, ec))
+            names.insert(e.path().filename().string());
+        return names;
+    }
+
     /// A one-triangle glTF 2.0 whose one buffer is the external file `bin`.
     void writeGltf(const std::string& name, const std::string& bin) const {
         write(name, fmt::format(R"({{
@@ -144,6 +156,45 @@ TEST_F(AllOrNothing, OtherInputFilesThatAreFifosAreRefused) {
         const std::string args = "render --size 16x12 -o out " + c.option;
         expectOneError(run(args), args, 0, {c.file, "not a regular file"});
         EXPECT_FALSE(std::filesystem::exists(mDir / "out")) << args;
+    }
+}
+
+// ---- B: formats are checked before anything is written ------------------------------------------
+
+TEST_F(AllOrNothing, AFormatTheViewsCannotMakeWritesNothing) {
+    struct Case {
+        std::string args, format, why;
+    };
+    const Case cases[] = {
+        {"--size 64x48 --views 4 --format jps", "jps", "needs 2 views (got 4)"},
+        {"--size 64x48 --views 4 --format sbs", "sbs", "needs 2 views (got 4)"},
+        {"--size 64x48 --views 4 --format anaglyph-dubois", "anaglyph-dubois",
+         "needs 2 views (got 4)"},
+        {"--size 64x48 --views 4 --format anaglyph-dubois-gm", "anaglyph-dubois-gm",
+         "needs 2 views (got 4)"},
+        {"--size 64x48 --format hdmi-frame-packing", "hdmi-frame-packing",
+         "no HDMI 1.4a frame packing"},
+        {"--size 63x48 --format sbs-half", "sbs-half", "odd"},
+        {"--size 64x48 --views 4 --format sbs --frames 1", "sbs", "needs 2 views (got 4)"},
+        {"--size 64x48 --views 1 --format mpo", "mpo", "views (got 1)"},
+    };
+    for (const Case& c : cases) {
+        for (const bool existed : {false, true}) {
+            std::filesystem::remove_all(mDir / "o");
+            if (existed) {
+                std::filesystem::create_directories(mDir / "o");
+                write("o/keep.txt", "kept");
+            }
+            const std::string args = "render " + c.args + " -o o";
+            const CliRun r = run(args);
+            expectOneError(r, args, 1, {"--format " + c.format, c.why});
+            if (existed) {
+                EXPECT_EQ(listing("o"), std::set<std::string>{"keep.txt"}) << args;
+                EXPECT_EQ(test::slurp(mDir / "o" / "keep.txt"), "kept") << args;
+            } else {
+                EXPECT_FALSE(std::filesystem::exists(mDir / "o")) << args;
+            }
+        }
     }
 }
 
