@@ -371,7 +371,8 @@ Status checkFormats(const RenderRecipe& r, const Prepared& p) {
                                       : fmt::format("--display {}: its format {}", r.display, name);
         auto info = composite::findFormat(name);
         if (!info)
-            return Status(info.status().code(), fmt::format("{}: {}", who, info.status().message()));
+            return Status(info.status().code(),
+                          fmt::format("{}: {}", who, info.status().message()));
         composite::ComposeOptions compose = p.compose;
         compose.baseline = p.rig.interaxial;  // as writeOutputs() composes them
         compose.convergence = p.rig.convergence;

@@ -53,11 +53,12 @@ protected:
         EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << args << ": " << r.err;
         // The error, and for an option's value CLI11 refuses, the usage hint after it.
         const std::string rest = r.err.substr(std::min(r.err.size(), r.err.find('\n') + 1));
-        EXPECT_TRUE(rest.empty() || rest.rfind("run `mvr --help`", 0) == 0) << args << ": " << r.err;
+        EXPECT_TRUE(rest.empty() || rest.rfind("run `mvr --help`", 0) == 0)
+            << args << ": " << r.err;
         EXPECT_LE(std::count(r.err.begin(), r.err.end(), '\n'), 2) << args << ": " << r.err;
         for (const std::string& needle : needles)
-            EXPECT_NE(r.err.find(needle), std::string::npos) << args << ": no '" << needle
-                                                             << "' in: " << r.err;
+            EXPECT_NE(r.err.find(needle), std::string::npos)
+                << args << ": no '" << needle << "' in: " << r.err;
     }
 
     void mkfifo(const std::string& name) const {
@@ -109,8 +110,8 @@ TEST_F(AllOrNothing, ComposeRefusesDevicesBehindSymlinks) {
     symlink("/dev/zero", "z.png");
     symlink("/dev/urandom", "u.jpg");
     symlink("/dev/zero", "z.mpo");
-    for (const std::string args : {"compose z.png z.png -o out.png", "compose u.jpg u.jpg -o out.png",
-                                   "compose z.mpo -o out.png"}) {
+    for (const std::string args : {"compose z.png z.png -o out.png",
+                                   "compose u.jpg u.jpg -o out.png", "compose z.mpo -o out.png"}) {
         const CliRun r = run(args);
         const std::string culprit = args.substr(8, args.find(' ', 8) - 8);
         expectOneError(r, args, 0, {culprit, "not a regular file"});
