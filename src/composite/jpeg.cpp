@@ -13,6 +13,7 @@
 #include <jpeglib.h>
 
 #include "mvr/composite/layout.h"
+#include "mvr/core/input_file.h"
 
 namespace mvr::composite {
 namespace {
@@ -431,12 +432,8 @@ Result<std::vector<Image>> splitJps(const Image& picture, const std::string& wha
 
 // ---- public: files -----------------------------------------------------------------------------
 Result<std::vector<std::uint8_t>> readFileBytes(const std::filesystem::path& path) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec))
-        return inputError(fmt::format("{}: file not found", path.string()));
-    if (std::filesystem::is_directory(path, ec))
-        return inputError(
-            fmt::format("{}: is a directory (expected an image file)", path.string()));
+    // A regular file only: a FIFO or a device (/dev/zero, /dev/urandom) would block or never end.
+    if (Status s = checkRegularFile(path, path.string()); !s) return s;
     std::ifstream in(path, std::ios::binary);
     if (!in) return inputError(fmt::format("{}: cannot open for reading", path.string()));
     std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "model_guard.h"
+#include "mvr/core/input_file.h"
 
 namespace mvr::detail {
 namespace {
@@ -22,6 +23,7 @@ constexpr std::uintmax_t kMaxFile = std::uintmax_t(1) << 30;
 
 Result<std::vector<std::uint8_t>> readBytes(const std::filesystem::path& file,
                                             const std::string& what) {
+    if (Status s = checkRegularFile(file, what); !s) return s;  // no FIFO, device, directory
     std::error_code ec;
     const std::uintmax_t size = std::filesystem::file_size(file, ec);
     if (ec) return inputError(fmt::format("{}: cannot be read", what));

@@ -16,6 +16,7 @@
 #include <meshoptimizer.h>
 
 #include "model_guard.h"
+#include "mvr/core/input_file.h"
 #include "ply.h"
 
 namespace mvr {
@@ -167,8 +168,7 @@ Result<detail::ModelPreflight> detail::preflightModel(const std::filesystem::pat
                                                       const std::string& what) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return inputError(what + ": file not found");
-    if (!std::filesystem::is_regular_file(path, ec))
-        return inputError(what + ": not a regular file");
+    if (Status s = checkRegularFile(path, what); !s) return s;  // no FIFO, device, directory
     {
         std::ifstream probe(path, std::ios::binary);
         if (!probe) return inputError(what + ": cannot open for reading");

@@ -13,6 +13,8 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include "mvr/core/input_file.h"
+
 namespace mvr::detail {
 namespace {
 
@@ -246,8 +248,17 @@ Status checkGltfBounds(const std::filesystem::path& path, const std::string& wha
             if (auto why = dataUriHeaderBad(u)) return bad(fmt::format("buffer {} has {}", i, *why));
             have = dataUriBytes(u);
             if (!have && u.rfind("data:", 0) != 0) {
-                const std::uintmax_t n =
-                    std::filesystem::file_size(path.parent_path() / uriDecode(u), ec);
+                // An external .bin: a regular file only (assimp would block on a FIFO and
+                // read a device such as /dev/zero forever). A missing one is assimp's to report.
+                const std::filesystem::path file = path.parent_path() / uriDecode(u);
+                if (std::filesystem::exists(file, ec)) {
+                    if (Status s = checkRegularFile(
+                            file, fmt::format("{}: buffer {} ({})", what, i, file.string()));
+                        !s) {
+                        return s;
+                    }
+                }
+                const std::uintmax_t n = std::filesystem::file_size(file, ec);
                 if (!ec) have = n;
             }
         }
@@ -369,7 +380,11 @@ bool ModelIOSystem::Exists(const char* file) const {
 }
 
 Assimp::IOStream* ModelIOSystem::Open(const char* file, const char* mode) {
-    return hidden(file) ? nullptr : Assimp::DefaultIOSystem::Open(file, mode);
+    // Whatever else assimp opens (a buffer, an image, an included file): a regular file only,
+    // never a FIFO (it blocks) or a device (/dev/zero never ends). checkGltfBounds() names a
+    // glTF's buffers first; here assimp sees a file it cannot open.
+    if (hidden(file) || (file && !checkRegularFile(file, file))) return nullptr;
+    return Assimp::DefaultIOSystem::Open(file, mode);
 }
 
 }  // namespace mvr::detail

@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "mvr/core/input_file.h"
+
 namespace mvr {
 namespace {
 
@@ -65,9 +67,8 @@ int optionArgs(const std::string& option, bool& upToThree) {
 }
 
 Result<std::string> readAll(const std::filesystem::path& path, const char* fn) {
+    if (Status s = checkRegularFile(path, fmt::format("{}: {}", fn, path.string())); !s) return s;
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        return inputError(fmt::format("{}: {}: file not found", fn, path.string()));
     const std::uintmax_t size = std::filesystem::file_size(path, ec);
     if (ec) return inputError(fmt::format("{}: {}: cannot be read", fn, path.string()));
     if (size > kMaxMtlBytes)

@@ -11,6 +11,8 @@
 #include <fmt/core.h>
 #include <png.h>
 
+#include "mvr/core/input_file.h"
+
 namespace mvr {
 
 namespace {
@@ -151,13 +153,10 @@ Status writeDepthPng(const std::filesystem::path& path, const DepthImage& depth,
 }
 
 Result<Image> readPng(const std::filesystem::path& path) {
+    // A regular file only: a FIFO or a device (/dev/zero) would block or never end.
+    if (Status s = checkRegularFile(path, fmt::format("mvr::readPng(): {}", path.string())); !s)
+        return s;
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) {
-        return inputError(fmt::format("mvr::readPng(): {}: file not found", path.string()));
-    }
-    if (std::filesystem::is_directory(path, ec)) {
-        return inputError(fmt::format("mvr::readPng(): {}: is a directory", path.string()));
-    }
     std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
     if (!file) {
         return inputError(

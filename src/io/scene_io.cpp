@@ -31,6 +31,7 @@
 
 #include "gltf_animation.h"
 #include "model_guard.h"
+#include "mvr/core/input_file.h"
 #include "mvr/io/jpeg.h"
 #include "mvr/io/mesh_io.h"
 #include "mvr/io/mtl.h"
@@ -71,9 +72,8 @@ Result<Image> decodeImageBytes(std::span<const std::uint8_t> data, const std::st
 }
 
 Result<Image> readImageFile(const std::filesystem::path& path, const std::string& what) {
+    if (Status s = checkRegularFile(path, what); !s) return s;  // no FIFO, device, directory
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        return inputError(fmt::format("{}: file not found", what));
     const std::uintmax_t size = std::filesystem::file_size(path, ec);
     if (ec) return inputError(fmt::format("{}: cannot be read", what));
     if (size > (std::uintmax_t(256) << 20))
@@ -624,8 +624,7 @@ Result<Sky> loadSky(const std::string& spec) {
     std::error_code ec;
     if (!std::filesystem::exists(spec, ec))
         return inputError(fmt::format("{}: file not found (a PNG/JPEG map, or 'gradient')", what));
-    if (!std::filesystem::is_regular_file(spec, ec))
-        return inputError(fmt::format("{}: not a regular file", what));
+    if (Status s = checkRegularFile(spec, what); !s) return s;  // no FIFO, device, directory
     std::uint8_t head[8] = {};
     std::ifstream(spec, std::ios::binary).read(reinterpret_cast<char*>(head), sizeof head);
     static const std::uint8_t kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};

@@ -12,6 +12,8 @@
 #include <fmt/core.h>
 #include <glm/gtc/matrix_access.hpp>
 
+#include "mvr/core/input_file.h"
+
 namespace mvr::session {
 namespace {
 
@@ -62,6 +64,9 @@ Result<std::vector<double>> matrixNumbers(const std::string& value) {
     std::string where = value;
     if (words.size() != 16) {
         std::error_code ec;
+        if (std::filesystem::exists(value, ec)) {  // a file: a regular one (no FIFO, device)
+            if (Status s = checkRegularFile(value, "--camera-matrix " + value); !s) return s;
+        }
         if (!std::filesystem::is_regular_file(value, ec)) {
             return usageError(fmt::format(
                 "--camera-matrix {}: expected 16 numbers (row-major world-from-camera) or a file "

@@ -10,6 +10,8 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
+#include "mvr/core/input_file.h"
+
 namespace mvr::session {
 
 namespace {
@@ -30,8 +32,7 @@ Result<CameraPath> readCameraPath(const std::string& file) {
     std::error_code ec;
     if (!std::filesystem::exists(file, ec))
         return inputError(fmt::format("--camera-path {}: file not found", file));
-    if (!std::filesystem::is_regular_file(file, ec))
-        return inputError(fmt::format("--camera-path {}: not a regular file", file));
+    if (Status s = checkRegularFile(file, "--camera-path " + file); !s) return s;
     std::ifstream in(file);
     if (!in) return inputError(fmt::format("--camera-path {}: cannot read the file", file));
     nlohmann::json doc;

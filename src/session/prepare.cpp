@@ -356,6 +356,38 @@ Result<Scene> loadModels(const std::vector<std::string>& args,
     return combined;
 }
 
+/// Every format to write takes the rig's views at their size (composite::outputSize(), what
+/// compose() refuses), checked before anything is rendered or written: a refused format must
+/// leave the output directory as it was, not half-written (issue 44). A format the recipe gives
+/// is named as its --format; one a display preset adds, as the --display's. A recipe that
+/// neither writes files nor names formats (the viewer's: it composes for its window, at the
+/// window's size) is not checked.
+Status checkFormats(const RenderRecipe& r, const Prepared& p) {
+    if (r.outputs.directory.empty() && r.outputs.formats.empty()) return Status::ok();
+    for (const std::string& name : p.formats) {
+        const bool given =
+            std::find(r.outputs.formats.begin(), r.outputs.formats.end(), name) !=
+            r.outputs.formats.end();
+        const std::string who = given ? fmt::format("--format {}", name)
+                                      : fmt::format("--display {}: its format {}", r.display, name);
+        auto info = composite::findFormat(name);
+        if (!info)
+            return Status(info.status().code(),
+                          fmt::format("{}: {}", who, info.status().message()));
+        composite::ComposeOptions compose = p.compose;
+        compose.baseline = p.rig.interaxial;  // as writeOutputs() composes them
+        compose.convergence = p.rig.convergence;
+        auto size = composite::outputSize(*info, p.rig.viewCount(), p.settings.width,
+                                          p.settings.height, compose, who);
+        if (!size) {
+            const std::string& why = size.status().message();
+            return Status(size.status().code(),
+                          why.rfind(who, 0) == 0 ? why : fmt::format("{}: {}", who, why));
+        }
+    }
+    return Status::ok();
+}
+
 }  // namespace
 
 std::vector<std::string> ignoredOptionWarnings(const RenderRecipe& r,
@@ -737,6 +769,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
             "--quilt lays out a quilt, and no quilt is written (give --format quilt, or a "
             "--display whose output is a quilt)");
     }
+    if (Status s = checkFormats(r, out); !s) return s;
     return out;
 }
 

@@ -19,6 +19,7 @@
 #include "mvr/composite/compose.h"
 #include "mvr/session/outputs.h"
 #include "mvr/session/prepare.h"
+#include "mvr/session/sequence.h"
 
 namespace mvr::cli {
 namespace {
@@ -122,6 +123,9 @@ int runRender(const RenderOptions& o) {
     if (!surfaces) return fail(surfaces.status());
 
     if (Status s = checkSequenceOptions(recipe.sequence); !s) return fail(s);
+    if (recipe.sequence.active()) {  // its frames and --camera-path file, before -o is made
+        if (auto plan = session::planSequence(recipe.sequence); !plan) return fail(plan.status());
+    }
 
     std::error_code ec;
     std::filesystem::create_directories(o.outDir, ec);

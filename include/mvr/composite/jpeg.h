@@ -64,7 +64,8 @@ Result<std::vector<std::uint8_t>> encodeJpsPicture(const Image& picture, int qua
 /// Splits a decoded JPS picture (even width) into {left, right}. Errors: Input for odd width.
 Result<std::vector<Image>> splitJps(const Image& picture, const std::string& what);
 
-/// Whole-file helpers. Errors: Input (read) / Output (write) naming the path.
+/// Whole-file helpers. Errors: Input (read) / Output (write) naming the path. Only a regular
+/// file is read ("PATH: not a regular file (a FIFO)"): a FIFO or a device is never opened.
 Result<std::vector<std::uint8_t>> readFileBytes(const std::filesystem::path& path);
 Status writeFileBytes(const std::filesystem::path& path, std::span<const std::uint8_t> bytes);
 Result<Image> readJpeg(const std::filesystem::path& path);

@@ -18,7 +18,8 @@ void optimizeMeshLocality(Mesh& mesh);
 /// Loads every mesh in a model file (OBJ, PLY, glTF 2.0 .gltf/.glb; whatever assimp reads) and
 /// merges them into one mesh with node transforms applied. Triangulates, generates smooth
 /// normals when absent, validates, and reorders for locality.
-/// Errors: ErrorCode::Input — "mvr::loadMesh(): PATH: file not found" / "not a readable model
+/// Errors: ErrorCode::Input — "mvr::loadMesh(): PATH: file not found" / "not a regular file (a
+/// FIFO)" (the model, or a glTF's external buffer: never opened) / "not a readable model
 /// (assimp: ...)" / "has no triangles" / ...
 /// `warnings`: what was skipped (unknown PLY header lines), when given.
 Result<Mesh> loadMesh(const std::filesystem::path& path,

@@ -30,7 +30,8 @@ struct MtlMaterial {
 Result<std::vector<MtlMaterial>> parseMtl(std::string_view text, const std::string& what);
 
 /// Reads and parses an MTL file (at most 16 MiB). Errors as parseMtl(), plus
-/// "mvr::loadMtl(): PATH: file not found" / "cannot be read" / "is larger than 16 MiB".
+/// "mvr::loadMtl(): PATH: file not found" / "not a regular file (a FIFO)" / "cannot be read" /
+/// "is larger than 16 MiB".
 Result<std::vector<MtlMaterial>> loadMtl(const std::filesystem::path& path);
 
 /// The materials of every `mtllib` an OBJ file names (paths relative to the OBJ's folder), in

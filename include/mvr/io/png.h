@@ -28,7 +28,8 @@ Status writePng(const std::filesystem::path& path, const Image& image,
                 PngCompression compression = PngCompression::Fast);
 
 /// Reads a PNG file (any bit depth / color type, converted to RGBA8) through libpng.
-/// Errors: ErrorCode::Input naming the path and the problem (missing, not a PNG, truncated).
+/// Errors: ErrorCode::Input naming the path and the problem (missing, not a regular file — a
+/// directory, FIFO or device is never opened —, not a PNG, truncated).
 Result<Image> readPng(const std::filesystem::path& path);
 
 /// Decodes PNG bytes in memory (any bit depth / color type, converted to RGBA8) through

@@ -74,7 +74,10 @@ struct Prepared {
 /// Default (none given): stderr, one line each.
 using WarningSink = std::function<void(const std::string&)>;
 
-/// Loads the models (or the named scene), builds the rig and settings; validates everything.
+/// Loads the models (or the named scene), builds the rig and settings; validates everything,
+/// every format to write included: each takes the rig's views at their size (outputSize()), so
+/// that a render fails before it writes anything ("--format jps: needs 2 views (got 4)"; only
+/// when the recipe writes files or names formats).
 /// Errors: ErrorCode::Usage for bad values (the message names the `mvr render` option), Input
 /// for unreadable models, the backends' errors for the depth pre-pass.
 Result<Prepared> prepare(const RenderRecipe& recipe, const WarningSink& warn = {});
