@@ -103,7 +103,9 @@ TEST_F(Cli, ExrDepthIsTheEyeSpaceDistance) {
     ASSERT_EQ(depth->width, 64);
     ASSERT_EQ(depth->height, 48);
     EXPECT_NEAR(depth->distance[24 * 64 + 32], 5.0f, 1e-3f);  // the centre: on the plane
-    EXPECT_NEAR(depth->distance[10 * 64 + 40], 5.0f, 1e-3f);  // off-centre: the same plane
+    // Pixel (40, 16): x = 0.27 and y = 0.31 of the half-extents 2.76 x 2.07 at distance 5
+    // (fov 45 degrees, aspect 4:3), so (0.73, 0.65) on the plane: still distance 5.
+    EXPECT_NEAR(depth->distance[16 * 64 + 40], 5.0f, 1e-3f);
     EXPECT_TRUE(std::isinf(depth->distance[0]));               // a corner: 2.07 > 1 half-height
     EXPECT_FALSE(std::filesystem::exists(mDir / "e/depth-0.png"));
     expectError("render --depth --depth-format tiff -o x", 1,

@@ -1,6 +1,6 @@
 // tests/gl/gl_test_util.h — shared fixtures of the GL tests: one backend per process (one EGL
 // context); small scenes, rigs and image-difference helpers from the conformance suite's
-// test_scenes.h.
+// tests/support/test_scenes.h.
 #pragma once
 
 #include <cstdlib>
@@ -17,7 +17,7 @@
 #include "mvr/core/scene.h"
 #include "mvr/gl/gl_backend.h"
 #include "../conformance/gl_requirements.h"
-#include "../conformance/test_scenes.h"
+#include "test_scenes.h"
 #include "mvr_test_support.h"
 
 namespace mvr::gl::test {
@@ -40,7 +40,7 @@ inline mvr::Backend& backend() {
         if (!wrong_.empty()) FAIL() << wrong_;                                                    \
     } while (0)
 
-// The scenes, rigs and measures the cross-backend tests share (tests/conformance/test_scenes.h).
+// The scenes, rigs and measures the cross-backend tests share (tests/support/test_scenes.h).
 using ::mvr::test::cameraFor;
 using ::mvr::test::defaultScene;
 using ::mvr::test::depthMismatch;

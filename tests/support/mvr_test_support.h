@@ -9,6 +9,10 @@
 // A missing `mvr` binary is never a skip: the same build builds it (FAIL, see requireMvr()).
 // No raw GTEST_SKIP outside tests/support (grep -rn GTEST_SKIP tests finds only this file).
 //
+// Scenes: test_scenes.h (beside this header) holds the scenes, rigs and image measures the
+// cross-backend tests share (conformance, raster, gl, vk); images are compared with
+// mvr::compareImages() (mvr/core/image.h).
+//
 // Processes: runMvr(dir, args) runs the built `mvr` with stdout and stderr apart; runShell(command)
 // runs any command line with both together. No test spawns a process another way (the viewer's
 // Xvfb server, which must outlive a command, is the one exception).

@@ -10,7 +10,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "../conformance/test_scenes.h"
+#include "test_scenes.h"
 #include "../conformance/tolerances.h"
 #include "mvr/backends.h"
 #include "mvr/vk/vk_backend.h"

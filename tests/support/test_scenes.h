@@ -1,4 +1,4 @@
-// tests/conformance/test_scenes.h — the scenes, rigs and image measures the cross-backend tests
+// tests/support/test_scenes.h — the scenes, rigs and image measures the cross-backend tests
 // share (the conformance suite here, tests/gl through gl_test_util.h). Backend-neutral: core
 // headers only. Models come from MVR_SHARED_DIR/models (ctest sets it; the build's
 // MVR_SHARED_DIR otherwise).
