@@ -12,47 +12,19 @@
 #include <fmt/core.h>
 #include <jpeglib.h>
 
+#include "jpeg_errors.h"  // src/io: libjpeg error handling, shared with the decoder
 #include "mvr/composite/layout.h"
 #include "mvr/core/input_file.h"
 
 namespace mvr::composite {
 namespace {
 
-// ---- libjpeg error handling -------------------------------------------------------------------
-// libjpeg reports fatal errors through error_exit, which must not return: we longjmp back to the
-// setjmp in the calling function. Everything that lives across the setjmp is heap state owned
-// by a unique_ptr created before it, so no C++ object is skipped or left indeterminate.
-// Warnings (corrupt data, premature end of file) are recorded: libjpeg would otherwise hand
-// back a gray-filled picture, and mvr refuses to return a silently wrong image.
-struct ErrorManager {
-    jpeg_error_mgr pub{};
-    std::jmp_buf jump{};
-    char message[JMSG_LENGTH_MAX] = {};
-    char warning[JMSG_LENGTH_MAX] = {};
-    int warnings = 0;
-};
-
-[[noreturn]] void onJpegError(j_common_ptr cinfo) {
-    auto* err = reinterpret_cast<ErrorManager*>(cinfo->err);
-    (*cinfo->err->format_message)(cinfo, err->message);
-    std::longjmp(err->jump, 1);
-}
-
-void onJpegMessage(j_common_ptr cinfo, int level) {
-    if (level >= 0) return;  // trace messages
-    auto* err = reinterpret_cast<ErrorManager*>(cinfo->err);
-    if (err->warnings++ == 0) (*cinfo->err->format_message)(cinfo, err->warning);
-}
-
-void installErrorManager(ErrorManager& err) {
-    jpeg_std_error(&err.pub);
-    err.pub.error_exit = onJpegError;
-    err.pub.emit_message = onJpegMessage;
-}
+using ::mvr::detail::JpegErrors;
+using ::mvr::detail::installJpegErrors;
 
 struct EncodeState {
     jpeg_compress_struct cinfo{};
-    ErrorManager err;
+    JpegErrors err;
     bool created = false;
     unsigned char* buffer = nullptr;
     unsigned long size = 0;
@@ -76,7 +48,7 @@ Result<std::vector<std::uint8_t>> encodeJpegImpl(const Image& image, int quality
         return usageError(fmt::format("{}: image {}x{} exceeds JPEG's 65500 pixels per side", who,
                                       image.width, image.height));
     auto st = std::make_unique<EncodeState>();
-    installErrorManager(st->err);
+    installJpegErrors(st->err);
     st->cinfo.err = &st->err.pub;
     if (setjmp(st->err.jump)) {
         return internalError(fmt::format("{}: libjpeg: {}", who, st->err.message));

@@ -17,6 +17,18 @@ void Image::reset(int w, int h, std::pmr::memory_resource* memory) {
     rgba.resize(static_cast<std::size_t>(w) * h * 4);
 }
 
+void Image::reuseOrReset(int w, int h, std::pmr::memory_resource* memory) {
+    const bool same =
+        !memory && width == w && height == h && rgba.size() == std::size_t(w) * std::size_t(h) * 4;
+    if (!same) reset(w, h, memory);
+}
+
+void DepthImage::reuseOrReset(int w, int h, std::pmr::memory_resource* memory) {
+    const bool same =
+        !memory && width == w && height == h && depth.size() == std::size_t(w) * std::size_t(h);
+    if (!same) reset(w, h, 1.0f, memory);
+}
+
 void DepthImage::reset(int w, int h, float fill, std::pmr::memory_resource* memory) {
     std::destroy_at(&depth);
     std::construct_at(&depth, memory ? memory : std::pmr::get_default_resource());

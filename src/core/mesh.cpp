@@ -1,5 +1,7 @@
 #include "mvr/core/mesh.h"
 
+#include <cstring>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -78,6 +80,30 @@ void computeSmoothNormals(Mesh& mesh) {
         const float len = glm::length(n);
         n = (len > 0.0f && std::isfinite(len)) ? n / len : glm::vec3(0.0f, 0.0f, 1.0f);
     }
+}
+
+namespace {
+std::uint64_t hashBytes(std::uint64_t h, const void* data, std::size_t size) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    std::size_t i = 0;
+    for (; i + 8 <= size; i += 8) {
+        std::uint64_t w;
+        std::memcpy(&w, p + i, 8);
+        h = (h ^ w) * 0x100000001B3ull;
+        h ^= h >> 29;
+    }
+    for (; i < size; ++i) h = (h ^ p[i]) * 0x100000001B3ull;
+    return h ^ size;
+}
+}  // namespace
+
+std::uint64_t contentHash(const Mesh& m) {
+    std::uint64_t h = 0xCBF29CE484222325ull;
+    h = hashBytes(h, m.positions.data(), m.positions.size() * sizeof(glm::vec3));
+    h = hashBytes(h, m.normals.data(), m.normals.size() * sizeof(glm::vec3));
+    h = hashBytes(h, m.indices.data(), m.indices.size() * sizeof(std::uint32_t));
+    h = hashBytes(h, m.texcoords.data(), m.texcoords.size() * sizeof(glm::vec2));
+    return h;
 }
 
 }  // namespace mvr

@@ -30,18 +30,6 @@ std::pmr::memory_resource* depthMemory(OutputBlock* b, std::size_t view) {
     return b ? b->depthMemory(int(view)) : nullptr;
 }
 
-// An image of w×h about to be overwritten whole: kept when it already has that size on the heap
-// (renderInto frame after frame: no allocation, no page faults), else reallocated from `memory`.
-void reuseOrReset(Image& img, int w, int h, std::pmr::memory_resource* memory) {
-    const bool same =
-        !memory && img.width == w && img.height == h && img.rgba.size() == std::size_t(w) * h * 4;
-    if (!same) img.reset(w, h, memory);
-}
-void reuseOrReset(DepthImage& img, int w, int h, std::pmr::memory_resource* memory) {
-    const bool same =
-        !memory && img.width == w && img.height == h && img.depth.size() == std::size_t(w) * h;
-    if (!same) img.reset(w, h, 1.0f, memory);
-}
 
 }  // namespace
 
@@ -80,7 +68,7 @@ std::optional<PendingRead> Renderer::startRead(const Frame& f, RenderOutput& out
             const ViewRegion& r = regions[static_cast<std::size_t>(v)];
             const auto i = static_cast<std::size_t>(f.firstView + v);
             Image& img = out.color[i];
-            reuseOrReset(img, w, h, colorMemory(block, i));
+            img.reuseOrReset(w, h, colorMemory(block, i));
             glGetTextureSubImage(r.color, 0, r.x, r.y, r.layer, w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
                                  static_cast<GLsizei>(pixels * 4), img.rgba.data());
             if (!depth) {
@@ -88,7 +76,7 @@ std::optional<PendingRead> Renderer::startRead(const Frame& f, RenderOutput& out
                 continue;
             }
             DepthImage& d = out.depth[i];
-            reuseOrReset(d, w, h, depthMemory(block, i));
+            d.reuseOrReset(w, h, depthMemory(block, i));
             glGetTextureSubImage(r.depth, 0, r.x, r.y, r.layer, w, h, 1, GL_DEPTH_COMPONENT,
                                  GL_FLOAT, static_cast<GLsizei>(pixels * sizeof(float)),
                                  d.depth.data());
@@ -153,10 +141,10 @@ void Renderer::finishRead(PendingRead& r, RenderOutput& out, const RenderSetting
     for (int v = 0; v < r.views; ++v) {
         const auto i = static_cast<std::size_t>(r.firstView + v);
         const std::size_t o = pixels * 4 * static_cast<std::size_t>(v);
-        reuseOrReset(out.color[i], r.width, r.height, colorMemory(block, i));
+        out.color[i].reuseOrReset(r.width, r.height, colorMemory(block, i));
         std::memcpy(out.color[i].rgba.data(), src + o, pixels * 4);
         if (!r.depth) continue;
-        reuseOrReset(out.depth[i], r.width, r.height, depthMemory(block, i));
+        out.depth[i].reuseOrReset(r.width, r.height, depthMemory(block, i));
         std::memcpy(out.depth[i].depth.data(), src + colorBytes + o, pixels * sizeof(float));
     }
     glUnmapNamedBuffer(rb.buffer.get());

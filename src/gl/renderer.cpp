@@ -18,29 +18,6 @@ double msSince(Clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-// 64-bit content hash, 8 bytes a step (FNV-style mixing; not cryptographic).
-std::uint64_t hashBytes(std::uint64_t h, const void* data, std::size_t size) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    std::size_t i = 0;
-    for (; i + 8 <= size; i += 8) {
-        std::uint64_t w;
-        std::memcpy(&w, p + i, 8);
-        h = (h ^ w) * 0x100000001B3ull;
-        h ^= h >> 29;
-    }
-    for (; i < size; ++i) h = (h ^ p[i]) * 0x100000001B3ull;
-    return h ^ size;
-}
-
-std::uint64_t hashMesh(const Mesh& m) {
-    std::uint64_t h = 0xCBF29CE484222325ull;
-    h = hashBytes(h, m.positions.data(), m.positions.size() * sizeof(glm::vec3));
-    h = hashBytes(h, m.normals.data(), m.normals.size() * sizeof(glm::vec3));
-    h = hashBytes(h, m.indices.data(), m.indices.size() * sizeof(std::uint32_t));
-    h = hashBytes(h, m.texcoords.data(), m.texcoords.size() * sizeof(glm::vec2));
-    return h;
-}
-
 // MVR_GL_GS_EMIT_LIMIT=N: programs whose geometry shader emits more than N vertices are
 // treated as refused by the driver (0 or unset: none are).
 int viewsPerTarget(TargetKind target) {
@@ -277,7 +254,7 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
     frame.meshes.assign(scene.meshes.size(), nullptr);
     for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
         const Mesh& src = scene.meshes[i];
-        const std::uint64_t key = hashMesh(src);
+        const std::uint64_t key = contentHash(src);
         sceneKey = (sceneKey ^ key) * 0x100000001B3ull;
         auto it = mGpu->meshes.find(key);
         if (it == mGpu->meshes.end()) {

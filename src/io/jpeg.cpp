@@ -1,6 +1,6 @@
 // jpeg.cpp — the JPEG decoder through libjpeg-turbo (jpeg.h). The encoder and the JPS / MPO
-// files are mvr::composite's (src/composite/jpeg.cpp), which has its own copy of the small
-// libjpeg error manager below.
+// files are mvr::composite's (src/composite/jpeg.cpp); both handle libjpeg's errors through
+// jpeg_errors.h.
 #include "mvr/io/jpeg.h"
 
 #include <csetjmp>
@@ -11,44 +11,17 @@
 #include <fmt/core.h>
 #include <jpeglib.h>
 
+#include "jpeg_errors.h"
+
 namespace mvr {
 namespace {
 
-// ---- libjpeg error handling -------------------------------------------------------------------
-// libjpeg reports fatal errors through error_exit, which must not return: we longjmp back to the
-// setjmp in the calling function. Everything that lives across the setjmp is heap state owned
-// by a unique_ptr created before it, so no C++ object is skipped or left indeterminate.
-// Warnings (corrupt data, premature end of file) are recorded: libjpeg would otherwise hand
-// back a gray-filled picture, and mvr refuses to return a silently wrong image.
-struct ErrorManager {
-    jpeg_error_mgr pub{};
-    std::jmp_buf jump{};
-    char message[JMSG_LENGTH_MAX] = {};
-    char warning[JMSG_LENGTH_MAX] = {};
-    int warnings = 0;
-};
-
-[[noreturn]] void onJpegError(j_common_ptr cinfo) {
-    auto* err = reinterpret_cast<ErrorManager*>(cinfo->err);
-    (*cinfo->err->format_message)(cinfo, err->message);
-    std::longjmp(err->jump, 1);
-}
-
-void onJpegMessage(j_common_ptr cinfo, int level) {
-    if (level >= 0) return;  // trace messages
-    auto* err = reinterpret_cast<ErrorManager*>(cinfo->err);
-    if (err->warnings++ == 0) (*cinfo->err->format_message)(cinfo, err->warning);
-}
-
-void installErrorManager(ErrorManager& err) {
-    jpeg_std_error(&err.pub);
-    err.pub.error_exit = onJpegError;
-    err.pub.emit_message = onJpegMessage;
-}
+using ::mvr::detail::JpegErrors;
+using ::mvr::detail::installJpegErrors;
 
 struct DecodeState {
     jpeg_decompress_struct cinfo{};
-    ErrorManager err;
+    JpegErrors err;
     bool created = false;
     Image image;
     ~DecodeState() {
@@ -69,7 +42,7 @@ Result<Image> decodeJpeg(std::span<const std::uint8_t> data, const std::string& 
     if (!isJpeg(data))
         return inputError(fmt::format("{}: not a JPEG file (no SOI marker FF D8 FF)", what));
     auto st = std::make_unique<DecodeState>();
-    installErrorManager(st->err);
+    installJpegErrors(st->err);
     st->cinfo.err = &st->err.pub;
     if (setjmp(st->err.jump)) {
         return inputError(fmt::format("{}: corrupt JPEG: {}", what, st->err.message));

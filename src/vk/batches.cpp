@@ -40,26 +40,6 @@ constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr std::size_t kMeshesKept = 32;
 
-std::uint64_t hashBytes(std::uint64_t h, const void* data, std::size_t n) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    std::size_t i = 0;
-    for (; i + 8 <= n; i += 8) {
-        std::uint64_t w;
-        std::memcpy(&w, p + i, 8);
-        h = (h ^ w) * 0x100000001b3ull;
-        h ^= h >> 29;
-    }
-    for (; i < n; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
-    return h ^ n;
-}
-
-std::uint64_t meshKey(const Mesh& m) {
-    std::uint64_t h = 0xcbf29ce484222325ull;
-    h = hashBytes(h, m.positions.data(), m.positions.size() * sizeof(glm::vec3));
-    h = hashBytes(h, m.normals.data(), m.normals.size() * sizeof(glm::vec3));
-    return hashBytes(h, m.indices.data(), m.indices.size() * sizeof(std::uint32_t));
-}
-
 /// Opaque and masked instances in scene order, then the blended ones (lighting.h).
 std::vector<int> drawOrder(const Scene& scene) {
     std::vector<int> order;
@@ -108,16 +88,6 @@ OutputBlock* blockFor(const RenderSettings& s, std::size_t views) {
                    b->height() == s.height
                ? b
                : nullptr;
-}
-void reuseOrReset(mvr::Image& img, int w, int h, std::pmr::memory_resource* memory) {
-    const bool same =
-        !memory && img.width == w && img.height == h && img.rgba.size() == std::size_t(w) * h * 4;
-    if (!same) img.reset(w, h, memory);
-}
-void reuseOrReset(DepthImage& img, int w, int h, std::pmr::memory_resource* memory) {
-    const bool same =
-        !memory && img.width == w && img.height == h && img.depth.size() == std::size_t(w) * h;
-    if (!same) img.reset(w, h, 1.0f, memory);
 }
 
 }  // namespace
@@ -327,7 +297,7 @@ Status Renderer::prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes)
     ++mUseCounter;
     meshes.clear();
     for (const Mesh& mesh : scene.meshes) {
-        const std::uint64_t key = meshKey(mesh);
+        const std::uint64_t key = contentHash(mesh);
         auto it = mMeshes.find(key);
         if (it == mMeshes.end()) {
             while (mMeshes.size() >= kMeshesKept) {  // least recently used, not this frame's
@@ -582,11 +552,11 @@ Status Renderer::finishBatch(Slot& slot, RenderOutput& out, const RenderSettings
     OutputBlock* block = blockFor(s, std::size_t(totalViews));
     for (int k = 0; k < slot.views; ++k) {
         const std::size_t v = std::size_t(slot.firstView + k);
-        reuseOrReset(out.color[v], s.width, s.height, block ? block->colorMemory(int(v)) : nullptr);
+        out.color[v].reuseOrReset(s.width, s.height, block ? block->colorMemory(int(v)) : nullptr);
         std::memcpy(out.color[v].rgba.data(), base + px * 4 * k, px * 4);
         if (slot.readDepth) {
-            reuseOrReset(out.depth[v], s.width, s.height,
-                         block ? block->depthMemory(int(v)) : nullptr);
+            out.depth[v].reuseOrReset(s.width, s.height,
+                                      block ? block->depthMemory(int(v)) : nullptr);
             std::memcpy(out.depth[v].depth.data(), base + px * 4 * slot.views + px * 4 * k, px * 4);
         }
     }

@@ -114,6 +114,17 @@ Candidate inspect(VkPhysicalDevice d) {
     return c;
 }
 
+/// `size` bytes of memory type `type`, owned.
+Result<Memory> allocateMemory(VkDevice device, VkDeviceSize size, std::uint32_t type) {
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mai.allocationSize = size;
+    mai.memoryTypeIndex = type;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    if (Status s = check(vkAllocateMemory(device, &mai, nullptr, &memory), "vkAllocateMemory"); !s)
+        return s;
+    return Memory(device, memory);
+}
+
 }  // namespace
 
 VKAPI_ATTR VkBool32 VKAPI_CALL Context::onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT,
@@ -321,14 +332,10 @@ Result<BufferMemory> Context::makeBuffer(VkDeviceSize bytes, VkBufferUsageFlags 
                                   VK_MEMORY_PROPERTY_HOST_CACHED_BIT)
                      : memoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     if (!type) return type.status();
-    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    mai.allocationSize = req.size;
-    mai.memoryTypeIndex = *type;
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    if (Status s = check(vkAllocateMemory(mDevice, &mai, nullptr, &memory), "vkAllocateMemory");
-        !s)
-        return s;
-    b.memory = Memory(mDevice, memory);
+    auto allocated = allocateMemory(mDevice, req.size, *type);
+    if (!allocated) return allocated.status();
+    const VkDeviceMemory memory = allocated->get();
+    b.memory = std::move(*allocated);
     if (Status s = check(vkBindBufferMemory(mDevice, buffer, memory, 0), "vkBindBufferMemory"); !s)
         return s;
     if (host) {
@@ -352,14 +359,10 @@ Result<ImageMemory> Context::makeImage(const VkImageCreateInfo& info) {
     auto type = memoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     if (!type) type = memoryType(req.memoryTypeBits, 0);
     if (!type) return type.status();
-    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    mai.allocationSize = req.size;
-    mai.memoryTypeIndex = *type;
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    if (Status s = check(vkAllocateMemory(mDevice, &mai, nullptr, &memory), "vkAllocateMemory");
-        !s)
-        return s;
-    im.memory = Memory(mDevice, memory);
+    auto allocated = allocateMemory(mDevice, req.size, *type);
+    if (!allocated) return allocated.status();
+    const VkDeviceMemory memory = allocated->get();
+    im.memory = std::move(*allocated);
     if (Status s = check(vkBindImageMemory(mDevice, image, memory, 0), "vkBindImageMemory"); !s)
         return s;
     return im;

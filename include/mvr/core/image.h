@@ -39,6 +39,10 @@ struct Image {
     /// Reallocates as w×h (bytes zero) from `memory` (nullptr: the default resource), building
     /// the vector anew so that it keeps `memory` (assignment would keep the old allocator).
     void reset(int w, int h, std::pmr::memory_resource* memory);
+    /// For an image about to be overwritten whole: kept as it is when it already is w×h on the
+    /// heap (a backend's renderInto frame after frame: no allocation, no page faults), else
+    /// reset(w, h, memory).
+    void reuseOrReset(int w, int h, std::pmr::memory_resource* memory);
 
     bool empty() const { return width <= 0 || height <= 0; }
     Rgba8 at(int x, int y) const;
@@ -62,6 +66,8 @@ struct DepthImage {
     float at(int x, int y) const { return depth[static_cast<std::size_t>(y) * width + x]; }
     /// Reallocates as w×h filled with `fill`, from `memory` (see Image::reset).
     void reset(int w, int h, float fill, std::pmr::memory_resource* memory);
+    /// As Image::reuseOrReset (a reset fills with 1, the far plane).
+    void reuseOrReset(int w, int h, std::pmr::memory_resource* memory);
     friend bool operator==(const DepthImage&, const DepthImage&) = default;
 };
 

@@ -46,6 +46,10 @@ struct Mesh {
     Bounds bounds() const;
 };
 
+/// A 64-bit hash of the mesh's contents (positions, normals, texcoords, indices; FNV-style, 8
+/// bytes a step, not cryptographic): the GPU backends' key for meshes they keep uploaded.
+std::uint64_t contentHash(const Mesh& mesh);
+
 /// Checks the invariants above. Errors: ErrorCode::Input naming `what` and the problem
 /// ("has no triangles", "index 9 out of range for 5 vertices", "non-finite position").
 Status validateMesh(const Mesh& mesh, const std::string& what);
