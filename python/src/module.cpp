@@ -142,33 +142,14 @@ py::object composeViews(const py::object& formatObj, const py::object& views,
         throwStatus(usageError(fmt::format("format {}: {} view{} given (expected {} views)",
                                            info.name, n, n == 1 ? "" : "s", expected)));
     }
-    if (!output
-             .empty()) {  // as `mvr compose -o`: a file name (.png .jpg .jpeg .jps .mpo) or a folder
+    if (!output.empty()) {
         Status s;
         {
             py::gil_scoped_release release;
-            const std::filesystem::path out(output);
-            std::string ext = out.extension().string();
-            for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-            std::error_code ec;
-            if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".jps" ||
-                ext == ".mpo") {
-                if (out.has_parent_path())
-                    std::filesystem::create_directories(out.parent_path(), ec);
-                s = ec ? outputError(fmt::format("cannot create directory '{}': {}",
-                                                 out.parent_path().string(), ec.message()))
-                       : composite::writeCompositeFile(format, imgs, compose, out);
-            } else {
-                std::filesystem::create_directories(out, ec);
-                if (ec || !std::filesystem::is_directory(out)) {
-                    s = outputError(fmt::format("cannot create output directory '{}': {}",
-                                                out.string(),
-                                                ec ? ec.message() : "not a directory"));
-                } else if (auto path = composite::writeComposite(format, imgs, compose, out);
-                           !path) {
-                    s = path.status();
-                }
-            }
+            // As `mvr compose -o`: a file name (.png .jpg .jpeg .jps .mpo) or a folder, whole or
+            // not at all.
+            auto path = session::writeComposed(format, imgs, compose, output);
+            if (!path) s = path.status();
         }
         if (!s) throwStatus(s);
     }

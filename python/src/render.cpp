@@ -266,7 +266,12 @@ RenderResult renderFrame(Job& job, const Scene& scene, const Rig& rig,
         composites[py::str(f)] = composeOne(f, out.color, compose, job.backend.get(), job.gpu);
     r.composites = composites;
     std::vector<std::string> written;
-    if (const std::string& outDir = recipe.outputs.directory; !outDir.empty()) {
+    // The images and a still's report are one set (all written, or none), as `mvr render`'s.
+    const std::string& reportJson = recipe.outputs.reportJson;
+    std::vector<session::ExtraFile> extra;
+    if (!plan && !reportJson.empty())
+        extra.push_back({reportJson, session::comfortJson(p, range, screen), "report_json"});
+    if (const std::string& outDir = recipe.outputs.directory; !outDir.empty() || !extra.empty()) {
         Status s;
         {
             py::gil_scoped_release release;
@@ -275,20 +280,16 @@ RenderResult renderFrame(Job& job, const Scene& scene, const Rig& rig,
             session::FrameOutputs outputs = session::frameOutputs(p);
             outputs.formats = formats;
             outputs.compose = compose;
+            if (outDir.empty()) outputs.views = outputs.composites = outputs.depth = outputs.cameras = false;
             auto files = plan ? session::writeFrameFolder(outDir, *plan, frame, out, p.rig,
                                                           outputs, job.backend.get())
-                              : session::writeOutputs(outDir, out, p.rig, outputs,
-                                                      job.backend.get());
+                              : session::writeOutputs(outDir.empty() ? "." : outDir, out, p.rig,
+                                                      outputs, job.backend.get(), {}, extra);
             if (files) written = std::move(files->paths);
             s = files ? Status() : files.status();
         }
         if (!s) throwStatus(s);
     }
-    // The report after the files, as `mvr render` writes it (its folder may be the output's).
-    const std::string& reportJson = recipe.outputs.reportJson;
-    if (!plan && !reportJson.empty() &&
-        !session::writeTextFile(reportJson, session::comfortJson(p, range, screen)))
-        throwStatus(outputError("report_json: cannot write " + reportJson));
     r.written = py::cast(written);
     if (plan) r.frame = py::int_(frame);
     const py::ssize_t n = py::ssize_t(out.color.size()), h = p.settings.height,

@@ -1,6 +1,7 @@
 #include "mvr/composite/jpeg.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include <jpeglib.h>
 
 #include "jpeg_errors.h"  // src/io: libjpeg error handling, shared with the decoder
+#include "mvr/core/output_file.h"
 #include "mvr/composite/layout.h"
 #include "mvr/core/input_file.h"
 
@@ -415,12 +417,13 @@ Result<std::vector<std::uint8_t>> readFileBytes(const std::filesystem::path& pat
 }
 
 Status writeFileBytes(const std::filesystem::path& path, std::span<const std::uint8_t> bytes) {
+    errno = 0;
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    if (!out) return outputError(fmt::format("{}: cannot open for writing", path.string()));
+    if (!out) return writeError(path, "cannot open for writing");
     out.write(reinterpret_cast<const char*>(bytes.data()),
               static_cast<std::streamsize>(bytes.size()));
     out.close();
-    if (!out) return outputError(fmt::format("{}: write failed", path.string()));
+    if (!out) return writeError(path, "write failed");
     return Status::ok();
 }
 

@@ -2,6 +2,7 @@
 #include "mvr/io/png.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include <png.h>
 
 #include "mvr/core/input_file.h"
+#include "mvr/core/output_file.h"
 
 namespace mvr {
 
@@ -65,43 +67,35 @@ bool writePngTuned(std::FILE* file, int width, int height, bool gray16, const vo
 
 Status writePngRaw(const std::filesystem::path& path, int width, int height, png_uint_32 format,
                    const void* pixels, std::ptrdiff_t rowStride, PngCompression compression) {
+    errno = 0;
+    std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
+    if (!file) return writeError(path, "cannot open for writing");
     if (compression != PngCompression::Default) {
-        std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
-        if (!file) {
-            return outputError(
-                fmt::format("mvr::writePng(): {}: cannot open for writing", path.string()));
-        }
         const bool gray16 = format == PNG_FORMAT_LINEAR_Y;
         const std::ptrdiff_t rowBytes = rowStride * (gray16 ? 2 : 1);  // stride is in components
         PngError error;
         const bool fast = compression == PngCompression::Fast;
         if (!writePngTuned(file.get(), width, height, gray16, pixels, rowBytes, fast ? 1 : 9,
                            fast ? PNG_FILTER_SUB : PNG_ALL_FILTERS, error)) {
-            return outputError(fmt::format("mvr::writePng(): {}: {}", path.string(),
-                                           *error.message ? error.message : "libpng failed"));
+            return writeError(path, *error.message ? error.message : "libpng failed");
         }
-        if (std::fflush(file.get()) != 0 || std::ferror(file.get()))
-            return outputError(fmt::format("mvr::writePng(): {}: write failed", path.string()));
-        return {};
+    } else {
+        png_image image{};
+        image.version = PNG_IMAGE_VERSION;
+        image.width = static_cast<png_uint_32>(width);
+        image.height = static_cast<png_uint_32>(height);
+        image.format = format;
+        if (!png_image_write_to_stdio(&image, file.get(), 0, pixels,
+                                      static_cast<png_int_32>(rowStride), nullptr)) {
+            const std::string why = image.message;
+            png_image_free(&image);
+            return writeError(path, why);
+        }
     }
-    png_image image{};
-    image.version = PNG_IMAGE_VERSION;
-    image.width = static_cast<png_uint_32>(width);
-    image.height = static_cast<png_uint_32>(height);
-    image.format = format;
-    std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
-    if (!file) {
-        return outputError(
-            fmt::format("mvr::writePng(): {}: cannot open for writing", path.string()));
-    }
-    if (!png_image_write_to_stdio(&image, file.get(), 0, pixels, static_cast<png_int_32>(rowStride),
-                                  nullptr)) {
-        const std::string why = image.message;
-        png_image_free(&image);
-        return outputError(fmt::format("mvr::writePng(): {}: {}", path.string(), why));
-    }
-    if (std::fflush(file.get()) != 0 || std::ferror(file.get())) {
-        return outputError(fmt::format("mvr::writePng(): {}: write failed", path.string()));
+    // A full disk may only show when the last buffer is written out, at the close.
+    if (std::fflush(file.get()) != 0 || std::ferror(file.get()) ||
+        std::fclose(file.release()) != 0) {
+        return writeError(path, "write failed");
     }
     return {};
 }

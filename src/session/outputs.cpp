@@ -3,6 +3,8 @@
 #include "mvr/session/outputs.h"
 
 #include <atomic>
+#include <cerrno>
+#include <cctype>
 #include <cstdio>
 #include <deque>
 #include <functional>
@@ -11,10 +13,12 @@
 
 #include <fmt/core.h>
 
+#include "mvr/core/output_file.h"
 #include "mvr/io/exr.h"
 #include "mvr/io/png.h"
 #include "mvr/io/scene_io.h"
 #include "mvr/session/cameras.h"
+#include "mvr/session/pending.h"
 #include "mvr/session/surfaces.h"
 
 namespace mvr::session {
@@ -39,15 +43,34 @@ Status runParallel(const std::vector<std::function<Status()>>& jobs, int threads
 
 Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const RenderOutput& out,
                                   const Rig& rig, const FrameOutputs& outputs,
-                                  const Backend* backend, const std::string& keepFormat) {
-    if (outputs.writesFiles(out.color.size(), out.depth.size())) {
-        std::error_code ec;
-        std::filesystem::create_directories(dir, ec);
-        if (ec || !std::filesystem::is_directory(dir)) {
-            return outputError(fmt::format("cannot create output directory '{}': {}",
-                                           dir.string(), ec ? ec.message() : "not a directory"));
+                                  const Backend* backend, const std::string& keepFormat,
+                                  const std::vector<ExtraFile>& extra) {
+    // No file in `dir` (a video's image alone, the report alone): no folder either.
+    const bool inDir = outputs.writesFiles(out.color.size(), out.depth.size());
+    if (!inDir && extra.empty()) return writeFrameFiles(dir, out, rig, outputs, backend, keepFormat);
+    auto staged = inDir ? StagedFiles::inFolder(dir) : Result<StagedFiles>(StagedFiles::elsewhere());
+    if (!staged) return staged.status();
+    auto written =
+        writeFrameFiles(inDir ? staged->folder() : dir, out, rig, outputs, backend, keepFormat);
+    // Errors name the files as the user knows them, not their temporary names.
+    if (!written) return staged->withFinalNames(written.status());
+    for (const ExtraFile& file : extra) {
+        auto temp = staged->stage(file.path);
+        if (!temp) return Status(temp.status().code(), file.option + " " + temp.status().message());
+        errno = 0;
+        if (!writeTextFile(temp->string(), file.text)) {
+            const Status s = writeError(file.path, "write failed");
+            return outputError(fmt::format("{} {}: {}", file.option, file.path.string(), s.message()));
         }
+        written->paths.push_back(temp->string());
     }
+    if (Status s = staged->commit(written->paths); !s) return s;
+    return written;
+}
+
+Result<WrittenFrame> writeFrameFiles(const std::filesystem::path& dir, const RenderOutput& out,
+                                     const Rig& rig, const FrameOutputs& outputs,
+                                     const Backend* backend, const std::string& keepFormat) {
     composite::ComposeOptions compose = outputs.compose;
     compose.baseline = rig.interaxial;
     compose.convergence = rig.convergence;
@@ -98,9 +121,10 @@ Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const Render
     }
     if (outputs.cameras && !out.color.empty()) {
         const auto path = dir / "cameras.json";
+        errno = 0;
         if (!writeTextFile(path.string(),
                            camerasJson(rig, out.color[0].width, out.color[0].height))) {
-            return outputError(fmt::format("cannot write '{}'", path.string()));
+            return writeError(path, "write failed");
         }
         written.paths.push_back(path.string());
     }
@@ -140,6 +164,37 @@ FrameOutputs frameOutputs(const Prepared& p) {
     o.views = p.write.views;
     o.composites = p.write.composites;
     return o;
+}
+
+bool isComposedFileName(const std::filesystem::path& out) {
+    std::string ext = out.extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".jps" || ext == ".mpo";
+}
+
+Result<std::filesystem::path> writeComposed(std::string_view format, std::span<const Image> views,
+                                            const composite::ComposeOptions& options,
+                                            const std::filesystem::path& out) {
+    if (isComposedFileName(out)) {
+        auto made = MadeFolders::make(out.has_parent_path() ? out.parent_path() : ".");
+        if (!made) return made.status();
+        StagedFiles staged = StagedFiles::elsewhere();
+        auto temp = staged.stage(out);
+        if (!temp) return temp.status();
+        std::vector<std::string> paths{temp->string()};
+        if (Status s = composite::writeCompositeFile(format, views, options, paths[0]); !s)
+            return staged.withFinalNames(s);
+        if (Status s = staged.commit(paths); !s) return s;
+        made->keep();
+        return out;
+    }
+    auto staged = StagedFiles::inFolder(out);
+    if (!staged) return staged.status();
+    auto path = composite::writeComposite(format, views, options, staged->folder());
+    if (!path) return staged->withFinalNames(path.status());
+    std::vector<std::string> paths{path->string()};
+    if (Status s = staged->commit(paths); !s) return s;
+    return std::filesystem::path(paths[0]);
 }
 
 bool writeTextFile(const std::string& path, const std::string& text) {

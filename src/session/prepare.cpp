@@ -388,6 +388,49 @@ Status checkFormats(const RenderRecipe& r, const Prepared& p) {
     return Status::ok();
 }
 
+/// The output paths, before anything is rendered (issue 44): -o is a folder or can be made one,
+/// and a file output (the report, the video) can have its folder made and is a file or nothing
+/// yet — never a device or a directory, which a rename into place would replace.
+Status checkOutputPaths(const RenderRecipe& r) {
+    namespace fs = std::filesystem;
+    if (!r.outputs.reportJson.empty() && r.sequence.active()) {
+        return usageError(fmt::format("--report-json {}: the comfort report is a still's (not "
+                                      "with --frames, --orbit or --camera-path)",
+                                      r.outputs.reportJson));
+    }
+    std::error_code ec;
+    if (!r.outputs.directory.empty()) {
+        fs::path p = r.outputs.directory;
+        while (!p.empty() && !fs::exists(p, ec) && p != p.parent_path()) p = p.parent_path();
+        if (!p.empty() && fs::exists(p, ec) && !fs::is_directory(p, ec)) {
+            return outputError(fmt::format("-o {}: cannot create output directory: '{}' is "
+                                           "not a directory",
+                                           r.outputs.directory, p.string()));
+        }
+    }
+    auto checkFile = [&](const char* option, const std::string& path) -> Status {
+        if (path.empty()) return {};
+        const fs::path p(path);
+        const fs::file_status st = fs::status(p, ec);
+        if (fs::exists(st) && !fs::is_regular_file(st)) {
+            return outputError(fmt::format("{} {}: not a regular file (expected a new file or "
+                                           "one to replace)",
+                                           option, path));
+        }
+        // Its folder is made when missing (as -o's), under one that exists.
+        fs::path folder = p.has_parent_path() ? p.parent_path() : fs::path(".");
+        while (!folder.empty() && !fs::exists(folder, ec) && folder != folder.parent_path())
+            folder = folder.parent_path();
+        if (!folder.empty() && fs::exists(folder, ec) && !fs::is_directory(folder, ec)) {
+            return outputError(
+                fmt::format("{} {}: '{}' is not a directory", option, path, folder.string()));
+        }
+        return {};
+    };
+    if (Status s = checkFile("--report-json", r.outputs.reportJson); !s) return s;
+    return checkFile("--video", r.sequence.video);
+}
+
 }  // namespace
 
 std::vector<std::string> ignoredOptionWarnings(const RenderRecipe& r,
@@ -770,6 +813,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
             "--display whose output is a quilt)");
     }
     if (Status s = checkFormats(r, out); !s) return s;
+    if (Status s = checkOutputPaths(r); !s) return s;
     return out;
 }
 

@@ -40,22 +40,25 @@ Result<Rendered> renderStill(const RenderRecipe& recipe, const WarningSink& warn
                                          out->color.size(), p.rig.viewCount()));
     }
     r.output = std::move(out).value();
-    if (!recipe.outputs.directory.empty()) {
-        auto written = writeOutputs(recipe.outputs.directory, r.output, p.rig,
-                                    frameOutputs(p), backend->get());
-        if (!written) return written.status();
-        r.files = std::move(written->paths);
-    }
     r.comfort = comfortReport(p.rig, r.output);
     r.screen = screenComfortReport(p, r.comfort);
     for (std::string& w : renderWarnings(p, r.output, r.comfort, r.screen))
         r.notes.push_back(std::move(w));
+    // The images and the report are one set: all of it is written, or none (issue 44).
+    std::vector<ExtraFile> extra;
     if (!recipe.outputs.reportJson.empty()) {
-        if (!writeTextFile(recipe.outputs.reportJson, comfortJson(p, r.comfort, r.screen))) {
-            return outputError(fmt::format("--report-json {}: cannot write the file",
-                                           recipe.outputs.reportJson));
-        }
-        r.files.push_back(recipe.outputs.reportJson);
+        extra.push_back({recipe.outputs.reportJson, comfortJson(p, r.comfort, r.screen),
+                         "--report-json"});
+    }
+    if (!recipe.outputs.directory.empty() || !extra.empty()) {
+        const std::string dir =
+            recipe.outputs.directory.empty() ? std::string(".") : recipe.outputs.directory;
+        FrameOutputs outputs = frameOutputs(p);
+        if (recipe.outputs.directory.empty())  // the report alone
+            outputs.views = outputs.composites = outputs.depth = outputs.cameras = false;
+        auto written = writeOutputs(dir, r.output, p.rig, outputs, backend->get(), {}, extra);
+        if (!written) return written.status();
+        r.files = std::move(written->paths);
     }
     return r;
 }

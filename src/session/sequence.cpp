@@ -1,6 +1,7 @@
 // src/session/sequence.cpp — a recipe's sequence: its frames, each frame's scene and rig, and
 // the frame folders (mvr/session/sequence.h).
 #include "mvr/session/sequence.h"
+#include "mvr/session/pending.h"
 
 #include <algorithm>
 #include <cmath>
@@ -145,19 +146,32 @@ Result<WrittenFrame> writeFrameFolder(const std::filesystem::path& dir, const Se
                                       const std::string& keepFormat) {
     if (!outputs.writesFiles(out.color.size(), out.depth.size())) {
         // Nothing for the frame's folder (a video alone): the video's image is still composed.
-        return writeOutputs(dir / plan.folder(f), out, rig, outputs, backend, keepFormat);
+        return writeFrameFiles(dir / plan.folder(f), out, rig, outputs, backend, keepFormat);
     }
+    // The frame's files under frame-NNNN.part/, renamed when complete: a frame folder is whole
+    // or absent, whatever stops the run (the .part is removed then: mvr/session/pending.h).
     const std::string name = plan.folder(f);
     const std::filesystem::path part = dir / (name + ".part"), final = dir / name;
     std::error_code ec;
-    std::filesystem::remove_all(part, ec);
+    std::filesystem::remove_all(part, ec);  // an earlier run's, killed (SIGKILL) mid-frame
+    std::unique_lock made(pendingMutex());  // registered and made at once
+    const int ticket = addPending(part);
     std::filesystem::create_directories(part, ec);
-    if (ec) return outputError(fmt::format("cannot create '{}': {}", part.string(), ec.message()));
+    made.unlock();
+    if (ec) {
+        releasePending(ticket, true);
+        return outputError(fmt::format("cannot create '{}': {}", part.string(), ec.message()));
+    }
     // The frame's files, as a still's (anaglyph.png for a pair included).
-    auto files = writeOutputs(part, out, rig, outputs, backend, keepFormat);
-    if (!files) return files.status();
+    auto files = writeFrameFiles(part, out, rig, outputs, backend, keepFormat);
+    if (!files) {
+        releasePending(ticket, true);
+        return files.status();
+    }
+    std::lock_guard lock(pendingMutex());  // not stopped between the two steps
     std::filesystem::remove_all(final, ec);
     std::filesystem::rename(part, final, ec);
+    releasePending(ticket, bool(ec));
     if (ec) {
         return outputError(fmt::format("cannot rename '{}' to '{}': {}", part.string(),
                                        final.string(), ec.message()));

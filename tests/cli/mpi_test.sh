@@ -82,4 +82,9 @@ set -e
 grep -q "^error: .*rank" "$tmp/k.log" || fail "no error line naming the stopped rank: $(cat "$tmp/k.log")"
 [[ ! -e $tmp/k/quilt.mkv ]] || fail "a video was left under its final name"
 [[ -z $(ls "$tmp/k" | grep '\.part\.mkv$' || true) ]] || fail "the unfinished video was left"
+# Only whole frames: no unfinished frame folder (.part) or staging folder (.mvr-part-*) is left,
+# and the line says how many frames are complete.
+[[ -z $(ls -a "$tmp/k" | grep 'part' || true) ]] || fail "left unfinished: $(ls -a "$tmp/k" | grep part)"
+grep -q "frames are complete in $tmp/k/\|no frame was complete" "$tmp/k.log" ||
+    fail "the error line does not say what is left: $(cat "$tmp/k.log")"
 echo "mpi_test: ok"

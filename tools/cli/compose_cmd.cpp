@@ -16,6 +16,7 @@
 #include "options.h"
 
 #include "mvr/composite/compose.h"
+#include "mvr/session/outputs.h"
 
 namespace mvr::cli {
 namespace {
@@ -33,11 +34,6 @@ std::string lowerExtension(const std::filesystem::path& p) {
     std::string ext = p.extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return ext;
-}
-
-bool isFileName(const std::filesystem::path& p) {
-    const std::string ext = lowerExtension(p);
-    return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".jps" || ext == ".mpo";
 }
 
 /// `mvr compose view-*.png`: a shell glob sorts view-10.png before view-2.png. Files named
@@ -123,28 +119,10 @@ int runCompose(ComposeCommandOptions o) {
     std::filesystem::path written;
     std::optional<TerminalProgress> progress;  // on a terminal, after ~2 s (options.h)
     progress.emplace(fmt::format("composing {} view{} as {}", n, n == 1 ? "" : "s", info->name));
-    if (isFileName(out)) {
-        if (out.has_parent_path()) {
-            std::error_code ec;
-            std::filesystem::create_directories(out.parent_path(), ec);
-            if (ec)
-                return fail(outputError(fmt::format("cannot create directory '{}': {}",
-                                                    out.parent_path().string(), ec.message())));
-        }
-        if (Status s = composite::writeCompositeFile(o.format, views, o.compose, out); !s)
-            return fail(s);
-        written = out;
-    } else {
-        std::error_code ec;
-        std::filesystem::create_directories(out, ec);
-        if (ec || !std::filesystem::is_directory(out))
-            return fail(
-                outputError(fmt::format("cannot create output directory '{}': {}", out.string(),
-                                        ec ? ec.message() : "not a directory")));
-        auto path = composite::writeComposite(o.format, views, o.compose, out);
-        if (!path) return fail(path.status());
-        written = *path;
-    }
+    // Written under a temporary name and moved into place: a failed run leaves -o as it was.
+    auto path = session::writeComposed(o.format, views, o.compose, out);
+    if (!path) return fail(path.status());
+    written = *path;
     progress.reset();
     if (!o.quiet)
         fmt::print("composed {} view{} of {}x{} as {}\nwrote:\n  {}\n", n, n == 1 ? "" : "s",

@@ -2,7 +2,6 @@
 
 #include <unistd.h>
 
-#include <csignal>
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -14,6 +13,8 @@
 #include <fmt/core.h>
 
 #include "options.h"
+#include "stop_signals.h"
+#include "mvr/session/pending.h"
 #include "video.h"
 
 #ifdef MVR_WITH_MPI
@@ -43,19 +44,6 @@ bool launchedWithRanks() {
         if (const char* v = std::getenv(var); v && std::atoi(v) > 1) return true;
     }
     return false;
-}
-
-/// Rank 0 when mpirun ends the job (a rank failed or was killed): says so, removes the
-/// unfinished video (frame folders are renamed into place only when complete).
-extern "C" void onStopped(int) {
-    const bool removed = removeUnfinishedVideo();
-    const char* msg =
-        removed ? "error: the run was stopped (a rank failed or was killed; see mpirun's lines): "
-                  "the unfinished video was removed, complete frame folders are kept\n"
-                : "error: the run was stopped (a rank failed or was killed; see mpirun's lines): "
-                  "complete frame folders are kept\n";
-    [[maybe_unused]] auto n = ::write(STDERR_FILENO, msg, std::strlen(msg));
-    ::_exit(1);
 }
 
 enum Tag { kReady = 1, kHeader = 2, kPixels = 3, kError = 4, kDepth = 5, kItem = 10 };
@@ -250,17 +238,22 @@ Status distributeFrames(const std::vector<int>& frames, int views, const RenderV
         MPI_Comm_size(MPI_COMM_WORLD, &size);
         if (size > 1) {
             if (sRank != 0) {
+                setStopContext({}, true);  // rank 0 says why the job stopped
                 worker(render);
                 MPI_Finalize();
                 return {};
             }
             MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
-            for (int sig : {SIGTERM, SIGINT, SIGHUP}) std::signal(sig, onStopped);
+            // mpirun ends every rank with SIGTERM when one fails or is killed: rank 0's line
+            // (stop_signals.h) says so, what was not in place being removed.
+            setStopContext("mpirun stopped the run: a rank failed or was killed, see mpirun's "
+                           "lines");
             Status s = coordinator(size - 1, frames, views, emit, gatherStats);
-            if (!s) removeUnfinishedVideo();
             if (!s) {
-                // The workers wait for items or send views: end them all, with rank 0's line.
-                fail(s);
+                // The workers wait for items or send views: end them all, with rank 0's line
+                // and what the output holds (MPI_Abort does not return).
+                session::removePendingOutputs();
+                fail(Status(s.code(), fmt::format("{}; {}", s.message(), session::outputProgress())));
                 MPI_Abort(MPI_COMM_WORLD, exitCode(s.code()) ? exitCode(s.code()) : 1);
             }
             MPI_Finalize();

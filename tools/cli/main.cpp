@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 
 #include "command.h"
+#include "stop_signals.h"
 #include "mvr/core/platform.h"
 #include "mvr/core/status.h"
 
@@ -19,6 +20,7 @@ std::vector<CommandEntry>& commandRegistry() {
 
 int main(int argc, char** argv) {
     using namespace mvr::cli;
+    handleStopSignals();  // before any thread: outputs stay whole when the run is stopped
     mvr::retainFreedMemory();  // per-frame buffers (ours, llvmpipe's) stop page-faulting
     CLI::App app{
         "mvr — render one 3D scene from 2..N viewpoints (stereo pairs, autostereo rows, "

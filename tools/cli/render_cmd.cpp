@@ -12,6 +12,7 @@
 #include "command.h"
 #include "compose_options.h"
 #include "options.h"
+#include "mvr/session/pending.h"
 #include "stereo_options.h"
 #include "sequence.h"
 
@@ -127,17 +128,14 @@ int runRender(const RenderOptions& o) {
         if (auto plan = session::planSequence(recipe.sequence); !plan) return fail(plan.status());
     }
 
-    std::error_code ec;
-    std::filesystem::create_directories(o.outDir, ec);
-    if (ec || !std::filesystem::is_directory(o.outDir)) {
-        return fail(outputError(fmt::format("cannot create output directory '{}': {}", o.outDir,
-                                            ec ? ec.message() : "not a directory")));
-    }
     const session::FrameOutputs outputs = session::frameOutputs(p);
 
     if (recipe.sequence.active()) {
+        // The output folder, removed again (when empty) should no frame be complete.
+        auto made = session::MadeFolders::make(o.outDir);
+        if (!made) return fail(made.status());
         SequenceJob job{&p,      backend->get(), o.backend, method,
-                        o.outDir, outputs,       o.quiet,   &*surfaces};
+                        o.outDir, outputs,       o.quiet,   &*surfaces, &*made};
         return runSequence(recipe.sequence, job);
     }
 
@@ -160,21 +158,19 @@ int runRender(const RenderOptions& o) {
 
     progress.emplace(fmt::format("writing and composing {} view{}", p.rig.viewCount(),
                                  p.rig.viewCount() == 1 ? "" : "s"));
-    auto files = session::writeOutputs(o.outDir, out, p.rig, outputs, backend->get());
-    progress.reset();
-    if (!files) return fail(files.status());
-    std::vector<std::string> written = std::move(files->paths);
     const std::optional<ComfortReport> comfort = comfortReport(p.rig, out);
     const std::optional<ScreenComfortReport> screenComfort = screenComfortReport(p, comfort);
+    // The images and the report are one set: all of it is written, or none (issue 44).
+    std::vector<session::ExtraFile> extra;
+    if (!o.reportJson.empty())
+        extra.push_back({o.reportJson, comfortJson(p, comfort, screenComfort), "--report-json"});
+    auto files = session::writeOutputs(o.outDir, out, p.rig, outputs, backend->get(), {}, extra);
+    progress.reset();
+    if (!files) return fail(files.status());
+    const std::vector<std::string> written = std::move(files->paths);
+    session::setOutputProgress(fmt::format("every file is in place in {}/", o.outDir));
     for (const std::string& w : renderWarnings(p, out, comfort, screenComfort))
         fmt::print(stderr, "{}\n", w);
-    if (!o.reportJson.empty()) {
-        if (!session::writeTextFile(o.reportJson, comfortJson(p, comfort, screenComfort))) {
-            return fail(
-                outputError(fmt::format("--report-json {}: cannot write the file", o.reportJson)));
-        }
-        written.push_back(o.reportJson);
-    }
     if (!o.quiet) {
         fmt::print(
             "rendered {} ({} triangles) from {} view{} at {}x{}, {} shading, {}:{}{} in {:.1f} ms\n",

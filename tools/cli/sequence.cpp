@@ -99,6 +99,20 @@ private:
     Clock::time_point mStart = Clock::now();
 };
 
+/// What a sequence stopped after `done` of its frames leaves, and how to render the rest:
+/// frames are written in order, each folder whole (writeFrameFolder()).
+std::string sequenceRemains(const std::string& dir, const SequenceOptions& o,
+                            const std::vector<int>& todo, std::size_t done, bool video) {
+    const std::string lost = video ? "; the unfinished video was removed" : "";
+    if (done == 0) return fmt::format("no frame was complete: {}/ is as it was{}", dir, lost);
+    if (done >= todo.size()) return fmt::format("every frame is complete in {}/{}", dir, lost);
+    const std::string range = o.frameRange.empty() ? std::string()
+                                                   : o.frameRange.substr(o.frameRange.find(':'));
+    return fmt::format("{} of {} frames are complete in {}/ (`--frame-range {}{}` renders the "
+                       "rest){}",
+                       done, todo.size(), dir, todo[done], range.empty() ? ":" : range, lost);
+}
+
 }  // namespace
 
 Status checkSequenceOptions(const SequenceOptions& o) { return session::checkSequence(o); }
@@ -169,6 +183,7 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
     Backend& backend = ownBackend ? *ownBackend : *job.backend;
 
     std::unique_ptr<VideoWriter> video;
+    std::size_t complete = 0;  // frames whose folder is in place
     const std::filesystem::path dir(job.outDir);
     FrameProgress progress(int(todo.size()), job.quiet);
     // Per frame: the scene the file's animation moves, the camera and the rig around it.
@@ -216,6 +231,10 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
         auto files = session::writeFrameFolder(dir, *plan, f, out, frameRig, job.outputs, &backend,
                                                o.video.empty() ? std::string() : videoFormat);
         if (!files) return files.status();
+        ++complete;
+        if (job.made) job.made->keep();
+        session::setOutputProgress(
+            sequenceRemains(job.outDir, o, todo, complete, !o.video.empty()));
         std::optional<Image> videoImage = std::move(files->kept);
         if (!o.video.empty()) {
             const Image& first = videoImage ? *videoImage : out.color[0];
@@ -254,10 +273,14 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
         progress.done(f);
         return {};
     };
+    session::setOutputProgress(sequenceRemains(job.outDir, o, todo, 0, !o.video.empty()));
     if (Status s = distributeFrames(todo, p.rig.viewCount(), renderViews, emitFrame,
                                     o.gatherStats);
         !s) {
-        return fail(s);
+        video.reset();  // its temporary file is removed
+        return fail(Status(s.code(), fmt::format("{}; {}", s.message(),
+                                                 sequenceRemains(job.outDir, o, todo, complete,
+                                                                 !o.video.empty()))));
     }
     if (!isRankZero()) return 0;
     if (video) {

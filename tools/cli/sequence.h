@@ -14,6 +14,7 @@
 
 #include "mvr/composite/compose.h"
 #include "mvr/session/outputs.h"
+#include "mvr/session/pending.h"
 #include "mvr/session/recipe.h"
 
 namespace mvr::cli {
@@ -32,6 +33,8 @@ struct SequenceJob {
     session::FrameOutputs outputs;  ///< each frame's files (session::writeOutputs())
     bool quiet = false;
     const StereoSurfaces* surfaces = nullptr;  ///< --sky, --label…: drawn into every frame
+    /// The folders made for outDir: kept once a frame is complete, else removed when empty.
+    session::MadeFolders* made = nullptr;
 };
 
 /// The sequence options' own checks, before anything is rendered or written: --frames >= 0,

@@ -1,5 +1,7 @@
 #include "video.h"
 
+#include "mvr/session/pending.h"
+
 #include <unistd.h>
 
 #include <cstdio>
@@ -41,17 +43,6 @@ std::string matroskaStereoMode(const std::string& format, bool swapped) {
     auto it = kModes.find(format);
     if (it == kModes.end()) return {};
     return swapped ? it->second.second : it->second.first;
-}
-
-namespace {
-char sUnfinished[4096] = {};  ///< the temporary file of the video being written
-}  // namespace
-
-bool removeUnfinishedVideo() {
-    if (!sUnfinished[0]) return false;
-    ::unlink(sUnfinished);
-    sUnfinished[0] = 0;
-    return true;
 }
 
 namespace {
@@ -166,11 +157,7 @@ public:
             if (mFc->pb) avio_closep(&mFc->pb);
             avformat_free_context(mFc);
         }
-        if (!mFinished && !mTemp.empty()) {
-            sUnfinished[0] = 0;
-            std::error_code ec;
-            std::filesystem::remove(mTemp, ec);
-        }
+        if (mTicket >= 0) session::releasePending(mTicket, !mFinished);
         av_packet_free(&mPacket);
     }
 
@@ -266,10 +253,20 @@ public:
             if (!s.sws) return internalError("--video: no conversion from RGBA");
             mStreams.push_back(s);
         }
-        if (mTemp.size() < sizeof sUnfinished) {
-            std::memcpy(sUnfinished, mTemp.c_str(), mTemp.size() + 1);
+        // Its folder made when missing (kept with the video, else removed when empty).
+        auto folder = session::MadeFolders::make(std::filesystem::path(mTemp).parent_path().empty()
+                                                     ? std::filesystem::path(".")
+                                                     : std::filesystem::path(mTemp).parent_path());
+        if (!folder) {
+            return Status(folder.status().code(),
+                          fmt::format("--video {}: {}", path, folder.status().message()));
         }
-        if ((rc = avio_open(&mFc->pb, mTemp.c_str(), AVIO_FLAG_WRITE)) < 0) {
+        mFolder = std::move(folder).value();
+        std::unique_lock made(session::pendingMutex());  // registered and made at once
+        mTicket = session::addPending(mTemp);  // removed should the run stop
+        rc = avio_open(&mFc->pb, mTemp.c_str(), AVIO_FLAG_WRITE);
+        made.unlock();
+        if (rc < 0) {
             return outputError(
                 fmt::format("--video {}: cannot write '{}': {}", path, mTemp, averr(rc)));
         }
@@ -318,6 +315,7 @@ public:
             return outputError(fmt::format("--video {}: {}", mPath, averr(rc)));
         }
         avio_closep(&mFc->pb);
+        std::lock_guard lock(session::pendingMutex());  // not stopped half-way
         std::error_code ec;
         std::filesystem::rename(mTemp, mPath, ec);
         if (ec) {
@@ -325,12 +323,14 @@ public:
                 fmt::format("--video {}: cannot rename '{}': {}", mPath, mTemp, ec.message()));
         }
         mFinished = true;
-        sUnfinished[0] = 0;
+        mFolder.keep();
         return {};
     }
 
 private:
     std::string mPath, mTemp;
+    int mTicket = -1;  ///< mTemp's in session::addPending()
+    session::MadeFolders mFolder;  ///< the video's folder, when this made it
     AVFormatContext* mFc = nullptr;
     AVPacket* mPacket = nullptr;
     std::vector<Stream> mStreams;

@@ -49,8 +49,5 @@ public:
 
 bool videoAvailable();
 
-/// Removes the temporary file of a video being written, if any (async-signal-safe: for the
-/// handler that stops a run when mpirun ends it). Returns whether there was one.
-bool removeUnfinishedVideo();
 
 }  // namespace mvr::cli

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <span>
+#include <string_view>
 #include <string>
 #include <vector>
 
@@ -56,13 +58,43 @@ struct WrittenFrame {
     std::optional<Image> kept;
 };
 
-/// Writes the files of one frame into `dir` (created when missing, and only when a file is
-/// written: "cannot create output directory '...'", ErrorCode::Output). `keepFormat` is composed
-/// even when composites are not written. Image composites are composed where `backend` composes
-/// (a GPU backend on its GPU; null: the CPU). Errors: the first file that fails.
+/// A text file written with a frame's set, wherever its path is (the comfort report's JSON):
+/// staged beside its place and moved with the set. `option` names it in errors.
+struct ExtraFile {
+    std::filesystem::path path;
+    std::string text;
+    std::string option;  ///< e.g. "--report-json"
+};
+
+/// Writes the files of one frame into `dir` as one set (mvr/session/pending.h): under a
+/// staging folder inside `dir` (made, with `dir` when missing, only when a file is written:
+/// "cannot create output directory '...'", ErrorCode::Output), moved into place when every file
+/// is written; on any failure, `dir` is left as it was. `keepFormat` is composed even when
+/// composites are not written. Image composites are composed where `backend` composes (a GPU
+/// backend on its GPU; null: the CPU). `extra` files are written and moved with the set.
+/// Errors: the first file that fails.
 Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const RenderOutput& out,
                                   const Rig& rig, const FrameOutputs& outputs,
-                                  const Backend* backend, const std::string& keepFormat = {});
+                                  const Backend* backend, const std::string& keepFormat = {},
+                                  const std::vector<ExtraFile>& extra = {});
+
+/// writeOutputs() without the staging: the files straight into `dir`, which exists (a
+/// sequence's frame folder, itself written under a temporary name).
+Result<WrittenFrame> writeFrameFiles(const std::filesystem::path& dir, const RenderOutput& out,
+                                     const Rig& rig, const FrameOutputs& outputs,
+                                     const Backend* backend, const std::string& keepFormat = {});
+
+/// Whether `mvr compose -o OUT` (mvr.compose(output=OUT)) names a file — OUT ends in .png, .jpg,
+/// .jpeg, .jps or .mpo — rather than a folder.
+bool isComposedFileName(const std::filesystem::path& out);
+
+/// The file of `mvr compose -o OUT` and mvr.compose(output=OUT): OUT itself when it is a file
+/// name (isComposedFileName(); its folder made), else DIR/<the format's file>
+/// (composite::writeComposite()). Whole or not at all (mvr/session/pending.h): a failure leaves
+/// OUT as it was. Returns the path written.
+Result<std::filesystem::path> writeComposed(std::string_view format, std::span<const Image> views,
+                                            const composite::ComposeOptions& options,
+                                            const std::filesystem::path& out);
 
 /// Writes `text` to the file `path` (the comfort report's JSON); false when it could not.
 bool writeTextFile(const std::string& path, const std::string& text);
