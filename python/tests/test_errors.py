@@ -134,3 +134,19 @@ def test_unwritable_output(tmp_path):
         mvr.render(size=(16, 12), output=blocker / "out")
     with pytest.raises(OSError):
         mvr.compose("sbs", np.zeros((2, 4, 4, 4), np.uint8), output=blocker / "x.png")
+
+
+def test_a_failed_render_leaves_no_file(tmp_path):
+    """Issue 44: the images and the report are one set; a report that cannot be written is
+    refused before anything is rendered, and the output folder is not even made."""
+    (tmp_path / "report.json").mkdir()
+    with pytest.raises(OSError, match="report.json: not a regular file"):
+        mvr.render(views=2, size=(32, 24), output=str(tmp_path / "out"),
+                   report_json=str(tmp_path / "report.json"))
+    assert not (tmp_path / "out").exists()
+    r = mvr.render(views=2, size=(32, 24), output=str(tmp_path / "out2"),
+                   report_json=str(tmp_path / "sub" / "report.json"))
+    assert (tmp_path / "sub" / "report.json").is_file()
+    assert sorted(p.name for p in (tmp_path / "out2").iterdir()) == [
+        "anaglyph.png", "view-0.png", "view-1.png"]
+    assert not [p for p in tmp_path.rglob("*") if "mvr-part" in p.name]

@@ -173,6 +173,13 @@ TEST_F(WholeSets, TheReportIsPartOfTheSet) {
     EXPECT_NE(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("report.json"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(mDir / "out")) << names(snapshot(mDir));
+    // Under a file, or with a sequence (whose frames have no one report): refused up front.
+    write("file", "x");
+    const CliRun under = run("render --views 2 --size 32x24 -o out --report-json file/r.json");
+    expectError(under, 4, "--report-json file/r.json: 'file' is not a directory");
+    const CliRun seq = run("render --views 2 --size 32x24 --frames 2 -o out --report-json r.json");
+    expectError(seq, 1, "--report-json r.json: the comfort report is a still's");
+    EXPECT_FALSE(fs::exists(mDir / "out")) << names(snapshot(mDir));
     // Where it can, the report and the images are all there, under their own names.
     fs::create_directories(mDir / "r");
     const CliRun ok = run("render --views 2 --size 32x24 -o out --report-json r/report.json");
