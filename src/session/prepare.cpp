@@ -388,6 +388,17 @@ Status checkFormats(const RenderRecipe& r, const Prepared& p) {
     return Status::ok();
 }
 
+/// No name in an output path longer than a file system takes (NAME_MAX: 255 bytes on Linux's).
+Status checkNameLengths(const char* option, const std::string& path) {
+    for (const std::filesystem::path& part : std::filesystem::path(path)) {
+        if (part.native().size() > 255) {
+            return outputError(fmt::format("{} {}...: a name of {} bytes (at most 255)", option,
+                                           path.substr(0, 40), part.native().size()));
+        }
+    }
+    return {};
+}
+
 /// The output paths, before anything is rendered (issue 44): -o is a folder or can be made one,
 /// and a file output (the report, the video) can have its folder made and is a file or nothing
 /// yet — never a device or a directory, which a rename into place would replace.
@@ -400,6 +411,7 @@ Status checkOutputPaths(const RenderRecipe& r) {
     }
     std::error_code ec;
     if (!r.outputs.directory.empty()) {
+        if (Status s = checkNameLengths("-o", r.outputs.directory); !s) return s;
         fs::path p = r.outputs.directory;
         while (!p.empty() && !fs::exists(p, ec) && p != p.parent_path()) p = p.parent_path();
         if (!p.empty() && fs::exists(p, ec) && !fs::is_directory(p, ec)) {
@@ -411,6 +423,7 @@ Status checkOutputPaths(const RenderRecipe& r) {
     auto checkFile = [&](const char* option, const std::string& path) -> Status {
         if (path.empty()) return {};
         const fs::path p(path);
+        if (Status s = checkNameLengths(option, path); !s) return s;
         const fs::file_status st = fs::status(p, ec);
         if (fs::exists(st) && !fs::is_regular_file(st)) {
             return outputError(fmt::format("{} {}: not a regular file (expected a new file or "

@@ -107,9 +107,7 @@ int runRender(const RenderOptions& o) {
     const session::RenderRecipe recipe = recipeOf(o);
     auto prepared = session::prepare(recipe);
     if (!prepared) return fail(prepared.status());
-    for (const std::string& note : prepared->notes) {  // -q keeps the warnings only
-        if (!o.quiet || note.rfind("note: ", 0) != 0) fmt::print(stderr, "{}\n", note);
-    }
+    if (o.outDir.empty()) return fail(usageError("-o '': expected an output directory"));
     auto backend = makeBackend(o.backend);
     if (!backend) {
         return fail(Status(backend.status().code(),
@@ -128,6 +126,10 @@ int runRender(const RenderOptions& o) {
         if (auto plan = session::planSequence(recipe.sequence); !plan) return fail(plan.status());
     }
 
+    // The notes once the whole request is accepted: a refused one prints its error line alone.
+    for (const std::string& note : prepared->notes) {  // -q keeps the warnings only
+        if (!o.quiet || note.rfind("note: ", 0) != 0) fmt::print(stderr, "{}\n", note);
+    }
     const session::FrameOutputs outputs = session::frameOutputs(p);
 
     if (recipe.sequence.active()) {
