@@ -9,6 +9,7 @@
 #include <fmt/core.h>
 
 #include "mvr/core/displays.h"
+#include "validators.h"
 
 namespace mvr::cli {
 
@@ -196,7 +197,8 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
         "on the command line (--views, --size, --view-cone, --quilt, spacing) override the "
         "preset's. One of:";
     for (const std::string& n : displayNames()) displayHelp += " " + n;
-    app->add_option("--display", display, displayHelp);
+    app->add_option("--display", display, displayHelp)
+        ->check(nonEmpty("a display name; `mvr info --displays` lists them"));
     app->add_option("--screen-width", screenWidthCm,
                     "Width of the picture on the screen, cm: the comfort report in cm against the "
                     "6.5 cm interocular budget (docs/displays.md)");
