@@ -72,8 +72,8 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
             "models", models,
             "Model files (OBJ, PLY, glTF 2.0 .gltf/.glb; glTF and OBJ+MTL keep their nodes, "
             "materials, textures, lights and camera), each optionally placed: "
-            "FILE@X,Y,Z[,SCALE[,YAW]] (position, uniform scale, degrees about +Y; e.g. "
-            "chair.glb@2,0,-1,0.5,90). None: the procedural default scene");
+            "FILE@X,Y,Z[,SCALE[,YAW]] (position, uniform scale, degrees about +Y; |X|,|Y|,|Z| <= "
+            "1e6, SCALE 1e-6..1e6, |YAW| <= 360; e.g. chair.glb@2,0,-1,0.5,90). None: the procedural default scene");
     }
     app->add_option("--scene", namedScene,
                     "Procedural scene when no model is given: default, village (adelson1991's "
