@@ -11,7 +11,7 @@
 namespace mvr::cli {
 
 std::string readableNumber(double v) {
-    if (std::isfinite(v) && v == std::floor(v) && std::abs(v) <= 1e15)
+    if (std::isfinite(v) && v == std::floor(v) && std::abs(v) <= 1e7)
         return fmt::format("{}", static_cast<long long>(v));
     return fmt::format("{:g}", v);
 }

@@ -10,7 +10,7 @@
 
 namespace mvr::cli {
 
-/// A bound as text: whole numbers up to 1e15 in full ("8192"), others as %g ("1e+06").
+/// A bound as text: whole numbers up to 1e7 in full ("8192"), others as %g ("1e+06").
 std::string readableNumber(double v);
 
 /// A number in lo..hi (both included).

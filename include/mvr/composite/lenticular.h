@@ -44,7 +44,7 @@ inline constexpr double kMaxLenticularPitch = 10000.0;   ///< lenticules per inc
 inline constexpr double kMaxLenticularDpi = 10000.0;     ///< panel pixels per inch, > 0
 inline constexpr double kMaxLenticularCenter = 1.0e6;    ///< |center|, lenticules
 inline constexpr double kMinLenticularSlope = 1.0e-6;    ///< |slope| at least
-inline constexpr double kMaxLenticularSlope = 1.0e6;     ///< |slope| at most
+inline constexpr double kMaxLenticularSlope = 1.0e15;    ///< |slope| at most (~vertical lenses)
 
 /// The shader-side values derived from a calibration for a screen of screenW×screenH.
 struct LenticularShaderParams {
