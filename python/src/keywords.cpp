@@ -247,12 +247,14 @@ constexpr Spec kComposeSpecs[] = {
     {"lenticular_flip_y", Kind::Flag},
 };
 
-/// CLI11's range message, as `mvr compose --jpeg-quality 500` prints it.
+/// The CLI's range message (tools/cli/validators.h), as `mvr compose --jpeg-quality 500`
+/// prints it: "--jpeg-quality: 500 is out of range (must be 1..100)".
 template <class T>
 void inRange(const char* option, T value, T lo, T hi) {
     if (!(value >= lo && value <= hi))
-        throwStatus(usageError(fmt::format("{}: Value {} not in range {} to {}", option, value,
-                                           std::to_string(lo), std::to_string(hi))));
+        throwStatus(usageError(
+            fmt::format("{}: {} is out of range (must be {:g}..{:g})", option, value,
+                        double(lo), double(hi))));
 }
 
 /// The composite options of `kw` into `o`: a calibration first, then the single values over it.
@@ -266,7 +268,7 @@ void composeOptions(const std::map<std::string, Value>& kw, composite::ComposeOp
     if (auto* v = get("cross_eyed")) o.crossEyed = v->flag;
     if (auto* v = get("quilt")) {
         auto grid = composite::parseQuiltGrid(v->text);
-        if (!grid) throwStatus(usageError("--quilt: " + grid.status().message()));
+        if (!grid) throwStatus(grid.status());  // it names --quilt and the value
         o.quiltColumns = grid->first;
         o.quiltRows = grid->second;
     }
@@ -294,26 +296,30 @@ void composeOptions(const std::map<std::string, Value>& kw, composite::ComposeOp
         if (!loaded) throwStatus(usageError("--lenticular-calibration: " + loaded.status().message()));
         cal = *loaded;
     }
-    auto positive = [](const char* option, double d) {
-        if (!(d > 0.0) || !std::isfinite(d))
-            throwStatus(usageError(fmt::format("{}: Value {} not in range (0, inf)", option, d)));
+    auto positive = [](const char* option, double d, double most) {
+        if (!(d > 0.0 && d <= most))
+            throwStatus(usageError(fmt::format(
+                "{}: {} is out of range (must be > 0 and at most {:g})", option, d, most)));
     };
     if (auto* v = get("lenticular_pitch")) {
-        positive("--lenticular-pitch", v->number);
+        positive("--lenticular-pitch", v->number, composite::kMaxLenticularPitch);
         cal.pitch = v->number;
     }
     if (auto* v = get("lenticular_slope")) {
-        if (!std::isfinite(v->number) || v->number == 0.0)
-            throwStatus(usageError("--lenticular-slope: not a finite non-zero number"));
+        if (!(std::abs(v->number) >= composite::kMinLenticularSlope &&
+              std::abs(v->number) <= composite::kMaxLenticularSlope))
+            throwStatus(usageError(fmt::format(
+                "--lenticular-slope: {} is out of range (must be non-zero, {:g} <= |value| <= {:g})",
+                v->number, composite::kMinLenticularSlope, composite::kMaxLenticularSlope)));
         cal.slope = v->number;
     }
     if (auto* v = get("lenticular_center")) {
-        if (!std::isfinite(v->number))
-            throwStatus(usageError("--lenticular-center: not a finite number"));
+        inRange("--lenticular-center", v->number, -composite::kMaxLenticularCenter,
+                composite::kMaxLenticularCenter);
         cal.center = v->number;
     }
     if (auto* v = get("lenticular_dpi")) {
-        positive("--lenticular-dpi", v->number);
+        positive("--lenticular-dpi", v->number, composite::kMaxLenticularDpi);
         cal.dpi = v->number;
     }
     if (auto* v = get("lenticular_screen")) {

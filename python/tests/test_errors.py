@@ -27,7 +27,7 @@ USAGE = [
     (dict(grid=3), "--grid 3 needs a model file"),
     (dict(views=2, view_grid=(2, 2)), "excludes"),
     (dict(format="nope"), "nope"),
-    (dict(jpeg_quality=500), "not in range"),
+    (dict(jpeg_quality=500), "--jpeg-quality: 500 is out of range (must be 1..100)"),
     (dict(views=3, format="sbs"), "sbs"),
 ]
 

@@ -157,11 +157,22 @@ Result<LenticularCalibration> parseLookingGlassCalibration(std::string_view json
         return inputError(
             fmt::format("{}: calibration viewCone = {} (expected degrees, 0 < cone < 180)", what,
                         cal.viewCone));
-    if (cal.dpi <= 0 || cal.slope == 0 || cal.pitch <= 0)
-        return inputError(
-            fmt::format("{}: calibration pitch {}, slope {}, DPI {} (expected pitch "
-                        "> 0, slope != 0, DPI > 0)",
-                        what, cal.pitch, cal.slope, cal.dpi));
+    if (!(cal.pitch > 0 && cal.pitch <= kMaxLenticularPitch))
+        return inputError(fmt::format("{}: calibration pitch {} is out of range (must be > 0 and "
+                                      "at most {:g} lenticules per inch)",
+                                      what, cal.pitch, kMaxLenticularPitch));
+    if (!(std::abs(cal.slope) >= kMinLenticularSlope && std::abs(cal.slope) <= kMaxLenticularSlope))
+        return inputError(fmt::format("{}: calibration slope {} is out of range (must be non-zero, "
+                                      "{:g} <= |slope| <= {:g})",
+                                      what, cal.slope, kMinLenticularSlope, kMaxLenticularSlope));
+    if (!(std::abs(cal.center) <= kMaxLenticularCenter))
+        return inputError(fmt::format("{}: calibration center {} is out of range (must be "
+                                      "-{:g}..{:g} lenticules)",
+                                      what, cal.center, kMaxLenticularCenter, kMaxLenticularCenter));
+    if (!(cal.dpi > 0 && cal.dpi <= kMaxLenticularDpi))
+        return inputError(fmt::format("{}: calibration DPI {} is out of range (must be > 0 and at "
+                                      "most {:g})",
+                                      what, cal.dpi, kMaxLenticularDpi));
     return cal;
 }
 
@@ -181,12 +192,19 @@ Result<LenticularShaderParams> lenticularShaderParams(const LenticularCalibratio
             fmt::format("{}: calibration has a non-finite value (pitch {}, slope "
                         "{}, center {}, dpi {})",
                         who, cal.pitch, cal.slope, cal.center, cal.dpi));
-    if (cal.dpi <= 0) return usageError(fmt::format("{}: dpi {} (expected > 0)", who, cal.dpi));
-    if (cal.slope == 0)
-        return usageError(fmt::format("{}: slope 0 (expected a non-zero lens slope)", who));
-    if (cal.pitch <= 0)
-        return usageError(
-            fmt::format("{}: pitch {} (expected > 0 lenticules per inch)", who, cal.pitch));
+    if (cal.dpi <= 0 || cal.dpi > kMaxLenticularDpi)
+        return usageError(fmt::format("{}: dpi {} (must be > 0 and at most {:g})", who, cal.dpi,
+                                      kMaxLenticularDpi));
+    if (std::abs(cal.slope) < kMinLenticularSlope || std::abs(cal.slope) > kMaxLenticularSlope)
+        return usageError(fmt::format("{}: slope {} (must be non-zero, {:g} <= |slope| <= {:g})",
+                                      who, cal.slope, kMinLenticularSlope, kMaxLenticularSlope));
+    if (cal.pitch <= 0 || cal.pitch > kMaxLenticularPitch)
+        return usageError(fmt::format("{}: pitch {} (must be > 0 and at most {:g} lenticules per "
+                                      "inch)",
+                                      who, cal.pitch, kMaxLenticularPitch));
+    if (std::abs(cal.center) > kMaxLenticularCenter)
+        return usageError(fmt::format("{}: center {} (must be -{:g}..{:g} lenticules)", who,
+                                      cal.center, kMaxLenticularCenter, kMaxLenticularCenter));
     if (screenWidth < 1 || screenHeight < 1 || screenWidth > 16384 || screenHeight > 16384)
         return usageError(fmt::format("{}: screen {}x{} (expected 1..16384 on each side)", who,
                                       screenWidth, screenHeight));

@@ -46,6 +46,13 @@ Status validateMesh(const Mesh& mesh, const std::string& what) {
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
             return inputError(fmt::format("{}: vertex {} has a non-finite position", what, i));
         }
+        if (std::abs(p.x) > kMaxCoordinate || std::abs(p.y) > kMaxCoordinate ||
+            std::abs(p.z) > kMaxCoordinate) {
+            return inputError(fmt::format(
+                "{}: vertex {} at ({:g}, {:g}, {:g}) is out of range (coordinates at most {:g} "
+                "in magnitude)",
+                what, i, p.x, p.y, p.z, kMaxCoordinate));
+        }
         if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z)) {
             return inputError(fmt::format("{}: vertex {} has a non-finite normal", what, i));
         }

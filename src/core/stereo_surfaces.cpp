@@ -400,16 +400,27 @@ Result<Label> parseLabel(const std::string& spec, bool anchored) {
     if (anchored) {
         if (numbers.size() != 3)
             return usageError(fmt::format("{} '{}': expected {}", opt, spec, form));
+        for (float n : numbers) {
+            if (std::abs(n) > 1.0e12f)  // kMaxCoordinate (mesh.h): a point a scene can hold
+                return usageError(fmt::format(
+                    "{} '{}': X,Y,Z must be at most 1e12 in magnitude (world units)", opt, spec));
+        }
         label.anchor = glm::vec3(numbers[0], numbers[1], numbers[2]);
         return label;
     }
     if (numbers.size() != 2 && numbers.size() != 3)
         return usageError(fmt::format("{} '{}': expected {}", opt, spec, form));
+    if (!(numbers[0] >= 0.0f && numbers[0] <= 1.0f && numbers[1] >= 0.0f && numbers[1] <= 1.0f))
+        return usageError(fmt::format(
+            "{} '{}': the anchor {:g},{:g} lies outside the view (x and y must be 0..1, "
+            "fractions of the view)",
+            opt, spec, numbers[0], numbers[1]));
     label.screen = {numbers[0], numbers[1]};
     if (numbers.size() == 3) {
-        if (!(numbers[2] > 0.0f))
+        if (!(numbers[2] > 0.0f && numbers[2] <= 1.0e12f))
             return usageError(fmt::format(
-                "{} '{}': the distance must be > 0 (eye-space, world units)", opt, spec));
+                "{} '{}': the distance must be > 0 and at most 1e12 (eye-space, world units)",
+                opt, spec));
         label.distance = numbers[2];
     }
     return label;

@@ -134,6 +134,13 @@ ObjScan scanObj(const std::string& text, const std::string& what) {
                         vertices.size() + 1, std::isnan(value) ? " NaN" : "n infinite"));
                     return scan;
                 }
+                if (std::abs(value) > kMaxCoordinate) {  // mesh.h: framing-safe coordinates
+                    scan.status = inputError(fmt::format(
+                        "{}: line {}: vertex {} has a coordinate {:g} out of range (at most {:g} "
+                        "in magnitude)",
+                        what, firstLine, vertices.size() + 1, value, kMaxCoordinate));
+                    return scan;
+                }
                 p[k] = value;
                 cur = next;
             }

@@ -200,6 +200,7 @@ Status checkGltfBounds(const std::filesystem::path& path, const std::string& wha
     if (!version) return bad("no asset.version (glTF 2.0 requires one)");
     if (const std::string& v = version->get_ref<const std::string&>(); v.rfind("2.", 0) != 0)
         return bad(fmt::format("glTF {} is not supported (mvr reads glTF 2.0)", v));
+    if (Status s = checkGltfValues(doc, what); !s) return s;
     auto arrayOf = [&](const char* key) {
         const auto it = doc.find(key);
         return it != doc.end() && it->is_array() ? *it : nlohmann::json::array();

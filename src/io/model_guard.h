@@ -6,6 +6,7 @@
 #include <string>
 
 #include <assimp/DefaultIOSystem.h>
+#include <nlohmann/json_fwd.hpp>
 
 #include "mvr/core/status.h"
 #include "mvr/io/mesh_io.h"
@@ -36,6 +37,16 @@ std::string uriDecode(const std::string& s);
 /// its JSON: parse error at line 1, column 9: ...", "WHAT: malformed glTF: glTF 1.0 is not
 /// supported (mvr reads glTF 2.0)".
 Status checkGltfBounds(const std::filesystem::path& path, const std::string& what);
+
+/// The numbers of a glTF 2.0 document (checkGltfBounds() calls it): nodes' translation (3),
+/// rotation (4), scale (3), matrix (16), mesh / camera / children indices; cameras'
+/// yfov (0..pi), znear, zfar, aspectRatio (> 0), xmag, ymag; KHR_lights_punctual colors (3,
+/// >= 0), intensity (>= 0), range (> 0), spot cone angles (0..pi/2); materials'
+/// baseColorFactor (4), emissiveFactor (3) (colours >= 0), metallic and roughness factors (0..1), alphaCutoff
+/// (>= 0), alphaMode, texture infos; samplers' filters and wraps (glTF's enum values). Every
+/// number must be a float (finite, |x| <= FLT_MAX). Errors: ErrorCode::Input,
+/// "WHAT: nodes[3].translation: expected 3 numbers, got [\"abc\",0,0]".
+Status checkGltfValues(const nlohmann::json& doc, const std::string& what);
 
 /// What preflightModel() learnt of a model file.
 struct ModelPreflight {

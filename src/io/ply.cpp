@@ -361,6 +361,13 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what,
                         "{}: vertex {} of {} has a {} coordinate", what, i, e.count,
                         std::isnan(values[ix] + values[iy] + values[iz]) ? "NaN" : "infinite"));
                 }
+                if (std::abs(values[ix]) > kMaxCoordinate || std::abs(values[iy]) > kMaxCoordinate ||
+                    std::abs(values[iz]) > kMaxCoordinate) {
+                    return inputError(fmt::format(
+                        "{}: vertex {} of {} at ({:g}, {:g}, {:g}) is out of range (coordinates at "
+                        "most {:g} in magnitude)",
+                        what, i, e.count, values[ix], values[iy], values[iz], kMaxCoordinate));
+                }
                 mesh.positions.emplace_back(values[ix], values[iy], values[iz]);
                 if (hasNormals) mesh.normals.emplace_back(values[inx], values[iny], values[inz]);
                 if (hasUv) mesh.texcoords.emplace_back(values[iu], values[iv]);

@@ -224,8 +224,20 @@ Result<std::pair<std::string, std::optional<Placement>>> parseModelArg(const std
     if (!ok) return bad("is not a list of numbers");
     if (values.size() < 3 || values.size() > 5)
         return bad(fmt::format("has {} numbers", values.size()));
-    for (double v : values)
-        if (!std::isfinite(v) || std::abs(v) > 1e30) return bad("has a number out of range");
+    static constexpr const char* kNames[] = {"X", "Y", "Z", "SCALE", "YAW"};
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        const double v = values[i];
+        const bool ok = i < 3   ? std::abs(v) <= kMaxPlacementOffset
+                        : i == 3 ? v >= kMinPlacementScale && v <= kMaxPlacementScale
+                                 : std::abs(v) <= kMaxPlacementYaw;
+        if (!ok) {
+            return bad(fmt::format(
+                "has {} = {:g} out of range (|X|, |Y|, |Z| at most {:g}; SCALE {:g}..{:g}; "
+                "|YAW| at most {:g} degrees)",
+                kNames[i], v, kMaxPlacementOffset,
+                kMinPlacementScale, kMaxPlacementScale, kMaxPlacementYaw));
+        }
+    }
     Placement p;
     p.position = glm::vec3(float(values[0]), float(values[1]), float(values[2]));
     if (values.size() > 3) p.scale = float(values[3]);
@@ -757,7 +769,10 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
         if (r.convergence) add(fmt::format("--convergence {}", *r.convergence));
         if (cone) add(fmt::format("--view-cone {}", *cone));
         if (fov != 45.0) add(fmt::format("--fov {}", fov));
-        if (culprit.empty()) culprit = out.sceneName;
+        if (culprit.empty()) {  // no option shaped it: the models' extent is at fault (exit 2)
+            return inputError(fmt::format("{}: the scene cannot be framed ({})", out.sceneName,
+                                          framed.status().message()));
+        }
         return Status(framed.status().code(),
                       fmt::format("{}: {}", culprit, framed.status().message()));
     }

@@ -13,6 +13,7 @@
 #include <fstream>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <fmt/core.h>
 #include <gtest/gtest.h>
@@ -197,6 +198,167 @@ TEST_F(AllOrNothing, AFormatTheViewsCannotMakeWritesNothing) {
             }
         }
     }
+}
+
+// ---- C: nonsense refused, with the code the README's table gives (docs/errors.md) ---------------
+
+/// A one-triangle glTF 2.0 (a data URI buffer) whose node 0 has `node` added and whose document
+/// has `extra` (",\"cameras\": [...]" etc.) added at the top level.
+std::string gltfWith(const std::string& node, const std::string& extra = {}) {
+    return fmt::format(R"({{
+  "asset": {{"version": "2.0"}},
+  "scene": 0, "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0{}}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}}}]}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                  "min": [0, 0, 0], "max": [1, 1, 0]}}],
+  "bufferViews": [{{"buffer": 0, "byteLength": 36}}],
+  "buffers": [{{"uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA",
+               "byteLength": 36}}]{}
+}})",
+                       node, extra);
+}
+
+TEST_F(AllOrNothing, NonsenseOptionsAreUsageErrorsNamingTheOptionAndValue) {
+    write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    struct Case {
+        std::string args;
+        std::vector<std::string> needles;
+    };
+    const Case cases[] = {
+        {"render --frames 0", {"--frames: 0 is out of range", "1..1000000"}},
+        {"render --frames 2.5", {"--frames: '2.5' is not a whole number"}},
+        {"render --display ''", {"--display: '' is empty", "mvr info --displays"}},
+        {"render --method ''", {"--method: '' is empty"}},
+        {"render --threads -1 --frames 1", {"--threads: -1 is out of range", "0..1024"}},
+        {"render --threads 5000 --frames 1", {"--threads: 5000 is out of range", "0..1024"}},
+        {"render --label 'hi@2,0.5'", {"--label 'hi@2,0.5'", "outside the view", "0..1"}},
+        {"render --label 'hi@0.5,-0.1'", {"--label 'hi@0.5,-0.1'", "outside the view"}},
+        {"render --label-anchor 'hi@1e30,0,0'", {"--label-anchor 'hi@1e30,0,0'", "1e12"}},
+        {"render --format jps --jpeg-quality 0", {"--jpeg-quality: 0 is out of range", "1..100"}},
+        {"compose a.png b.png -o o.png --format lenticular --lenticular-pitch 1e30",
+         {"--lenticular-pitch: 1e30 is out of range", "must be > 0 and at most 10000"}},
+        {"compose a.png b.png -o o.png --format lenticular --lenticular-pitch 0",
+         {"--lenticular-pitch: 0 is out of range", "must be > 0"}},
+        {"compose a.png b.png -o o.png --format lenticular --lenticular-center 1e30",
+         {"--lenticular-center: 1e30 is out of range", "-1000000..1000000"}},
+        {"compose a.png b.png -o o.png --format lenticular --lenticular-dpi 1e30",
+         {"--lenticular-dpi: 1e30 is out of range", "at most 10000"}},
+        {"compose a.png b.png -o o.png --format lenticular --lenticular-slope 0",
+         {"--lenticular-slope: 0 is out of range", "non-zero"}},
+        {"compose a.png b.png -o o.png --format mpo --baseline 1e30",
+         {"--baseline: 1e30 is out of range", "0..1000000"}},
+        {"render tri.obj@1e30,0,0", {"tri.obj@1e30,0,0", "X = 1e+30 out of range",
+                                     "|X|, |Y|, |Z| at most 1e+06", "SCALE 1e-06..1e+06"}},
+        {"render tri.obj@0,0,0,1e30", {"SCALE = 1e+30 out of range"}},
+        {"render tri.obj@0,0,0,1,1000", {"YAW = 1000 out of range", "|YAW| at most 360"}},
+        {"render --format quilt --views 4 --quilt 9x", {"--quilt '9x'", "expected CxR"}},
+    };
+    for (const Case& c : cases) {
+        std::filesystem::remove_all(mDir / "o");
+        const std::string args = c.args + (c.args.find(" -o ") == std::string::npos
+                                               ? " --size 16x12 -o o" : "");
+        const CliRun r = run(args);
+        expectOneError(r, args, 1, {});
+        for (const std::string& needle : c.needles)
+            EXPECT_NE(r.err.find(needle), std::string::npos)
+                << args << ": no '" << needle << "' in: " << r.err;
+        // Readable: a bound is never the largest double in full, the option named once.
+        EXPECT_LT(r.err.find('\n'), 240u) << args << ": " << r.err;
+        EXPECT_EQ(r.err.find("0000000000"), std::string::npos) << args << ": " << r.err;
+        const std::string option = r.err.substr(7, r.err.find_first_of(": '", 7) - 7);
+        if (option.rfind("--", 0) == 0) {
+            std::size_t n = 0;
+            for (std::size_t at = r.err.find(option + " "); at != std::string::npos;
+                 at = r.err.find(option + " ", at + 1))
+                ++n;
+            for (std::size_t at = r.err.find(option + ":"); at != std::string::npos;
+                 at = r.err.find(option + ":", at + 1))
+                ++n;
+            EXPECT_LE(n, 1u) << args << ": the option is named more than once: " << r.err;
+        }
+        EXPECT_FALSE(std::filesystem::exists(mDir / "o")) << args;
+        EXPECT_FALSE(std::filesystem::exists(mDir / "o.png")) << args;
+    }
+}
+
+TEST_F(AllOrNothing, AFilesFaultIsExit2NamingTheFileAndThePlace) {
+    write("big.obj", "v 0 0 0\nv 1e30 0 0\nv 0 1 0\nf 1 2 3\n");
+    write("big.ply",
+          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+          "0 0 0\n0 1e30 0\n1 0 0\n3 0 1 2\n");
+    write("bad-pitch.json", R"({"pitch": "x", "slope": -5.4, "center": 0.1, "DPI": 324})");
+    write("huge-pitch.json", R"({"pitch": 1e30, "slope": -5.4, "center": 0.1, "DPI": 324})");
+    write("cut.json", R"({"pitch": 52.5, "slope": -5.4)");
+    write("abc.gltf", gltfWith(R"(, "translation": ["abc", 0, 0])"));
+    write("short.gltf", gltfWith(R"(, "translation": [0, 0])"));
+    write("rot.gltf", gltfWith(R"(, "rotation": [0, 0, 0, 1e39])"));
+    write("scale.gltf", gltfWith(R"(, "scale": {"x": 1})"));
+    write("matrix.gltf", gltfWith(R"(, "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0])"));
+    write("cam.gltf", gltfWith(R"(, "camera": 0)",
+                               R"(, "cameras": [{"type": "perspective",
+                                   "perspective": {"yfov": "wide", "znear": 0.1}}])"));
+    write("light.gltf",
+          gltfWith("", R"(, "extensions": {"KHR_lights_punctual": {"lights": [
+                             {"type": "point", "color": [1, 1]}]}})"));
+    write("spot.gltf",
+          gltfWith("", R"(, "extensions": {"KHR_lights_punctual": {"lights": [
+                             {"type": "spot", "spot": {"outerConeAngle": 3}}]}})"));
+    write("mat.gltf", gltfWith("", R"(, "materials": [{"pbrMetallicRoughness":
+                                        {"baseColorFactor": [1, 1, "red", 1]}}])"));
+    write("emit.gltf", gltfWith("", R"(, "materials": [{"emissiveFactor": [1, 1, null]}])"));
+    write("rough.gltf", gltfWith("", R"(, "materials": [{"pbrMetallicRoughness":
+                                        {"roughnessFactor": 7}}])"));
+    write("cutoff.gltf", gltfWith("", R"(, "materials": [{"alphaCutoff": "half"}])"));
+    write("sampler.gltf", gltfWith("", R"(, "samplers": [{"wrapS": 5}])"));
+    struct Case {
+        std::string args;
+        std::vector<std::string> needles;
+    };
+    const Case cases[] = {
+        {"render big.obj", {"big.obj", "line 2", "vertex 2", "1e+30", "at most 1e+12"}},
+        {"render big.ply", {"big.ply", "vertex 1", "1e+30", "at most 1e+12"}},
+        {"render --lenticular-calibration bad-pitch.json --format lenticular --views 4",
+         {"bad-pitch.json", "\"pitch\"", "not a number"}},
+        {"render --lenticular-calibration huge-pitch.json --format lenticular --views 4",
+         {"huge-pitch.json", "pitch 1e+30 is out of range", "at most 10000"}},
+        {"render --lenticular-calibration cut.json --format lenticular --views 4",
+         {"cut.json", "not a complete JSON object"}},
+        {"render abc.gltf", {"abc.gltf", "nodes[0].translation", "expected 3 numbers",
+                             R"(["abc",0,0])"}},
+        {"render short.gltf", {"short.gltf", "nodes[0].translation", "expected 3 numbers",
+                               "[0,0]"}},
+        {"render rot.gltf", {"rot.gltf", "nodes[0].rotation", "expected 4 numbers"}},
+        {"render scale.gltf", {"scale.gltf", "nodes[0].scale", "expected 3 numbers"}},
+        {"render matrix.gltf", {"matrix.gltf", "nodes[0].matrix", "expected 16 numbers"}},
+        {"render cam.gltf", {"cam.gltf", "cameras[0].perspective.yfov", "expected a number"}},
+        {"render light.gltf",
+         {"light.gltf", "KHR_lights_punctual.lights[0].color", "expected 3 numbers"}},
+        {"render spot.gltf",
+         {"spot.gltf", "lights[0].spot.outerConeAngle", "3 is out of range"}},
+        {"render mat.gltf", {"mat.gltf", "materials[0].pbrMetallicRoughness.baseColorFactor",
+                             "expected 4 numbers"}},
+        {"render emit.gltf", {"emit.gltf", "materials[0].emissiveFactor", "expected 3 numbers"}},
+        {"render rough.gltf",
+         {"rough.gltf", "pbrMetallicRoughness.roughnessFactor", "7 is out of range"}},
+        {"render cutoff.gltf", {"cutoff.gltf", "materials[0].alphaCutoff", "expected a number"}},
+        {"render sampler.gltf", {"sampler.gltf", "samplers[0].wrapS", "not one of glTF's values"}},
+    };
+    for (const Case& c : cases) {
+        std::filesystem::remove_all(mDir / "o");
+        const std::string args = c.args + " --size 16x12 -o o";
+        const CliRun r = run(args);
+        expectOneError(r, args, 2, {});
+        for (const std::string& needle : c.needles)
+            EXPECT_NE(r.err.find(needle), std::string::npos)
+                << args << ": no '" << needle << "' in: " << r.err;
+        EXPECT_FALSE(std::filesystem::exists(mDir / "o")) << args;
+    }
+    // The same glTF with good values renders (the check refuses only what is wrong).
+    write("good.gltf", gltfWith(R"(, "translation": [0, 0, 1], "rotation": [0, 0, 0, 1])",
+                                R"(, "samplers": [{"wrapS": 33071, "magFilter": 9729}])"));
+    const CliRun ok = run("render good.gltf --size 16x12 -o o");
+    EXPECT_EQ(ok.exitCode, 0) << ok.err;
 }
 
 }  // namespace

@@ -435,8 +435,8 @@ TEST_F(Cli, EveryRefusalNamesItsCulprit) {
          "--camera-path " + badKey + ": key 1 position: expected [x, y, z]"},
         {"--camera-path '" + backwards + "'", 2,
          "--camera-path " + backwards + ": camera path: key 1: time 0.5 does not follow key 0's 1"},
-        {"--frames -3", 1, "--frames -3 is out of range (expected 1..1000000)"},
-        {"--frames 2000000", 1, "--frames 2000000 is out of range (expected 1..1000000"},
+        {"--frames -3", 1, "--frames: -3 is out of range (must be a whole number 1..1000000)"},
+        {"--frames 2000000", 1, "--frames: 2000000 is out of range (must be a whole number 1..1000000"},
         {"--orbit 1e300", 1, "--frames 0 is out of range (expected 1..1000000)"},
         {"--frames 3 --orbit nan", 1, "--orbit nan is not a finite angle"},
         {"--frames 3 --fps 0", 1, "--fps 0 is out of range (expected 0 < fps <= 1000)"},
@@ -1135,11 +1135,11 @@ TEST_F(Cli, ModelsArePlacedFromTheCommandLine) {
     expectError(fmt::format("render '{}@1,2,x'", model.string()), 1,
                 "placement '1,2,x' is not a list of numbers");
     expectError(fmt::format("render '{}@1,2,3,0'", model.string()), 1,
-                "placement '1,2,3,0' has a scale that is not > 0");
+                "placement '1,2,3,0' has SCALE = 0 out of range");
     expectError(fmt::format("render '{}@1,2,3,1,2,3'", model.string()), 1,
                 "placement '1,2,3,1,2,3' has 6 numbers");
     expectError(fmt::format("render '{}@1e99,0,0'", model.string()), 1,
-                "has a number out of range");
+                "has X = 1e+99 out of range (|X|, |Y|, |Z| at most 1e+06");
     expectError(fmt::format("render '{}@1,2,3'", (mDir / "missing.obj").string()), 2,
                 "missing.obj: file not found");
 }

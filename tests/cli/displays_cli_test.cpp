@@ -182,7 +182,7 @@ TEST_F(Displays, TheCalibrationsViewConeIsTheDefaultCone) {
     // A cone out of range is the file's error.
     std::ofstream(mDir / "bad.json") << R"({"pitch": 52.59, "slope": -7.08, "center": 0.82,
         "DPI": 324.0, "viewCone": 0.5e3})";
-    expectError("render pyramid.obj --lenticular-calibration bad.json", 1,
+    expectError("render pyramid.obj --lenticular-calibration bad.json", 2,
                 "bad.json: calibration viewCone = 500");
 }
 

@@ -214,7 +214,7 @@ TEST_F(ComposeCli, LenticularCalibrationFileAndOverrides) {
     const Image inv = readOne(dir / "inv.png");
     for (int x = 0; x < 12; ++x) EXPECT_EQ(inv.at(x, 0).r, 10 + 8 - (3 * x + 1) % 9) << x;
     r = run(list + "-f lenticular --lenticular-calibration missing.json -o x.png");
-    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_EQ(r.exitCode, 2) << r.output;  // the file's fault (docs/errors.md)
     EXPECT_NE(r.output.find("missing.json: file not found"), std::string::npos) << r.output;
 }
 

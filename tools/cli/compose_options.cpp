@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "mvr/composite/lenticular.h"
+#include "validators.h"
 
 namespace mvr::cli {
 
@@ -30,7 +31,11 @@ void addComposeOptions(CLI::App* app, composite::ComposeOptions& options, bool w
            "--quilt",
            [&options](const std::string& text) {
                Result<std::pair<int, int>> grid = parseQuiltGrid(text);
-               if (!grid) throw CLI::ValidationError("--quilt", grid.status().message());
+               if (!grid) {  // parseQuiltGrid's message names --quilt and the value itself
+                   const std::string& why = grid.status().message();
+                   throw CLI::ValidationError(why.rfind("--quilt", 0) == 0 ? why
+                                                                           : "--quilt: " + why);
+               }
                options.quiltColumns = grid->first;
                options.quiltRows = grid->second;
            },
@@ -38,21 +43,21 @@ void addComposeOptions(CLI::App* app, composite::ComposeOptions& options, bool w
         ->type_name("CxR")
         ->group(group);
     app->add_option("--jpeg-quality", options.jpegQuality, "jps / mpo / .jpg: JPEG quality")
-        ->check(CLI::Range(1, 100))
+        ->check(wholeIn(1, 100))
         ->default_val(options.jpegQuality)
         ->group(group);
     app->add_option("--base-viewpoint", options.baseViewpoint,
                     "mpo: 1-based base viewpoint (default (N + 1) / 2)")
-        ->check(CLI::Range(1, 4096))
+        ->check(wholeIn(1, 4096))
         ->group(group);
     if (withStereoMetadata) {
         app->add_option("--baseline", options.baseline,
                         "mpo: distance between adjacent viewpoints in metres (BaselineLength)")
-            ->check(CLI::Range(0.0, 1.0e6))
+            ->check(numberIn(0.0, 1.0e6))
             ->group(group);
         app->add_option("--convergence", options.convergence,
                         "mpo: convergence distance in metres, 0 = parallel (ConvergenceAngle)")
-            ->check(CLI::Range(0.0, 1.0e9))
+            ->check(numberIn(0.0, 1.0e9))
             ->group(group);
     }
     LenticularCalibration& cal = options.lenticular;
@@ -62,53 +67,31 @@ void addComposeOptions(CLI::App* app, composite::ComposeOptions& options, bool w
            "--lenticular-calibration",
            [&cal](const std::string& path) {
                Result<LenticularCalibration> loaded = readLookingGlassCalibration(path);
-               if (!loaded)
-                   throw CLI::ValidationError("--lenticular-calibration",
-                                              loaded.status().message());
+               if (!loaded)  // a file's fault: its code (2), not usage (main.cpp)
+                   throw CLI::ValidationError(
+                       "--lenticular-calibration: " + loaded.status().message(),
+                       exitCode(loaded.status().code()));
                cal = *loaded;
            },
            "lenticular: a Looking Glass visual.json (pitch, slope, center, DPI, screenW/H, "
            "invView, flipImageX/Y, flipSubp); single --lenticular-* values override it")
         ->type_name("FILE")
         ->group(group);
-    const auto finite = CLI::Validator(
-        [](std::string& text) -> std::string {
-            try {
-                std::size_t used = 0;
-                const double v = std::stod(text, &used);
-                if (used != text.size() || !std::isfinite(v)) return "not a finite number";
-            } catch (const std::exception&) {
-                return "not a number";
-            }
-            return {};
-        },
-        "NUMBER");
     app->add_option("--lenticular-pitch", cal.pitch, "lenticular: lenticules per inch")
-        ->check(CLI::PositiveNumber)
+        ->check(positiveAtMost(composite::kMaxLenticularPitch))
         ->default_val(cal.pitch)
         ->group(group);
     app->add_option("--lenticular-slope", cal.slope, "lenticular: lens slope (non-zero)")
-        ->check(CLI::Validator(
-            [](std::string& text) -> std::string {
-                try {
-                    std::size_t used = 0;
-                    const double v = std::stod(text, &used);
-                    if (used != text.size() || !std::isfinite(v) || v == 0.0)
-                        return "not a finite non-zero number";
-                } catch (const std::exception&) {
-                    return "not a number";
-                }
-                return {};
-            },
-            "NONZERO"))
+        ->check(nonZeroMagnitudeIn(composite::kMinLenticularSlope,
+                                   composite::kMaxLenticularSlope))
         ->default_val(cal.slope)
         ->group(group);
     app->add_option("--lenticular-center", cal.center, "lenticular: lens phase (lenticules)")
-        ->check(finite)
+        ->check(numberIn(-composite::kMaxLenticularCenter, composite::kMaxLenticularCenter))
         ->default_val(cal.center)
         ->group(group);
     app->add_option("--lenticular-dpi", cal.dpi, "lenticular: panel pixels per inch")
-        ->check(CLI::PositiveNumber)
+        ->check(positiveAtMost(composite::kMaxLenticularDpi))
         ->default_val(cal.dpi)
         ->group(group);
     app->add_option_function<std::string>(

@@ -62,7 +62,9 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         fmt::print(stderr, "error: {}\n", e.what());
         fmt::print(stderr, "run `mvr --help` (or `mvr COMMAND --help`) for usage\n");
-        return 1;
+        // A file an option names that is malformed (--lenticular-calibration) is exit 2.
+        const int code = e.get_exit_code();
+        return code >= 2 && code <= 5 ? code : 1;
     }
     for (auto& [sub, run] : commands) {
         if (!sub->parsed()) continue;

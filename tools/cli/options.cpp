@@ -9,6 +9,7 @@
 #include <fmt/core.h>
 
 #include "mvr/core/displays.h"
+#include "validators.h"
 
 namespace mvr::cli {
 
@@ -71,8 +72,8 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
             "models", models,
             "Model files (OBJ, PLY, glTF 2.0 .gltf/.glb; glTF and OBJ+MTL keep their nodes, "
             "materials, textures, lights and camera), each optionally placed: "
-            "FILE@X,Y,Z[,SCALE[,YAW]] (position, uniform scale, degrees about +Y; e.g. "
-            "chair.glb@2,0,-1,0.5,90). None: the procedural default scene");
+            "FILE@X,Y,Z[,SCALE[,YAW]] (position, uniform scale, degrees about +Y; |X|,|Y|,|Z| <= "
+            "1e6, SCALE 1e-6..1e6, |YAW| <= 360; e.g. chair.glb@2,0,-1,0.5,90). None: the procedural default scene");
     }
     app->add_option("--scene", namedScene,
                     "Procedural scene when no model is given: default, village (adelson1991's "
@@ -196,7 +197,8 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
         "on the command line (--views, --size, --view-cone, --quilt, spacing) override the "
         "preset's. One of:";
     for (const std::string& n : displayNames()) displayHelp += " " + n;
-    app->add_option("--display", display, displayHelp);
+    app->add_option("--display", display, displayHelp)
+        ->check(nonEmpty("a display name; `mvr info --displays` lists them"));
     app->add_option("--screen-width", screenWidthCm,
                     "Width of the picture on the screen, cm: the comfort report in cm against the "
                     "6.5 cm interocular budget (docs/displays.md)");

@@ -15,6 +15,7 @@
 #include "mvr/session/pending.h"
 #include "stereo_options.h"
 #include "sequence.h"
+#include "validators.h"
 
 #include "mvr/backends.h"
 #include "mvr/composite/compose.h"
@@ -216,7 +217,8 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
         "--method", o->method,
         "Method of the backend (see `mvr info`); default: the backend's fastest exact "
         "method (soft unified, bit-identical to soft multipass, the reference; gl auto, "
-        "measured)");
+        "measured)")
+        ->check(nonEmpty("a method of the backend; `mvr info` lists them"));
     app->add_option("-o,--output", o->outDir, "Output directory")->default_val(o->outDir);
     app->add_flag("--depth", o->depth, "Also write depth-0.png ... (16-bit, near = black)");
     app->add_option("--depth-format", o->depthFormat,

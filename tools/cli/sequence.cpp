@@ -3,6 +3,7 @@
 // complete, optionally a video file of one composite (or one stream per view).
 #include "sequence.h"
 #include "stereo_options.h"
+#include "validators.h"
 
 #include <unistd.h>
 
@@ -29,7 +30,8 @@ namespace mvr::cli {
 void addSequenceOptions(CLI::App* app, SequenceOptions& o) {
     app->add_option("--frames", o.frames,
                     "Render a sequence of F frames into DIR/frame-0000/ ... (views and composites "
-                    "per frame)");
+                    "per frame)")
+        ->check(wholeIn(1, 1000000));
     app->add_option("--orbit", o.orbit,
                     "Turntable: turn the camera (and the rig with it) DEG degrees about the "
                     "scene centre over the frames (frame f at DEG·f/F); without --frames, a "
@@ -47,6 +49,7 @@ void addSequenceOptions(CLI::App* app, SequenceOptions& o) {
     app->add_option("--threads", o.threads,
                     "CPU threads of a sequence's backend per process (0: the cores, divided by "
                     "the MPI ranks on this node less one for rank 0)")
+        ->check(wholeIn(0, 1024))
         ->default_val(o.threads);
     app->add_flag("--gather-stats", o.gatherStats,
                   "Under mpirun: rank 0 prints the time it spent receiving the views (the "

@@ -37,6 +37,15 @@
 
 namespace mvr::composite {
 
+/// The bounds of a calibration's numbers (options, visual.json and lenticular() alike): beyond
+/// them the lens phase is lost in rounding (every sub-pixel shows one view). Real panels: pitch
+/// ~40..60 lenticules per inch, DPI ~200..500, slope ~-5..5, center a phase in -1..1.
+inline constexpr double kMaxLenticularPitch = 10000.0;   ///< lenticules per inch, > 0
+inline constexpr double kMaxLenticularDpi = 10000.0;     ///< panel pixels per inch, > 0
+inline constexpr double kMaxLenticularCenter = 1.0e6;    ///< |center|, lenticules
+inline constexpr double kMinLenticularSlope = 1.0e-6;    ///< |slope| at least
+inline constexpr double kMaxLenticularSlope = 1.0e15;    ///< |slope| at most (~vertical lenses)
+
 /// The shader-side values derived from a calibration for a screen of screenW×screenH.
 struct LenticularShaderParams {
     double pitchU = 0;  ///< lenticules across the screen width (pitch adjusted for the slant)

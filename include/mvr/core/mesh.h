@@ -50,6 +50,12 @@ struct Mesh {
 /// bytes a step, not cryptographic): the GPU backends' key for meshes they keep uploaded.
 std::uint64_t contentHash(const Mesh& mesh);
 
+/// The largest vertex coordinate magnitude the readers accept (OBJ, PLY, glTF, Python's
+/// meshes): 1e12. A scene must be framed with squared distances that fit a float (~3e38); with
+/// a placement's scale and offset (at most 1e6 each, scene_io.h) a vertex stays within ~1e18.
+/// validateMesh() refuses a vertex beyond it (ErrorCode::Input, naming the vertex).
+inline constexpr double kMaxCoordinate = 1.0e12;
+
 /// Checks the invariants above. Errors: ErrorCode::Input naming `what` and the problem
 /// ("has no triangles", "index 9 out of range for 5 vertices", "non-finite position").
 Status validateMesh(const Mesh& mesh, const std::string& what);

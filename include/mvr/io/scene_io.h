@@ -66,6 +66,14 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info =
 Result<Sky> loadSky(const std::string& spec);
 
 /// A model's placement in the scene: translation, uniform scale and rotation about +Y.
+/// FILE@X,Y,Z[,SCALE[,YAW]] is bounded: |X|, |Y|, |Z| <= kMaxPlacementOffset, SCALE in
+/// kMinPlacementScale..kMaxPlacementScale, |YAW| <= 360 degrees. With the readers' bound on a
+/// vertex (kMaxCoordinate, mesh.h: 1e12) a placed vertex stays within ~1e18, where the framing's
+/// squared distances still fit a float.
+inline constexpr double kMaxPlacementOffset = 1.0e6;
+inline constexpr double kMinPlacementScale = 1.0e-6;
+inline constexpr double kMaxPlacementScale = 1.0e6;
+inline constexpr double kMaxPlacementYaw = 360.0;
 struct Placement {
     glm::vec3 position{0.0f};
     float scale = 1.0f;
