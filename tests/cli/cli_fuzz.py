@@ -639,7 +639,9 @@ def diff(before, after):
 
 def normalise(message):
     """An error message with its particulars masked: the key of a failure kind."""
-    m = re.sub(r"'[^']*'|\"[^\"]*\"|`[^`]*`", "'…'", message)
+    m = re.sub(r"(--[a-z-]+)[ =][^:]*:", r"\1 …:", message)
+    m = re.sub(r"Value .* not in range", "Value … not in range", m)
+    m = re.sub(r"'[^']*'|\"[^\"]*\"|`[^`]*`", "'…'", m)
     m = re.sub(r"[-+]?\d[\d.e+-]*", "N", m)
     m = re.sub(r"\S*(bad-|blocker|full|out|n{20,})\S*", "PATH", m)
     return m[:110]
@@ -747,9 +749,12 @@ def run_case(case, mvr, workdir, timeout, oracles, keep):
 
 def kind_key(res, check):
     c = res.case
-    first = res.stderr.splitlines()[0] if res.stderr.strip() else ""
-    if check in ("files-changed", "error-format", "unreadable-number", "exit-code",
-                 "noise-before-error"):
+    lines = res.stderr.splitlines()
+    errors = [ln for ln in lines if ln.startswith("error: ")]
+    first = (errors or lines or [""])[0]
+    if check == "noise-before-error":
+        return f"{check}: {c.command}: {lines[0].split(':')[0]} lines before the error"
+    if check in ("files-changed", "error-format", "unreadable-number", "exit-code"):
         return f"{check}: {c.command}: {normalise(first)}"
     if check == "accepted-nonsense":
         return f"{check}: {c.command} {c.never[0][0]}"
