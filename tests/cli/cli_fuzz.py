@@ -15,7 +15,7 @@ A case fails on:
                   4 output, 5 internal)
   error-format    a failed run whose stderr is not one line `error: ...`, optionally followed by
                   one line "run `mvr --help` ..."
-  noise-before-error  the same, but `warning: ` / `note: ` lines came before the error
+  noise-before-error  the same, but `warning: ` / `note: ` / progress lines came before it
   stderr-on-success  an exit 0 whose stderr holds a line other than `warning: `, `note: ` or a
                   sequence's progress
   unreadable-number  an error message with a run of 40+ digits the command line did not hold
@@ -24,7 +24,7 @@ A case fails on:
   temp-left       a file left in the run's TMPDIR, or a *.part / *.tmp name after a success
 With --oracles, two more (heuristics for the refusal table; not part of the default run):
   accepted-nonsense  exit 0 with a value that is never valid for its option (nan, '', 'abc', ...)
-  exit-code       a case whose only fault is an input file (expect 2), an output path (expect 4)
+  exit-code       a case whose one mutation is an input file (expect 2), an output path (expect 4)
                   or a nonsense option value (expect 1) exits with another code
 
 Usage: cli_fuzz.py MVR [--seed 44] [--cases 300] [--jobs N] [--timeout 10] [--only I,J]
@@ -239,7 +239,7 @@ FILE_TYPES = {"calibration", "sky", "path", "matrix", "model", "image"}
 # a bound but may be valid ("odd"). Long strings and unicode are in both lists' spirit.
 LONG = "x" * 5000
 NEVER = {
-    "int": ["", "abc", "nan", "1e30", "-1e30", "2147483648", "-2147483649", "1.5", "0x10",
+    "int": ["", "abc", "nan", "1e30", "-1e30", "2147483648", "-2147483649", "1.5", "1_0",
             "\uff11\uff12", "1 2", "9" * 400],
     "float": ["", "abc", "nan", "inf", "-inf", "1e400", "-nan", "1,2", "\U0001F600", "--",
               "9" * 400 + "e9"],
@@ -256,7 +256,7 @@ NEVER = {
     "anchor": ["", "noat", "a@nan,0,0", "a@1,2", "@"],
 }
 ODD = {
-    "int": ["0", "-1", "2147483647", "-0", "+3"],
+    "int": ["0", "-1", "2147483647", "-0", "+3", "0x10"],
     "float": ["0", "-1", "1e30", "-1e30", "1e-30", "-0", "4.9e-324", "1.7976931348623157e308"],
     "float_auto": ["0", "-1", "1e30", "1e-30"],
     "vec3": ["0,0,0", "1e30,0,0", "-1e30,1e30,0", "1e-30,0,0"],
@@ -289,6 +289,7 @@ class Case:
         self.faults = set()  # usage / input / output: the classes of the mutations
         self.never = []  # (option, value) pairs that are never valid
         self.models = []
+        self.single = False  # one mutation: the exit-code oracle knows its fault
 
     def argv(self):
         out = [self.command]
@@ -546,8 +547,10 @@ def make_case(index, seed, models):
     if rng.random() < 0.08:
         case.notes.append("unmutated")
     else:
-        for _ in range(rng.choice([1, 1, 1, 2, 2, 3])):
+        count = rng.choice([1, 1, 1, 2, 2, 3])
+        for _ in range(count):
             mutate(case)
+        case.single = count == 1
     # Outputs that exist before the run: a failed run must leave them as they were.
     if rng.random() < 0.4:
         for opt, value in case.items:
@@ -703,7 +706,7 @@ def run_case(case, mvr, workdir, timeout, oracles, keep):
             res.failures.append(("stderr-on-success", other[0][:200]))
     elif not hung and 0 < code <= 5:
         noise = 0
-        while noise < len(lines) and re.match(r"(warning|note): ", lines[noise]):
+        while noise < len(lines) and SUCCESS_LINE.match(lines[noise]):
             noise += 1
         rest = lines[noise:]
         ok = (len(rest) >= 1 and rest[0].startswith("error: ") and len(rest) <= 2 and
@@ -732,11 +735,12 @@ def run_case(case, mvr, workdir, timeout, oracles, keep):
             if temps:
                 res.failures.append(("temp-left", "after a success: " + temps[0]))
     if oracles and not hung:
-        if code == 0 and case.never:
-            opt, value = case.never[0]
+        never = [p for p in case.never if list(p) in case.items]  # not dropped since
+        if code == 0 and never:
+            opt, value = never[0]
             res.failures.append(("accepted-nonsense", f"{opt} {value[:40]!r} accepted"))
         expect = {"usage": 1, "input": 2, "output": 4}
-        if 0 < code <= 5 and len(case.faults) == 1:
+        if 0 < code <= 5 and len(case.faults) == 1 and case.single:
             want = expect[next(iter(case.faults))]
             if code != want:
                 res.failures.append(("exit-code", f"exit {code} for a fault of class "
@@ -753,11 +757,11 @@ def kind_key(res, check):
     errors = [ln for ln in lines if ln.startswith("error: ")]
     first = (errors or lines or [""])[0]
     if check == "noise-before-error":
-        return f"{check}: {c.command}: {lines[0].split(':')[0]} lines before the error"
+        return f"{check}: {c.command}: {lines[0].split(' ')[0]} lines before the error"
     if check in ("files-changed", "error-format", "unreadable-number", "exit-code"):
         return f"{check}: {c.command}: {normalise(first)}"
     if check == "accepted-nonsense":
-        return f"{check}: {c.command} {c.never[0][0]}"
+        return f"{check}: {c.command} {next(d for k, d in res.failures if k == check).split(' ')[0]}"
     if check == "stderr-on-success":
         return f"{check}: {c.command}: {normalise(first)}"
     return f"{check}: {c.command}: {'; '.join(re.sub(r'[(].*', '', n) for n in c.notes)[:80]}"
@@ -823,7 +827,7 @@ def main():
     elapsed = time.monotonic() - start
     kinds = {}
     codes = {}
-    argv0 = os.path.relpath(os.path.abspath(__file__))
+    argv0 = os.path.abspath(__file__)
     for res in results:
         codes[res.code] = codes.get(res.code, 0) + 1
         if args.verbose:
