@@ -128,9 +128,11 @@ int runRender(const RenderOptions& o) {
     }
 
     // The notes once the whole request is accepted: a refused one prints its error line alone.
-    for (const std::string& note : prepared->notes) {  // -q keeps the warnings only
-        if (!o.quiet || note.rfind("note: ", 0) != 0) fmt::print(stderr, "{}\n", note);
-    }
+    auto printNotes = [&] {
+        for (const std::string& note : prepared->notes) {  // -q keeps the warnings only
+            if (!o.quiet || note.rfind("note: ", 0) != 0) fmt::print(stderr, "{}\n", note);
+        }
+    };
     const session::FrameOutputs outputs = session::frameOutputs(p);
 
     if (recipe.sequence.active()) {
@@ -138,10 +140,12 @@ int runRender(const RenderOptions& o) {
         auto made = session::MadeFolders::make(o.outDir);
         if (!made) return fail(made.status());
         SequenceJob job{&p,      backend->get(), o.backend, method,
-                        o.outDir, outputs,       o.quiet,   &*surfaces, &*made};
+                        o.outDir, outputs,       o.quiet,   &*surfaces, &*made,
+                        printNotes};
         return runSequence(recipe.sequence, job);
     }
 
+    printNotes();
     const auto start = std::chrono::steady_clock::now();
     std::optional<TerminalProgress> progress;
     progress.emplace(fmt::format("rendering {} view{} of {}x{} on {}:{}", p.rig.viewCount(),

@@ -184,6 +184,7 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
         ownBackend = std::move(made).value();
     }
     Backend& backend = ownBackend ? *ownBackend : *job.backend;
+    if (job.accepted) job.accepted();
 
     std::unique_ptr<VideoWriter> video;
     std::size_t complete = 0;  // frames whose folder is in place

@@ -3,6 +3,7 @@
 // hands over to it when a sequence option is given.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,9 @@ struct SequenceJob {
     const StereoSurfaces* surfaces = nullptr;  ///< --sky, --label…: drawn into every frame
     /// The folders made for outDir: kept once a frame is complete, else removed when empty.
     session::MadeFolders* made = nullptr;
+    /// Called once the sequence's own options are accepted (the prepared notes are printed
+    /// then: a refused run prints its error line alone).
+    std::function<void()> accepted;
 };
 
 /// The sequence options' own checks, before anything is rendered or written: --frames >= 0,
