@@ -76,6 +76,10 @@ Result<SequencePlan> planSequence(const SequenceRecipe& o) {
     if (!std::isfinite(o.orbit)) {
         return usageError(fmt::format("--orbit {} is not a finite angle (degrees)", o.orbit));
     }
+    // A thousand turns at most: without --frames, a frame every 5 degrees (72 000 frames).
+    if (std::abs(o.orbit) > 360.0 * 1000.0) {
+        return usageError(fmt::format("--orbit {:g}: at most 360000 degrees (1000 turns)", o.orbit));
+    }
     if (!(o.fps > 0.0 && o.fps <= 1000.0)) {
         return usageError(fmt::format("--fps {} is out of range (expected 0 < fps <= 1000)", o.fps));
     }

@@ -229,6 +229,14 @@ TEST_F(AllOrNothing, NonsenseOptionsAreUsageErrorsNamingTheOptionAndValue) {
         {"render --frames 2.5", {"--frames: '2.5' is not a whole number"}},
         {"render --display ''", {"--display: '' is empty", "mvr info --displays"}},
         {"render --method ''", {"--method: '' is empty"}},
+        // Any other option given an empty value (an unset shell variable), and an orbit no
+        // frame count can follow.
+        {"render --orbit ''", {"--orbit '': expected a value"}},
+        {"render --camera-position ''", {"--camera-position '': expected a value"}},
+        {"render --write ''", {"--write '': expected a value"}},
+        {"render --sky ''", {"--sky '': expected a value"}},
+        {"render --frames 2 --video ''", {"--video '': expected a value"}},
+        {"render --orbit 1e30", {"--orbit 1e+30", "at most 360000 degrees"}},
         {"render --threads -1 --frames 1", {"--threads: -1 is out of range", "0..1024"}},
         {"render --threads 5000 --frames 1", {"--threads: 5000 is out of range", "0..1024"}},
         {"render --label 'hi@2,0.5'", {"--label 'hi@2,0.5'", "outside the view", "0..1"}},

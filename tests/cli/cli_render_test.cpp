@@ -437,7 +437,7 @@ TEST_F(Cli, EveryRefusalNamesItsCulprit) {
          "--camera-path " + backwards + ": camera path: key 1: time 0.5 does not follow key 0's 1"},
         {"--frames -3", 1, "--frames: -3 is out of range (must be a whole number 1..1000000)"},
         {"--frames 2000000", 1, "--frames: 2000000 is out of range (must be a whole number 1..1000000"},
-        {"--orbit 1e300", 1, "--frames 0 is out of range (expected 1..1000000)"},
+        {"--orbit 1e300", 1, "--orbit 1e+300: at most 360000 degrees"},
         {"--frames 3 --orbit nan", 1, "--orbit nan is not a finite angle"},
         {"--frames 3 --fps 0", 1, "--fps 0 is out of range (expected 0 < fps <= 1000)"},
         {"--frames 3 --frame-range 5:2", 1,

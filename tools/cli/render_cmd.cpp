@@ -109,6 +109,17 @@ int runRender(const RenderOptions& o) {
     auto prepared = session::prepare(recipe);
     if (!prepared) return fail(prepared.status());
     if (o.outDir.empty()) return fail(usageError("-o '': expected an output directory"));
+    // An option given an empty value is a mistake (a shell variable unset), never "the default".
+    if (o.app) {
+        for (const CLI::Option* opt : o.app->get_options()) {
+            for (const std::string& value : opt->results()) {
+                if (opt->get_type_size() != 0 && value.empty()) {
+                    return fail(usageError(
+                        fmt::format("{} '': expected a value", opt->get_name())));
+                }
+            }
+        }
+    }
     auto backend = makeBackend(o.backend);
     if (!backend) {
         return fail(Status(backend.status().code(),
