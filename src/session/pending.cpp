@@ -1,7 +1,11 @@
 // src/session/pending.cpp — outputs that appear whole or not at all (mvr/session/pending.h).
 #include "mvr/session/pending.h"
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
 
 #include <atomic>
 #include <map>
@@ -136,9 +140,30 @@ void MadeFolders::removeIfEmpty() {
 
 // ---- StagedFiles ---------------------------------------------------------------------------------
 
+namespace {
+
+/// Removes the staging folders that a process killed with SIGKILL (which nothing can clean up
+/// after) left in `dir`: `.mvr-part-PID-…` of a PID that no longer runs.
+void removeStaleStaging(const std::filesystem::path& dir) {
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.rfind(".mvr-part-", 0) != 0) continue;
+        const long pid = std::strtol(name.c_str() + 10, nullptr, 10);
+        if (pid <= 0 || pid == ::getpid()) continue;
+        if (::kill(pid_t(pid), 0) != 0 && errno == ESRCH) {
+            std::error_code rm;
+            std::filesystem::remove_all(entry.path(), rm);
+        }
+    }
+}
+
+}  // namespace
+
 Result<StagedFiles> StagedFiles::inFolder(const std::filesystem::path& dir) {
     auto made = MadeFolders::make(dir);
     if (!made) return made.status();
+    removeStaleStaging(dir);
     StagedFiles s;
     s.mDir = dir;
     s.mMade = std::move(made).value();

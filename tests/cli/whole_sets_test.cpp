@@ -214,6 +214,18 @@ TEST_F(WholeSets, ComposeWritesItsFileWholeOrNotAtAll) {
     EXPECT_FALSE(fs::exists(mDir / "x")) << names(snapshot(mDir));
 }
 
+TEST_F(WholeSets, AStagingFolderOfAKilledRunIsRemovedByTheNext) {
+    // SIGKILL leaves its staging folder: the next run into -o removes it, when its process is
+    // gone (no PID reaches 999999999: Linux's pid_max is at most 2^22), and leaves a running
+    // one's (PID 1 runs) alone.
+    write("out/.mvr-part-999999999-0/view-0.png", "half a render");
+    write("out/.mvr-part-1-0/view-0.png", "another run's, going on");
+    const CliRun r = run("render --views 2 --size 32x24 -q -o out");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(names(snapshot(mDir / "out")),
+              " .mvr-part-1-0/ .mvr-part-1-0/view-0.png anaglyph.png view-0.png view-1.png");
+}
+
 // ---- a signal mid-run ---------------------------------------------------------------------------
 
 TEST_F(WholeSets, SigintWhileAStillIsWrittenLeavesNothing) {
