@@ -233,7 +233,7 @@ TEST(Lenticular, RejectsBadCalibration) {
     Result<Image> out = lenticular(taggedViews(2, 4, 4), cal);
     ASSERT_FALSE(out);
     EXPECT_EQ(out.status().code(), ErrorCode::Usage);
-    EXPECT_EQ(out.status().message(), "mvr::composite::lenticular(): dpi 0 (expected > 0)");
+    EXPECT_EQ(out.status().message(), "mvr::composite::lenticular(): dpi 0 (must be > 0 and at most 10000)");
     cal = {};
     cal.slope = 0;
     EXPECT_FALSE(lenticular(taggedViews(2, 4, 4), cal));
