@@ -1,6 +1,7 @@
 // python/src/mesh.cpp — mvr.Mesh(vertices, faces, normals=None, uvs=None, colors=None,
 // texture=None, name="mesh", placement=None): numpy arrays checked (shapes, finite values,
-// index range; ValueError naming the array) and copied once into the library's Mesh.
+// index range, colours 0..1; ValueError naming the array) and copied once into the library's
+// Mesh.
 #include "mesh.h"
 
 #include <cmath>
@@ -48,11 +49,47 @@ py::array_t<float, py::array::c_style | py::array::forcecast> floats(const py::o
     return arr;
 }
 
+/// colors: (N, 3) or (N, 4); floats are linear 0..1 (glTF's COLOR_0), uint8 are sRGB-encoded
+/// bytes as images and trimesh's vertex colours hold them (decoded, mesh.h).
+std::vector<glm::vec4> vertexColors(const py::object& colors, py::ssize_t n) {
+    py::array raw = py::array::ensure(colors);
+    if (!raw) bad("colors: expected a numeric array");
+    const int cols = raw.ndim() == 2 ? int(raw.shape(1)) : 0;
+    if (raw.ndim() != 2 || (cols != 3 && cols != 4))
+        bad(fmt::format("colors: expected shape (N, 3) or (N, 4), got {}", shapeOf(raw)));
+    if (raw.shape(0) != n)
+        bad(fmt::format("colors: {} rows for {} vertices (expected one per vertex)", raw.shape(0),
+                        n));
+    std::vector<glm::vec4> out(std::size_t(n), glm::vec4(1.0f));
+    if (raw.dtype().kind() == 'u' && raw.itemsize() == 1) {
+        auto bytes = py::array_t<std::uint8_t, py::array::c_style>::ensure(raw);
+        const std::uint8_t* p = bytes.data();
+        for (std::size_t i = 0; i < out.size(); ++i) {
+            glm::vec4 c(1.0f);
+            for (int k = 0; k < cols; ++k) c[k] = float(p[std::size_t(cols) * i + k]) / 255.0f;
+            out[i] = decodeSrgbColor(c);
+        }
+        return out;
+    }
+    if (raw.dtype().kind() != 'f')
+        bad(fmt::format("colors: expected floats (linear 0..1) or uint8 (sRGB), got dtype {}",
+                        std::string(py::str(raw.dtype()))));
+    auto f = floats(colors, "colors", cols, n);
+    const float* p = f.data();
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        for (int k = 0; k < cols; ++k) {
+            const float v = p[std::size_t(cols) * i + k];
+            if (!(v >= 0.0f && v <= 1.0f))
+                bad(fmt::format("colors: row {} has {} (expected 0..1)", i, v));
+            out[i][k] = v;
+        }
+    }
+    return out;
+}
+
 PyMesh makeMesh(const py::object& vertices, const py::object& faces, const py::object& normals,
                 const py::object& uvs, const py::object& colors, const py::object& texture,
                 const std::string& name, const py::object& placement) {
-    if (!colors.is_none())
-        bad("colors: per-vertex colours are not rendered yet (a mesh has one material)");
     auto pos = floats(vertices, "vertices", 3);
     const py::ssize_t n = pos.shape(0);
     if (n < 3) bad(fmt::format("vertices: {} rows (expected at least 3)", n));
@@ -97,6 +134,7 @@ PyMesh makeMesh(const py::object& vertices, const py::object& faces, const py::o
         m->texcoords.resize(std::size_t(n));
         std::memcpy(m->texcoords.data(), uv.data(), std::size_t(n) * 2 * sizeof(float));
     }
+    if (!colors.is_none()) m->colors = vertexColors(colors, n);
     if (Status s = validateMesh(*m, name); !s) throwStatus(s);
     PyMesh out;
     out.model.name = name;
@@ -136,8 +174,9 @@ void defineMesh(py::module_& m) {
              py::arg("name") = "mesh", py::arg("placement") = py::none(),
              "vertices float (N, 3); faces int (M, 3), counter-clockwise = front; normals (N, 3) "
              "(default: smooth, area-weighted); uvs (N, 2) with texture uint8 (H, W, 3|4) as the "
-             "base colour; placement \"X,Y,Z[,SCALE[,YAW]]\" as a model file's FILE@...; colors "
-             "are not rendered yet (ValueError). The arrays are copied once.")
+             "base colour; colors (N, 3|4) per vertex, float linear 0..1 or uint8 sRGB, multiply "
+             "the base colour (white for a mesh with colours); placement \"X,Y,Z[,SCALE[,YAW]]\" "
+             "as a model file's FILE@.... The arrays are copied once.")
         .def_property_readonly("name", [](const PyMesh& p) { return p.model.name; })
         .def_property_readonly("vertex_count",
                                [](const PyMesh& p) { return p.model.mesh->positions.size(); })

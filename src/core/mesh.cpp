@@ -34,6 +34,20 @@ Status validateMesh(const Mesh& mesh, const std::string& what) {
         return inputError(fmt::format("{}: {} texture coordinates for {} positions", what,
                                       mesh.texcoords.size(), mesh.positions.size()));
     }
+    if (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size()) {
+        return inputError(fmt::format("{}: {} vertex colours for {} positions", what,
+                                      mesh.colors.size(), mesh.positions.size()));
+    }
+    for (std::size_t i = 0; i < mesh.colors.size(); ++i) {
+        const glm::vec4& c = mesh.colors[i];
+        for (int k = 0; k < 4; ++k) {
+            if (!(c[k] >= 0.0f && c[k] <= 1.0f)) {
+                return inputError(fmt::format(
+                    "{}: vertex {} has the colour ({}, {}, {}, {}) (expected 0..1 each)", what, i,
+                    c.x, c.y, c.z, c.w));
+            }
+        }
+    }
     for (std::size_t i = 0; i < mesh.indices.size(); ++i) {
         if (mesh.indices[i] >= mesh.positions.size()) {
             return inputError(fmt::format("{}: index {} out of range for {} vertices", what,
@@ -104,12 +118,22 @@ std::uint64_t hashBytes(std::uint64_t h, const void* data, std::size_t size) {
 }
 }  // namespace
 
+glm::vec4 decodeSrgbColor(glm::vec4 c) {
+    for (int k = 0; k < 4; ++k) {
+        float v = std::isnan(c[k]) ? 0.0f : std::clamp(c[k], 0.0f, 1.0f);
+        if (k < 3) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+        c[k] = v;
+    }
+    return c;
+}
+
 std::uint64_t contentHash(const Mesh& m) {
     std::uint64_t h = 0xCBF29CE484222325ull;
     h = hashBytes(h, m.positions.data(), m.positions.size() * sizeof(glm::vec3));
     h = hashBytes(h, m.normals.data(), m.normals.size() * sizeof(glm::vec3));
     h = hashBytes(h, m.indices.data(), m.indices.size() * sizeof(std::uint32_t));
     h = hashBytes(h, m.texcoords.data(), m.texcoords.size() * sizeof(glm::vec2));
+    h = hashBytes(h, m.colors.data(), m.colors.size() * sizeof(glm::vec4));
     return h;
 }
 

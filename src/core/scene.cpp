@@ -220,7 +220,10 @@ Scene makeGridScene(std::vector<Mesh> meshes, int copies) {
                                ((rows - 1) * 0.5f - row) * spacing, 0.0f);
         const glm::mat4 xf = glm::translate(glm::mat4(1.0f), offset - model.center());
         for (int m = 0; m < int(s.meshes.size()); ++m) {
-            s.instances.push_back({m, xf, Material{kPalette[k % 9], 0.3f, 32.0f}});
+            // A mesh with vertex colours shows them (white base colour), not the palette's.
+            const glm::vec3 albedo =
+                s.meshes[std::size_t(m)].colors.empty() ? kPalette[k % 9] : glm::vec3(1.0f);
+            s.instances.push_back({m, xf, Material{albedo, 0.3f, 32.0f}});
         }
     }
     return s;

@@ -156,7 +156,9 @@ Status Renderer::drawSorbier(const Frame& f, GLuint prog, bool depthMap) {
         return dist[static_cast<std::size_t>(a)] > dist[static_cast<std::size_t>(b)];
     });
     if (depthMap) {
-        Result<GLuint> pre = program(depthPrepassName(), depthPrepassProgram());
+        ProgramDesc preDesc = depthPrepassProgram();
+        if (mVertexColors) addDefine(preDesc, "VERTEX_COLORS");  // their alpha masks too
+        Result<GLuint> pre = program(depthPrepassName(), preDesc);
         if (!pre) return pre.status();
         if (Status s = checkFramebuffer(mGpu->mrt.depthFbo.get(), "depth map"); !s) return s;
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mGpu->mrt.depthFbo.get());

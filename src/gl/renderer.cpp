@@ -33,9 +33,10 @@ int gsEmitLimit() {
     return v ? std::max(0, std::atoi(v)) : 0;
 }
 
-// Attributes 0 position, 1 normal, 2 texture coordinate, 3 (flat arrays) the face's centroid.
+// Attributes 0 position, 1 normal, 2 texture coordinate, 3 (flat arrays) the face's centroid,
+// 4 the vertex colour (read only by VERTEX_COLORS programs).
 void bindVertexArray(GLuint vao, GLuint positions, GLuint normals, GLuint texcoords, GLuint indices,
-                     GLuint centers = 0) {
+                     GLuint colors, GLuint centers = 0) {
     glVertexArrayVertexBuffer(vao, 0, positions, 0, sizeof(glm::vec3));
     glVertexArrayVertexBuffer(vao, 1, normals, 0, sizeof(glm::vec3));
     glVertexArrayVertexBuffer(vao, 2, texcoords, 0, sizeof(glm::vec2));
@@ -45,6 +46,10 @@ void bindVertexArray(GLuint vao, GLuint positions, GLuint normals, GLuint texcoo
         glVertexArrayAttribFormat(vao, a, a == 2 ? 2 : 3, GL_FLOAT, GL_FALSE, 0);
         glVertexArrayAttribBinding(vao, a, a);
     }
+    glVertexArrayVertexBuffer(vao, 4, colors, 0, sizeof(glm::vec4));
+    glEnableVertexArrayAttrib(vao, 4);
+    glVertexArrayAttribFormat(vao, 4, 4, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao, 4, 4);
     if (centers) {
         glVertexArrayVertexBuffer(vao, 3, centers, 0, sizeof(glm::vec3));
         glEnableVertexArrayAttrib(vao, 3);
@@ -109,6 +114,7 @@ std::vector<std::string> Renderer::info() {
     lines.push_back(fmt::format("EGL platform: {} (EGL {} {})", mContext->platform(),
                                 mContext->eglVersion(), mContext->eglVendor()));
     for (std::string& l : mCaps.describe()) lines.push_back(std::move(l));
+    mVertexColors = false;  // the limits of a scene without vertex colours
     for (const GlMethod& m : glMethods()) {
         if (m.measuresExact) continue;
         if (const std::string why = m.missing ? m.missing(mCaps) : ""; !why.empty()) {
@@ -197,6 +203,7 @@ ProgramDesc Renderer::passProgram(const GlMethod& method, Shading shading, int v
                                   bool shadows) const {
     ProgramDesc desc = methodProgram(method, mCaps, shading, views);
     if (shadows) addDefine(desc, "SHADOWS");  // shadow_maps.cpp
+    if (mVertexColors) addDefine(desc, "VERTEX_COLORS");
     return desc;
 }
 
@@ -211,7 +218,8 @@ int Renderer::passLimit(const GlMethod& method, Shading shading, int width, int 
 int Renderer::linkedViewLimit(const GlMethod& method, Shading shading, bool shadows, int limit,
                               Status* why) {
     if (method.fixedViews > 0 || limit < 1) return limit;
-    const std::string key = fmt::format("{}/{}/{}", method.name, shadingName(shading), shadows);
+    const std::string key =
+        fmt::format("{}/{}/{}/{}", method.name, shadingName(shading), shadows, mVertexColors);
     const auto known = mLinkedViewLimit.find(key);  // a count the driver refused above
     // The count asked first; when the driver refuses that program, the largest count it links
     // (a smaller loop emits less, so the counts that link are 1..k).
@@ -279,9 +287,12 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
             std::vector<glm::vec2> uv = src.texcoords;
             uv.resize(src.positions.size(), glm::vec2(0.0f));
             g.texcoords = makeBuffer(uv);
+            std::vector<glm::vec4> colors = src.colors;
+            colors.resize(src.positions.size(), glm::vec4(1.0f));
+            g.colors = makeBuffer(colors);
             g.vao = createVertexArray();
             bindVertexArray(g.vao.get(), g.positions.get(), g.normals.get(), g.texcoords.get(),
-                            g.indices.get());
+                            g.indices.get(), g.colors.get());
 
             // Provoking-vertex arrays for flat shading: rotate each triangle (keeping its
             // winding) so that its last vertex is one no earlier triangle used as provoking
@@ -289,6 +300,7 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
             std::vector<glm::vec3> pos = src.positions;
             std::vector<glm::vec3> face(pos.size(), glm::vec3(0.0f));
             std::vector<glm::vec2> flatUv = uv;
+            std::vector<glm::vec4> flatColors = colors;
             std::vector<glm::vec3> centers(pos.size(), glm::vec3(0.0f));
             std::vector<char> used(pos.size(), 0);
             std::vector<std::uint32_t> idx(src.indices.size());
@@ -305,6 +317,7 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
                     v[2] = static_cast<std::uint32_t>(pos.size());
                     pos.push_back(src.positions[src.indices[3 * t + 2]]);
                     flatUv.push_back(uv[src.indices[3 * t + 2]]);
+                    flatColors.push_back(colors[src.indices[3 * t + 2]]);
                     centers.emplace_back(0.0f);
                     face.emplace_back(0.0f);
                     used.push_back(0);
@@ -327,9 +340,11 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
                                  idx.data(), 0);
             g.flatTexcoords = makeBuffer(flatUv);
             g.flatCenters = makeBuffer(centers);
+            g.flatColors = makeBuffer(flatColors);
             g.flatVao = createVertexArray();
             bindVertexArray(g.flatVao.get(), g.flatPositions.get(), g.flatNormals.get(),
-                            g.flatTexcoords.get(), g.flatIndices.get(), g.flatCenters.get());
+                            g.flatTexcoords.get(), g.flatIndices.get(), g.flatColors.get(),
+                            g.flatCenters.get());
             if (Status s = checkGlError("uploading a mesh"); !s) return s;
             it = mGpu->meshes.emplace(key, std::move(g)).first;
         }
@@ -378,6 +393,20 @@ Status Renderer::ensureKalaiahBuffers(GpuMesh& g, const Mesh& src, int views) {
             glVertexArrayAttribFormat(vao, a, 2, GL_FLOAT, GL_FALSE,
                                       (a - 7) * static_cast<GLuint>(sizeof(glm::vec2)));
             glVertexArrayAttribBinding(vao, a, 2);
+        }
+        // Per triangle: c0 c1 c2 (attributes 10–12; white when the mesh has none).
+        std::vector<glm::vec4> rgba(src.triangleCount() * 3, glm::vec4(1.0f));
+        if (!src.colors.empty()) {
+            for (std::size_t k = 0; k < rgba.size(); ++k) rgba[k] = src.colors[src.indices[k]];
+        }
+        g.kalaiahColors = makeBuffer(rgba);
+        glVertexArrayVertexBuffer(vao, 3, g.kalaiahColors.get(), 0, 3 * sizeof(glm::vec4));
+        glVertexArrayBindingDivisor(vao, 3, 1);
+        for (GLuint a = 10; a <= 12; ++a) {
+            glEnableVertexArrayAttrib(vao, a);
+            glVertexArrayAttribFormat(vao, a, 4, GL_FLOAT, GL_FALSE,
+                                      (a - 10) * static_cast<GLuint>(sizeof(glm::vec4)));
+            glVertexArrayAttribBinding(vao, a, 3);
         }
         glEnableVertexArrayAttrib(vao, 0);
         glVertexArrayAttribIFormat(vao, 0, 2, GL_INT, 0);
@@ -595,6 +624,11 @@ Status Renderer::renderOnce(const Scene& scene, const Rig& rig, const RenderSett
     const auto t0 = Clock::now();
     const int views = rig.viewCount();
     if (Status st = checkViews(method, views, s); !st) return st;
+    mVertexColors = false;
+    for (const Instance& inst : scene.instances) {
+        mVertexColors = mVertexColors || (inst.mesh >= 0 && std::size_t(inst.mesh) < scene.meshes.size() &&
+                                          !scene.meshes[std::size_t(inst.mesh)].colors.empty());
+    }
     // kalaiah2007 §3: as many views a pass as the method takes, then the next pass.
     Status refused;
     const int limit =

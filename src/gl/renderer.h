@@ -31,6 +31,7 @@ namespace mvr::gl::detail {
 struct GpuMesh {
     Buffer positions, normals, indices;
     Buffer texcoords;  ///< one per position (zeros when the mesh has none)
+    Buffer colors;     ///< one linear RGBA per position (white when the mesh has none)
     VertexArray vao;
     GLsizei indexCount = 0;
     // Flat shading without a geometry shader, as glShadeModel(GL_FLAT) did it: every
@@ -38,12 +39,14 @@ struct GpuMesh {
     // (edge cross product); the vertex shader shades it and the colour is `flat`.
     Buffer flatPositions, flatNormals, flatIndices;
     Buffer flatTexcoords, flatCenters;  ///< per flat vertex; the centre: its face's centroid
+    Buffer flatColors;                  ///< per flat vertex
     VertexArray flatVao;
     GLsizei triangleCount = 0;
     Bounds bounds;
     // kalaiah2007 emulation: per-triangle corners + normals (divisor 1) and the dummy array.
     Buffer kalaiahTriangles;
     Buffer kalaiahTexcoords;  ///< per triangle: t0 t1 t2
+    Buffer kalaiahColors;     ///< per triangle: c0 c1 c2 (attributes 10–12)
     VertexArray kalaiahVao;
     int kalaiahViews = 0;
     Buffer kalaiahDummy;
@@ -347,6 +350,9 @@ private:
     std::optional<GlFrameStats> mLastStats;
     std::uint64_t mLastSceneKey = 0;
     const ShadowSet* mShadows = nullptr;
+    /// Some mesh of the frame being drawn has vertex colours: its programs are built with
+    /// VERTEX_COLORS (shaders.cpp), as the soft backend's FrameContext::colored.
+    bool mVertexColors = false;
     std::vector<Light> mShadowLights;
     void setShadowUniforms(GLuint program) const;
 };

@@ -33,6 +33,15 @@ layout(location = 5) uniform float uShininess;
 layout(location = 6) uniform ivec4 uMatFlags;        // x: textured, y: alpha mode (0 opaque, 1 mask, 2 blend), z: double-sided
 layout(location = 7) uniform vec2 uAlphaCutoff;      // x: material alpha, y: mask cutoff
 
+// Lighting kept as D and S (below) for a base colour that varies across the triangle: a
+// texture's, or (VERTEX_COLORS: some mesh of the frame has them, as the soft backend's
+// FrameContext::colored) the interpolated vertex colour's, for every mesh of the frame.
+#ifdef VERTEX_COLORS
+#define SPLIT_LIGHTING true
+#else
+#define SPLIT_LIGHTING (uMatFlags.x != 0)
+#endif
+
 #ifdef SHADOWS
 // shadows.h shadowFactor() (issue 15): linear distances in an R32F array, one layer per map.
 layout(binding = 3) uniform sampler2DArray uShadowMaps;  // unit 2: the base color
@@ -203,12 +212,23 @@ layout(location = 6) in vec3 aN2;
 layout(location = 7) in vec2 aT0;
 layout(location = 8) in vec2 aT1;
 layout(location = 9) in vec2 aT2;
+#ifdef VERTEX_COLORS
+layout(location = 10) in vec4 aC0;
+layout(location = 11) in vec4 aC1;
+layout(location = 12) in vec4 aC2;
+#endif
 out float gl_ClipDistance[4];
 #else
 layout(location = 0) in vec3 aPosition;
 layout(location = 1) in vec3 aNormal;
 layout(location = 2) in vec2 aTexcoord;
 layout(location = 3) in vec3 aFaceCenter;  // FLAT_PROVOKING: the face's model-space centroid
+#ifdef VERTEX_COLORS
+layout(location = 4) in vec4 aColor;       // linear RGBA (mesh.h Mesh::colors; white if none)
+#endif
+#endif
+#ifdef VERTEX_COLORS
+layout(location = 7) out vec4 oVertexColor;
 #endif
 
 #if !defined(DEPTH_ONLY)
@@ -235,10 +255,16 @@ void main() {
     vec3 p = corner == 0 ? aP0 : (corner == 1 ? aP1 : aP2);
     vec3 n = corner == 0 ? aN0 : (corner == 1 ? aN1 : aN2);
     oTexcoord = corner == 0 ? aT0 : (corner == 1 ? aT1 : aT2);
+#ifdef VERTEX_COLORS
+    oVertexColor = corner == 0 ? aC0 : (corner == 1 ? aC1 : aC2);
+#endif
 #else
     vec3 p = aPosition;
     vec3 n = aNormal;
     oTexcoord = aTexcoord;
+#ifdef VERTEX_COLORS
+    oVertexColor = aColor;
+#endif
 #endif
     vec4 world = uWorldFromModel * vec4(p, 1.0);
 #if !defined(DEPTH_ONLY)
@@ -247,7 +273,7 @@ void main() {
     oColor = vec3(0.0);
     oSpecular = vec3(0.0);
 #if defined(SHADING_VERTEX)
-    if (uMatFlags.x != 0) {
+    if (SPLIT_LIGHTING) {
         blinnPhongTerms(oNormal, world.xyz, oColor, oSpecular);
     } else {
         oColor = shadeBlinnPhong(oNormal, world.xyz);
@@ -258,13 +284,13 @@ void main() {
     vec3 w2 = (uWorldFromModel * vec4(aP2, 1.0)).xyz;
     vec3 centre = (w0 + w1 + w2) / 3.0;
     vec3 fn = normalize(cross(w1 - w0, w2 - w0));
-    oColor = uMatFlags.x != 0 ? flatDiffuse(fn, centre) : shadeFlat(fn, centre);
+    oColor = SPLIT_LIGHTING ? flatDiffuse(fn, centre) : shadeFlat(fn, centre);
 #elif defined(SHADING_FLAT) && defined(FLAT_PROVOKING)
     // Only the provoking vertex's value is used: its "normal" is the face's model-space edge
     // cross product; the cofactor matrix maps it to the world-space edge cross product.
     vec3 fn = normalize(mat3(uCofactor) * n);
     vec3 centre = (uWorldFromModel * vec4(aFaceCenter, 1.0)).xyz;
-    oColor = uMatFlags.x != 0 ? flatDiffuse(fn, centre) : shadeFlat(fn, centre);
+    oColor = SPLIT_LIGHTING ? flatDiffuse(fn, centre) : shadeFlat(fn, centre);
 #endif
 #endif
 
@@ -305,6 +331,10 @@ layout(location = 1) in vec3 gNormal[];
 layout(location = 2) in vec3 gColor[];
 layout(location = 5) in vec2 gTexcoord[];
 layout(location = 6) in vec3 gSpecular[];
+#ifdef VERTEX_COLORS
+layout(location = 7) in vec4 gVertexColor[];
+layout(location = 7) out vec4 oVertexColor;
+#endif
 
 #if defined(SHADING_PIXEL)
 layout(location = 0) out vec3 oWorld;
@@ -328,6 +358,9 @@ void emitView(int view, vec4 w[3], vec3 faceColor) {
     for (int i = 0; i < 3; ++i) {
         gl_Position = uClipFromWorld[view] * w[i];
         oTexcoord = gTexcoord[i];
+#ifdef VERTEX_COLORS
+        oVertexColor = gVertexColor[i];
+#endif
 #if defined(SHADING_PIXEL)
         oWorld = gWorld[i];
         oNormal = gNormal[i];
@@ -360,7 +393,7 @@ void main() {
     // Shaded once per triangle for every view (view-independent work).
     vec3 fn = normalize(cross(gWorld[1] - gWorld[0], gWorld[2] - gWorld[0]));
     vec3 centre = (gWorld[0] + gWorld[1] + gWorld[2]) / 3.0;
-    faceColor = uMatFlags.x != 0 ? flatDiffuse(fn, centre) : shadeFlat(fn, centre);
+    faceColor = SPLIT_LIGHTING ? flatDiffuse(fn, centre) : shadeFlat(fn, centre);
 #endif
 #ifdef GS_INVOCATIONS
     emitView(gl_InvocationID, w, faceColor);
@@ -373,6 +406,9 @@ void main() {
 const char* const kFragment = R"glsl(
 layout(location = 5) in vec2 iTexcoord;
 layout(binding = 2) uniform sampler2D uBaseColor;  // sRGB texture: sampled in linear
+#ifdef VERTEX_COLORS
+layout(location = 7) in vec4 iVertexColor;
+#endif
 #if !defined(DEPTH_ONLY)
 layout(location = 0) in vec3 iWorld;
 layout(location = 1) in vec3 iNormal;
@@ -398,6 +434,9 @@ void main() {
     // The base color texture (sampled in uniform control flow: its derivatives choose the
     // mip level) times the material's color and alpha.
     vec4 tex = uMatFlags.x != 0 ? texture(uBaseColor, iTexcoord) : vec4(1.0);
+#ifdef VERTEX_COLORS
+    tex *= iVertexColor;  // glTF's COLOR_0 multiplies the base colour (the soft backend's order)
+#endif
     float alpha = uAlphaCutoff.x * tex.a;
     if (uMatFlags.y == 1 && alpha < uAlphaCutoff.y) discard;
     alpha = uMatFlags.y == 2 ? alpha : 1.0;
@@ -428,7 +467,7 @@ void main() {
 #endif
     vec3 c;
 #if defined(SHADING_PIXEL)
-    if (uMatFlags.x != 0) {
+    if (SPLIT_LIGHTING) {
         vec3 d, sp;
         blinnPhongTerms(iNormal, iWorld, d, sp);
         c = clamp(uMaterial.rgb * tex.rgb * d + sp, 0.0, 1.0);
@@ -437,7 +476,7 @@ void main() {
     }
 #else
     // lighting.h shadeTextured(): base = albedo × texel.
-    c = uMatFlags.x != 0 ? clamp(uMaterial.rgb * tex.rgb * iColor + iSpecular, 0.0, 1.0) : iColor;
+    c = SPLIT_LIGHTING ? clamp(uMaterial.rgb * tex.rgb * iColor + iSpecular, 0.0, 1.0) : iColor;
 #endif
 #ifdef GS_OUT_FLAG
     // sorbier2008 §4.2: every fragment is written to both MRT attachments; the other eye's

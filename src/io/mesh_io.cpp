@@ -41,12 +41,15 @@ void optimizeMeshLocality(Mesh& mesh) {
     remapStream(mesh.positions);
     remapStream(mesh.normals);
     remapStream(mesh.texcoords);
+    remapStream(mesh.colors);
 }
 
 namespace {
 
+/// `srgbColors`: the file's vertex colours are sRGB-encoded (every format but glTF, whose
+/// COLOR_0 is linear): decoded as mesh.h's Mesh::colors says.
 void appendNode(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, Mesh& out,
-                bool& allHaveNormals) {
+                bool& allHaveNormals, bool srgbColors) {
     const aiMatrix4x4 transform = parent * node.mTransformation;
     aiMatrix3x3 normalMatrix(transform);
     normalMatrix.Inverse().Transpose();
@@ -58,7 +61,16 @@ void appendNode(const aiScene& scene, const aiNode& node, const aiMatrix4x4& par
         const bool hasNormals = mesh.HasNormals();
         allHaveNormals = allHaveNormals && hasNormals;
         const bool hasUv = mesh.HasTextureCoords(0);
+        const bool hasColor = mesh.HasVertexColors(0);
         for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+            if (hasColor) {
+                const aiColor4D& c = mesh.mColors[0][v];
+                const glm::vec4 rgba(c.r, c.g, c.b, c.a);
+                out.colors.push_back(srgbColors ? decodeSrgbColor(rgba)
+                                                : glm::clamp(rgba, glm::vec4(0.0f), glm::vec4(1.0f)));
+            } else {
+                out.colors.emplace_back(1.0f);
+            }
             const aiVector3D p = transform * mesh.mVertices[v];
             out.positions.emplace_back(p.x, p.y, p.z);
             if (hasNormals) {
@@ -81,7 +93,7 @@ void appendNode(const aiScene& scene, const aiNode& node, const aiMatrix4x4& par
         }
     }
     for (unsigned c = 0; c < node.mNumChildren; ++c) {
-        appendNode(scene, *node.mChildren[c], transform, out, allHaveNormals);
+        appendNode(scene, *node.mChildren[c], transform, out, allHaveNormals, srgbColors);
     }
 }
 
@@ -251,11 +263,17 @@ Result<Mesh> loadMesh(const std::filesystem::path& path, std::vector<std::string
     Mesh mesh;
     mesh.name = path.filename().string();
     bool allHaveNormals = true;
-    appendNode(*scene, *scene->mRootNode, aiMatrix4x4(), mesh, allHaveNormals);
-    bool anyUv = false;
-    for (unsigned m = 0; m < scene->mNumMeshes; ++m)
+    std::string ext = path.extension().string();
+    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    appendNode(*scene, *scene->mRootNode, aiMatrix4x4(), mesh, allHaveNormals,
+               ext != ".gltf" && ext != ".glb");
+    bool anyUv = false, anyColor = false;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
         anyUv = anyUv || scene->mMeshes[m]->HasTextureCoords(0);
+        anyColor = anyColor || scene->mMeshes[m]->HasVertexColors(0);
+    }
     if (!anyUv) mesh.texcoords.clear();
+    if (!anyColor) mesh.colors.clear();
     if (mesh.indices.empty()) return inputError(what + ": has no triangles");
     bool normalsUsable = allHaveNormals;
     for (const glm::vec3& n : mesh.normals) {

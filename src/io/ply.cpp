@@ -265,6 +265,7 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what,
         const bool isStrips = e.name == "tristrips";
         const bool isFace = e.name == "face" || isStrips;
         int ix = -1, iy = -1, iz = -1, inx = -1, iny = -1, inz = -1, iu = -1, iv = -1, iList = -1;
+        int icol[4] = {-1, -1, -1, -1};  // red, green, blue, alpha (MeshLab's and scanners')
         for (int k = 0; k < int(e.properties.size()); ++k) {
             const std::string& n = e.properties[k].name;
             if (e.properties[k].isList) {
@@ -287,6 +288,25 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what,
                 iu = k;
             else if (n == "t" || n == "v" || n == "texture_v")
                 iv = k;
+            else if (n == "red" || n == "diffuse_red")
+                icol[0] = k;
+            else if (n == "green" || n == "diffuse_green")
+                icol[1] = k;
+            else if (n == "blue" || n == "diffuse_blue")
+                icol[2] = k;
+            else if (n == "alpha")
+                icol[3] = k;
+        }
+        // Colours: 8- and 16-bit integers are scaled to 0..1, floats taken as 0..1 (clamped);
+        // either way sRGB-encoded, as scanners and MeshLab write them (mesh.h Mesh::colors).
+        const bool hasColor = isVertex && icol[0] >= 0 && icol[1] >= 0 && icol[2] >= 0;
+        float colorScale[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+        for (int c = 0; c < 4 && hasColor; ++c) {
+            if (icol[c] < 0) continue;
+            const Type t = e.properties[std::size_t(icol[c])].type;
+            colorScale[c] = (t == Type::Uint8 || t == Type::Int8)     ? 1.0f / 255.0f
+                            : (t == Type::Uint16 || t == Type::Int16) ? 1.0f / 65535.0f
+                                                                      : 1.0f;
         }
         if (isVertex) {
             if (ix < 0 || iy < 0 || iz < 0) return bad("vertex element lacks x, y or z");
@@ -371,6 +391,13 @@ Result<Mesh> loadPly(const std::string& data, const std::string& what,
                 mesh.positions.emplace_back(values[ix], values[iy], values[iz]);
                 if (hasNormals) mesh.normals.emplace_back(values[inx], values[iny], values[inz]);
                 if (hasUv) mesh.texcoords.emplace_back(values[iu], values[iv]);
+                if (hasColor) {
+                    glm::vec4 c(1.0f);
+                    for (int j = 0; j < 4; ++j) {
+                        if (icol[j] >= 0) c[j] = float(values[icol[j]]) * colorScale[j];
+                    }
+                    mesh.colors.push_back(decodeSrgbColor(c));
+                }
             }
         }
     }

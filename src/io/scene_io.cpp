@@ -300,7 +300,8 @@ struct Loader {
 };
 
 /// One aiMesh as a Mesh: triangles only, smooth normals where the file has none.
-std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name) {
+/// `srgbColors`: vertex colours are sRGB-encoded (an OBJ's), not linear (glTF's COLOR_0).
+std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name, bool srgbColors) {
     if (!(in.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return std::nullopt;
     Mesh mesh;
     mesh.name = name;
@@ -311,6 +312,12 @@ std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name) {
             mesh.normals.emplace_back(in.mNormals[v].x, in.mNormals[v].y, in.mNormals[v].z);
         if (hasUv)
             mesh.texcoords.emplace_back(in.mTextureCoords[0][v].x, in.mTextureCoords[0][v].y);
+        if (in.HasVertexColors(0)) {
+            const aiColor4D& c = in.mColors[0][v];
+            const glm::vec4 rgba(c.r, c.g, c.b, c.a);
+            mesh.colors.push_back(srgbColors ? decodeSrgbColor(rgba)
+                                             : glm::clamp(rgba, glm::vec4(0.0f), glm::vec4(1.0f)));
+        }
     }
     for (unsigned f = 0; f < in.mNumFaces; ++f) {
         const aiFace& face = in.mFaces[f];
@@ -405,6 +412,7 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
         Scene s;
         s.meshes.push_back(std::move(merged).value());
         s.instances.push_back({0, glm::mat4(1.0f), Material{}});
+        if (!s.meshes[0].colors.empty()) s.instances[0].material.albedo = glm::vec3(1.0f);
         s.lights = defaultLights();
         return s;
     };
@@ -451,7 +459,8 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
     for (unsigned m = 0; m < ai->mNumMeshes; ++m) {
         const aiMesh& am = *ai->mMeshes[m];
         std::string name = am.mName.length ? am.mName.C_Str() : fmt::format("mesh {}", m);
-        auto mesh = convertMesh(am, fmt::format("{}: {}", path.filename().string(), name));
+        auto mesh =
+            convertMesh(am, fmt::format("{}: {}", path.filename().string(), name), !gltf);
         if (!mesh) continue;
         if (Status s = validateMesh(*mesh, fmt::format("{}: mesh '{}'", loader.what, name)); !s) {
             if (s.message().find("degenerate") != std::string::npos) {

@@ -165,10 +165,14 @@ namespace mvr::raster::detail {
 
 void prepareTextures(FrameContext& f) {
     f.textured = false;
+    f.colored = false;
     for (const Instance& inst : f.scene.instances) {
         const Material& m = inst.material;
         f.textured = f.textured || m.baseColorTexture >= 0 || m.alphaMode != AlphaMode::Opaque;
+        f.colored = f.colored || (inst.mesh >= 0 && std::size_t(inst.mesh) < f.scene.meshes.size() &&
+                                  !f.scene.meshes[std::size_t(inst.mesh)].colors.empty());
     }
+    f.textured = f.textured || f.colored;
     f.punctualLights = false;
     for (const Light& l : f.scene.lights)
         f.punctualLights = f.punctualLights || l.type != LightType::Directional;

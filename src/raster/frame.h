@@ -239,6 +239,9 @@ struct FrameContext {
     /// unified: draw each band into a per-worker scratch and stream it into the images (the
     /// frame's images are larger than SoftOptions::streamAboveBytes).
     bool streamBands = false;
+    /// Some drawn mesh has vertex colours (Mesh::colors): the textured layout with the colour
+    /// after the uv (pipeline.h colorAttribute); such a frame is always textured.
+    bool colored = false;
 
     const MipChain* textureOf(const Material& m) const {
         return m.baseColorTexture >= 0 && std::size_t(m.baseColorTexture) < mips.size()

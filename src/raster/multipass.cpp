@@ -27,9 +27,9 @@ struct ViewVertexData : MethodScratch {
     Bins bins;
     BandBuffers bandBuffers;  ///< streamed bands: per worker, one band's rows of the view
 
-    void resize(std::size_t n, Shading shading, bool textured) {
+    void resize(std::size_t n, Shading shading, bool textured, bool colored) {
         for (auto* v : {&x, &y, &z, &w, &cx, &cy, &zw, &q}) v->resize(n);
-        attrStride = std::size_t(attributeCount(shading, textured));
+        attrStride = std::size_t(attributeCount(shading, textured, colored));
         sx.resize(n), sy.resize(n), codeYZW.resize(n), codeX.resize(n), attr.resize(n * attrStride);
         world.resize(shading == Shading::Flat ? n : 0);
     }
@@ -84,6 +84,7 @@ void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
                         shading, f.shading, item.instance->material, world,
                         transformDir(item.normalFromModel, item.mesh->normals[i]),
                         item.mesh->texcoords.empty() ? glm::vec2(0.0f) : item.mesh->texcoords[i],
+                        f.colored, item.mesh->colors.empty() ? nullptr : &item.mesh->colors[i],
                         d.attr.data() + gi * d.attrStride);
                 } else if (shading == Shading::Flat) {
                     d.world[gi] = world;
@@ -169,7 +170,7 @@ void binStage(FrameContext& f, const View& view, const ViewVertexData& d, Bins& 
 template <class SinkT>
 void drawWireframe(const FrameContext& f, const ViewVertexData& d, const std::uint32_t v[3],
                    const Target& target, int rowLo, int rowHi, SinkT& sink, FragmentTri& frag) {
-    const int attrCount = attributeCount(f.settings.shading, f.textured);
+    const int attrCount = attributeCount(f.settings.shading, f.textured, f.colored);
     const float width = float(target.width), height = float(target.height);
     for (int edge = 0; edge < 3; ++edge) {
         const std::uint32_t i0 = v[edge], i1 = v[edge == 2 ? 0 : edge + 1];
@@ -199,7 +200,7 @@ void drawWireframe(const FrameContext& f, const ViewVertexData& d, const std::ui
 
 template <Shading S>
 void rasterStage(FrameContext& f, ViewVertexData& d, const Bins& bins, const Target& image) {
-    const int attrCount = attributeCount(S, f.textured);
+    const int attrCount = attributeCount(S, f.textured, f.colored);
     const std::uint32_t clear = packColor(f.settings.clearColor);
     // Streamed bands (as unified's, FrameContext::streamBands): each worker draws a band into a
     // scratch that stays in its cache and streams the rows into the image (written once, never
@@ -216,7 +217,7 @@ void rasterStage(FrameContext& f, ViewVertexData& d, const Bins& bins, const Tar
         }
         clearRows(target, rowLo, rowHi, clear);  // into the cache just before it is drawn
         FragmentTri frag{};
-        FragmentSink<S> sink{target, &frag, {&f.shading, nullptr, f.textured}};
+        FragmentSink<S> sink{target, &frag, {&f.shading, nullptr, f.textured, nullptr, f.colored}};
         // Small triangles wait in a queue and are set up 16 at a time (lanes.h), as in unified;
         // everything drawn directly flushes the queue first (submission order).
         LaneQueue<S> queue;
@@ -277,7 +278,7 @@ void renderMultipass(FrameContext& f, std::span<const Target> targets, StageTime
                      std::unique_ptr<MethodScratch>& scratch) {
     if (!dynamic_cast<ViewVertexData*>(scratch.get())) scratch = std::make_unique<ViewVertexData>();
     ViewVertexData& d = static_cast<ViewVertexData&>(*scratch);
-    d.resize(f.draw.vertexCount, f.settings.shading, f.textured);
+    d.resize(f.draw.vertexCount, f.settings.shading, f.textured, f.colored);
     Bins& bins = d.bins;
     for (int v = 0; v < f.rig.viewCount(); ++v) {
         const View& view = f.rig.views[std::size_t(v)];

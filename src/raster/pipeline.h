@@ -40,17 +40,20 @@ inline constexpr std::int32_t kSmallSpan = 1 << 14;
 inline constexpr float kGuardBand = 64.0f;
 /// Attributes interpolated per fragment: Vertex = color (3), Pixel = normal + world position (6);
 /// in a textured frame (FrameContext::textured) Flat = uv (2), Vertex = LightTerms D, S + uv (8),
-/// Pixel = normal + world position + uv (8).
-inline constexpr int kMaxAttrs = 8;
+/// Pixel = normal + world position + uv (8); a frame with vertex colours (FrameContext::colored,
+/// always textured) adds the vertex's linear RGBA (4) after the uv.
+inline constexpr int kMaxAttrs = 12;
 /// A triangle clipped by 6 planes has at most 3 + 6 vertices.
 inline constexpr int kMaxPolyVerts = 9;
 
-inline int attributeCount(Shading s, bool textured = false) {
-    if (textured) return s == Shading::Flat ? 2 : 8;
+inline int attributeCount(Shading s, bool textured = false, bool colored = false) {
+    if (textured) return (s == Shading::Flat ? 2 : 8) + (colored ? 4 : 0);
     return s == Shading::Vertex ? 3 : s == Shading::Pixel ? 6 : 0;
 }
 /// Where the texture coordinates start in a textured frame's attributes.
 inline constexpr int uvAttribute(Shading s) { return s == Shading::Flat ? 0 : 6; }
+/// Where the vertex colour starts in a coloured frame's attributes.
+inline constexpr int colorAttribute(Shading s) { return uvAttribute(s) + 2; }
 
 // ---- outcodes --------------------------------------------------------------------------------
 // Clip planes, in the order the clipper applies them. Near, far, bottom and top involve only
@@ -140,10 +143,12 @@ inline void vertexAttributes(Shading shading, const ShadingContext& ctx, const M
 }
 
 /// A textured frame's vertex attributes (see kMaxAttrs): Vertex: blinnPhongTerms' D and S;
-/// Pixel: the normal and world position; then the texture coordinates (all modes).
+/// Pixel: the normal and world position; then the texture coordinates (all modes); then, in a
+/// coloured frame (`colored`), the vertex colour (`color`, or opaque white when null).
 inline void texturedVertexAttributes(Shading shading, const ShadingContext& ctx,
                                      const Material& material, const glm::vec3& worldPos,
-                                     const glm::vec3& worldNormal, glm::vec2 uv, float* out) {
+                                     const glm::vec3& worldNormal, glm::vec2 uv, bool colored,
+                                     const glm::vec4* color, float* out) {
     if (shading == Shading::Vertex) {
         float sh[kMaxLights];
         const LightTerms t =
@@ -157,6 +162,10 @@ inline void texturedVertexAttributes(Shading shading, const ShadingContext& ctx,
     }
     const int k = uvAttribute(shading);
     out[k] = uv.x, out[k + 1] = uv.y;
+    if (colored) {
+        const glm::vec4 c = color ? *color : glm::vec4(1.0f);
+        out[k + 2] = c.x, out[k + 3] = c.y, out[k + 4] = c.z, out[k + 5] = c.w;
+    }
 }
 
 inline std::uint32_t packColor(const glm::vec3& c) {
@@ -550,6 +559,7 @@ struct ShadeInputs {
     const Material* material = nullptr;
     bool textured = false;              ///< the frame's textured attribute layout (kMaxAttrs)
     const MipChain* texture = nullptr;  ///< the material's base color texture, or none
+    bool colored = false;               ///< the frame's layout has vertex colours
 };
 
 /// Depth test (LESS) and shading of one fragment; the screen barycentrics l0..l2 come from
@@ -618,6 +628,10 @@ struct FragmentSink {
             const MipLevel& base = shade.texture->levels[0];
             texel = sampleTexture(*shade.texture, m.sampler, uv,
                                   textureLod(d, base.width, base.height));
+        }
+        if (shade.colored) {  // the vertex colour multiplies the texel (glTF COLOR_0)
+            constexpr int k = colorAttribute(S);
+            texel *= glm::vec4(at(k), at(k + 1), at(k + 2), at(k + 3));
         }
         const glm::vec4 base = baseColor(m, texel);
         if (m.alphaMode == AlphaMode::Mask && base.w < m.alphaCutoff) return;

@@ -154,7 +154,7 @@ private:
             shadowed.emplace(detail::FrameContext{f.scene, f.rig, f.settings, f.pool, f.shading,
                                                   std::move(f.draw), f.bands, f.centerClip,
                                                   shadowKernels, f.textured, f.punctualLights,
-                                                  std::move(f.mips), f.streamBands});
+                                                  std::move(f.mips), f.streamBands, f.colored});
         }
         detail::FrameContext& frame = shadowed ? *shadowed : f;
         const double imageBytes = double(rig.viewCount()) * settings.width * settings.height * 8.0;

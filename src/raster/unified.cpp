@@ -122,7 +122,7 @@ struct BandContext {
     int rowLo, rowHi;
     FragmentTri frag{};
     std::vector<FragmentSink<S>> sinks;  ///< per view, all pointing at `frag`
-    int attrCount = attributeCount(S, f.textured);
+    int attrCount = attributeCount(S, f.textured, f.colored);
     bool cull = false;     ///< back-face culling for the current draw item (not double-sided)
     ViewsSetup views{};    ///< the current triangle's per-view x setup (L1)
     ViewsX xs{};           ///< a long row's derived snapped x of the current triangle
@@ -816,7 +816,7 @@ void rasterStage(FrameContext& f, UnifiedData& d, std::span<const Target> target
         for (const Target& t : draw) clearRows(t, b.rowLo, b.rowHi, clear);
         b.sinks.reserve(draw.size());
         for (const Target& t : draw)
-            b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr, f.textured}});
+            b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr, f.textured, nullptr, f.colored}});
         if (laneFragments) b.slots = stream ? &scratch[std::size_t(worker)].slots : &slots;
         // The queue's fragments side by side (drawLanes) where the views' images are one
         // block (a streamed band's scratch); a slot serves all its views' lanes, so its vertex
@@ -853,7 +853,7 @@ void renderUnified(FrameContext& f, std::span<const Target> targets, StageTimes&
         f.bands = makeBands(f.settings.height, f.pool.size(),
                             std::size_t(f.settings.width) * 8 * std::size_t(f.rig.viewCount()));
     }
-    buildFamilies(f.rig, f.settings.shading, f.textured, f.draw.vertexCount, d);
+    buildFamilies(f.rig, f.settings.shading, f.textured, f.colored, f.draw.vertexCount, d);
     d.convergence = f.rig.convergence, d.width = float(f.settings.width);
     vertexStage(f, d);
     times.vertexMs += clock.lap();

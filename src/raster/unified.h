@@ -124,7 +124,8 @@ inline bool ownViewCulled(const UnifiedData& d, const Family& fam, const std::ui
 }
 
 /// This frame's families and views from the rig, reusing the previous frame's arrays.
-void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t vertexCount,
+void buildFamilies(const Rig& rig, Shading shading, bool textured, bool colored,
+                   std::size_t vertexCount,
                    UnifiedData& d);
 /// Vertex stage: attributes, center clip position, per family y/z/w projection, per stored view
 /// x, and the guard-band bits of all views folded into the families' codes.

@@ -7,7 +7,8 @@
 
 namespace mvr::raster::detail {
 
-void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t vertexCount,
+void buildFamilies(const Rig& rig, Shading shading, bool textured, bool colored,
+                   std::size_t vertexCount,
                    UnifiedData& d) {
     // The previous frame's families give their per-vertex arrays to this frame's: at many views
     // sxv alone is tens of MB (past glibc's mmap threshold), and allocating it anew every frame
@@ -98,7 +99,7 @@ void buildFamilies(const Rig& rig, Shading shading, bool textured, std::size_t v
         const std::size_t own = vd.derived ? 0 : n;
         vd.x.resize(own), vd.sx.resize(own), vd.code.resize(own);
     }
-    d.attrStride = std::size_t(attributeCount(shading, textured));
+    d.attrStride = std::size_t(attributeCount(shading, textured, colored));
     d.world.resize(shading == Shading::Flat ? n : 0), d.attr.resize(n * d.attrStride),
         d.anyClipX.resize(n);
     if (d.anySheared)
@@ -136,6 +137,7 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                         shading, f.shading, item.instance->material, world,
                         transformDir(item.normalFromModel, item.mesh->normals[i]),
                         item.mesh->texcoords.empty() ? glm::vec2(0.0f) : item.mesh->texcoords[i],
+                        f.colored, item.mesh->colors.empty() ? nullptr : &item.mesh->colors[i],
                         d.attr.data() + gi * d.attrStride);
                 } else if (shading == Shading::Flat) {
                     d.world[gi] = glm::vec3(transformPoint(item.instance->worldFromModel, p));

@@ -308,7 +308,11 @@ Result<Scene> loadModels(const std::vector<std::string>& args,
     for (std::size_t i = 0; i < scenes.size(); ++i) {
         Scene& s = scenes[i];
         if (!infos[i].fromMaterials) {  // a plain mesh among scenes: the grid's first color
-            for (Instance& inst : s.instances) inst.material = Material{{0.85f, 0.75f, 0.6f}, 0.3f};
+            for (Instance& inst : s.instances) {  // vertex colours shown as they are
+                const bool colored = !s.meshes[std::size_t(inst.mesh)].colors.empty();
+                inst.material = Material{colored ? glm::vec3(1.0f) : glm::vec3(0.85f, 0.75f, 0.6f),
+                                         0.3f};
+            }
         }
         if (infos[i].lightsFromFile)
             fileLights.insert(fileLights.end(), s.lights.begin(), s.lights.end());

@@ -101,6 +101,10 @@ const std::vector<SceneCase>& sceneCases() {
         // materials, more meshes than a GPU backend keeps between renders.
         {"engine", 2, 1, Shading::Vertex},
         {"engine", 3, 2, Shading::Flat, true},
+        // Vertex colours (mvr.Mesh colors=, OBJ / PLY / glTF COLOR_0), every shading.
+        {"colored", 2, 1, Shading::Flat},
+        {"colored", 2, 1, Shading::Vertex},
+        {"colored", 3, 2, Shading::Pixel},
     };
     return cases;
 }
@@ -111,6 +115,7 @@ const Scene* sceneNamed(const std::string& name) {
     if (name == "mirrored-suzanne") return test::mirroredSuzanneScene();
     if (name == "octahedra") return &test::octahedraScene();
     if (name == "engine") return &test::engineScene();
+    if (name == "colored") return &test::coloredScene();
     if (name == "textured") {
         static const Scene textured = makeTexturedScene();
         return &textured;

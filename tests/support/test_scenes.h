@@ -41,6 +41,25 @@ inline const Scene& defaultScene() {
 
 /// One model from shared/models laid out as `mvr render MODEL` does (makeGridScene, 1 copy);
 /// nullopt when the file cannot be loaded.
+/// The default scene with vertex colours (Mesh::colors) on every mesh, a smooth function of
+/// the position, alpha 1; white base colours, so the colours show as they are.
+inline const Scene& coloredScene() {
+    static const Scene scene = [] {
+        Scene s = defaultScene();
+        for (Mesh& m : s.meshes) {
+            m.colors.clear();
+            for (const glm::vec3& p : m.positions) {
+                m.colors.emplace_back(0.5f + 0.5f * std::sin(3.0f * p.x),
+                                      0.5f + 0.5f * std::cos(2.0f * p.y + p.z),
+                                      0.5f + 0.5f * std::sin(2.5f * p.z - p.x), 1.0f);
+            }
+        }
+        for (Instance& i : s.instances) i.material.albedo = glm::vec3(1.0f);
+        return s;
+    }();
+    return scene;
+}
+
 inline std::optional<Scene> modelScene(const std::string& file) {
     auto m = loadMesh(modelPath(file));
     if (!m) return std::nullopt;

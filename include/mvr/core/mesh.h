@@ -40,13 +40,17 @@ struct Mesh {
     std::vector<glm::vec3> positions;
     std::vector<glm::vec3> normals;      ///< one per position, unit length
     std::vector<glm::vec2> texcoords;    ///< empty, or one per position
+    /// Empty, or one per position: linear RGBA in [0, 1] that multiplies the material's base
+    /// colour and alpha (glTF's COLOR_0; OBJ's `v x y z r g b` and PLY's red/green/blue,
+    /// sRGB-decoded by the readers), interpolated across each triangle like a texture.
+    std::vector<glm::vec4> colors;
     std::vector<std::uint32_t> indices;  ///< 3 per triangle, counter-clockwise = front
 
     std::size_t triangleCount() const { return indices.size() / 3; }
     Bounds bounds() const;
 };
 
-/// A 64-bit hash of the mesh's contents (positions, normals, texcoords, indices; FNV-style, 8
+/// A 64-bit hash of the mesh's contents (positions, normals, texcoords, colors, indices; FNV-style, 8
 /// bytes a step, not cryptographic): the GPU backends' key for meshes they keep uploaded.
 std::uint64_t contentHash(const Mesh& mesh);
 
@@ -59,6 +63,11 @@ inline constexpr double kMaxCoordinate = 1.0e12;
 /// Checks the invariants above. Errors: ErrorCode::Input naming `what` and the problem
 /// ("has no triangles", "index 9 out of range for 5 vertices", "non-finite position").
 Status validateMesh(const Mesh& mesh, const std::string& what);
+
+/// A vertex colour as files other than glTF hold it (sRGB-encoded, straight alpha) as
+/// Mesh::colors holds it: each channel clamped to 0..1, RGB decoded with the exact
+/// IEC 61966-2-1 curve, alpha unchanged; a NaN channel becomes 0.
+glm::vec4 decodeSrgbColor(glm::vec4 encoded);
 
 /// Computes area-weighted smooth vertex normals (degenerate triangles contribute nothing; a
 /// vertex with no usable triangle gets +Z).
