@@ -6,6 +6,8 @@
 #include <fmt/core.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "mvr/core/screen_rig.h"
+
 namespace mvr {
 
 Camera orbitCamera(const Camera& camera, const glm::vec3& centre, double degrees) {
@@ -90,6 +92,15 @@ Camera cameraAt(const CameraPath& path, double time, const Camera& base) {
 }
 
 Result<Rig> rigAt(const Rig& rig, const Camera& camera) {
+    if (rig.screen) {
+        // The screen moves with the camera: the framing camera moved as the centre eye was.
+        const glm::mat4 move = glm::inverse(camera.viewFromWorld()) * rig.camera.viewFromWorld();
+        Camera framing = rig.screenFraming;
+        framing.position = glm::vec3(move * glm::vec4(framing.position, 1.0f));
+        framing.target = glm::vec3(move * glm::vec4(framing.target, 1.0f));
+        framing.up = glm::mat3(move) * framing.up;
+        return makeScreenRig(framing, rig.screenConvergence, *rig.screen);
+    }
     RigParams params;
     params.kind = rig.kind;
     params.columns = rig.columns;

@@ -43,21 +43,6 @@ Result<double> number(const std::string& word, const std::string& option, const 
     return usageError(fmt::format("{} {}: '{}' is not a finite number", option, value, word));
 }
 
-Result<glm::vec3> vec3Of(const std::string& value, const std::string& option) {
-    const std::vector<std::string> words = numbersIn(value);
-    if (words.size() != 3)
-        return usageError(fmt::format("{} {}: expected X,Y,Z (three numbers)", option, value));
-    glm::vec3 v;
-    for (int i = 0; i < 3; ++i) {
-        auto n = number(words[std::size_t(i)], option, value);
-        if (!n) return n.status();
-        if (std::abs(*n) > 1e15)
-            return usageError(fmt::format("{} {}: beyond ±1e15", option, value));
-        v[i] = float(*n);
-    }
-    return v;
-}
-
 /// 16 numbers from the value itself, or from the file it names.
 Result<std::vector<double>> matrixNumbers(const std::string& value) {
     std::vector<std::string> words = numbersIn(value);
@@ -94,6 +79,22 @@ Result<std::vector<double>> matrixNumbers(const std::string& value) {
 }
 
 }  // namespace
+
+Result<glm::vec3> vec3Of(const std::string& value, const std::string& option) {
+    const std::vector<std::string> words = numbersIn(value);
+    if (words.size() != 3)
+        return usageError(fmt::format("{} {}: expected X,Y,Z (three numbers)", option, value));
+    glm::vec3 v;
+    for (int i = 0; i < 3; ++i) {
+        auto n = number(words[std::size_t(i)], option, value);
+        if (!n) return n.status();
+        if (std::abs(*n) > 1e15)
+            return usageError(fmt::format("{} {}: beyond ±1e15", option, value));
+        v[i] = float(*n);
+    }
+    return v;
+}
+
 
 Result<std::optional<Viewpoint>> viewpointOf(const CameraRecipe& c, const Scene& scene,
                                              float fovYDegrees, float aspect) {

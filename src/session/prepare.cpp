@@ -21,6 +21,7 @@
 #include "mvr/io/png.h"
 #include "mvr/io/scene_io.h"
 #include "mvr/session/camera.h"
+#include "mvr/session/screen.h"
 #include "mvr/session/surfaces.h"
 
 namespace mvr::session {
@@ -631,7 +632,8 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     out.settings.depth = out.write.depth || isTransparentBackground(r.background) || !sf.sky.empty() || sf.floatingWindow ||
                          sf.letterbox > 0.0 || !sf.labels.empty() || !sf.anchors.empty();
     out.settings.shadowMapSize = r.shadowMapSize;
-    auto kind = parseRigKind(r.rig);
+    const bool screenRig = r.rig == "screen";  // placed after the framing (screen.h)
+    auto kind = screenRig ? Result<RigKind>(RigKind::OffAxis) : parseRigKind(r.rig);
     if (!kind) return usageError(fmt::format("--rig {}: {}", r.rig, kind.status().message()));
     FramingParams params;
     params.kind = *kind;
@@ -654,6 +656,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
                                       r.viewGrid.empty() ? fmt::format("{}", nViews) : r.viewGrid,
                                       params.columns * params.rows, kMaxViews));
     }
+    if (Status s = checkScreenOptions(r, params.columns * params.rows); !s) return s;
     if (r.grid < 1 || r.grid > 1024) {
         return usageError(fmt::format("--grid {} is out of range (expected 1..1024 copies)", r.grid));
     }
@@ -748,6 +751,15 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
         params.useSceneCamera = false;
     }
     if (out.animation && !params.useSceneCamera) out.animation->cameraNode = -1;
+    std::optional<ScreenEyes> screenEyes;
+    if (screenRig) {
+        auto eyes = screenEyesOf(r, viewAspect);
+        if (!eyes) return eyes.status();
+        screenEyes = *eyes;
+        params.aspect = eyes->screen.width() / eyes->screen.height();  // the window is the screen
+        if (auto n = screenStretchNote(eyes->screen, out.settings.width, out.settings.height))
+            out.notes.push_back(*n);
+    }
     // "transparent": the scene's colour stays, the views' alpha is 0 there (buildSurfaces()).
     auto background =
         backgroundOf(isTransparentBackground(r.background) ? std::string() : r.background);
@@ -783,6 +795,11 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     if (!framed) return framed.status();  // the memory budget: its message names views and size
     out.rig = std::move(framed->rig);
     out.settings = framed->settings;
+    if (screenEyes) {
+        auto placed = makeScreenRig(out.rig.camera, out.rig.convergence, *screenEyes);
+        if (!placed) return placed.status();
+        out.rig = std::move(placed).value();
+    }
     if (params.useSceneCamera && out.scene.camera && !out.scene.viewpoint) {
         if (auto w = fileCameraCropWarning(out.scene, out.rig.camera)) out.notes.push_back(*w);
     }

@@ -88,8 +88,28 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
     viewGridOption = app->add_option("--view-grid", viewGrid,
                                      "CxR grid of views, numbered left to right, top to bottom")
                          ->excludes(views_);
-    app->add_option("--rig", rig, "Rig: offaxis (asymmetric frustums), toein or parallel")
+    app->add_option("--rig", rig,
+                    "Rig: offaxis (asymmetric frustums), toein, parallel, or screen (a physical "
+                    "screen and tracked eyes in mm: eye-tracked stereo monitors)")
         ->default_val(rig);
+    app->add_option("--screen-mm", screen.size,
+                    "--rig screen: the screen, WxH mm, centred, facing +Z (default: "
+                    "--screen-width at the views' aspect, else 597.9x336.3, a 27-inch 16:9 panel)")
+        ->check(nonEmpty("WxH in millimetres"));
+    app->add_option("--screen-corners", screen.corners,
+                    "--rig screen: a tilted screen by three corners, mm: lower-left;lower-right;"
+                    "upper-left, each X,Y,Z")
+        ->check(nonEmpty("three corners X,Y,Z separated by ';'"));
+    app->add_option("--eyes", screen.eyes,
+                    "--rig screen: the eyes in mm of screen space, LX,LY,LZ;RX,RY,RZ (a tracker's "
+                    "reading)")
+        ->check(nonEmpty("two points X,Y,Z separated by ';'"));
+    app->add_option("--ipd-mm", screen.ipdMm,
+                    "--rig screen: the eyes' distance, mm (default 63), about --head");
+    app->add_option("--head", screen.head,
+                    "--rig screen: the eyes' midpoint X,Y,Z mm (default 0,0,--viewing-distance "
+                    "or 600 mm)")
+        ->check(nonEmpty("X,Y,Z in millimetres"));
     auto* ia =
         app->add_option("--interaxial", interaxial,
                         "Distance between adjacent eyes, world units (default: convergence / 30)");
@@ -254,6 +274,7 @@ session::RenderRecipe SceneOptions::recipe() const {
     if (fovGiven || fov != 45.0) r.fov = fov;
     r.screenWidthCm = screenWidthCm;
     r.viewingDistanceCm = viewingDistanceCm;
+    r.screen = screen;
     if (display.empty() || given(sizeOption)) r.size = size;
     r.shading = shading;
     r.cull = cullBackFaces;

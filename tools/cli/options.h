@@ -67,6 +67,7 @@ struct SceneOptions {
     std::string display;                      ///< --display NAME (displays.h); "" = none
     std::optional<double> screenWidthCm;      ///< --screen-width CM
     std::optional<double> viewingDistanceCm;  ///< --viewing-distance CM
+    session::ScreenRecipe screen;             ///< --rig screen: --screen-mm, --eyes, ...
     bool convergenceAuto = false;             ///< --convergence auto
     std::optional<double> exposure;           ///< --exposure EV (stops; framing.h)
     bool exposureAuto = false;                ///< --exposure auto

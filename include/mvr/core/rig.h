@@ -26,6 +26,7 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -81,6 +82,8 @@ struct Frustum {
 
 enum class RigKind { OffAxis, ToeIn, Parallel, List };
 
+struct ScreenEyes;  // mvr/core/screen_rig.h
+
 /// A multi-view rig: `columns × rows` views numbered left to right, then top to bottom
 /// (view 0 is the top-left viewpoint; for a row, view 0 is the leftmost eye).
 struct Rig {
@@ -93,6 +96,11 @@ struct Rig {
     float convergence = 5.0f;  ///< distance to the zero-parallax plane (off-axis, toe-in)
     std::vector<View> views;
     Frustum cullingFrustum;  ///< encloses every view's frustum
+    /// A screen rig's screen and eyes (makeScreenRig(), screen_rig.h), the framed camera and
+    /// convergence it was placed by: rigAt() rebuilds it around a moved camera. Null otherwise.
+    std::shared_ptr<const ScreenEyes> screen;
+    Camera screenFraming;
+    float screenConvergence = 0.0f;
 
     int viewCount() const { return static_cast<int>(views.size()); }
     glm::vec3 centerEye() const { return camera.position; }

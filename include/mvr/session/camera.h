@@ -28,6 +28,9 @@ Result<std::optional<Viewpoint>> viewpointOf(const CameraRecipe& camera, const S
 /// wide (the horizontal field of view), at `aspect`; nullopt without a focal length.
 Result<std::optional<double>> fovFromFocalLength(const CameraRecipe& camera, double aspect);
 
+/// "X,Y,Z" (commas or spaces; |each| ≤ 1e15). Errors: Usage naming `option` and the value.
+Result<glm::vec3> vec3Of(const std::string& value, const std::string& option);
+
 /// "R,G,B" in [0, 1] or "#RRGGBB" as a linear colour; nullopt for "".
 Result<std::optional<glm::vec3>> backgroundOf(const std::string& text);
 

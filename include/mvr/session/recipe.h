@@ -96,6 +96,22 @@ struct CameraRecipe {
     }
 };
 
+/// `--rig screen` (mvr/core/screen_rig.h): the physical screen and the viewer's eyes, in mm of
+/// screen space (the screen centred on the origin, facing +Z, unless corners are given).
+struct ScreenRecipe {
+    /// --screen-mm "WxH"; default: --screen-width (cm) at the views' aspect, else a 27-inch
+    /// 16:9 panel (597.9 x 336.3 mm, the size of the eye-tracked monitors' presets).
+    std::string size;
+    std::string corners;  ///< --screen-corners "LL;LR;UL", each X,Y,Z; excludes size
+    std::string eyes;     ///< --eyes "LX,LY,LZ;RX,RY,RZ"; excludes ipdMm and head
+    std::optional<double> ipdMm;  ///< --ipd-mm (default 63: the adult mean)
+    /// --head X,Y,Z: the eyes' midpoint; default (0, 0, --viewing-distance in mm, else 600).
+    std::string head;
+    bool given() const {
+        return !size.empty() || !corners.empty() || !eyes.empty() || ipdMm || !head.empty();
+    }
+};
+
 /// A mesh given in memory (Python's mvr.Mesh), rendered with the model files (after them).
 struct InlineModel {
     std::string name;                  ///< for the scene's name and messages
@@ -122,7 +138,8 @@ struct RenderRecipe {
     std::optional<int> views;  ///< a row of N views (default 2, or the display's)
     std::string viewGrid;      ///< "CxR"; excludes views
     std::string display;       ///< a display preset (mvr/core/displays.h); empty: none
-    std::string rig = "offaxis";  ///< offaxis | toein | parallel
+    std::string rig = "offaxis";  ///< offaxis | toein | parallel | screen
+    ScreenRecipe screen;          ///< rig "screen": the screen and the eyes
     std::optional<double> interaxial;
     std::optional<double> separation;
     bool separationAuto = false;  ///< needs screenWidthCm
