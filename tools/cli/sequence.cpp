@@ -356,7 +356,12 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
     if (!isRankZero()) return 0;
     if (video) {
         const auto start = std::chrono::steady_clock::now();
-        if (Status finished = video->finish(); !finished) return fail(finished);
+        if (Status finished = video->finish(); !finished) {
+            video.reset();  // its temporary file is removed
+            return fail(Status(finished.code(),
+                               fmt::format("{}; {}", finished.message(),
+                                           sequenceRemains(job.outDir, o, todo, complete, true))));
+        }
         times.video += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
     times.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - runStart).count();
