@@ -7,6 +7,10 @@
 
 #include <unistd.h>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <chrono>
 #include <cstdlib>
 #include <cmath>
@@ -232,8 +236,12 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
     std::optional<session::FrameStepper> cameraStepper;
     if (job.outputs.cameras) cameraStepper.emplace(p, *plan);
     const std::string keepFormat = o.video.empty() ? std::string() : videoFormat;
-    // A GPU backend composes on its context, this thread's: before the frame leaves it.
-    const bool composeHere = session::composesOnDevice(&backend);
+    // The composites are composed on this thread, before the frame leaves it: a GPU backend
+    // composes on its context, this thread's; and on the CPU a composite made here comes from
+    // the main malloc arena, whose freed blocks are reused (another thread's arena holds at
+    // most 64 MiB a heap: a 45 MB quilt took fresh pages every frame there, ~180 ms instead of
+    // ~8; bench/README.md).
+    const bool composeHere = true;
     std::string videoNameWarning;  // said once the video is opened
 
     // Writing beside rendering (issue 37): frame f's files are written on the files' thread
@@ -243,6 +251,14 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
     // Frames go through both in order. Declared after what the writes use, the video's queue
     // before the files' (whose writes push onto it): they are joined first.
     const int depth = session::writeQueueDepth();
+#if defined(__GLIBC__)
+    // With frames in flight, two or three composites of tens of MB are alive at once: glibc
+    // would serve each from a fresh mmap (over its 32 MiB threshold, main.cpp's
+    // retainFreedMemory()) and unmap it when freed, so every frame's quilt faulted in 45 MB of
+    // new pages (a Portrait video at 1.96 frames/s against 2.68 one frame at a time; with this,
+    // 2.89). Without mmap the freed blocks are reused, as main.cpp intends (trim threshold 1 GiB).
+    if (depth > 0) mallopt(M_MMAP_MAX, 0);
+#endif
     session::FrameQueue videoQueue(depth);
     session::FrameQueue filesQueue(depth);
     struct Frame {
