@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <vector>
 
 #include <fmt/core.h>
 #include <png.h>
@@ -37,8 +38,15 @@ void onPngError(png_structp png, png_const_charp message) {
 }
 void onPngWarning(png_structp, png_const_charp) {}
 
-bool writePngTuned(std::FILE* file, int width, int height, bool gray16, const void* pixels,
-                   std::ptrdiff_t rowBytes, int level, int filters, PngError& error) {
+void appendBytes(png_structp png, png_bytep data, png_size_t length) {
+    auto* out = static_cast<std::vector<std::uint8_t>*>(png_get_io_ptr(png));
+    out->insert(out->end(), data, data + length);
+}
+void flushNothing(png_structp) {}
+
+bool encodePngTuned(std::vector<std::uint8_t>& out, int width, int height, bool gray16,
+                    const void* pixels, std::ptrdiff_t rowBytes, int level, int filters,
+                    PngError& error) {
     png_structp png =
         png_create_write_struct(PNG_LIBPNG_VER_STRING, &error, onPngError, onPngWarning);
     if (!png) return false;
@@ -47,7 +55,7 @@ bool writePngTuned(std::FILE* file, int width, int height, bool gray16, const vo
         png_destroy_write_struct(&png, &info);
         return false;
     }
-    png_init_io(png, file);
+    png_set_write_fn(png, &out, appendBytes, flushNothing);
     png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), gray16 ? 16 : 8,
                  gray16 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGBA, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
@@ -65,39 +73,56 @@ bool writePngTuned(std::FILE* file, int width, int height, bool gray16, const vo
     return true;
 }
 
-Status writePngRaw(const std::filesystem::path& path, int width, int height, png_uint_32 format,
-                   const void* pixels, std::ptrdiff_t rowStride, PngCompression compression) {
-    errno = 0;
-    std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
-    if (!file) return writeError(path, "cannot open for writing");
+/// The PNG file's bytes, in memory. Errors: "WHO: <libpng's reason>" (ErrorCode::Output).
+Result<std::vector<std::uint8_t>> encodePngRaw(std::string_view who, int width, int height,
+                                               png_uint_32 format, const void* pixels,
+                                               std::ptrdiff_t rowStride,
+                                               PngCompression compression) {
+    std::vector<std::uint8_t> bytes;
     if (compression != PngCompression::Default) {
         const bool gray16 = format == PNG_FORMAT_LINEAR_Y;
         const std::ptrdiff_t rowBytes = rowStride * (gray16 ? 2 : 1);  // stride is in components
         PngError error;
         const bool fast = compression == PngCompression::Fast;
-        if (!writePngTuned(file.get(), width, height, gray16, pixels, rowBytes, fast ? 1 : 9,
-                           fast ? PNG_FILTER_SUB : PNG_ALL_FILTERS, error)) {
-            return writeError(path, *error.message ? error.message : "libpng failed");
+        // About what fast deflate makes of a rendered view: fewer reallocations.
+        bytes.reserve(std::size_t(width) * std::size_t(height) * (gray16 ? 2 : 4) / 4 + 1024);
+        if (!encodePngTuned(bytes, width, height, gray16, pixels, rowBytes, fast ? 1 : 9,
+                            fast ? PNG_FILTER_SUB : PNG_ALL_FILTERS, error)) {
+            return outputError(
+                fmt::format("{}: {}", who, *error.message ? error.message : "libpng failed"));
         }
-    } else {
-        png_image image{};
-        image.version = PNG_IMAGE_VERSION;
-        image.width = static_cast<png_uint_32>(width);
-        image.height = static_cast<png_uint_32>(height);
-        image.format = format;
-        if (!png_image_write_to_stdio(&image, file.get(), 0, pixels,
+        return bytes;
+    }
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    image.width = static_cast<png_uint_32>(width);
+    image.height = static_cast<png_uint_32>(height);
+    image.format = format;
+    png_alloc_size_t size = 0;
+    // Its size first, then the bytes (libpng's simplified writer, as png_image_write_to_stdio).
+    if (png_image_write_to_memory(&image, nullptr, &size, 0, pixels,
+                                  static_cast<png_int_32>(rowStride), nullptr)) {
+        bytes.resize(size);
+        if (png_image_write_to_memory(&image, bytes.data(), &size, 0, pixels,
                                       static_cast<png_int_32>(rowStride), nullptr)) {
-            const std::string why = image.message;
-            png_image_free(&image);
-            return writeError(path, why);
+            bytes.resize(size);
+            return bytes;
         }
     }
-    // A full disk may only show when the last buffer is written out, at the close.
-    if (std::fflush(file.get()) != 0 || std::ferror(file.get()) ||
-        std::fclose(file.release()) != 0) {
-        return writeError(path, "write failed");
+    const std::string why = image.message;
+    png_image_free(&image);
+    return outputError(fmt::format("{}: {}", who, why));
+}
+
+Status writePngRaw(const std::filesystem::path& path, int width, int height, png_uint_32 format,
+                   const void* pixels, std::ptrdiff_t rowStride, PngCompression compression) {
+    auto bytes = encodePngRaw(path.string(), width, height, format, pixels, rowStride, compression);
+    if (!bytes) {
+        errno = 0;
+        const std::string& m = bytes.status().message();
+        return writeError(path, m.substr(std::min(m.size(), path.string().size() + 2)));
     }
-    return {};
+    return writeBytes(path, *bytes);
 }
 
 }  // namespace
@@ -144,6 +169,29 @@ Status writeDepthPng(const std::filesystem::path& path, const DepthImage& depth,
     // PNG_FORMAT_LINEAR_Y: 16-bit gray samples in native byte order; libpng swaps them.
     return writePngRaw(path, depth.width, depth.height, PNG_FORMAT_LINEAR_Y, gray.data(),
                        depth.width, compression);
+}
+
+Status writeBytes(const std::filesystem::path& path, std::span<const std::uint8_t> bytes) {
+    errno = 0;
+    std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
+    if (!file) return writeError(path, "cannot open for writing");
+    const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file.get()) == bytes.size();
+    // A full disk may only show when the last buffer is written out, at the close.
+    if (!written || std::fflush(file.get()) != 0 || std::ferror(file.get()) ||
+        std::fclose(file.release()) != 0) {
+        return writeError(path, "write failed");
+    }
+    return {};
+}
+
+Result<std::vector<std::uint8_t>> encodePng(const Image& image, PngCompression compression) {
+    if (image.empty() || image.rgba.size() != std::size_t(image.width) * image.height * 4) {
+        return outputError(fmt::format("mvr::encodePng(): image is empty or its size ({}x{}) "
+                                       "does not match its data",
+                                       image.width, image.height));
+    }
+    return encodePngRaw("mvr::encodePng()", image.width, image.height, PNG_FORMAT_RGBA,
+                        image.rgba.data(), image.width * 4, compression);
 }
 
 Result<Image> readPng(const std::filesystem::path& path) {

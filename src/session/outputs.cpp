@@ -2,7 +2,10 @@
 // surfaces drawn after the scene (mvr/session/surfaces.h).
 #include "mvr/session/outputs.h"
 
+#include <algorithm>
+#include <array>
 #include <atomic>
+#include <chrono>
 #include <cerrno>
 #include <cctype>
 #include <cstdio>
@@ -45,6 +48,7 @@ Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const Render
                                   const Rig& rig, const FrameOutputs& outputs,
                                   const Backend* backend, const std::string& keepFormat,
                                   const std::vector<ExtraFile>& extra) {
+    const auto start = std::chrono::steady_clock::now();
     // No file in `dir` (a video's image alone, the report alone): no folder either.
     const bool inDir = outputs.writesFiles(out.color.size(), out.depth.size());
     if (!inDir && extra.empty()) return writeFrameFiles(dir, out, rig, outputs, backend, keepFormat);
@@ -65,31 +69,110 @@ Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const Render
         written->paths.push_back(temp->string());
     }
     if (Status s = staged->commit(written->paths); !s) return s;
+    written->times.wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return written;
+}
+
+bool composesOnDevice(const Backend* backend) {
+    if (!backend) return false;
+    auto entry = findBackend(backend->name());
+    return entry && (*entry)->compose;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/// The image composites a frame writes or keeps, in the order writeFrameFiles() writes them.
+std::vector<std::string> imageComposites(const RenderOutput& out, const FrameOutputs& outputs,
+                                         const std::string& keepFormat) {
+    std::vector<std::string> names;
+    if (out.color.size() == 2 && outputs.composites)
+        names.emplace_back(composite::kDefaultAnaglyph);
+    bool kept = false;
+    for (const std::string& format : outputs.formats) {
+        const bool keep = format == keepFormat && !kept;
+        if (!outputs.composites && !keep) continue;
+        auto info = composite::findFormat(format);
+        if (!info || info->extension != ".png") continue;  // writeFrameFiles() says why
+        kept = kept || keep;
+        names.push_back(format);
+    }
+    return names;
+}
+
+}  // namespace
+
+Result<ComposedImages> composeImages(const RenderOutput& out, const Rig& rig,
+                                     const FrameOutputs& outputs, const Backend* backend,
+                                     const std::string& keepFormat) {
+    const auto start = Clock::now();
+    composite::ComposeOptions compose = outputs.compose;
+    compose.baseline = rig.interaxial;
+    compose.convergence = rig.convergence;
+    ComposedImages composed;
+    for (const std::string& format : imageComposites(out, outputs, keepFormat)) {
+        auto image = backend ? composeFor(*backend, format, out.color, compose)
+                             : composite::compose(format, out.color, compose);
+        if (!image) return image.status();
+        composed.images.emplace_back(format, std::move(image).value());
+    }
+    composed.seconds = since(start);
+    return composed;
 }
 
 Result<WrittenFrame> writeFrameFiles(const std::filesystem::path& dir, const RenderOutput& out,
                                      const Rig& rig, const FrameOutputs& outputs,
-                                     const Backend* backend, const std::string& keepFormat) {
+                                     const Backend* backend, const std::string& keepFormat,
+                                     ComposedImages* precomposed) {
+    const auto start = Clock::now();
+    WrittenFrame written;
+    WriteTimes& times = written.times;
     composite::ComposeOptions compose = outputs.compose;
     compose.baseline = rig.interaxial;
     compose.convergence = rig.convergence;
-    // Image composites where the backend composes (same pixels as the CPU, anaglyphs within
-    // 1/255; src/gl/README.md), else on the CPU.
-    auto composeImage = [&](std::string_view format) {
-        return backend ? composeFor(*backend, format, out.color, compose)
-                       : composite::compose(format, out.color, compose);
+    if (precomposed) times.compose = precomposed->seconds;
+    // Image composites: composed already (composeImages(), on a GPU backend's thread), else
+    // where the backend composes (same pixels as the CPU, anaglyphs within 1/255;
+    // src/gl/README.md), else on the CPU.
+    auto composeImage = [&](std::string_view format) -> Result<Image> {
+        if (precomposed) {
+            for (auto& [name, image] : precomposed->images) {
+                if (name == format && !image.empty()) return std::move(image);  // in order
+            }
+        }
+        const auto t = Clock::now();
+        auto image = backend ? composeFor(*backend, format, out.color, compose)
+                             : composite::compose(format, out.color, compose);
+        times.compose += since(t);
+        return image;
     };
     // The images are composed here, in order (a GPU backend composes on its context, which is
-    // this thread's); their PNGs are encoded and written by workers, each file independent,
-    // and `paths` lists them in this order whatever order they finish in.
-    WrittenFrame written;
+    // this thread's); their files are encoded and written by workers, each file independent,
+    // and `paths` lists them in this order whatever order they finish in. Each job keeps its
+    // own times (encoding, writing), summed once all are done.
     std::vector<std::function<Status()>> jobs;
+    std::deque<std::array<double, 2>> jobTimes;  // stable addresses: {encode, write} per job
     std::deque<Image> composed;  // stable addresses while the jobs read them
     const PngCompression png = outputs.png;
     auto writeImage = [&](std::filesystem::path path, const Image* image) {
         written.paths.push_back(path.string());
-        jobs.push_back([path = std::move(path), image, png] { return writePng(path, *image, png); });
+        double* t = jobTimes.emplace_back(std::array<double, 2>{}).data();
+        jobs.push_back([path = std::move(path), image, png, t] {
+            const auto t0 = Clock::now();
+            auto bytes = encodePng(*image, png);
+            if (!bytes) {
+                errno = 0;
+                return writeError(path, bytes.status().message());
+            }
+            t[0] = since(t0);
+            const auto t1 = Clock::now();
+            Status s = writeBytes(path, *bytes);
+            t[1] = since(t1);
+            return s;
+        });
     };
     for (std::size_t v = 0; v < out.color.size(); ++v) {
         if (outputs.views) writeImage(dir / fmt::format("view-{}.png", v), &out.color[v]);
@@ -97,18 +180,26 @@ Result<WrittenFrame> writeFrameFiles(const std::filesystem::path& dir, const Ren
             auto dpath = dir / fmt::format("depth-{}.{}", v, outputs.depthExr ? "exr" : "png");
             written.paths.push_back(dpath.string());
             const DepthImage* d = &out.depth[v];
+            double* t = jobTimes.emplace_back(std::array<double, 2>{}).data();  // all "encode"
             if (outputs.depthExr && v < rig.views.size()) {
                 // Window depth to eye-space distance, with this view's projection.
                 const glm::mat4& p = rig.views[v].clipFromView;
-                jobs.push_back([dpath = std::move(dpath), d, p22 = p[2][2], p32 = p[3][2]] {
+                jobs.push_back([dpath = std::move(dpath), d, p22 = p[2][2], p32 = p[3][2], t] {
+                    const auto t0 = Clock::now();
                     std::vector<float> distance(d->depth.size());
                     for (std::size_t i = 0; i < distance.size(); ++i)
                         distance[i] = distanceOfDepth(p22, p32, d->depth[i]);
-                    return writeDepthExr(dpath, d->width, d->height, distance);
+                    Status s = writeDepthExr(dpath, d->width, d->height, distance);
+                    t[0] = since(t0);
+                    return s;
                 });
             } else {
-                jobs.push_back(
-                    [dpath = std::move(dpath), d, png] { return writeDepthPng(dpath, *d, png); });
+                jobs.push_back([dpath = std::move(dpath), d, png, t] {
+                    const auto t0 = Clock::now();
+                    Status s = writeDepthPng(dpath, *d, png);
+                    t[0] = since(t0);
+                    return s;
+                });
             }
         }
     }
@@ -144,12 +235,16 @@ Result<WrittenFrame> writeFrameFiles(const std::filesystem::path& dir, const Ren
             if (outputs.composites) writeImage(dir / *name, &composed.back());
             continue;
         }
+        const auto t = Clock::now();  // a JPEG file: composed and encoded by its writer
         auto path = composite::writeComposite(format, out.color, compose, dir);
+        times.encode += since(t);
         if (!path) return path.status();
         written.paths.push_back(path->string());
     }
     if (Status s = runParallel(jobs); !s) return s;
+    for (const auto& t : jobTimes) times.encode += t[0], times.write += t[1];
     if (keptIndex) written.kept = std::move(composed[*keptIndex]);
+    times.wall = since(start) + (precomposed ? precomposed->seconds : 0.0);
     return written;
 }
 

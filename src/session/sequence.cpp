@@ -147,10 +147,12 @@ Result<Rig> FrameStepper::advance(int f) {
 Result<WrittenFrame> writeFrameFolder(const std::filesystem::path& dir, const SequencePlan& plan,
                                       int f, const RenderOutput& out, const Rig& rig,
                                       const FrameOutputs& outputs, const Backend* backend,
-                                      const std::string& keepFormat) {
+                                      const std::string& keepFormat,
+                                      ComposedImages* precomposed) {
     if (!outputs.writesFiles(out.color.size(), out.depth.size())) {
         // Nothing for the frame's folder (a video alone): the video's image is still composed.
-        return writeFrameFiles(dir / plan.folder(f), out, rig, outputs, backend, keepFormat);
+        return writeFrameFiles(dir / plan.folder(f), out, rig, outputs, backend, keepFormat,
+                               precomposed);
     }
     // The frame's files under frame-NNNN.part/, renamed when complete: a frame folder is whole
     // or absent, whatever stops the run (the .part is removed then: mvr/session/pending.h).
@@ -167,7 +169,7 @@ Result<WrittenFrame> writeFrameFolder(const std::filesystem::path& dir, const Se
         return outputError(fmt::format("cannot create '{}': {}", part.string(), ec.message()));
     }
     // The frame's files, as a still's (anaglyph.png for a pair included).
-    auto files = writeFrameFiles(part, out, rig, outputs, backend, keepFormat);
+    auto files = writeFrameFiles(part, out, rig, outputs, backend, keepFormat, precomposed);
     if (!files) {
         releasePending(ticket, true);
         return files.status();

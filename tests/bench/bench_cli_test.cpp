@@ -600,3 +600,59 @@ TEST_F(BenchCli, ViewsJsonGlAndPlot) {
 }
 
 }  // namespace
+
+namespace {
+
+// `mvr bench outputs` (issue 37) on its tiny configurations: every configuration's row, in the
+// table and in the JSON, with times that are there and add up; not a speed.
+TEST_F(BenchCli, OutputsTinyTableAndJson) {
+    const nlohmann::json j = runJson("bench outputs --tiny --json");
+    EXPECT_EQ(j["bench"], "outputs");
+    expectMachine(j);
+    EXPECT_EQ(j["runs"], 1);
+    EXPECT_GE(j["queue"].get<int>(), 0);
+    std::vector<std::string> want = {"views", "portrait", "sbs", "portrait-video", "sbs-video"};
+    const bool video = j["skipped"].empty();
+    if (!video) want.resize(3);  // built without FFmpeg: the videos are listed as skipped
+    ASSERT_EQ(j["results"].size(), want.size()) << j.dump(1);
+    for (std::size_t i = 0; i < want.size(); ++i) {
+        const auto& r = j["results"][i];
+        EXPECT_EQ(r["config"], want[i]);
+        const bool sequence = i >= 3;
+        EXPECT_EQ(r["frames"].get<int>(), sequence ? 2 : 1) << r.dump();
+        EXPECT_EQ(r["views"].get<int>(), want[i].rfind("sbs", 0) == 0 ? 2 : 48) << r.dump();
+        EXPECT_GT(r["render_ms"].get<double>(), 0.0) << r.dump();
+        EXPECT_GT(r["end_to_end_s"].get<double>(), 0.0) << r.dump();
+        EXPECT_NEAR(r["fps"].get<double>(),
+                    r["frames"].get<double>() / r["end_to_end_s"].get<double>(),
+                    1e-2 * r["fps"].get<double>() + 1e-3);
+        for (const char* key : {"setup_s", "compose_ms", "encode_ms", "write_ms", "video_ms", "cpu_s"})
+            EXPECT_GE(r[key].get<double>(), 0.0) << key << r.dump();
+        if (sequence) {
+            EXPECT_GT(r["video_ms"].get<double>(), 0.0) << r.dump();
+        } else {
+            EXPECT_GT(r["encode_ms"].get<double>(), 0.0) << r.dump();
+            EXPECT_GE(r["files"].get<int>(), want[i] == "views" ? 48 : 1) << r.dump();
+        }
+    }
+    // The table: a header and one line per configuration, every cell filled.
+    const CliRun t = run("bench outputs --tiny --configs sbs,views");
+    ASSERT_EQ(t.exitCode, 0) << t.err;
+    EXPECT_EQ(t.out.rfind("machine: ", 0), 0u) << t.out;
+    EXPECT_NE(t.out.find("| config | views | frames | set-up s | render ms | compose ms | encode ms "
+                         "| write ms | video ms | end to end s | frames/s | cpu s |"),
+              std::string::npos)
+        << t.out;
+    for (const char* config : {"views", "sbs"}) {
+        const auto at = t.out.find(fmt::format("\n| {} | ", config));
+        ASSERT_NE(at, std::string::npos) << config << "\n" << t.out;
+        const std::string line = t.out.substr(at + 1, t.out.find('\n', at + 1) - at - 1);
+        EXPECT_EQ(std::count(line.begin(), line.end(), '|'), 13) << line;
+    }
+    EXPECT_LT(t.out.find("| views | "), t.out.find("| sbs | ")) << "in the table's order";
+    expectError("bench outputs --configs nope", 1, "--configs nope: unknown");
+    expectError("bench outputs --tiny --runs 101", 1, "--runs 101");
+    expectError("bench outputs --tiny --frames -1", 1, "--frames -1");
+}
+
+}  // namespace

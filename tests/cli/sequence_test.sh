@@ -17,6 +17,15 @@ cmp -s "$tmp/whole/frame-0000/view-0.png" "$tmp/whole/frame-0001/view-0.png" &&
     fail "the orbit does not move the camera"
 [[ -z $(ls "$tmp/whole" | grep '\.part$' || true) ]] || fail "a .part folder was left"
 
+# Writing beside rendering (issue 37): the same bytes whether each frame's files are written on
+# their own thread while the next frame renders (the default), with a deeper queue, or one
+# frame at a time on the rendering thread (MVR_WRITE_QUEUE=0, the order before).
+MVR_WRITE_QUEUE=0 "$mvr" render "${common[@]}" --depth -o "$tmp/serial"
+MVR_WRITE_QUEUE=3 "$mvr" render "${common[@]}" --depth -o "$tmp/deep"
+"$mvr" render "${common[@]}" --depth -o "$tmp/overlap"
+diff -r "$tmp/serial" "$tmp/overlap" || fail "frames written beside rendering differ"
+diff -r "$tmp/serial" "$tmp/deep" || fail "frames written through a deeper queue differ"
+
 # --shard I/N: the shares add up to the whole, byte for byte.
 for i in 0 1 2; do "$mvr" render "${common[@]}" --shard $i/3 -o "$tmp/shards"; done
 diff -r "$tmp/whole" "$tmp/shards" || fail "--shard shares differ from the whole"
@@ -132,6 +141,18 @@ if "$mvr" render --frames 1 --size 32x24 -q --video "$tmp/probe.mkv" -o "$tmp/pr
     ffmpeg -v error -i "$tmp/l.mkv" -f rawvideo -pix_fmt rgba "$tmp/l.rgba"
     ffmpeg -v error -i "$tmp/l/frame-%04d/sbs.png" -f rawvideo -pix_fmt rgba "$tmp/p.rgba"
     [[ -s $tmp/p.rgba ]] && cmp "$tmp/l.rgba" "$tmp/p.rgba" || fail "ffv1 frames differ from the PNGs"
+    # The same video and frames with the writes beside the rendering and one frame at a time.
+    for q in 0 1; do
+        MVR_WRITE_QUEUE=$q "$mvr" render --views 4 --size 33x25 --frames 5 --orbit 40 -q \
+            --format quilt --quilt 2x2 --codec ffv1 --write views,composites,video \
+            --video "$tmp/q$q.mkv" -o "$tmp/q$q"
+    done
+    cmp "$tmp/q0.mkv" "$tmp/q1.mkv" || fail "the ffv1 video differs with the writes overlapped"
+    diff -r "$tmp/q0" "$tmp/q1" || fail "the video's frames differ with the writes overlapped"
+    ffmpeg -v error -i "$tmp/q1.mkv" -f rawvideo -pix_fmt rgba "$tmp/q1.rgba"
+    ffmpeg -v error -i "$tmp/q1/frame-%04d/quilt_qs2x2a1.32.png" -f rawvideo -pix_fmt rgba "$tmp/q1p.rgba"
+    [[ -s $tmp/q1p.rgba ]] && cmp "$tmp/q1.rgba" "$tmp/q1p.rgba" ||
+        fail "the overlapped ffv1 video's frames differ from its PNGs (in order)"
     expect_error "--codec ffv1: lossless FFV1 goes in a .mkv file" --frames 2 --codec ffv1 --video "$tmp/l.mp4" -o "$tmp/bad"
     expect_error "--codec vp9: unknown codec" --frames 2 --codec vp9 --video "$tmp/x.mkv" -o "$tmp/bad"
     expect_error "--crf 52 is out of range for h264 (expected 0..51)" --frames 2 --crf 52 --video "$tmp/x.mkv" -o "$tmp/bad"

@@ -166,6 +166,66 @@ TEST_F(WholeSets, AFullDiskLeavesTheDirectoryAsItWas) {
     }
 }
 
+TEST_F(WholeSets, AWriteFailingBesideTheRenderingKeepsTheFramesBeforeIt) {
+    // Frames written on their own thread while the next renders (issue 37): a camera path that
+    // zooms in makes each frame's PNGs larger than the last, so that under `ulimit -f` a later
+    // frame's write fails while the following frames render. The output and the message are
+    // those of the run that writes one frame at a time (MVR_WRITE_QUEUE=0).
+    write("zoom.json", R"({"keys": [{"time": 0, "position": [0, 0, 60], "target": [0, 0, 0]},
+                                     {"time": 1, "position": [0, 0, 2.5], "target": [0, 0, 0]}]})");
+    std::map<std::string, std::string> outputs;
+    std::string messages;
+    for (const char* queue : {"0", "1", "3"}) {
+        const std::string dir = fmt::format("seq{}", queue);
+        const CliRun r = run(fmt::format("render --views 2 --size 256x192 --camera-path zoom.json "
+                                         "--fps 8 -q -o {}",
+                                         dir),
+                             fmt::format("ulimit -f 8 && MVR_WRITE_QUEUE={}", queue));
+        expectError(r, 4, "File too large");
+        std::smatch m;
+        ASSERT_TRUE(std::regex_search(r.output, m,
+                                      std::regex("(\\d+) of 9 frames are complete in seq\\d/ "
+                                                 "\\(`--frame-range (\\d+):` renders the rest\\)")))
+            << r.output;
+        const int done = std::stoi(m[1]);
+        EXPECT_GE(done, 1) << r.output;
+        EXPECT_EQ(std::stoi(m[2]), done);
+        std::size_t lines = 0;
+        for (std::size_t at = 0; (at = r.output.find("error:", at)) != std::string::npos; ++at)
+            ++lines;
+        EXPECT_EQ(lines, 1u) << r.output;
+        const auto frames = snapshot(mDir / dir);
+        int folders = 0;
+        for (const auto& [name, bytes] : frames) {
+            EXPECT_EQ(name.find("part"), std::string::npos) << "left: " << name;
+            folders += name.back() == '/';
+        }
+        EXPECT_EQ(folders, done) << names(frames);
+        if (outputs.empty()) {
+            outputs = frames;
+            messages = std::regex_replace(r.output, std::regex("seq\\d"), "seq");
+        } else {
+            EXPECT_EQ(frames, outputs) << "MVR_WRITE_QUEUE=" << queue << ": " << names(frames);
+            EXPECT_EQ(std::regex_replace(r.output, std::regex("seq\\d"), "seq"), messages);
+        }
+    }
+}
+
+TEST_F(WholeSets, AVideoThatCannotBeFinishedIsRemovedAndTheFramesSaid) {
+    // Matroska holds its clusters until the end: the file limit shows when the video's frames
+    // are flushed (the video's thread). One error line, the frames that are complete, no video.
+    const CliRun r = run("render --frames 12 --views 2 --size 128x96 --format sbs --codec ffv1 "
+                         "--write composites,video --video v.mkv -q -o seq",
+                         "ulimit -f 100 &&");
+    if (r.output.find("built without FFmpeg") != std::string::npos)
+        MVR_SKIP(FeatureNotBuilt) << "video (FFmpeg)";
+    expectError(r, 4, "--video v.mkv: File too large; every frame is complete in seq/; the "
+                      "unfinished video was removed");
+    EXPECT_EQ(r.output.find("error:"), r.output.rfind("error:")) << r.output;
+    EXPECT_FALSE(fs::exists(mDir / "v.mkv"));
+    EXPECT_FALSE(fs::exists(mDir / "v.part.mkv"));
+}
+
 TEST_F(WholeSets, TheReportIsPartOfTheSet) {
     // The report cannot be written (a directory is in its place): refused before rendering.
     fs::create_directories(mDir / "report.json");

@@ -223,7 +223,8 @@ bool isRankZero() {
 }
 
 Status distributeFrames(const std::vector<int>& frames, int views, const RenderViewsFn& render,
-                        const EmitFrameFn& emit, bool gatherStats) {
+                        const EmitFrameFn& emit, bool gatherStats,
+                        const std::function<void()>& settle) {
 #ifdef MVR_WITH_MPI
     if (launchedWithRanks()) {
         // A rank killed while rank 0 copies a frame straight out of its memory (Open MPI's
@@ -252,6 +253,7 @@ Status distributeFrames(const std::vector<int>& frames, int views, const RenderV
             if (!s) {
                 // The workers wait for items or send views: end them all, with rank 0's line
                 // and what the output holds (MPI_Abort does not return).
+                if (settle) settle();
                 session::removePendingOutputs();
                 fail(Status(s.code(), fmt::format("{}; {}", s.message(), session::outputProgress())));
                 MPI_Abort(MPI_COMM_WORLD, exitCode(s.code()) ? exitCode(s.code()) : 1);

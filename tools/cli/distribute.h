@@ -14,14 +14,18 @@
 namespace mvr::cli {
 
 using RenderViewsFn = std::function<Result<RenderOutput>(int frame, int v0, int v1)>;
-using EmitFrameFn = std::function<Status(int frame, const RenderOutput& out)>;
+/// Emits a frame on rank 0 (`out` may be moved from: it is not used again).
+using EmitFrameFn = std::function<Status(int frame, RenderOutput& out)>;
 
 /// Renders `frames` (each of `views` views) and emits each frame once, in order, on rank 0.
 /// A worker's failure stops the run with rank 0 printing "error: rank R: ..." (exit non-zero).
 /// Depth images travel with the views when the render returns them. `gatherStats`: rank 0
 /// prints one "gather: ..." line on stderr (the time it spent receiving and unpacking views).
+/// `settle`: called on rank 0 before a failed distributed run is ended (MPI_Abort), so that
+/// the frames' writes still running finish (the output then holds what the message says).
 Status distributeFrames(const std::vector<int>& frames, int views, const RenderViewsFn& render,
-                        const EmitFrameFn& emit, bool gatherStats = false);
+                        const EmitFrameFn& emit, bool gatherStats = false,
+                        const std::function<void()>& settle = {});
 
 /// False on the MPI workers (they write nothing and print nothing).
 bool isRankZero();

@@ -7,11 +7,16 @@
 
 #include <unistd.h>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <chrono>
 #include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <optional>
 #include <regex>
 #include <thread>
@@ -23,6 +28,7 @@
 
 #include "mvr/backends.h"
 #include "mvr/core/animation.h"
+#include "mvr/session/frame_queue.h"
 #include "mvr/session/sequence.h"
 
 namespace mvr::cli {
@@ -187,13 +193,17 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
     if (job.accepted) job.accepted();
 
     std::unique_ptr<VideoWriter> video;
-    std::size_t complete = 0;  // frames whose folder is in place
+    std::size_t complete = 0;  // frames whose folder is in place (the files' thread counts)
     const std::filesystem::path dir(job.outDir);
     FrameProgress progress(int(todo.size()), job.quiet);
+    SequenceTimes ownTimes;
+    SequenceTimes& times = job.times ? *job.times : ownTimes;
+    const auto runStart = std::chrono::steady_clock::now();
     // Per frame: the scene the file's animation moves, the camera and the rig around it.
     session::FrameStepper stepper(p, *plan);
     // Renders views [v0, v1) of frame f (the rig moving with the camera).
     auto renderViews = [&](int f, int v0, int v1) -> Result<RenderOutput> {
+        const auto start = std::chrono::steady_clock::now();
         auto rig = stepper.advance(f);
         if (!rig) return rig.status();
         if (v0 > 0 || v1 < rig->viewCount()) {
@@ -219,68 +229,141 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
             }
         }
         if (!job.outputs.depth) rendered->depth.clear();  // not written, not sent between ranks
+        times.render += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return rendered;
     };
     // --write-cameras: each frame's own rig (the camera moves), wherever the frame was rendered.
     std::optional<session::FrameStepper> cameraStepper;
     if (job.outputs.cameras) cameraStepper.emplace(p, *plan);
-    auto emitFrame = [&](int f, const RenderOutput& out) -> Status {
-        Rig frameRig = p.rig;
-        if (cameraStepper) {
-            auto r = cameraStepper->advance(f);
-            if (!r) return r.status();
-            frameRig = std::move(*r);
+    const std::string keepFormat = o.video.empty() ? std::string() : videoFormat;
+    // The composites are composed on this thread, before the frame leaves it: a GPU backend
+    // composes on its context, this thread's; and on the CPU a composite made here comes from
+    // the main malloc arena, whose freed blocks are reused (another thread's arena holds at
+    // most 64 MiB a heap: a 45 MB quilt took fresh pages every frame there, ~180 ms instead of
+    // ~8; bench/README.md).
+    const bool composeHere = true;
+    std::string videoNameWarning;  // said once the video is opened
+
+    // Writing beside rendering (issue 37): frame f's files are written on the files' thread
+    // (each file encoded by a worker) while frame f+1 renders on this one, and its video frame
+    // is encoded on the video's thread while frame f+1's files are written; each queue holds
+    // at most `depth` frames (MVR_WRITE_QUEUE; 0: all on this thread, one frame at a time).
+    // Frames go through both in order. Declared after what the writes use, the video's queue
+    // before the files' (whose writes push onto it): they are joined first.
+    const int depth = session::writeQueueDepth();
+#if defined(__GLIBC__)
+    // With frames in flight, two or three composites of tens of MB are alive at once: glibc
+    // would serve each from a fresh mmap (over its 32 MiB threshold, main.cpp's
+    // retainFreedMemory()) and unmap it when freed, so every frame's quilt faulted in 45 MB of
+    // new pages (a Portrait video at 1.96 frames/s against 2.68 one frame at a time; with this,
+    // 2.89). Without mmap the freed blocks are reused, as main.cpp intends (trim threshold 1 GiB).
+    if (depth > 0) mallopt(M_MMAP_MAX, 0);
+#endif
+    session::FrameQueue videoQueue(depth);
+    session::FrameQueue filesQueue(depth);
+    struct Frame {
+        int f = 0;
+        RenderOutput out;
+        Rig rig;
+        std::optional<session::ComposedImages> composed;
+    };
+    // The video's thread: frame f's images (the composite, or every view) into the video.
+    auto encodeVideoFrame = [&](int f, const std::vector<Image>& images, bool composite) -> Status {
+        const auto start = std::chrono::steady_clock::now();
+        if (!video) {
+            const Image& first = images.at(0);
+            auto opened = VideoWriter::open(
+                o.video, int(images.size()), first.width, first.height, o.fps,
+                composite ? matroskaStereoMode(videoFormat, compose.swapEyes) : std::string(),
+                codec);
+            if (!opened) return opened.status();
+            video = std::move(opened).value();
+            if (!videoNameWarning.empty()) fmt::print(stderr, "{}\n", videoNameWarning);
         }
-        // The frame's folder, as a still's files (anaglyph.png for a pair included).
-        auto files = session::writeFrameFolder(dir, *plan, f, out, frameRig, job.outputs, &backend,
-                                               o.video.empty() ? std::string() : videoFormat);
+        for (int v = 0; v < int(images.size()); ++v) {
+            if (Status s = video->add(v, images[std::size_t(v)]); !s) return s;
+        }
+        times.video += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        progress.done(f);
+        return {};
+    };
+    // The files' thread: frame f's folder, then its video frame handed on.
+    auto writeFrame = [&](Frame& frame) -> Status {
+        auto files = session::writeFrameFolder(dir, *plan, frame.f, frame.out, frame.rig,
+                                               job.outputs, nullptr, keepFormat,
+                                               frame.composed ? &*frame.composed : nullptr);
         if (!files) return files.status();
+        times.files.compose += files->times.compose;
+        times.files.encode += files->times.encode;
+        times.files.write += files->times.write;
+        times.files.wall += files->times.wall;
+        ++times.frames;
         ++complete;
         if (job.made) job.made->keep();
         session::setOutputProgress(
             sequenceRemains(job.outDir, o, todo, complete, !o.video.empty()));
-        std::optional<Image> videoImage = std::move(files->kept);
-        if (!o.video.empty()) {
-            const Image& first = videoImage ? *videoImage : out.color[0];
-            if (!video) {
-                const int streams = videoImage ? 1 : int(out.color.size());
-                auto opened = VideoWriter::open(
-                    o.video, streams, first.width, first.height, o.fps,
-                    videoImage ? matroskaStereoMode(videoFormat, compose.swapEyes) : std::string(),
-                    codec);
-                if (!opened) return (opened.status());
-                video = std::move(opened).value();
-                // Looking Glass players read a quilt's layout from the file name.
-                const std::filesystem::path file(o.video);
-                if (videoFormat == "quilt" &&
-                    file.stem().string().find("_qs") == std::string::npos) {
-                    auto name = composite::compositeFileName(videoFormat, out.color, compose);
-                    const std::string qs =
-                        name ? std::filesystem::path(*name).stem().string() : std::string();
-                    if (qs.find("_qs") != std::string::npos) {
-                        fmt::print(stderr,
-                                   "warning: --video {}: Looking Glass players read a quilt's "
-                                   "layout from its name: call it {}{}{}\n",
-                                   o.video, file.stem().string(), qs.substr(qs.find("_qs")),
-                                   file.extension().string());
-                    }
-                }
-            }
-            if (videoImage) {
-                if (Status s = video->add(0, *videoImage); !s) return (s);
-            } else {
-                for (int v = 0; v < int(out.color.size()); ++v) {
-                    if (Status s = video->add(v, out.color[v]); !s) return (s);
+        if (o.video.empty()) {
+            progress.done(frame.f);
+            return {};
+        }
+        auto images = std::make_shared<std::vector<Image>>();
+        const bool composite = files->kept.has_value();
+        if (composite) {
+            images->push_back(std::move(*files->kept));
+        } else {
+            *images = std::move(frame.out.color);  // one stream per view
+        }
+        return videoQueue.push([&encodeVideoFrame, f = frame.f, images, composite] {
+            return encodeVideoFrame(f, *images, composite);
+        });
+    };
+    // This thread: frame f rendered (moved from), queued for writing.
+    auto emitFrame = [&](int f, RenderOutput& out) -> Status {
+        auto frame = std::make_shared<Frame>();
+        frame->f = f;
+        frame->out = std::move(out);
+        frame->rig = p.rig;
+        if (cameraStepper) {
+            auto r = cameraStepper->advance(f);
+            if (!r) return r.status();
+            frame->rig = std::move(*r);
+        }
+        if (composeHere) {
+            auto composed =
+                session::composeImages(frame->out, frame->rig, job.outputs, &backend, keepFormat);
+            if (!composed) return composed.status();
+            frame->composed = std::move(composed).value();
+        }
+        if (videoFormat == "quilt" && !o.video.empty() && f == todo.front()) {
+            // Looking Glass players read a quilt's layout from the file name.
+            const std::filesystem::path file(o.video);
+            if (file.stem().string().find("_qs") == std::string::npos) {
+                auto name = composite::compositeFileName(videoFormat, frame->out.color, compose);
+                const std::string qs =
+                    name ? std::filesystem::path(*name).stem().string() : std::string();
+                if (qs.find("_qs") != std::string::npos) {
+                    videoNameWarning = fmt::format(
+                        "warning: --video {}: Looking Glass players read a quilt's layout from "
+                        "its name: call it {}{}{}",
+                        o.video, file.stem().string(), qs.substr(qs.find("_qs")),
+                        file.extension().string());
                 }
             }
         }
-        progress.done(f);
-        return {};
+        return filesQueue.push([&writeFrame, frame] { return writeFrame(*frame); });
+    };
+    // Every queued write done (in order), whatever stopped the frames: the first failure of
+    // the writes wins (in a run one frame at a time it came first).
+    auto settle = [&]() -> Status {
+        Status files = filesQueue.finish();
+        Status videoFrames = videoQueue.finish();
+        return !files ? files : videoFrames;
     };
     session::setOutputProgress(sequenceRemains(job.outDir, o, todo, 0, !o.video.empty()));
-    if (Status s = distributeFrames(todo, p.rig.viewCount(), renderViews, emitFrame,
-                                    o.gatherStats);
-        !s) {
+    Status s = distributeFrames(todo, p.rig.viewCount(), renderViews, emitFrame, o.gatherStats,
+                                [&] { (void)settle(); });
+    if (Status written = settle(); !written) s = written;
+    if (!s) {
         video.reset();  // its temporary file is removed
         return fail(Status(s.code(), fmt::format("{}; {}", s.message(),
                                                  sequenceRemains(job.outDir, o, todo, complete,
@@ -288,8 +371,16 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
     }
     if (!isRankZero()) return 0;
     if (video) {
-        if (Status s = video->finish(); !s) return fail(s);
+        const auto start = std::chrono::steady_clock::now();
+        if (Status finished = video->finish(); !finished) {
+            video.reset();  // its temporary file is removed
+            return fail(Status(finished.code(),
+                               fmt::format("{}; {}", finished.message(),
+                                           sequenceRemains(job.outDir, o, todo, complete, true))));
+        }
+        times.video += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
+    times.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - runStart).count();
     if (!job.quiet) {
         fmt::print("rendered {} frame{} of {} ({} view{} of {}x{}, {}:{}) in {:.2f} s into {}/\n",
                    todo.size(), todo.size() == 1 ? "" : "s", frames, p.rig.viewCount(),

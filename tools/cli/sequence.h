@@ -25,6 +25,16 @@ using SequenceOptions = session::SequenceRecipe;
 
 void addSequenceOptions(CLI::App* app, SequenceOptions& o);
 
+/// Where a sequence's time went (`mvr bench outputs`), in seconds summed over its frames; the
+/// stages overlap (issue 37), so they add up to more than `wall`.
+struct SequenceTimes {
+    double render = 0.0;        ///< rendering the frames and their surfaces (this process)
+    session::WriteTimes files;  ///< the frame folders: composing, encoding, writing, whole
+    double video = 0.0;         ///< encoding (and muxing) the video's frames, its trailer
+    double wall = 0.0;          ///< the whole frame loop, the video's trailer included
+    int frames = 0;             ///< frames written
+};
+
 /// What the sequence renders with (render_cmd.cpp's options, resolved).
 struct SequenceJob {
     const Prepared* prepared = nullptr;
@@ -39,6 +49,7 @@ struct SequenceJob {
     /// Called once the sequence's own options are accepted (the prepared notes are printed
     /// then: a refused run prints its error line alone).
     std::function<void()> accepted;
+    SequenceTimes* times = nullptr;  ///< filled when given
 };
 
 /// The sequence options' own checks, before anything is rendered or written: --frames >= 0,

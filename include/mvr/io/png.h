@@ -7,6 +7,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "mvr/core/image.h"
 #include "mvr/core/status.h"
@@ -26,6 +27,13 @@ const char* pngCompressionName(PngCompression c);
 /// Writes an RGBA8 PNG through libpng. Errors: ErrorCode::Output naming the path.
 Status writePng(const std::filesystem::path& path, const Image& image,
                 PngCompression compression = PngCompression::Fast);
+
+/// The bytes of writePng()'s file, in memory (the same bytes). Errors: ErrorCode::Output.
+Result<std::vector<std::uint8_t>> encodePng(const Image& image,
+                                            PngCompression compression = PngCompression::Fast);
+/// Writes `bytes` (an encoded file) to `path`. Errors: ErrorCode::Output naming the path with
+/// the system's reason (mvr/core/output_file.h).
+Status writeBytes(const std::filesystem::path& path, std::span<const std::uint8_t> bytes);
 
 /// Reads a PNG file (any bit depth / color type, converted to RGBA8) through libpng.
 /// Errors: ErrorCode::Input naming the path and the problem (missing, not a regular file — a

@@ -10,6 +10,7 @@
 #include <span>
 #include <string_view>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mvr/backends.h"
@@ -51,9 +52,20 @@ FrameOutputs frameOutputs(const Prepared& prepared);
 /// of them); the first failure in the jobs' order, or ok.
 Status runParallel(const std::vector<std::function<Status()>>& jobs, int threads = 0);
 
+/// Where writing a frame's files took its time, in seconds (`mvr bench outputs`).
+struct WriteTimes {
+    double compose = 0.0;  ///< composing the image composites (the composing thread)
+    /// Encoding the files (PNG deflate in memory; EXR depth, JPS and MPO files with their
+    /// writing), summed over the worker threads that ran them.
+    double encode = 0.0;
+    double write = 0.0;  ///< writing the encoded PNG bytes to files, summed over the threads
+    double wall = 0.0;   ///< the whole call (composing included), on the caller's clock
+};
+
 /// What writeOutputs() wrote.
 struct WrittenFrame {
     std::vector<std::string> paths;  ///< every file, in the order written
+    WriteTimes times;
     /// The composed image of `keepFormat` (an image format among the formats), when asked.
     std::optional<Image> kept;
 };
@@ -78,11 +90,32 @@ Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const Render
                                   const Backend* backend, const std::string& keepFormat = {},
                                   const std::vector<ExtraFile>& extra = {});
 
+/// A frame's image composites composed ahead of writeFrameFiles() (composeImages()).
+struct ComposedImages {
+    std::vector<std::pair<std::string, Image>> images;  ///< format name, image
+    double seconds = 0.0;                               ///< the time composing them took
+};
+
+/// Whether `backend` composes image formats on its own device (gl: on the GPU, through a GL
+/// context of the thread that renders): its composites are then composed on that thread
+/// (composeImages()) before a frame's files are handed to another thread to write.
+bool composesOnDevice(const Backend* backend);
+
+/// The image composites writeFrameFiles() would compose for this frame (the anaglyph of a
+/// pair, the image formats written, `keepFormat`), composed now where `backend` composes, so
+/// that the files can be written on another thread. Errors: the composer's.
+Result<ComposedImages> composeImages(const RenderOutput& out, const Rig& rig,
+                                     const FrameOutputs& outputs, const Backend* backend,
+                                     const std::string& keepFormat = {});
+
 /// writeOutputs() without the staging: the files straight into `dir`, which exists (a
-/// sequence's frame folder, itself written under a temporary name).
+/// sequence's frame folder, itself written under a temporary name). `precomposed`: the
+/// frame's image composites, composed already (composeImages(); taken from it), the others are
+/// composed here.
 Result<WrittenFrame> writeFrameFiles(const std::filesystem::path& dir, const RenderOutput& out,
                                      const Rig& rig, const FrameOutputs& outputs,
-                                     const Backend* backend, const std::string& keepFormat = {});
+                                     const Backend* backend, const std::string& keepFormat = {},
+                                     ComposedImages* precomposed = nullptr);
 
 /// Whether `mvr compose -o OUT` (mvr.compose(output=OUT)) names a file — OUT ends in .png, .jpg,
 /// .jpeg, .jps or .mpo — rather than a folder.

@@ -61,10 +61,12 @@ private:
 };
 
 /// Writes frame f's files (writeOutputs()) into DIR/frame-NNNN.part, then renames it to
-/// DIR/frame-NNNN (replacing an older one). `keepFormat`: as writeOutputs().
+/// DIR/frame-NNNN (replacing an older one). `keepFormat`: as writeOutputs(); `precomposed`:
+/// as writeFrameFiles().
 Result<WrittenFrame> writeFrameFolder(const std::filesystem::path& dir, const SequencePlan& plan,
                                       int f, const RenderOutput& out, const Rig& rig,
                                       const FrameOutputs& outputs, const Backend* backend,
-                                      const std::string& keepFormat = {});
+                                      const std::string& keepFormat = {},
+                                      ComposedImages* precomposed = nullptr);
 
 }  // namespace mvr::session

@@ -13,14 +13,14 @@ namespace mvr::cli::bench {
 
 namespace fs = std::filesystem;
 
-namespace {
-
 std::string machineLine(const Machine& m) {
     return fmt::format(
         "machine: {} | {} hardware threads | soft: SIMD {}, {} worker threads | "
         "GL_RENDERER: {} | {}",
         m.cpu, m.cores, m.simd, m.threads, m.gpuRenderer, m.date);
 }
+
+namespace {
 
 std::string fmtFps(double ms) { return ms > 0 ? fmt::format("{:.1f}", 1000.0 / ms) : "-"; }
 

@@ -18,6 +18,9 @@
 
 namespace mvr::cli::bench {
 
+/// "machine: CPU | N hardware threads | soft: ... | GL_RENDERER: ... | date".
+std::string machineLine(const Machine& m);
+
 // ---- `mvr bench`: methods side by side -------------------------------------------------------
 
 struct MethodRow {
@@ -129,6 +132,34 @@ struct AdelsonReport {
 };
 /// JSON, CSV or the machine line and Table 1; then --plot. Returns the exit code.
 int printAdelsonReport(const AdelsonReport& report, const CommonOptions& options);
+
+// ---- `mvr bench outputs` (outputs.cpp; report_outputs.cpp) -------------------------------
+
+/// One configuration's run: seconds; render, compose, encode, write and video summed over its
+/// frames (encode and write also over the threads that ran them).
+struct OutputsRow {
+    std::string config, command;
+    int views = 0, width = 0, height = 0, frames = 0;
+    int files = 0;  ///< a still's files
+    double setup = 0;  ///< prepare (load, frame, rig) and the backend
+    double render = 0, compose = 0, encode = 0, write = 0, video = 0;
+    double endToEnd = 0;  ///< the render(s) to the last file, set-up excluded
+    double cpu = 0;       ///< process CPU time of the run, set-up included
+};
+/// Each field's median over the runs of one configuration.
+OutputsRow medianRow(const std::vector<OutputsRow>& runs);
+
+struct OutputsReport {
+    const Machine* machine = nullptr;
+    std::string scene;
+    int runs = 1;
+    int queue = 1;  ///< the sequences' write queue depth
+    std::vector<OutputsRow> rows;
+    std::vector<std::string> skipped;  ///< "CONFIG: why" (a video without FFmpeg)
+};
+/// The machine line and a markdown table (ms per frame; end to end, frames per second), or
+/// JSON {bench, machine, scene, runs, queue, skipped, results: [...]}. Returns the exit code.
+int printOutputsReport(const OutputsReport& report, bool json);
 
 // ---- report_json.cpp -------------------------------------------------------------------------
 
