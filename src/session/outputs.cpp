@@ -2,6 +2,7 @@
 // surfaces drawn after the scene (mvr/session/surfaces.h).
 #include "mvr/session/outputs.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cctype>
@@ -174,6 +175,14 @@ Result<WrittenFrame> writeFrameFiles(const std::filesystem::path& dir, const Ren
     if (Status s = runParallel(jobs); !s) return s;
     if (keptIndex) written.kept = std::move(composed[*keptIndex]);
     return written;
+}
+
+bool FrameOutputs::readsDepth() const {
+    if (depth) return true;
+    return std::any_of(formats.begin(), formats.end(), [](const std::string& f) {
+        auto info = composite::findFormat(f);
+        return info && info->colourAndDepth;  // composed for the files or the video
+    });
 }
 
 FrameOutputs frameOutputs(const Prepared& p) {

@@ -159,6 +159,19 @@ TEST_F(CliRgbdViewRange, RgbdDepthPositions) {
     }
 }
 
+TEST_F(CliRgbdViewRange, RgbdInEveryFrameOfASequence) {
+    const fs::path out = mDir / "seq";
+    const CliRun r = runMvr(mDir, "render --views 3 --size 32x24 --format rgbd --frames 2 "
+                                  "--orbit 20 -q -o " + out.string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const char* frame : {"frame-0000", "frame-0001"}) {
+        auto image = readPng(out / frame / "rgbd.png");
+        ASSERT_TRUE(image) << frame;
+        EXPECT_EQ(image->width, 64);
+        EXPECT_EQ(Json::parse(test::slurp(out / frame / "rgbd.json"))["mvr"]["view"], 1);
+    }
+}
+
 TEST_F(CliRgbdViewRange, RgbdRefusals) {
     const fs::path obj = writePlanes();
     const std::string base = fmt::format("render '{}' {} ", obj.string(), camera());

@@ -40,6 +40,8 @@ struct FrameOutputs {
     /// --view-range A:B: the frame's views are views A..B of the whole rig; their files are
     /// named by their number in it (view-A.png ...). None: all views, from 0.
     std::optional<std::pair<int, int>> viewRange;
+    /// Whether the frame's depth images are read: written (depth) or composed (rgbd's).
+    bool readsDepth() const;
     /// Whether a frame of `viewCount` views (`depthViews` with depth) writes any file.
     bool writesFiles(std::size_t viewCount, std::size_t depthViews) const {
         return (views && viewCount > 0) || (depth && depthViews > 0) ||
