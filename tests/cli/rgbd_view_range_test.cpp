@@ -236,6 +236,15 @@ TEST_F(CliRgbdViewRange, RangesAssembleIntoTheWholeRenderByteForByte) {
         ASSERT_EQ(part["views"].size(), 4u);
         for (int i = 0; i < 4; ++i) EXPECT_EQ(part["views"][i], all["views"][4 + i]) << i;
     }
+    // The comfort report covers the range and says which.
+    const fs::path report = mDir / "report.json";
+    ASSERT_EQ(runMvr(mDir, "render --views 8 --size 32x24 --view-range 2:5 -q --report-json " +
+                               report.string() + " -o " + (mDir / "r").string())
+                  .exitCode,
+              0);
+    const Json j = Json::parse(test::slurp(report));
+    EXPECT_EQ(j["rig"]["views"], 4);
+    EXPECT_EQ(j["rig"]["view_range"], Json::array({2, 5}));
 }
 
 TEST_F(CliRgbdViewRange, RangeOfADisplayPresetWritesItsViews) {
