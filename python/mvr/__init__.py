@@ -37,7 +37,10 @@ def render(models=None, **options):
     cull, wireframe, grid, backend ("soft", "gl", ...), method (default: the backend's fastest
     exact method), format (a format or a list: the composites land in ``.composites``) and the
     composite options (swap_eyes, cross_eyed, quilt, jpeg_quality, base_viewpoint,
-    lenticular_*). output=DIR also writes the files ``mvr render -o DIR`` writes (view-N.png,
+    lenticular_*; format="rgbd" with depthiness, focus, rgbd_depth_position: the centre view's
+    colour and depth, docs/displays.md). view_range=(A, B) renders only views A..B of the rig
+    (``.color`` holds them in order; their files are named as in the whole render, view-A.png
+    ...). output=DIR also writes the files ``mvr render -o DIR`` writes (view-N.png,
     depth-N.png with depth=True, anaglyph.png for a pair, the formats' files; ``.written``
     lists them); quiet is accepted (nothing is printed). The depth is always returned.
 

@@ -14,6 +14,7 @@
 #include <fmt/core.h>
 
 #include "mvr/composite/lenticular.h"
+#include "mvr/composite/rgbd.h"
 
 namespace mvr::python {
 
@@ -244,7 +245,8 @@ constexpr Spec kComposeSpecs[] = {
     {"lenticular_center", Kind::Float}, {"lenticular_dpi", Kind::Float},
     {"lenticular_screen", Kind::Text},  {"lenticular_bgr", Kind::Flag},
     {"lenticular_invert_views", Kind::Flag}, {"lenticular_flip_x", Kind::Flag},
-    {"lenticular_flip_y", Kind::Flag},
+    {"lenticular_flip_y", Kind::Flag}, {"rgbd_depth_position", Kind::Text},
+    {"depthiness", Kind::Float},       {"focus", Kind::Float},
 };
 
 /// The CLI's range message (tools/cli/validators.h), as `mvr compose --jpeg-quality 500`
@@ -289,6 +291,19 @@ void composeOptions(const std::map<std::string, Value>& kw, composite::ComposeOp
             inRange("--convergence", v->number, 0.0, 1.0e9);
             o.convergence = v->number;
         }
+    }
+    if (auto* v = get("rgbd_depth_position")) {
+        auto p = composite::parseDepthPosition(v->text);
+        if (!p) throwStatus(p.status());  // it names --rgbd-depth-position and the value
+        o.rgbdDepth = *p;
+    }
+    if (auto* v = get("depthiness")) {
+        inRange("--depthiness", v->number, 0.1, 2.0);
+        o.depthiness = v->number;
+    }
+    if (auto* v = get("focus")) {
+        inRange("--focus", v->number, -0.05, 0.05);
+        o.focus = v->number;
     }
     composite::LenticularCalibration& cal = o.lenticular;
     if (auto* v = get("lenticular_calibration")) {
@@ -405,6 +420,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"background", Kind::Numbers},   {"write_cameras", Kind::Flag},
             {"strict", Kind::Flag},          {"png_compression", Kind::Text},
             {"write", Kind::TextList},      {"depth_format", Kind::Text},
+            {"view_range", Kind::Numbers},
         };
         s.insert(s.end(), std::begin(kComposeSpecs), std::end(kComposeSpecs));
         return s;
@@ -439,6 +455,13 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     if (auto* v = get("grid")) r.grid = int(v->integer);
     if (auto* v = get("views")) r.views = int(v->integer);
     if (auto* v = get("view_grid")) r.viewGrid = v->text;
+    if (auto* v = get("view_range")) {  // (A, B) or "A:B", as --view-range A:B
+        r.viewRange = v->text;
+        if (const auto comma = r.viewRange.find(','); comma != std::string::npos &&
+                                                      r.viewRange.find(':') == std::string::npos)
+            r.viewRange[comma] = ':';
+        if (r.viewRange.empty()) throwStatus(usageError("--view-range '': expected A:B"));
+    }
     if (auto* v = get("rig")) r.rig = v->text;
     if (auto* v = get("interaxial")) r.interaxial = v->number;
     if (auto* v = get("separation")) {

@@ -262,8 +262,14 @@ RenderResult renderFrame(Job& job, const Scene& scene, const Rig& rig,
     compose.baseline = rig.interaxial;
     compose.convergence = rig.convergence;
     py::dict composites;
-    for (const std::string& f : formats)
+    for (const std::string& f : formats) {
+        if (check(composite::findFormat(f)).colourAndDepth) {  // rgbd: the centre view's pair
+            session::ColourAndDepth pair = check(session::colourAndDepthOf(out, rig, "format=" + f));
+            composites[py::str(f)] = composeOne(f, pair.images, compose, nullptr, false);
+            continue;
+        }
         composites[py::str(f)] = composeOne(f, out.color, compose, job.backend.get(), job.gpu);
+    }
     r.composites = composites;
     std::vector<std::string> written;
     // The images and a still's report are one set (all written, or none), as `mvr render`'s.

@@ -14,6 +14,7 @@
 #include "mvr/composite/jpeg.h"
 #include "mvr/composite/layout.h"
 #include "mvr/composite/lenticular.h"
+#include "mvr/composite/rgbd.h"
 #include "mvr/io/png.h"
 
 namespace mvr::composite {
@@ -136,7 +137,13 @@ const std::array kBuiltinFormats = {
                ".mpo",
                "CIPA multi-picture JPEG, one image per view",
                {SizeRule::PerView}, FileKind::Mpo, nullptr, GpuPlan::None},
-
+    FormatInfo{"rgbd",
+               2,
+               2,
+               false,
+               ".png",
+               "Looking Glass RGB-D: colour and depth (white = near) side by side + rgbd.json",
+               {SizeRule::ColourDepth}, FileKind::Png, composeRgbd, GpuPlan::None, true},
 };
 
 // As composite::quilt(): no side of a quilt beyond this.
@@ -354,6 +361,10 @@ Result<Size> outputSize(const FormatInfo& f, int viewCount, int w, int h,
             return panel;
         }
         case SizeRule::PerView: return Size{w, h};
+        case SizeRule::ColourDepth:
+            if (options.rgbdDepth == DepthPosition::Right || options.rgbdDepth == DepthPosition::Left)
+                return Size{2 * w, h};
+            return Size{w, 2 * h};
     }
     return internalError(fmt::format("{}: format without a size rule", who));
 }
@@ -428,6 +439,15 @@ Result<Size> largestViewSize(std::string_view format, int viewCount, int frameWi
         case SizeRule::PerView:
             if (frameWidth < 1 || frameHeight < 1) return tooSmall("at least 1x1");
             return Size{frameWidth, frameHeight};
+        case SizeRule::ColourDepth: {
+            const bool across = options.rgbdDepth == DepthPosition::Right ||
+                                options.rgbdDepth == DepthPosition::Left;
+            const Size view{across ? frameWidth / 2 : frameWidth,
+                            across ? frameHeight : frameHeight / 2};
+            if (view.width < 1 || view.height < 1)
+                return tooSmall(across ? "at least 2x1" : "at least 1x2");
+            return view;
+        }
     }
     return internalError(fmt::format("{}: format without a size rule", who));
 }

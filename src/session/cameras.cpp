@@ -40,7 +40,8 @@ nlohmann::ordered_json rowMajor(const glm::mat4& m) {
 
 }  // namespace
 
-std::string camerasJson(const Rig& rig, int width, int height) {
+std::string camerasJson(const Rig& rig, int width, int height,
+                        const std::optional<std::pair<int, int>>& viewRange) {
     using Json = nlohmann::ordered_json;
     Json j;
     j["convention"] =
@@ -56,13 +57,17 @@ std::string camerasJson(const Rig& rig, int width, int height) {
                 {"convergence", rig.convergence},
                 {"fov_y_degrees", rig.camera.fovYDegrees},
                 {"aspect", rig.camera.aspect}};
+    if (viewRange) j["rig"]["view_range"] = {viewRange->first, viewRange->second};
+    const int first = viewRange ? viewRange->first : 0;
     Json views = Json::array();
     const std::vector<ViewCamera> cams = viewCameras(rig, width, height);
     for (std::size_t i = 0; i < cams.size(); ++i) {
         const ViewCamera& c = cams[i];
-        views.push_back({{"index", i},
-                         {"column", int(i) % std::max(rig.columns, 1)},
-                         {"row", int(i) / std::max(rig.columns, 1)},
+        // A range is a row (view_range.h): its views' column is their number in the rig.
+        const int index = first + int(i);
+        views.push_back({{"index", index},
+                         {"column", viewRange ? index : index % std::max(rig.columns, 1)},
+                         {"row", viewRange ? 0 : index / std::max(rig.columns, 1)},
                          {"world_from_camera", rowMajor(c.worldFromCamera)},
                          {"view_matrix", rowMajor(c.viewMatrix)},
                          {"projection", rowMajor(c.projection)},

@@ -174,10 +174,13 @@ Result<WrittenFrame> writeFrameFiles(const std::filesystem::path& dir, const Ren
             return s;
         });
     };
+    // --view-range A:B: the files are numbered as in the whole render (view-A.png ...).
+    const std::size_t first = outputs.viewRange ? std::size_t(outputs.viewRange->first) : 0;
     for (std::size_t v = 0; v < out.color.size(); ++v) {
-        if (outputs.views) writeImage(dir / fmt::format("view-{}.png", v), &out.color[v]);
+        if (outputs.views) writeImage(dir / fmt::format("view-{}.png", first + v), &out.color[v]);
         if (outputs.depth && v < out.depth.size()) {
-            auto dpath = dir / fmt::format("depth-{}.{}", v, outputs.depthExr ? "exr" : "png");
+            auto dpath =
+                dir / fmt::format("depth-{}.{}", first + v, outputs.depthExr ? "exr" : "png");
             written.paths.push_back(dpath.string());
             const DepthImage* d = &out.depth[v];
             double* t = jobTimes.emplace_back(std::array<double, 2>{}).data();  // all "encode"
@@ -214,7 +217,8 @@ Result<WrittenFrame> writeFrameFiles(const std::filesystem::path& dir, const Ren
         const auto path = dir / "cameras.json";
         errno = 0;
         if (!writeTextFile(path.string(),
-                           camerasJson(rig, out.color[0].width, out.color[0].height))) {
+                           camerasJson(rig, out.color[0].width, out.color[0].height,
+                                       outputs.viewRange))) {
             return writeError(path, "write failed");
         }
         written.paths.push_back(path.string());
@@ -225,6 +229,25 @@ Result<WrittenFrame> writeFrameFiles(const std::filesystem::path& dir, const Ren
         if (!outputs.composites && !keep) continue;
         auto info = composite::findFormat(format);
         if (!info) return info.status();
+        if (info->colourAndDepth) {  // rgbd: the centre view's colour and depth, and a sidecar
+            auto pair = colourAndDepthOf(out, rig, "--format " + format);
+            if (!pair) return pair.status();
+            auto name = composite::compositeFileName(format, pair->images, compose);
+            if (!name) return name.status();
+            auto image = composite::compose(format, pair->images, compose);
+            if (!image) return image.status();
+            composed.push_back(std::move(image).value());
+            if (keep) keptIndex = composed.size() - 1;
+            if (!outputs.composites) continue;
+            writeImage(dir / *name, &composed.back());
+            pair->sidecar.image = *name;
+            const auto json = dir / std::filesystem::path(*name).replace_extension(".json");
+            errno = 0;
+            if (!writeTextFile(json.string(), composite::rgbdSidecarJson(compose, pair->sidecar)))
+                return writeError(json, "write failed");
+            written.paths.push_back(json.string());
+            continue;
+        }
         if (info->extension == ".png") {
             auto name = composite::compositeFileName(format, out.color, compose);
             if (!name) return name.status();
@@ -248,6 +271,14 @@ Result<WrittenFrame> writeFrameFiles(const std::filesystem::path& dir, const Ren
     return written;
 }
 
+bool FrameOutputs::readsDepth() const {
+    if (depth) return true;
+    return std::any_of(formats.begin(), formats.end(), [](const std::string& f) {
+        auto info = composite::findFormat(f);
+        return info && info->colourAndDepth;  // composed for the files or the video
+    });
+}
+
 FrameOutputs frameOutputs(const Prepared& p) {
     FrameOutputs o;
     o.formats = p.formats;
@@ -258,6 +289,7 @@ FrameOutputs frameOutputs(const Prepared& p) {
     o.depthExr = p.depthExr;
     o.views = p.write.views;
     o.composites = p.write.composites;
+    o.viewRange = p.viewRange;
     return o;
 }
 

@@ -22,7 +22,9 @@
 #include "mvr/io/scene_io.h"
 #include "mvr/session/camera.h"
 #include "mvr/session/screen.h"
+#include "mvr/session/outputs.h"
 #include "mvr/session/surfaces.h"
+#include "mvr/session/view_range.h"
 
 namespace mvr::session {
 
@@ -394,7 +396,12 @@ Status checkFormats(const RenderRecipe& r, const Prepared& p) {
         composite::ComposeOptions compose = p.compose;
         compose.baseline = p.rig.interaxial;  // as writeOutputs() composes them
         compose.convergence = p.rig.convergence;
-        auto size = composite::outputSize(*info, p.rig.viewCount(), p.settings.width,
+        // rgbd: the centre view's colour and depth (outputs.h), two images of the view's size.
+        if (info->colourAndDepth) {
+            if (Status s = checkCentreView(p.rig, who); !s) return s;
+        }
+        auto size = composite::outputSize(*info, info->colourAndDepth ? 2 : p.rig.viewCount(),
+                                          p.settings.width,
                                           p.settings.height, compose, who);
         if (!size) {
             const std::string& why = size.status().message();
@@ -496,6 +503,10 @@ std::vector<std::string> ignoredOptionWarnings(const RenderRecipe& r,
               "--lenticular-bgr", "--lenticular-invert-views",
               "--lenticular-flip-x", "--lenticular-flip-y"})
             warn(name, "without a lenticular image (--format lenticular)");
+    }
+    if (!writes("rgbd")) {
+        for (const char* name : {"--depthiness", "--focus", "--rgbd-depth-position"})
+            warn(name, "without an RGB-D image (--format rgbd)");
     }
     return out;
 }
@@ -629,7 +640,12 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     if (!write) return write.status();
     out.write = *write;
     const SurfaceRecipe& sf = r.surfaces;
-    out.settings.depth = out.write.depth || isTransparentBackground(r.background) || !sf.sky.empty() || sf.floatingWindow ||
+    const bool depthFormat = std::any_of(
+        r.outputs.formats.begin(), r.outputs.formats.end(), [](const std::string& f) {
+            auto info = composite::findFormat(f);
+            return info && info->colourAndDepth;  // rgbd: the centre view's depth
+        });
+    out.settings.depth = depthFormat || out.write.depth || isTransparentBackground(r.background) || !sf.sky.empty() || sf.floatingWindow ||
                          sf.letterbox > 0.0 || !sf.labels.empty() || !sf.anchors.empty();
     out.settings.shadowMapSize = r.shadowMapSize;
     const bool screenRig = r.rig == "screen";  // placed after the framing (screen.h)
@@ -861,6 +877,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
             "--quilt lays out a quilt, and no quilt is written (give --format quilt, or a "
             "--display whose output is a quilt)");
     }
+    if (Status s = restrictToViewRange(r, out); !s) return s;  // view_range.h
     if (Status s = checkFormats(r, out); !s) return s;
     if (Status s = checkOutputPaths(r); !s) return s;
     return out;

@@ -155,6 +155,7 @@ std::string comfortJson(const Prepared& p, const std::optional<ComfortReport>& r
                 {"convergence", number(rig.convergence)},
                 {"separation", number(rig.separation())},
                 {"view_cone", number(p.viewConeDegrees)}};
+    if (p.viewRange) j["rig"]["view_range"] = {p.viewRange->first, p.viewRange->second};
     j["display"] = p.display ? Json(std::string(p.display->name)) : Json(nullptr);
     bool comfortable = true;
     std::string why;

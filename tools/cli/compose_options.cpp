@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "mvr/composite/lenticular.h"
+#include "mvr/composite/rgbd.h"
 #include "validators.h"
 
 namespace mvr::cli {
@@ -60,6 +61,29 @@ void addComposeOptions(CLI::App* app, composite::ComposeOptions& options, bool w
             ->check(numberIn(0.0, 1.0e9))
             ->group(group);
     }
+    app->add_option_function<std::string>(
+           "--rgbd-depth-position",
+           [&options](const std::string& text) {
+               Result<composite::DepthPosition> p = composite::parseDepthPosition(text);
+               if (!p) throw CLI::ValidationError(p.status().message());
+               options.rgbdDepth = *p;
+           },
+           "rgbd: where the depth image lies beside the colour: right (default), left, top, "
+           "bottom (Looking Glass Bridge's depth_loc 2, 3, 0, 1)")
+        ->type_name("SIDE")
+        ->group(group);
+    app->add_option("--depthiness", options.depthiness,
+                    "rgbd: Looking Glass's depthiness, how deep the RGB-D image is shown "
+                    "(Bridge's range 0.1..2), written to rgbd.json")
+        ->check(numberIn(0.1, 2.0))
+        ->default_val(options.depthiness)
+        ->group(group);
+    app->add_option("--focus", options.focus,
+                    "rgbd: Looking Glass's focus, which depth lies on the panel's plane "
+                    "(Bridge's range -0.05..0.05), written to rgbd.json")
+        ->check(numberIn(-0.05, 0.05))
+        ->default_val(options.focus)
+        ->group(group);
     LenticularCalibration& cal = options.lenticular;
     // Defined before the single lenticular values, so that those given with it override it
     // (CLI11 runs option callbacks in definition order).

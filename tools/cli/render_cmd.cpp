@@ -43,6 +43,7 @@ struct RenderOptions {
     StereoSurfaceOptions surfaces;  ///< --sky, --floating-window, --letterbox, --label…
     SequenceOptions sequence;       ///< --frames, --orbit, ...: sequence.cpp owns the frame loop
     std::string reportJson;         ///< --report-json FILE: the comfort report (docs/displays.md)
+    std::string viewRange;          ///< --view-range A:B (mvr/session/view_range.h)
     const CLI::App* app = nullptr;  ///< the parsed command: which options were given
     CLI::Option* calibrationOption = nullptr;  ///< --lenticular-calibration (a preset's lenticular)
     CLI::Option* quiltOption = nullptr;        ///< --quilt (overrides a preset's grid)
@@ -95,6 +96,7 @@ session::RenderRecipe recipeOf(const RenderOptions& o) {
     r.outputs.compose = o.compose;
     r.outputs.calibrationGiven = calibrationGiven;
     r.outputs.quiltGiven = o.quiltOption && o.quiltOption->count() > 0;
+    r.viewRange = o.viewRange;
     r.backend = o.backend;
     r.method = o.method;
     if (o.app) {
@@ -269,6 +271,11 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
                     "Write the comfort report (parallax range, the screen's budget, the rules "
                     "broken; fields in docs/displays.md) to FILE as JSON")
         ->type_name("FILE");
+    app->add_option("--view-range", o->viewRange,
+                    "Render only views A..B (both included) of the rig, named as in the whole "
+                    "render (view-A.png ... view-B.png), for farms that split a quilt's views; "
+                    "no composites (render the ranges, then `mvr compose`)")
+        ->type_name("A:B");
     o->surfaces.addTo(app);
     addSequenceOptions(app, o->sequence);
     return [o] { return runRender(*o); };

@@ -138,10 +138,14 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
 
     // The video's composite: the first one-image format, else every view as a stream.
     std::string videoFormat;
+    int videoImages = p.rig.viewCount();  // rgbd: the centre view's colour and depth
     for (const std::string& format : job.outputs.formats) {
         auto info = composite::findFormat(format);
         if (!info) return fail(info.status());
-        if (videoFormat.empty() && info->extension == ".png") videoFormat = format;
+        if (videoFormat.empty() && info->extension == ".png") {
+            videoFormat = format;
+            if (info->colourAndDepth) videoImages = 2;
+        }
     }
     composite::ComposeOptions compose = job.outputs.compose;
     compose.baseline = p.rig.interaxial;
@@ -163,7 +167,7 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
         }
         composite::Size size{p.settings.width, p.settings.height};
         if (!videoFormat.empty()) {
-            auto s = composite::outputSize(videoFormat, p.rig.viewCount(), size.width, size.height,
+            auto s = composite::outputSize(videoFormat, videoImages, size.width, size.height,
                                            compose);
             if (!s) return fail(s.status());
             size = *s;
@@ -228,7 +232,7 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
                 return Status(s.code(), fmt::format("frame {}: {}", f, s.message()));
             }
         }
-        if (!job.outputs.depth) rendered->depth.clear();  // not written, not sent between ranks
+        if (!job.outputs.readsDepth()) rendered->depth.clear();  // not read, not sent between ranks
         times.render += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return rendered;
     };

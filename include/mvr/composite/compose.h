@@ -27,6 +27,8 @@
 //   lenticular (slanted-lens sub-pixel interleave, see lenticular.h)            2..N views
 //   jps (JPEG, side by side, RIGHT view on the left)                             2 views, file
 //   mpo (CIPA DC-007 multi-picture JPEG, one JPEG per view)                     2..N views, file
+//   rgbd (Looking Glass RGB-D: a colour image and its depth image side by side,
+//         depth on the right by default; see rgbd.h)                            colour + depth
 // Each format's size rules are in its row of formats() (FormatInfo::size): outputSize() gives
 // the output size of views of W×H — and refuses exactly the sizes compose() refuses —, and
 // largestViewSize() the largest views whose output fits a frame (the viewer's window).
@@ -65,6 +67,10 @@ struct LenticularCalibration {
     double viewCone = 0.0;
 };
 
+/// rgbd: where the depth image lies beside the colour image (Looking Glass Bridge's depth_loc:
+/// 0 top, 1 bottom, 2 right, 3 left; rgbd.h).
+enum class DepthPosition { Right, Left, Top, Bottom };
+
 /// Options of every format; each format reads only the ones it documents.
 struct ComposeOptions {
     /// Exchange left and right (stereo formats); for N-view formats (quilt, lenticular, rows,
@@ -93,6 +99,13 @@ struct ComposeOptions {
     /// picture a view shows on the panel; 0 = the views' pixel aspect. A display preset sets it
     /// when the panel stretches its tiles (include/mvr/core/displays.h).
     double quiltAspect = 0.0;
+    /// rgbd: the depth image's side (default right of the colour, Bridge's depth_loc 2).
+    DepthPosition rgbdDepth = DepthPosition::Right;
+    /// rgbd: Looking Glass's depthiness (how deep the RGB-D image is shown, Bridge's range
+    /// 0.1..2) and focus (which depth lies on the panel's plane, Bridge's range -0.05..0.05),
+    /// written to the sidecar (rgbd.h); the image does not depend on them.
+    double depthiness = 1.0;
+    double focus = 0.0;
 };
 
 /// How a format's output size follows from its views' size W×H (FormatInfo::size).
@@ -103,6 +116,8 @@ enum class SizeRule {
     Panel,      ///< the lenticular panel: options.lenticular.screenWidth × screenHeight
                 ///< (0 = the view's), whatever the view size
     PerView,    ///< no single image: one image of W×H per view in a file (mpo)
+    ColourDepth,  ///< rgbd: a colour image and its depth image of W×H each, 2W×H with the depth
+                  ///< left or right, W×2H top or bottom (options.rgbdDepth)
 };
 
 /// The size rule of one format. SizeRule::Tiled: the output is a grid of cellsAcross ×
@@ -163,6 +178,9 @@ struct FormatInfo {
     FileKind file = FileKind::Png;  ///< the container writeCompositeFile() writes
     Composer composer = nullptr;    ///< compose()'s work; null only for fileOnly rows (mpo)
     GpuPlan gpu = GpuPlan::None;    ///< how mvr::gl::composeGpu() composes it, or None
+    /// The format's two images are one view's colour and its depth image (rgbd), not views:
+    /// `mvr render` gives it the rig's centre view and that view's depth (rgbd.h).
+    bool colourAndDepth = false;
 };
 inline constexpr int kAnyViewCount = 1 << 20;
 

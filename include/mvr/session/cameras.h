@@ -13,6 +13,9 @@
 // (and cy for grids). Distance: eye-space distance along the view axis (-Z), world units.
 #pragma once
 
+#include <optional>
+#include <utility>
+
 #include <limits>
 #include <string>
 #include <vector>
@@ -38,7 +41,10 @@ std::vector<ViewCamera> viewCameras(const Rig& rig, int width, int height);
 /// cameras.json: {"convention": ..., "width", "height", "rig": {...}, "views": [{"index",
 /// "column", "row", "world_from_camera", "view_matrix", "projection", "intrinsics": {"fx",
 /// "fy", "cx", "cy"}, "near", "far"}, ...]}.
-std::string camerasJson(const Rig& rig, int width, int height);
+/// `viewRange` (--view-range A:B): the rig's views are views A..B of the whole rig: "index" and
+/// "column" count from A, and "rig" says "view_range": [A, B].
+std::string camerasJson(const Rig& rig, int width, int height,
+                        const std::optional<std::pair<int, int>>& viewRange = {});
 
 /// The distance (see the header) of window depth `d` of a perspective projection whose
 /// glm (column-major) entries are p22 = P[2][2] and p32 = P[3][2]; +inf for d >= 1 (nothing

@@ -15,6 +15,7 @@
 
 #include "mvr/backends.h"
 #include "mvr/composite/compose.h"
+#include "mvr/composite/rgbd.h"
 #include "mvr/core/image.h"
 #include "mvr/core/render.h"
 #include "mvr/core/rig.h"
@@ -37,6 +38,11 @@ struct FrameOutputs {
     bool depthExr = false;   ///< depth-N.exr (distances) instead of depth-N.png
     bool views = true;       ///< view-N.png
     bool composites = true;  ///< anaglyph.png for a pair and the formats' files
+    /// --view-range A:B: the frame's views are views A..B of the whole rig; their files are
+    /// named by their number in it (view-A.png ...). None: all views, from 0.
+    std::optional<std::pair<int, int>> viewRange;
+    /// Whether the frame's depth images are read: written (depth) or composed (rgbd's).
+    bool readsDepth() const;
     /// Whether a frame of `viewCount` views (`depthViews` with depth) writes any file.
     bool writesFiles(std::size_t viewCount, std::size_t depthViews) const {
         return (views && viewCount > 0) || (depth && depthViews > 0) ||
@@ -116,6 +122,25 @@ Result<WrittenFrame> writeFrameFiles(const std::filesystem::path& dir, const Ren
                                      const Rig& rig, const FrameOutputs& outputs,
                                      const Backend* backend, const std::string& keepFormat = {},
                                      ComposedImages* precomposed = nullptr);
+
+/// The rig's centre view: the middle one of a row (or grid) of an odd number of columns and
+/// rows; -1 when there is none (an even count).
+int centreView(const Rig& rig);
+
+/// A colour-and-depth format's (rgbd, composite/rgbd.h) two images of a rendered frame: the
+/// centre view's colour and its depth image, normalised between the nearest and farthest
+/// distance drawn in it (the view's near and far planes when nothing was drawn), and what
+/// its sidecar says (the image name left for the caller). `who` names the format in errors:
+/// no centre view (ErrorCode::Usage), no depth images (the method gives none: Unsupported).
+struct ColourAndDepth {
+    std::vector<Image> images;  ///< {colour, depth image}
+    composite::RgbdSidecar sidecar;
+};
+Result<ColourAndDepth> colourAndDepthOf(const RenderOutput& out, const Rig& rig,
+                                        const std::string& who);
+/// Before rendering: the rig has a centre view (else "WHO: the RGB-D image is the rig's centre
+/// view, and N views have none (give an odd --views, e.g. --views 1)").
+Status checkCentreView(const Rig& rig, const std::string& who);
 
 /// Whether `mvr compose -o OUT` (mvr.compose(output=OUT)) names a file — OUT ends in .png, .jpg,
 /// .jpeg, .jps or .mpo — rather than a folder.

@@ -68,6 +68,8 @@ struct Prepared {
     PngCompression png = PngCompression::Fast;  ///< the recipe's outputs.pngCompression
     WriteSet write;  ///< what is written (writeSetOf())
     bool depthExr = false;  ///< the recipe's outputs.depthFormat is exr
+    /// --view-range A:B: the rig holds views A..B of the whole rig (view_range.h); none: all.
+    std::optional<std::pair<int, int>> viewRange;
 };
 
 /// Where prepare() sends the warnings of loading models ("warning: ..."), as they happen.

@@ -146,6 +146,9 @@ struct RenderRecipe {
     std::optional<double> convergence;
     bool convergenceAuto = false;
     std::optional<double> viewCone;  ///< degrees; an off-axis row
+    /// "A:B": render only views A..B (both included) of the rig (mvr/session/view_range.h);
+    /// empty: all of them.
+    std::string viewRange;
     /// A calibration's view cone (visual.json "viewCone"): the default cone where a preset's
     /// would apply; viewCone wins.
     std::optional<double> calibrationViewCone;
