@@ -97,6 +97,7 @@ std::vector<std::string> imageComposites(const RenderOutput& out, const FrameOut
         if (!outputs.composites && !keep) continue;
         auto info = composite::findFormat(format);
         if (!info || info->extension != ".png") continue;  // writeFrameFiles() says why
+        if (info->colourAndDepth) continue;  // rgbd: from the depth too, in writeFrameFiles()
         kept = kept || keep;
         names.push_back(format);
     }
