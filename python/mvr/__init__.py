@@ -32,7 +32,10 @@ def render(models=None, **options):
     arrays), one or a list (meshes after the files); none: the procedural default scene.
 
     options (every ``mvr render`` option, dashes as underscores): views (2), view_grid ((C, R)
-    or "CxR"), rig ("offaxis" | "toein" | "parallel"), interaxial, separation, convergence,
+    or "CxR"), rig ("offaxis" | "toein" | "parallel" | "screen"), interaxial, separation,
+    convergence, rig="screen"'s screen_mm ((W, H) mm), screen_corners (three (X, Y, Z) mm),
+    eyes (two (X, Y, Z) mm), head ((X, Y, Z) mm) and ipd_mm (an eye-tracked monitor's pair,
+    docs/displays.md),
     fov (45), size ((W, H) or "WxH", default 1024x768), shading ("flat" | "vertex" | "pixel"),
     cull, wireframe, grid, backend ("soft", "gl", ...), method (default: the backend's fastest
     exact method), format (a format or a list: the composites land in ``.composites``) and the
@@ -57,7 +60,8 @@ def render_sequence(models=None, **options):
 
     Takes the keywords of :func:`render` and the sequence's: frames, orbit (degrees about the
     scene centre over the frames), camera_path (a keyframe JSON file, docs/animation.md), fps
-    (24), frame_range ("A:B") and shard ("I/N"); a model file's animation plays. Bad keywords
+    (24), frame_range ("A:B"), shard ("I/N") and, with rig="screen", eye_track (a CSV of
+    t,lx,ly,lz,rx,ry,rz: the eyes per frame, docs/displays.md); a model file's animation plays. Bad keywords
     raise here, before any frame is rendered.
 
     Returns an iterator of one :class:`RenderResult` per frame (``.frame`` is its number), each

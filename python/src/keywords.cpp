@@ -421,6 +421,9 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"strict", Kind::Flag},          {"png_compression", Kind::Text},
             {"write", Kind::TextList},      {"depth_format", Kind::Text},
             {"view_range", Kind::Numbers},
+            {"screen_mm", Kind::Numbers},    {"screen_corners", Kind::Numbers},
+            {"eyes", Kind::Numbers},         {"head", Kind::Numbers},
+            {"ipd_mm", Kind::Float},
         };
         s.insert(s.end(), std::begin(kComposeSpecs), std::end(kComposeSpecs));
         return s;
@@ -432,7 +435,8 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
                            {"camera_path", Kind::Text},
                            {"frame_range", Kind::Text},
                            {"shard", Kind::Text},
-                           {"fps", Kind::Float}});
+                           {"fps", Kind::Float},
+                           {"eye_track", Kind::File}});
         return s;
     }();
     const std::map<std::string, Value> kw = readKeywords(
@@ -463,6 +467,22 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
         if (r.viewRange.empty()) throwStatus(usageError("--view-range '': expected A:B"));
     }
     if (auto* v = get("rig")) r.rig = v->text;
+    // --rig screen: points as "X,Y,Z;X,Y,Z" (numbers grouped in threes), the size as "WxH".
+    auto points = [](std::string t) {
+        if (t.find(';') != std::string::npos) return t;
+        for (std::size_t i = 0, n = 0; i < t.size(); ++i)
+            if (t[i] == ',' && ++n % 3 == 0) t[i] = ';';
+        return t;
+    };
+    if (auto* v = get("screen_mm")) {
+        r.screen.size = v->text;
+        if (const auto c = r.screen.size.find(','); c != std::string::npos) r.screen.size[c] = 'x';
+    }
+    if (auto* v = get("screen_corners")) r.screen.corners = points(v->text);
+    if (auto* v = get("eyes")) r.screen.eyes = points(v->text);
+    if (auto* v = get("head")) r.screen.head = v->text;
+    if (auto* v = get("ipd_mm")) r.screen.ipdMm = v->number;
+    if (auto* v = get("eye_track")) r.screen.eyeTrack = v->text;
     if (auto* v = get("interaxial")) r.interaxial = v->number;
     if (auto* v = get("separation")) {
         r.separationAuto = v->isAuto;

@@ -84,7 +84,7 @@ Result<glm::vec3> vec3Of(const std::string& value, const std::string& option) {
     const std::vector<std::string> words = numbersIn(value);
     if (words.size() != 3)
         return usageError(fmt::format("{} {}: expected X,Y,Z (three numbers)", option, value));
-    glm::vec3 v;
+    glm::vec3 v(0.0f);
     for (int i = 0; i < 3; ++i) {
         auto n = number(words[std::size_t(i)], option, value);
         if (!n) return n.status();
@@ -211,7 +211,7 @@ Result<std::optional<glm::vec3>> backgroundOf(const std::string& text) {
     const std::vector<std::string> words = numbersIn(text);
     if (words.size() != 3)
         return usageError(fmt::format("--background {}: expected R,G,B in 0..1 or #RRGGBB", text));
-    glm::vec3 c;
+    glm::vec3 c(0.0f);
     for (int i = 0; i < 3; ++i) {
         auto n = number(words[std::size_t(i)], "--background", text);
         if (!n) return n.status();

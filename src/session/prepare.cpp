@@ -769,7 +769,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     if (out.animation && !params.useSceneCamera) out.animation->cameraNode = -1;
     std::optional<ScreenEyes> screenEyes;
     if (screenRig) {
-        auto eyes = screenEyesOf(r, viewAspect);
+        auto eyes = screenEyesOf(r, viewAspect, &out.eyeTrack);
         if (!eyes) return eyes.status();
         screenEyes = *eyes;
         params.aspect = eyes->screen.width() / eyes->screen.height();  // the window is the screen

@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <regex>
 #include <vector>
 
@@ -50,16 +53,93 @@ std::optional<std::string> screenStretchNote(const ScreenCorners& screen, int wi
         std::max(1, int(std::lround(width / screenAspect))));
 }
 
+ScreenEyes EyeTrack::at(double t, const ScreenCorners& screen) const {
+    ScreenEyes eyes;
+    eyes.screen = screen;
+    auto after = std::upper_bound(samples.begin(), samples.end(), t,
+                                  [](double time, const Sample& s) { return time < s.t; });
+    if (after == samples.begin() || after == samples.end()) {
+        const Sample& s = after == samples.begin() ? samples.front() : samples.back();
+        eyes.leftEye = s.left;
+        eyes.rightEye = s.right;
+        return eyes;
+    }
+    const Sample& a = *(after - 1);
+    const Sample& b = *after;
+    const float w = float((t - a.t) / (b.t - a.t));
+    eyes.leftEye = glm::mix(a.left, b.left, w);
+    eyes.rightEye = glm::mix(a.right, b.right, w);
+    return eyes;
+}
+
+Result<EyeTrack> readEyeTrack(const std::string& file, const ScreenCorners& screen) {
+    const std::string what = "--eye-track " + file;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec))
+        return inputError(fmt::format("{}: file not found", what));
+    std::ifstream in(file);
+    if (!in) return inputError(fmt::format("{}: cannot read the file", what));
+    EyeTrack track;
+    bool header = false;
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        const std::size_t first = line.find_first_not_of(" \t");
+        if (first == std::string::npos || line[first] == '#') continue;
+        std::vector<double> v;
+        std::stringstream row(line);
+        std::string cell;
+        bool numeric = true;
+        while (std::getline(row, cell, ',')) {
+            char* end = nullptr;
+            const double x = std::strtod(cell.c_str(), &end);
+            numeric = numeric && end != cell.c_str() &&
+                      cell.find_first_not_of(" \t", std::size_t(end - cell.c_str())) == std::string::npos;
+            v.push_back(x);
+        }
+        if (!numeric) {
+            if (track.samples.empty() && !header) {  // the first row: a header
+                header = true;
+                continue;
+            }
+            return inputError(fmt::format("{}: line {}: '{}' is not numbers t,lx,ly,lz,rx,ry,rz", what, number, line));
+        }
+        if (v.size() != 7)
+            return inputError(fmt::format("{}: line {}: expected 7 numbers t,lx,ly,lz,rx,ry,rz, got {}", what, number, v.size()));
+        for (double x : v) {
+            if (!std::isfinite(x) || std::abs(x) > 1e6)
+                return inputError(fmt::format("{}: line {}: {} is not a finite number within 1e6", what, number, x));
+        }
+        if (!track.samples.empty() && !(v[0] > track.samples.back().t))
+            return inputError(fmt::format("{}: line {}: time {} does not follow {} (times must increase)", what, number, v[0], track.samples.back().t));
+        EyeTrack::Sample s;
+        s.t = v[0];
+        s.left = glm::vec3(float(v[1]), float(v[2]), float(v[3]));
+        s.right = glm::vec3(float(v[4]), float(v[5]), float(v[6]));
+        ScreenEyes eyes{screen, s.left, s.right};
+        if (Status st = validateScreenEyes(eyes, fmt::format("{}: line {}", what, number)); !st)
+            return inputError(st.message());
+        track.samples.push_back(s);
+    }
+    if (track.samples.empty()) return inputError(fmt::format("{}: no samples (rows t,lx,ly,lz,rx,ry,rz)", what));
+    return track;
+}
+
 Status checkScreenOptions(const RenderRecipe& r, int views) {
     if (r.rig != "screen") {
         if (r.screen.given()) {
             return usageError(
-                "--screen-mm, --screen-corners, --eyes, --ipd-mm and --head need --rig screen");
+                "--screen-mm, --screen-corners, --eyes, --ipd-mm, --head and --eye-track need --rig screen");
         }
         return {};
     }
     if (!r.viewGrid.empty())
         return usageError(fmt::format("--rig screen excludes --view-grid {} (two eyes, two views)", r.viewGrid));
+    if (!r.screen.eyeTrack.empty() && !r.sequence.active()) {
+        return usageError(fmt::format(
+            "--eye-track {} needs a sequence (--frames F: frame f takes the eyes at time f/--fps)",
+            r.screen.eyeTrack));
+    }
     if (views != 2)
         return usageError(fmt::format("--rig screen renders two views (the eyes), not --views {}", views));
     if (r.viewCone) return usageError(fmt::format("--rig screen excludes --view-cone {}", *r.viewCone));
@@ -69,7 +149,8 @@ Status checkScreenOptions(const RenderRecipe& r, int views) {
     return {};
 }
 
-Result<ScreenEyes> screenEyesOf(const RenderRecipe& r, float viewAspect) {
+Result<ScreenEyes> screenEyesOf(const RenderRecipe& r, float viewAspect,
+                                std::shared_ptr<const EyeTrack>* track) {
     const ScreenRecipe& s = r.screen;
     ScreenCorners screen;
     if (!s.corners.empty()) {
@@ -104,6 +185,15 @@ Result<ScreenEyes> screenEyesOf(const RenderRecipe& r, float viewAspect) {
         screen = screenOfSize(597.9f, 336.3f);
     }
     ScreenEyes eyes;
+    if (!s.eyeTrack.empty()) {
+        if (!s.eyes.empty() || s.ipdMm || !s.head.empty())
+            return usageError(fmt::format("--eye-track excludes {}", !s.eyes.empty() ? "--eyes" : s.ipdMm ? "--ipd-mm" : "--head"));
+        auto read = readEyeTrack(s.eyeTrack, screen);
+        if (!read) return read.status();
+        eyes = read->at(0.0, screen);
+        if (track) *track = std::make_shared<const EyeTrack>(std::move(read).value());
+        return eyes;
+    }
     if (!s.eyes.empty()) {
         if (s.ipdMm || !s.head.empty())
             return usageError(fmt::format("--eyes excludes {}", s.ipdMm ? "--ipd-mm" : "--head"));

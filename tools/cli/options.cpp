@@ -110,6 +110,10 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
                     "--rig screen: the eyes' midpoint X,Y,Z mm (default 0,0,--viewing-distance "
                     "or 600 mm)")
         ->check(nonEmpty("X,Y,Z in millimetres"));
+    app->add_option("--eye-track", screen.eyeTrack,
+                    "--rig screen, sequences: the eyes per frame, a CSV of t,lx,ly,lz,rx,ry,rz "
+                    "(s, mm; interpolated at f/--fps; docs/displays.md)")
+        ->check(nonEmpty("a CSV file"));
     auto* ia =
         app->add_option("--interaxial", interaxial,
                         "Distance between adjacent eyes, world units (default: convergence / 30)");

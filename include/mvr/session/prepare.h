@@ -6,6 +6,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -19,6 +20,7 @@
 #include "mvr/core/scene.h"
 #include "mvr/core/status.h"
 #include "mvr/session/recipe.h"
+#include "mvr/session/screen.h"
 
 namespace mvr::session {
 
@@ -70,6 +72,8 @@ struct Prepared {
     bool depthExr = false;  ///< the recipe's outputs.depthFormat is exr
     /// --view-range A:B: the rig holds views A..B of the whole rig (view_range.h); none: all.
     std::optional<std::pair<int, int>> viewRange;
+    /// --rig screen's --eye-track: the eyes of each frame (FrameStepper); the rig has frame 0's.
+    std::shared_ptr<const EyeTrack> eyeTrack;
 };
 
 /// Where prepare() sends the warnings of loading models ("warning: ..."), as they happen.

@@ -107,8 +107,12 @@ struct ScreenRecipe {
     std::optional<double> ipdMm;  ///< --ipd-mm (default 63: the adult mean)
     /// --head X,Y,Z: the eyes' midpoint; default (0, 0, --viewing-distance in mm, else 600).
     std::string head;
+    /// --eye-track FILE: the eyes per frame of a sequence (screen.h's EyeTrack); excludes eyes
+    /// and head.
+    std::string eyeTrack;
     bool given() const {
-        return !size.empty() || !corners.empty() || !eyes.empty() || ipdMm || !head.empty();
+        return !size.empty() || !corners.empty() || !eyes.empty() || ipdMm || !head.empty() ||
+               !eyeTrack.empty();
     }
 };
 
