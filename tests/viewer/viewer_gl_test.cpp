@@ -28,6 +28,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -264,6 +265,36 @@ TEST_F(ViewCli, ScreenshotMatchesRenderSideBySideFromTheSoftBackend) {
     ASSERT_EQ(shot.height, 120);
     const ImageDiff d = compareImages(shot, expected);
     EXPECT_LE(d.maxDelta, 1) << "worst pixel " << d.worstX << "," << d.worstY;
+}
+
+// --rig screen: two presses of 4 move the head 40 mm left; the window then shows what `mvr
+// render --head -40,0,600` writes (the eyes' geometry: tests/core/screen_rig_test.cpp).
+TEST_F(ViewCli, TheHeadKeysShowTheEyesOfAMovedHead) {
+    needDisplay();
+    const std::string view = model() + " --rig screen --size 160x90 --backend soft --method unified";
+    CliRun r = run("view " + view + " --format sbs --script 4,4 --frames 4 --no-hud --screenshot s.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = run("render " + view + " --head -40,0,600 --format sbs -o moved -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = run("render " + view + " --format sbs -o still -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const Image shot = read(dir / "s.png");
+    const Image expected = read(dir / "moved" / "sbs.png");
+    ASSERT_EQ(shot.width, 320);
+    ASSERT_EQ(shot.height, 90);
+    EXPECT_LE(compareImages(shot, expected).maxDelta, 1);
+    EXPECT_GT(differingFraction(shot, read(dir / "still" / "sbs.png"), 8), 0.002);  // it moved
+    // An eye track replayed (scripted: frame i at i/24 s): frame 24 has the eyes of t = 1 s.
+    std::ofstream(dir / "eyes.csv") << "t,lx,ly,lz,rx,ry,rz\n0,-31.5,0,600,31.5,0,600\n"
+                                       "1,-71.5,0,600,-8.5,0,600\n";
+    r = run("view " + view + " --format sbs --eye-track eyes.csv --frames 25 --no-hud --screenshot t.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_LE(compareImages(read(dir / "t.png"), expected).maxDelta, 1);
+    // An eye track without --rig screen is refused.
+    r = run("view " + model() + " --eye-track eyes.csv --frames 1", false);
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("error: --eye-track eyes.csv needs --rig screen"), std::string::npos)
+        << r.output;
 }
 
 TEST_F(ViewCli, ScriptedKeysChangeSeparationMethodAndWireframe) {

@@ -50,6 +50,41 @@ TEST(StereoCamera, UnmovedCameraGivesTheRigItCameFrom) {
     }
 }
 
+// --rig screen: keys 4 6 8 2 9 3 move the head 20 mm; the rig is then the screen rig of eyes
+// at the moved head (makeScreenRig(), whose geometry tests/core/screen_rig_test.cpp checks),
+// and an eye cannot go behind the screen.
+TEST(StereoCamera, TheHeadKeysMoveTheEyesOfAScreenRig) {
+    const Camera framing = testRig(597.9f / 336.3f).camera;
+    const ScreenCorners screen = screenOfSize(597.9f, 336.3f);
+    auto eyesAt = [&](glm::vec3 head) { return eyesAtHead(screen, head, 63.0f); };
+    Result<Rig> start = makeScreenRig(framing, 4.0f, eyesAt({0.0f, 0.0f, 600.0f}));
+    ASSERT_TRUE(start) << start.status().message();
+    StereoCamera s = StereoCamera::fromRig(*start, 1.0f);
+    ASSERT_TRUE(s.screenRig);
+    EXPECT_EQ(headStepMm(actionForChar('4')), glm::vec3(-20.0f, 0.0f, 0.0f));
+    EXPECT_EQ(headStepMm(actionForChar('9')), glm::vec3(0.0f, 0.0f, -20.0f));
+    EXPECT_EQ(headStepMm(Action::Wireframe), glm::vec3(0.0f));
+    for (char key : {'4', '4', '8', '3'}) EXPECT_TRUE(s.moveHead(headStepMm(actionForChar(key))));
+    Result<Rig> moved = s.rig();
+    Result<Rig> expected = makeScreenRig(framing, 4.0f, eyesAt({-40.0f, 20.0f, 620.0f}));
+    ASSERT_TRUE(moved && expected);
+    for (int v = 0; v < 2; ++v) {
+        const glm::mat4 a = moved->views[v].clipFromView * moved->views[v].viewFromWorld;
+        const glm::mat4 b = expected->views[v].clipFromView * expected->views[v].viewFromWorld;
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) EXPECT_NEAR(a[i][j], b[i][j], 1e-4f) << v << i << j;
+    }
+    // 31 steps nearer put the eyes 0 mm ... behind the screen: the step is refused, unmoved.
+    StereoCamera near = StereoCamera::fromRig(*start, 1.0f);
+    int steps = 0;
+    while (near.moveHead({0.0f, 0.0f, -20.0f})) ++steps;
+    EXPECT_EQ(steps, 29);  // 600 - 29·20 = 20 mm in front; 0 mm is refused
+    EXPECT_EQ(near.headOffsetMm, glm::vec3(0.0f, 0.0f, -580.0f));
+    // Other rigs have no head.
+    StereoCamera plain = StereoCamera::fromRig(testRig(), 1.0f);
+    EXPECT_FALSE(plain.moveHead({20.0f, 0.0f, 0.0f}));
+}
+
 TEST(StereoCamera, ARowOfViewsKeepsItsViewConeAndTheConeKeysChangeIt) {
     // A view-cone row of 9 views: unmoved, the rig is makeRig()'s; each view's eye sits at
     // D·tan(θ_i) along the camera's x axis, θ_i = −cone/2 + cone·i/(N−1), computed here.

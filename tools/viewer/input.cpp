@@ -41,7 +41,26 @@ Action actionForChar(char32_t ch) {
         case '<': return Action::PrevView;
         case 'v':
         case 'V': return Action::ToggleView;
+        case '4': return Action::HeadLeft;
+        case '6': return Action::HeadRight;
+        case '8': return Action::HeadUp;
+        case '2': return Action::HeadDown;
+        case '9': return Action::HeadNearer;
+        case '3': return Action::HeadFarther;
         default: return Action::None;
+    }
+}
+
+glm::vec3 headStepMm(Action action) {
+    constexpr float kStep = 20.0f;
+    switch (action) {
+        case Action::HeadLeft: return {-kStep, 0.0f, 0.0f};
+        case Action::HeadRight: return {kStep, 0.0f, 0.0f};
+        case Action::HeadUp: return {0.0f, kStep, 0.0f};
+        case Action::HeadDown: return {0.0f, -kStep, 0.0f};
+        case Action::HeadNearer: return {0.0f, 0.0f, -kStep};
+        case Action::HeadFarther: return {0.0f, 0.0f, kStep};
+        default: return glm::vec3(0.0f);
     }
 }
 
@@ -138,6 +157,7 @@ const std::vector<KeyHelp>& keyHelp() {
         {"w", "wireframe on / off"},
         {"l", "shading: flat, vertex, pixel"},
         {"arrows", "orbit by 10 degrees"},
+        {"4 6 8 2 9 3", "--rig screen: the head left, right, up, down, nearer, farther (20 mm)"},
         {"PgUp / PgDn", "zoom in / out"},
         {"r", "reset the view"},
         {"p, F12", "screenshot"},

@@ -17,6 +17,8 @@
 #include <string_view>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "mvr/core/status.h"
 
 namespace mvr::viewer {
@@ -50,7 +52,18 @@ enum class Action {
     NextView,    // . >
     PrevView,    // , <  (',' separates script steps: scripts use '<')
     ToggleView,  // v
+    // --rig screen (appended): move the head, both eyes, 20 mm (numeric keypad's directions).
+    HeadLeft,     // 4
+    HeadRight,    // 6
+    HeadUp,       // 8
+    HeadDown,     // 2
+    HeadNearer,   // 9 (toward the screen)
+    HeadFarther,  // 3
 };
+
+/// How far a Head* action moves the eyes, mm of screen space (x right, y up, z toward the
+/// viewer); zero for other actions.
+glm::vec3 headStepMm(Action action);
 
 /// The action of a printable key (its character as typed), or Action::None.
 Action actionForChar(char32_t ch);

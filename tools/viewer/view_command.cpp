@@ -4,6 +4,7 @@
 // (viewer.cpp).
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/core.h>
@@ -63,9 +64,19 @@ int runViewer(const ViewerOptions& given) {
         return cli::fail(
             usageError(fmt::format("--frames {} is out of range (expected >= 0)", given.frames)));
     }
-    // The scene, the rig and a preset's quilt grid, aspect and panel: the session's.
-    auto prepared = session::prepare(viewerRecipe(given));
+    // The scene, the rig and a preset's quilt grid, aspect and panel: the session's. An eye
+    // track is replayed here (viewer.cpp), where `mvr render` needs a sequence for it.
+    session::RenderRecipe recipe = viewerRecipe(given);
+    const std::string track = std::exchange(recipe.screen.eyeTrack, {});
+    auto prepared = session::prepare(recipe);
     if (!prepared) return cli::fail(prepared.status());
+    if (!track.empty()) {
+        if (!prepared->rig.screen)
+            return cli::fail(usageError(fmt::format("--eye-track {} needs --rig screen", track)));
+        auto read = session::readEyeTrack(track, prepared->rig.screen->screen);
+        if (!read) return cli::fail(read.status());
+        prepared->eyeTrack = std::make_shared<const session::EyeTrack>(std::move(read).value());
+    }
     for (const std::string& note : prepared->notes) {  // -q keeps the warnings only
         if (!given.quiet || note.rfind("note: ", 0) != 0) fmt::print(stderr, "{}\n", note);
     }

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "mvr/core/animation.h"
 #include "mvr/core/stereo_surfaces.h"
 
 namespace mvr::viewer {
@@ -18,7 +20,21 @@ StereoCamera StereoCamera::fromRig(const Rig& rig, float sceneRadius, float view
     s.interaxial = rig.interaxial;
     s.convergence = rig.convergence;
     s.sceneRadius = std::max(sceneRadius, 1e-4f);
+    if (rig.screen) s.screenRig = rig;
     return s;
+}
+
+bool StereoCamera::moveHead(glm::vec3 deltaMm) {
+    if (!screenRig) return false;
+    const glm::vec3 before = headOffsetMm;
+    headOffsetMm += deltaMm;
+    if (rig()) return true;
+    headOffsetMm = before;
+    return false;
+}
+
+void StereoCamera::setEyes(const ScreenEyes& eyes) {
+    if (screenRig) screenRig->screen = std::make_shared<const ScreenEyes>(eyes);
 }
 
 float StereoCamera::separation() const {
@@ -89,6 +105,14 @@ void StereoCamera::setViewCone(float degrees) {
 }
 
 Result<Rig> StereoCamera::rig() const {
+    if (screenRig && screenRig->screen) {
+        Rig base = *screenRig;
+        ScreenEyes eyes = *base.screen;
+        eyes.leftEye += headOffsetMm;
+        eyes.rightEye += headOffsetMm;
+        base.screen = std::make_shared<const ScreenEyes>(eyes);
+        return rigAt(base, camera);
+    }
     RigParams params;
     params.kind = kind;
     params.columns = columns;

@@ -13,6 +13,7 @@
 
 #include "mvr/core/image.h"
 #include "mvr/core/rig.h"
+#include "mvr/core/screen_rig.h"
 #include "mvr/core/status.h"
 
 namespace mvr::viewer {
@@ -52,6 +53,17 @@ struct StereoCamera {
     /// Sets the view cone, clamped to [kMinViewCone, kMaxViewCone] degrees (view-cone rigs).
     void setViewCone(float degrees);
     static constexpr float kMinViewCone = 1.0f, kMaxViewCone = 170.0f;
+
+    /// --rig screen (the prepared rig has Rig::screen): that rig, whose screen and framing move
+    /// with the camera (rigAt()), its eyes (an eye track's of the frame: setEyes()) moved by
+    /// headOffsetMm, the head as the user moved it (mm of screen space).
+    std::optional<Rig> screenRig;
+    glm::vec3 headOffsetMm{0.0f};
+    /// Moves the head by `deltaMm`; false (unmoved) when an eye would leave the space in front
+    /// of the screen, or for other rigs.
+    bool moveHead(glm::vec3 deltaMm);
+    /// The eyes before headOffsetMm (an eye track's of this frame); no-op for other rigs.
+    void setEyes(const ScreenEyes& eyes);
 
     /// The rig of the current state: `columns` views in one row (the view cone's spread when
     /// viewConeDegrees > 0). Errors: makeRig()'s.

@@ -186,6 +186,7 @@ private:
 
     std::string mMessage;
     Clock::time_point mMessageUntil{};
+    const Clock::time_point mStarted = Clock::now();
     bool mGpuAnaglyphFailed = false;
     bool mScreenshotRequested = false;
     int mScreenshotCount = 0;
@@ -483,8 +484,12 @@ void Viewer::apply(Action action) {
             say(fmt::format("output {}", formatName()));
             return;
         }
+        case Action::HeadLeft: case Action::HeadRight: case Action::HeadUp: case Action::HeadDown:
+        case Action::HeadNearer: case Action::HeadFarther:  // --rig screen: the eyes in front
+            if (!mStereo.moveHead(headStepMm(action))) return say("head not moved: --rig screen only");
+            break;
     }
-    mNeedRender = true;  // orbit / zoom
+    mNeedRender = true;  // orbit / zoom / head
 }
 
 void Viewer::applyStep(const ScriptStep& step) {
@@ -832,6 +837,11 @@ int Viewer::run() {
             mSettings.width = view.x;
             mSettings.height = view.y;
             mStereo.setAspect(float(view.x) / float(view.y));
+            mNeedRender = true;
+        }
+        if (mPrepared.eyeTrack && mStereo.screenRig) {  // replayed; scripted: frame i at i/24 s
+            const double t = scripted ? mFrames / 24.0 : msSince(mStarted) / 1000.0;
+            mStereo.setEyes(mPrepared.eyeTrack->at(t, mStereo.screenRig->screen->screen));
             mNeedRender = true;
         }
         const auto start = Clock::now();
