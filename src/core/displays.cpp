@@ -59,6 +59,17 @@ constexpr DisplayPreset stereo(std::string_view name, std::string_view descripti
 
 constexpr float k16x9 = 16.0f / 9.0f;
 
+// An eye-tracked monitor: two 1920x1080 views side by side (the SR weaver's full-width
+// side-by-side texture), the picture's mm from its diagonal at 16:9 unless the maker's figure
+// is known (docs/displays.md).
+constexpr DisplayPreset tracked(std::string_view name, std::string_view description, float wMm,
+                                float hMm, std::string_view source) {
+    DisplayPreset d = stereo(name, description, 1920, 1080, wMm / hMm, 3840, 2160, "sbs", source);
+    d.screenWidthMm = wMm;
+    d.screenHeightMm = hMm;
+    return d;
+}
+
 const std::array kPresets{
     // The 8.9"'s cone is the maker's 35 degrees (docs.lookingglassfactory.com/keyconcepts/camera:
     // "the digital view angle that we find that renders best is 35°"; docs/displays.md).
@@ -84,6 +95,17 @@ const std::array kPresets{
            1080, k16x9, 1920, 1080, "sbs-half", "half side by side, each view squeezed 2:1"),
     stereo("headset", "side-by-side headset (Cardboard-style: each eye sees one half)", 960, 1080,
            960.0f / 1080.0f, 1920, 1080, "sbs", "full side by side, one half per eye"),
+    tracked("odyssey-3d", "Samsung Odyssey 3D 27\" (G90XF), eye-tracked: --rig screen, 597.7x336.2 mm",
+            597.7f, 336.2f, "27-inch 16:9 4K panel (reviews); mm from the diagonal"),
+    tracked("spatiallabs-view",
+            "Acer SpatialLabs View 15.6\" (ASV15-1B), eye-tracked: --rig screen, 345.4x194.3 mm",
+            345.4f, 194.3f, "15.6-inch 16:9 4K panel; mm from the diagonal"),
+    tracked("sony-sr1",
+            "Sony Spatial Reality Display ELF-SR1 15.6\", eye-tracked: --rig screen, 345.4x194.3 mm",
+            345.4f, 194.3f, "Sony's SR white paper: 15.6-inch 4K, 45-degree stand"),
+    tracked("sony-sr2",
+            "Sony Spatial Reality Display ELF-SR2 27\", eye-tracked: --rig screen, 596.7x335.7 mm",
+            596.7f, 335.7f, "Sony's SR display plugin: 59.6736 x 33.5664 cm, 45-degree tilt"),
     stereo("barrier", "two-view parallax barrier (column interleave, kalaiah2007 section 4)", 1920,
            1080, k16x9, 1920, 1080, "columns", "kalaiah2007 section 4: column interleave"),
 };

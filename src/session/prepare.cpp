@@ -648,7 +648,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     out.settings.depth = depthFormat || out.write.depth || isTransparentBackground(r.background) || !sf.sky.empty() || sf.floatingWindow ||
                          sf.letterbox > 0.0 || !sf.labels.empty() || !sf.anchors.empty();
     out.settings.shadowMapSize = r.shadowMapSize;
-    const bool screenRig = r.rig == "screen";  // placed after the framing (screen.h)
+    const bool screenRig = usesScreenRig(r, out.display ? &*out.display : nullptr);  // screen.h
     auto kind = screenRig ? Result<RigKind>(RigKind::OffAxis) : parseRigKind(r.rig);
     if (!kind) return usageError(fmt::format("--rig {}: {}", r.rig, kind.status().message()));
     FramingParams params;
@@ -672,7 +672,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
                                       r.viewGrid.empty() ? fmt::format("{}", nViews) : r.viewGrid,
                                       params.columns * params.rows, kMaxViews));
     }
-    if (Status s = checkScreenOptions(r, params.columns * params.rows); !s) return s;
+    if (Status s = checkScreenOptions(r, params.columns * params.rows, screenRig); !s) return s;
     if (r.grid < 1 || r.grid > 1024) {
         return usageError(fmt::format("--grid {} is out of range (expected 1..1024 copies)", r.grid));
     }
@@ -769,12 +769,13 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     if (out.animation && !params.useSceneCamera) out.animation->cameraNode = -1;
     std::optional<ScreenEyes> screenEyes;
     if (screenRig) {
-        auto eyes = screenEyesOf(r, viewAspect, &out.eyeTrack);
+        auto eyes = screenEyesOf(r, viewAspect, &out.eyeTrack, out.display ? &*out.display : nullptr);
         if (!eyes) return eyes.status();
         screenEyes = *eyes;
         params.aspect = eyes->screen.width() / eyes->screen.height();  // the window is the screen
         if (auto n = screenStretchNote(eyes->screen, out.settings.width, out.settings.height))
             out.notes.push_back(*n);
+        if (!out.screen) out.screen = screenGeometryOf(*eyes);  // the report in cm of this screen
     }
     // "transparent": the scene's colour stays, the views' alpha is 0 there (buildSurfaces()).
     auto background =

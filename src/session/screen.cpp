@@ -125,8 +125,21 @@ Result<EyeTrack> readEyeTrack(const std::string& file, const ScreenCorners& scre
     return track;
 }
 
-Status checkScreenOptions(const RenderRecipe& r, int views) {
-    if (r.rig != "screen") {
+ScreenGeometry screenGeometryOf(const ScreenEyes& eyes) {
+    ScreenGeometry g;
+    g.widthCm = eyes.screen.width() / 10.0f;
+    const glm::vec3 mid = 0.5f * (eyes.leftEye + eyes.rightEye);
+    g.viewingDistanceCm = glm::dot(mid - eyes.screen.lowerLeft, eyes.screen.normal()) / 10.0f;
+    g.interocularCm = glm::length(eyes.rightEye - eyes.leftEye) / 10.0f;
+    return g;
+}
+
+bool usesScreenRig(const RenderRecipe& r, const DisplayPreset* display) {
+    return r.rig == "screen" || (r.rig == "offaxis" && display && display->tracked());
+}
+
+Status checkScreenOptions(const RenderRecipe& r, int views, bool screenRig) {
+    if (!screenRig) {
         if (r.screen.given()) {
             return usageError(
                 "--screen-mm, --screen-corners, --eyes, --ipd-mm, --head and --eye-track need --rig screen");
@@ -150,7 +163,8 @@ Status checkScreenOptions(const RenderRecipe& r, int views) {
 }
 
 Result<ScreenEyes> screenEyesOf(const RenderRecipe& r, float viewAspect,
-                                std::shared_ptr<const EyeTrack>* track) {
+                                std::shared_ptr<const EyeTrack>* track,
+                                const DisplayPreset* display) {
     const ScreenRecipe& s = r.screen;
     ScreenCorners screen;
     if (!s.corners.empty()) {
@@ -181,6 +195,8 @@ Result<ScreenEyes> screenEyesOf(const RenderRecipe& r, float viewAspect,
     } else if (r.screenWidthCm) {
         const float w = float(*r.screenWidthCm) * 10.0f;
         screen = screenOfSize(w, w / viewAspect);
+    } else if (display && display->tracked()) {
+        screen = screenOfSize(display->screenWidthMm, display->screenHeightMm);
     } else {
         screen = screenOfSize(597.9f, 336.3f);
     }

@@ -69,6 +69,33 @@ TEST_F(ScreenRigCli, TwoEyesOfTheDefaultScreenAndAMovedHead) {
     EXPECT_NE(r.err.find("--size 64x36 keeps the pixels square"), std::string::npos) << r.err;
 }
 
+// The tracked monitors' presets: --rig screen on their screen in mm, the side by side the SR
+// weaver takes, the comfort report in cm of that screen; another --rig overrides the screen.
+TEST_F(ScreenRigCli, TrackedMonitorPresetsAreTheirScreens) {
+    test::CliRun r = run("render pyramid.obj --display odyssey-3d --size 192x108 -q -o preset "
+                         "--report-json preset.json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    r = run("render pyramid.obj --rig screen --screen-mm 597.7x336.2 --size 192x108 --format sbs "
+            "-q -o given");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto preset = readPng(mDir / "preset/sbs.png"), given = readPng(mDir / "given/sbs.png");
+    ASSERT_TRUE(preset && given);
+    EXPECT_EQ(preset->width, 384);
+    EXPECT_EQ(differing(*preset, *given), 0);
+    const std::string report = test::slurp(mDir / "preset.json");
+    EXPECT_NE(report.find("\"width_cm\": 59.77"), std::string::npos) << report;
+    EXPECT_NE(report.find("\"viewing_distance_cm\": 60"), std::string::npos) << report;
+    r = run("render pyramid.obj --display odyssey-3d --rig toein --size 192x108 -q -o toein");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto toein = readPng(mDir / "toein/sbs.png");
+    ASSERT_TRUE(toein);
+    EXPECT_GT(differing(*toein, *preset), 20);
+    r = run("info --displays");
+    for (const char* name : {"odyssey-3d", "spatiallabs-view", "sony-sr1", "sony-sr2"})
+        EXPECT_NE(r.out.find(name), std::string::npos) << name;
+    EXPECT_NE(r.out.find("596.7x335.7 mm"), std::string::npos) << r.out;
+}
+
 TEST_F(ScreenRigCli, NonsenseIsOneErrorLineNamingTheOption) {
     expectError("--rig screen --views 3", "--rig screen renders two views (the eyes), not --views 3");
     expectError("--rig screen --view-grid 2x1", "--rig screen excludes --view-grid 2x1");

@@ -33,6 +33,11 @@ struct DisplayPreset {
     int panelWidth = 0, panelHeight = 0;  ///< the panel's native resolution
     std::string_view format;  ///< the compose format it takes: quilt, hdmi-frame-packing, …
     std::string_view source;  ///< where the figures come from (docs/displays.md cites them)
+    /// An eye-tracked stereo monitor (Samsung Odyssey 3D, Acer SpatialLabs, Sony's Spatial
+    /// Reality Display): its picture in mm, rendered with `--rig screen` (mvr/core/screen_rig.h)
+    /// unless another rig is asked for; 0 for other displays.
+    float screenWidthMm = 0.0f, screenHeightMm = 0.0f;
+    bool tracked() const { return screenWidthMm > 0.0f; }
 };
 
 /// All presets, in `mvr info --displays` order.

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "mvr/core/displays.h"
 #include "mvr/core/screen_rig.h"
 #include "mvr/session/recipe.h"
 
@@ -21,8 +22,18 @@ struct EyeTrack;
 /// eye behind the screen).
 /// With an eye track (`r.screen.eyeTrack`), the eyes are its first sample's and `track` gets
 /// the track read (readEyeTrack()).
+/// `display`: a tracked monitor's preset gives the screen's size when no option does.
 Result<ScreenEyes> screenEyesOf(const RenderRecipe& r, float viewAspect,
-                                std::shared_ptr<const EyeTrack>* track = nullptr);
+                                std::shared_ptr<const EyeTrack>* track = nullptr,
+                                const DisplayPreset* display = nullptr);
+
+/// The comfort report's screen (cm): the screen's width, the eyes' midpoint's distance to its
+/// plane and their distance apart.
+ScreenGeometry screenGeometryOf(const ScreenEyes& eyes);
+
+/// Whether `r` renders with the screen rig: --rig screen, or a tracked monitor's preset
+/// (DisplayPreset::tracked()) with the default rig.
+bool usesScreenRig(const RenderRecipe& r, const DisplayPreset* display);
 
 /// A per-frame eye track (`--eye-track FILE`, docs/displays.md): what an eye tracker logged,
 /// one CSV row per sample, `t,lx,ly,lz,rx,ry,rz` (seconds; the left and right eye in mm of
@@ -53,6 +64,6 @@ std::optional<std::string> screenStretchNote(const ScreenCorners& screen, int wi
 /// Refuses what `--rig screen` cannot take: other than two views, --view-grid, --view-cone,
 /// --interaxial / --separation (auto or not; the eyes give the spacing), an eye track without a
 /// sequence or beside --eyes / --head, and screen options without `--rig screen`. Usage errors naming the option.
-Status checkScreenOptions(const RenderRecipe& r, int views);
+Status checkScreenOptions(const RenderRecipe& r, int views, bool screenRig);
 
 }  // namespace mvr::session
