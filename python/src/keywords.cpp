@@ -423,7 +423,8 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"view_range", Kind::Numbers},
             {"screen_mm", Kind::Numbers},    {"screen_corners", Kind::Numbers},
             {"eyes", Kind::Numbers},         {"head", Kind::Numbers},
-            {"ipd_mm", Kind::Float},
+            {"ipd_mm", Kind::Float},         {"depth_factor", Kind::Float},
+            {"look_around", Kind::Float},
         };
         s.insert(s.end(), std::begin(kComposeSpecs), std::end(kComposeSpecs));
         return s;
@@ -482,6 +483,8 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     if (auto* v = get("eyes")) r.screen.eyes = points(v->text);
     if (auto* v = get("head")) r.screen.head = v->text;
     if (auto* v = get("ipd_mm")) r.screen.ipdMm = v->number;
+    if (auto* v = get("depth_factor")) r.screen.depthFactor = v->number;
+    if (auto* v = get("look_around")) r.screen.lookAround = v->number;
     if (auto* v = get("eye_track")) r.screen.eyeTrack = v->text;
     if (auto* v = get("interaxial")) r.interaxial = v->number;
     if (auto* v = get("separation")) {

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 #include <regex>
 #include <vector>
 
@@ -53,6 +54,15 @@ std::optional<std::string> screenStretchNote(const ScreenCorners& screen, int wi
         std::max(1, int(std::lround(width / screenAspect))));
 }
 
+ScreenEyes EyeFactors::apply(ScreenEyes eyes) const {
+    const glm::vec3 mid = 0.5f * (eyes.leftEye + eyes.rightEye);
+    const glm::vec3 half = 0.5f * (eyes.rightEye - eyes.leftEye);
+    const glm::vec3 m = home + lookAround * (mid - home);
+    eyes.leftEye = m - depth * half;
+    eyes.rightEye = m + depth * half;
+    return eyes;
+}
+
 ScreenEyes EyeTrack::at(double t, const ScreenCorners& screen) const {
     ScreenEyes eyes;
     eyes.screen = screen;
@@ -62,14 +72,14 @@ ScreenEyes EyeTrack::at(double t, const ScreenCorners& screen) const {
         const Sample& s = after == samples.begin() ? samples.front() : samples.back();
         eyes.leftEye = s.left;
         eyes.rightEye = s.right;
-        return eyes;
+        return factors.apply(eyes);
     }
     const Sample& a = *(after - 1);
     const Sample& b = *after;
     const float w = float((t - a.t) / (b.t - a.t));
     eyes.leftEye = glm::mix(a.left, b.left, w);
     eyes.rightEye = glm::mix(a.right, b.right, w);
-    return eyes;
+    return factors.apply(eyes);
 }
 
 Result<EyeTrack> readEyeTrack(const std::string& file, const ScreenCorners& screen) {
@@ -142,7 +152,8 @@ Status checkScreenOptions(const RenderRecipe& r, int views, bool screenRig) {
     if (!screenRig) {
         if (r.screen.given()) {
             return usageError(
-                "--screen-mm, --screen-corners, --eyes, --ipd-mm, --head and --eye-track need --rig screen");
+                "the screen options (--screen-mm, --screen-corners, --eyes, --ipd-mm, --head, "
+                "--eye-track, --depth-factor, --look-around) need --rig screen");
         }
         return {};
     }
@@ -200,12 +211,27 @@ Result<ScreenEyes> screenEyesOf(const RenderRecipe& r, float viewAspect,
     } else {
         screen = screenOfSize(597.9f, 336.3f);
     }
+    EyeFactors factors;
+    factors.home = screen.centre() +
+                   screen.normal() * float(r.viewingDistanceCm ? *r.viewingDistanceCm * 10.0 : 600.0);
+    for (const auto& [name, value, low] : {std::tuple{"--depth-factor", s.depthFactor, 1e-3},
+                                           std::tuple{"--look-around", s.lookAround, 0.0}}) {
+        if (value && !(std::isfinite(*value) && *value >= low && *value <= 10.0))
+            return usageError(fmt::format("{} {} is out of range (expected {} .. 10)", name, *value, low > 0 ? "> 0" : "0"));
+    }
+    factors.depth = float(s.depthFactor.value_or(1.0));
+    factors.lookAround = float(s.lookAround.value_or(1.0));
     ScreenEyes eyes;
     if (!s.eyeTrack.empty()) {
         if (!s.eyes.empty() || s.ipdMm || !s.head.empty())
             return usageError(fmt::format("--eye-track excludes {}", !s.eyes.empty() ? "--eyes" : s.ipdMm ? "--ipd-mm" : "--head"));
         auto read = readEyeTrack(s.eyeTrack, screen);
         if (!read) return read.status();
+        read->factors = factors;
+        for (const EyeTrack::Sample& sample : read->samples) {  // in front, the factors applied
+            if (Status st = validateScreenEyes(read->at(sample.t, screen), "--eye-track " + s.eyeTrack); !st)
+                return st;
+        }
         eyes = read->at(0.0, screen);
         if (track) *track = std::make_shared<const EyeTrack>(std::move(read).value());
         return eyes;
@@ -222,8 +248,7 @@ Result<ScreenEyes> screenEyesOf(const RenderRecipe& r, float viewAspect,
         const double ipd = s.ipdMm.value_or(63.0);
         if (!std::isfinite(ipd) || ipd < 0.0 || ipd > 1000.0)
             return usageError(fmt::format("--ipd-mm {} is out of range (expected 0 .. 1000 mm)", ipd));
-        glm::vec3 head = screen.centre() +
-                         screen.normal() * float(r.viewingDistanceCm ? *r.viewingDistanceCm * 10.0 : 600.0);
+        glm::vec3 head = factors.home;
         if (!s.head.empty()) {
             auto h = vec3Of(s.head, "--head");
             if (!h) return h.status();
@@ -232,6 +257,7 @@ Result<ScreenEyes> screenEyesOf(const RenderRecipe& r, float viewAspect,
         if (ipd < 1e-3) return usageError(fmt::format("--ipd-mm {}: the eyes would be at one point (expected > 0)", ipd));
         eyes = eyesAtHead(screen, head, float(ipd));
     }
+    eyes = factors.apply(eyes);
     const std::string what = !s.eyes.empty()  ? "--eyes " + s.eyes
                              : !s.head.empty() ? "--head " + s.head
                                                : "--rig screen";

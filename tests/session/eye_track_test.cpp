@@ -127,6 +127,58 @@ TEST_F(EyeTrackTest, EachFrameHasTheRigOfItsEyes) {
     }
 }
 
+/// The view matrices of a prepared --rig screen recipe.
+std::vector<glm::mat4> screenViews(const RenderRecipe& r) {
+    auto p = prepare(r);
+    EXPECT_TRUE(p) << p.status().message();
+    std::vector<glm::mat4> out;
+    if (p)
+        for (const auto& v : p->rig.views) out.push_back(v.clipFromView * v.viewFromWorld);
+    return out;
+}
+
+void expectSameViews(const std::vector<glm::mat4>& a, const std::vector<glm::mat4>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t v = 0; v < a.size(); ++v)
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j)
+                EXPECT_NEAR(a[v][i][j], b[v][i][j], 1e-4f * (1.0f + std::abs(b[v][i][j])))
+                    << v << " [" << i << "][" << j << "]";
+}
+
+// The SR runtimes' factors: --depth-factor 2 doubles the eyes' distance about their midpoint,
+// --look-around 0.5 halves the head's offset from the default head (0, 0, 600), for fixed
+// eyes and for a track's.
+TEST_F(EyeTrackTest, DepthAndLookAroundFactorsMoveTheEyesAsComputed) {
+    RenderRecipe r;
+    r.size = "96x54";
+    r.rig = "screen";
+    r.screen.eyes = "-21.5,10,600;41.5,10,600";  // midpoint (10, 10, 600), 63 mm apart
+    r.screen.depthFactor = 2.0;
+    r.screen.lookAround = 0.5;
+    RenderRecipe expected = r;
+    expected.screen.depthFactor.reset();
+    expected.screen.lookAround.reset();
+    // midpoint (5, 5, 600), half distance 63
+    expected.screen.eyes = "-58,5,600;68,5,600";
+    expectSameViews(screenViews(r), screenViews(expected));
+    // A track's eyes, the same factors, frame 0.
+    r.screen.eyes.clear();
+    r.screen.eyeTrack = write("eyes.csv", "0,-21.5,10,600,41.5,10,600\n");
+    r.sequence.frames = 1;
+    expectSameViews(screenViews(r), screenViews(expected));
+    // Out of range: one message naming the option and value.
+    r.screen.depthFactor = 0.0;
+    auto bad = prepare(r);
+    ASSERT_FALSE(bad);
+    EXPECT_EQ(bad.status().message(), "--depth-factor 0 is out of range (expected > 0 .. 10)");
+    r.screen.depthFactor = 1.0;
+    r.screen.lookAround = -1.0;
+    bad = prepare(r);
+    ASSERT_FALSE(bad);
+    EXPECT_EQ(bad.status().message(), "--look-around -1 is out of range (expected 0 .. 10)");
+}
+
 TEST_F(EyeTrackTest, ATrackNeedsASequenceAndExcludesFixedEyes) {
     const std::string file = write("eyes.csv", "0,-31.5,0,600,31.5,0,600\n");
     RenderRecipe r;

@@ -110,6 +110,12 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
                     "--rig screen: the eyes' midpoint X,Y,Z mm (default 0,0,--viewing-distance "
                     "or 600 mm)")
         ->check(nonEmpty("X,Y,Z in millimetres"));
+    app->add_option("--depth-factor", screen.depthFactor,
+                    "--rig screen: the eyes' distance scaled about their midpoint (the SR "
+                    "runtimes' Depth Factor; default 1)");
+    app->add_option("--look-around", screen.lookAround,
+                    "--rig screen: the head's movement from the default head scaled (the SR "
+                    "runtimes' Look Around Factor; 0: fixed, default 1)");
     app->add_option("--eye-track", screen.eyeTrack,
                     "--rig screen, sequences: the eyes per frame, a CSV of t,lx,ly,lz,rx,ry,rz "
                     "(s, mm; interpolated at f/--fps; docs/displays.md)")

@@ -110,9 +110,13 @@ struct ScreenRecipe {
     /// --eye-track FILE: the eyes per frame of a sequence (screen.h's EyeTrack); excludes eyes
     /// and head.
     std::string eyeTrack;
+    /// The SR runtimes' factors (docs/displays.md): --depth-factor scales the eyes' distance
+    /// about their midpoint ("Depth Factor"), --look-around the head's movement away from the
+    /// default head ("Look Around Factor"); 1: as given.
+    std::optional<double> depthFactor, lookAround;
     bool given() const {
         return !size.empty() || !corners.empty() || !eyes.empty() || ipdMm || !head.empty() ||
-               !eyeTrack.empty();
+               !eyeTrack.empty() || depthFactor || lookAround;
     }
 };
 

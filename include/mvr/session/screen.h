@@ -41,14 +41,24 @@ bool usesScreenRig(const RenderRecipe& r, const DisplayPreset* display);
 /// lines starting with '#' are skipped; times strictly increase. Frame f of a sequence takes
 /// the eyes at time f / --fps, interpolated linearly between the rows around it and held
 /// before the first row and after the last.
+/// The SR runtimes' factors applied to a pair of eyes: their distance scaled by `depth` about
+/// their midpoint, the midpoint's offset from `home` (the default head) scaled by `lookAround`.
+struct EyeFactors {
+    float depth = 1.0f;
+    float lookAround = 1.0f;
+    glm::vec3 home{0.0f, 0.0f, 600.0f};
+    ScreenEyes apply(ScreenEyes eyes) const;
+};
+
 struct EyeTrack {
     struct Sample {
         double t = 0.0;
         glm::vec3 left{0.0f}, right{0.0f};
     };
     std::vector<Sample> samples;  ///< at least one, times ascending
+    EyeFactors factors;           ///< applied by at()
     double duration() const { return samples.empty() ? 0.0 : samples.back().t; }
-    /// The eyes at `t` seconds on `screen`.
+    /// The eyes at `t` seconds on `screen`, the factors applied.
     ScreenEyes at(double t, const ScreenCorners& screen) const;
 };
 /// Reads and checks an eye track: every row's eyes in front of `screen` (validateScreenEyes).
