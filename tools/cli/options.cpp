@@ -145,6 +145,11 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
            "within the screen's budget (needs --screen-width; docs/displays.md)")
         ->type_name("FLOAT|auto")
         ->excludes(ia);
+    app->add_option("--depth-percent", depthPercent,
+                    "With --separation auto: the largest parallax the eyes meet (at infinity, at "
+                    "the scene's nearest and farthest points) as a percentage of the screen's "
+                    "budget, 0 < P <= 100 (default 100: fill it; docs/displays.md)")
+        ->check(positiveAtMost(100));
     viewConeOption =
         app->add_option(
                "--view-cone", viewCone,
@@ -271,6 +276,7 @@ session::RenderRecipe SceneOptions::recipe() const {
     r.interaxial = interaxial;
     r.separation = separation;
     r.separationAuto = separationAuto;
+    r.depthPercent = depthPercent;
     r.convergence = convergence;
     r.convergenceAuto = convergenceAuto;
     r.viewCone = viewCone;
