@@ -142,7 +142,8 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
            "--separation", numberOrAuto("--separation", separation, separationAuto),
            "Interaxial as a fraction of the screen width at the convergence plane "
            "(nvidia-gtc2010); auto: the largest that keeps the parallax between the eyes' views "
-           "within the screen's budget (needs --screen-width; docs/displays.md)")
+           "within the screen's budget, at infinity and over the scene (needs --screen-width; "
+           "--depth-percent; docs/displays.md)")
         ->type_name("FLOAT|auto")
         ->excludes(ia);
     app->add_option("--depth-percent", depthPercent,
