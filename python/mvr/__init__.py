@@ -32,7 +32,8 @@ def render(models=None, **options):
     arrays), one or a list (meshes after the files); none: the procedural default scene.
 
     options (every ``mvr render`` option, dashes as underscores): views (2), view_grid ((C, R)
-    or "CxR"), rig ("offaxis" | "toein" | "parallel" | "screen"), interaxial, separation,
+    or "CxR"), rig ("offaxis" | "toein" | "parallel" | "screen"), interaxial, separation
+    (a number or "auto"; depth_percent= 0 < P <= 100 the share of the screen's budget auto fills),
     convergence, rig="screen"'s screen_mm ((W, H) mm), screen_corners (three (X, Y, Z) mm),
     eyes (two (X, Y, Z) mm), head ((X, Y, Z) mm) and ipd_mm (an eye-tracked monitor's pair,
     docs/displays.md),

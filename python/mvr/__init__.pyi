@@ -119,6 +119,7 @@ def render(
     rig: Literal["offaxis", "toein", "parallel"] = ...,
     interaxial: float = ...,
     separation: float | Literal["auto"] = ...,
+    depth_percent: float = ...,
     view_cone: float = ...,
     convergence: float | Literal["auto"] = ...,
     display: str = ...,

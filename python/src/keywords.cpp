@@ -398,6 +398,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"views", Kind::Int},            {"view_grid", Kind::Text},
             {"rig", Kind::Text},             {"interaxial", Kind::Float},
             {"separation", Kind::FloatOrAuto}, {"view_cone", Kind::Float},
+            {"depth_percent", Kind::Float},
             {"convergence", Kind::FloatOrAuto}, {"fov", Kind::Float},
             {"no_file_camera", Kind::Flag},  {"exposure", Kind::FloatOrAuto},
             {"size", Kind::Text},            {"display", Kind::Text},
@@ -491,6 +492,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
         r.separationAuto = v->isAuto;
         if (!v->isAuto) r.separation = v->number;
     }
+    if (auto* v = get("depth_percent")) r.depthPercent = v->number;
     if (auto* v = get("view_cone")) r.viewCone = v->number;
     if (auto* v = get("convergence")) {
         r.convergenceAuto = v->isAuto;

@@ -243,6 +243,8 @@ RenderResult renderFrame(Job& job, const Scene& scene, const Rig& rig,
         sd["pair_views"] = s.pairViews;
         sd["min_parallax_cm"] = s.minParallaxCm;
         sd["max_parallax_cm"] = s.maxParallaxCm;
+        sd["infinity_parallax_cm"] = s.infinityParallaxCm;
+        sd["separation_rule"] = s.separationRule;
         sd["nearest_vergence_deg"] = s.nearestVergenceDeg;
         sd["farthest_vergence_deg"] = s.farthestVergenceDeg;
         sd["screen_vergence_deg"] = s.screenVergenceDeg;

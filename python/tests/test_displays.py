@@ -80,3 +80,25 @@ def test_calibration_view_cone_is_the_default_cone(tmp_path, model):
         assert abs(np.dot(eyes[i] - eyes[2], right) - expected) < 1e-4 * d, i
     r = mvr.render([model], views=5, size=(32, 24), lenticular_calibration=cal, view_cone=20)
     assert r.rig["view_cone"] == 20.0
+
+
+def test_separation_auto_keeps_the_budget_and_depth_percent(tmp_path, model):
+    # Issue 42 item 0: the parallax the eyes meet — at infinity (the separation) and over the
+    # scene, s (1 - C / w) computed here — within the budget 6.5 cm / width (half at 60 cm).
+    budget = 0.5 * 6.5 / 30.0
+    for percent, kw in ((100.0, {}), (40.0, {"depth_percent": 40.0})):
+        r = mvr.render([model], size=(96, 72), convergence="auto", separation="auto",
+                       screen_width=30.0, viewing_distance=60.0,
+                       report_json=tmp_path / "s.json", **kw)
+        report = json.loads((tmp_path / "s.json").read_text())
+        s, c = report["rig"]["separation"], report["rig"]["convergence"]
+        near, far = report["parallax"]["nearest_distance"], report["parallax"]["farthest_distance"]
+        worst = max(abs(s * (1 - c / near)), abs(s * (1 - c / far)), s)
+        assert worst == pytest.approx(percent / 100.0 * budget, rel=1e-3)
+        assert r.comfort["screen"]["infinity_parallax_cm"] == pytest.approx(30.0 * s, rel=1e-4)
+        assert r.comfort["screen"]["comfortable"] and report["comfortable"]
+    for bad in (0, -5, 101):
+        with pytest.raises(ValueError, match=f"--depth-percent {bad} is out of range"):
+            mvr.render([model], separation="auto", screen_width=30.0, depth_percent=bad)
+    with pytest.raises(ValueError, match="--depth-percent 50 needs --separation auto"):
+        mvr.render([model], screen_width=30.0, depth_percent=50)

@@ -145,6 +145,21 @@ ParallaxBudget parallaxBudget(const ScreenGeometry& screen) {
     return b;
 }
 
+float parallaxAtInfinity(const Rig& rig) {
+    return rig.kind == RigKind::Parallel ? 0.0f : rig.separation();
+}
+
+float autoSeparation(const Rig& trial, float nearest, float farthest,
+                     const ParallaxBudget& budget, float depthPercent) {
+    if (trial.columns < 2 || !(trial.separation() > 0.0f)) return 0.0f;
+    const ParallaxRange r = parallaxRange(trial, nearest, farthest);
+    const float share = 1.0f / float(trial.columns - 1);  // adjacent views: the eyes' pair
+    const float worst = std::max({std::abs(r.minParallax) * share,
+                                  std::abs(r.maxParallax) * share, parallaxAtInfinity(trial)});
+    if (!(worst > 0.0f) || !std::isfinite(worst)) return 0.0f;
+    return trial.separation() * (depthPercent / 100.0f) * budget.fraction / worst;
+}
+
 int eyePairViews(const Rig& rig, float viewConeDegrees, const ScreenGeometry& screen) {
     const int n = rig.columns;
     if (n <= 2 || viewConeDegrees <= 0.0f || screen.viewingDistanceCm <= 0.0f) return 1;
@@ -155,7 +170,7 @@ int eyePairViews(const Rig& rig, float viewConeDegrees, const ScreenGeometry& sc
 }
 
 ScreenComfort screenComfort(const Rig& rig, const ParallaxRange& outer, int pairViews,
-                            const ScreenGeometry& screen) {
+                            const ScreenGeometry& screen, float viewConeDegrees) {
     ScreenComfort c;
     c.screen = screen;
     c.budget = parallaxBudget(screen);
@@ -165,6 +180,10 @@ ScreenComfort screenComfort(const Rig& rig, const ParallaxRange& outer, int pair
     c.maxParallax = outer.maxParallax * share;
     c.minParallaxCm = c.minParallax * screen.widthCm;
     c.maxParallaxCm = c.maxParallax * screen.widthCm;
+    c.infinityParallax = float(pairViews) * parallaxAtInfinity(rig);
+    c.infinityParallaxCm = c.infinityParallax * screen.widthCm;
+    c.separationRule = (rig.kind == RigKind::OffAxis || rig.kind == RigKind::ToeIn) &&
+                       !rig.screen && viewConeDegrees == 0.0f;
     const float nan = std::numeric_limits<float>::quiet_NaN();
     auto vergence = [&](float parallaxCm) {
         if (screen.viewingDistanceCm <= 0.0f) return nan;
@@ -179,16 +198,24 @@ ScreenComfort screenComfort(const Rig& rig, const ParallaxRange& outer, int pair
         "the {:.2f} cm budget ({} eye separation, {:.1f} cm / {:.1f} cm screen)", budgetCm,
         c.budget.desktop ? "desktop: half the" : "the", screen.interocularCm, screen.widthCm);
     auto add = [&](const std::string& text) { c.why += (c.why.empty() ? "" : "; ") + text; };
-    if (c.maxParallaxCm > screen.interocularCm) {
+    auto over = [](float value, float limit) { return value > limit * (1.0f + 1e-4f); };
+    if (c.separationRule && over(c.infinityParallaxCm, budgetCm)) {
+        add(fmt::format("separation {:.2f} cm (the parallax at infinity) exceeds {}{}",
+                        c.infinityParallaxCm, budgetText,
+                        over(c.infinityParallaxCm, screen.interocularCm)
+                            ? ": beyond the scene the eyes diverge"
+                            : ""));
+    }
+    if (over(c.maxParallaxCm, screen.interocularCm)) {
         add(
             fmt::format("parallax behind the screen {:.2f} cm exceeds the {:.1f} cm between the "
                         "eyes: they diverge",
                         c.maxParallaxCm, screen.interocularCm));
-    } else if (c.maxParallaxCm > budgetCm) {
+    } else if (over(c.maxParallaxCm, budgetCm)) {
         add(fmt::format("parallax behind the screen {:.2f} cm exceeds {}", c.maxParallaxCm,
                         budgetText));
     }
-    if (-c.minParallaxCm > budgetCm) {
+    if (over(-c.minParallaxCm, budgetCm)) {
         add(fmt::format("parallax out of the screen {:.2f} cm exceeds {}", c.minParallaxCm,
                         budgetText));
     }

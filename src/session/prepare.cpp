@@ -100,9 +100,10 @@ std::optional<std::string> fileCameraCropWarning(const Scene& scene, const Camer
 
 /// --convergence auto / --separation auto (docs/displays.md): a depth pre-pass of the centre
 /// view; the convergence balances the parallax in and out of the screen (balancedConvergence),
-/// the separation fills 95 % of the screen's budget with the parallax between the eyes' views.
+/// the separation makes the largest parallax the eyes meet — at infinity, at the scene's
+/// nearest and farthest points — `depthPercent` % of the screen's budget (autoSeparation).
 Status chooseAutoRig(Prepared& out, FramingParams& params, bool convergenceAuto,
-                     bool separationAuto) {
+                     bool separationAuto, float depthPercent) {
     const char* what = convergenceAuto ? "--convergence auto" : "--separation auto";
     const float aspect =
         params.aspect.value_or(float(out.settings.width) / float(out.settings.height));
@@ -124,38 +125,36 @@ Status chooseAutoRig(Prepared& out, FramingParams& params, bool convergenceAuto,
             "parallax in and out of the screen",
             c, d.nearest, d.farthest));
     }
-    if (separationAuto) {
-        FramingParams trial = params;
-        trial.interaxial.reset();
-        trial.viewConeDegrees = 0.0f;
-        trial.separation = 0.01f;
-        auto framed = frameScene(out.scene, trial, out.settings);
-        if (!framed) return framed.status();
-        const Rig& rig = framed->rig;
-        if (rig.columns < 2) {
-            return usageError("--separation auto needs a row of at least two views");
-        }
-        const ParallaxRange r = parallaxRange(rig, d.minimum, d.maximum);
-        const float share = 1.0f / float(rig.columns - 1);  // adjacent views: the eyes' pair
-        const float worst = std::max(std::abs(r.minParallax), std::abs(r.maxParallax)) * share;
-        const ParallaxBudget budget = parallaxBudget(*out.screen);
-        if (worst > 0.0f && std::isfinite(worst)) {
-            const float s = 0.01f * 0.95f * budget.fraction / worst;
-            params.separation = s;
-            params.interaxial.reset();
-            params.viewConeDegrees = 0.0f;
-            out.notes.push_back(fmt::format(
-                "note: --separation auto chose {:.3g}% of the screen width: the largest parallax "
-                "between adjacent views is then 95% of the {:.2f} cm budget ({} eye separation "
-                "on a {:.4g} cm screen)",
-                100.0 * s, budget.fraction * out.screen->widthCm,
-                budget.desktop ? "half the" : "the", out.screen->widthCm));
-        } else {
-            out.notes.push_back(
-                "note: --separation auto: the scene lies on the convergence plane (no parallax "
-                "at any separation); the default spacing is kept");
-        }
+    if (!separationAuto) return {};
+    FramingParams trial = params;
+    trial.interaxial.reset();
+    trial.viewConeDegrees = 0.0f;
+    trial.separation = 0.01f;
+    auto framed = frameScene(out.scene, trial, out.settings);
+    if (!framed) return framed.status();
+    if (framed->rig.columns < 2) return usageError("--separation auto needs a row of at least two views");
+    const ParallaxBudget budget = parallaxBudget(*out.screen);
+    const float s = autoSeparation(framed->rig, d.minimum, d.maximum, budget, depthPercent);
+    if (!(s > 0.0f) || !std::isfinite(s)) {
+        out.notes.push_back(
+            "note: --separation auto: the scene lies on the convergence plane (no parallax at "
+            "any separation); the default spacing is kept");
+        return {};
     }
+    params.separation = s;
+    params.interaxial.reset();
+    params.viewConeDegrees = 0.0f;
+    // The parallax between adjacent views the choice gives (scaled from the 1 % trial).
+    const ParallaxRange r = parallaxRange(framed->rig, d.minimum, d.maximum);
+    const float k = s / framed->rig.separation() / float(framed->rig.columns - 1);
+    const float w = out.screen->widthCm;
+    out.notes.push_back(fmt::format(
+        "note: --separation auto chose {:.3g}% of the screen width: the largest parallax between "
+        "adjacent views (at infinity {:.2f} cm, the scene {:+.2f} .. {:+.2f} cm) is {:.3g}% of "
+        "the {:.2f} cm budget ({} eye separation on a {:.4g} cm screen)",
+        100.0 * s, parallaxAtInfinity(framed->rig) * s / framed->rig.separation() * w,
+        r.minParallax * k * w, r.maxParallax * k * w, depthPercent, budget.fraction * w,
+        budget.desktop ? "half the" : "the", w));
     return {};
 }
 
@@ -610,6 +609,18 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
             "--separation auto needs --screen-width CM (the budget is the 6.5 cm eye separation "
             "over the screen width)");
     }
+    if (r.depthPercent && (!std::isfinite(*r.depthPercent) || *r.depthPercent <= 0.0 ||
+                           *r.depthPercent > kMaxDepthPercent)) {
+        return usageError(fmt::format(
+            "--depth-percent {} is out of range (expected 0 < P <= 100: the largest parallax as "
+            "a percentage of the screen's budget)",
+            *r.depthPercent));
+    }
+    if (r.depthPercent && !r.separationAuto) {
+        return usageError(fmt::format(
+            "--depth-percent {} needs --separation auto (it sets the strength auto chooses)",
+            *r.depthPercent));
+    }
     if (r.separationAuto && cone && r.viewCone.has_value()) {
         return usageError(fmt::format("--view-cone {} excludes --separation", *cone));
     }
@@ -787,7 +798,8 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     if (r.convergence) params.convergence = static_cast<float>(*r.convergence);
     if (cone) params.viewConeDegrees = static_cast<float>(*cone);
     if (r.convergenceAuto || r.separationAuto) {
-        if (Status s = chooseAutoRig(out, params, r.convergenceAuto, r.separationAuto); !s) return s;
+        if (Status s = chooseAutoRig(out, params, r.convergenceAuto, r.separationAuto,
+                                         float(r.depthPercent.value_or(kDefaultDepthPercent))); !s) return s;
     }
     auto framed = frameScene(out.scene, params, out.settings);
     if (!framed && framed.status().code() == ErrorCode::Usage) {

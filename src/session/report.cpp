@@ -114,7 +114,7 @@ std::optional<ScreenComfortReport> screenComfortReport(const Prepared& p,
     if (!p.screen || !range) return std::nullopt;
     ScreenComfortReport r;
     const int pair = eyePairViews(p.rig, p.viewConeDegrees, *p.screen);
-    r.comfort = screenComfort(p.rig, range->range, pair, *p.screen);
+    r.comfort = screenComfort(p.rig, range->range, pair, *p.screen, p.viewConeDegrees);
     const ScreenComfort& c = r.comfort;
     std::string where = fmt::format("on a {:.4g} cm screen", p.screen->widthCm);
     if (p.screen->viewingDistanceCm > 0.0f)
@@ -124,11 +124,13 @@ std::optional<ScreenComfortReport> screenComfortReport(const Prepared& p,
         vergence = fmt::format(", vergence {:.2f} .. {:.2f} deg (screen {:.2f} deg)",
                                c.nearestVergenceDeg, c.farthestVergenceDeg, c.screenVergenceDeg);
     }
+    const std::string infinity =
+        c.separationRule ? fmt::format(", at infinity {:+.2f} cm", c.infinityParallaxCm) : "";
     r.line = fmt::format(
         "{}: parallax between the eyes' views ({} apart) {:+.2f} .. {:+.2f} cm = {:+.2f}% .. "
-        "{:+.2f}%{}; budget {:.2f} cm ({}) ({})",
+        "{:+.2f}%{}{}; budget {:.2f} cm ({}) ({})",
         where, c.pairViews, c.minParallaxCm, c.maxParallaxCm, 100.0 * c.minParallax,
-        100.0 * c.maxParallax, vergence, c.budget.fraction * p.screen->widthCm,
+        100.0 * c.maxParallax, infinity, vergence, c.budget.fraction * p.screen->widthCm,
         c.budget.desktop ? "desktop: half the 6.5 cm eye separation" : "the eye separation",
         c.comfortable ? std::string("comfortable") : "uncomfortable: " + c.why);
     return r;
@@ -192,6 +194,9 @@ std::string comfortJson(const Prepared& p, const std::optional<ComfortReport>& r
             {"max_parallax", number(c.maxParallax)},
             {"min_parallax_cm", number(c.minParallaxCm)},
             {"max_parallax_cm", number(c.maxParallaxCm)},
+            {"infinity_parallax", number(c.infinityParallax)},
+            {"infinity_parallax_cm", number(c.infinityParallaxCm)},
+            {"separation_rule", c.separationRule},
             {"nearest_vergence_deg", number(c.nearestVergenceDeg)},
             {"farthest_vergence_deg", number(c.farthestVergenceDeg)},
             {"screen_vergence_deg", number(c.screenVergenceDeg)},

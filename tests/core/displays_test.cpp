@@ -183,6 +183,83 @@ TEST(Displays, TheEyesSeeViewsOfTheConeApart) {
     EXPECT_NEAR(sc.minParallax, outer.minParallax * 11.0f / 47.0f, 1e-6f);
 }
 
+// Issue 42 item 0: --separation auto keeps the parallax the eyes meet within the screen's
+// budget for the whole scene — at infinity (the separation itself, nvidia-gtc2010 "Separation
+// should be Comfortable") and at the scene's nearest and farthest points. The budget and the
+// off-axis parallax s (1 - C / w) are written here, not taken from the code under test.
+TEST(Displays, AutoSeparationKeepsTheWholeSceneWithinTheBudget) {
+    const float c = 8.0f;
+    const float screenWorld = 2.0f * c * (4.0f / 3.0f) * std::tan(glm::radians(22.5f));
+    const Rig trial = rigOf(RigKind::OffAxis, 2, 0.01f * screenWorld, c);
+    auto budgetByHand = [](float widthCm, float distanceCm) {
+        const float eyeSeparation = 6.5f / widthCm;
+        return distanceCm > 0.0f && distanceCm < 100.0f ? 0.5f * eyeSeparation : eyeSeparation;
+    };
+    auto byHand = [&](float s, float w) { return s * (1.0f - c / w); };
+    // The engine-like case: a wide object framed close, 0.86 .. 1.2 x the convergence.
+    const float nearest = 6.9f, farthest = 9.6f;
+    for (const ScreenGeometry screen : {ScreenGeometry{50.0f, 0.0f}, ScreenGeometry{50.0f, 60.0f},
+                                        ScreenGeometry{120.0f, 300.0f}}) {
+        const float budget = budgetByHand(screen.widthCm, screen.viewingDistanceCm);
+        for (float percent : {100.0f, 50.0f, 10.0f}) {
+            const float s = autoSeparation(trial, nearest, farthest, parallaxBudget(screen), percent);
+            const float target = percent / 100.0f * budget;
+            const float worst = std::max({std::abs(byHand(s, nearest)),
+                                          std::abs(byHand(s, farthest)), s /* at infinity */});
+            EXPECT_NEAR(worst, target, 1e-4f * target) << screen.widthCm << " " << percent;
+            EXPECT_LE(worst, budget * (1.0f + 1e-4f));
+            // The rig's own matrices agree: a point far behind the scene stays within it.
+            const Rig rig = rigOf(RigKind::OffAxis, 2, s * screenWorld, c);
+            for (float w : {nearest, farthest, 1e4f}) {
+                const float p = parallax(rig, glm::vec3(0.0f, 0.0f, 10.0f - w), 0, 1);
+                EXPECT_LE(std::abs(p), budget * 1.001f) << "w " << w;
+            }
+            const ScreenComfort sc =
+                screenComfort(rig, parallaxRange(rig, nearest, farthest), 1, screen);
+            EXPECT_TRUE(sc.comfortable) << sc.why;
+            EXPECT_NEAR(sc.infinityParallaxCm, s * screen.widthCm, 1e-3f);
+        }
+    }
+    // The separation the bug report got (scene parallax filled, 36 % on a 50 cm desktop
+    // screen): the scene alone stays within 3.25 cm, but at infinity the parallax is 18 cm —
+    // the report never calls that comfortable.
+    {
+        const ScreenGeometry desk{50.0f, 60.0f};
+        const float budgetCm = budgetByHand(50.0f, 60.0f) * 50.0f;  // 3.25 cm
+        const Rig rig = rigOf(RigKind::OffAxis, 2, 0.36f * screenWorld, c);
+        EXPECT_LE(std::abs(50.0f * byHand(0.36f, nearest)), budgetCm);
+        EXPECT_LE(std::abs(50.0f * byHand(0.36f, farthest)), budgetCm);
+        const ScreenComfort sc = screenComfort(rig, parallaxRange(rig, nearest, farthest), 1, desk);
+        EXPECT_FALSE(sc.comfortable);
+        EXPECT_NE(sc.why.find("separation 18.00 cm (the parallax at infinity) exceeds"),
+                  std::string::npos)
+            << sc.why;
+        EXPECT_NE(sc.why.find("the eyes diverge"), std::string::npos) << sc.why;
+        // A light-field row spread over a view cone is judged by its scene's parallax only.
+        const ScreenComfort cone =
+            screenComfort(rig, parallaxRange(rig, nearest, farthest), 1, desk, 40.0f);
+        EXPECT_FALSE(cone.separationRule);
+        EXPECT_TRUE(cone.comfortable) << cone.why;
+    }
+    // A scene nearer than convergence / 2: there the parallax out of the screen is larger than
+    // the separation, so the nearest point sets it: s (C / n - 1) = budget.
+    {
+        const ScreenGeometry tv{100.0f, 300.0f};
+        const float budget = budgetByHand(100.0f, 300.0f);
+        const float s = autoSeparation(trial, 3.0f, 20.0f, parallaxBudget(tv));
+        EXPECT_NEAR(s, budget / (c / 3.0f - 1.0f), 1e-4f * budget);
+        EXPECT_NEAR(byHand(s, 3.0f), -budget, 1e-4f * budget);
+    }
+    // A parallel rig has no parallax at infinity: its nearest point sets it, s C / n = budget.
+    {
+        const Rig par = rigOf(RigKind::Parallel, 2, 0.01f * screenWorld, c);
+        const float budget = budgetByHand(50.0f, 0.0f);
+        const float s = autoSeparation(par, nearest, farthest, parallaxBudget({50.0f, 0.0f}));
+        EXPECT_NEAR(s * c / nearest, budget, 1e-4f * budget);
+        EXPECT_EQ(parallaxAtInfinity(par), 0.0f);
+    }
+}
+
 TEST(Displays, BalancedConvergenceEqualsTheParallaxInAndOut) {
     for (auto [n, f] : {std::pair{2.0f, 6.0f}, std::pair{1.0f, 150.0f}, std::pair{5.0f, 5.5f}}) {
         const float c = balancedConvergence(n, f);

@@ -148,9 +148,15 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
            "--separation", numberOrAuto("--separation", separation, separationAuto),
            "Interaxial as a fraction of the screen width at the convergence plane "
            "(nvidia-gtc2010); auto: the largest that keeps the parallax between the eyes' views "
-           "within the screen's budget (needs --screen-width; docs/displays.md)")
+           "within the screen's budget, at infinity and over the scene (needs --screen-width; "
+           "--depth-percent; docs/displays.md)")
         ->type_name("FLOAT|auto")
         ->excludes(ia);
+    app->add_option("--depth-percent", depthPercent,
+                    "With --separation auto: the largest parallax the eyes meet (at infinity, at "
+                    "the scene's nearest and farthest points) as a percentage of the screen's "
+                    "budget, 0 < P <= 100 (default 100: fill it; docs/displays.md)")
+        ->check(positiveAtMost(100));
     viewConeOption =
         app->add_option(
                "--view-cone", viewCone,
@@ -277,6 +283,7 @@ session::RenderRecipe SceneOptions::recipe() const {
     r.interaxial = interaxial;
     r.separation = separation;
     r.separationAuto = separationAuto;
+    r.depthPercent = depthPercent;
     r.convergence = convergence;
     r.convergenceAuto = convergenceAuto;
     r.viewCone = viewCone;

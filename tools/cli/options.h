@@ -72,6 +72,7 @@ struct SceneOptions {
     std::optional<double> exposure;           ///< --exposure EV (stops; framing.h)
     bool exposureAuto = false;                ///< --exposure auto
     bool separationAuto = false;              ///< --separation auto
+    std::optional<double> depthPercent;       ///< --depth-percent P (with --separation auto)
     /// The options a preset fills in; one given on the command line (count() > 0) overrides
     /// the preset's value. Null (SceneOptions filled in by code): never given.
     CLI::Option *viewsOption = nullptr, *viewGridOption = nullptr, *sizeOption = nullptr,

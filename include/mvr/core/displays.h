@@ -69,6 +69,25 @@ struct ParallaxBudget {
 };
 ParallaxBudget parallaxBudget(const ScreenGeometry& screen);
 
+/// `--depth-percent P`: the largest parallax `--separation auto` may give the eyes, as a
+/// percentage of the budget: 0 < P <= kMaxDepthPercent, default kDefaultDepthPercent (fill it).
+inline constexpr float kMaxDepthPercent = 100.0f;
+inline constexpr float kDefaultDepthPercent = 100.0f;
+
+/// The parallax between adjacent views of a point at infinity, fraction of the screen width:
+/// the separation for off-axis and toe-in rigs (nvidia-gtc2010 "Separation should be
+/// Comfortable": "the maximum parallax at infinity is Separation"), 0 for a parallel rig.
+float parallaxAtInfinity(const Rig& rig);
+
+/// `--separation auto`: the separation between adjacent views (fraction of the screen width)
+/// that makes the largest |parallax| between them — at infinity (parallaxAtInfinity: behind
+/// everything in the scene, the rule nvidia-gtc2010 states for Separation), at the scene's
+/// nearest and at its farthest eye-space distance — `depthPercent` % of `budget.fraction`.
+/// `trial` is the rig at some separation > 0 (parallax is linear in it for off-axis and
+/// parallel rigs, nearly so for toe-in). 0 when no parallax grows with the separation.
+float autoSeparation(const Rig& trial, float nearest, float farthest,
+                     const ParallaxBudget& budget, float depthPercent = kDefaultDepthPercent);
+
 /// How many views apart the two eyes are: 1 for a stereo pair; for a row of N views spread
 /// over a view cone seen from a known distance, the angle the eyes subtend
 /// (2·atan(interocular / 2·distance)) over the angle between adjacent views
@@ -84,6 +103,10 @@ struct ScreenComfort {
     float maxParallax = 0.0f;
     float minParallaxCm = 0.0f;  ///< the same on the screen, cm (negative: out of the screen)
     float maxParallaxCm = 0.0f;
+    /// Between the eyes' views at infinity (the separation; 0 for parallel rigs), fraction and
+    /// cm; judged against the budget only for stereo rigs (`separationRule`).
+    float infinityParallax = 0.0f, infinityParallaxCm = 0.0f;
+    bool separationRule = false;
     /// Vergence angle of the eyes (degrees) for the nearest and farthest point and for the
     /// screen plane: 2·atan((interocular − parallax) / (2·distance)); NaN without a distance.
     /// Negative: the eyes diverge.
@@ -94,9 +117,12 @@ struct ScreenComfort {
 /// `outer` is parallaxRange() of the rig (between its outer views); the eyes' pair sees
 /// pairViews / (columns − 1) of it (exact for evenly spaced views; a view-cone row uses its mean
 /// spacing). Rules: |parallax| ≤ budget both in and out of the screen; behind the screen beyond
-/// the interocular distance the eyes diverge (said so).
+/// the interocular distance the eyes diverge (said so); and for an off-axis or toe-in rig
+/// without a view cone (`viewConeDegrees` 0), the rule `--separation auto` chooses by: the
+/// parallax at infinity (the separation, nvidia-gtc2010's "maximum comfort separation") within
+/// the budget. Within 1e-4 of a limit counts as within (float rounding of a chosen value).
 ScreenComfort screenComfort(const Rig& rig, const ParallaxRange& outer, int pairViews,
-                            const ScreenGeometry& screen);
+                            const ScreenGeometry& screen, float viewConeDegrees = 0.0f);
 
 /// `--convergence auto`: the zero-parallax distance that uses a symmetric parallax budget best
 /// for scene distances [nearest, farthest] — the harmonic mean 2 / (1/nearest + 1/farthest),

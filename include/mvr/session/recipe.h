@@ -151,6 +151,9 @@ struct RenderRecipe {
     std::optional<double> interaxial;
     std::optional<double> separation;
     bool separationAuto = false;  ///< needs screenWidthCm
+    /// With separationAuto: the largest parallax as a percentage of the screen's budget,
+    /// 0 < P <= 100 (default 100, displays.h kDefaultDepthPercent).
+    std::optional<double> depthPercent;
     std::optional<double> convergence;
     bool convergenceAuto = false;
     std::optional<double> viewCone;  ///< degrees; an off-axis row
