@@ -91,7 +91,7 @@ Camera cameraAt(const CameraPath& path, double time, const Camera& base) {
     return out;
 }
 
-Result<Rig> rigAt(const Rig& rig, const Camera& camera) {
+Result<Rig> rigAt(const Rig& rig, const Camera& camera, const ScreenEyes* eyes) {
     if (rig.screen) {
         // The screen moves with the camera: the framing camera moved as the centre eye was.
         const glm::mat4 move = glm::inverse(camera.viewFromWorld()) * rig.camera.viewFromWorld();
@@ -99,7 +99,7 @@ Result<Rig> rigAt(const Rig& rig, const Camera& camera) {
         framing.position = glm::vec3(move * glm::vec4(framing.position, 1.0f));
         framing.target = glm::vec3(move * glm::vec4(framing.target, 1.0f));
         framing.up = glm::mat3(move) * framing.up;
-        return makeScreenRig(framing, rig.screenConvergence, *rig.screen);
+        return makeScreenRig(framing, rig.screenConvergence, eyes ? *eyes : *rig.screen);
     }
     RigParams params;
     params.kind = rig.kind;

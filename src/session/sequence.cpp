@@ -140,15 +140,9 @@ Result<Rig> FrameStepper::advance(int f) {
         // The file's animated camera (the orbit and the camera path win over it).
         camera = cameraFromNode(mAnimated->camera->worldFromCamera, p.rig.camera);
     }
-    const Rig* base = &p.rig;
-    Rig tracked;
-    if (p.eyeTrack && p.rig.screen) {  // --eye-track: this frame's eyes on the same screen
-        tracked = p.rig;
-        tracked.screen =
-            std::make_shared<const ScreenEyes>(p.eyeTrack->at(time, p.rig.screen->screen));
-        base = &tracked;
-    }
-    auto rig = rigAt(*base, camera);
+    std::optional<ScreenEyes> tracked;  // --eye-track: this frame's eyes on the same screen
+    if (p.eyeTrack && p.rig.screen) tracked = p.eyeTrack->at(time, p.rig.screen->screen);
+    auto rig = rigAt(p.rig, camera, tracked ? &*tracked : nullptr);
     if (!rig) return Status(rig.status().code(), fmt::format("frame {}: {}", f, rig.status().message()));
     return rig;
 }

@@ -86,6 +86,25 @@ TEST_F(EyeTrackTest, BadFilesNameTheFileAndTheLine) {
               "--eye-track " + (mDir / "none.csv").string() + ": file not found");
 }
 
+/// The view matrices of a prepared --rig screen recipe.
+std::vector<glm::mat4> screenViews(const RenderRecipe& r) {
+    auto p = prepare(r);
+    EXPECT_TRUE(p) << p.status().message();
+    std::vector<glm::mat4> out;
+    if (p)
+        for (const auto& v : p->rig.views) out.push_back(v.clipFromView * v.viewFromWorld);
+    return out;
+}
+
+void expectSameViews(const std::vector<glm::mat4>& a, const std::vector<glm::mat4>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t v = 0; v < a.size(); ++v)
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j)
+                EXPECT_NEAR(a[v][i][j], b[v][i][j], 1e-4f * (1.0f + std::abs(b[v][i][j])))
+                    << v << " [" << i << "][" << j << "]";
+}
+
 // Frame f of a sequence has the rig of a still whose --eyes are the track's eyes at f / fps.
 TEST_F(EyeTrackTest, EachFrameHasTheRigOfItsEyes) {
     const std::string file = write("eyes.csv",
@@ -113,37 +132,11 @@ TEST_F(EyeTrackTest, EachFrameHasTheRigOfItsEyes) {
         still.size = "96x54";
         still.rig = "screen";
         still.screen.eyes = fmt::format("{},{},{};{},{},{}", l.x, l.y, l.z, rr.x, rr.y, rr.z);
-        auto s = prepare(still);
-        ASSERT_TRUE(s) << s.status().message();
-        ASSERT_EQ(rig->views.size(), 2u);
-        for (int v = 0; v < 2; ++v) {
-            const glm::mat4 a = rig->views[v].clipFromView * rig->views[v].viewFromWorld;
-            const glm::mat4 b = s->rig.views[v].clipFromView * s->rig.views[v].viewFromWorld;
-            for (int i = 0; i < 4; ++i)
-                for (int j = 0; j < 4; ++j)
-                    EXPECT_NEAR(a[i][j], b[i][j], 1e-4f * (1.0f + std::abs(b[i][j])))
-                        << "frame " << f << " view " << v << " [" << i << "][" << j << "]";
-        }
+        std::vector<glm::mat4> views;
+        for (const auto& v : rig->views) views.push_back(v.clipFromView * v.viewFromWorld);
+        SCOPED_TRACE(fmt::format("frame {}", f));
+        expectSameViews(views, screenViews(still));
     }
-}
-
-/// The view matrices of a prepared --rig screen recipe.
-std::vector<glm::mat4> screenViews(const RenderRecipe& r) {
-    auto p = prepare(r);
-    EXPECT_TRUE(p) << p.status().message();
-    std::vector<glm::mat4> out;
-    if (p)
-        for (const auto& v : p->rig.views) out.push_back(v.clipFromView * v.viewFromWorld);
-    return out;
-}
-
-void expectSameViews(const std::vector<glm::mat4>& a, const std::vector<glm::mat4>& b) {
-    ASSERT_EQ(a.size(), b.size());
-    for (std::size_t v = 0; v < a.size(); ++v)
-        for (int i = 0; i < 4; ++i)
-            for (int j = 0; j < 4; ++j)
-                EXPECT_NEAR(a[v][i][j], b[v][i][j], 1e-4f * (1.0f + std::abs(b[v][i][j])))
-                    << v << " [" << i << "][" << j << "]";
 }
 
 // The SR runtimes' factors: --depth-factor 2 doubles the eyes' distance about their midpoint,

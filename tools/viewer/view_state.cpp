@@ -106,12 +106,10 @@ void StereoCamera::setViewCone(float degrees) {
 
 Result<Rig> StereoCamera::rig() const {
     if (screenRig && screenRig->screen) {
-        Rig base = *screenRig;
-        ScreenEyes eyes = *base.screen;
+        ScreenEyes eyes = *screenRig->screen;
         eyes.leftEye += headOffsetMm;
         eyes.rightEye += headOffsetMm;
-        base.screen = std::make_shared<const ScreenEyes>(eyes);
-        return rigAt(base, camera);
+        return rigAt(*screenRig, camera, &eyes);
     }
     RigParams params;
     params.kind = kind;

@@ -68,8 +68,10 @@ Status validateCameraPath(const CameraPath& path);
 Camera cameraAt(const CameraPath& path, double time, const Camera& base);
 
 /// The rig of `rig`'s kind, views, spacing and convergence around `camera` (the rig moving
-/// with the camera). Errors: those of makeRig().
-Result<Rig> rigAt(const Rig& rig, const Camera& camera);
+/// with the camera). A screen rig (Rig::screen) is placed around `eyes` when given (a tracked
+/// or moved head's, on the same screen), else around its own. Errors: those of makeRig() /
+/// makeScreenRig().
+Result<Rig> rigAt(const Rig& rig, const Camera& camera, const ScreenEyes* eyes = nullptr);
 
 /// A glTF-style animation sampler.
 enum class Interpolation { Linear, Step, CubicSpline };
