@@ -425,7 +425,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"screen_mm", Kind::Numbers},    {"screen_corners", Kind::Numbers},
             {"eyes", Kind::Numbers},         {"head", Kind::Numbers},
             {"ipd_mm", Kind::Float},         {"depth_factor", Kind::Float},
-            {"look_around", Kind::Float},
+            {"look_around", Kind::Float},    {"screen_tilt", Kind::Float},
         };
         s.insert(s.end(), std::begin(kComposeSpecs), std::end(kComposeSpecs));
         return s;
@@ -486,6 +486,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     if (auto* v = get("ipd_mm")) r.screen.ipdMm = v->number;
     if (auto* v = get("depth_factor")) r.screen.depthFactor = v->number;
     if (auto* v = get("look_around")) r.screen.lookAround = v->number;
+    if (auto* v = get("screen_tilt")) r.screen.tiltDegrees = v->number;
     if (auto* v = get("eye_track")) r.screen.eyeTrack = v->text;
     if (auto* v = get("interaxial")) r.interaxial = v->number;
     if (auto* v = get("separation")) {

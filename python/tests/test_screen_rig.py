@@ -41,8 +41,24 @@ def test_an_eye_track_moves_the_eyes_per_frame(tmp_path):
     np.testing.assert_array_equal(frames[0].color, mvr.render(rig="screen", size=SIZE).color)
 
 
+def test_a_tilted_screen_keeps_the_scene_upright():
+    """screen_tilt=45 leans the panel back about its centre, as Sony's stands do: the same as
+    the corners computed here and as the sony-sr1 preset; upright it is another image."""
+    w, h, c, s = 345.4 / 2, 194.3 / 2, np.cos(np.pi / 4), np.sin(np.pi / 4)
+    tilted = mvr.render(rig="screen", size=SIZE, screen_mm=(345.4, 194.3), screen_tilt=45)
+    corners = mvr.render(rig="screen", size=SIZE, head=(0, 600 * s, 600 * c),
+                         screen_corners=((-w, -h * c, h * s), (w, -h * c, h * s),
+                                         (-w, h * c, -h * s)))
+    assert np.abs(tilted.color.astype(int) - corners.color).max() <= 1
+    preset = mvr.render(display="sony-sr1", size=SIZE)
+    np.testing.assert_array_equal(preset.color, tilted.color)
+    upright = mvr.render(rig="screen", size=SIZE, screen_mm=(345.4, 194.3))
+    assert not np.array_equal(upright.color, tilted.color)
+
+
 @pytest.mark.parametrize("kw,message", [
     ({"rig": "screen", "views": 3}, "--rig screen renders two views (the eyes), not --views 3"),
+    ({"rig": "screen", "screen_tilt": -90}, "--screen-tilt -90 is out of range"),
     ({"rig": "screen", "ipd_mm": -1}, "--ipd-mm -1 is out of range"),
     ({"rig": "screen", "eyes": (1, 2, 3)}, "--eyes 1,2,3: expected left;right"),
     ({"head": (0, 0, 500)}, "need --rig screen"),

@@ -63,10 +63,11 @@ constexpr float k16x9 = 16.0f / 9.0f;
 // side-by-side texture), the picture's mm from its diagonal at 16:9 unless the maker's figure
 // is known (docs/displays.md).
 constexpr DisplayPreset tracked(std::string_view name, std::string_view description, float wMm,
-                                float hMm, std::string_view source) {
+                                float hMm, std::string_view source, float tiltDegrees = 0.0f) {
     DisplayPreset d = stereo(name, description, 1920, 1080, wMm / hMm, 3840, 2160, "sbs", source);
     d.screenWidthMm = wMm;
     d.screenHeightMm = hMm;
+    d.screenTiltDegrees = tiltDegrees;
     return d;
 }
 
@@ -101,11 +102,13 @@ const std::array kPresets{
             "Acer SpatialLabs View 15.6\" (ASV15-1B), eye-tracked: --rig screen, 345.4x194.3 mm",
             345.4f, 194.3f, "15.6-inch 16:9 4K panel; mm from the diagonal"),
     tracked("sony-sr1",
-            "Sony Spatial Reality Display ELF-SR1 15.6\", eye-tracked: --rig screen, 345.4x194.3 mm",
-            345.4f, 194.3f, "Sony's SR white paper: 15.6-inch 4K, 45-degree stand"),
+            "Sony Spatial Reality Display ELF-SR1 15.6\", eye-tracked: --rig screen, 345.4x194.3 mm, "
+            "45-degree tilt",
+            345.4f, 194.3f, "Sony's SR white paper: 15.6-inch 4K, 45-degree stand", 45.0f),
     tracked("sony-sr2",
-            "Sony Spatial Reality Display ELF-SR2 27\", eye-tracked: --rig screen, 596.7x335.7 mm",
-            596.7f, 335.7f, "Sony's SR display plugin: 59.6736 x 33.5664 cm, 45-degree tilt"),
+            "Sony Spatial Reality Display ELF-SR2 27\", eye-tracked: --rig screen, 596.7x335.7 mm, "
+            "45-degree tilt",
+            596.7f, 335.7f, "Sony's SR display plugin: 59.6736 x 33.5664 cm, 45-degree tilt", 45.0f),
     stereo("barrier", "two-view parallax barrier (column interleave, kalaiah2007 section 4)", 1920,
            1080, k16x9, 1920, 1080, "columns", "kalaiah2007 section 4: column interleave"),
 };

@@ -10,9 +10,11 @@
 
 namespace mvr {
 
-ScreenCorners screenOfSize(float widthMm, float heightMm) {
+ScreenCorners screenOfSize(float widthMm, float heightMm, float tiltDegrees) {
     const float w = 0.5f * widthMm, h = 0.5f * heightMm;
-    return {{-w, -h, 0.0f}, {w, -h, 0.0f}, {-w, h, 0.0f}};
+    const float c = std::cos(glm::radians(tiltDegrees)), s = std::sin(glm::radians(tiltDegrees));
+    // The up axis leans back (toward −Z) by the tilt: (0, cos, −sin).
+    return {{-w, -h * c, h * s}, {w, -h * c, h * s}, {-w, h * c, -h * s}};
 }
 
 ScreenEyes eyesAtHead(const ScreenCorners& screen, glm::vec3 head, float ipdMm) {
@@ -99,8 +101,7 @@ glm::vec3 screenToWorld(const Camera& framing, float convergence, const ScreenCo
     const float scale = 2.0f * halfWidth / screen.width();  // world units per mm
     const glm::vec3 q = p - screen.centre();
     const glm::vec3 centre = framing.position + f * convergence;
-    return centre + scale * (r * glm::dot(q, screen.right()) + u * glm::dot(q, screen.up()) -
-                             f * glm::dot(q, screen.normal()));
+    return centre + scale * (r * q.x + u * q.y - f * q.z);
 }
 
 Result<Rig> makeScreenRig(const Camera& framing, float convergence, const ScreenEyes& eyes) {

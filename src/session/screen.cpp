@@ -153,7 +153,7 @@ Status checkScreenOptions(const RenderRecipe& r, int views, bool screenRig) {
         if (r.screen.given()) {
             return usageError(
                 "the screen options (--screen-mm, --screen-corners, --eyes, --ipd-mm, --head, "
-                "--eye-track, --depth-factor, --look-around) need --rig screen");
+                "--eye-track, --depth-factor, --look-around, --screen-tilt) need --rig screen");
         }
         return {};
     }
@@ -178,8 +178,15 @@ Result<ScreenEyes> screenEyesOf(const RenderRecipe& r, float viewAspect,
                                 const DisplayPreset* display) {
     const ScreenRecipe& s = r.screen;
     ScreenCorners screen;
+    float tilt = display && display->tracked() ? display->screenTiltDegrees : 0.0f;
+    if (s.tiltDegrees) {
+        if (!(std::isfinite(*s.tiltDegrees) && std::abs(*s.tiltDegrees) <= 85.0))
+            return usageError(fmt::format("--screen-tilt {} is out of range (expected -85 .. 85 degrees)", *s.tiltDegrees));
+        tilt = float(*s.tiltDegrees);
+    }
     if (!s.corners.empty()) {
         if (!s.size.empty()) return usageError(fmt::format("--screen-corners excludes --screen-mm {}", s.size));
+        if (s.tiltDegrees) return usageError(fmt::format("--screen-corners excludes --screen-tilt {} (the corners give the tilt)", *s.tiltDegrees));
         auto p = pointsOf(s.corners, "--screen-corners", 3, "lower-left;lower-right;upper-left");
         if (!p) return p.status();
         screen = {(*p)[0], (*p)[1], (*p)[2]};
@@ -202,14 +209,14 @@ Result<ScreenEyes> screenEyesOf(const RenderRecipe& r, float viewAspect,
         if (!ok) return usageError(fmt::format("--screen-mm {}: expected WxH in millimetres (e.g. 597.9x336.3)", s.size));
         if (!(w >= 1.0 && h >= 1.0 && w <= 1e5 && h <= 1e5))
             return usageError(fmt::format("--screen-mm {}: out of range (expected 1 .. 100000 mm a side)", s.size));
-        screen = screenOfSize(float(w), float(h));
+        screen = screenOfSize(float(w), float(h), tilt);
     } else if (r.screenWidthCm) {
         const float w = float(*r.screenWidthCm) * 10.0f;
-        screen = screenOfSize(w, w / viewAspect);
+        screen = screenOfSize(w, w / viewAspect, tilt);
     } else if (display && display->tracked()) {
-        screen = screenOfSize(display->screenWidthMm, display->screenHeightMm);
+        screen = screenOfSize(display->screenWidthMm, display->screenHeightMm, tilt);
     } else {
-        screen = screenOfSize(597.9f, 336.3f);
+        screen = screenOfSize(597.9f, 336.3f, tilt);
     }
     EyeFactors factors;
     factors.home = screen.centre() +

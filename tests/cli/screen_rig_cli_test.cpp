@@ -2,6 +2,7 @@
 // itself is tested in tests/core/screen_rig_test.cpp), and every refusal as one error line.
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -67,6 +68,11 @@ TEST_F(ScreenRigCli, TwoEyesOfTheDefaultScreenAndAMovedHead) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.err.find("warning: the views are 64x64"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("--size 64x36 keeps the pixels square"), std::string::npos) << r.err;
+    // The comfort line's budget is the eyes' own separation: 70 mm, half of it at 60 cm.
+    r = run("render pyramid.obj --rig screen --ipd-mm 70 --size 96x54 -o d");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("budget 3.50 cm (desktop: half the 7 cm eye separation)"), std::string::npos)
+        << r.out;
 }
 
 // The tracked monitors' presets: --rig screen on their screen in mm, the side by side the SR
@@ -96,6 +102,31 @@ TEST_F(ScreenRigCli, TrackedMonitorPresetsAreTheirScreens) {
     EXPECT_NE(r.out.find("596.7x335.7 mm"), std::string::npos) << r.out;
 }
 
+// Sony's panels lean back 45 degrees: the presets render the tilted screen, the same as the
+// corners computed here (a 345.4 x 194.3 mm panel about its centre: up (0, cos, -sin)) and as
+// --screen-tilt 45; upright, the eyes see something else.
+TEST_F(ScreenRigCli, SonysPresetsAreTiltedScreens) {
+    const std::string common = "render pyramid.obj --size 192x108 --format sbs -q ";
+    test::CliRun r = run(common + "--display sony-sr1 -o preset");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    r = run(common + "--rig screen --screen-mm 345.4x194.3 --screen-tilt 45 -o tilt");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const double w = 345.4 / 2, h = 194.3 / 2, c = std::cos(M_PI / 4), s = std::sin(M_PI / 4);
+    // The default head: 600 mm from the panel's centre along its normal (0, s, c).
+    r = run(common + fmt::format("--rig screen --screen-corners '{0},{1},{2};{3},{1},{2};{0},{4},{5}' "
+                                 "--head 0,{6},{7} -o corners",
+                                 -w, -h * c, h * s, w, h * c, -h * s, 600 * s, 600 * c));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    r = run(common + "--rig screen --screen-mm 345.4x194.3 -o upright");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto preset = readPng(mDir / "preset/sbs.png"), tilt = readPng(mDir / "tilt/sbs.png");
+    auto corners = readPng(mDir / "corners/sbs.png"), upright = readPng(mDir / "upright/sbs.png");
+    ASSERT_TRUE(preset && tilt && corners && upright);
+    EXPECT_EQ(differing(*preset, *tilt), 0);
+    EXPECT_LE(differing(*preset, *corners), 4);  // the corners as printed: rounded to 6 digits
+    EXPECT_GT(differing(*preset, *upright), 100);
+}
+
 TEST_F(ScreenRigCli, NonsenseIsOneErrorLineNamingTheOption) {
     expectError("--rig screen --views 3", "--rig screen renders two views (the eyes), not --views 3");
     expectError("--rig screen --view-grid 2x1", "--rig screen excludes --view-grid 2x1");
@@ -113,6 +144,10 @@ TEST_F(ScreenRigCli, NonsenseIsOneErrorLineNamingTheOption) {
     expectError("--rig screen --screen-corners '0,0,0;600,0,0;100,300,0'", "--screen-corners");
     expectError("--rig screen --screen-corners '0,0,0;600,0,0;0,300,0' --screen-mm 600x300",
                 "--screen-corners excludes --screen-mm 600x300");
+    expectError("--rig screen --screen-tilt 90", "--screen-tilt 90 is out of range (expected -85 .. 85 degrees)");
+    expectError("--rig screen --screen-corners '0,0,0;600,0,0;0,300,0' --screen-tilt 10",
+                "--screen-corners excludes --screen-tilt 10");
+    expectError("--screen-tilt 45", "need --rig screen");
 }
 
 }  // namespace

@@ -90,34 +90,50 @@ TEST(ScreenRig, ParallaxIsZeroOnTheScreenAndSimilarTrianglesBehindIt) {
     EXPECT_NEAR(rig.interaxial, ipd * scale(), 1e-5f);
 }
 
-TEST(ScreenRig, ATiltedScreenByItsCornersStillFramesTheWindow) {
+TEST(ScreenRig, ATiltedScreenKeepsTheSceneUprightInTheRoom) {
     // A 300 x 200 mm panel leaning back 45 degrees (as Sony's Spatial Reality Display), its
     // lower edge on the desk; eyes above and in front of it.
     const float c = std::cos(glm::radians(45.0f)), s = std::sin(glm::radians(45.0f));
-    ScreenCorners tilted{{-150, 0, 0}, {150, 0, 0}, {-150, 200 * c, -200 * s}};
+    const ScreenCorners tilted{{-150, 0, 0}, {150, 0, 0}, {-150, 200 * c, -200 * s}};
     ScreenEyes eyes;
     eyes.screen = tilted;
     eyes.leftEye = {-32.0f, 350.0f, 350.0f};
     eyes.rightEye = {32.0f, 350.0f, 350.0f};
-    // The framing at the panel's aspect 3:2 (prepare() sets it so): its window is the panel.
-    const float hy = halfHeight(), hx = hy * 1.5f;
     Camera f = framing();
     f.aspect = 1.5f;
     auto made = makeScreenRig(f, kConv, eyes);
     ASSERT_TRUE(made) << made.status().message();
-    const glm::vec3 corners[4] = {{-hx, -hy, 0}, {hx, -hy, 0}, {hx, hy, 0}, {-hx, hy, 0}};
+    // The room's axes are the camera's (x right, y up, z toward it), the panel's centre
+    // (0, 100c, −100s) mm on the convergence point (the origin), 300 mm the window's width.
+    const float hx = halfHeight() * 1.5f, sc = 2.0f * hx / 300.0f;
+    const glm::vec3 centreMm(0.0f, 100.0f * c, -100.0f * s);
+    auto world = [&](glm::vec3 mm) { return sc * (mm - centreMm); };
+    const glm::vec3 upperRight = tilted.lowerRight + (tilted.upperLeft - tilted.lowerLeft);
+    const glm::vec3 corners[4] = {tilted.lowerLeft, tilted.lowerRight, upperRight, tilted.upperLeft};
     const glm::vec2 expected[4] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
     for (const View& v : made->views) {
         for (int i = 0; i < 4; ++i) {
-            EXPECT_NEAR(ndc(v, corners[i]).x, expected[i].x, 1e-4f) << i;
-            EXPECT_NEAR(ndc(v, corners[i]).y, expected[i].y, 1e-4f) << i;
+            EXPECT_NEAR(ndc(v, world(corners[i])).x, expected[i].x, 1e-4f) << i;
+            EXPECT_NEAR(ndc(v, world(corners[i])).y, expected[i].y, 1e-4f) << i;
         }
     }
-    // The eye's distance to the panel's plane, mm: the plane through (0,0,0) with normal
-    // (0, s, c) (up and toward the viewer); in world units it is the view's distance to z = 0.
+    // The eyes where the room puts them: above the scene, looking down at it.
+    EXPECT_NEAR(glm::length(made->views[0].eyeWorld - world(eyes.leftEye)), 0.0f, 1e-4f);
+    EXPECT_NEAR(glm::length(made->views[1].eyeWorld - world(eyes.rightEye)), 0.0f, 1e-4f);
+    EXPECT_GT(made->views[0].eyeWorld.y, 0.0f);
+    // A point on the panel has zero parallax; one 100 mm behind it along its normal (0, s, c)
+    // has e·d / (D + d), D the eyes' distance to the panel's plane.
+    const glm::vec3 onPanel = world({40.0f, 60.0f * c, -60.0f * s});
+    EXPECT_NEAR(ndc(made->views[0], onPanel).x, ndc(made->views[1], onPanel).x, 1e-5f);
     const float dMm = 350.0f * s + 350.0f * c;
-    const float sc = 2.0f * hx / 300.0f;
-    EXPECT_NEAR(made->views[0].eyeWorld.z, dMm * sc, 1e-3f);
+    const glm::vec3 behind = world(glm::vec3(40.0f, 60.0f * c, -60.0f * s) - 100.0f * glm::vec3(0, s, c));
+    const float parallaxMm =
+        (ndc(made->views[1], behind).x - ndc(made->views[0], behind).x) * 0.5f * 300.0f;
+    EXPECT_NEAR(parallaxMm, 64.0f * 100.0f / (dMm + 100.0f), 0.01f);
+    // screenOfSize's tilt gives the same panel about its centre.
+    const ScreenCorners bySize = screenOfSize(300.0f, 200.0f, 45.0f);
+    EXPECT_NEAR(glm::length(bySize.lowerLeft - (tilted.lowerLeft - centreMm)), 0.0f, 1e-3f);
+    EXPECT_NEAR(glm::length(bySize.upperLeft - (tilted.upperLeft - centreMm)), 0.0f, 1e-3f);
 }
 
 TEST(ScreenRig, RigAtMovesTheScreenWithTheCamera) {

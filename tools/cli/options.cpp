@@ -100,6 +100,10 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
                     "--rig screen: a tilted screen by three corners, mm: lower-left;lower-right;"
                     "upper-left, each X,Y,Z")
         ->check(nonEmpty("three corners X,Y,Z separated by ';'"));
+    app->add_option("--screen-tilt", screen.tiltDegrees,
+                    "--rig screen: the screen leaning back, degrees, about its horizontal centre "
+                    "line; the scene stays upright in the room (default: the display's, 45 for "
+                    "Sony's, else 0)");
     app->add_option("--eyes", screen.eyes,
                     "--rig screen: the eyes in mm of screen space, LX,LY,LZ;RX,RY,RZ (a tracker's "
                     "reading)")

@@ -37,6 +37,8 @@ struct DisplayPreset {
     /// Reality Display): its picture in mm, rendered with `--rig screen` (mvr/core/screen_rig.h)
     /// unless another rig is asked for; 0 for other displays.
     float screenWidthMm = 0.0f, screenHeightMm = 0.0f;
+    /// The panel leaning back, degrees (Sony's stands: 45): screenOfSize()'s tilt.
+    float screenTiltDegrees = 0.0f;
     bool tracked() const { return screenWidthMm > 0.0f; }
 };
 

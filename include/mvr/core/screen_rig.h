@@ -4,17 +4,20 @@
 // screen's rectangle with its own off-axis frustum (Kooima, "Generalized Perspective
 // Projection", 2008; nvidia-gtc2010's "the screen is a window"), no toe-in.
 //
-// Screen space, in millimetres: the units the monitors' SDKs give eye positions in. By default
-// the screen is W × H mm centred on the origin, facing +Z (the viewer sits at +Z); a tilted
-// panel is given by three corners (lower-left pa, lower-right pb, upper-left pc). Eyes are
-// points in the same space.
+// Screen space, in millimetres: the units the monitors' SDKs give eye positions in, a room's
+// axes (+X right, +Y up, +Z toward the viewer). By default the screen is W × H mm centred on
+// the origin, facing +Z; a tilted panel (Sony's at 45°) is given by three corners (lower-left
+// pa, lower-right pb, upper-left pc) or by a tilt (screenOfSize()). Eyes are points in the
+// same space.
 //
-// The screen in the scene: the framed centre camera's window on its convergence plane (what a
+// The screen in the scene: centred on the framed centre camera's convergence point (what a
 // plain render shows, as nvidia-gtc2010 maps the screen to the convergence plane), scaled
-// uniformly so that the screen's width is the window's width; the screen's right / up / normal
-// axes are the camera's right / up / backward. Each eye's frustum then passes through the four
-// corners of that window: the corners project to the image corners in every eye, a point on
-// the screen has zero parallax, and a point at distance d behind it has the parallax
+// uniformly so that the screen's width is the window's width there; the room's right / up /
+// toward-the-viewer axes are the camera's right / up / backward, so the scene stays upright in
+// the room on a tilted panel (an upright screen is exactly the camera's window). Each eye's
+// frustum then passes through the four corners of the screen: the corners project to the image
+// corners in every eye, a point on the screen has zero parallax, and a point at distance d
+// behind it (along the screen's normal) has the parallax
 //     p = e · d / (D + d)     (e: the eyes' separation, D: their distance to the screen, mm)
 // that similar triangles give.
 #pragma once
@@ -43,8 +46,10 @@ struct ScreenCorners {
     glm::vec3 normal() const { return glm::normalize(glm::cross(right(), up())); }
 };
 
-/// A screen of width × height mm centred on the origin, facing +Z.
-ScreenCorners screenOfSize(float widthMm, float heightMm);
+/// A screen of width × height mm centred on the origin, facing +Z, or leaning back by
+/// `tiltDegrees` about its horizontal centre line (the top away from the viewer, the normal
+/// turned up: 45 for Sony's Spatial Reality Displays).
+ScreenCorners screenOfSize(float widthMm, float heightMm, float tiltDegrees = 0.0f);
 
 /// The screen and the two eyes (mm, screen space).
 struct ScreenEyes {
@@ -69,8 +74,9 @@ Status validateScreenEyes(const ScreenEyes& s, const std::string& what = "--rig 
 View kooimaView(const glm::vec3& lowerLeft, const glm::vec3& lowerRight,
                 const glm::vec3& upperLeft, const glm::vec3& eye, float near, float far);
 
-/// Where a screen-space point (mm) lies in the world once the screen is the window of
-/// `framing` (a framed centre camera) at distance `convergence`.
+/// Where a screen-space point (mm) lies in the world once the screen's centre is `framing`'s
+/// (a framed centre camera's) convergence point at distance `convergence` and its width the
+/// window's width there, the room's axes the camera's (the header).
 glm::vec3 screenToWorld(const Camera& framing, float convergence, const ScreenCorners& screen,
                         const glm::vec3& pointMm);
 

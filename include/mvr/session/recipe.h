@@ -114,9 +114,13 @@ struct ScreenRecipe {
     /// about their midpoint ("Depth Factor"), --look-around the head's movement away from the
     /// default head ("Look Around Factor"); 1: as given.
     std::optional<double> depthFactor, lookAround;
+    /// --screen-tilt DEG: the screen leaning back about its horizontal centre line (the top
+    /// away from the viewer); default the display preset's (45 for Sony's), else 0. Excludes
+    /// corners.
+    std::optional<double> tiltDegrees;
     bool given() const {
         return !size.empty() || !corners.empty() || !eyes.empty() || ipdMm || !head.empty() ||
-               !eyeTrack.empty() || depthFactor || lookAround;
+               !eyeTrack.empty() || depthFactor || lookAround || tiltDegrees;
     }
 };
 
