@@ -128,10 +128,10 @@ std::optional<ScreenComfortReport> screenComfortReport(const Prepared& p,
         c.separationRule ? fmt::format(", at infinity {:+.2f} cm", c.infinityParallaxCm) : "";
     r.line = fmt::format(
         "{}: parallax between the eyes' views ({} apart) {:+.2f} .. {:+.2f} cm = {:+.2f}% .. "
-        "{:+.2f}%{}{}; budget {:.2f} cm ({}) ({})",
+        "{:+.2f}%{}{}; budget {:.2f} cm ({} {:.3g} cm eye separation) ({})",
         where, c.pairViews, c.minParallaxCm, c.maxParallaxCm, 100.0 * c.minParallax,
         100.0 * c.maxParallax, infinity, vergence, c.budget.fraction * p.screen->widthCm,
-        c.budget.desktop ? "desktop: half the 6.5 cm eye separation" : "the eye separation",
+        c.budget.desktop ? "desktop: half the" : "the", p.screen->interocularCm,
         c.comfortable ? std::string("comfortable") : "uncomfortable: " + c.why);
     return r;
 }
