@@ -284,6 +284,14 @@ TEST_F(ViewCli, TheHeadKeysShowTheEyesOfAMovedHead) {
     ASSERT_EQ(shot.height, 90);
     EXPECT_LE(compareImages(shot, expected).maxDelta, 1);
     EXPECT_GT(differingFraction(shot, read(dir / "still" / "sbs.png"), 8), 0.002);  // it moved
+    // A ctrl+left drag (scripted head:DX:DY): a 320 px window over a 640 mm screen, so 20 px
+    // left and 10 px up move the head 40 mm left and 20 mm up.
+    const std::string wide = view + " --screen-mm 640x360";
+    r = run("view " + wide + " --format sbs --script head:-20:-10 --frames 3 --no-hud --screenshot d.png");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = run("render " + wide + " --head -40,20,600 --format sbs -o dragged -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_LE(compareImages(read(dir / "d.png"), read(dir / "dragged" / "sbs.png")).maxDelta, 1);
     // An eye track replayed (scripted: frame i at i/24 s): frame 24 has the eyes of t = 1 s.
     std::ofstream(dir / "eyes.csv") << "t,lx,ly,lz,rx,ry,rz\n0,-31.5,0,600,31.5,0,600\n"
                                        "1,-71.5,0,600,-8.5,0,600\n";

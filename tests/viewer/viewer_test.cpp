@@ -64,6 +64,13 @@ TEST(StereoCamera, TheHeadKeysMoveTheEyesOfAScreenRig) {
     EXPECT_EQ(headStepMm(actionForChar('4')), glm::vec3(-20.0f, 0.0f, 0.0f));
     EXPECT_EQ(headStepMm(actionForChar('9')), glm::vec3(0.0f, 0.0f, -20.0f));
     EXPECT_EQ(headStepMm(Action::Wireframe), glm::vec3(0.0f));
+    // A ctrl+left drag: the window's width stands for the screen's (597.9 mm over 300 px), y up.
+    const glm::vec3 dragged = headDragMm({30.0f, -60.0f}, 597.9f, 300);
+    EXPECT_NEAR(dragged.x, 59.79f, 1e-3f);
+    EXPECT_NEAR(dragged.y, 119.58f, 1e-3f);
+    EXPECT_EQ(dragged.z, 0.0f);
+    EXPECT_NEAR(s.screenWidthMm(), 597.9f, 1e-3f);
+    EXPECT_EQ(StereoCamera::fromRig(testRig(1.5f), 1.0f).screenWidthMm(), 0.0f);
     for (char key : {'4', '4', '8', '3'}) EXPECT_TRUE(s.moveHead(headStepMm(actionForChar(key))));
     Result<Rig> moved = s.rig();
     Result<Rig> expected = makeScreenRig(framing, 4.0f, eyesAt({-40.0f, 20.0f, 620.0f}));

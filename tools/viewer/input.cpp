@@ -1,5 +1,6 @@
 #include "input.h"
 
+#include <algorithm>
 #include <charconv>
 
 #include <fmt/core.h>
@@ -49,6 +50,11 @@ Action actionForChar(char32_t ch) {
         case '3': return Action::HeadFarther;
         default: return Action::None;
     }
+}
+
+glm::vec3 headDragMm(glm::vec2 deltaPx, float screenWidthMm, int windowWidthPx) {
+    const float mmPerPx = screenWidthMm / float(std::max(windowWidthPx, 1));
+    return {deltaPx.x * mmPerPx, -deltaPx.y * mmPerPx, 0.0f};
 }
 
 glm::vec3 headStepMm(Action action) {
@@ -124,6 +130,8 @@ Result<std::vector<ScriptStep>> parseScript(std::string_view script) {
             step.kind = ScriptStep::Kind::Drag;
         } else if (parsePair(token, "pan:", step.x, step.y)) {
             step.kind = ScriptStep::Kind::Pan;
+        } else if (parsePair(token, "head:", step.x, step.y)) {
+            step.kind = ScriptStep::Kind::Head;
         } else if (token.substr(0, 6) == "wheel:" && parseFloat(token.substr(6), step.x)) {
             step.kind = ScriptStep::Kind::Wheel;
         } else if (parsePair(token, "size:", step.x, step.y) && step.x >= 1 && step.y >= 1 &&
@@ -133,7 +141,7 @@ Result<std::vector<ScriptStep>> parseScript(std::string_view script) {
             return usageError(fmt::format(
                 "--script: token {} '{}' is not a key or command (expected a key such as m, f, "
                 "+, -, [, ], <, >, v, s, w, p; left, right, up, down, pgup, pgdn, esc, f1, f12; at:X:Y, "
-                "drag:DX:DY, pan:DX:DY, wheel:N or size:W:H)",
+                "drag:DX:DY, pan:DX:DY, head:DX:DY, wheel:N or size:W:H)",
                 index, token));
         }
         steps.push_back(step);
@@ -144,7 +152,8 @@ Result<std::vector<ScriptStep>> parseScript(std::string_view script) {
 
 const std::vector<KeyHelp>& keyHelp() {
     static const std::vector<KeyHelp> kHelp = {
-        {"mouse", "left drag: orbit, right (or shift+left) drag: pan, wheel: zoom"},
+        {"mouse", "left drag: orbit, right (or shift+left) drag: pan, wheel: zoom, ctrl+left "
+                  "drag: the head (--rig screen)"},
         {"m / M", "next / previous method (gl methods, then soft)"},
         {"f / F", "next / previous output format"},
         {"+ / -", "separation up / down (0.25% of screen width); view cone +/- 5 deg (N views)"},

@@ -65,15 +65,23 @@ enum class Action {
 /// viewer); zero for other actions.
 glm::vec3 headStepMm(Action action);
 
+/// What a mouse drag does: orbit (left), pan (right, middle, shift+left), or, with --rig screen,
+/// move the head (ctrl+left) in the screen's plane, the window's width standing for the
+/// screen's: a drag across the whole window moves the head by the screen's width.
+enum class DragMode { None, Orbit, Pan, Head };
+
+/// How far a head drag of `deltaPx` (window pixels, y down) moves the head, mm of screen space.
+glm::vec3 headDragMm(glm::vec2 deltaPx, float screenWidthMm, int windowWidthPx);
+
 /// The action of a printable key (its character as typed), or Action::None.
 Action actionForChar(char32_t ch);
 
 /// One scripted step.
 struct ScriptStep {
-    enum class Kind { Action, MouseAt, Drag, Pan, Wheel, Resize } kind = Kind::Action;
+    enum class Kind { Action, MouseAt, Drag, Pan, Head, Wheel, Resize } kind = Kind::Action;
     Action action = Action::None;
     float x = 0.0f,
-          y = 0.0f;  ///< MouseAt: position; Drag/Pan: delta; Wheel: steps in x; Resize: size
+          y = 0.0f;  ///< MouseAt: position; Drag/Pan/Head: delta; Wheel: steps in x; Resize: size
 };
 
 /// Parses a --script string. Errors (ErrorCode::Usage): an unknown token, naming it and its

@@ -173,7 +173,7 @@ std::function<int()> addViewCommand(CLI::App& root) {
     app->add_option(
         "--script", o->script,
         "Comma-separated keys applied one per frame, e.g. \"m,m,+\" or \">,>,v\"; also left, right, up, "
-        "down, pgup, pgdn, esc, f1, f12, at:X:Y (mouse), drag:DX:DY, pan:DX:DY, wheel:N, size:W:H");
+        "down, pgup, pgdn, esc, f1, f12, at:X:Y (mouse), drag:DX:DY, pan:DX:DY, head:DX:DY, wheel:N, size:W:H");
     app->add_flag("--no-hud", o->noHud, "Hide the HUD and the 3D cursor");
     app->add_flag("-q,--quiet", o->quiet, "Print nothing but errors");
     std::string keys = "Keys (also shown in the window by ? or F1):\n";

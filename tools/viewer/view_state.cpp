@@ -33,6 +33,10 @@ bool StereoCamera::moveHead(glm::vec3 deltaMm) {
     return false;
 }
 
+float StereoCamera::screenWidthMm() const {
+    return screenRig && screenRig->screen ? screenRig->screen->screen.width() : 0.0f;
+}
+
 void StereoCamera::setEyes(const ScreenEyes& eyes) {
     if (screenRig) screenRig->screen = std::make_shared<const ScreenEyes>(eyes);
 }

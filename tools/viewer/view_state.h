@@ -62,6 +62,8 @@ struct StereoCamera {
     /// Moves the head by `deltaMm`; false (unmoved) when an eye would leave the space in front
     /// of the screen, or for other rigs.
     bool moveHead(glm::vec3 deltaMm);
+    /// The screen's width, mm (--rig screen; else 0).
+    float screenWidthMm() const;
     /// The eyes before headOffsetMm (an eye track's of this frame); no-op for other rigs.
     void setEyes(const ScreenEyes& eyes);
 

@@ -79,25 +79,21 @@ void onGlfwError(int code, const char* description) {
 
 // ---- the viewer --------------------------------------------------------------------------------
 
-/// The viewer reads view 0's depth (parallax line, 3D cursor).
-RenderSettings withDepth(RenderSettings s) {
-    s.depth = true;
-    return s;
-}
-
 class Viewer {
 public:
     Viewer(const ViewerOptions& options, session::Prepared prepared, std::vector<ScriptStep> script)
         : mOptions(options),
           mPrepared(std::move(prepared)),
           mScript(std::move(script)),
-          mSettings(withDepth(mPrepared.settings)),
+          mSettings(mPrepared.settings),
           mStereo(StereoCamera::fromRig(mPrepared.rig, mPrepared.scene.bounds().radius(),
                                         mPrepared.viewConeDegrees)),
           mInitialStereo(mStereo),
           mSwapEyes(options.swapEyes),
           mShowHud(!options.noHud),
-          mCompose(options.composeOptions) {}
+          mCompose(options.composeOptions) {
+        mSettings.depth = true;  // the viewer reads view 0's depth (parallax line, 3D cursor)
+    }
 
     int run();
 
@@ -119,7 +115,7 @@ private:
     void cycleMethod(int direction);
     void cycleFormat(int direction);
     void say(std::string message);
-    void drag(glm::vec2 delta, bool panning);
+    void drag(glm::vec2 delta, DragMode mode);
 
     std::string formatName() const { return mFormats[mFormatIndex]; }
     int viewCount() const { return mStereo.columns; }
@@ -181,7 +177,7 @@ private:
     glm::dvec2 mMouse{0.0};  ///< window coordinates, row 0 at the top
     bool mMouseInside = false;
     bool mMouseScripted = false;  ///< a script step placed the mouse: ignore the real pointer
-    bool mOrbiting = false, mPanning = false;
+    DragMode mDragging = DragMode::None;
     glm::dvec2 mDragFrom{0.0};
 
     std::string mMessage;
@@ -273,8 +269,8 @@ Status Viewer::openWindow(glm::ivec2 size) {
     glfwSetCursorPosCallback(mWindow, [](GLFWwindow* w, double x, double y) {
         auto* self = static_cast<Viewer*>(glfwGetWindowUserPointer(w));
         const glm::dvec2 p(x, y);
-        if (self->mOrbiting || self->mPanning) {
-            self->drag(glm::vec2(p - self->mDragFrom), self->mPanning);
+        if (self->mDragging != DragMode::None) {
+            self->drag(glm::vec2(p - self->mDragFrom), self->mDragging);
             self->mDragFrom = p;
         }
         self->mMouse = p;
@@ -284,14 +280,11 @@ Status Viewer::openWindow(glm::ivec2 size) {
         double x = 0, y = 0;
         glfwGetCursorPos(w, &x, &y);
         self->mDragFrom = {x, y};
-        const bool down = action == GLFW_PRESS;
-        if (button == GLFW_MOUSE_BUTTON_LEFT && !(mods & GLFW_MOD_SHIFT)) {
-            self->mOrbiting = down;
-        } else if (button == GLFW_MOUSE_BUTTON_LEFT || button == GLFW_MOUSE_BUTTON_RIGHT ||
-                   button == GLFW_MOUSE_BUTTON_MIDDLE) {
-            self->mPanning = down;
-            if (!down) self->mOrbiting = false;
-        }
+        const bool left = button == GLFW_MOUSE_BUTTON_LEFT;
+        self->mDragging = action != GLFW_PRESS             ? DragMode::None
+                          : left && (mods & GLFW_MOD_CONTROL) ? DragMode::Head
+                          : left && !(mods & GLFW_MOD_SHIFT)  ? DragMode::Orbit
+                                                              : DragMode::Pan;
     });
     glfwSetScrollCallback(mWindow, [](GLFWwindow* w, double, double dy) {
         auto* self = static_cast<Viewer*>(glfwGetWindowUserPointer(w));
@@ -322,10 +315,13 @@ void Viewer::say(std::string message) {
     mMessageUntil = Clock::now() + std::chrono::seconds(4);
 }
 
-void Viewer::drag(glm::vec2 delta, bool panning) {
-    if (panning) {
-        int w = 1, h = 1;
-        glfwGetWindowSize(mWindow, &w, &h);
+void Viewer::drag(glm::vec2 delta, DragMode mode) {
+    int w = 1, h = 1;
+    glfwGetWindowSize(mWindow, &w, &h);
+    if (mode == DragMode::Head) {
+        if (!mStereo.moveHead(headDragMm(delta, mStereo.screenWidthMm(), w)))
+            return say("head not moved: --rig screen only, the eyes in front of the screen");
+    } else if (mode == DragMode::Pan) {
         mStereo.pan(-delta.x / float(std::max(h, 1)), delta.y / float(std::max(h, 1)));
     } else {
         mStereo.orbit(-delta.x * 0.006f, delta.y * 0.006f);
@@ -486,7 +482,8 @@ void Viewer::apply(Action action) {
         }
         case Action::HeadLeft: case Action::HeadRight: case Action::HeadUp: case Action::HeadDown:
         case Action::HeadNearer: case Action::HeadFarther:  // --rig screen: the eyes in front
-            if (!mStereo.moveHead(headStepMm(action))) return say("head not moved: --rig screen only");
+            if (!mStereo.moveHead(headStepMm(action)))
+                return say("head not moved: --rig screen only, the eyes in front of the screen");
             break;
     }
     mNeedRender = true;  // orbit / zoom / head
@@ -500,8 +497,9 @@ void Viewer::applyStep(const ScriptStep& step) {
             mMouseInside = true;
             mMouseScripted = true;
             break;
-        case ScriptStep::Kind::Drag: drag({step.x, step.y}, false); break;
-        case ScriptStep::Kind::Pan: drag({step.x, step.y}, true); break;
+        case ScriptStep::Kind::Drag: drag({step.x, step.y}, DragMode::Orbit); break;
+        case ScriptStep::Kind::Pan: drag({step.x, step.y}, DragMode::Pan); break;
+        case ScriptStep::Kind::Head: drag({step.x, step.y}, DragMode::Head); break;
         case ScriptStep::Kind::Wheel:
             mStereo.zoom(std::pow(0.9f, step.x));
             mNeedRender = true;
