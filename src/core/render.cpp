@@ -19,6 +19,8 @@ Status validateSettings(const RenderSettings& s) {
     for (int i = 0; i < 3; ++i) {
         if (!std::isfinite(s.clearColor[i])) return usageError("clear color is not finite");
     }
+    if (!(s.samples == 1 || s.samples == 2 || s.samples == 4 || s.samples == 8))
+        return usageError(fmt::format("{} samples a pixel (expected 1, 2, 4 or 8)", s.samples));
     return {};
 }
 

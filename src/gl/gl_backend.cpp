@@ -1,5 +1,6 @@
 #include "mvr/gl/gl_backend.h"
 
+#include "mvr/core/antialias.h"
 #include "mvr/core/shadows.h"
 #include "renderer.h"
 
@@ -21,6 +22,7 @@ public:
     // faults) where they have the request's size.
     Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& requested,
                       const std::string& method, RenderOutput& out) override {
+        if (requested.samples > 1) return renderSampled(*this, scene, rig, requested, method, out);
         const RenderSettings settings = shadedSettings(requested);
         if (!settings.shadows) return mRenderer.renderInto(scene, rig, settings, method, out);
         // Shadows (issue 15): the casters' maps once for all views, as one multi-view pass

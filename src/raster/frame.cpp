@@ -10,6 +10,8 @@
 
 #include <algorithm>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 namespace mvr::raster::detail {
 
 DrawList makeDrawList(const Scene& scene) {
@@ -33,6 +35,10 @@ DrawList makeDrawList(const Scene& scene) {
 }
 
 glm::mat4 centerClipFromWorld(const Rig& rig) {
+    if (rig.clipJitter != glm::vec2(0.0f)) {  // a sub-pixel sample (antialias.h)
+        const glm::mat4 move = glm::translate(glm::mat4(1.0f), glm::vec3(rig.clipJitter, 0.0f));
+        return move * rig.camera.clipFromView() * rig.camera.viewFromWorld();
+    }
     return rig.camera.clipFromView() * rig.camera.viewFromWorld();
 }
 

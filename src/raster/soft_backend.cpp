@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "cpu.h"
+#include "mvr/core/antialias.h"
 #include "mvr/core/platform.h"
 #include "mvr/core/shadows.h"
 #include "methods.h"
@@ -94,6 +95,7 @@ public:
 
     Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& requested,
                       const std::string& method, RenderOutput& out) override {
+        if (requested.samples > 1) return renderSampled(*this, scene, rig, requested, method, out);
         const RenderSettings settings = shadedSettings(requested);
         if (Status s = validateRequest(scene, rig, settings); !s) return s;
         if (Status s = supports(method); !s) return s;

@@ -1,5 +1,6 @@
 #include "mvr/vk/vk_backend.h"
 
+#include "mvr/core/antialias.h"
 #include "renderer.h"
 
 namespace mvr::vk {
@@ -20,6 +21,7 @@ public:
     }
     Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& requested,
                       const std::string& method, RenderOutput& out) override {
+        if (requested.samples > 1) return renderSampled(*this, scene, rig, requested, method, out);
         return mRenderer.renderInto(scene, rig, shadedSettings(requested), method, out);
     }
     std::vector<std::string> info() const override { return mRenderer.info(); }

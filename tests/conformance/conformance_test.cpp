@@ -41,6 +41,7 @@ struct SceneCase {
     Shading shading = Shading::Vertex;
     bool cull = false, wire = false;
     bool shadows = false;  ///< RenderSettings::shadows (issue 15), maps of 512²
+    int samples = 1;       ///< RenderSettings::samples (issue 38, --aa)
 
     int views() const { return columns * rows; }
     std::vector<std::string> tags() const {
@@ -51,9 +52,10 @@ struct SceneCase {
         return t;
     }
     std::string name() const {
-        std::string s = fmt::format("{}_{}_{}x{}{}{}{}", scene, shadingName(shading), columns,
+        std::string s = fmt::format("{}_{}_{}x{}{}{}{}{}", scene, shadingName(shading), columns,
                                     rows, cull ? "_cull" : "", wire ? "_wire" : "",
-                                    shadows ? "_shadows" : "");
+                                    shadows ? "_shadows" : "",
+                                    samples > 1 ? fmt::format("_aa{}", samples) : "");
         for (char& c : s) c = (c == '-') ? '_' : c;
         return s;
     }
@@ -105,6 +107,10 @@ const std::vector<SceneCase>& sceneCases() {
         {"colored", 2, 1, Shading::Flat},
         {"colored", 2, 1, Shading::Vertex},
         {"colored", 3, 2, Shading::Pixel},
+        // Issue 38: --aa 4, four sub-pixel passes resolved (antialias.h), in every method.
+        {"suzanne", 2, 1, Shading::Vertex, false, false, false, 4},
+        {"default", 3, 2, Shading::Pixel, false, false, false, 4},
+        {"textured", 2, 1, Shading::Flat, false, false, false, 4},
     };
     return cases;
 }
@@ -133,6 +139,7 @@ RenderSettings settingsFor(const SceneCase& c) {
     s.clearColor = kClear;
     s.shadows = c.shadows;
     s.shadowMapSize = 512;
+    s.samples = c.samples;
     return s;
 }
 

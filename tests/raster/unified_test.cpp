@@ -279,6 +279,61 @@ TEST(UnifiedEqualsMultipass, EveryViewCountAndShading) {
     EXPECT_GT(stats.covered, stats.renders * 500);
 }
 
+// --aa N (antialias.h): each sample is an exact pair, so the resolve is too — over the random
+// soups, the models and the default scene's rows and grids, 2, 4 and 8 samples a pixel.
+TEST(UnifiedEqualsMultipass, SeveralSamplesAPixel) {
+    auto backend = makeSoftBackend();
+    std::mt19937 rng(38);
+    Stats stats;
+    for (int i = 0; i < 24; ++i) {
+        SCOPED_TRACE(fmt::format("soup case {}", i));
+        const Scene scene = randomSoup(rng, 40 + int(rng() % 60));
+        RenderSettings s = randomSettings(rng, i);
+        s.samples = i % 6 == 5 ? 8 : i % 6 == 4 ? 2 : 4;
+        s.wireframe = i % 10 == 9;
+        Camera cam;
+        cam.position = {0.0f, 0.0f, 3.0f};
+        cam.target = {0.2f, -0.1f, 0.0f};
+        cam.near = 0.3f, cam.far = 30.0f;
+        cam.aspect = float(s.width) / float(s.height);
+        const Rig rig = randomRig(rng, cam, i);
+        expectSame(*backend, scene, rig, s, stats);
+    }
+    for (const char* name : {"stanford-bunny.obj", "teapot.obj"}) {
+        const auto path = modelsDir() / name;
+        if (!std::filesystem::exists(path)) continue;
+        auto mesh = loadMesh(path);
+        ASSERT_TRUE(mesh) << mesh.status().message();
+        const Scene scene = makeGridScene({std::move(mesh).value()}, 2);
+        const Bounds b = scene.bounds();
+        for (int i = 0; i < 4; ++i) {
+            RenderSettings s = randomSettings(rng, i);
+            s.samples = 4;
+            const Camera cam = randomCamera(rng, b.center(), b.radius() * 2.5f,
+                                            float(s.width) / float(s.height));
+            expectSame(*backend, scene, randomRig(rng, cam, i), s, stats);
+        }
+    }
+    const Scene scene = makeDefaultScene();
+    for (auto [c, r] : {std::pair{2, 1}, {9, 1}, {3, 3}, {45, 1}}) {
+        RigParams p;
+        p.columns = c, p.rows = r, p.interaxial = 0.2f, p.convergence = 6.0f;
+        auto rig = makeRig(defaultSceneCamera(80.0f / 60.0f), p);
+        ASSERT_TRUE(rig);
+        RenderSettings s;
+        s.width = 80, s.height = 60, s.samples = 4;
+        expectSame(*backend, scene, *rig, s, stats);
+        // The samples moved the image: not the one-sample render.
+        RenderSettings one = s;
+        one.samples = 1;
+        auto a = backend->render(scene, *rig, s, "unified");
+        auto b = backend->render(scene, *rig, one, "unified");
+        ASSERT_TRUE(a && b);
+        EXPECT_NE(firstDifference(*a, *b), "");
+    }
+    EXPECT_GT(stats.covered, stats.renders * 50);
+}
+
 TEST(UnifiedEqualsMultipass, GridViewsInAnyOrder) {
     // unified computes x once per column of a grid (views with the same shear.x share it) and
     // lets a row reuse another row's interleaved x: the views' order must not matter. A 3x2 grid

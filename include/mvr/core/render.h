@@ -42,6 +42,9 @@ struct RenderSettings {
     /// read-back (gl: half the bytes; RenderOutput::depth is then empty); a backend for which
     /// depth costs nothing may still return it.
     bool depth = true;
+    /// Samples a pixel (issue 38, `--aa N`: 1, 2, 4, 8; mvr/core/antialias.h): > 1 renders
+    /// that many sub-pixel passes and resolves them (renderSampled()), in every backend.
+    int samples = 1;
 };
 
 /// Caller-owned memory for the images of one render: `views` colour images of width×height

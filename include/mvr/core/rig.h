@@ -101,6 +101,10 @@ struct Rig {
     std::shared_ptr<const ScreenEyes> screen;
     Camera screenFraming;
     float screenConvergence = 0.0f;
+    /// A sub-pixel sample's offset (antialias.h's offsetRig()), NDC per unit w: every view's
+    /// clipFromView already holds it; the centre camera's clip transform adds it (the soft
+    /// backend's shear form derives the views from it). Zero otherwise.
+    glm::vec2 clipJitter{0.0f};
 
     int viewCount() const { return static_cast<int>(views.size()); }
     glm::vec3 centerEye() const { return camera.position; }
