@@ -135,6 +135,7 @@ def render(
     wireframe: bool = ...,
     shadows: bool = ...,
     shadow_map_size: int = ...,
+    aa: Literal[1, 2, 4, 8] = ...,
     billboards: int = ...,
     billboard_size: float = ...,
     backend: str = ...,

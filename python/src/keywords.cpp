@@ -405,7 +405,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"screen_width", Kind::Float},   {"viewing_distance", Kind::Float},
             {"shading", Kind::Text},         {"cull", Kind::Flag},
             {"wireframe", Kind::Flag},       {"shadows", Kind::Flag},
-            {"shadow_map_size", Kind::Int},  {"billboards", Kind::Int},
+            {"shadow_map_size", Kind::Int},  {"aa", Kind::Int},  {"billboards", Kind::Int},
             {"billboard_size", Kind::Float}, {"backend", Kind::Text},
             {"method", Kind::Text},          {"output", Kind::Text},
             {"depth", Kind::Flag},           {"quiet", Kind::Flag},
@@ -526,6 +526,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     if (auto* v = get("wireframe")) r.wireframe = v->flag;
     if (auto* v = get("shadows")) r.shadows = v->flag;
     if (auto* v = get("shadow_map_size")) r.shadowMapSize = int(v->integer);
+    if (auto* v = get("aa")) r.aa = int(v->integer);
     if (auto* v = get("billboards")) r.billboards = int(v->integer);
     if (auto* v = get("billboard_size")) r.billboardSize = v->number;
     if (auto* v = get("backend")) r.backend = v->text;

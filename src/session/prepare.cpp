@@ -24,6 +24,7 @@
 #include "mvr/session/screen.h"
 #include "mvr/session/outputs.h"
 #include "mvr/session/surfaces.h"
+#include "mvr/session/sampling.h"
 #include "mvr/session/view_range.h"
 
 namespace mvr::session {
@@ -632,8 +633,8 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     auto sh = parseShading(r.shading);
     if (!sh) return usageError(fmt::format("--shading {}: {}", r.shading, sh.status().message()));
     out.settings.shading = *sh;
-    out.settings.cullBackFaces = r.cull;
-    out.settings.wireframe = r.wireframe;
+    out.settings.cullBackFaces = r.cull, out.settings.wireframe = r.wireframe;
+    if (Status s = applySampling(r, out); !s) return s;  // --aa (sampling.h)
     if (r.shadowMapSize < 16 || r.shadowMapSize > 8192) {
         return usageError(
             fmt::format("--shadow-map-size {} is out of range (expected 16..8192)", r.shadowMapSize));

@@ -404,7 +404,8 @@ TEST_F(ViewCli, WithoutEglTheDefaultBackendFallsBackToSoft) {
 TEST_F(ViewCli, StepsThroughTheViewsOfAQuilt) {
     needDisplay();
     constexpr int kW = 120, kH = 160, kColumns = 8, kRows = 6, kViews = 48;
-    const std::string scene = "--display portrait --size 120x160 --backend soft --method unified";
+    // --aa 1: the viewer takes one sample a pixel, where mvr render's presets take 4.
+    const std::string scene = "--display portrait --size 120x160 --aa 1 --backend soft --method unified";
     CliRun r = run("render " + scene + " --write views,composites -o render -q");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     auto renderedView = [&](int v) { return read(dir / "render" / fmt::format("view-{}.png", v)); };
@@ -452,7 +453,8 @@ TEST_F(ViewCli, ConeKeysAndTheCalibrationsViewCone) {
     // '+' twice: the cone 40 → 50 degrees; the single view 0 is then `mvr render --view-cone
     // 50`'s view 0 (and no longer the 40-degree one).
     needDisplay();
-    const std::string scene = "--display portrait --size 120x160 --backend soft --method unified";
+    // --aa 1: the viewer takes one sample a pixel, where mvr render's presets take 4.
+    const std::string scene = "--display portrait --size 120x160 --aa 1 --backend soft --method unified";
     CliRun r = run("render " + scene + " --view-cone 50 --write views -o cone50 -q");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     r = run("render " + scene + " --write views -o cone40 -q");

@@ -255,6 +255,10 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
                   "all views, 3x3 percentage-closer filtering");
     app->add_option("--shadow-map-size", shadowMapSize, "Shadow map texels per side (16..8192)")
         ->default_val(shadowMapSize);
+    app->add_option("--aa", aa,
+                    "Anti-aliasing: N samples a pixel, 1, 2, 4 or 8, at the standard multisample "
+                    "positions, resolved to the output (default 4 for light-field --display "
+                    "presets, else 1: plain renders and the benches keep one sample)");
     app->add_option("--billboards", billboards,
                     "Scatter N camera-facing particle quads through the scene's bounds, in planes "
                     "parallel to the screen (nvidia-gtc2010); textured with the scene's first "
@@ -302,6 +306,7 @@ session::RenderRecipe SceneOptions::recipe() const {
     r.wireframe = wireframe;
     r.shadows = shadows;
     r.shadowMapSize = shadowMapSize;
+    r.aa = aa;
     return r;
 }
 

@@ -54,6 +54,7 @@ session::RenderRecipe viewerRecipe(const ViewerOptions& o) {
     r.outputs.quiltGiven = o.quiltGiven;
     r.backend = o.backend;
     r.method = o.method;
+    if (!r.aa) r.aa = 1;  // interactive: one sample a pixel unless --aa asks (presets take 4)
     return r;
 }
 

@@ -179,6 +179,8 @@ struct RenderRecipe {
     bool wireframe = false;
     bool shadows = false;
     int shadowMapSize = 1024;
+    /// --aa N: samples a pixel, 1, 2, 4, 8 (sampling.h; default 4 for light-field displays, 1).
+    std::optional<int> aa;
     std::string background;  ///< "R,G,B" in [0, 1] or "#RRGGBB"; empty: the scene's
 
     // ---- what is drawn after the scene, the sequence, the outputs and the backend ----
