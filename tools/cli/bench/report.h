@@ -61,6 +61,10 @@ struct RenderRow {
     /// views in (RenderStats::passes; 0: not recorded).
     double timesOne = 0;
     int passes = 0;
+    /// views --aa: the samples a pixel (RenderSettings::samples) and time / time of one sample
+    /// of the same job and views (0: not measured).
+    int samples = 1;
+    double timesOneSample = 0;
     /// sorbier: the textured row (a base color texture sampled with mipmaps, issue 14).
     bool textured = false;
     DeviceTimes device;  ///< a GPU backend's draw / readback / GPU timer (harness.h)

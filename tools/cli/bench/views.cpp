@@ -6,12 +6,14 @@
 // machine load then hits the counts alike, so that the multiples of one view come from the same
 // stretch of time (the jobs of one count are interleaved by measure() already).
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <regex>
 
 #include <fmt/core.h>
 
 #include "bench/experiments.h"
+#include "mvr/core/antialias.h"
 #include "bench/harness.h"
 #include "bench/report.h"
 
@@ -29,6 +31,7 @@ struct ViewsOptions {
     std::string shading = "vertex";
     std::vector<std::string> methods{"soft:multipass", "soft:unified"};
     int rounds = 1;  ///< sweeps over the view counts, pooled
+    std::vector<int> aa{1};  ///< --aa: samples a pixel, each count measured with each
 };
 
 /// The view arrangements to measure: "Nx1" rows, or the --grid-views entries.
@@ -74,7 +77,15 @@ int runViews(const ViewsOptions& o) {
     }
     auto configsR = viewConfigs(o);
     if (!configsR) return fail(configsR.status());
-    const std::vector<std::pair<int, int>> configs = std::move(configsR).value();
+    // Every view arrangement with every --aa count: (columns, rows, samples).
+    std::vector<std::array<int, 3>> configs;
+    for (const auto& [c, r] : *configsR) {
+        for (const int a : o.aa) {
+            if (!validSampleCount(a))
+                return fail(usageError(fmt::format("--aa {}: expected 1, 2, 4 or 8 samples a pixel", a)));
+            configs.push_back({c, r, a});
+        }
+    }
     if (auto size = parseSize(o.size, "--size"); !size) return fail(size.status());
     if (auto shading = parseShading(o.shading); !shading) return fail(shading.status());
     BackendSet backends({.threads = o.common.threads});
@@ -97,8 +108,9 @@ int runViews(const ViewsOptions& o) {
     // Each view count's scene is prepared once (the model is read once per count), then measured
     // in every round.
     std::vector<Prepared> scenes;
-    for (const auto& [c, r] : configs) {
+    for (const auto& [c, r, a] : configs) {
         SceneOptions so;
+        so.aa = a;
         so.models = models;
         so.grid = o.grid;
         so.viewGrid = fmt::format("{}x{}", c, r);
@@ -113,7 +125,7 @@ int runViews(const ViewsOptions& o) {
     std::vector<std::vector<Measured>> pooled(configs.size());
     for (int round = 0; round < o.rounds; ++round) {
         for (std::size_t i = 0; i < configs.size(); ++i) {
-            const int views = configs[i].first * configs[i].second;
+            const int views = configs[i][0] * configs[i][1];
             std::vector<Measured> m = measure(
                 jobs, scenes[i], {.warmup = o.common.warmup, .frames = o.common.frames},
                 {.progress = &progress,
@@ -142,7 +154,7 @@ int runViews(const ViewsOptions& o) {
     for (const Job& j : jobs) report.series.push_back(j.text());
     std::string model = "default scene";
     for (std::size_t i = 0; i < configs.size(); ++i) {
-        const auto [c, r] = configs[i];
+        const auto [c, r, a] = configs[i];
         const Prepared& p = scenes[i];
         model = std::filesystem::path(p.sceneName).filename().string();
         const std::vector<Measured>& m = pooled[i];
@@ -150,7 +162,8 @@ int runViews(const ViewsOptions& o) {
         for (std::size_t j = 0; j < jobs.size(); ++j) {
             RenderRow row = renderRow(jobs[j], m[j], p.scene.triangleCount());
             row.shading = o.shading, row.model = model, row.copies = o.grid;
-            row.views = c * r, row.config = fmt::format("{}x{}", c, r);
+            row.views = c * r, row.samples = a;
+            row.config = a > 1 ? fmt::format("{}x{} aa{}", c, r, a) : fmt::format("{}x{}", c, r);
             row.width = p.settings.width, row.height = p.settings.height;
             if (!m[j].stats.empty()) row.passes = m[j].stats.back().passes;
             report.rows.push_back(row);
@@ -161,10 +174,12 @@ int runViews(const ViewsOptions& o) {
     // × one view: against the same job's single view (a 1x1 config), where one was measured.
     for (RenderRow& r : report.rows) {
         for (const RenderRow& one : report.rows) {
-            if (one.views == 1 && one.spec() == r.spec() && one.error.empty() && r.error.empty() &&
-                one.wall.median > 0) {
-                r.timesOne = r.wall.median / one.wall.median;
-            }
+            if (one.spec() != r.spec() || !one.error.empty() || !r.error.empty() ||
+                !(one.wall.median > 0))
+                continue;
+            if (one.views == 1 && one.samples == r.samples) r.timesOne = r.wall.median / one.wall.median;
+            if (one.views == r.views && one.samples == 1 && r.samples > 1)
+                r.timesOneSample = r.wall.median / one.wall.median;
         }
     }
     report.tables.push_back(PivotTable{
@@ -186,6 +201,7 @@ int runViews(const ViewsOptions& o) {
             if (!r.error.empty()) return "error";
             std::string cell = fmt::format("{:.1f} ms", r.wall.median);
             if (r.timesOne > 0) cell += fmt::format(", {:.2f}× one view", r.timesOne);
+            if (r.timesOneSample > 0) cell += fmt::format(", {:.2f}× one sample", r.timesOneSample);
             if (r.speedup > 0) cell += fmt::format(", {:.2f}× vs multipass", r.speedup);
             if (r.passes > 1) cell += fmt::format(", {} passes", r.passes);
             return cell;
@@ -193,7 +209,7 @@ int runViews(const ViewsOptions& o) {
     report.plot = RenderPlot{
         .title = fmt::format("Many views: time(N) / time(1), views of {}", o.size),
         .xlabel = "views N",
-        .filter = [](const RenderRow& r) { return r.timesOne > 0; },
+        .filter = [](const RenderRow& r) { return r.timesOne > 0 && r.samples == 1; },
         .panel =
             [](const RenderRow& r) {
                 return fmt::format("{} ({} triangles)", r.model, r.triangles);
@@ -225,6 +241,11 @@ PaperBench addViews(CLI::App* bench) {
                   "View grids CxR instead of rows, comma separated (e.g. 1x1,3x3,9x9)")
         ->delimiter(',');
     v->add_option("--size", o->size, "One view's size WxH")->default_val(o->size);
+    v->add_option("--aa", o->aa,
+                  "Samples a pixel to measure each count with (1, 2, 4, 8; comma separated): "
+                  "cells say × one sample")
+        ->delimiter(',')
+        ->default_str("1");
     v->add_option("--shading", o->shading, "flat, vertex or pixel")->default_val(o->shading);
     addMethodsOption(v, o->methods,
                      "BACKEND:METHOD list (BACKEND:multipass is added as the baseline)",
