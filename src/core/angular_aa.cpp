@@ -2,10 +2,12 @@
 #include "mvr/core/angular_aa.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <thread>
 
 #include <fmt/core.h>
 
@@ -18,15 +20,13 @@ namespace {
 // Views whose other shear differs by less than this share a row (or a column).
 constexpr float kSameShear = 1e-5f;
 
-// The mean of the gaps from `v`'s shear along `axis` to the nearest views on either side among
-// the views on the same line (the other axis' shear within kSameShear); 0 without one.
-float meanGap(const Rig& rig, int v, int axis) {
-    const glm::vec2 s = *rig.views[v].clipShear;
+// The mean of the gaps from shear `s` along `axis` to the nearest shears on either side among
+// those on the same line (the other axis' shear within kSameShear); 0 without one.
+float meanGap(glm::vec2 s, std::span<const glm::vec2> shears, int axis) {
     const int other = 1 - axis;
     float below = std::numeric_limits<float>::infinity(), above = below;
-    for (int u = 0; u < rig.viewCount(); ++u) {
-        const glm::vec2 t = *rig.views[u].clipShear;
-        if (u == v || std::abs(t[other] - s[other]) > kSameShear) continue;
+    for (const glm::vec2 t : shears) {
+        if (std::abs(t[other] - s[other]) > kSameShear) continue;
         const float d = t[axis] - s[axis];
         if (d > kSameShear) above = std::min(above, d);
         if (d < -kSameShear) below = std::min(below, -d);
@@ -36,10 +36,25 @@ float meanGap(const Rig& rig, int v, int axis) {
     return a ? above : b ? below : 0.0f;
 }
 
+std::uint32_t pixel(const std::uint8_t* p) {
+    std::uint32_t v;
+    std::memcpy(&v, p, 4);
+    return v;
+}
+
 // One line of n pixels (RGBA8, `stride` bytes apart; `in` and `out` distinct), kernel widths
-// `k` (`kStride` floats apart): the overlap-weighted box of angular_aa.h.
+// `k` (`kStride` floats apart): the overlap-weighted box of angular_aa.h. `runs`: scratch.
 void filterLine(const std::uint8_t* in, std::uint8_t* out, std::ptrdiff_t stride, const float* k,
-                std::ptrdiff_t kStride, int n) {
+                std::ptrdiff_t kStride, int n, std::vector<int>& runs) {
+    // The run of equal pixels around each pixel (first, last): a kernel inside its run is a
+    // copy (a background, a flat colour), whatever its width.
+    runs.resize(2 * std::size_t(n));
+    for (int x = 0; x < n; ++x)
+        runs[2 * x] = x > 0 && pixel(in + x * stride) == pixel(in + (x - 1) * stride)
+                          ? runs[2 * (x - 1)] : x;
+    for (int x = n - 1; x >= 0; --x)
+        runs[2 * x + 1] = x + 1 < n && pixel(in + x * stride) == pixel(in + (x + 1) * stride)
+                              ? runs[2 * (x + 1) + 1] : x;
     for (int x = 0; x < n; ++x) {
         const float kx = k[x * kStride];
         const std::uint8_t* src = in + x * stride;
@@ -49,7 +64,12 @@ void filterLine(const std::uint8_t* in, std::uint8_t* out, std::ptrdiff_t stride
             continue;
         }
         const float c = float(x) + 0.5f, lo = c - 0.5f * kx, hi = c + 0.5f * kx;
-        const int j0 = std::max(0, int(std::floor(lo))), j1 = std::min(n - 1, int(std::ceil(hi)) - 1);
+        const int j0 = std::max(0, int(std::floor(lo)));
+        const int j1 = std::min(n - 1, int(std::ceil(hi)) - 1);
+        if (runs[2 * x] <= j0 && runs[2 * x + 1] >= j1) {
+            std::memcpy(dst, src, 4);
+            continue;
+        }
         float sum[4] = {0, 0, 0, 0}, weight = 0.0f;
         for (int j = j0; j <= j1; ++j) {
             // A neighbour takes part only where its own kernel reaches this pixel.
@@ -65,10 +85,50 @@ void filterLine(const std::uint8_t* in, std::uint8_t* out, std::ptrdiff_t stride
     }
 }
 
+// One view: the kernel widths from its depth, then the horizontal and the vertical pass.
+void filterView(const Rig& rig, int v, std::span<const glm::vec2> shears, Image& img,
+                const DepthImage& depth, float scale, std::vector<float>& kx, std::vector<float>& ky, std::vector<std::uint8_t>& copy,
+                std::vector<int>& runs) {
+    const int w = img.width, h = img.height;
+    if (img.empty()) return;
+    const View& view = rig.views[v];
+    const glm::vec2 step = adjacentShearStep(rig, v, shears);
+    const std::size_t n = std::size_t(w) * h;
+    kx.assign(n, 0.0f);
+    ky.assign(n, 0.0f);
+    bool anyX = false, anyY = false;
+    for (std::size_t i = 0; i < n; ++i) {
+        const float dist = eyeDistance(view, depth.depth[i]);
+        kx[i] = angularKernelWidth(step.x, w, rig.convergence, dist, scale);
+        ky[i] = angularKernelWidth(step.y, h, rig.convergence, dist, scale);
+        anyX = anyX || kx[i] > 0.0f;
+        anyY = anyY || ky[i] > 0.0f;
+    }
+    const std::ptrdiff_t rowBytes = std::ptrdiff_t(w) * 4;
+    if (anyX) {
+        copy.assign(img.rgba.begin(), img.rgba.end());
+        for (int y = 0; y < h; ++y)
+            filterLine(copy.data() + y * rowBytes, img.row(y), 4, kx.data() + std::size_t(y) * w,
+                       1, w, runs);
+    }
+    if (anyY) {
+        copy.assign(img.rgba.begin(), img.rgba.end());
+        for (int x = 0; x < w; ++x)
+            filterLine(copy.data() + x * 4, img.rgba.data() + x * 4, rowBytes, ky.data() + x, w, h,
+                       runs);
+    }
+}
+
 }  // namespace
 
-glm::vec2 adjacentShearStep(const Rig& rig, int view) {
-    glm::vec2 step(meanGap(rig, view, 0), meanGap(rig, view, 1));
+glm::vec2 adjacentShearStep(const Rig& rig, int view, std::span<const glm::vec2> shears) {
+    std::vector<glm::vec2> own;
+    if (shears.empty()) {
+        for (const View& v : rig.views) own.push_back(*v.clipShear);
+        shears = own;
+    }
+    const glm::vec2 s = *rig.views[view].clipShear;
+    glm::vec2 step(meanGap(s, shears, 0), meanGap(s, shears, 1));
     const float tanHalf = std::tan(glm::radians(rig.camera.fovYDegrees) * 0.5f);
     if (step.x == 0.0f && rig.columns > 1 && rig.screenWidth() > 0.0f)
         step.x = 2.0f * rig.interaxial / rig.screenWidth();
@@ -86,7 +146,8 @@ float angularKernelWidth(float shearStep, int extentPx, float convergence, float
 }
 
 Status applyAngularAA(const Rig& rig, std::vector<Image>& color,
-                      const std::vector<DepthImage>& depth, float scale) {
+                      const std::vector<DepthImage>& depth, float scale,
+                      std::span<const glm::vec2> shears) {
     if (!std::isfinite(scale) || scale <= 0.0f) {
         return usageError(fmt::format(
             "applyAngularAA(): scale {} is out of range (expected a finite scale > 0)", scale));
@@ -111,39 +172,26 @@ Status applyAngularAA(const Rig& rig, std::vector<Image>& color,
                                           depth[v].height));
         }
     }
-    std::vector<float> kx, ky;
-    std::vector<std::uint8_t> copy;
-    for (int v = 0; v < rig.viewCount(); ++v) {
-        Image& img = color[v];
-        const int w = img.width, h = img.height;
-        if (img.empty()) continue;
-        const View& view = rig.views[v];
-        const glm::vec2 step = adjacentShearStep(rig, v);
-        const std::size_t n = std::size_t(w) * h;
-        kx.assign(n, 0.0f);
-        ky.assign(n, 0.0f);
-        bool anyX = false, anyY = false;
-        for (std::size_t i = 0; i < n; ++i) {
-            const float dist = eyeDistance(view, depth[v].depth[i]);
-            kx[i] = angularKernelWidth(step.x, w, rig.convergence, dist, scale);
-            ky[i] = angularKernelWidth(step.y, h, rig.convergence, dist, scale);
-            anyX = anyX || kx[i] > 0.0f;
-            anyY = anyY || ky[i] > 0.0f;
-        }
-        const std::ptrdiff_t rowBytes = std::ptrdiff_t(w) * 4;
-        if (anyX) {
-            copy.assign(img.rgba.begin(), img.rgba.end());
-            for (int y = 0; y < h; ++y)
-                filterLine(copy.data() + y * rowBytes, img.row(y), 4, kx.data() + std::size_t(y) * w,
-                           1, w);
-        }
-        if (anyY) {
-            copy.assign(img.rgba.begin(), img.rgba.end());
-            for (int x = 0; x < w; ++x)
-                filterLine(copy.data() + x * 4, img.rgba.data() + x * 4, rowBytes, ky.data() + x, w,
-                           h);
-        }
+    std::vector<glm::vec2> own;
+    if (shears.empty()) {
+        for (const View& view : rig.views) own.push_back(*view.clipShear);
+        shears = own;
     }
+    // Views are independent: one worker per core takes the next view.
+    std::atomic<int> next{0};
+    auto work = [&] {
+        std::vector<float> kx, ky;
+        std::vector<std::uint8_t> copy;
+        std::vector<int> runs;
+        for (int v = next++; v < rig.viewCount(); v = next++)
+            filterView(rig, v, shears, color[v], depth[v], scale, kx, ky, copy, runs);
+    };
+    const int workers =
+        std::clamp(int(std::thread::hardware_concurrency()), 1, std::max(1, rig.viewCount()));
+    std::vector<std::thread> pool;
+    for (int t = 1; t < workers; ++t) pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool) t.join();
     return {};
 }
 

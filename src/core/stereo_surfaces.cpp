@@ -444,9 +444,12 @@ Result<std::vector<WindowStrips>> applyStereoSurfaces(const StereoSurfaces& surf
         if (Status s = needsDepth("--sky", out); !s) return s;
         if (Status s = drawSky(*surfaces.sky, rig, out.color, out.depth); !s) return s;
     }
-    if (surfaces.angularAA > 0.0f) {
+    if (surfaces.angularAA > 0.0f && !(surfaces.angularAAOptional && out.depth.empty())) {
         if (Status s = needsDepth("--angular-aa", out); !s) return s;
-        if (Status s = applyAngularAA(rig, out.color, out.depth, surfaces.angularAA); !s) return s;
+        if (Status s = applyAngularAA(rig, out.color, out.depth, surfaces.angularAA,
+                                       surfaces.angularAAShears);
+            !s)
+            return s;
     }
     if (!surfaces.labels.empty()) {
         if (Status s = drawLabels(rig, surfaces.labels, out.color, out.depth); !s) return s;

@@ -54,6 +54,7 @@ session::RenderRecipe viewerRecipe(const ViewerOptions& o) {
     r.outputs.quiltGiven = o.quiltGiven;
     r.backend = o.backend;
     r.method = o.method;
+    r.surfaces.angularAA = "off";  // a post-process of written views (angular_aa.h), not drawn
     return r;
 }
 

@@ -32,6 +32,7 @@
 // (depth 1, nothing drawn) lie at the far plane.
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -44,11 +45,13 @@ namespace mvr {
 
 /// The clip-shear step between `view` and its adjacent views: x along its row (views with the
 /// same clipShear.y), y along its column (views with the same clipShear.x); each the mean of
-/// the gaps to the nearest view on either side. Without a neighbour in the list (one view, a
-/// share of a rig): 2·interaxial / screenWidth (x, when rig.columns > 1) and
+/// the gaps to the nearest view on either side. The neighbours are looked up among `shears`,
+/// the clip shears of the whole rig when `rig` holds only some of its views (--view-range, a
+/// rank's share: their pixels stay the whole render's); empty: the rig's own views. Without a
+/// neighbour: 2·interaxial / screenWidth (x, when rig.columns > 1) and
 /// interaxialY / (convergence · tan(fovY / 2)) (y, when rig.rows > 1); else 0.
 /// Precondition: every view has a clip shear (off-axis rigs).
-glm::vec2 adjacentShearStep(const Rig& rig, int view);
+glm::vec2 adjacentShearStep(const Rig& rig, int view, std::span<const glm::vec2> shears = {});
 
 /// The kernel width in pixels for a point at eye-space distance `distance` (world units),
 /// shear step `shearStep` (adjacentShearStep()), image extent `extentPx` along the step's axis:
@@ -61,6 +64,7 @@ float angularKernelWidth(float shearStep, int extentPx, float convergence, float
 /// depth buffer") or a view has no clip shear ("needs an off-axis rig"); Usage for a scale
 /// that is not finite and > 0 or sizes that do not match.
 Status applyAngularAA(const Rig& rig, std::vector<Image>& color,
-                      const std::vector<DepthImage>& depth, float scale);
+                      const std::vector<DepthImage>& depth, float scale,
+                      std::span<const glm::vec2> shears = {});
 
 }  // namespace mvr

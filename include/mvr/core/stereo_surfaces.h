@@ -178,6 +178,11 @@ struct StereoSurfaces {
     /// that far silhouettes blend with it), before the labels, letterbox and window, which are
     /// drawn at their own depth, sharp.
     float angularAA = 0.0f;
+    /// --angular-aa auto: skipped, not refused, on an output without depth (gl gs-mrt).
+    bool angularAAOptional = false;
+    /// The whole rig's clip shears, where the neighbours of a view are looked up (a view range
+    /// or a rank renders some of its views); empty: the rendered rig's (angular_aa.h).
+    std::vector<glm::vec2> angularAAShears;
     bool floatingWindow = false;
     float letterboxPercent = 0.0f;  ///< 0: none
     std::vector<Label> labels;

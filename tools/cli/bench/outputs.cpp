@@ -116,7 +116,7 @@ Result<OutputsRow> runOnce(const Config& c, const OutputsOptions& o,
     auto backend = makeBackend(o.backend, {.threads = o.threads});
     if (!backend) return backend.status();
     const std::string method = (*backend)->defaultMethod();
-    auto surfaces = session::buildSurfaces(recipe);
+    auto surfaces = session::buildSurfaces(recipe, p);
     if (!surfaces) return surfaces.status();
     const session::FrameOutputs outputs = session::frameOutputs(p);
     row.views = p.rig.viewCount();
