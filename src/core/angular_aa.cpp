@@ -50,11 +50,12 @@ void filterLine(const std::uint8_t* in, std::uint8_t* out, std::ptrdiff_t stride
     // copy (a background, a flat colour), whatever its width.
     runs.resize(2 * std::size_t(n));
     for (int x = 0; x < n; ++x)
-        runs[2 * x] = x > 0 && pixel(in + x * stride) == pixel(in + (x - 1) * stride)
-                          ? runs[2 * (x - 1)] : x;
+        runs[2 * x] =
+            x > 0 && pixel(in + x * stride) == pixel(in + (x - 1) * stride) ? runs[2 * (x - 1)] : x;
     for (int x = n - 1; x >= 0; --x)
         runs[2 * x + 1] = x + 1 < n && pixel(in + x * stride) == pixel(in + (x + 1) * stride)
-                              ? runs[2 * (x + 1) + 1] : x;
+                              ? runs[2 * (x + 1) + 1]
+                              : x;
     for (int x = 0; x < n; ++x) {
         const float kx = k[x * kStride];
         const std::uint8_t* src = in + x * stride;
@@ -87,8 +88,8 @@ void filterLine(const std::uint8_t* in, std::uint8_t* out, std::ptrdiff_t stride
 
 // One view: the kernel widths from its depth, then the horizontal and the vertical pass.
 void filterView(const Rig& rig, int v, std::span<const glm::vec2> shears, Image& img,
-                const DepthImage& depth, float scale, std::vector<float>& kx, std::vector<float>& ky, std::vector<std::uint8_t>& copy,
-                std::vector<int>& runs) {
+                const DepthImage& depth, float scale, std::vector<float>& kx,
+                std::vector<float>& ky, std::vector<std::uint8_t>& copy, std::vector<int>& runs) {
     const int w = img.width, h = img.height;
     if (img.empty()) return;
     const View& view = rig.views[v];
@@ -108,8 +109,8 @@ void filterView(const Rig& rig, int v, std::span<const glm::vec2> shears, Image&
     if (anyX) {
         copy.assign(img.rgba.begin(), img.rgba.end());
         for (int y = 0; y < h; ++y)
-            filterLine(copy.data() + y * rowBytes, img.row(y), 4, kx.data() + std::size_t(y) * w,
-                       1, w, runs);
+            filterLine(copy.data() + y * rowBytes, img.row(y), 4, kx.data() + std::size_t(y) * w, 1,
+                       w, runs);
     }
     if (anyY) {
         copy.assign(img.rgba.begin(), img.rgba.end());

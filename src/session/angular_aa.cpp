@@ -22,8 +22,8 @@ Result<double> parseScale(const std::string& text) {
     double scale = 0.0;
     const char* end = text.data() + text.size();
     const auto [ptr, ec] = std::from_chars(text.data(), end, scale);
-    if (text.empty() || ec != std::errc() || ptr != end || !std::isfinite(scale) ||
-        scale <= 0.0 || scale > kMaxScale) {
+    if (text.empty() || ec != std::errc() || ptr != end || !std::isfinite(scale) || scale <= 0.0 ||
+        scale > kMaxScale) {
         return usageError(fmt::format(
             "--angular-aa {}: expected auto, off or a scale 0 < S <= {:g}", text, kMaxScale));
     }

@@ -133,9 +133,10 @@ TEST_F(AngularAACli, FlickerFarBehindTheFocalPlaneIsAtLeastHalved) {
     ASSERT_EQ(run(std::string(kBars) + " --angular-aa 1 -o on").exitCode, 0);
     const std::vector<Image> off = views("off", 8), on = views("on", 8);
     const double before = flicker(off), after = flicker(on);
-    std::printf("[ measured ] flicker, bars at 3 x convergence, 8 views 160x120: %.2f -> %.2f "
-                "(/255)\n",
-                before, after);
+    std::printf(
+        "[ measured ] flicker, bars at 3 x convergence, 8 views 160x120: %.2f -> %.2f "
+        "(/255)\n",
+        before, after);
     EXPECT_GT(before, 5.0) << "the bars must alias between views for the test to mean anything";
     EXPECT_LE(after, 0.5 * before);
     // The square (0.6 wide at distance 5: the centre 160 · 0.6 / (2 · 5 · tan 22.5° · 4/3)
@@ -157,9 +158,9 @@ TEST_F(AngularAACli, GlAgreesWithSoft) {
     if (gl.exitCode == 3) MVR_SKIP(NoGlContext) << gl.err;
     ASSERT_EQ(gl.exitCode, 0) << gl.err;
     ASSERT_EQ(run(common + " --backend soft -o soft").exitCode, 0);
-    ASSERT_EQ(run(std::string(kBars) + " --view-cone 20 --angular-aa off --backend soft -o off")
-                  .exitCode,
-              0);
+    ASSERT_EQ(
+        run(std::string(kBars) + " --view-cone 20 --angular-aa off --backend soft -o off").exitCode,
+        0);
     const std::vector<Image> g = views("gl", 8), s = views("soft", 8), o = views("off", 8);
     for (int v = 0; v < 8; ++v) {
         const ImageDiff d = compareImages(g[v], s[v], 2);

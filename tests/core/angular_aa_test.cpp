@@ -58,8 +58,9 @@ TEST(AngularAA, FocalPlaneIsUnchanged) {
         Image im(kW, kH);
         for (int y = 0; y < kH; ++y)
             for (int x = 0; x < kW; ++x)
-                im.set(x, y, {std::uint8_t((x * 37 + y * 11 + v) % 256),
-                              std::uint8_t((x / 3 % 2) * 255), std::uint8_t(y * 2), 255});
+                im.set(x, y,
+                       {std::uint8_t((x * 37 + y * 11 + v) % 256), std::uint8_t((x / 3 % 2) * 255),
+                        std::uint8_t(y * 2), 255});
         color.push_back(im);
         depth.emplace_back(kW, kH, depthOf(s.camera, 5.0f));
     }
@@ -127,8 +128,8 @@ TEST(AngularAA, GridIsBlurredVerticallyToo) {
                 const double want =
                     255.0 * beyond(x + 0.5, kx, kW / 2) * beyond(y + 0.5, ky, kH / 2);
                 // Two rounded passes: each within ½, the second scaling the first's error.
-                EXPECT_NEAR(color[v].at(x, y).r, want, 1.5) << "view " << v << " at " << x << ","
-                                                             << y;
+                EXPECT_NEAR(color[v].at(x, y).r, want, 1.5)
+                    << "view " << v << " at " << x << "," << y;
             }
     }
 }
@@ -189,8 +190,7 @@ TEST(AngularAA, ViewConeStepsAreThePerViewGaps) {
     const float a = 5.0f * s.camera.aspect * tanHalf;  // half the window at the convergence plane
     auto offset = [&](int i) { return 5.0f * std::tan(glm::radians(-20.0f + 10.0f * i)); };
     EXPECT_NEAR(adjacentShearStep(rig, 0).x, (offset(1) - offset(0)) / a, 1e-4f);
-    EXPECT_NEAR(adjacentShearStep(rig, 2).x,
-                0.5f * (offset(3) - offset(1)) / a, 1e-4f);
+    EXPECT_NEAR(adjacentShearStep(rig, 2).x, 0.5f * (offset(3) - offset(1)) / a, 1e-4f);
     EXPECT_EQ(adjacentShearStep(rig, 2).y, 0.0f);
 }
 
