@@ -147,6 +147,17 @@ TEST_F(AngularAACli, FlickerFarBehindTheFocalPlaneIsAtLeastHalved) {
                 EXPECT_EQ(off[v].at(x, y), on[v].at(x, y)) << "view " << v << " " << x << "," << y;
 }
 
+// A sequence's frames are filtered as a still is (the surfaces of every frame).
+TEST_F(AngularAACli, SequenceFramesAreFiltered) {
+    ASSERT_EQ(run(std::string(kBars) + " --frames 2 --angular-aa off -o off").exitCode, 0);
+    ASSERT_EQ(run(std::string(kBars) + " --frames 2 --angular-aa 1 -o on").exitCode, 0);
+    for (const char* frame : {"frame-0000", "frame-0001"}) {
+        const std::vector<Image> off = views(std::string("off/") + frame, 8);
+        const std::vector<Image> on = views(std::string("on/") + frame, 8);
+        EXPECT_LE(flicker(on), 0.5 * flicker(off)) << frame;
+    }
+}
+
 // gl reads its views back and runs the same CPU filter: within the gl-vs-soft bound of the
 // conformance suite (tests/conformance/tolerances.h kGlVsSoft: a channel more than 2/255 off
 // in at most 1 % of a view's pixels).
