@@ -155,6 +155,7 @@ def render(
     letterbox: float = ...,
     label: str | Sequence[str] = ...,
     label_anchor: str | Sequence[str] = ...,
+    angular_aa: float | Literal["auto", "off"] = ...,
     lenticular_pitch: float = ...,
     lenticular_slope: float = ...,
     lenticular_center: float = ...,

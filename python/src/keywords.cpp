@@ -62,6 +62,7 @@ enum class Kind {
     Float,        ///< a number
     FloatOrAuto,  ///< a number or "auto" (a string holding a number is read as one)
     Text,         ///< a string, os.PathLike, or an (a, b) pair of integers for "axb"
+    TextOrNumber, ///< a string, or a number (not a bool) as its shortest text ("auto" or 1.5)
     TextList,     ///< a string or a list of them (a repeatable option)
     File,         ///< Text naming a file that exists
     Numbers,      ///< a string ("1,2,3", a file name), or numbers: a sequence, nested ones
@@ -210,6 +211,14 @@ std::map<std::string, Value> readKeywords(const char* fn, std::span<const Spec> 
                 value.number = number(key, v);
                 break;
             case Kind::Text: value.text = text(key, v, true); break;
+            case Kind::TextOrNumber:
+                if (PyUnicode_Check(v.ptr())) {
+                    value.text = py::str(v);
+                } else {
+                    value.number = number(key, v);
+                    value.text = fmt::format("{}", value.number);
+                }
+                break;
             case Kind::Numbers: value.text = numbersText(key, v); break;
             case Kind::File: {
                 value.text = text(key, v, false);
@@ -412,7 +421,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"format", Kind::TextList},      {"report_json", Kind::Text},
             {"sky", Kind::Text},             {"floating_window", Kind::Flag},
             {"letterbox", Kind::Float},      {"label", Kind::TextList},
-            {"label_anchor", Kind::TextList},
+            {"label_anchor", Kind::TextList}, {"angular_aa", Kind::TextOrNumber},
             {"azimuth", Kind::Float},        {"elevation", Kind::Float},
             {"distance", Kind::FloatOrAuto}, {"target", Kind::Numbers},
             {"camera_position", Kind::Numbers}, {"look_at", Kind::Numbers},
@@ -560,6 +569,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     if (auto* v = get("letterbox")) r.surfaces.letterbox = v->number;
     if (auto* v = get("label")) r.surfaces.labels = v->list;
     if (auto* v = get("label_anchor")) r.surfaces.anchors = v->list;
+    if (auto* v = get("angular_aa")) r.surfaces.angularAA = v->text;
     if (auto* v = get("frames")) r.sequence.frames = int(v->integer);
     if (auto* v = get("orbit")) r.sequence.orbit = v->number;
     if (auto* v = get("camera_path")) r.sequence.cameraPath = v->text;

@@ -129,7 +129,8 @@ std::unique_ptr<Job> makeJob(RenderKeywords keywords) {
     {
         py::gil_scoped_release release;
         prepared = session::prepare(recipe);
-        surfaces = session::buildSurfaces(recipe);
+        surfaces = prepared ? session::buildSurfaces(recipe, *prepared)
+                            : session::buildSurfaces(recipe);
         if (prepared && !surfaces) prepared = surfaces.status();
         if (prepared) {
             if (auto entry = findBackend(job->backendName)) job->gpu = (*entry)->gpu;

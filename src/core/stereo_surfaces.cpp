@@ -1,6 +1,8 @@
 // Sky at infinity, floating window, letterbox and 2D at depth (mvr/core/stereo_surfaces.h).
 #include "mvr/core/stereo_surfaces.h"
 
+#include "mvr/core/angular_aa.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -441,6 +443,13 @@ Result<std::vector<WindowStrips>> applyStereoSurfaces(const StereoSurfaces& surf
     if (surfaces.sky) {
         if (Status s = needsDepth("--sky", out); !s) return s;
         if (Status s = drawSky(*surfaces.sky, rig, out.color, out.depth); !s) return s;
+    }
+    if (surfaces.angularAA > 0.0f && !(surfaces.angularAAOptional && out.depth.empty())) {
+        if (Status s = needsDepth("--angular-aa", out); !s) return s;
+        if (Status s = applyAngularAA(rig, out.color, out.depth, surfaces.angularAA,
+                                       surfaces.angularAAShears);
+            !s)
+            return s;
     }
     if (!surfaces.labels.empty()) {
         if (Status s = drawLabels(rig, surfaces.labels, out.color, out.depth); !s) return s;

@@ -868,8 +868,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
                         missing.size(), out.rig.viewCount(), missing.size() == 1 ? "" : "s", list));
     }
     // The outputs: the recipe's, and what a display preset adds.
-    out.formats = r.outputs.formats;
-    out.compose = r.outputs.compose;
+    out.formats = r.outputs.formats, out.compose = r.outputs.compose;
     auto png = parsePngCompression(r.outputs.pngCompression);
     if (!png) return png.status();
     out.png = *png;
@@ -891,6 +890,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
             "--quilt lays out a quilt, and no quilt is written (give --format quilt, or a "
             "--display whose output is a quilt)");
     }
+    if (Status s = resolveAngularAA(r, out); !s) return s;  // angular_aa.cpp
     if (Status s = restrictToViewRange(r, out); !s) return s;  // view_range.h
     if (Status s = checkFormats(r, out); !s) return s;
     if (Status s = checkOutputPaths(r); !s) return s;

@@ -30,7 +30,7 @@ Result<Rendered> renderStill(const RenderRecipe& recipe, const WarningSink& warn
     const std::string method = recipe.method.empty() ? (*backend)->defaultMethod() : recipe.method;
     if (Status s = (*backend)->supports(method); !s)
         return Status(s.code(), fmt::format("--method {}: {}", method, s.message()));
-    auto surfaces = buildSurfaces(recipe);
+    auto surfaces = buildSurfaces(recipe, p);
     if (!surfaces) return surfaces.status();
     auto out = (*backend)->render(p.scene, p.rig, p.settings, method);
     if (!out) return out.status();

@@ -449,15 +449,19 @@ TEST_F(ViewCli, StepsThroughTheViewsOfAQuilt) {
     EXPECT_LE(compareImages(quilt, read(dir / "render" / "quilt_qs8x6a0.75.png")).maxDelta, 1);
 }
 
+// The viewer shows the views as rendered, without angular anti-aliasing (a post-process of
+// written views, docs/displays.md), which `mvr render` applies by default to a view cone.
+constexpr const char* kUnfiltered = " --angular-aa off";
+
 TEST_F(ViewCli, ConeKeysAndTheCalibrationsViewCone) {
     // '+' twice: the cone 40 → 50 degrees; the single view 0 is then `mvr render --view-cone
     // 50`'s view 0 (and no longer the 40-degree one).
     needDisplay();
     // --aa 1: the viewer takes one sample a pixel, where mvr render's presets take 4.
     const std::string scene = "--display portrait --size 120x160 --aa 1 --backend soft --method unified";
-    CliRun r = run("render " + scene + " --view-cone 50 --write views -o cone50 -q");
+    CliRun r = run("render " + scene + kUnfiltered + " --view-cone 50 --write views -o cone50 -q");
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    r = run("render " + scene + " --write views -o cone40 -q");
+    r = run("render " + scene + kUnfiltered + " --write views -o cone40 -q");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     r = run("view " + scene +
             " --format view --no-hud --frames 3 --script '+,+' --screenshot c.png");
@@ -476,7 +480,7 @@ TEST_F(ViewCli, ConeKeysAndTheCalibrationsViewCone) {
         "screenH": {"value": 320.0}})",
                f);
     std::fclose(f);
-    r = run("render " + scene + " --lenticular-calibration visual.json -o len -q");
+    r = run("render " + scene + kUnfiltered + " --lenticular-calibration visual.json -o len -q");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     r = run("view " + scene +
             " --lenticular-calibration visual.json --no-hud --frames 2 --screenshot len.png");
@@ -494,7 +498,7 @@ TEST_F(ViewCli, StereoModesOfARowShowAdjacentViews) {
     needDisplay();
     const std::string scene =
         "--views 5 --view-cone 30 --size 100x80 --backend soft --method unified";
-    CliRun r = run("render " + scene + " -o row -q");
+    CliRun r = run("render " + scene + kUnfiltered + " -o row -q");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     r = run("view " + scene +
             " --format sbs --no-hud --frames 3 --script '>,>' --screenshot s.png");

@@ -132,7 +132,7 @@ int runRender(const RenderOptions& o) {
         return fail(Status(s.code(), fmt::format("--method {}: {}", method, s.message())));
     }
     const Prepared& p = *prepared;
-    auto surfaces = session::buildSurfaces(recipe);
+    auto surfaces = session::buildSurfaces(recipe, p);
     if (!surfaces) return fail(surfaces.status());
 
     if (Status s = checkSequenceOptions(recipe.sequence); !s) return fail(s);

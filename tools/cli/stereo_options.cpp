@@ -25,6 +25,16 @@ void StereoSurfaceOptions::addTo(CLI::App* app) {
     app->add_option("--label-anchor", anchors,
                     "Text attached to a 3D anchor point: 'TEXT@X,Y,Z' (world units); repeatable")
         ->type_name("TEXT@X,Y,Z");
+    app->add_option("--angular-aa", angularAA,
+                    "Angular anti-aliasing (Zwicker et al. 2006): after rendering, blur each view "
+                    "per pixel by a box as wide as the point's parallax step between adjacent "
+                    "views beyond one pixel, times S (horizontal; also vertical for a view grid), "
+                    "so the focal plane stays sharp and far content stops jumping between views. "
+                    "auto (default): on (S 1) for a multi-view display (a --display preset with a "
+                    "view cone, --view-cone), off for other renders and the benches; off; or S > "
+                    "0. Off-axis rigs of 2+ views; CPU, after read-back on every backend "
+                    "(docs/displays.md)")
+        ->type_name("auto|off|S");
 }
 
 }  // namespace mvr::cli

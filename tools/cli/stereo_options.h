@@ -21,10 +21,13 @@ struct StereoSurfaceOptions {
     bool floatingWindow = false;
     double letterbox = 0.0;  ///< percent of the height per band; 0: none
     std::vector<std::string> labels, anchors;
+    std::string angularAA = "auto";  ///< --angular-aa auto | off | S
 
     void addTo(CLI::App* app);
     /// The recipe of these options (session::buildSurfaces() parses it).
-    session::SurfaceRecipe recipe() const { return {sky, floatingWindow, letterbox, labels, anchors}; }
+    session::SurfaceRecipe recipe() const {
+        return {sky, floatingWindow, letterbox, labels, anchors, angularAA};
+    }
     /// Parses the options (loads the sky map, parses the labels).
     Result<StereoSurfaces> build() const { return session::buildSurfaces(recipe()); }
 };

@@ -55,6 +55,7 @@ session::RenderRecipe viewerRecipe(const ViewerOptions& o) {
     r.backend = o.backend;
     r.method = o.method;
     if (!r.aa) r.aa = 1;  // interactive: one sample a pixel unless --aa asks (presets take 4)
+    r.surfaces.angularAA = "off";  // a post-process of written views (angular_aa.h), not drawn
     return r;
 }
 

@@ -11,8 +11,9 @@
 // empty, e.g. gl gs-mrt) with ErrorCode::Unsupported naming the feature and the method; 2D
 // elements are drawn without a depth test there.
 //
-// Order when several are asked for (applyStereoSurfaces): sky, labels, letterbox, floating
-// window — the window's mask is last so that nothing is drawn over it.
+// Order when several are asked for (applyStereoSurfaces): sky, angular anti-aliasing
+// (angular_aa.h), labels, letterbox, floating window — the window's mask is last so that
+// nothing is drawn over it.
 #pragma once
 
 #include <optional>
@@ -173,12 +174,21 @@ struct StereoSurfaces {
     /// anything else is drawn; not with the surfaces that paint the background.
     bool transparentBackground = false;
     std::optional<Sky> sky;
+    /// Angular anti-aliasing's scale S (angular_aa.h; --angular-aa); 0: off. After the sky (so
+    /// that far silhouettes blend with it), before the labels, letterbox and window, which are
+    /// drawn at their own depth, sharp.
+    float angularAA = 0.0f;
+    /// --angular-aa auto: skipped, not refused, on an output without depth (gl gs-mrt).
+    bool angularAAOptional = false;
+    /// The whole rig's clip shears, where the neighbours of a view are looked up (a view range
+    /// or a rank renders some of its views); empty: the rendered rig's (angular_aa.h).
+    std::vector<glm::vec2> angularAAShears;
     bool floatingWindow = false;
     float letterboxPercent = 0.0f;  ///< 0: none
     std::vector<Label> labels;
     bool any() const {
-        return transparentBackground || sky || floatingWindow || letterboxPercent > 0.0f ||
-               !labels.empty();
+        return transparentBackground || sky || angularAA > 0.0f || floatingWindow ||
+               letterboxPercent > 0.0f || !labels.empty();
     }
 };
 

@@ -74,6 +74,11 @@ struct Prepared {
     std::optional<std::pair<int, int>> viewRange;
     /// --rig screen's --eye-track: the eyes of each frame (FrameStepper); the rig has frame 0's.
     std::shared_ptr<const EyeTrack> eyeTrack;
+    /// Angular anti-aliasing's scale (recipe.surfaces.angularAA resolved; 0: off): the surfaces
+    /// built with buildSurfaces(recipe, prepared) apply it (surfaces.h).
+    float angularAA = 0.0f;
+    /// The whole rig's clip shears (before --view-range cuts it): each view's neighbours.
+    std::vector<glm::vec2> angularAAShears;
 };
 
 /// Where prepare() sends the warnings of loading models ("warning: ..."), as they happen.
@@ -87,6 +92,16 @@ using WarningSink = std::function<void(const std::string&)>;
 /// Errors: ErrorCode::Usage for bad values (the message names the `mvr render` option), Input
 /// for unreadable models, the backends' errors for the depth pre-pass.
 Result<Prepared> prepare(const RenderRecipe& recipe, const WarningSink& warn = {});
+
+/// Resolves --angular-aa (recipe.surfaces.angularAA) into `prepared.angularAA` and asks the
+/// backend for depth when it is on (`settings.depth`; the depth files stay as `write` says).
+/// "auto": scale 1 when the render is for a multi-view display — a --display preset with a
+/// view cone, or a view cone (--view-cone, a calibration's) — on an off-axis rig of more than
+/// one view; off otherwise (plain renders, stereo pairs, the benches). "off": 0. A number: that
+/// scale, 0 < S <= 100. Errors (ErrorCode::Usage, naming the option and value): anything else,
+/// a scale with one view (no adjacent view: no kernel), or with a rig whose views have no clip
+/// shear (--rig toein, parallel, screen).
+Status resolveAngularAA(const RenderRecipe& recipe, Prepared& prepared);
 
 /// Parses "WxH" (both 1..16384). Errors: ErrorCode::Usage, naming `what` ("--size").
 Result<std::pair<int, int>> parseSize(const std::string& text, const char* what);

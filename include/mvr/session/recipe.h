@@ -32,6 +32,8 @@ struct SurfaceRecipe {
     double letterbox = 0.0;           ///< percent of the height per band; 0: none
     std::vector<std::string> labels;  ///< "TEXT@x,y[,distance]"
     std::vector<std::string> anchors;  ///< "TEXT@X,Y,Z"
+    /// --angular-aa: "auto" | "off" | a scale S (mvr/core/angular_aa.h; resolveAngularAA()).
+    std::string angularAA = "auto";
 };
 
 /// A sequence (--frames, --orbit, --camera-path ...): active() when any of the three is given.

@@ -6,6 +6,7 @@
 #include "mvr/core/rig.h"
 #include "mvr/core/status.h"
 #include "mvr/core/stereo_surfaces.h"
+#include "mvr/session/prepare.h"
 #include "mvr/session/recipe.h"
 
 namespace mvr::session {
@@ -15,6 +16,10 @@ Result<StereoSurfaces> buildSurfaces(const SurfaceRecipe& recipe);
 /// The same, with the recipe's --background transparent (refused beside the surfaces that paint
 /// the background: --sky, --letterbox, --floating-window, labels).
 Result<StereoSurfaces> buildSurfaces(const RenderRecipe& recipe);
+/// The same, with the prepared render's angular anti-aliasing (Prepared::angularAA, applied by
+/// applySurfaces() after the sky: mvr/core/angular_aa.h). Every render of a recipe builds its
+/// surfaces this way, so that every backend's views are filtered alike.
+Result<StereoSurfaces> buildSurfaces(const RenderRecipe& recipe, const Prepared& prepared);
 
 /// Whether a --background value asks for a transparent background ("transparent").
 bool isTransparentBackground(const std::string& background);
