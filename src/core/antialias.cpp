@@ -66,62 +66,62 @@ Status renderSampled(Backend& backend, const Scene& scene, const Rig& rig,
     one.samples = 1;
     if (settings.samples == 1) return backend.renderInto(scene, rig, one, method, out);
     if (Status s = validateRequest(scene, rig, one); !s) return s;
-    one.output = nullptr;  // the passes are scratch; the resolve goes to the caller's memory
     const int n = settings.samples, w = settings.width, h = settings.height;
-    const int views = rig.viewCount();
-    const std::size_t pixels = std::size_t(w) * std::size_t(h);
-    std::vector<std::vector<std::uint16_t>> sums(static_cast<std::size_t>(views));
-    RenderOutput pass;
-    for (int k = 0; k < n; ++k) {
+    const std::size_t views = std::size_t(rig.viewCount());
+    const std::size_t bytes = std::size_t(w) * std::size_t(h) * 4;
+    // The sums and the later passes' images live on between calls (a sequence's frames, a
+    // viewer's): no allocation and no page faults after the first frame of a size.
+    thread_local RenderOutput pass;
+    thread_local std::vector<std::uint16_t> sums;
+    auto check = [&](const RenderOutput& o) {
+        return o.color.size() == views ? Status() : internalError(fmt::format(
+            "backend returned {} images for {} views", o.color.size(), views));
+    };
+    // Sample 0 straight into `out` (the caller's memory, its depth kept as the start of the
+    // nearest-sample depth); the others into the scratch output, added and min-ed in.
+    if (Status s = backend.renderInto(scene, offsetRig(rig, samplePositions(n)[0], w, h), one,
+                                      method, out); !s)
+        return s;
+    if (Status s = check(out); !s) return s;
+    sums.resize(views * bytes);
+    for (std::size_t v = 0; v < views; ++v) {
+        const std::uint8_t* __restrict c = out.color[v].rgba.data();
+        std::uint16_t* __restrict sum = sums.data() + v * bytes;
+        for (std::size_t i = 0; i < bytes; ++i) sum[i] = c[i];
+    }
+    one.output = nullptr;
+    StageTimes stages = out.stages;
+    for (int k = 1; k < n; ++k) {
         const Rig moved = offsetRig(rig, samplePositions(n)[std::size_t(k)], w, h);
         if (Status s = backend.renderInto(scene, moved, one, method, pass); !s) return s;
-        if (int(pass.color.size()) != views) {
-            return internalError(fmt::format("backend returned {} images for {} views",
-                                             pass.color.size(), views));
+        if (Status s = check(pass); !s) return s;
+        for (std::size_t v = 0; v < views; ++v) {
+            const std::uint8_t* __restrict c = pass.color[v].rgba.data();
+            std::uint16_t* __restrict sum = sums.data() + v * bytes;
+            for (std::size_t i = 0; i < bytes; ++i) sum[i] = std::uint16_t(sum[i] + c[i]);
         }
-        if (k == 0) {
-            out.depth.resize(pass.depth.size());
-            for (std::size_t v = 0; v < pass.depth.size(); ++v) {
-                out.depth[v].reuseOrReset(w, h, settings.output ? settings.output->depthMemory(int(v)) : nullptr);
-                std::copy(pass.depth[v].depth.begin(), pass.depth[v].depth.end(), out.depth[v].depth.begin());
-            }
-            out.depthRange = pass.depthRange;
-            out.method = pass.method;
-            out.note = pass.note;
-            out.stages = {};
-        } else {
-            for (std::size_t v = 0; v < std::min(out.depth.size(), pass.depth.size()); ++v) {
-                float* d = out.depth[v].depth.data();
-                const float* p = pass.depth[v].depth.data();
-                for (std::size_t i = 0; i < pixels; ++i) d[i] = std::min(d[i], p[i]);
-            }
-            for (std::size_t v = 0; v < std::min(out.depthRange.size(), pass.depthRange.size()); ++v) {
-                out.depthRange[v].nearest = std::min(out.depthRange[v].nearest, pass.depthRange[v].nearest);
-                out.depthRange[v].farthest = std::max(out.depthRange[v].farthest, pass.depthRange[v].farthest);
-            }
+        for (std::size_t v = 0; v < std::min(out.depth.size(), pass.depth.size()); ++v) {
+            float* __restrict d = out.depth[v].depth.data();
+            const float* __restrict p = pass.depth[v].depth.data();
+            for (std::size_t i = 0; i < bytes / 4; ++i) d[i] = std::min(d[i], p[i]);
         }
-        out.stages.vertexMs += pass.stages.vertexMs;
-        out.stages.setupMs += pass.stages.setupMs;
-        out.stages.rasterMs += pass.stages.rasterMs;
-        out.stages.fillMs += pass.stages.fillMs;
-        for (int v = 0; v < views; ++v) {
-            std::vector<std::uint16_t>& sum = sums[std::size_t(v)];
-            const std::uint8_t* c = pass.color[std::size_t(v)].rgba.data();
-            if (k == 0) {
-                sum.assign(c, c + pixels * 4);
-            } else {
-                for (std::size_t i = 0; i < pixels * 4; ++i) sum[i] = std::uint16_t(sum[i] + c[i]);
-            }
+        for (std::size_t v = 0; v < std::min(out.depthRange.size(), pass.depthRange.size()); ++v) {
+            DepthRange& r = out.depthRange[v];
+            r.nearest = std::min(r.nearest, pass.depthRange[v].nearest);
+            r.farthest = std::max(r.farthest, pass.depthRange[v].farthest);
         }
+        stages.vertexMs += pass.stages.vertexMs;
+        stages.setupMs += pass.stages.setupMs;
+        stages.rasterMs += pass.stages.rasterMs;
+        stages.fillMs += pass.stages.fillMs;
     }
-    out.color.resize(std::size_t(views));
-    for (int v = 0; v < views; ++v) {
-        Image& img = out.color[std::size_t(v)];
-        img.reuseOrReset(w, h, settings.output ? settings.output->colorMemory(v) : nullptr);
-        const std::vector<std::uint16_t>& sum = sums[std::size_t(v)];
-        const unsigned half = unsigned(n) / 2;
-        for (std::size_t i = 0; i < pixels * 4; ++i)
-            img.rgba[i] = std::uint8_t((unsigned(sum[i]) + half) / unsigned(n));
+    out.stages = stages;
+    // n is a power of two: (sum + n/2) / n as a shift (vectorised; a division is not).
+    const unsigned half = unsigned(n) / 2, shift = n == 2 ? 1 : n == 4 ? 2 : 3;
+    for (std::size_t v = 0; v < views; ++v) {
+        std::uint8_t* __restrict c = out.color[v].rgba.data();
+        const std::uint16_t* __restrict sum = sums.data() + v * bytes;
+        for (std::size_t i = 0; i < bytes; ++i) c[i] = std::uint8_t((sum[i] + half) >> shift);
     }
     return {};
 }
