@@ -161,7 +161,12 @@ Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params
     rig.kind = params.kind;
     rig.columns = params.columns;
     rig.rows = params.rows;
-    rig.convergence = params.convergence.value_or(distance);
+    rig.convergence = params.convergence.value_or(distance) - params.focusShift;
+    if (!(rig.convergence > 0.0f)) {
+        return usageError(fmt::format(
+            "the focus moves the focal plane {} toward the camera, to {} (behind it; expected a "
+            "distance > 0)", params.focusShift, rig.convergence));
+    }
     if (rig.convergence <= camera.near) camera.near = rig.convergence * 0.5f;
     // Beyond the far plane the zero-parallax plane is outside the scene's depth: every point
     // of the scene is nearer than the screen, and the default spacing (convergence / 30) puts
@@ -178,6 +183,7 @@ Result<RenderRequest> frameScene(const Scene& scene, const FramingParams& params
         rig.interaxial = params.interaxial.value_or(rig.convergence / 30.0f);
     }
     rig.viewConeDegrees = params.viewConeDegrees;
+    rig.coneSpread = params.coneSpread;
     auto made = makeRig(camera, rig);
     if (!made) return made.status();
     RenderRequest out{std::move(made).value(), settings};

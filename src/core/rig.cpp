@@ -119,9 +119,12 @@ Result<Rig> makeRig(const Camera& camera, const RigParams& p) {
     if (p.viewConeDegrees != 0.0f && (!std::isfinite(p.viewConeDegrees) ||
                                       p.viewConeDegrees < 0.0f || p.viewConeDegrees >= 180.0f))
         return usageError("view cone must be in [0, 180) degrees");
+    if (!(p.coneSpread >= 0.0f && p.coneSpread <= 2.0f))
+        return usageError(fmt::format("view cone spread {} is out of range (expected 0 .. 2)", p.coneSpread));
     if (cone) {
         // Mean spacing of the outer views, for the separation and the comfort report.
-        rig.interaxial = 2.0f * p.convergence * std::tan(glm::radians(p.viewConeDegrees) * 0.5f) /
+        rig.interaxial = p.coneSpread * 2.0f * p.convergence *
+                         std::tan(glm::radians(p.viewConeDegrees) * 0.5f) /
                          static_cast<float>(p.columns - 1);
         rig.interaxialY = rig.interaxial;
     }
@@ -141,7 +144,7 @@ Result<Rig> makeRig(const Camera& camera, const RigParams& p) {
             // Views numbered left to right, then top to bottom: row 0 is the top row.
             const float ox =
                 cone
-                    ? p.convergence *
+                    ? p.coneSpread * p.convergence *
                           std::tan(glm::radians(p.viewConeDegrees *
                                                 (static_cast<float>(col) / (p.columns - 1) - 0.5f)))
                     : (col - (p.columns - 1) * 0.5f) * rig.interaxial;

@@ -323,5 +323,36 @@ TEST(Rig, ViewConeSpreadsViewsEvenlyInAngle) {
     EXPECT_FALSE(makeRig(camera, p));
 }
 
+// --depthiness (RigParams::coneSpread): the eyes' offsets C·tan(θ_i) scaled, every parallax with
+// them (the off-axis parallax s·(1 − C/w) is linear in the spacing); 0: identical views.
+TEST(Rig, ConeSpreadScalesTheEyesAndTheParallax) {
+    Camera camera;
+    camera.position = glm::vec3(0.0f, 0.0f, 10.0f);
+    camera.aspect = 0.75f;
+    RigParams p;
+    p.columns = 9;
+    p.convergence = 10.0f;
+    p.viewConeDegrees = 40.0f;
+    const Rig whole = *makeRig(camera, p);
+    p.coneSpread = 0.5f;
+    const Rig half = *makeRig(camera, p);
+    const glm::vec3 far(0.3f, 0.2f, -6.0f);
+    for (int i = 0; i < 9; ++i) {
+        const float t = std::tan(glm::radians(-20.0f + 40.0f * float(i) / 8.0f));
+        EXPECT_NEAR(whole.views[i].eyeWorld.x, 10.0f * t, 1e-4f) << i;
+        EXPECT_NEAR(half.views[i].eyeWorld.x, 0.5f * 10.0f * t, 1e-4f) << i;
+        EXPECT_NEAR(parallax(half, far, 0, i), 0.5f * parallax(whole, far, 0, i), 1e-5f) << i;
+    }
+    EXPECT_NEAR(half.interaxial, 0.5f * whole.interaxial, 1e-6f);
+    p.coneSpread = 0.0f;
+    const Rig flat = *makeRig(camera, p);
+    for (int i = 1; i < 9; ++i) {
+        EXPECT_EQ(flat.views[i].clipFromView, flat.views[0].clipFromView) << i;
+        EXPECT_EQ(flat.views[i].viewFromWorld, flat.views[0].viewFromWorld) << i;
+    }
+    p.coneSpread = 2.5f;
+    EXPECT_FALSE(makeRig(camera, p));
+}
+
 }  // namespace
 }  // namespace mvr

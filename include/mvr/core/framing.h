@@ -39,6 +39,11 @@ struct FramingParams {
     /// Degrees, [0, 180): an off-axis row spread evenly in angle over this view cone (the
     /// Looking Glass camera, RigParams::viewConeDegrees); 0: interaxial/separation spacing.
     float viewConeDegrees = 0.0f;
+    /// View cone only (RigParams::coneSpread): Looking Glass's depthiness, the views' spread.
+    float coneSpread = 1.0f;
+    /// World units the convergence (focal) plane moves toward the camera from where it would
+    /// be (Looking Glass's focus, session/cone_depth.cpp); the result must stay > 0.
+    float focusShift = 0.0f;
     std::optional<glm::vec3> clearColor;  ///< default: Scene::background
     /// Width / height of the picture one view shows (the camera's aspect); default: the view's
     /// pixel aspect. A display preset whose panel stretches its quilt tiles sets it (displays.h).

@@ -127,6 +127,10 @@ struct RigParams {
     /// at angle θ_i = −cone/2 + cone·i/(N−1) as seen from the focal-plane centre, i.e. shifted
     /// sideways by convergence·tan(θ_i); `interaxial` is ignored. 0: uniform interaxial.
     float viewConeDegrees = 0.0f;
+    /// View cone only: the views' offsets from the centre scaled (Looking Glass's
+    /// "depthiness", `--depthiness`): every parallax scales with it; 0: every view the centre
+    /// camera's (identical views), 1: the cone as given. 0 ≤ spread ≤ 2.
+    float coneSpread = 1.0f;
 };
 
 /// Checks parameters (finite, positive where needed, views within kMaxViews, convergence
