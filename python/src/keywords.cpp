@@ -307,7 +307,7 @@ void composeOptions(const std::map<std::string, Value>& kw, composite::ComposeOp
         o.rgbdDepth = *p;
     }
     if (auto* v = get("depthiness")) {
-        inRange("--depthiness", v->number, 0.1, 2.0);
+        inRange("--depthiness", v->number, 0.0, 2.0);
         o.depthiness = v->number;
     }
     if (auto* v = get("focus")) {

@@ -69,3 +69,20 @@ def test_rgbd_needs_a_centre_view():
     with pytest.raises(ValueError, match=re.escape(
             "--format rgbd: the RGB-D image is the rig's centre view, and a row of 2 views has none")):
         mvr.render(views=2, size=(32, 24), format="rgbd")
+
+
+def test_depthiness_and_focus_on_the_view_cone():
+    """Issue 42 item 3: depthiness= scales the view cone's spread (0: identical views), focus=
+    moves its focal plane by F of the scene's bounding-box diagonal (session/cone_depth.h)."""
+    kw = dict(views=5, view_cone=30, size=(48, 36), aa=1, angular_aa="off")
+    flat = mvr.render(depthiness=0, **kw)
+    for v in range(5):
+        np.testing.assert_array_equal(flat.color[v], flat.color[2])
+    whole = mvr.render(**kw)
+    assert not np.array_equal(whole.color[0], whole.color[4])
+    half = mvr.render(depthiness=0.5, **kw)
+    for v in range(5):
+        ex = lambda r: r.views[v].world_from_camera[0, 3]
+        assert abs(ex(half) - 0.5 * ex(whole)) < 1e-4
+    with pytest.raises(ValueError, match="--depthiness 0: the RGB-D sidecar takes"):
+        mvr.render(depthiness=0, format="rgbd", views=3, view_cone=30, size=(48, 36))

@@ -21,6 +21,7 @@
 #include "mvr/io/png.h"
 #include "mvr/io/scene_io.h"
 #include "mvr/session/camera.h"
+#include "mvr/session/cone_depth.h"
 #include "mvr/session/screen.h"
 #include "mvr/session/outputs.h"
 #include "mvr/session/surfaces.h"
@@ -504,10 +505,8 @@ std::vector<std::string> ignoredOptionWarnings(const RenderRecipe& r,
               "--lenticular-flip-x", "--lenticular-flip-y"})
             warn(name, "without a lenticular image (--format lenticular)");
     }
-    if (!writes("rgbd")) {
-        for (const char* name : {"--depthiness", "--focus", "--rgbd-depth-position"})
-            warn(name, "without an RGB-D image (--format rgbd)");
-    }
+    if (!writes("rgbd"))  // --depthiness, --focus: also the view cone's (cone_depth.h)
+        warn("--rgbd-depth-position", "without an RGB-D image (--format rgbd)");
     return out;
 }
 
@@ -797,7 +796,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     if (r.interaxial) params.interaxial = static_cast<float>(*r.interaxial);
     if (r.separation) params.separation = static_cast<float>(*r.separation);
     if (r.convergence) params.convergence = static_cast<float>(*r.convergence);
-    if (cone) params.viewConeDegrees = static_cast<float>(*cone);
+    if (Status s = applyConeDepth(r, out.scene, cone.value_or(0.0), params, out.notes); !s) return s;
     if (r.convergenceAuto || r.separationAuto) {
         if (Status s = chooseAutoRig(out, params, r.convergenceAuto, r.separationAuto,
                                          float(r.depthPercent.value_or(kDefaultDepthPercent))); !s) return s;

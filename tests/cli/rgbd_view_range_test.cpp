@@ -194,6 +194,53 @@ TEST_F(CliRgbdViewRange, RgbdRefusals) {
         << r.err;
 }
 
+// --depthiness / --focus on the view-cone rig (session/cone_depth.h): the eyes' offsets of a
+// 30-degree cone of 5 views, C·tan(θ_i), scaled by the depthiness; depthiness 0 gives identical
+// views; the focus moves the focal plane by F of the scene's bounding-box diagonal.
+TEST_F(CliRgbdViewRange, DepthinessAndFocusOnTheViewCone) {
+    const fs::path obj = writePlanes();
+    const std::string base = fmt::format("render '{}' {} --views 5 --view-cone 30 --aa 1 "
+                                         "--angular-aa off --write-cameras -q ",
+                                         obj.string(), camera());
+    for (const char* run : {"-o cone", "--depthiness 0.5 -o half", "--depthiness 0 -o flat",
+                            "--focus 0.05 -o focus", "--depthiness 2 --focus -0.05 -o both"}) {
+        const CliRun r = runMvr(mDir, base + run);
+        ASSERT_EQ(r.exitCode, 0) << run << "\n" << r.err;
+    }
+    auto cameras = [&](const char* dir) {
+        std::ifstream in(mDir / dir / "cameras.json");
+        return Json::parse(in);
+    };
+    auto eyeX = [&](const Json& j, int v) {
+        return j["views"][v]["world_from_camera"][0][3].get<double>();
+    };
+    const double c = 10.0;  // the camera 10 in front of the middle plane: the default focal plane
+    const double diagonal = std::sqrt(12.0 * 12.0 + 6.0 * 6.0 + 2.0 * 2.0);  // bounds 12 x 6 x 2
+    const Json cone = cameras("cone"), half = cameras("half"), flat = cameras("flat"),
+               focus = cameras("focus"), both = cameras("both");
+    EXPECT_NEAR(focus["rig"]["convergence"].get<double>(), c - 0.05 * diagonal, 1e-4);
+    EXPECT_NEAR(both["rig"]["convergence"].get<double>(), c + 0.05 * diagonal, 1e-4);
+    for (int v = 0; v < 5; ++v) {
+        const double t = std::tan((-15.0 + 7.5 * v) * M_PI / 180.0);
+        EXPECT_NEAR(eyeX(cone, v), c * t, 1e-4) << v;
+        EXPECT_NEAR(eyeX(half, v), 0.5 * c * t, 1e-4) << v;
+        EXPECT_NEAR(eyeX(flat, v), 0.0, 1e-6) << v;
+        EXPECT_NEAR(eyeX(focus, v), (c - 0.05 * diagonal) * t, 1e-4) << v;
+        EXPECT_NEAR(eyeX(both, v), 2.0 * (c + 0.05 * diagonal) * t, 1e-4) << v;
+        EXPECT_EQ(readPng(mDir / "flat" / fmt::format("view-{}.png", v))->rgba,
+                  readPng(mDir / "flat" / "view-2.png")->rgba) << v;
+    }
+    EXPECT_NE(readPng(mDir / "cone" / "view-0.png")->rgba, readPng(mDir / "cone" / "view-4.png")->rgba);
+    // Neither a cone nor an RGB-D image: said to be ignored; a sidecar below Bridge's 0.1: refused.
+    const std::string plain = fmt::format("render '{}' {} --views 3 ", obj.string(), camera());
+    CliRun r = runMvr(mDir, plain + "--depthiness 0.5 -o plain");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("warning: --depthiness is ignored without an RGB-D image (--format rgbd) "
+                         "or a view cone"), std::string::npos) << r.err;
+    expectOneError(runMvr(mDir, plain + "--view-cone 30 --format rgbd --depthiness 0 -o no"),
+                   "--depthiness 0: the RGB-D sidecar takes Bridge's 0.1 .. 2");
+}
+
 // ---- view ranges ------------------------------------------------------------------------------
 
 TEST_F(CliRgbdViewRange, RangesAssembleIntoTheWholeRenderByteForByte) {

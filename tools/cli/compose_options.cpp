@@ -73,14 +73,16 @@ void addComposeOptions(CLI::App* app, composite::ComposeOptions& options, bool w
         ->type_name("SIDE")
         ->group(group);
     app->add_option("--depthiness", options.depthiness,
-                    "rgbd: Looking Glass's depthiness, how deep the RGB-D image is shown "
-                    "(Bridge's range 0.1..2), written to rgbd.json")
-        ->check(numberIn(0.1, 2.0))
+                    "Looking Glass's depthiness: the view cone's spread (0: identical views, "
+                    "0..2) and, with --format rgbd, how deep the RGB-D image is shown (Bridge's "
+                    "0.1..2), written to rgbd.json")
+        ->check(numberIn(0.0, 2.0))
         ->default_val(options.depthiness)
         ->group(group);
     app->add_option("--focus", options.focus,
-                    "rgbd: Looking Glass's focus, which depth lies on the panel's plane "
-                    "(Bridge's range -0.05..0.05), written to rgbd.json")
+                    "Looking Glass's focus (Bridge's range -0.05..0.05): the view cone's focal "
+                    "plane moved toward the viewer by F of the scene's depth and, with --format "
+                    "rgbd, which depth lies on the panel's plane, written to rgbd.json")
         ->check(numberIn(-0.05, 0.05))
         ->default_val(options.focus)
         ->group(group);
