@@ -59,9 +59,7 @@ Rig offsetRig(const Rig& rig, glm::vec2 offsetPx, int width, int height) {
 Status renderSampled(Backend& backend, const Scene& scene, const Rig& rig,
                      const RenderSettings& settings, const std::string& method,
                      RenderOutput& out) {
-    if (!validSampleCount(settings.samples)) {
-        return usageError(fmt::format("{} samples a pixel (expected 1, 2, 4 or 8)", settings.samples));
-    }
+    if (Status s = validateSettings(settings); !s) return s;  // the sample count among them
     RenderSettings one = settings;
     one.samples = 1;
     if (settings.samples == 1) return backend.renderInto(scene, rig, one, method, out);

@@ -8,6 +8,8 @@
 
 #include <fmt/core.h>
 
+#include "mvr/core/antialias.h"
+
 namespace mvr {
 
 Status validateSettings(const RenderSettings& s) {
@@ -19,7 +21,7 @@ Status validateSettings(const RenderSettings& s) {
     for (int i = 0; i < 3; ++i) {
         if (!std::isfinite(s.clearColor[i])) return usageError("clear color is not finite");
     }
-    if (!(s.samples == 1 || s.samples == 2 || s.samples == 4 || s.samples == 8))
+    if (!validSampleCount(s.samples))
         return usageError(fmt::format("{} samples a pixel (expected 1, 2, 4 or 8)", s.samples));
     return {};
 }
