@@ -9,9 +9,7 @@ namespace mvr::session {
 
 Status applyConeDepth(const RenderRecipe& r, const Scene& scene, double cone,
                       FramingParams& params, std::vector<std::string>& notes) {
-    auto given = [&](const char* name) {
-        return std::find(r.given.begin(), r.given.end(), name) != r.given.end();
-    };
+    auto given = [&](const char* name) { return r.gave(name); };
     const bool rgbd = std::find(r.outputs.formats.begin(), r.outputs.formats.end(), "rgbd") !=
                       r.outputs.formats.end();
     const double depthiness = r.outputs.compose.depthiness, focus = r.outputs.compose.focus;

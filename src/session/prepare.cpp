@@ -475,9 +475,7 @@ std::vector<std::string> ignoredOptionWarnings(const RenderRecipe& r,
                                                const std::vector<std::string>& formats) {
     std::vector<std::string> out;
     if (r.given.empty()) return out;
-    auto given = [&](std::string_view name) {
-        return std::find(r.given.begin(), r.given.end(), name) != r.given.end();
-    };
+    auto given = [&](std::string_view name) { return r.gave(name); };
     auto writes = [&](std::string_view f) {
         return std::find(formats.begin(), formats.end(), f) != formats.end();
     };

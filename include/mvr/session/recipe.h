@@ -12,9 +12,11 @@
 // which a given field overrides).
 #pragma once
 
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "mvr/composite/compose.h"
@@ -194,6 +196,10 @@ struct RenderRecipe {
     /// The options given explicitly, by their `mvr render` names ("--fps"): prepare() warns of
     /// those this recipe ignores (ignoredOptionWarnings()). Optional: empty, no such warning.
     std::vector<std::string> given;
+    /// Whether `option` ("--fps") is among `given`.
+    bool gave(std::string_view option) const {
+        return std::find(given.begin(), given.end(), option) != given.end();
+    }
 };
 
 }  // namespace mvr::session
