@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <memory>
 
 #include <fmt/core.h>
@@ -65,7 +66,7 @@ ImageDiff compareImages(const Image& a, const Image& b, int threshold) {
         diff.maxDelta = 256;
         return diff;
     }
-    double sum = 0.0;
+    double sum = 0.0, squares = 0.0;
     for (int y = 0; y < a.height; ++y) {
         const std::uint8_t* pa = a.row(y);
         const std::uint8_t* pb = b.row(y);
@@ -75,6 +76,7 @@ ImageDiff compareImages(const Image& a, const Image& b, int threshold) {
                 const int d = std::abs(int(pa[x * 4 + c]) - int(pb[x * 4 + c]));
                 worst = std::max(worst, d);
                 sum += d;
+                squares += double(d) * d;
             }
             if (worst > threshold) ++diff.differingPixels;
             if (worst > diff.maxDelta) {
@@ -86,6 +88,9 @@ ImageDiff compareImages(const Image& a, const Image& b, int threshold) {
     }
     const double count = double(a.width) * a.height * 3;
     diff.meanDelta = count > 0 ? sum / count : 0.0;
+    diff.pixels = long(a.width) * a.height;
+    diff.psnr = squares > 0.0 ? 10.0 * std::log10(255.0 * 255.0 * count / squares)
+                              : std::numeric_limits<double>::infinity();
     return diff;
 }
 

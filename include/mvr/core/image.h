@@ -77,6 +77,12 @@ struct ImageDiff {
     double meanDelta = 0.0;    ///< mean absolute channel difference over all RGB channels
     long differingPixels = 0;  ///< pixels whose RGB differ by more than the threshold given
     int worstX = -1, worstY = -1;
+    /// Peak signal-to-noise ratio over the RGB channels, dB (+inf when the images are equal).
+    double psnr = 0.0;
+    long pixels = 0;  ///< width · height
+    double percentDiffering() const {
+        return pixels ? 100.0 * double(differingPixels) / double(pixels) : 0.0;
+    }
 };
 
 /// Compares RGB channels (alpha ignored). Precondition: same size (else maxDelta = 256).
