@@ -156,6 +156,7 @@ def render(
     label: str | Sequence[str] = ...,
     label_anchor: str | Sequence[str] = ...,
     angular_aa: float | Literal["auto", "off"] = ...,
+    synthesize: int = ...,
     lenticular_pitch: float = ...,
     lenticular_slope: float = ...,
     lenticular_center: float = ...,

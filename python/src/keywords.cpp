@@ -415,6 +415,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"shading", Kind::Text},         {"cull", Kind::Flag},
             {"wireframe", Kind::Flag},       {"shadows", Kind::Flag},
             {"shadow_map_size", Kind::Int},  {"aa", Kind::Int},  {"billboards", Kind::Int},
+            {"synthesize", Kind::Int},
             {"billboard_size", Kind::Float}, {"backend", Kind::Text},
             {"method", Kind::Text},          {"output", Kind::Text},
             {"depth", Kind::Flag},           {"quiet", Kind::Flag},
@@ -536,6 +537,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     if (auto* v = get("shadows")) r.shadows = v->flag;
     if (auto* v = get("shadow_map_size")) r.shadowMapSize = int(v->integer);
     if (auto* v = get("aa")) r.aa = int(v->integer);
+    if (auto* v = get("synthesize")) r.synthesize = int(v->integer);
     if (auto* v = get("billboards")) r.billboards = int(v->integer);
     if (auto* v = get("billboard_size")) r.billboardSize = v->number;
     if (auto* v = get("backend")) r.backend = v->text;

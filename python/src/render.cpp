@@ -176,7 +176,7 @@ RenderResult renderFrame(Job& job, const Scene& scene, const Rig& rig,
         std::unique_lock<std::mutex> lock(gpuMutex(), std::defer_lock);
         if (job.gpu) lock.lock();
         const auto start = std::chrono::steady_clock::now();
-        rendered = job.backend->render(scene, rig, settings, job.method);
+        rendered = session::renderViews(*job.backend, p, scene, rig, settings, job.method);
         if (rendered) {
             if (Status st = session::applySurfaces(job.surfaces, rig, *rendered); !st)
                 rendered = st;

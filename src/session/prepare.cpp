@@ -889,6 +889,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     }
     if (Status s = resolveAngularAA(r, out); !s) return s;  // angular_aa.cpp
     if (Status s = restrictToViewRange(r, out); !s) return s;  // view_range.h
+    if (Status s = resolveSynthesis(r, out); !s) return s;     // synthesis.cpp
     if (Status s = checkFormats(r, out); !s) return s;
     if (Status s = checkOutputPaths(r); !s) return s;
     return out;

@@ -32,7 +32,7 @@ Result<Rendered> renderStill(const RenderRecipe& recipe, const WarningSink& warn
         return Status(s.code(), fmt::format("--method {}: {}", method, s.message()));
     auto surfaces = buildSurfaces(recipe, p);
     if (!surfaces) return surfaces.status();
-    auto out = (*backend)->render(p.scene, p.rig, p.settings, method);
+    auto out = renderViews(**backend, p, p.scene, p.rig, p.settings, method);
     if (!out) return out.status();
     if (Status s = applySurfaces(*surfaces, p.rig, *out); !s) return s;
     if (int(out->color.size()) != p.rig.viewCount()) {

@@ -259,6 +259,11 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
                     "Anti-aliasing: N samples a pixel, 1, 2, 4 or 8, at the standard multisample "
                     "positions, resolved to the output (default 4 for light-field --display "
                     "presets, else 1: plain renders and the benches keep one sample)");
+    app->add_option("--synthesize", synthesize,
+                    "View synthesis: render every K-th view of each row (and its last) exactly and "
+                    "warp the views between from their depth (an off-axis rig of 3 or more views "
+                    "a row; 1, the default: every view exact). --check prints each warped "
+                    "view's PSNR against its exact render");
     app->add_option("--billboards", billboards,
                     "Scatter N camera-facing particle quads through the scene's bounds, in planes "
                     "parallel to the screen (nvidia-gtc2010); textured with the scene's first "
@@ -307,6 +312,7 @@ session::RenderRecipe SceneOptions::recipe() const {
     r.shadows = shadows;
     r.shadowMapSize = shadowMapSize;
     r.aa = aa;
+    r.synthesize = synthesize;
     return r;
 }
 

@@ -63,6 +63,7 @@ struct SceneOptions {
     bool shadows = false;                     ///< --shadows (issue 15, shadows.h)
     int shadowMapSize = 1024;                 ///< --shadow-map-size
     std::optional<int> aa;                    ///< --aa N (session/sampling.h)
+    int synthesize = 1;                       ///< --synthesize K (core/synthesize.h)
     int billboards = 0;                       ///< --billboards N (billboards.h)
     double billboardSize = 0;                 ///< --billboard-size; 0: 3 % of the scene's radius
     std::string display;                      ///< --display NAME (displays.h); "" = none

@@ -214,7 +214,13 @@ int runSequence(const SequenceOptions& o, const SequenceJob& job) {
             // A share of the views: the culling frustum still encloses all of them.
             rig->views = std::vector<View>(rig->views.begin() + v0, rig->views.begin() + v1);
         }
-        auto rendered = backend.render(stepper.scene(), *rig, p.settings, job.method);
+        if (p.synthesize > 1 && (v0 > 0 || v1 < rig->viewCount())) {
+            return usageError(fmt::format(
+                "--synthesize {}: warps within whole rows of views, not a share of a frame's "
+                "views (MPI ranks sharing frames do)",
+                p.synthesize));
+        }
+        auto rendered = session::renderViews(backend, p, stepper.scene(), *rig, p.settings, job.method);
         if (!rendered) {
             return Status(rendered.status().code(),
                           fmt::format("frame {}: {}", f, rendered.status().message()));

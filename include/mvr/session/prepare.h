@@ -77,6 +77,8 @@ struct Prepared {
     /// Angular anti-aliasing's scale (recipe.surfaces.angularAA resolved; 0: off): the surfaces
     /// built with buildSurfaces(recipe, prepared) apply it (surfaces.h).
     float angularAA = 0.0f;
+    /// --synthesize K (1: off), checked against the rig; render through renderViews().
+    int synthesize = 1;
     /// The whole rig's clip shears (before --view-range cuts it): each view's neighbours.
     std::vector<glm::vec2> angularAAShears;
 };
@@ -102,6 +104,17 @@ Result<Prepared> prepare(const RenderRecipe& recipe, const WarningSink& warn = {
 /// a scale with one view (no adjacent view: no kernel), or with a rig whose views have no clip
 /// shear (--rig toein, parallel, screen).
 Status resolveAngularAA(const RenderRecipe& recipe, Prepared& prepared);
+
+/// Checks --synthesize K (1..kMaxSynthesisStep; above 1 an off-axis rig of rows of at least 3
+/// views: checkSynthesisRig()) into `prepared.synthesize`. Errors: Usage naming the option.
+Status resolveSynthesis(const RenderRecipe& recipe, Prepared& prepared);
+
+/// The render of a prepared recipe's views: `backend.render()`, or with --synthesize K the
+/// exact views and the warped others (renderSynthesized()). `scene` and `rig` are the frame's
+/// (a sequence moves them); the settings and K are `prepared`'s.
+Result<RenderOutput> renderViews(Backend& backend, const Prepared& prepared, const Scene& scene,
+                                 const Rig& rig, const RenderSettings& settings,
+                                 const std::string& method);
 
 /// Parses "WxH" (both 1..16384). Errors: ErrorCode::Usage, naming `what` ("--size").
 Result<std::pair<int, int>> parseSize(const std::string& text, const char* what);

@@ -185,6 +185,9 @@ struct RenderRecipe {
     int shadowMapSize = 1024;
     /// --aa N: samples a pixel, 1, 2, 4, 8 (sampling.h; default 4 for light-field displays, 1).
     std::optional<int> aa;
+    /// --synthesize K: every K-th view of a row (and its last) rendered exactly, the others
+    /// warped from their depth (mvr/core/synthesize.h); 1: every view exact.
+    int synthesize = 1;
     std::string background;  ///< "R,G,B" in [0, 1] or "#RRGGBB"; empty: the scene's
 
     // ---- what is drawn after the scene, the sequence, the outputs and the backend ----

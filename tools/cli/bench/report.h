@@ -65,6 +65,12 @@ struct RenderRow {
     /// of the same job and views (0: not measured).
     int samples = 1;
     double timesOneSample = 0;
+    /// views --synthesize: K (1: every view exact), time / time of the same job and views
+    /// rendered exactly (0: not measured) and the lowest PSNR of a warped view against its
+    /// exact render (dB; 0: not measured).
+    int synthesize = 1;
+    double timesExact = 0;
+    double psnr = 0;
     /// sorbier: the textured row (a base color texture sampled with mipmaps, issue 14).
     bool textured = false;
     DeviceTimes device;  ///< a GPU backend's draw / readback / GPU timer (harness.h)

@@ -129,6 +129,9 @@ Status emitJson(const RenderReport& report, const CommonOptions& o) {
             if (r.ran != r.method) e["ran"] = r.ran;
             if (r.timesOne > 0) e["times_one_view"] = r.timesOne;
             if (r.passes > 0) e["passes"] = r.passes;
+            if (r.synthesize > 1) e["synthesize"] = r.synthesize;
+            if (r.timesExact > 0) e["times_exact"] = r.timesExact;
+            if (r.psnr > 0) e["psnr_db"] = r.psnr;
             addDeviceTimes(e, r.device);
             if (!r.artifactPercent.empty()) {
                 e["artifact_percent"] = r.artifactPercent;  // per view, vs multipass

@@ -8,12 +8,14 @@
 #include <algorithm>
 #include <array>
 #include <filesystem>
+#include <limits>
 #include <regex>
 
 #include <fmt/core.h>
 
 #include "bench/experiments.h"
 #include "mvr/core/antialias.h"
+#include "mvr/core/synthesize.h"
 #include "bench/harness.h"
 #include "bench/report.h"
 
@@ -32,6 +34,7 @@ struct ViewsOptions {
     std::vector<std::string> methods{"soft:multipass", "soft:unified"};
     int rounds = 1;  ///< sweeps over the view counts, pooled
     std::vector<int> aa{1};  ///< --aa: samples a pixel, each count measured with each
+    std::vector<int> synthesize{1};  ///< --synthesize: K, each count of 3+ views with each
 };
 
 /// The view arrangements to measure: "Nx1" rows, or the --grid-views entries.
@@ -66,6 +69,17 @@ Result<std::vector<std::pair<int, int>>> viewConfigs(const ViewsOptions& o) {
     return configs;
 }
 
+/// The lowest PSNR of a warped view of `p` (--synthesize K) against the same job's exact render.
+double lowestPsnr(Backend& backend, const std::string& method, const Prepared& p) {
+    auto exact = backend.render(p.scene, p.rig, p.settings, method);
+    auto warped = renderSynthesized(backend, p.scene, p.rig, p.settings, method, p.synthesize);
+    if (!exact || !warped) return 0.0;
+    double lowest = std::numeric_limits<double>::infinity();
+    for (std::size_t v = 0; v < exact->color.size(); ++v)
+        lowest = std::min(lowest, compareImages(warped->color[v], exact->color[v]).psnr);
+    return lowest;
+}
+
 int runViews(const ViewsOptions& o) {
     if (Status s = checkCommonOptions(o.common); !s) return fail(s);
     if (o.grid < 1 || o.grid > 64) {
@@ -77,13 +91,21 @@ int runViews(const ViewsOptions& o) {
     }
     auto configsR = viewConfigs(o);
     if (!configsR) return fail(configsR.status());
-    // Every view arrangement with every --aa count: (columns, rows, samples).
-    std::vector<std::array<int, 3>> configs;
+    // Every view arrangement with every --aa count and --synthesize step (rows of 3 or more
+    // views: K > 1 needs views to warp): (columns, rows, samples, K).
+    std::vector<std::array<int, 4>> configs;
+    for (const int k : o.synthesize) {
+        if (k < 1 || k > kMaxSynthesisStep) {
+            return fail(usageError(fmt::format(
+                "--synthesize {} is out of range (expected 1..{})", k, kMaxSynthesisStep)));
+        }
+    }
     for (const auto& [c, r] : *configsR) {
         for (const int a : o.aa) {
             if (!validSampleCount(a))
                 return fail(usageError(fmt::format("--aa {}: expected 1, 2, 4 or 8 samples a pixel", a)));
-            configs.push_back({c, r, a});
+            for (const int k : o.synthesize)
+                if (k == 1 || c >= 3) configs.push_back({c, r, a, k});
         }
     }
     if (auto size = parseSize(o.size, "--size"); !size) return fail(size.status());
@@ -108,9 +130,10 @@ int runViews(const ViewsOptions& o) {
     // Each view count's scene is prepared once (the model is read once per count), then measured
     // in every round.
     std::vector<Prepared> scenes;
-    for (const auto& [c, r, a] : configs) {
+    for (const auto& [c, r, a, k] : configs) {
         SceneOptions so;
         so.aa = a;
+        so.synthesize = k;
         so.models = models;
         so.grid = o.grid;
         so.viewGrid = fmt::format("{}x{}", c, r);
@@ -154,7 +177,7 @@ int runViews(const ViewsOptions& o) {
     for (const Job& j : jobs) report.series.push_back(j.text());
     std::string model = "default scene";
     for (std::size_t i = 0; i < configs.size(); ++i) {
-        const auto [c, r, a] = configs[i];
+        const auto [c, r, a, k] = configs[i];
         const Prepared& p = scenes[i];
         model = std::filesystem::path(p.sceneName).filename().string();
         const std::vector<Measured>& m = pooled[i];
@@ -162,8 +185,10 @@ int runViews(const ViewsOptions& o) {
         for (std::size_t j = 0; j < jobs.size(); ++j) {
             RenderRow row = renderRow(jobs[j], m[j], p.scene.triangleCount());
             row.shading = o.shading, row.model = model, row.copies = o.grid;
-            row.views = c * r, row.samples = a;
-            row.config = a > 1 ? fmt::format("{}x{} aa{}", c, r, a) : fmt::format("{}x{}", c, r);
+            row.views = c * r, row.samples = a, row.synthesize = k;
+            row.config = fmt::format("{}x{}{}{}", c, r, a > 1 ? fmt::format(" aa{}", a) : "",
+                                     k > 1 ? fmt::format(" k{}", k) : "");
+            if (k > 1 && !m[j].failed()) row.psnr = lowestPsnr(*jobs[j].backend, jobs[j].spec.method, p);
             row.width = p.settings.width, row.height = p.settings.height;
             if (!m[j].stats.empty()) row.passes = m[j].stats.back().passes;
             report.rows.push_back(row);
@@ -178,8 +203,12 @@ int runViews(const ViewsOptions& o) {
                 !(one.wall.median > 0))
                 continue;
             if (one.views == 1 && one.samples == r.samples) r.timesOne = r.wall.median / one.wall.median;
-            if (one.views == r.views && one.samples == 1 && r.samples > 1)
+            if (one.views == r.views && one.samples == 1 && r.samples > 1 &&
+                one.synthesize == r.synthesize)
                 r.timesOneSample = r.wall.median / one.wall.median;
+            if (one.views == r.views && one.samples == r.samples && one.synthesize == 1 &&
+                r.synthesize > 1)
+                r.timesExact = r.wall.median / one.wall.median;
         }
     }
     report.tables.push_back(PivotTable{
@@ -202,6 +231,8 @@ int runViews(const ViewsOptions& o) {
             std::string cell = fmt::format("{:.1f} ms", r.wall.median);
             if (r.timesOne > 0) cell += fmt::format(", {:.2f}× one view", r.timesOne);
             if (r.timesOneSample > 0) cell += fmt::format(", {:.2f}× one sample", r.timesOneSample);
+            if (r.timesExact > 0) cell += fmt::format(", {:.2f}× exact", r.timesExact);
+            if (r.psnr > 0) cell += fmt::format(", PSNR ≥ {:.1f} dB", r.psnr);
             if (r.speedup > 0) cell += fmt::format(", {:.2f}× vs multipass", r.speedup);
             if (r.passes > 1) cell += fmt::format(", {} passes", r.passes);
             return cell;
@@ -209,7 +240,8 @@ int runViews(const ViewsOptions& o) {
     report.plot = RenderPlot{
         .title = fmt::format("Many views: time(N) / time(1), views of {}", o.size),
         .xlabel = "views N",
-        .filter = [](const RenderRow& r) { return r.timesOne > 0 && r.samples == 1; },
+        .filter =
+            [](const RenderRow& r) { return r.timesOne > 0 && r.samples == 1 && r.synthesize == 1; },
         .panel =
             [](const RenderRow& r) {
                 return fmt::format("{} ({} triangles)", r.model, r.triangles);
@@ -244,6 +276,11 @@ PaperBench addViews(CLI::App* bench) {
     v->add_option("--aa", o->aa,
                   "Samples a pixel to measure each count with (1, 2, 4, 8; comma separated): "
                   "cells say × one sample")
+        ->delimiter(',')
+        ->default_str("1");
+    v->add_option("--synthesize", o->synthesize,
+                  "View synthesis steps K to measure each count of 3 or more views with (1: "
+                  "exact; comma separated): cells say × exact and the lowest PSNR of a warped view")
         ->delimiter(',')
         ->default_str("1");
     v->add_option("--shading", o->shading, "flat, vertex or pixel")->default_val(o->shading);
