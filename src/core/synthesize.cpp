@@ -61,6 +61,13 @@ void warpView(const Source* sources, int count, float shear, Image& color, Depth
         const float k = (shear - src.shear) * 0.5f * float(w);
         for (int y = 0; y < h; ++y) {
             const std::size_t row = std::size_t(y) * w;
+            // A later source only where the earlier ones left holes in the row: what it adds
+            // elsewhere would lose the depth test or tie (a surface one source sees in front of
+            // another's is a hole in the other's warp, not a pixel of it).
+            if (s > 0 && std::find(depth.depth.begin() + std::ptrdiff_t(row),
+                                   depth.depth.begin() + std::ptrdiff_t(row + w),
+                                   kHole) == depth.depth.begin() + std::ptrdiff_t(row + w))
+                continue;
             const float* fa = src.factor->data() + row;
             const float* sd = src.depth->depth.data() + row;
             const std::uint8_t* sc = src.color->row(y);
