@@ -43,8 +43,11 @@ struct Source {
 /// crossed (an occlusion); either way the two are not joined.
 constexpr float kMaxStretch = 2.0f;
 
-inline std::uint8_t mix(std::uint8_t a, std::uint8_t b, float t) {
-    return std::uint8_t(float(a) + t * float(int(b) - int(a)) + 0.5f);
+/// ⌈x⌉ for the pixel positions here (|x| well inside int's range): std::ceil is a libm call on
+/// the baseline x86-64 this file is built for.
+inline int ceilInt(float x) {
+    const int i = int(x);
+    return i + (float(i) < x ? 1 : 0);
 }
 
 /// Forward-warps `sources` (nearer first) into one target view, then fills its holes. Adjacent
@@ -83,17 +86,20 @@ void warpView(const Source* sources, int count, float shear, Image& color, Depth
                                          (sd[x] >= 1.0f) == (sd[x + 1] >= 1.0f);
                 if (joinedRight) {
                     // Target centres c = t + ½ in [p, q).
-                    const int first = std::max(0, int(std::ceil(p - 0.5f)));
-                    const int last = std::min(w, int(std::ceil(q - 0.5f)));
+                    const int first = std::max(0, ceilInt(p - 0.5f));
+                    const int last = std::min(w, ceilInt(q - 0.5f));
                     const float inv = 1.0f / span;
                     for (int tx = first; tx < last; ++tx) {
                         const float t = (float(tx) + 0.5f - p) * inv;
                         const float d = sd[x] + t * (sd[x + 1] - sd[x]);
                         if (d < td[tx]) {
                             td[tx] = d;
+                            // Colour in 8-bit fixed point: (c0 · (256 − f) + c1 · f + 128) / 256.
+                            const int f = int(t * 256.0f + 0.5f);
                             const std::uint8_t* c0 = sc + 4 * x;
                             std::uint8_t* out = tc + 4 * tx;
-                            for (int c = 0; c < 4; ++c) out[c] = mix(c0[c], c0[4 + c], t);
+                            for (int c = 0; c < 4; ++c)
+                                out[c] = std::uint8_t((c0[c] * (256 - f) + c0[4 + c] * f + 128) >> 8);
                         }
                     }
                 }
