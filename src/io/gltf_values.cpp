@@ -111,7 +111,8 @@ struct Checker {
             if (t == o.end() || failed() || !t->is_number_integer()) return;
             if (t->get<std::int64_t>() > 1)
                 fail(at + ".texCoord",
-                     fmt::format("{} is not a texture coordinate set mvr reads (0 or 1)", quote(*t)));
+                     fmt::format("{} is not a texture coordinate set mvr reads (0 or 1)",
+                                 quote(*t)));
         };
         set(*it, place);
         const auto ext = it->find("extensions");

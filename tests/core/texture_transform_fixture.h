@@ -96,9 +96,8 @@ inline std::filesystem::path writeTransformQuad(const std::filesystem::path& dir
     const std::string png((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     std::filesystem::remove(pngPath);
 
-    const std::string attributes =
-        fmt::format(R"("POSITION":0,"NORMAL":1,"TEXCOORD_0":2{})",
-                    o.texcoord1 ? R"(,"TEXCOORD_1":3)" : "");
+    const std::string attributes = fmt::format(R"("POSITION":0,"NORMAL":1,"TEXCOORD_0":2{})",
+                                               o.texcoord1 ? R"(,"TEXCOORD_1":3)" : "");
     const std::string json = fmt::format(
         R"({{"asset":{{"generator":"Khronos glTF Blender I/O v3.6.27","version":"2.0"}},)"
         R"("extensionsUsed":["KHR_texture_transform"],)"

@@ -26,7 +26,7 @@ glm::dvec2 specTransform(glm::dvec2 uv, glm::dvec2 offset, double rotation, glm:
     const double T[3][3] = {{1, 0, offset.x}, {0, 1, offset.y}, {0, 0, 1}};
     const double R[3][3] = {{c, s, 0}, {-s, c, 0}, {0, 0, 1}};
     const double S[3][3] = {{scale.x, 0, 0}, {0, scale.y, 0}, {0, 0, 1}};
-    auto mul = [](const double (&a)[3][3], const double (&b)[3][3], double (&out)[3][3]) {
+    auto mul = [](const double(&a)[3][3], const double(&b)[3][3], double(&out)[3][3]) {
         for (int r = 0; r < 3; ++r)
             for (int k = 0; k < 3; ++k) {
                 out[r][k] = 0;
@@ -46,8 +46,8 @@ std::string transformJson(glm::dvec2 offset, double rotation, glm::dvec2 scale) 
         offset.x, offset.y, rotation, scale.x, scale.y);
 }
 
-Result<Scene> load(const test::TempDir& dir, const std::string& name,
-                   const TransformQuadOptions& o, SceneLoadInfo* info = nullptr) {
+Result<Scene> load(const test::TempDir& dir, const std::string& name, const TransformQuadOptions& o,
+                   SceneLoadInfo* info = nullptr) {
     return loadScene(test::writeTransformQuad(dir.path(), name, o), info);
 }
 
@@ -81,8 +81,10 @@ TEST(TextureTransform, ApplyPlacesTheReadmeExampleInTheLowerLeftQuadrantRotated)
     t.offset = {0.0f, 1.0f};
     t.rotation = std::numbers::pi_v<float> / 2.0f;
     t.scale = {0.5f, 0.5f};
-    const std::pair<glm::vec2, glm::vec2> corners[] = {
-        {{0, 0}, {0.0f, 1.0f}}, {{1, 0}, {0.0f, 0.5f}}, {{0, 1}, {0.5f, 1.0f}}, {{1, 1}, {0.5f, 0.5f}}};
+    const std::pair<glm::vec2, glm::vec2> corners[] = {{{0, 0}, {0.0f, 1.0f}},
+                                                       {{1, 0}, {0.0f, 0.5f}},
+                                                       {{0, 1}, {0.5f, 1.0f}},
+                                                       {{1, 1}, {0.5f, 0.5f}}};
     for (const auto& [uv, want] : corners) {
         const glm::vec2 got = t.apply(uv);
         EXPECT_NEAR(got.x, want.x, 1e-6f) << uv.x << "," << uv.y;
@@ -137,7 +139,8 @@ TEST(TextureTransform, WithoutTheExtensionTexcoordsAreTheFilesAndNothingIsRecord
     test::TempDir dir("mvr-texture-transform");
     auto scene = load(dir, "plain", {});
     ASSERT_TRUE(scene) << scene.status().message();
-    expectTexcoords(*scene, [](const QuadVertex& v) { return glm::dvec2(v.uv0); }, "plain");
+    expectTexcoords(
+        *scene, [](const QuadVertex& v) { return glm::dvec2(v.uv0); }, "plain");
     const Material& m = scene->instances[0].material;
     EXPECT_FALSE(m.baseColorTransform);
     EXPECT_FALSE(m.normalTransform);
@@ -149,7 +152,8 @@ TEST(TextureTransform, DefaultsOfAnEmptyExtensionObjectAreTheIdentity) {
     o.baseColorTextureExtra = R"(,"extensions":{"KHR_texture_transform":{}})";
     auto scene = load(dir, "empty", o);
     ASSERT_TRUE(scene) << scene.status().message();
-    expectTexcoords(*scene, [](const QuadVertex& v) { return glm::dvec2(v.uv0); }, "empty");
+    expectTexcoords(
+        *scene, [](const QuadVertex& v) { return glm::dvec2(v.uv0); }, "empty");
     ASSERT_TRUE(scene->instances[0].material.baseColorTransform);
 }
 
@@ -167,8 +171,8 @@ TEST(TextureTransform, TexCoordChoosesTheSetAndTheExtensionsOverrideWins) {
         {R"(,"texCoord":1)", 1},
         {fmt::format(R"(,"texCoord":1,"extensions":{{"KHR_texture_transform":{{{}}}}})", tx), 1},
         {fmt::format(R"(,"extensions":{{"KHR_texture_transform":{{{},"texCoord":1}}}})", tx), 1},
-        {fmt::format(R"(,"texCoord":1,"extensions":{{"KHR_texture_transform":{{{},"texCoord":0}}}})",
-                     tx),
+        {fmt::format(
+             R"(,"texCoord":1,"extensions":{{"KHR_texture_transform":{{{},"texCoord":0}}}})", tx),
          0},
     };
     for (const Case& c : cases) {
@@ -208,8 +212,7 @@ TEST(TextureTransform, AMissingSetWarnsAndFallsBackToSetZeroStrictRefuses) {
     EXPECT_EQ(info.warnings[0], line + ": set 0 is used (--strict: an error)");
     // Set 0, with the transform.
     expectTexcoords(
-        *scene,
-        [](const QuadVertex& v) { return glm::dvec2(v.uv0) + glm::dvec2(0.5, 0.0); },
+        *scene, [](const QuadVertex& v) { return glm::dvec2(v.uv0) + glm::dvec2(0.5, 0.0); },
         "fallback");
     SceneLoadInfo strict;
     strict.strict = true;
@@ -257,8 +260,8 @@ TEST(TextureTransform, BadValuesAreRefusedNamingTheFileAndTheMaterial) {
     const Case cases[] = {
         {R"(,"extensions":{"KHR_texture_transform":{"offset":[1e39,0]}})", "", "Checker",
          ext + ".offset", "expected 2 finite numbers, got [1e+39,0]"},
-        {R"(,"extensions":{"KHR_texture_transform":{"scale":[2]}})", "", "Checker",
-         ext + ".scale", "expected 2 finite numbers, got [2]"},
+        {R"(,"extensions":{"KHR_texture_transform":{"scale":[2]}})", "", "Checker", ext + ".scale",
+         "expected 2 finite numbers, got [2]"},
         {R"(,"extensions":{"KHR_texture_transform":{"rotation":-1e300}})", "", "Checker",
          ext + ".rotation", "expected a finite number (radians), got -1e+300"},
         {R"(,"extensions":{"KHR_texture_transform":{"rotation":"90"}})", "", "Checker",
