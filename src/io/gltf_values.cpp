@@ -97,6 +97,43 @@ struct Checker {
         number(*it, "scale", place);
         number(*it, "strength", place, 0.0, 1.0);
     }
+    /// A textureInfo's texture coordinate set (textureInfo's texCoord, and its
+    /// KHR_texture_transform's, which overrides it) is one mvr reads, 0 or 1; the transform's
+    /// offset and scale are 2 floats, its rotation one. assimp 5.2.5 reads offset[0], offset[1],
+    /// scale[0] and scale[1] without checking that the arrays hold two numbers (when the file's
+    /// extensionsUsed lists the extension). `place` names the material and the slot; call it
+    /// after textureInfo(), which refuses a texCoord that is no whole number.
+    void textureCoords(const Json& parent, const char* key, const std::string& place) {
+        const auto it = parent.find(key);
+        if (it == parent.end() || failed() || !it->is_object()) return;
+        auto set = [&](const Json& o, const std::string& at) {
+            const auto t = o.find("texCoord");
+            if (t == o.end() || failed() || !t->is_number_integer()) return;
+            if (t->get<std::int64_t>() > 1)
+                fail(at + ".texCoord",
+                     fmt::format("{} is not a texture coordinate set mvr reads (0 or 1)",
+                                 quote(*t)));
+        };
+        set(*it, place);
+        const auto ext = it->find("extensions");
+        if (ext == it->end() || !ext->is_object() || failed()) return;
+        const auto k = ext->find("KHR_texture_transform");
+        if (k == ext->end()) return;
+        const std::string at = place + ".extensions.KHR_texture_transform";
+        if (!k->is_object()) return fail(at, fmt::format("expected an object, got {}", quote(*k)));
+        for (const char* pair : {"offset", "scale"}) {
+            const auto v = k->find(pair);
+            if (v == k->end()) continue;
+            if (!v->is_array() || v->size() != 2 || !isFloat((*v)[0]) || !isFloat((*v)[1]))
+                return fail(fmt::format("{}.{}", at, pair),
+                            fmt::format("expected 2 finite numbers, got {}", quote(*v)));
+        }
+        if (const auto r = k->find("rotation"); r != k->end() && !isFloat(*r))
+            return fail(at + ".rotation",
+                        fmt::format("expected a finite number (radians), got {}", quote(*r)));
+        whole(*k, "texCoord", at);
+        set(*k, at);
+    }
 };
 
 /// doc[key] when it is an array, else an empty one (a wrong type is refused in `check`).
@@ -200,6 +237,13 @@ Status checkGltfValues(const nlohmann::json& doc, const std::string& what) {
             c.fail(where, fmt::format("expected an object, got {}", quote(m)));
             break;
         }
+        // The texture coordinate checks name the material ("material 'Wood' (materials[2]):
+        // pbrMetallicRoughness.baseColorTexture.texCoord: ...").
+        const auto name = m.find("name");
+        const std::string named =
+            name != m.end() && name->is_string()
+                ? fmt::format("material '{}' ({}): ", name->get<std::string>(), where)
+                : where + ": ";
         if (const auto pbr = m.find("pbrMetallicRoughness"); pbr != m.end()) {
             const std::string place = where + ".pbrMetallicRoughness";
             if (!pbr->is_object()) {
@@ -211,12 +255,15 @@ Status checkGltfValues(const nlohmann::json& doc, const std::string& what) {
             c.number(*pbr, "roughnessFactor", place, 0.0, 1.0);
             c.textureInfo(*pbr, "baseColorTexture", place);
             c.textureInfo(*pbr, "metallicRoughnessTexture", place);
+            for (const char* slot : {"baseColorTexture", "metallicRoughnessTexture"})
+                c.textureCoords(*pbr, slot, fmt::format("{}pbrMetallicRoughness.{}", named, slot));
         }
         c.floats(m, "emissiveFactor", where, 3, 0.0, double(FLT_MAX));
         c.number(m, "alphaCutoff", where, 0.0);
-        c.textureInfo(m, "normalTexture", where);
-        c.textureInfo(m, "occlusionTexture", where);
-        c.textureInfo(m, "emissiveTexture", where);
+        for (const char* slot : {"normalTexture", "occlusionTexture", "emissiveTexture"}) {
+            c.textureInfo(m, slot, where);
+            c.textureCoords(m, slot, named + slot);
+        }
         if (const auto mode = m.find("alphaMode"); mode != m.end() && !c.failed()) {
             if (!mode->is_string() || (*mode != "OPAQUE" && *mode != "MASK" && *mode != "BLEND"))
                 c.fail(where + ".alphaMode",

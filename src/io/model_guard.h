@@ -43,9 +43,13 @@ Status checkGltfBounds(const std::filesystem::path& path, const std::string& wha
 /// yfov (0..pi), znear, zfar, aspectRatio (> 0), xmag, ymag; KHR_lights_punctual colors (3,
 /// >= 0), intensity (>= 0), range (> 0), spot cone angles (0..pi/2); materials'
 /// baseColorFactor (4), emissiveFactor (3) (colours >= 0), metallic and roughness factors (0..1), alphaCutoff
-/// (>= 0), alphaMode, texture infos; samplers' filters and wraps (glTF's enum values). Every
-/// number must be a float (finite, |x| <= FLT_MAX). Errors: ErrorCode::Input,
-/// "WHAT: nodes[3].translation: expected 3 numbers, got [\"abc\",0,0]".
+/// (>= 0), alphaMode, texture infos (every slot's texture coordinate set 0 or 1, the sets mvr
+/// reads; KHR_texture_transform's offset (2), rotation, scale (2) and texCoord); samplers'
+/// filters and wraps (glTF's enum values). Every number must be a float (finite, |x| <=
+/// FLT_MAX). Errors: ErrorCode::Input, "WHAT: nodes[3].translation: expected 3 numbers, got
+/// [\"abc\",0,0]", "WHAT: material 'Wood' (materials[0]):
+/// pbrMetallicRoughness.baseColorTexture.extensions.KHR_texture_transform.offset: expected 2
+/// finite numbers, got [1e+39,0]".
 Status checkGltfValues(const nlohmann::json& doc, const std::string& what);
 
 /// What preflightModel() learnt of a model file.

@@ -4,9 +4,10 @@
 // node hierarchy, one aiMesh per glTF primitive, the glTF material keys (base color, alpha
 // mode and cutoff, double-sided, texture samplers), embedded images (GLB, data URIs),
 // cameras and KHR_lights_punctual lights, so no second glTF parser is needed for the scene
-// (cgltf is not packaged in Debian 12). Two things assimp 5.2.5 drops are read from the glTF
-// JSON itself: a light's range (khrLights below) and the animations' interpolation
-// (gltf_animation.cpp). The file first goes through loadMesh()'s checks (preflightModel,
+// (cgltf is not packaged in Debian 12). What assimp 5.2.5 drops is read from the glTF JSON
+// itself: a light's range (khrLights below), the animations' interpolation
+// (gltf_animation.cpp) and the texture slots' coordinate sets and KHR_texture_transform
+// (materialTextureCoords below). The file first goes through loadMesh()'s checks (preflightModel,
 // model_guard.h), which keep assimp's known faults from being reached and whose messages name
 // the problem, and is then imported once (plain files through loadMesh() itself); OBJ
 // materials come from mvr's own MTL reader (mtl.h), never assimp's.
@@ -167,6 +168,76 @@ std::vector<KhrLight> khrLights(const nlohmann::json& doc) {
     return out;
 }
 
+/// One glTF material's texture slots as its JSON states them: the texture coordinate set each
+/// reads and its KHR_texture_transform. assimp 5.2.5 does not apply the extension: it records
+/// it as AI_MATKEY_UVTRANSFORM (rotation negated and the offset moved for its own v-up space,
+/// about the image's centre) for aiProcess_TransformUVCoords to bake, a step mvr does not run
+/// (it transforms assimp's v-up coordinates before FlipUVs, one transform per UV channel
+/// whatever the slot), only when extensionsUsed lists the extension, and it ignores the
+/// extension's texCoord override (AI_MATKEY_UVWSRC is the textureInfo's texCoord). So the sets
+/// and transforms come from here and are applied in glTF's own uv space (convertMesh).
+struct GltfMaterialUv {
+    bool baseColorTexture = false;  ///< pbrMetallicRoughness.baseColorTexture is given
+    int baseColorTexCoord = 0;      ///< its set, the transform's texCoord having won
+    std::optional<TextureTransform> baseColor, metallicRoughness, normal, occlusion, emissive;
+};
+
+/// The file's materials[i] as GltfMaterialUv, index for index as assimp's mMaterials[i]
+/// (glTF2Importer::ImportMaterials imports materials[i] as mMaterials[i] and appends its default
+/// material). checkGltfValues() has checked the values (floats; sets 0 or 1): what has another
+/// type here is skipped. Empty when the document has no materials array.
+std::vector<GltfMaterialUv> materialTextureCoords(const nlohmann::json& doc) {
+    std::vector<GltfMaterialUv> out;
+    if (!doc.is_object()) return out;
+    const auto materials = doc.find("materials");
+    if (materials == doc.end() || !materials->is_array()) return out;
+    auto slot = [](const nlohmann::json& parent, const char* key, bool* present, int& texCoord,
+                   std::optional<TextureTransform>& transform) {
+        const auto info = parent.find(key);
+        if (info == parent.end() || !info->is_object()) return;
+        if (present) *present = true;
+        if (auto t = info->find("texCoord"); t != info->end() && t->is_number_integer())
+            texCoord = t->get<int>();
+        const auto ext = info->find("extensions");
+        if (ext == info->end() || !ext->is_object()) return;
+        const auto k = ext->find("KHR_texture_transform");
+        if (k == ext->end() || !k->is_object()) return;
+        TextureTransform x;
+        auto pair = [&](const char* name, glm::vec2& v) {
+            const auto a = k->find(name);
+            if (a != k->end() && a->is_array() && a->size() == 2 && (*a)[0].is_number() &&
+                (*a)[1].is_number())
+                v = {(*a)[0].get<float>(), (*a)[1].get<float>()};
+        };
+        pair("offset", x.offset);
+        pair("scale", x.scale);
+        if (auto r = k->find("rotation"); r != k->end() && r->is_number())
+            x.rotation = r->get<float>();
+        if (auto t = k->find("texCoord"); t != k->end() && t->is_number_integer()) {
+            x.texCoord = t->get<int>();
+            texCoord = *x.texCoord;
+        }
+        transform = x;
+    };
+    for (const nlohmann::json& m : *materials) {
+        GltfMaterialUv uv;
+        int unused = 0;
+        if (m.is_object()) {
+            if (const auto pbr = m.find("pbrMetallicRoughness");
+                pbr != m.end() && pbr->is_object()) {
+                slot(*pbr, "baseColorTexture", &uv.baseColorTexture, uv.baseColorTexCoord,
+                     uv.baseColor);
+                slot(*pbr, "metallicRoughnessTexture", nullptr, unused, uv.metallicRoughness);
+            }
+            slot(m, "normalTexture", nullptr, unused, uv.normal);
+            slot(m, "occlusionTexture", nullptr, unused, uv.occlusion);
+            slot(m, "emissiveTexture", nullptr, unused, uv.emissive);
+        }
+        out.push_back(uv);
+    }
+    return out;
+}
+
 struct Loader {
     std::filesystem::path path;
     std::string what;
@@ -230,7 +301,9 @@ struct Loader {
         return index;
     }
 
-    Result<Material> material(const aiMaterial& m) {
+    /// `uv`: the glTF material's texture slots (null for OBJ, and for assimp's default
+    /// material).
+    Result<Material> material(const aiMaterial& m, const GltfMaterialUv* uv) {
         Material out;
         aiString name;
         if (m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS) out.name = name.C_Str();
@@ -265,6 +338,14 @@ struct Loader {
             out.alphaCutoff = cutoff;
         int twoSided = 0;
         if (m.Get(AI_MATKEY_TWOSIDED, twoSided) == AI_SUCCESS) out.doubleSided = twoSided != 0;
+        if (uv) {
+            out.baseColorTexCoord = uv->baseColorTexCoord;
+            out.baseColorTransform = uv->baseColor;
+            out.metallicRoughnessTransform = uv->metallicRoughness;
+            out.normalTransform = uv->normal;
+            out.occlusionTransform = uv->occlusion;
+            out.emissiveTransform = uv->emissive;
+        }
         for (aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}) {
             if (m.GetTextureCount(type) == 0) continue;
             aiString file;
@@ -273,7 +354,9 @@ struct Loader {
             if (m.GetTexture(type, 0, &file, nullptr, &uvIndex, nullptr, nullptr, modes) !=
                 AI_SUCCESS)
                 continue;
-            if (uvIndex != 0) break;  // only TEXCOORD_0 is carried
+            // The set: baseColorTexture's (0 or 1, baked into Mesh::texcoords by convertMesh);
+            // otherwise (KHR_materials_pbrSpecularGlossiness' diffuse) set 0 only.
+            if (uvIndex != 0 && !(uv && uv->baseColorTexture)) break;
             auto t = texture(file.C_Str(), out.name);
             if (!t) return t.status();
             out.baseColorTexture = *t;
@@ -301,17 +384,23 @@ struct Loader {
 
 /// One aiMesh as a Mesh: triangles only, smooth normals where the file has none.
 /// `srgbColors`: vertex colours are sRGB-encoded (an OBJ's), not linear (glTF's COLOR_0).
-std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name, bool srgbColors) {
+/// Mesh::texcoords are the aiMesh's set `uvSet` (glTF's TEXCOORD_n is assimp's channel n, in
+/// glTF's uv space after FlipUVs), each mapped by `transform` when given.
+std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name, bool srgbColors,
+                                unsigned uvSet = 0,
+                                const std::optional<TextureTransform>& transform = {}) {
     if (!(in.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return std::nullopt;
     Mesh mesh;
     mesh.name = name;
-    const bool hasUv = in.HasTextureCoords(0);
+    const bool hasUv = uvSet < AI_MAX_NUMBER_OF_TEXTURECOORDS && in.HasTextureCoords(uvSet);
     for (unsigned v = 0; v < in.mNumVertices; ++v) {
         mesh.positions.emplace_back(in.mVertices[v].x, in.mVertices[v].y, in.mVertices[v].z);
         if (in.HasNormals())
             mesh.normals.emplace_back(in.mNormals[v].x, in.mNormals[v].y, in.mNormals[v].z);
-        if (hasUv)
-            mesh.texcoords.emplace_back(in.mTextureCoords[0][v].x, in.mTextureCoords[0][v].y);
+        if (hasUv) {
+            const glm::vec2 uv(in.mTextureCoords[uvSet][v].x, in.mTextureCoords[uvSet][v].y);
+            mesh.texcoords.push_back(transform ? transform->apply(uv) : uv);
+        }
         if (in.HasVertexColors(0)) {
             const aiColor4D& c = in.mColors[0][v];
             const glm::vec4 rgba(c.r, c.g, c.b, c.a);
@@ -453,15 +542,42 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
     loader.ai = ai;
     Scene& scene = loader.scene;
 
-    // Meshes: one per aiMesh (a glTF primitive); -1 for those with no triangles.
+    // glTF: the file's JSON (parsed once more: assimp's own is out of reach) for what assimp
+    // drops (the materials' texture coordinates, the lights' range).
+    const nlohmann::json doc = gltf ? gltfDocument(path, ext == ".glb") : nlohmann::json(nullptr);
+    std::vector<GltfMaterialUv> materialUv = materialTextureCoords(doc);
+    if (materialUv.size() + 1 != ai->mNumMaterials) materialUv.clear();  // does not line up
+    auto uvOf = [&](unsigned material) {
+        return material < materialUv.size() ? &materialUv[material] : nullptr;
+    };
+    // Meshes: one per aiMesh (a glTF primitive); -1 for those with no triangles. A glTF mesh's
+    // texture coordinates are its material's base colour set with the base colour transform
+    // baked in (a primitive has one material, whichever nodes instance it); a set 1 it lacks
+    // falls back to set 0 with a warning (an error with --strict, as a missing texture).
     std::vector<int> meshIndex(ai->mNumMeshes, -1);
     bool anyDegenerate = false;  // a mesh whose triangles all have zero area (skipped)
     for (unsigned m = 0; m < ai->mNumMeshes; ++m) {
         const aiMesh& am = *ai->mMeshes[m];
         std::string name = am.mName.length ? am.mName.C_Str() : fmt::format("mesh {}", m);
-        auto mesh =
-            convertMesh(am, fmt::format("{}: {}", path.filename().string(), name), !gltf);
+        const GltfMaterialUv* uv = uvOf(am.mMaterialIndex);
+        unsigned set = uv && uv->baseColorTexture ? unsigned(uv->baseColorTexCoord) : 0u;
+        std::string missingSet;
+        if (set != 0 && !am.HasTextureCoords(set) && am.HasTextureCoords(0)) {
+            aiString materialName;
+            ai->mMaterials[am.mMaterialIndex]->Get(AI_MATKEY_NAME, materialName);
+            missingSet = fmt::format(
+                "{}: material '{}': its base colour texture reads texture coordinate set {} "
+                "(TEXCOORD_{}), which mesh '{}' does not have",
+                loader.what, materialName.C_Str(), set, set, name);
+            set = 0;
+        }
+        auto mesh = convertMesh(am, fmt::format("{}: {}", path.filename().string(), name), !gltf,
+                                set, uv ? uv->baseColor : std::nullopt);
         if (!mesh) continue;
+        if (!missingSet.empty()) {
+            if (out.strict) return inputError(missingSet);
+            out.warnings.push_back(missingSet + ": set 0 is used (--strict: an error)");
+        }
         if (Status s = validateMesh(*mesh, fmt::format("{}: mesh '{}'", loader.what, name)); !s) {
             if (s.message().find("degenerate") != std::string::npos) {
                 anyDegenerate = true;
@@ -505,7 +621,7 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
             Material mat;
             if (mi < ai->mNumMaterials) {
                 if (!materials[mi]) {
-                    auto made = loader.material(*ai->mMaterials[mi]);
+                    auto made = loader.material(*ai->mMaterials[mi], uvOf(mi));
                     if (!made) return made.status();
                     materials[mi] = std::move(*made);
                 }
@@ -565,7 +681,7 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
     // The lights as the file states them (range, the cone angles), when its JSON can be read
     // and lines up with assimp's lights; assimp's values otherwise.
     const std::vector<KhrLight> fileLights =
-        ai->mNumLights > 0 ? khrLights(gltfDocument(path, ext == ".glb")) : std::vector<KhrLight>{};
+        ai->mNumLights > 0 ? khrLights(doc) : std::vector<KhrLight>{};
     const bool useFileLights = gltf && fileLights.size() == ai->mNumLights;
     for (unsigned l = 0; l < ai->mNumLights; ++l) {
         const aiLight& al = *ai->mLights[l];

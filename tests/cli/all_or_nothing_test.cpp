@@ -319,6 +319,11 @@ TEST_F(AllOrNothing, AFilesFaultIsExit2NamingTheFileAndThePlace) {
                                         {"roughnessFactor": 7}}])"));
     write("cutoff.gltf", gltfWith("", R"(, "materials": [{"alphaCutoff": "half"}])"));
     write("sampler.gltf", gltfWith("", R"(, "samplers": [{"wrapS": 5}])"));
+    write("textx.gltf", gltfWith("", R"(, "materials": [{"name": "Wood", "pbrMetallicRoughness":
+                                         {"baseColorTexture": {"index": 0, "extensions":
+                                         {"KHR_texture_transform": {"offset": [1e39, 0]}}}}}])"));
+    write("texset.gltf", gltfWith("", R"(, "materials": [{"name": "Wood",
+                                          "normalTexture": {"index": 0, "texCoord": 2}}])"));
     struct Case {
         std::string args;
         std::vector<std::string> needles;
@@ -351,6 +356,13 @@ TEST_F(AllOrNothing, AFilesFaultIsExit2NamingTheFileAndThePlace) {
          {"rough.gltf", "pbrMetallicRoughness.roughnessFactor", "7 is out of range"}},
         {"render cutoff.gltf", {"cutoff.gltf", "materials[0].alphaCutoff", "expected a number"}},
         {"render sampler.gltf", {"sampler.gltf", "samplers[0].wrapS", "not one of glTF's values"}},
+        {"render textx.gltf",
+         {"textx.gltf", "material 'Wood' (materials[0])",
+          "baseColorTexture.extensions.KHR_texture_transform.offset",
+          "expected 2 finite numbers, got [1e+39,0]"}},
+        {"render texset.gltf",
+         {"texset.gltf", "material 'Wood' (materials[0]): normalTexture.texCoord",
+          "2 is not a texture coordinate set mvr reads (0 or 1)"}},
     };
     for (const Case& c : cases) {
         std::filesystem::remove_all(mDir / "o");

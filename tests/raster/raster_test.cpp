@@ -37,7 +37,9 @@ TEST(ThreadPool, ATaskThatThrowsIsRethrownByRun) {
                                   if (task == 3) throw std::bad_alloc();
                               }),
                      std::bad_alloc);
-        if (workers == 1) EXPECT_EQ(ran.load(), 4);  // tasks 0..3, then no more claimed
+        if (workers == 1) {
+            EXPECT_EQ(ran.load(), 4);  // tasks 0..3, then no more claimed
+        }
         std::atomic<int> sum{0};
         pool.run(100, [&](int task, int) { sum += task; });
         EXPECT_EQ(sum.load(), 4950) << workers;
@@ -1118,7 +1120,9 @@ TEST(Kernels, DrawShearedEqualsRasterTrianglePerView) {
     EXPECT_GT(passed, 1000);       // fragments that passed the depth test
     EXPECT_GT(general, 100);       // views left to the general walk
     EXPECT_GT(culledViews, 1000);  // views taken out by `culled`
-    if (paths.size() > 1) EXPECT_GT(skippedGeneral, 10);  // wide views off the row's centers
+    if (paths.size() > 1) {
+        EXPECT_GT(skippedGeneral, 10);  // wide views off the row's centers
+    }
 }
 
 TEST(Kernels, DrawShearedKeepsTheFirstOfEqualDepths) {

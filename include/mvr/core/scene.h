@@ -1,12 +1,15 @@
 // mvr/core/scene.h — scenes: meshes placed by transforms, a material each (optionally with a
-// base color texture), lights, and optionally a camera from the file.
+// base color texture and glTF's texture transforms), lights, and optionally a camera from the
+// file.
 //
 // World space is right-handed, +Y up. A light's `towardLight` is the world-space unit
 // direction TOWARD the light (directional lights); point and spot lights also have a position
 // (glTF KHR_lights_punctual). See lighting.h for the shading model every backend uses.
 #pragma once
 
+#include <cmath>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -38,6 +41,34 @@ struct Texture {
 
 enum class AlphaMode { Opaque, Mask, Blend };
 
+/// glTF's KHR_texture_transform on one texture slot: an affine map of the slot's texture
+/// coordinates (in Texture's convention: u right, v down from the image's top-left),
+///
+///     uv' = T(offset) · R(rotation) · S(scale) · uv,
+///
+///           | 1 0 offset.x |       |  cos r  sin r  0 |       | scale.x 0       0 |
+///     T  =  | 0 1 offset.y |   R = | -sin r  cos r  0 |   S = | 0       scale.y 0 |
+///           | 0 0 1        |       |  0      0      1 |       | 0       0       1 |
+///
+/// as the extension's README writes R (row by row; "the UVs rotated by r radians
+/// counter-clockwise", its example of offset (0, 1), rotation π/2, scale 0.5 picking the
+/// lower-left quadrant) and as Blender's glTF exporter, three.js and CesiumJS apply it.
+/// Rotation in radians; offset and scale in units of the texture's size.
+struct TextureTransform {
+    glm::vec2 offset{0.0f, 0.0f};
+    float rotation = 0.0f;
+    glm::vec2 scale{1.0f, 1.0f};
+    /// The extension's own `texCoord`, when given: it overrides the textureInfo's set.
+    std::optional<int> texCoord;
+
+    /// `uv` transformed (the formula above).
+    glm::vec2 apply(glm::vec2 uv) const {
+        const float c = std::cos(rotation), s = std::sin(rotation);
+        const glm::vec2 scaled = scale * uv;
+        return offset + glm::vec2(c * scaled.x + s * scaled.y, -s * scaled.x + c * scaled.y);
+    }
+};
+
 struct Material {
     Material() = default;
     Material(glm::vec3 albedo_, float specular_ = 0.25f, float shininess_ = 32.0f)
@@ -54,6 +85,18 @@ struct Material {
     float alphaCutoff = 0.5f;  ///< AlphaMode::Mask: fragments with alpha < cutoff are discarded
     bool doubleSided = false;  ///< back faces are drawn (with the normal flipped) when culling
     std::string name;          ///< for messages
+    // Appended for glTF's texture coordinate sets and KHR_texture_transform (issue 39 item 4).
+    // A record of what the file says, per texture slot: no renderer applies these. loadScene()
+    // bakes the base colour slot's set and transform into Mesh::texcoords (the one array every
+    // backend samples), so a loaded mesh's texcoords are already transformed. The other slots
+    // (not drawn yet) are checked and recorded with their transform; one that uses another
+    // transform or set than the base colour's would need its own coordinates.
+    int baseColorTexCoord = 0;  ///< the set the base colour texture reads (0 or 1)
+    std::optional<TextureTransform> baseColorTransform;
+    std::optional<TextureTransform> metallicRoughnessTransform;
+    std::optional<TextureTransform> normalTransform;
+    std::optional<TextureTransform> occlusionTransform;
+    std::optional<TextureTransform> emissiveTransform;
 };
 
 struct Instance {

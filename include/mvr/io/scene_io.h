@@ -8,9 +8,16 @@
 // Mapping (docs/architecture.md, "Scenes from files"):
 // - every mesh instance of a node → one Instance per primitive, worldFromModel = the node's
 //   world transform; each primitive → one Mesh (shared by the nodes that instance it).
-// - baseColorFactor → Material::albedo + alpha; baseColorTexture (TEXCOORD_0) → a Texture and
-//   its sampler (filters, wrap); alphaMode / alphaCutoff; doubleSided. metallic/roughness are
-//   not used: specular 0.25 / shininess 32 as every built-in material.
+// - baseColorFactor → Material::albedo + alpha; baseColorTexture → a Texture and its sampler
+//   (filters, wrap); alphaMode / alphaCutoff; doubleSided. metallic/roughness are not used:
+//   specular 0.25 / shininess 32 as every built-in material.
+// - texture coordinate sets 0 and 1 (TEXCOORD_0, TEXCOORD_1; another set is an error naming
+//   the material) and KHR_texture_transform on every slot, read from the file's JSON: each
+//   slot's transform is recorded on the Material (baseColorTransform, normalTransform, ...);
+//   a mesh's texcoords are the set its material's base colour texture reads, with that slot's
+//   transform baked in (TextureTransform, scene.h: uv' = T · R · S · uv). The other slots are
+//   not drawn; their transforms are a record. A set the mesh lacks: a warning naming the
+//   file, material, set and mesh, set 0 used (info->strict: an error).
 // - texture coordinates follow Texture's convention (uv (0, 0) = top-left): glTF's as written,
 //   OBJ's v flipped.
 // - the first camera (perspective: yfov, aspectRatio, znear, zfar) → Scene::camera.
@@ -54,8 +61,10 @@ struct SceneLoadInfo {
 /// anything else is loadMesh()'s merged mesh (its messages as they are). Errors:
 /// ErrorCode::Input — those; "PATH: material 'M': texture 'T': ..."
 /// for a bad texture (a missing one only when info->strict: else a warning, and the material
-/// keeps its base colour); "PATH: has no triangles". Texture paths with Windows separators
-/// ('.\tex.jpg', as LightWave's MTL writes them) are found with '/'.
+/// keeps its base colour); "PATH: material 'M': its base colour texture reads texture
+/// coordinate set 1 (TEXCOORD_1), which mesh 'X' does not have" (only when info->strict: else
+/// the same line as a warning, set 0 used); "PATH: has no triangles". Texture paths with
+/// Windows separators ('.\tex.jpg', as LightWave's MTL writes them) are found with '/'.
 Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info = nullptr);
 
 /// A sky for StereoSurfaces (stereo_surfaces.h): "gradient", or a PNG / JPEG file decoded by
