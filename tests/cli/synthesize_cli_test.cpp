@@ -80,6 +80,24 @@ TEST_F(SynthesizeCli, EveryViewIsWrittenAndTheExactOnesAreThePlainRenders) {
         << "the depth the warp needs is internal";
 }
 
+// A sequence synthesizes every frame's views: frame 1 of an orbit differs from frame 0, and its
+// exact views are the plain sequence's.
+TEST_F(SynthesizeCli, ASequenceSynthesizesEveryFrame) {
+    const std::string seq = std::string(kRender) + " --frames 2 --orbit 20";
+    ASSERT_EQ(run(seq + " -o plain").exitCode, 0);
+    const test::CliRun r = run(seq + " --synthesize 4 -o warped");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (int v = 0; v < 9; ++v) {
+        const Image w = view("warped/frame-0001", v), p = view("plain/frame-0001", v);
+        if (v % 4 == 0) {
+            EXPECT_TRUE(w == p) << "exact view " << v;
+        } else {
+            EXPECT_EQ(w.width, 160);
+            EXPECT_FALSE(w == view("warped/frame-0000", v)) << "view " << v << " did not move";
+        }
+    }
+}
+
 TEST_F(SynthesizeCli, CheckReportsEveryWarpedViewAgainstItsExactRender) {
     const test::CliRun r = run(std::string(kRender) + " --synthesize 4 --check -o out");
     ASSERT_EQ(r.exitCode, 0) << r.err;
