@@ -9,6 +9,7 @@ __version__: str
 
 _Path = Union[str, os.PathLike[str]]
 _Pair = Union[str, tuple[int, int]]  # "WxH" / "CxR" or (w, h) / (c, r)
+_Vec3 = Union[str, Sequence[float]]  # "x,y,z" or (x, y, z)
 _Views = Union[npt.NDArray[np.uint8], Sequence[Union[npt.NDArray[np.uint8], _Path]]]
 
 class ParameterError(TypeError, ValueError):
@@ -157,6 +158,34 @@ def render(
     label_anchor: str | Sequence[str] = ...,
     angular_aa: float | Literal["auto", "off"] = ...,
     synthesize: int = ...,
+    azimuth: float = ...,
+    elevation: float = ...,
+    distance: float | Literal["auto"] = ...,
+    target: _Vec3 = ...,
+    camera_position: _Vec3 = ...,
+    look_at: _Vec3 = ...,
+    up: _Vec3 = ...,
+    camera_matrix: Sequence[float] | Sequence[Sequence[float]] | _Path = ...,
+    focal_length_mm: float = ...,
+    sensor_width_mm: float = ...,
+    background: _Vec3 | str = ...,
+    screen_mm: _Pair | str = ...,
+    screen_corners: Sequence[float] | Sequence[Sequence[float]] | str = ...,
+    screen_tilt: float = ...,
+    head: _Vec3 = ...,
+    ipd_mm: float = ...,
+    eye_track: _Path = ...,
+    look_around: float = ...,
+    depthiness: float = ...,
+    focus: float = ...,
+    rgbd_depth_position: Literal["right", "left", "top", "bottom"] = ...,
+    depth_factor: float = ...,
+    depth_format: Literal["png16", "exr"] = ...,
+    png_compression: Literal["fast", "default", "small"] = ...,
+    view_range: _Pair | str = ...,
+    write: str | Sequence[str] = ...,
+    write_cameras: bool = ...,
+    strict: bool = ...,
     lenticular_pitch: float = ...,
     lenticular_slope: float = ...,
     lenticular_center: float = ...,

@@ -231,10 +231,10 @@ Result<std::pair<std::string, std::optional<Placement>>> parseModelArg(const std
     static constexpr const char* kNames[] = {"X", "Y", "Z", "SCALE", "YAW"};
     for (std::size_t i = 0; i < values.size(); ++i) {
         const double v = values[i];
-        const bool ok = i < 3   ? std::abs(v) <= kMaxPlacementOffset
-                        : i == 3 ? v >= kMinPlacementScale && v <= kMaxPlacementScale
-                                 : std::abs(v) <= kMaxPlacementYaw;
-        if (!ok) {
+        const bool inRange = i < 3   ? std::abs(v) <= kMaxPlacementOffset
+                             : i == 3 ? v >= kMinPlacementScale && v <= kMaxPlacementScale
+                                      : std::abs(v) <= kMaxPlacementYaw;
+        if (!inRange) {
             return bad(fmt::format(
                 "has {} = {:g} out of range (|X|, |Y|, |Z| at most {:g}; SCALE {:g}..{:g}; "
                 "|YAW| at most {:g} degrees)",

@@ -263,7 +263,7 @@ TEST_F(CliRgbdViewRange, RangesAssembleIntoTheWholeRenderByteForByte) {
                       0);
         }
         for (int v = 0; v < 8; ++v) {
-            for (const std::string name :
+            for (const std::string& name :
                  {fmt::format("view-{}.png", v), fmt::format("depth-{}.png", v)}) {
                 const std::string bytes = test::slurp(whole / name);
                 ASSERT_FALSE(bytes.empty()) << name;

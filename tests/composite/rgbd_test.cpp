@@ -32,9 +32,10 @@ TEST(Rgbd, DepthImageIsLinearInDistanceWhiteNear) {
         EXPECT_EQ(p.b, p.r);
         EXPECT_EQ(p.a, 255);
         // and decodes back within half a step where it is in range
-        if (i < 4 || i == 7)
+        if (i < 4 || i == 7) {
             EXPECT_NEAR(far - p.r / 255.0 * (far - near), d[std::size_t(i)],
                         (far - near) / 510.0 + 1e-6);
+        }
     }
 }
 
