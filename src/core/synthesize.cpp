@@ -46,6 +46,7 @@ constexpr float kMaxStretch = 2.0f;
 /// ⌈x⌉ for the pixel positions here (|x| well inside int's range): std::ceil is a libm call on
 /// the baseline x86-64 this file is built for.
 inline int ceilInt(float x) {
+    x = std::clamp(x, -1e8f, 1e8f);  // finite here (a join's span is); within int's range
     const int i = int(x);
     return i + (float(i) < x ? 1 : 0);
 }
@@ -287,7 +288,9 @@ Status renderSynthesizedInto(Backend& backend, const Scene& scene, const Rig& ri
     out.depth.resize(std::size_t(n));
     out.depthRange.clear();
     out.method = pass.method;
-    out.note = pass.note;
+    // What `mvr render` prints after the method: "--synthesize 4: 12 exact, 33 warped".
+    out.note = fmt::format("--synthesize {}: {} exact, {} warped{}{}", k, exact.size(),
+                           n - int(exact.size()), pass.note.empty() ? "" : "; ", pass.note);
     out.stages = pass.stages;
     for (std::size_t i = 0; i < exact.size(); ++i) {
         Image& c = out.color[std::size_t(exact[i])];
