@@ -183,6 +183,12 @@ std::vector<int> exactViews(const Rig& rig, int k) {
     return views;
 }
 
+std::vector<char> exactMask(int viewCount, const std::vector<int>& exact) {
+    std::vector<char> mask(std::size_t(std::max(viewCount, 0)), 0);
+    for (int v : exact) mask[std::size_t(v)] = 1;
+    return mask;
+}
+
 Status checkSynthesisRig(const Rig& rig, const std::string& option) {
     if (rig.columns * rig.rows != rig.viewCount() || rig.columns < 3) {
         return usageError(fmt::format(
@@ -221,11 +227,9 @@ Status synthesizeViews(const Rig& rig, const std::vector<int>& exact, RenderOutp
             out.depth[v].height != h)
             return internalError(fmt::format("view synthesis: view {} is not {}x{}", v, w, h));
     }
-    std::vector<char> isExact(std::size_t(n), 0);
-    for (int v : exact) {
+    for (int v : exact)
         if (v < 0 || v >= n) return internalError(fmt::format("view synthesis: no view {}", v));
-        isExact[std::size_t(v)] = 1;
-    }
+    const std::vector<char> isExact = exactMask(n, exact);
     for (int r = 0; r < rig.rows; ++r) {
         if (!isExact[std::size_t(r * rig.columns)] || !isExact[std::size_t(r * rig.columns + rig.columns - 1)])
             return internalError(fmt::format("view synthesis: row {}'s ends are not exact", r));
@@ -304,8 +308,7 @@ Status renderSynthesizedInto(Backend& backend, const Scene& scene, const Rig& ri
             d = pass.depth[i];
         }
     }
-    std::vector<char> isExact(std::size_t(n), 0);
-    for (int v : exact) isExact[std::size_t(v)] = 1;
+    const std::vector<char> isExact = exactMask(n, exact);
     for (int v = 0; v < n; ++v) {
         if (isExact[std::size_t(v)]) continue;
         out.color[std::size_t(v)].reuseOrReset(w, h, nullptr);

@@ -117,22 +117,30 @@ RenderSettings settings() {
     return s;
 }
 
+/// Every view of `rig` rendered exactly (soft:multipass) and with --synthesize 4.
+void renderBoth(const Scene& scene, const Rig& rig, RenderOutput& exact, RenderOutput& warped) {
+    auto soft = makeBackend("soft");
+    ASSERT_TRUE(soft) << soft.status().message();
+    auto e = (*soft)->render(scene, rig, settings(), "multipass");
+    ASSERT_TRUE(e) << e.status().message();
+    auto w = renderSynthesized(**soft, scene, rig, settings(), "multipass", 4);
+    ASSERT_TRUE(w) << w.status().message();
+    exact = std::move(*e);
+    warped = std::move(*w);
+}
+
 TEST(Synthesize, APlaneWithWholePixelParallaxLandsWhereTheEyesPutIt) {
     const float d = spacingFor(2.0f, kDist);  // 2 pixels a view
     const Scene scene = barScene();
     const Rig rig = barRig(d);
-    auto soft = makeBackend("soft");
-    ASSERT_TRUE(soft) << soft.status().message();
-    auto exact = (*soft)->render(scene, rig, settings(), "multipass");
-    ASSERT_TRUE(exact) << exact.status().message();
-    auto warped = renderSynthesized(**soft, scene, rig, settings(), "multipass", 4);
-    ASSERT_TRUE(warped) << warped.status().message();
-    ASSERT_EQ(warped->color.size(), std::size_t(kViews));
-    ASSERT_EQ(warped->depth.size(), std::size_t(kViews));
+    RenderOutput exact, warped;
+    ASSERT_NO_FATAL_FAILURE(renderBoth(scene, rig, exact, warped));
+    ASSERT_EQ(warped.color.size(), std::size_t(kViews));
+    ASSERT_EQ(warped.depth.size(), std::size_t(kViews));
     const int y = kH / 2;
     for (int v = 0; v < kViews; ++v) {
-        const Image& w = warped->color[std::size_t(v)];
-        const Image& e = exact->color[std::size_t(v)];
+        const Image& w = warped.color[std::size_t(v)];
+        const Image& e = exact.color[std::size_t(v)];
         if (v % 4 == 0) {  // exact views: the plain render's, bit for bit
             EXPECT_TRUE(w == e) << "exact view " << v;
             continue;
@@ -189,16 +197,12 @@ TEST(Synthesize, WhatABarUncoversComesFromTheOtherExactView) {
     const float d = spacingFor(4.0f, kDist);
     const Scene scene = barScene(-10.0f);
     const Rig rig = barRig(d);
-    auto soft = makeBackend("soft");
-    ASSERT_TRUE(soft) << soft.status().message();
-    auto exact = (*soft)->render(scene, rig, settings(), "multipass");
-    ASSERT_TRUE(exact) << exact.status().message();
-    auto warped = renderSynthesized(**soft, scene, rig, settings(), "multipass", 4);
-    ASSERT_TRUE(warped) << warped.status().message();
+    RenderOutput exact, warped;
+    ASSERT_NO_FATAL_FAILURE(renderBoth(scene, rig, exact, warped));
     for (int v = 0; v < kViews; ++v) {
         if (v % 4 == 0) continue;
-        const Image& w = warped->color[std::size_t(v)];
-        const Image& e = exact->color[std::size_t(v)];
+        const Image& w = warped.color[std::size_t(v)];
+        const Image& e = exact.color[std::size_t(v)];
         long off = 0;
         for (int y = 0; y < kH; ++y)
             for (int x = 0; x < kW; ++x) off += w.at(x, y) == e.at(x, y) ? 0 : 1;

@@ -90,8 +90,8 @@ Status checkSynthesis(Backend& backend, const std::string& method, const Prepare
     progress.reset();
     if (!exact) return exact.status();
     if (Status s = applySurfaces(surfaces, p.rig, *exact); !s) return s;
-    std::vector<char> isExact(out.color.size(), 0);
-    for (int v : exactViews(p.rig, p.synthesize)) isExact[std::size_t(v)] = 1;
+    const std::vector<char> isExact =
+        exactMask(int(out.color.size()), exactViews(p.rig, p.synthesize));
     double worst = std::numeric_limits<double>::infinity(), worstShare = 0.0;
     int warped = 0;
     for (std::size_t v = 0; v < out.color.size(); ++v) {

@@ -42,6 +42,10 @@ std::vector<int> exactColumns(int columns, int k);
 /// The views (rig order) rendered exactly with step `k`: exactColumns() of every row.
 std::vector<int> exactViews(const Rig& rig, int k);
 
+/// Per view of a rig of `viewCount` views, 1 where `exact` (exactViews()) lists it, else 0.
+/// Precondition: every entry of `exact` is in 0..viewCount − 1.
+std::vector<char> exactMask(int viewCount, const std::vector<int>& exact);
+
 /// Whether `rig` can be synthesized: an off-axis rig (every view has a clip shear), views laid
 /// out as rows × columns, at least 3 columns. Errors: Usage naming `option` ("--synthesize 4")
 /// and why.
