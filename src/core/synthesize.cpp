@@ -281,7 +281,11 @@ Status renderSynthesizedInto(Backend& backend, const Scene& scene, const Rig& ri
     // The exact views' render, kept from frame to frame as a backend's renderInto keeps its
     // images; its images are swapped into `out` (and out's old ones back for the next frame).
     thread_local RenderOutput pass;
-    if (Status s = backend.renderInto(scene, subRig(rig, exact), sub, method, pass); !s) return s;
+    if (Status s = backend.renderInto(scene, subRig(rig, exact), sub, method, pass); !s) {
+        // The backend speaks of the sub-rig ("the rig has 3"): say which rig that is.
+        return Status(s.code(), fmt::format("--synthesize {}: the {} exact views: {}", k,
+                                            exact.size(), s.message()));
+    }
     if (pass.depth.size() != exact.size()) {
         return unsupportedError(fmt::format(
             "--synthesize {}: --method {} gives no depth images to warp from", k, pass.method));

@@ -89,6 +89,20 @@ protected:
     std::filesystem::path mDir;
 };
 
+// --synthesize renders a sub-rig of exact views: a method's refusal of it names the option.
+TEST_F(RenderGpuComposites, ASynthesizedRigRefusedByAMethodNamesTheOption) {
+    const std::vector<Image> probe(2, Image(1, 1));
+    Result<Image> g = composeGpu("sbs", probe, {});
+    if (!g && g.status().code() == ErrorCode::Unsupported) MVR_SKIP(MethodUnsupportedByDriver) << g.status().message();
+    const ::mvr::test::CliRun r = ::mvr::test::runMvr(
+        mDir, "render --backend gl --method gs-mrt --views 9 --size 42x30 --synthesize 4 -q -o out");
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    EXPECT_EQ(r.err,
+              "error: --synthesize 4: the 3 exact views: gl: gs-mrt renders exactly 2 views "
+              "(sorbier2008's stereo pair: one MRT attachment per eye); the rig has 3\n");
+    EXPECT_FALSE(std::filesystem::exists(mDir / "out"));
+}
+
 TEST_F(RenderGpuComposites, StereoFormatsMatchTheCpuComposites) {
     check(2,
           {"anaglyph-color", "anaglyph-gray", "anaglyph-dubois-ab", "sbs", "sbs-half", "tb",
