@@ -108,12 +108,17 @@ std::string rgbdSidecarJson(const ComposeOptions& o, const RgbdSidecar& s) {
         "    \"depth_position\": \"{}\",\n"
         "    \"near\": {},\n"
         "    \"far\": {},\n"
+        "{}"
         "    \"depth\": \"grey g (0..255, white = near): distance along the view axis = far - g "
         "/ 255 * (far - near); 0 also where nothing was drawn\"\n"
         "  }}\n"
         "}}\n",
         s.image, o.depthiness, o.focus, bridgeDepthLoc(o.rgbdDepth), aspect, s.view,
-        depthPositionName(o.rgbdDepth), s.near, s.far);
+        depthPositionName(o.rgbdDepth), s.near, s.far,
+        s.convergence > 0.0 && s.fovYDegrees > 0.0
+            ? fmt::format("    \"convergence\": {},\n    \"fov_y_degrees\": {},\n",
+                          s.convergence, s.fovYDegrees)
+            : std::string());
 }
 
 }  // namespace mvr::composite

@@ -57,7 +57,8 @@ inline int ceilInt(float x) {
 /// interpolated linearly between them (a one-dimensional mesh warp, so a fractional shift
 /// resamples rather than rounds, and a stretched surface leaves no cracks). A pixel at either
 /// end of a run of joined pixels also lands on the pixel its point falls in.
-void warpView(const Source* sources, int count, float shear, Image& color, DepthImage& depth) {
+void warpView(const Source* sources, int count, float shear, Image& color, DepthImage& depth,
+              float maxStretch = kMaxStretch) {
     const int w = color.width, h = color.height;
     std::fill(depth.depth.begin(), depth.depth.end(), kHole);
     for (int s = 0; s < count; ++s) {
@@ -83,7 +84,7 @@ void warpView(const Source* sources, int count, float shear, Image& color, Depth
                 const float q = x + 1 < w ? float(x + 1) + 0.5f + k * fa[x + 1] : 0.0f;
                 const float span = q - p;
                 // Background (nothing drawn) is no surface: never joined to one.
-                const bool joinedRight = x + 1 < w && span > 0.0f && span <= kMaxStretch &&
+                const bool joinedRight = x + 1 < w && span > 0.0f && span <= maxStretch &&
                                          (sd[x] >= 1.0f) == (sd[x + 1] >= 1.0f);
                 if (joinedRight) {
                     // Target centres c = t + ½ in [p, q).
@@ -165,6 +166,21 @@ void warpView(const Source* sources, int count, float shear, Image& color, Depth
     }
 }
 
+/// body(i) for i in 0..count − 1, spread over `threads` workers (0: one per core).
+template <class Body>
+void forEachParallel(int count, int threads, Body&& body) {
+    std::atomic<int> next{0};
+    auto work = [&] {
+        for (int i = next++; i < count; i = next++) body(i);
+    };
+    const int hw = threads > 0 ? threads : int(std::thread::hardware_concurrency());
+    const int workers = std::clamp(hw, 1, std::max(1, count));
+    std::vector<std::thread> pool;
+    for (int t = 1; t < workers; ++t) pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool) t.join();
+}
+
 }  // namespace
 
 std::vector<int> exactColumns(int columns, int k) {
@@ -240,9 +256,7 @@ Status synthesizeViews(const Rig& rig, const std::vector<int>& exact, RenderOutp
     std::vector<int> targets;
     for (int v = 0; v < n; ++v)
         if (!isExact[std::size_t(v)]) targets.push_back(v);
-    std::atomic<int> next{0};
-    auto work = [&] {
-        for (int i = next++; i < int(targets.size()); i = next++) {
+    forEachParallel(int(targets.size()), threads, [&](int i) {
             const int t = targets[std::size_t(i)];
             const int row = t / rig.columns, col = t % rig.columns;
             int left = col, right = col;
@@ -258,15 +272,29 @@ Status synthesizeViews(const Rig& rig, const std::vector<int>& exact, RenderOutp
             src[0] = source(leftNearer ? a : b);
             src[1] = source(leftNearer ? b : a);
             warpView(src, 2, rig.views[t].clipShear->x, out.color[t], out.depth[t]);
-        }
-    };
-    const int hw = threads > 0 ? threads : int(std::thread::hardware_concurrency());
-    const int workers = std::clamp(hw, 1, std::max(1, int(targets.size())));
-    std::vector<std::thread> pool;
-    for (int t = 1; t < workers; ++t) pool.emplace_back(work);
-    work();
-    for (std::thread& t : pool) t.join();
+    });
     return {};
+}
+
+Result<std::vector<Image>> warpFromView(const Image& color, const DepthImage& depth,
+                                        std::span<const float> factor,
+                                        std::span<const float> shears, float maxStretch,
+                                        int threads) {
+    const std::size_t pixels = std::size_t(color.width) * std::size_t(color.height);
+    if (color.width < 1 || color.height < 1 || depth.width != color.width ||
+        depth.height != color.height || depth.depth.size() != pixels || factor.size() != pixels)
+        return internalError(fmt::format(
+            "view synthesis: a {}x{} colour image with a {}x{} depth image and {} factors",
+            color.width, color.height, depth.width, depth.height, factor.size()));
+    const std::vector<float> factors(factor.begin(), factor.end());
+    std::vector<Image> views(shears.size());
+    forEachParallel(int(shears.size()), threads, [&](int i) {
+        views[std::size_t(i)] = Image(color.width, color.height);
+        DepthImage scratch(color.width, color.height);
+        const Source src{&color, &depth, &factors, 0.0f};
+        warpView(&src, 1, shears[std::size_t(i)], views[std::size_t(i)], scratch, maxStretch);
+    });
+    return views;
 }
 
 Status renderSynthesizedInto(Backend& backend, const Scene& scene, const Rig& rig,

@@ -63,6 +63,8 @@ Result<ColourAndDepth> colourAndDepthOf(const RenderOutput& out, const Rig& rig,
     cd.sidecar.near = near;
     cd.sidecar.far = far;
     cd.sidecar.view = v;
+    cd.sidecar.convergence = rig.convergence;
+    cd.sidecar.fovYDegrees = rig.camera.fovYDegrees;
     return cd;
 }
 

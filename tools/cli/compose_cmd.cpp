@@ -16,7 +16,10 @@
 #include "options.h"
 
 #include "mvr/composite/compose.h"
+#include "mvr/core/displays.h"
 #include "mvr/session/outputs.h"
+#include "mvr/session/prepare.h"
+#include "mvr/session/rgbd_input.h"
 
 namespace mvr::cli {
 namespace {
@@ -28,6 +31,12 @@ struct ComposeCommandOptions {
     bool quiet = false;
     bool formatGiven = false;  ///< --format on the command line (else inferred from -o .mpo/.jps)
     composite::ComposeOptions compose;
+    /// --from-rgbd: the input is one RGB-D picture (or colour and depth) and the views are
+    /// warped from it for --display (mvr/session/rgbd_input.h).
+    bool fromRgbd = false;
+    std::string display;
+    bool quiltGiven = false, depthPositionGiven = false, depthinessGiven = false,
+         focusGiven = false, calibrationGiven = false;
 };
 
 std::string lowerExtension(const std::filesystem::path& p) {
@@ -62,7 +71,53 @@ std::optional<std::vector<std::string>> numericOrder(const std::vector<std::stri
     return out;
 }
 
+/// `mvr compose IMAGE --from-rgbd --display NAME`: the display's views warped from the RGB-D
+/// picture, composed as the display takes them (a quilt) or as --format says.
+int runFromRgbd(ComposeCommandOptions& o) {
+    if (o.display.empty())
+        return fail(usageError("--from-rgbd needs --display NAME, the light-field display whose "
+                               "views to make (`mvr info --displays` lists them)"));
+    Result<DisplayPreset> display = findDisplay(o.display);
+    if (!display) return fail(display.status());
+    std::optional<composite::DepthPosition> position;
+    if (o.depthPositionGiven) position = o.compose.rgbdDepth;
+    Result<session::RgbdInput> input = session::readRgbdInput(o.inputs, position);
+    if (!input) return fail(input.status());
+    // Looking Glass's two settings: the command line's, else (a foreign picture's sidecar)
+    // Bridge's; an mvr sidecar's camera already holds the render's focal plane.
+    double depthiness = o.compose.depthiness, focus = o.compose.focus;
+    if (!input->measured && !o.depthinessGiven && input->depthiness)
+        depthiness = *input->depthiness;
+    if (!input->measured && !o.focusGiven && input->focus) focus = *input->focus;
+    std::vector<std::string> formats;
+    if (o.formatGiven) formats.push_back(o.format);
+    session::displayOutputs(*display, o.calibrationGiven, o.quiltGiven, display->aspect, formats,
+                            o.compose);
+    o.format = formats.front();
+    std::optional<TerminalProgress> progress;
+    progress.emplace(fmt::format("warping {} views from {}", display->views, o.inputs[0]));
+    Result<std::vector<Image>> views =
+        session::viewsFromRgbd(*input, *display, depthiness, focus);
+    if (!views) return fail(views.status());
+    auto path = session::writeComposed(o.format, *views, o.compose, std::filesystem::path(o.output));
+    if (!path) return fail(path.status());
+    progress.reset();
+    if (!o.quiet)
+        fmt::print("composed {} views of {}x{} for {} from {} ({}{}) as {}\nwrote:\n  {}\n",
+                   views->size(), views->front().width, views->front().height, display->name,
+                   o.inputs.size() == 1 ? o.inputs[0] : o.inputs[0] + " and " + o.inputs[1],
+                   input->measured ? "depth in world units from " : "depth as disparity",
+                   input->measured ? input->sidecar : std::string(), o.format, path->string());
+    return 0;
+}
+
 int runCompose(ComposeCommandOptions o) {
+    if (o.fromRgbd) return runFromRgbd(o);
+    if (!o.display.empty())
+        return fail(usageError(fmt::format(
+            "--display {}: mvr compose takes a display only with --from-rgbd (to compose "
+            "rendered views for a display, give its --format and --quilt)",
+            o.display)));
     if (auto ordered = numericOrder(o.inputs)) {
         fmt::print(stderr,
                    "note: the views are taken in the order of their numbers ({} before {}): "
@@ -152,13 +207,29 @@ const CommandRegistrar kCompose(20, [](CLI::App& root) -> std::function<int()> {
                     "in .png, .jpg, .jpeg, .jps or .mpo (written as is)")
         ->default_val(o->output);
     app->add_flag("-q,--quiet", o->quiet, "Print nothing on success");
+    app->add_flag("--from-rgbd", o->fromRgbd,
+                  "The input is one RGB-D picture (colour and grey depth side by side, white = "
+                  "near; --rgbd-depth-position, or its FILE.json sidecar, says where) or two "
+                  "files, colour then depth: the views of --display are warped from it (depth "
+                  "in world units with mvr's rgbd.json, else taken as disparity; "
+                  "docs/displays.md)");
+    app->add_option("--display", o->display,
+                    "With --from-rgbd: the light-field display whose views to make (its view "
+                    "count, size and cone; output: its format, a quilt, unless --format)")
+        ->check(CLI::IsMember(displayNames()))
+        ->type_name("NAME");
     addComposeOptions(app, o->compose, /*withStereoMetadata=*/true);
     app->footer("Formats:\n" + composite::formatHelp() +
                 "Views are numbered left to right: the first view is the left eye.\n"
                 "Exit codes: 0 ok, 1 usage, 2 unreadable input, 3 unsupported, 4 output.");
     CLI::Option* format = app->get_option("--format");
-    return [o, format] {
+    return [o, format, app] {
         o->formatGiven = format->count() > 0;
+        o->quiltGiven = app->get_option("--quilt")->count() > 0;
+        o->depthPositionGiven = app->get_option("--rgbd-depth-position")->count() > 0;
+        o->depthinessGiven = app->get_option("--depthiness")->count() > 0;
+        o->focusGiven = app->get_option("--focus")->count() > 0;
+        o->calibrationGiven = app->get_option("--lenticular-calibration")->count() > 0;
         return runCompose(*o);
     };
 });

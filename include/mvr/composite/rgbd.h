@@ -57,10 +57,14 @@ struct RgbdSidecar {
     int width = 0, height = 0;  ///< of the colour image
     double near = 0.0, far = 0.0;  ///< the depth image's range (world units)
     int view = 0;  ///< the rig's view it shows
+    /// The camera (`mvr compose --from-rgbd` rebuilds a display's views around it): the
+    /// zero-parallax distance and the vertical field of view, degrees. 0: not written.
+    double convergence = 0.0, fovYDegrees = 0.0;
 };
 
 /// The sidecar JSON (rgbd.json): {"type": "rgbd", "uri": IMAGE, "settings": {Bridge's rgbd
-/// fields}, "mvr": {"view", "near", "far", "depth": the decoding formula}}. "uri" and
+/// fields}, "mvr": {"view", "near", "far", "convergence", "fov_y_degrees", "depth": the
+/// decoding formula}} (convergence and fov_y_degrees only when known). "uri" and
 /// "settings" are the arguments of bridge.js's `RGBDHologram`.
 std::string rgbdSidecarJson(const ComposeOptions& options, const RgbdSidecar& sidecar);
 

@@ -22,6 +22,7 @@
 // where neither source sees what the target sees, and at resampled edges.
 #pragma once
 
+#include <span>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,17 @@ Rig subRig(const Rig& rig, const std::vector<int>& views);
 /// Internal for sizes that do not match.
 Status synthesizeViews(const Rig& rig, const std::vector<int>& exact, RenderOutput& out,
                        int threads = 0);
+
+/// Warps one view into others of its row (`mvr compose --from-rgbd`): `color`, per pixel an
+/// order depth `depth` (nearer smaller, below 1; 1 and above is background, as window depth)
+/// and the parallax factor a = 1 − C / w (`factor`, one per pixel), into one view per entry of
+/// `shears` (each target's clip shear minus the source's), by the one-source form of the warp
+/// above: holes take the farther of their row's nearest filled pixels. Errors: Internal for
+/// sizes that do not match.
+Result<std::vector<Image>> warpFromView(const Image& color, const DepthImage& depth,
+                                        std::span<const float> factor,
+                                        std::span<const float> shears,
+                                        float maxStretch = 2.0f, int threads = 0);
 
 /// Renders `rig` with `backend` as --synthesize `k` does: the exact views as one render (the
 /// sub-rig of exactViews(), with depth), the others synthesized; the output holds every view of
