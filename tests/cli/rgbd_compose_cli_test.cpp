@@ -190,6 +190,31 @@ TEST_F(RgbdComposeCli, AForeignDepthMapIsDisparity) {
     EXPECT_TRUE(quilt("left") == quilt("black"));
 }
 
+TEST_F(RgbdComposeCli, APictureOfAnotherSizeIsCroppedAndResampled) {
+    // The bar picture and its depth at twice the view size: area-averaged 2x2 to the same
+    // pixels, hence the same quilt; and inside a wider picture: cropped about the centre.
+    const Image bar = barPicture();
+    Image big(2 * kW, 2 * kH), wide(kW + 300, kH, {90, 20, 200, 255});
+    for (int y = 0; y < 2 * kH; ++y)
+        for (int x = 0; x < 2 * kW; ++x) big.set(x, y, bar.at(x / 2, y / 2));
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) wide.set(150 + x, y, bar.at(x, y));
+    write("colour.png", bar);
+    write("big.png", big);
+    write("wide.png", wide);
+    write("depth.png", greyPicture(230));
+    write("bigdepth.png", Image(2 * kW, 2 * kH, {230, 230, 230, 255}));
+    write("widedepth.png", Image(kW + 300, kH, {230, 230, 230, 255}));
+    for (const char* args : {"colour.png depth.png -o plain", "big.png bigdepth.png -o big",
+                             "wide.png widedepth.png -o wide"})
+        ASSERT_EQ(run(fmt::format("compose {} --from-rgbd --display portrait -q", args)).exitCode,
+                  0)
+            << args;
+    EXPECT_TRUE(quilt("big") == quilt("plain"));
+    EXPECT_TRUE(quilt("wide") == quilt("plain"));
+    expectBarAt(quilt("plain"), 0.5 - 230.0 / 255.0, 1.0, 45.0, "grey 230");
+}
+
 TEST_F(RgbdComposeCli, ARenderedModelComposesCloseToItsRenderedQuilt) {
     const std::filesystem::path spot = test::sharedModels() / "spot.obj";
     if (!std::filesystem::exists(spot))
