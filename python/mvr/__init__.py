@@ -20,7 +20,7 @@ a :class:`TypeError` and a :class:`ValueError`.
 from . import _core
 from ._core import Mesh, ParameterError, RenderResult, RenderSequence
 
-__all__ = ["render", "render_sequence", "compose", "load_mesh", "info", "write_png",
+__all__ = ["render", "render_sequence", "compose", "from_rgbd", "load_mesh", "info", "write_png",
            "Mesh", "RenderResult", "RenderSequence", "ParameterError"]
 __version__ = _core.info()["version"]
 
@@ -85,6 +85,22 @@ def compose(format, views, **options):
     Returns a uint8 (H, W, 4) array, or bytes (the file) for ``mpo`` and ``jps``.
     """
     return _core.compose(format, views, **options)
+
+
+def from_rgbd(files, display, depthiness=None, focus=None, rgbd_depth_position=None):
+    """A light-field display's views from an RGB-D picture, as ``mvr compose --from-rgbd
+    --display DISPLAY`` makes them (docs/displays.md, "RGB-D in, quilt out").
+
+    files: one picture with colour and grey depth side by side (white = near; where the depth
+    lies: rgbd_depth_position, else its FILE.json sidecar, else right), or a list of two files,
+    colour then depth. mvr's own rgbd.json gives the depth in world units and the camera;
+    other depth maps are taken as disparity. depthiness (0..2) scales every parallax, focus
+    (-0.05..0.05) moves the focal plane toward the viewer.
+
+    Returns the views as a uint8 (N, H, W, 4) array, leftmost first, of the display's view
+    size: ``compose("quilt", views, quilt=(8, 6))`` makes the Portrait's quilt.
+    """
+    return _core.from_rgbd(files, display, depthiness, focus, rgbd_depth_position)
 
 
 def load_mesh(path):

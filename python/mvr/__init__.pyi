@@ -1,6 +1,6 @@
 # Typed stub of the mvr package (python/mvr/__init__.py over the C++ module mvr._core).
 import os
-from typing import Any, Literal, Sequence, TypedDict, Union
+from typing import Any, Literal, Optional, Sequence, TypedDict, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -233,6 +233,13 @@ def compose(
     lenticular_flip_y: bool = ...,
     **options: Any,
 ) -> npt.NDArray[np.uint8] | bytes: ...
+def from_rgbd(
+    files: Union[_Path, Sequence[_Path]],
+    display: str,
+    depthiness: Optional[float] = ...,
+    focus: Optional[float] = ...,
+    rgbd_depth_position: Optional[Literal["right", "left", "top", "bottom"]] = ...,
+) -> npt.NDArray[np.uint8]: ...
 def load_mesh(path: _Path) -> dict[str, Any]: ...
 def info() -> dict[str, Any]: ...
 def write_png(path: _Path, array: npt.ArrayLike, png_compression: Literal["fast", "default", "small"] = ...) -> None: ...

@@ -19,6 +19,7 @@
 #include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -42,6 +43,7 @@
 #include "mvr/session/cameras.h"
 #include "mvr/session/outputs.h"
 #include "mvr/session/prepare.h"
+#include "mvr/session/rgbd_input.h"
 #include "mvr/session/surfaces.h"
 
 namespace py = pybind11;
@@ -154,6 +156,67 @@ py::object composeViews(const py::object& formatObj, const py::object& views,
         if (!s) throwStatus(s);
     }
     return composeOne(format, imgs, compose, nullptr, false);
+}
+
+// ---- from_rgbd: `mvr compose --from-rgbd --display NAME`'s views ---------------------------------
+py::array fromRgbd(const py::object& filesObj, const py::object& displayObj,
+                   const py::object& depthinessObj, const py::object& focusObj,
+                   const py::object& positionObj) {
+    std::vector<std::string> files;
+    if (PyUnicode_Check(filesObj.ptr()) || py::isinstance<py::bytes>(filesObj) ||
+        py::hasattr(filesObj, "__fspath__")) {
+        files.push_back(pathOf(filesObj, "files"));
+    } else {
+        if (!py::isinstance<py::sequence>(filesObj))
+            throwParameter("files: expected a file name, or a list of one or two (colour, depth)");
+        for (const py::handle& f : filesObj) files.push_back(pathOf(f, "files"));
+    }
+    if (!PyUnicode_Check(displayObj.ptr())) throwParameter("display: expected a display name");
+    const DisplayPreset display = check(findDisplay(std::string(py::str(displayObj))));
+    std::optional<composite::DepthPosition> position;
+    if (!positionObj.is_none()) {
+        if (!PyUnicode_Check(positionObj.ptr()))
+            throwParameter("rgbd_depth_position: expected right, left, top or bottom");
+        position = check(composite::parseDepthPosition(std::string(py::str(positionObj))));
+    }
+    auto number = [](const py::object& o, const char* name, double lo,
+                     double hi) -> std::optional<double> {
+        if (o.is_none()) return std::nullopt;
+        if (!py::isinstance<py::float_>(o) && !py::isinstance<py::int_>(o))
+            throwParameter(fmt::format("{}: expected a number", name));
+        const double v = o.cast<double>();
+        if (!(v >= lo && v <= hi))
+            throwStatus(usageError(fmt::format("{} {} is out of range (expected {}..{})", name, v,
+                                               lo, hi)));
+        return v;
+    };
+    const std::optional<double> depthinessGiven = number(depthinessObj, "depthiness", 0.0, 2.0);
+    const std::optional<double> focusGiven = number(focusObj, "focus", -0.05, 0.05);
+    Result<std::vector<Image>> views = usageError("");
+    {
+        py::gil_scoped_release release;
+        Result<session::RgbdInput> input = session::readRgbdInput(files, position);
+        if (!input) {
+            views = input.status();
+        } else {
+            // As the tool: an mvr sidecar's camera already holds its focal plane; a foreign
+            // picture's sidecar settings apply where the keywords are not given.
+            const bool own = input->measured;
+            const double depthiness = depthinessGiven ? *depthinessGiven
+                                      : !own && input->depthiness ? *input->depthiness
+                                                                  : 1.0;
+            const double focus = focusGiven ? *focusGiven : !own && input->focus ? *input->focus
+                                                                                 : 0.0;
+            views = session::viewsFromRgbd(*input, display, depthiness, focus);
+        }
+    }
+    std::vector<Image> imgs = check(std::move(views));
+    const py::ssize_t n = py::ssize_t(imgs.size()), h = imgs[0].height, w = imgs[0].width;
+    py::array_t<std::uint8_t> out({n, h, w, py::ssize_t(4)});
+    for (py::ssize_t i = 0; i < n; ++i)
+        std::memcpy(out.mutable_data(i), imgs[std::size_t(i)].rgba.data(),
+                    imgs[std::size_t(i)].rgba.size());
+    return out;
 }
 
 // ---- the rest --------------------------------------------------------------------------------
@@ -370,6 +433,9 @@ PYBIND11_MODULE(_core, m) {
         .def("__len__", &Sequence::size)
         .def_property_readonly("frames", &Sequence::frames, "the frames it renders, in order");
     m.def("compose", &composeViews, py::arg("format"), py::arg("views"));
+    m.def("from_rgbd", &fromRgbd, py::arg("files"), py::arg("display"),
+          py::arg("depthiness") = py::none(), py::arg("focus") = py::none(),
+          py::arg("rgbd_depth_position") = py::none());
     m.def("load_mesh", &loadMeshPy, py::arg("path"));
     defineMesh(m);
     m.def("info", &info);
