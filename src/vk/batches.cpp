@@ -39,6 +39,9 @@ struct Push {
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr std::size_t kMeshesKept = 32;
+/// A vertex of GpuMesh::vertices (position, normal, linear RGBA colour) and of GpuMesh::flat
+/// (position, face edge cross product, face centroid, colour).
+constexpr std::uint32_t kVertexBytes = 40, kFlatVertexBytes = 52;
 
 /// Opaque and masked instances in scene order, then the blended ones (lighting.h).
 std::vector<int> drawOrder(const Scene& scene) {
@@ -214,17 +217,20 @@ Result<VkPipeline> Renderer::pipeline(Method m, Shading shading, int views, bool
                  VK_SHADER_STAGE_VERTEX_BIT, *vs, "main", nullptr};
     stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0,
                  VK_SHADER_STAGE_FRAGMENT_BIT, *fs, "main", nullptr};
-    // Smooth: position, normal; flat: the unrolled triangles' position, edge cross product,
-    // centroid.
+    // Smooth: position, normal, colour; flat: the unrolled triangles' position, edge cross
+    // product, centroid, colour (GpuMesh).
     const bool flat = shading == Shading::Flat;
-    VkVertexInputBindingDescription binding{0, flat ? 36u : 24u, VK_VERTEX_INPUT_RATE_VERTEX};
-    VkVertexInputAttributeDescription attrs[3] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-                                                  {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
-                                                  {2, 0, VK_FORMAT_R32G32B32_SFLOAT, 24}};
+    VkVertexInputBindingDescription binding{0, flat ? kFlatVertexBytes : kVertexBytes,
+                                            VK_VERTEX_INPUT_RATE_VERTEX};
+    const VkVertexInputAttributeDescription attrs[4] = {
+        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+        {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
+        {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, flat ? 36u : 24u},
+        {2, 0, VK_FORMAT_R32G32B32_SFLOAT, 24}};
     VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     vi.vertexBindingDescriptionCount = 1;
     vi.pVertexBindingDescriptions = &binding;
-    vi.vertexAttributeDescriptionCount = flat ? 3 : 2;
+    vi.vertexAttributeDescriptionCount = flat ? 4 : 3;
     vi.pVertexAttributeDescriptions = attrs;
     VkPipelineInputAssemblyStateCreateInfo ia{
         VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
@@ -311,12 +317,22 @@ Status Renderer::prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes)
             }
             GpuMesh g;
             const std::size_t nv = mesh.positions.size(), nt = mesh.triangleCount();
-            auto v = mContext->makeBuffer(nv * 24, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, true);
+            // A mesh without colours is white (the shaders use the colour only where the
+            // instance says the mesh has them).
+            const bool colored = mesh.colors.size() == nv;
+            const glm::vec4 white(1.0f);
+            auto colorOf = [&](std::size_t i) -> const glm::vec4& {
+                return colored ? mesh.colors[i] : white;
+            };
+            auto v = mContext->makeBuffer(nv * kVertexBytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+                                          true);
             if (!v) return v.status();
             auto* pv = static_cast<float*>(v->mapped);
             for (std::size_t i = 0; i < nv; ++i) {
-                std::memcpy(pv + i * 6, &mesh.positions[i], 12);
-                std::memcpy(pv + i * 6 + 3, &mesh.normals[i], 12);
+                float* o = pv + i * (kVertexBytes / 4);
+                std::memcpy(o, &mesh.positions[i], 12);
+                std::memcpy(o + 3, &mesh.normals[i], 12);
+                std::memcpy(o + 6, &colorOf(i), 16);
             }
             auto ix = mContext->makeBuffer(mesh.indices.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
                                            true);
@@ -324,7 +340,8 @@ Status Renderer::prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes)
             std::memcpy(ix->mapped, mesh.indices.data(), mesh.indices.size() * 4);
             // Flat: every triangle's corners carry its model-space edge cross product (the
             // cofactor matrix maps it to the world-space one) and its centroid.
-            auto fl = mContext->makeBuffer(nt * 3 * 36, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, true);
+            auto fl = mContext->makeBuffer(nt * 3 * kFlatVertexBytes,
+                                           VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, true);
             if (!fl) return fl.status();
             auto* pf = static_cast<float*>(fl->mapped);
             for (std::size_t t = 0; t < nt; ++t) {
@@ -334,11 +351,12 @@ Status Renderer::prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes)
                 const glm::vec3 n = glm::cross(p1 - p0, p2 - p0);
                 const glm::vec3 c = (p0 + p1 + p2) / 3.0f;
                 for (int k = 0; k < 3; ++k) {
-                    float* o = pf + (t * 3 + k) * 9;
+                    float* o = pf + (t * 3 + k) * (kFlatVertexBytes / 4);
                     const glm::vec3 p = k == 0 ? p0 : k == 1 ? p1 : p2;
                     std::memcpy(o, &p, 12);
                     std::memcpy(o + 3, &n, 12);
                     std::memcpy(o + 6, &c, 12);
+                    std::memcpy(o + 9, &colorOf(mesh.indices[3 * t + k]), 16);
                 }
             }
             g.vertices = std::move(*v);
@@ -412,7 +430,9 @@ Status Renderer::uploadFrame(const Scene& scene, const Rig& rig) {
         o.material = glm::vec4(mt.albedo, mt.specular);
         o.params = glm::vec4(mt.shininess, mt.alpha, mt.alphaCutoff, 0.0f);
         const int mode = mt.alphaMode == AlphaMode::Opaque ? 0 : mt.alphaMode == AlphaMode::Mask ? 1 : 2;
-        o.flags = glm::ivec4(0, mode, mt.doubleSided ? 1 : 0, 0);
+        const Mesh& mesh = scene.meshes[std::size_t(in.mesh)];
+        const bool colored = !mesh.colors.empty() && mesh.colors.size() == mesh.positions.size();
+        o.flags = glm::ivec4(0, mode, mt.doubleSided ? 1 : 0, colored ? 1 : 0);
     }
     return {};
 }

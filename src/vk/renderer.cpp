@@ -297,14 +297,6 @@ Status Renderer::checkRequest(const Scene& scene, const RenderSettings& s) const
     if (s.shadows) return unsupportedError("vk: shadows are not supported by the vk backend yet");
     if (textured(scene))
         return unsupportedError("vk: textured materials are not supported by the vk backend yet");
-    for (const Mesh& m : scene.meshes) {
-        if (!m.colors.empty()) {
-            return unsupportedError(fmt::format(
-                "vk: '{}' has vertex colours, which the vk backend does not draw yet (soft and gl "
-                "do)",
-                m.name));
-        }
-    }
     const DeviceCaps& c = mContext->caps();
     if (s.wireframe && !c.fillModeNonSolid)
         return unsupportedError("vk: wireframe needs fillModeNonSolid, which the device lacks");

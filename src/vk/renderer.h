@@ -27,9 +27,9 @@ Result<RenderPass> makeRenderPassFor(VkDevice device, std::uint32_t viewMask);
 inline constexpr int kLayersPerBatch = 16;
 
 struct GpuMesh {
-    BufferMemory vertices;  ///< position, normal (24 bytes a vertex)
+    BufferMemory vertices;  ///< position, normal, colour (40 bytes a vertex)
     BufferMemory indices;
-    BufferMemory flat;      ///< unrolled triangles: position, face edge cross, face centroid
+    BufferMemory flat;  ///< unrolled triangles: position, face edge cross, face centroid, colour
     std::uint32_t indexCount = 0, flatVertexCount = 0;
     std::uint64_t lastUse = 0;
 };

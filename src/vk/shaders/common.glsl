@@ -20,7 +20,8 @@ struct InstanceData {
     mat4 cofactor;         // model edge cross -> world edge cross
     vec4 material;         // albedo rgb, specular
     vec4 params;           // x shininess, y alpha, z mask cutoff
-    ivec4 flags;           // x textured, y alpha mode (0 opaque, 1 mask, 2 blend), z double-sided
+    ivec4 flags;           // x textured, y alpha mode (0 opaque, 1 mask, 2 blend), z double-sided,
+                           // w vertex colours (lighting split into D and S, as gl's SPLIT_LIGHTING)
 };
 layout(std430, set = 0, binding = 1) readonly buffer Instances { InstanceData uInstances[]; };
 
@@ -85,4 +86,37 @@ vec3 shadeBlinnPhong(InstanceData m, vec3 normal, vec3 worldPos) {
         }
     }
     return clamp(c, 0.0, 1.0);
+}
+
+// Meshes with vertex colours (lighting.h LightTerms, gl's SPLIT_LIGHTING): the colour varies
+// across the triangle, so the lighting is kept as D (ambient + sum of max(n.l, 0) light, which
+// multiplies albedo x vertex colour) and S (the specular sum, added): clamp(base * D + S).
+vec3 flatDiffuse(InstanceData m, vec3 faceNormal, vec3 p) {
+    faceNormal = facingNormal(m, faceNormal, p);
+    vec3 d = uAmbient.rgb;
+    for (int i = 0; i < uCounts.x; ++i) {
+        vec3 l;
+        vec3 lc = lightAt(i, p, l);
+        d += max(dot(faceNormal, l), 0.0) * lc;
+    }
+    return d;
+}
+
+void blinnPhongTerms(InstanceData m, vec3 normal, vec3 worldPos, out vec3 diffuse,
+                     out vec3 specular) {
+    vec3 n = normalize(facingNormal(m, normal, worldPos));
+    vec3 v = normalize(uCenterEye.xyz - worldPos);
+    diffuse = uAmbient.rgb;
+    specular = vec3(0.0);
+    for (int i = 0; i < uCounts.x; ++i) {
+        vec3 l;
+        vec3 lc = lightAt(i, worldPos, l);
+        float nl = dot(n, l);
+        if (nl > 0.0) {
+            vec3 h = normalize(l + v);
+            float spec = m.material.w * pow(max(dot(n, h), 0.0), m.params.x);
+            diffuse += nl * lc;
+            specular += spec * lc;
+        }
+    }
 }

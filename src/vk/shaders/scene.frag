@@ -1,6 +1,7 @@
 #version 450
 #include "common.glsl"
 
+layout(location = 3) in vec4 iVertexColor;
 #if defined(SHADING_PIXEL)
 layout(location = 0) in vec3 iWorld;
 layout(location = 1) in vec3 iNormal;
@@ -8,18 +9,32 @@ layout(location = 1) in vec3 iNormal;
 layout(location = 2) flat in vec3 iColor;
 #else
 layout(location = 2) in vec3 iColor;
+layout(location = 4) in vec3 iSpecular;
 #endif
 layout(location = 0) out vec4 oColor0;
 
 void main() {
     InstanceData m = uInstances[pc.instance];
-    float alpha = m.params.y;
+    // glTF's COLOR_0 multiplies the base colour and its alpha (gl's and the soft backend's order).
+    bool colored = m.flags.w != 0;
+    vec4 vc = colored ? iVertexColor : vec4(1.0);
+    float alpha = m.params.y * vc.a;
     if (m.flags.y == 1 && alpha < m.params.z) discard;
     alpha = m.flags.y == 2 ? alpha : 1.0;
+    vec3 base = m.material.rgb * vc.rgb;
 #if defined(SHADING_PIXEL)
-    vec3 c = shadeBlinnPhong(m, iNormal, iWorld);
+    vec3 c;
+    if (colored) {
+        vec3 d, sp;
+        blinnPhongTerms(m, iNormal, iWorld, d, sp);
+        c = clamp(base * d + sp, 0.0, 1.0);
+    } else {
+        c = shadeBlinnPhong(m, iNormal, iWorld);
+    }
+#elif defined(SHADING_FLAT)
+    vec3 c = colored ? clamp(base * iColor, 0.0, 1.0) : iColor;
 #else
-    vec3 c = iColor;
+    vec3 c = colored ? clamp(base * iColor + iSpecular, 0.0, 1.0) : iColor;
 #endif
     oColor0 = vec4(c, alpha);
 }

@@ -14,8 +14,10 @@ layout(location = 1) in vec3 aNormal;      // flat: the face's model-space edge 
 #ifdef SHADING_FLAT
 layout(location = 2) in vec3 aFaceCenter;  // the face's model-space centroid
 #endif
+layout(location = 3) in vec4 aColor;       // linear RGBA (Mesh::colors; white if none)
 
 // Only what the fragment shader reads (validation: no output it does not consume).
+layout(location = 3) out vec4 oVertexColor;
 #ifdef SHADING_PIXEL
 layout(location = 0) out vec3 oWorld;
 layout(location = 1) out vec3 oNormal;
@@ -23,21 +25,28 @@ layout(location = 1) out vec3 oNormal;
 layout(location = 2) flat out vec3 oColor;
 #else
 layout(location = 2) out vec3 oColor;
+layout(location = 4) out vec3 oSpecular;
 #endif
 
 void main() {
     InstanceData m = uInstances[pc.instance];
     vec4 world = m.worldFromModel * vec4(aPosition, 1.0);
+    oVertexColor = aColor;
 #if defined(SHADING_PIXEL)
     oWorld = world.xyz;
     oNormal = mat3(m.normalFromModel) * aNormal;
 #elif defined(SHADING_VERTEX)
-    oColor = shadeBlinnPhong(m, mat3(m.normalFromModel) * aNormal, world.xyz);
+    if (m.flags.w != 0) {
+        blinnPhongTerms(m, mat3(m.normalFromModel) * aNormal, world.xyz, oColor, oSpecular);
+    } else {
+        oColor = shadeBlinnPhong(m, mat3(m.normalFromModel) * aNormal, world.xyz);
+        oSpecular = vec3(0.0);
+    }
 #elif defined(SHADING_FLAT)
     // Every corner of a flat triangle carries the same face data (the vertices are unrolled).
     vec3 fn = normalize(mat3(m.cofactor) * aNormal);
     vec3 centre = (m.worldFromModel * vec4(aFaceCenter, 1.0)).xyz;
-    oColor = shadeFlat(m, fn, centre);
+    oColor = m.flags.w != 0 ? flatDiffuse(m, fn, centre) : shadeFlat(m, fn, centre);
 #endif
 #if defined(VIEW_PASS)
     int view = pc.viewBase;
