@@ -39,9 +39,10 @@ struct Push {
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr std::size_t kMeshesKept = 32;
-/// A vertex of GpuMesh::vertices (position, normal, linear RGBA colour) and of GpuMesh::flat
-/// (position, face edge cross product, face centroid, colour).
-constexpr std::uint32_t kVertexBytes = 40, kFlatVertexBytes = 52;
+/// A vertex of GpuMesh::vertices (position, normal, linear RGBA colour, texture coordinates)
+/// and of GpuMesh::flat (position, face edge cross product, face centroid, colour, texture
+/// coordinates).
+constexpr std::uint32_t kVertexBytes = 48, kFlatVertexBytes = 60;
 
 /// Opaque and masked instances in scene order, then the blended ones (lighting.h).
 std::vector<int> drawOrder(const Scene& scene) {
@@ -222,15 +223,16 @@ Result<VkPipeline> Renderer::pipeline(Method m, Shading shading, int views, bool
     const bool flat = shading == Shading::Flat;
     VkVertexInputBindingDescription binding{0, flat ? kFlatVertexBytes : kVertexBytes,
                                             VK_VERTEX_INPUT_RATE_VERTEX};
-    const VkVertexInputAttributeDescription attrs[4] = {
+    const VkVertexInputAttributeDescription attrs[5] = {
         {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
         {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
         {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, flat ? 36u : 24u},
+        {4, 0, VK_FORMAT_R32G32_SFLOAT, flat ? 52u : 40u},
         {2, 0, VK_FORMAT_R32G32B32_SFLOAT, 24}};
     VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     vi.vertexBindingDescriptionCount = 1;
     vi.pVertexBindingDescriptions = &binding;
-    vi.vertexAttributeDescriptionCount = flat ? 4 : 3;
+    vi.vertexAttributeDescriptionCount = flat ? 5 : 4;
     vi.pVertexAttributeDescriptions = attrs;
     VkPipelineInputAssemblyStateCreateInfo ia{
         VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
@@ -324,6 +326,11 @@ Status Renderer::prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes)
             auto colorOf = [&](std::size_t i) -> const glm::vec4& {
                 return colored ? mesh.colors[i] : white;
             };
+            const bool hasUv = mesh.texcoords.size() == nv;
+            const glm::vec2 noUv(0.0f);
+            auto uvOf = [&](std::size_t i) -> const glm::vec2& {
+                return hasUv ? mesh.texcoords[i] : noUv;
+            };
             auto v = mContext->makeBuffer(nv * kVertexBytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
                                           true);
             if (!v) return v.status();
@@ -333,6 +340,7 @@ Status Renderer::prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes)
                 std::memcpy(o, &mesh.positions[i], 12);
                 std::memcpy(o + 3, &mesh.normals[i], 12);
                 std::memcpy(o + 6, &colorOf(i), 16);
+                std::memcpy(o + 10, &uvOf(i), 8);
             }
             auto ix = mContext->makeBuffer(mesh.indices.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
                                            true);
@@ -357,6 +365,7 @@ Status Renderer::prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes)
                     std::memcpy(o + 3, &n, 12);
                     std::memcpy(o + 6, &c, 12);
                     std::memcpy(o + 9, &colorOf(mesh.indices[3 * t + k]), 16);
+                    std::memcpy(o + 13, &uvOf(mesh.indices[3 * t + k]), 8);
                 }
             }
             g.vertices = std::move(*v);
@@ -432,7 +441,9 @@ Status Renderer::uploadFrame(const Scene& scene, const Rig& rig) {
         const int mode = mt.alphaMode == AlphaMode::Opaque ? 0 : mt.alphaMode == AlphaMode::Mask ? 1 : 2;
         const Mesh& mesh = scene.meshes[std::size_t(in.mesh)];
         const bool colored = !mesh.colors.empty() && mesh.colors.size() == mesh.positions.size();
-        o.flags = glm::ivec4(0, mode, mt.doubleSided ? 1 : 0, colored ? 1 : 0);
+        const bool textured = mt.baseColorTexture >= 0 &&
+                              std::size_t(mt.baseColorTexture) < scene.textures.size();
+        o.flags = glm::ivec4(textured ? 1 : 0, mode, mt.doubleSided ? 1 : 0, colored ? 1 : 0);
     }
     return {};
 }
@@ -471,6 +482,8 @@ Status Renderer::recordBatch(Slot& slot, Method m, const RenderSettings& s, int 
             auto p = pipeline(m, s.shading, views, cull, blend, s.wireframe);
             if (!p) return p.status();
             if (*p != bound) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, bound = *p);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, mPipelineLayout.get(), 1,
+                                    1, &mInstanceSets[std::size_t(i)], 0, nullptr);
             const Push push{i, viewBase};
             vkCmdPushConstants(cmd, mPipelineLayout.get(),
                                VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
@@ -596,6 +609,7 @@ Status Renderer::renderMethod(const Scene& scene, const Rig& rig, const RenderSe
     std::vector<GpuMesh*> meshes;
     if (Status st = prepareScene(scene, meshes); !st) return st;
     if (Status st = uploadFrame(scene, rig); !st) return st;
+    if (Status st = prepareTextures(scene); !st) return st;
     out.color.resize(std::size_t(total));
     if (s.depth) {
         out.depth.resize(std::size_t(total));

@@ -36,6 +36,7 @@ public:
     Context& operator=(const Context&) = delete;
 
     VkDevice device() const { return mDevice; }
+    VkPhysicalDevice physical() const { return mPhysical; }
     VkQueue queue() const { return mQueue; }
     VkCommandPool commandPool() const { return mPool.get(); }
     const DeviceCaps& caps() const { return mCaps; }

@@ -53,6 +53,7 @@ using DescriptorSetLayout = Owned<VkDescriptorSetLayout, vkDestroyDescriptorSetL
 using DescriptorPool = Owned<VkDescriptorPool, vkDestroyDescriptorPool>;
 using Fence = Owned<VkFence, vkDestroyFence>;
 using CommandPool = Owned<VkCommandPool, vkDestroyCommandPool>;
+using SamplerHandle = Owned<VkSampler, vkDestroySampler>;
 
 /// A buffer with its memory, mapped for its lifetime when host visible.
 struct BufferMemory {

@@ -29,12 +29,6 @@ double msSince(Clock::time_point t) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
-bool textured(const Scene& scene) {
-    return std::any_of(scene.instances.begin(), scene.instances.end(), [](const Instance& i) {
-        return i.material.baseColorTexture >= 0;
-    });
-}
-
 }  // namespace
 
 /// Colour + depth, cleared, stored, left ready to be copied; `viewMask` 0: no multiview.
@@ -132,6 +126,13 @@ void Renderer::releaseDevice() {
         s = Slot{};
     }
     mMeshes.clear();
+    mTextureSets.clear();
+    mInstanceSets.clear();
+    mTexturePool = {};
+    mTextures.clear();
+    mWhite.reset();
+    mSamplers.clear();
+    mTextureLayout = {};
     mPipelines.clear();
     mModules.clear();
     mMultiviewPasses.clear();
@@ -206,11 +207,38 @@ Status Renderer::ensureStatic() {
     ai.pSetLayouts = &layout;
     if (Status s = check(vkAllocateDescriptorSets(d, &ai, &mSet), "vkAllocateDescriptorSets"); !s)
         return s;
+    // Set 1: the base colour texture and its sampler (fragment stage).
+    VkDescriptorSetLayoutBinding tb{};
+    tb.binding = 0;
+    tb.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    tb.descriptorCount = 1;
+    tb.stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
+    VkDescriptorSetLayoutCreateInfo tci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    tci.bindingCount = 1;
+    tci.pBindings = &tb;
+    VkDescriptorSetLayout textureLayout = VK_NULL_HANDLE;
+    if (Status s = check(vkCreateDescriptorSetLayout(d, &tci, nullptr, &textureLayout),
+                         "vkCreateDescriptorSetLayout");
+        !s)
+        return s;
+    mTextureLayout = DescriptorSetLayout(d, textureLayout);
+    VkDescriptorPoolSize tsize{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kTextureSets};
+    VkDescriptorPoolCreateInfo tpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    tpci.maxSets = kTextureSets;
+    tpci.poolSizeCount = 1;
+    tpci.pPoolSizes = &tsize;
+    VkDescriptorPool texturePool = VK_NULL_HANDLE;
+    if (Status s = check(vkCreateDescriptorPool(d, &tpci, nullptr, &texturePool),
+                         "vkCreateDescriptorPool");
+        !s)
+        return s;
+    mTexturePool = DescriptorPool(d, texturePool);
     VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                              sizeof(Push)};
+    const VkDescriptorSetLayout layouts[2] = {layout, textureLayout};
     VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    plci.setLayoutCount = 1;
-    plci.pSetLayouts = &layout;
+    plci.setLayoutCount = 2;
+    plci.pSetLayouts = layouts;
     plci.pushConstantRangeCount = 1;
     plci.pPushConstantRanges = &push;
     VkPipelineLayout pl = VK_NULL_HANDLE;
@@ -293,10 +321,8 @@ Status Renderer::supports(const std::string& method) {
         "unknown vk method '{}' (expected multipass, multiview, instanced-layer or auto)", method));
 }
 
-Status Renderer::checkRequest(const Scene& scene, const RenderSettings& s) const {
+Status Renderer::checkRequest(const Scene& /*scene*/, const RenderSettings& s) const {
     if (s.shadows) return unsupportedError("vk: shadows are not supported by the vk backend yet");
-    if (textured(scene))
-        return unsupportedError("vk: textured materials are not supported by the vk backend yet");
     const DeviceCaps& c = mContext->caps();
     if (s.wireframe && !c.fillModeNonSolid)
         return unsupportedError("vk: wireframe needs fillModeNonSolid, which the device lacks");

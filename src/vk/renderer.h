@@ -27,12 +27,23 @@ Result<RenderPass> makeRenderPassFor(VkDevice device, std::uint32_t viewMask);
 inline constexpr int kLayersPerBatch = 16;
 
 struct GpuMesh {
-    BufferMemory vertices;  ///< position, normal, colour (40 bytes a vertex)
+    BufferMemory vertices;  ///< position, normal, colour, uv (48 bytes a vertex)
     BufferMemory indices;
-    BufferMemory flat;  ///< unrolled triangles: position, face edge cross, face centroid, colour
+    BufferMemory flat;  ///< unrolled triangles: position, face edge cross, centroid, colour, uv
     std::uint32_t indexCount = 0, flatVertexCount = 0;
     std::uint64_t lastUse = 0;
 };
+
+/// A scene texture on the device: sRGB, its mip chain made by blits (gl: glGenerateMipmap).
+struct GpuTexture {
+    ImageMemory image;
+    ImageView view;
+    std::uint64_t lastUse = 0;
+};
+/// Textures kept between renders (least recently used evicted past it), as gl keeps.
+inline constexpr std::size_t kTexturesKept = 64;
+/// Descriptor sets of (texture, sampler) pairs the pool holds; past it the pool is reset.
+inline constexpr std::uint32_t kTextureSets = 256;
 
 /// A view of `layers` layers of a batch target and its framebuffers.
 struct ArrayTarget {
@@ -93,6 +104,11 @@ private:
                                 bool wire);
     Status prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes);
     Status uploadFrame(const Scene& scene, const Rig& rig);
+    /// The scene's textures on the device and, per instance, the descriptor set (set 1) of its
+    /// base colour texture and sampler (a white texel for untextured ones): mInstanceSets.
+    Status prepareTextures(const Scene& scene);
+    Result<GpuTexture> uploadTexture(const Image& image, const std::string& name);
+    Result<VkSampler> sampler(const TextureSampler& s);
     Status recordBatch(Slot& slot, Method m, const RenderSettings& s, int firstView, int views,
                        const Scene& scene, const std::vector<GpuMesh*>& meshes);
     /// Waits for the slot's fence and copies its views out (adding the copy's time to copyMs).
@@ -111,6 +127,15 @@ private:
     std::map<std::uint32_t, Pipeline> mPipelines;
     std::map<int, ShaderModule> mModules;
     BufferMemory mFrameBuffer, mInstanceBuffer;
+    // Textures (set 1: the base colour's combined image sampler): by content hash; the white
+    // texel untextured instances bind; samplers by TextureSampler; sets by (texture, sampler).
+    DescriptorSetLayout mTextureLayout;
+    DescriptorPool mTexturePool;
+    std::map<std::uint64_t, GpuTexture> mTextures;
+    std::optional<GpuTexture> mWhite;
+    std::map<int, SamplerHandle> mSamplers;
+    std::map<std::pair<std::uint64_t, int>, VkDescriptorSet> mTextureSets;
+    std::vector<VkDescriptorSet> mInstanceSets;
     std::map<std::uint64_t, GpuMesh> mMeshes;
     std::uint64_t mUseCounter = 0;
     Slot mSlots[2];

@@ -2,6 +2,8 @@
 #include "common.glsl"
 
 layout(location = 3) in vec4 iVertexColor;
+layout(location = 5) in vec2 iTexcoord;
+layout(set = 1, binding = 0) uniform sampler2D uBaseColor;  // sRGB: sampled in linear
 #if defined(SHADING_PIXEL)
 layout(location = 0) in vec3 iWorld;
 layout(location = 1) in vec3 iNormal;
@@ -15,16 +17,21 @@ layout(location = 0) out vec4 oColor0;
 
 void main() {
     InstanceData m = uInstances[pc.instance];
-    // glTF's COLOR_0 multiplies the base colour and its alpha (gl's and the soft backend's order).
+    // The base colour texture (sampled in uniform control flow: its derivatives choose the mip
+    // level; untextured instances bind a white texel) times glTF's COLOR_0, times the
+    // material's colour and alpha (gl's and the soft backend's order).
     bool colored = m.flags.w != 0;
-    vec4 vc = colored ? iVertexColor : vec4(1.0);
+    bool split = m.flags.x != 0 || colored;
+    vec4 vc = texture(uBaseColor, iTexcoord);
+    if (m.flags.x == 0) vc = vec4(1.0);
+    if (colored) vc *= iVertexColor;
     float alpha = m.params.y * vc.a;
     if (m.flags.y == 1 && alpha < m.params.z) discard;
     alpha = m.flags.y == 2 ? alpha : 1.0;
     vec3 base = m.material.rgb * vc.rgb;
 #if defined(SHADING_PIXEL)
     vec3 c;
-    if (colored) {
+    if (split) {
         vec3 d, sp;
         blinnPhongTerms(m, iNormal, iWorld, d, sp);
         c = clamp(base * d + sp, 0.0, 1.0);
@@ -32,9 +39,9 @@ void main() {
         c = shadeBlinnPhong(m, iNormal, iWorld);
     }
 #elif defined(SHADING_FLAT)
-    vec3 c = colored ? clamp(base * iColor, 0.0, 1.0) : iColor;
+    vec3 c = split ? clamp(base * iColor, 0.0, 1.0) : iColor;
 #else
-    vec3 c = colored ? clamp(base * iColor + iSpecular, 0.0, 1.0) : iColor;
+    vec3 c = split ? clamp(base * iColor + iSpecular, 0.0, 1.0) : iColor;
 #endif
     oColor0 = vec4(c, alpha);
 }

@@ -15,9 +15,11 @@ layout(location = 1) in vec3 aNormal;      // flat: the face's model-space edge 
 layout(location = 2) in vec3 aFaceCenter;  // the face's model-space centroid
 #endif
 layout(location = 3) in vec4 aColor;       // linear RGBA (Mesh::colors; white if none)
+layout(location = 4) in vec2 aTexcoord;    // Mesh::texcoords (0, 0 if none)
 
 // Only what the fragment shader reads (validation: no output it does not consume).
 layout(location = 3) out vec4 oVertexColor;
+layout(location = 5) out vec2 oTexcoord;
 #ifdef SHADING_PIXEL
 layout(location = 0) out vec3 oWorld;
 layout(location = 1) out vec3 oNormal;
@@ -32,11 +34,14 @@ void main() {
     InstanceData m = uInstances[pc.instance];
     vec4 world = m.worldFromModel * vec4(aPosition, 1.0);
     oVertexColor = aColor;
+    oTexcoord = aTexcoord;
+    // Textured or coloured: the lighting split into D and S (the base colour varies).
+    bool split = m.flags.x != 0 || m.flags.w != 0;
 #if defined(SHADING_PIXEL)
     oWorld = world.xyz;
     oNormal = mat3(m.normalFromModel) * aNormal;
 #elif defined(SHADING_VERTEX)
-    if (m.flags.w != 0) {
+    if (split) {
         blinnPhongTerms(m, mat3(m.normalFromModel) * aNormal, world.xyz, oColor, oSpecular);
     } else {
         oColor = shadeBlinnPhong(m, mat3(m.normalFromModel) * aNormal, world.xyz);
@@ -46,7 +51,7 @@ void main() {
     // Every corner of a flat triangle carries the same face data (the vertices are unrolled).
     vec3 fn = normalize(mat3(m.cofactor) * aNormal);
     vec3 centre = (m.worldFromModel * vec4(aFaceCenter, 1.0)).xyz;
-    oColor = m.flags.w != 0 ? flatDiffuse(m, fn, centre) : shadeFlat(m, fn, centre);
+    oColor = split ? flatDiffuse(m, fn, centre) : shadeFlat(m, fn, centre);
 #endif
 #if defined(VIEW_PASS)
     int view = pc.viewBase;

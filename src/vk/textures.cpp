@@ -1,0 +1,286 @@
+// The vk backend's base colour textures (renderer.h): sRGB images with their mip chain made by
+// linear blits on the device (as gl's glGenerateMipmap: the box filter of the decoded colour),
+// samplers from the material's TextureSampler, and one descriptor set (set 1) per instance.
+#include <algorithm>
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "mvr/core/scene.h"
+#include "renderer.h"
+
+namespace mvr::vk::detail {
+
+namespace {
+
+constexpr VkFormat kTextureFormat = VK_FORMAT_R8G8B8A8_SRGB;
+
+std::uint64_t hashImage(const Image& image) {
+    std::uint64_t h = 0x84222325CBF29CE4ull ^ (std::uint64_t(image.width) << 32) ^
+                      std::uint64_t(image.height);
+    const auto* p = image.rgba.data();
+    const std::size_t n = image.rgba.size();
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        std::uint64_t w;
+        std::memcpy(&w, p + i, 8);
+        h = (h ^ w) * 0x100000001B3ull;
+        h ^= h >> 29;
+    }
+    for (; i < n; ++i) h = (h ^ p[i]) * 0x100000001B3ull;
+    return h == 0 ? 1 : h;  // 0 is the white texel's key
+}
+
+int mipLevels(int w, int h) {
+    int levels = 1;
+    for (int s = std::max(w, h); s > 1; s >>= 1) ++levels;
+    return levels;
+}
+
+VkSamplerAddressMode addressMode(TextureWrap w) {
+    switch (w) {
+        case TextureWrap::ClampToEdge: return VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+        case TextureWrap::MirroredRepeat: return VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT;
+        case TextureWrap::Repeat: break;
+    }
+    return VK_SAMPLER_ADDRESS_MODE_REPEAT;
+}
+
+void barrier(VkCommandBuffer cmd, VkImage image, int level, int levels, VkImageLayout from,
+             VkImageLayout to, VkAccessFlags srcAccess, VkAccessFlags dstAccess,
+             VkPipelineStageFlags srcStage, VkPipelineStageFlags dstStage) {
+    VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    b.srcAccessMask = srcAccess;
+    b.dstAccessMask = dstAccess;
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, std::uint32_t(level), std::uint32_t(levels),
+                          0, 1};
+    vkCmdPipelineBarrier(cmd, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &b);
+}
+
+}  // namespace
+
+Result<GpuTexture> Renderer::uploadTexture(const Image& image, const std::string& name) {
+    VkDevice d = mContext->device();
+    const int w = image.width, h = image.height;
+    const DeviceCaps& caps = mContext->caps();
+    if (w <= 0 || h <= 0 || std::uint32_t(std::max(w, h)) > caps.maxImageDimension2D)
+        return unsupportedError(fmt::format("vk: texture '{}' is {}x{} (maxImageDimension2D = {})",
+                                            name, w, h, caps.maxImageDimension2D));
+    VkFormatProperties fp{};
+    vkGetPhysicalDeviceFormatProperties(mContext->physical(), kTextureFormat, &fp);
+    const VkFormatFeatureFlags need = VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT |
+                                      VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT |
+                                      VK_FORMAT_FEATURE_BLIT_SRC_BIT |
+                                      VK_FORMAT_FEATURE_BLIT_DST_BIT;
+    if ((fp.optimalTilingFeatures & need) != need)
+        return unsupportedError(
+            "vk: the device cannot sample, filter and blit R8G8B8A8_SRGB images (textures)");
+    const int levels = mipLevels(w, h);
+    VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    ci.imageType = VK_IMAGE_TYPE_2D;
+    ci.format = kTextureFormat;
+    ci.extent = {std::uint32_t(w), std::uint32_t(h), 1};
+    ci.mipLevels = std::uint32_t(levels);
+    ci.arrayLayers = 1;
+    ci.samples = VK_SAMPLE_COUNT_1_BIT;
+    ci.tiling = VK_IMAGE_TILING_OPTIMAL;
+    ci.usage = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+               VK_IMAGE_USAGE_SAMPLED_BIT;
+    ci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    auto img = mContext->makeImage(ci);
+    if (!img) return img.status();
+    auto staging = mContext->makeBuffer(image.rgba.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
+    if (!staging) return staging.status();
+    std::memcpy(staging->mapped, image.rgba.data(), image.rgba.size());
+
+    VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    cai.commandPool = mContext->commandPool();
+    cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    cai.commandBufferCount = 1;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    if (Status s = check(vkAllocateCommandBuffers(d, &cai, &cmd), "vkAllocateCommandBuffers"); !s)
+        return s;
+    struct FreeCmd {
+        VkDevice d;
+        VkCommandPool pool;
+        VkCommandBuffer cmd;
+        ~FreeCmd() { vkFreeCommandBuffers(d, pool, 1, &cmd); }
+    } freeCmd{d, mContext->commandPool(), cmd};
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    if (Status s = check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer"); !s) return s;
+    VkImage im = img->image.get();
+    barrier(cmd, im, 0, levels, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+            VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+            VK_PIPELINE_STAGE_TRANSFER_BIT);
+    // Row 0 of the image = texture coordinate t = 0 (glTF's v = 0 is the top row), as in gl.
+    VkBufferImageCopy copy{};
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    copy.imageExtent = {std::uint32_t(w), std::uint32_t(h), 1};
+    vkCmdCopyBufferToImage(cmd, staging->buffer.get(), im, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                           &copy);
+    int lw = w, lh = h;
+    for (int level = 1; level < levels; ++level) {
+        barrier(cmd, im, level - 1, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                VK_PIPELINE_STAGE_TRANSFER_BIT);
+        const int nw = std::max(1, lw / 2), nh = std::max(1, lh / 2);
+        VkImageBlit blit{};
+        blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, std::uint32_t(level - 1), 0, 1};
+        blit.srcOffsets[1] = {lw, lh, 1};
+        blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, std::uint32_t(level), 0, 1};
+        blit.dstOffsets[1] = {nw, nh, 1};
+        vkCmdBlitImage(cmd, im, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, im,
+                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
+        lw = nw, lh = nh;
+    }
+    if (levels > 1)
+        barrier(cmd, im, 0, levels - 1, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_READ_BIT,
+                VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
+    barrier(cmd, im, levels - 1, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+            VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
+            VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+            VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
+    if (Status s = check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer"); !s) return s;
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cmd;
+    if (Status s = check(vkQueueSubmit(mContext->queue(), 1, &si, VK_NULL_HANDLE), "vkQueueSubmit");
+        !s)
+        return s;
+    // Nothing else is in flight between renders (renderMethod finishes its batches).
+    if (Status s = check(vkQueueWaitIdle(mContext->queue()), "vkQueueWaitIdle"); !s) return s;
+
+    VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vci.image = im;
+    vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vci.format = kTextureFormat;
+    vci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, std::uint32_t(levels), 0, 1};
+    VkImageView view = VK_NULL_HANDLE;
+    if (Status s = check(vkCreateImageView(d, &vci, nullptr, &view), "vkCreateImageView"); !s)
+        return s;
+    GpuTexture t;
+    t.image = std::move(*img);
+    t.view = ImageView(d, view);
+    return t;
+}
+
+Result<VkSampler> Renderer::sampler(const TextureSampler& s) {
+    const int key = int(s.magFilter) | int(s.minFilter) << 1 | int(s.mipmaps) << 2 |
+                    int(s.wrapS) << 3 | int(s.wrapT) << 5;
+    if (auto it = mSamplers.find(key); it != mSamplers.end()) return it->second.get();
+    VkSamplerCreateInfo ci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    ci.magFilter = s.magFilter == TextureFilter::Linear ? VK_FILTER_LINEAR : VK_FILTER_NEAREST;
+    ci.minFilter = s.minFilter == TextureFilter::Linear ? VK_FILTER_LINEAR : VK_FILTER_NEAREST;
+    // gl: GL_LINEAR_MIPMAP_LINEAR / GL_NEAREST_MIPMAP_LINEAR with mipmaps, else the base level.
+    ci.mipmapMode = s.mipmaps ? VK_SAMPLER_MIPMAP_MODE_LINEAR : VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    ci.addressModeU = addressMode(s.wrapS);
+    ci.addressModeV = addressMode(s.wrapT);
+    ci.addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT;
+    ci.minLod = 0.0f;
+    ci.maxLod = s.mipmaps ? VK_LOD_CLAMP_NONE : 0.0f;
+    VkSampler smp = VK_NULL_HANDLE;
+    if (Status st = check(vkCreateSampler(mContext->device(), &ci, nullptr, &smp),
+                          "vkCreateSampler");
+        !st)
+        return st;
+    return mSamplers.emplace(key, SamplerHandle(mContext->device(), smp)).first->second.get();
+}
+
+Status Renderer::prepareTextures(const Scene& scene) {
+    VkDevice d = mContext->device();
+    if (!mWhite) {
+        auto white = uploadTexture(Image(1, 1, {255, 255, 255, 255}), "white");
+        if (!white) return white.status();
+        mWhite = std::move(*white);
+    }
+    // The scene's textures: kept by content; past kTexturesKept the least recently used go,
+    // with every descriptor set (they may name them): nothing is in flight here.
+    ++mUseCounter;
+    std::vector<std::uint64_t> keys(scene.textures.size());
+    for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+        const std::uint64_t key = hashImage(scene.textures[i].image);
+        keys[i] = key;
+        auto it = mTextures.find(key);
+        if (it == mTextures.end()) {
+            while (mTextures.size() >= kTexturesKept) {
+                auto lru = mTextures.end();
+                for (auto t = mTextures.begin(); t != mTextures.end(); ++t)
+                    if (t->second.lastUse < mUseCounter &&
+                        (lru == mTextures.end() || t->second.lastUse < lru->second.lastUse))
+                        lru = t;
+                if (lru == mTextures.end()) break;
+                vkResetDescriptorPool(d, mTexturePool.get(), 0);
+                mTextureSets.clear();
+                mTextures.erase(lru);
+            }
+            auto t = uploadTexture(scene.textures[i].image, scene.textures[i].name);
+            if (!t) return t.status();
+            it = mTextures.emplace(key, std::move(*t)).first;
+        }
+        it->second.lastUse = mUseCounter;
+    }
+    // One set per (texture, sampler) pair an instance uses.
+    mInstanceSets.assign(scene.instances.size(), VK_NULL_HANDLE);
+    bool restarted = false;
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        const Material& m = scene.instances[i].material;
+        const bool textured =
+            m.baseColorTexture >= 0 && std::size_t(m.baseColorTexture) < keys.size();
+        const std::uint64_t key = textured ? keys[std::size_t(m.baseColorTexture)] : 0;
+        const TextureSampler samplerInfo = textured ? m.sampler : TextureSampler{};
+        auto smp = sampler(samplerInfo);
+        if (!smp) return smp.status();
+        const int samplerKey = int(samplerInfo.magFilter) | int(samplerInfo.minFilter) << 1 |
+                               int(samplerInfo.mipmaps) << 2 | int(samplerInfo.wrapS) << 3 |
+                               int(samplerInfo.wrapT) << 5;
+        auto it = mTextureSets.find({key, samplerKey});
+        if (it == mTextureSets.end()) {
+            if (mTextureSets.size() >= kTextureSets) {  // every set of this frame is made anew
+                if (restarted)
+                    return unsupportedError(fmt::format(
+                        "vk: the scene's materials use more than {} texture and sampler pairs",
+                        kTextureSets));
+                restarted = true;
+                vkResetDescriptorPool(d, mTexturePool.get(), 0);
+                mTextureSets.clear();
+                std::fill(mInstanceSets.begin(), mInstanceSets.begin() + std::ptrdiff_t(i),
+                          VK_NULL_HANDLE);
+                i = std::size_t(-1);  // restart the loop (++i: 0)
+                continue;
+            }
+            VkDescriptorSetLayout layout = mTextureLayout.get();
+            VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+            ai.descriptorPool = mTexturePool.get();
+            ai.descriptorSetCount = 1;
+            ai.pSetLayouts = &layout;
+            VkDescriptorSet set = VK_NULL_HANDLE;
+            if (Status s = check(vkAllocateDescriptorSets(d, &ai, &set), "vkAllocateDescriptorSets");
+                !s)
+                return s;
+            const GpuTexture& tex = key == 0 ? *mWhite : mTextures.at(key);
+            VkDescriptorImageInfo ii{*smp, tex.view.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+            VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+            w.dstSet = set;
+            w.dstBinding = 0;
+            w.descriptorCount = 1;
+            w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+            w.pImageInfo = &ii;
+            vkUpdateDescriptorSets(d, 1, &w, 0, nullptr);
+            it = mTextureSets.emplace(std::make_pair(key, samplerKey), set).first;
+        }
+        mInstanceSets[i] = it->second;
+    }
+    return {};
+}
+
+}  // namespace mvr::vk::detail
