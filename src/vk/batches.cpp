@@ -26,6 +26,8 @@ struct FrameData {
     glm::vec4 ambient, centerEye;
     glm::ivec4 counts;
     glm::mat4 clipFromWorld[kMaxViews];
+    glm::mat4 shadowClip[kMaxLights];
+    glm::vec4 shadowInfo[kMaxLights], shadowTexel[kMaxLights];
 };
 struct InstanceData {
     glm::mat4 worldFromModel, normalFromModel, cofactor;
@@ -427,6 +429,18 @@ Status Renderer::uploadFrame(const Scene& scene, const Rig& rig) {
     f->counts = glm::ivec4(int(scene.lights.size()), int(rig.views.size()), 0, 0);
     for (std::size_t v = 0; v < rig.views.size(); ++v)
         f->clipFromWorld[v] = rig.views[v].clipFromWorld();
+    // As gl's setShadowUniforms(): per light its map, or layer −1 (lit).
+    for (int k = 0; k < kMaxLights; ++k) {
+        f->shadowClip[k] = glm::mat4(1.0f);
+        f->shadowInfo[k] = glm::vec4(-1.0f, 0.0f, 0.0f, 1.0f);
+        f->shadowTexel[k] = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
+        const int m = mShadows ? mShadows->mapOfLight[std::size_t(k)] : -1;
+        if (m < 0) continue;
+        const ShadowMap& sm = mShadows->maps[std::size_t(m)];
+        f->shadowClip[k] = sm.clipFromWorld;
+        f->shadowInfo[k] = glm::vec4(float(m), sm.perspective ? 1.0f : 0.0f, sm.near, sm.far);
+        f->shadowTexel[k] = glm::vec4(sm.texelWorld, float(sm.size), 0.0f, 0.0f);
+    }
     auto* inst = static_cast<InstanceData*>(mInstanceBuffer.mapped);
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& in = scene.instances[i];
@@ -610,6 +624,7 @@ Status Renderer::renderMethod(const Scene& scene, const Rig& rig, const RenderSe
     if (Status st = prepareScene(scene, meshes); !st) return st;
     if (Status st = uploadFrame(scene, rig); !st) return st;
     if (Status st = prepareTextures(scene); !st) return st;
+    if (Status st = prepareShadows(); !st) return st;
     out.color.resize(std::size_t(total));
     if (s.depth) {
         out.depth.resize(std::size_t(total));

@@ -91,6 +91,11 @@ Candidate inspect(VkPhysicalDevice d) {
     }
     c.caps.driver = fmt::format("{} {}", drv.driverName, drv.driverInfo);
     c.caps.maxMultiviewViewCount = mv.maxMultiviewViewCount;
+    // Mesa's lavapipe (22.3.6, Debian 12): with two or more views in a pass, views past the
+    // first lose large triangles the rasterizer clips (an 8x8 ground quad of two triangles:
+    // 70 % of view 1's pixels wrong), while one view a pass is right (src/vk/README.md).
+    c.caps.multiviewOneView = drv.driverID == VK_DRIVER_ID_MESA_LLVMPIPE &&
+                              !envIs("MVR_VK_MULTIVIEW_WORKAROUND", "0");
 
     VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};

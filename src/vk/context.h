@@ -25,6 +25,10 @@ struct DeviceCaps {
     bool shaderOutputLayer = false;
     bool fillModeNonSolid = false;
     bool hostCachedStaging = false;
+    /// Multiview passes hold one view (lavapipe: a pass of several views loses the large,
+    /// clipped triangles of every view but its first; src/vk/README.md). Off with
+    /// MVR_VK_MULTIVIEW_WORKAROUND=0.
+    bool multiviewOneView = false;
 };
 
 class Context {

@@ -129,6 +129,9 @@ void Renderer::releaseDevice() {
     mTextureSets.clear();
     mInstanceSets.clear();
     mTexturePool = {};
+    mShadowImage = {};
+    mNoShadow = {};
+    mShadowBound = VK_NULL_HANDLE;
     mTextures.clear();
     mWhite.reset();
     mSamplers.clear();
@@ -175,15 +178,18 @@ Status Renderer::ensureStatic() {
     if (!single) return single.status();
     mSinglePass = std::move(*single);
 
-    VkDescriptorSetLayoutBinding b[2]{};
-    for (std::uint32_t i = 0; i < 2; ++i) {
+    // Set 0: the frame's and the instances' storage buffers, the shadow maps (vertex shading
+    // looks them up in the vertex stage).
+    VkDescriptorSetLayoutBinding b[3]{};
+    for (std::uint32_t i = 0; i < 3; ++i) {
         b[i].binding = i;
-        b[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        b[i].descriptorType = i < 2 ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+                                    : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
         b[i].descriptorCount = 1;
         b[i].stageFlags = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     }
     VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    lci.bindingCount = 2;
+    lci.bindingCount = 3;
     lci.pBindings = b;
     VkDescriptorSetLayout layout = VK_NULL_HANDLE;
     if (Status s = check(vkCreateDescriptorSetLayout(d, &lci, nullptr, &layout),
@@ -191,11 +197,12 @@ Status Renderer::ensureStatic() {
         !s)
         return s;
     mSetLayout = DescriptorSetLayout(d, layout);
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2};
+    const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2},
+                                           {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}};
     VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pci.maxSets = 1;
-    pci.poolSizeCount = 1;
-    pci.pPoolSizes = &size;
+    pci.poolSizeCount = 2;
+    pci.pPoolSizes = sizes;
     VkDescriptorPool pool = VK_NULL_HANDLE;
     if (Status s = check(vkCreateDescriptorPool(d, &pci, nullptr, &pool), "vkCreateDescriptorPool");
         !s)
@@ -284,8 +291,14 @@ std::vector<std::string> Renderer::info() {
         c.fillModeNonSolid ? "yes" : "no"));
     for (Method m : {Method::Multipass, Method::Multiview, Method::InstancedLayer}) {
         const Status s = supportsMethod(m);
-        lines.push_back(s ? fmt::format("vk method {}: supported, {} views a batch",
-                                        methodName(m), batchLimit(m))
+        const bool oneView = m == Method::Multiview && c.multiviewOneView;
+        lines.push_back(s ? fmt::format("vk method {}: supported, {} view{} a batch{}",
+                                        methodName(m), batchLimit(m),
+                                        batchLimit(m) == 1 ? "" : "s",
+                                        oneView ? " (lavapipe: a pass of several views loses "
+                                                  "clipped triangles past its first view; "
+                                                  "MVR_VK_MULTIVIEW_WORKAROUND=0 batches them)"
+                                                : "")
                           : fmt::format("vk method {}: unsupported: {}", methodName(m),
                                         s.message()));
     }
@@ -296,7 +309,8 @@ std::vector<std::string> Renderer::info() {
 int Renderer::batchLimit(Method m) const {
     const DeviceCaps& c = mContext->caps();
     int limit = std::min<int>(kLayersPerBatch, int(c.maxImageArrayLayers));
-    if (m == Method::Multiview) limit = std::min<int>(limit, int(c.maxMultiviewViewCount));
+    if (m == Method::Multiview)
+        limit = c.multiviewOneView ? 1 : std::min<int>(limit, int(c.maxMultiviewViewCount));
     if (m == Method::InstancedLayer) limit = std::min<int>(limit, int(c.maxFramebufferLayers));
     return std::max(limit, 1);
 }
@@ -322,7 +336,6 @@ Status Renderer::supports(const std::string& method) {
 }
 
 Status Renderer::checkRequest(const Scene& /*scene*/, const RenderSettings& s) const {
-    if (s.shadows) return unsupportedError("vk: shadows are not supported by the vk backend yet");
     const DeviceCaps& c = mContext->caps();
     if (s.wireframe && !c.fillModeNonSolid)
         return unsupportedError("vk: wireframe needs fillModeNonSolid, which the device lacks");

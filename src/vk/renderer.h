@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -12,6 +13,7 @@
 
 #include "context.h"
 #include "mvr/core/render.h"
+#include "mvr/core/shadows.h"
 #include "spirv.h"
 
 namespace mvr::vk::detail {
@@ -44,6 +46,13 @@ struct GpuTexture {
 inline constexpr std::size_t kTexturesKept = 64;
 /// Descriptor sets of (texture, sampler) pairs the pool holds; past it the pool is reset.
 inline constexpr std::uint32_t kTextureSets = 256;
+
+/// Shadow maps on the device: linear distances (R32_SFLOAT), one layer per map.
+struct ShadowImage {
+    ImageMemory image;
+    ImageView view;
+    int size = 0, layers = 0;
+};
 
 /// A view of `layers` layers of a batch target and its framebuffers.
 struct ArrayTarget {
@@ -86,6 +95,9 @@ public:
     Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& s,
                       const std::string& method, RenderOutput& out);
     const std::optional<RenderStats>& lastStats() const { return mLastStats; }
+    /// The shadow maps the next renders sample (shadows.h; null: none). The set must outlive
+    /// those renders.
+    void setShadows(const ShadowSet* set) { mShadows = set && !set->empty() ? set : nullptr; }
 
 private:
     Status supportsMethod(Method m);
@@ -109,6 +121,11 @@ private:
     Status prepareTextures(const Scene& scene);
     Result<GpuTexture> uploadTexture(const Image& image, const std::string& name);
     Result<VkSampler> sampler(const TextureSampler& s);
+    /// Records `record` into a one-time command buffer, submits it and waits (uploads; nothing
+    /// else is in flight between renders).
+    Status submitOnce(const std::function<void(VkCommandBuffer)>& record);
+    /// mShadows' maps (or one unused 1x1 layer) into set 0's binding 2 (textures.cpp).
+    Status prepareShadows();
     Status recordBatch(Slot& slot, Method m, const RenderSettings& s, int firstView, int views,
                        const Scene& scene, const std::vector<GpuMesh*>& meshes);
     /// Waits for the slot's fence and copies its views out (adding the copy's time to copyMs).
@@ -136,6 +153,10 @@ private:
     std::map<int, SamplerHandle> mSamplers;
     std::map<std::pair<std::uint64_t, int>, VkDescriptorSet> mTextureSets;
     std::vector<VkDescriptorSet> mInstanceSets;
+    const ShadowSet* mShadows = nullptr;
+    ShadowImage mShadowImage;  ///< the last maps' image (reused while size and count hold)
+    ShadowImage mNoShadow;     ///< one layer, bound when no light casts
+    VkImageView mShadowBound = VK_NULL_HANDLE;
     std::map<std::uint64_t, GpuMesh> mMeshes;
     std::uint64_t mUseCounter = 0;
     Slot mSlots[2];

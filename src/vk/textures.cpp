@@ -99,23 +99,8 @@ Result<GpuTexture> Renderer::uploadTexture(const Image& image, const std::string
     if (!staging) return staging.status();
     std::memcpy(staging->mapped, image.rgba.data(), image.rgba.size());
 
-    VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    cai.commandPool = mContext->commandPool();
-    cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    cai.commandBufferCount = 1;
-    VkCommandBuffer cmd = VK_NULL_HANDLE;
-    if (Status s = check(vkAllocateCommandBuffers(d, &cai, &cmd), "vkAllocateCommandBuffers"); !s)
-        return s;
-    struct FreeCmd {
-        VkDevice d;
-        VkCommandPool pool;
-        VkCommandBuffer cmd;
-        ~FreeCmd() { vkFreeCommandBuffers(d, pool, 1, &cmd); }
-    } freeCmd{d, mContext->commandPool(), cmd};
-    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    if (Status s = check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer"); !s) return s;
     VkImage im = img->image.get();
+    const Status recorded = submitOnce([&](VkCommandBuffer cmd) {
     barrier(cmd, im, 0, levels, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
             VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
             VK_PIPELINE_STAGE_TRANSFER_BIT);
@@ -150,15 +135,8 @@ Result<GpuTexture> Renderer::uploadTexture(const Image& image, const std::string
             VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
             VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
             VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
-    if (Status s = check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer"); !s) return s;
-    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    si.commandBufferCount = 1;
-    si.pCommandBuffers = &cmd;
-    if (Status s = check(vkQueueSubmit(mContext->queue(), 1, &si, VK_NULL_HANDLE), "vkQueueSubmit");
-        !s)
-        return s;
-    // Nothing else is in flight between renders (renderMethod finishes its batches).
-    if (Status s = check(vkQueueWaitIdle(mContext->queue()), "vkQueueWaitIdle"); !s) return s;
+    });
+    if (!recorded) return recorded;
 
     VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vci.image = im;
@@ -172,6 +150,134 @@ Result<GpuTexture> Renderer::uploadTexture(const Image& image, const std::string
     t.image = std::move(*img);
     t.view = ImageView(d, view);
     return t;
+}
+
+Status Renderer::submitOnce(const std::function<void(VkCommandBuffer)>& record) {
+    VkDevice d = mContext->device();
+    VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    cai.commandPool = mContext->commandPool();
+    cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    cai.commandBufferCount = 1;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    if (Status s = check(vkAllocateCommandBuffers(d, &cai, &cmd), "vkAllocateCommandBuffers"); !s)
+        return s;
+    struct FreeCmd {
+        VkDevice d;
+        VkCommandPool pool;
+        VkCommandBuffer cmd;
+        ~FreeCmd() { vkFreeCommandBuffers(d, pool, 1, &cmd); }
+    } freeCmd{d, mContext->commandPool(), cmd};
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    if (Status s = check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer"); !s) return s;
+    record(cmd);
+    if (Status s = check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer"); !s) return s;
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cmd;
+    if (Status s = check(vkQueueSubmit(mContext->queue(), 1, &si, VK_NULL_HANDLE), "vkQueueSubmit");
+        !s)
+        return s;
+    return check(vkQueueWaitIdle(mContext->queue()), "vkQueueWaitIdle");
+}
+
+Status Renderer::prepareShadows() {
+    VkDevice d = mContext->device();
+    const bool any = mShadows != nullptr;
+    const int size = any ? mShadows->maps.front().size : 1;
+    const int layers = any ? int(mShadows->maps.size()) : 1;
+    ShadowImage& target = any ? mShadowImage : mNoShadow;
+    const bool fresh = target.size != size || target.layers != layers;
+    if (fresh) {
+        VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+        ci.imageType = VK_IMAGE_TYPE_2D;
+        ci.format = VK_FORMAT_R32_SFLOAT;
+        ci.extent = {std::uint32_t(size), std::uint32_t(size), 1};
+        ci.mipLevels = 1;
+        ci.arrayLayers = std::uint32_t(layers);
+        ci.samples = VK_SAMPLE_COUNT_1_BIT;
+        ci.tiling = VK_IMAGE_TILING_OPTIMAL;
+        ci.usage = VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+        ci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+        ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        auto img = mContext->makeImage(ci);
+        if (!img) return img.status();
+        VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+        vci.image = img->image.get();
+        vci.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
+        vci.format = VK_FORMAT_R32_SFLOAT;
+        vci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, std::uint32_t(layers)};
+        VkImageView view = VK_NULL_HANDLE;
+        if (Status s = check(vkCreateImageView(d, &vci, nullptr, &view), "vkCreateImageView"); !s)
+            return s;
+        if (mShadowBound == target.view.get()) mShadowBound = VK_NULL_HANDLE;
+        target = {};
+        target.image = std::move(*img);
+        target.view = ImageView(d, view);
+        target.size = size, target.layers = layers;
+    }
+    // The maps' distances (rows bottom first: texel (x, y) is depth[y · size + x], as gl's
+    // upload); the unused layer only once.
+    if (any || fresh) {
+        const VkDeviceSize layerBytes = VkDeviceSize(size) * size * sizeof(float);
+        auto staging = mContext->makeBuffer(layerBytes * VkDeviceSize(layers),
+                                            VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
+        if (!staging) return staging.status();
+        auto* dst = static_cast<unsigned char*>(staging->mapped);
+        for (int k = 0; k < layers; ++k) {
+            if (any)
+                std::memcpy(dst + layerBytes * VkDeviceSize(k),
+                            mShadows->maps[std::size_t(k)].depth.data(), layerBytes);
+            else
+                std::memset(dst, 0, layerBytes);
+        }
+        VkImage im = target.image.image.get();
+        const Status recorded = submitOnce([&](VkCommandBuffer cmd) {
+            VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+            b.srcAccessMask = fresh ? 0 : VK_ACCESS_SHADER_READ_BIT;
+            b.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+            b.oldLayout = fresh ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+            b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+            b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+            b.image = im;
+            b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, std::uint32_t(layers)};
+            const VkPipelineStageFlags shaders =
+                VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
+            vkCmdPipelineBarrier(cmd, fresh ? VkPipelineStageFlags(VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT) : shaders,
+                                 VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, 1, &b);
+            VkBufferImageCopy copy{};
+            copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, std::uint32_t(layers)};
+            copy.imageExtent = {std::uint32_t(size), std::uint32_t(size), 1};
+            vkCmdCopyBufferToImage(cmd, staging->buffer.get(), im,
+                                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+            b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+            b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+            b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+            b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+            vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, shaders, 0, 0, nullptr, 0,
+                                 nullptr, 1, &b);
+        });
+        if (!recorded) return recorded;
+    }
+    if (mShadowBound != target.view.get()) {
+        // texelFetch reads the maps: the sampler's filtering is never used.
+        TextureSampler nearest;
+        nearest.magFilter = nearest.minFilter = TextureFilter::Nearest;
+        nearest.mipmaps = false;
+        nearest.wrapS = nearest.wrapT = TextureWrap::ClampToEdge;
+        auto smp = sampler(nearest);
+        if (!smp) return smp.status();
+        VkDescriptorImageInfo ii{*smp, target.view.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+        VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        w.dstSet = mSet;
+        w.dstBinding = 2;
+        w.descriptorCount = 1;
+        w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        w.pImageInfo = &ii;
+        vkUpdateDescriptorSets(d, 1, &w, 0, nullptr);
+        mShadowBound = target.view.get();
+    }
+    return {};
 }
 
 Result<VkSampler> Renderer::sampler(const TextureSampler& s) {

@@ -1,6 +1,7 @@
 #include "mvr/vk/vk_backend.h"
 
 #include "mvr/core/antialias.h"
+#include "mvr/core/shadows.h"
 #include "renderer.h"
 
 namespace mvr::vk {
@@ -22,7 +23,20 @@ public:
     Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& requested,
                       const std::string& method, RenderOutput& out) override {
         if (requested.samples > 1) return renderSampled(*this, scene, rig, requested, method, out);
-        return mRenderer.renderInto(scene, rig, shadedSettings(requested), method, out);
+        const RenderSettings settings = shadedSettings(requested);
+        if (!settings.shadows) return mRenderer.renderInto(scene, rig, settings, method, out);
+        // Shadows (issue 15): the casters' maps once for all views, as one multi-view pass
+        // whose views are the lights, through the same method (auto: multipass, the
+        // reference), then sampled by every view (textures.cpp: prepareShadows).
+        if (Status s = validateRequest(scene, rig, settings); !s) return s;
+        if (Status s = mRenderer.supports(method); !s) return s;
+        Result<ShadowSet> set = renderShadowSet(*this, scene, settings.shadowMapSize,
+                                                method == "auto" ? "multipass" : method);
+        if (!set) return set.status();
+        mRenderer.setShadows(&*set);
+        const Status st = mRenderer.renderInto(scene, rig, settings, method, out);
+        mRenderer.setShadows(nullptr);
+        return st;
     }
     std::vector<std::string> info() const override { return mRenderer.info(); }
     std::optional<RenderStats> lastStats() const override { return mRenderer.lastStats(); }

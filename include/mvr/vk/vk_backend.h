@@ -19,14 +19,16 @@
 // Methods:
 //   multipass        one render pass per view into its own layer. The reference.
 //   multiview        VK_KHR_multiview (Vulkan 1.1 core): one render pass with a view mask over
-//                    a batch of at most maxMultiviewViewCount views (gl_ViewIndex).
+//                    a batch of at most maxMultiviewViewCount views (gl_ViewIndex; lavapipe:
+//                    one, as it loses clipped triangles past a pass's first view).
 //   instanced-layer  one render pass over a layered framebuffer; N instances, the vertex shader
 //                    writes gl_Layer (Vulkan 1.2 shaderOutputLayer).
 //   auto             measures the others for the request (views, size, shading) on its first
 //                    frame, uses the fastest; cached.
 // Views are drawn in batches (kalaiah2007 §3); each batch's colour (and depth) is copied into
 // one staging buffer with one command, fenced, and copied out while the next batch is drawn.
-// Textures and shadows are not supported yet (Unsupported, saying so).
+// Base colour textures, vertex colours and shadow maps are drawn as the gl backend draws them
+// (src/vk/README.md).
 #pragma once
 
 #include <memory>

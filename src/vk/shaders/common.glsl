@@ -1,5 +1,5 @@
 // Shared by scene.vert and scene.frag: the frame and instance buffers and lighting.h in GLSL
-// (the gl backend's shaders.cpp, line for line, without textures and shadows).
+// (the gl backend's shaders.cpp, line for line).
 #define MAX_VIEWS 128
 #define MAX_LIGHTS 4
 
@@ -12,7 +12,14 @@ layout(std430, set = 0, binding = 0) readonly buffer FrameData {
     vec4 uCenterEye;
     ivec4 uCounts;                 // x lights
     mat4 uClipFromWorld[MAX_VIEWS];
+    // Shadows (shadows.h, gl's uShadowClip / uShadowInfo / uShadowTexel): per light its map's
+    // clipFromWorld, (layer (< 0: none), perspective, near, far), (texelWorld, size).
+    mat4 uShadowClip[MAX_LIGHTS];
+    vec4 uShadowInfo[MAX_LIGHTS];
+    vec4 uShadowTexel[MAX_LIGHTS];
 };
+// Linear distances, one layer per map (a 1x1 layer no light reads when there are none).
+layout(set = 0, binding = 2) uniform sampler2DArray uShadowMaps;
 
 struct InstanceData {
     mat4 worldFromModel;
@@ -29,6 +36,43 @@ layout(push_constant) uniform Push {
     int instance;
     int viewBase;  // the request's index of this pass's view 0 (multipass: the view)
 } pc;
+
+// shadows.h shadowFactor(), as gl's shaders.cpp has it line for line.
+float shadowFactor(int i, vec3 p, vec3 normal) {
+    if (uShadowInfo[i].x < 0.0) return 1.0;
+    vec4 c = uShadowClip[i] * vec4(p, 1.0);
+    if (!(c.w > 0.0)) return 1.0;
+    float iw = 1.0 / c.w;
+    float nx = c.x * iw, ny = c.y * iw, nz = c.z * iw;
+    if (!(abs(nx) <= 1.0 && abs(ny) <= 1.0 && nz <= 1.0)) return 1.0;
+    bool persp = uShadowInfo[i].y > 0.5;
+    float r = persp ? c.w : uShadowInfo[i].z + (nz * 0.5 + 0.5) * (uShadowInfo[i].w - uShadowInfo[i].z);
+    float fs = uShadowTexel[i].y;
+    int size = int(fs), layer = int(uShadowInfo[i].x);
+    int tx = clamp(int(floor((nx * 0.5 + 0.5) * fs)), 0, size - 1);
+    int ty = clamp(int(floor((ny * 0.5 + 0.5) * fs)), 0, size - 1);
+    float len = length(normal);
+    vec3 n = len > 0.0 ? normal / len : normal;
+    vec3 l = uLightDir[i].xyz;
+    if (uLightPos[i].w > 0.5) {  // point / spot
+        vec3 d = uLightPos[i].xyz - p;
+        float dl = length(d);
+        if (dl > 0.0) l = d / dl;
+    }
+    float cosT = clamp(dot(n, l), 1e-3, 1.0);
+    float tanT = min(sqrt(1.0 - cosT * cosT) / cosT, 8.0);
+    float texel = persp ? uShadowTexel[i].x * r : uShadowTexel[i].x;
+    float ref = r - texel * (1.0 + 1.5 * tanT);
+    int lit = 0;
+    for (int j = -1; j <= 1; ++j) {
+        int y = clamp(ty + j, 0, size - 1);
+        for (int k = -1; k <= 1; ++k) {
+            int x = clamp(tx + k, 0, size - 1);
+            lit += texelFetch(uShadowMaps, ivec3(x, y, layer), 0).r >= ref ? 1 : 0;
+        }
+    }
+    return float(lit) * (1.0 / 9.0);
+}
 
 vec3 lightAt(int i, vec3 p, out vec3 l) {
     if (uLightPos[i].w == 0.0) {
@@ -59,13 +103,14 @@ vec3 facingNormal(InstanceData m, vec3 n, vec3 p) {
 }
 
 vec3 shadeFlat(InstanceData m, vec3 faceNormal, vec3 p) {
+    vec3 n0 = faceNormal;
     faceNormal = facingNormal(m, faceNormal, p);
     vec3 albedo = m.material.rgb;
     vec3 c = uAmbient.rgb * albedo;
     for (int i = 0; i < uCounts.x; ++i) {
         vec3 l;
         vec3 lc = lightAt(i, p, l);
-        c += max(dot(faceNormal, l), 0.0) * albedo * lc;
+        c += (max(dot(faceNormal, l), 0.0) * albedo * lc) * shadowFactor(i, p, n0);
     }
     return clamp(c, 0.0, 1.0);
 }
@@ -82,7 +127,7 @@ vec3 shadeBlinnPhong(InstanceData m, vec3 normal, vec3 worldPos) {
         if (nl > 0.0) {
             vec3 h = normalize(l + v);
             float spec = m.material.w * pow(max(dot(n, h), 0.0), m.params.x);
-            c += (nl * albedo + vec3(spec)) * lc;
+            c += ((nl * albedo + vec3(spec)) * lc) * shadowFactor(i, worldPos, normal);
         }
     }
     return clamp(c, 0.0, 1.0);
@@ -92,12 +137,13 @@ vec3 shadeBlinnPhong(InstanceData m, vec3 normal, vec3 worldPos) {
 // across the triangle, so the lighting is kept as D (ambient + sum of max(n.l, 0) light, which
 // multiplies albedo x vertex colour) and S (the specular sum, added): clamp(base * D + S).
 vec3 flatDiffuse(InstanceData m, vec3 faceNormal, vec3 p) {
+    vec3 n0 = faceNormal;
     faceNormal = facingNormal(m, faceNormal, p);
     vec3 d = uAmbient.rgb;
     for (int i = 0; i < uCounts.x; ++i) {
         vec3 l;
         vec3 lc = lightAt(i, p, l);
-        d += max(dot(faceNormal, l), 0.0) * lc;
+        d += (max(dot(faceNormal, l), 0.0) * lc) * shadowFactor(i, p, n0);
     }
     return d;
 }
@@ -115,6 +161,7 @@ void blinnPhongTerms(InstanceData m, vec3 normal, vec3 worldPos, out vec3 diffus
         if (nl > 0.0) {
             vec3 h = normalize(l + v);
             float spec = m.material.w * pow(max(dot(n, h), 0.0), m.params.x);
+            lc *= shadowFactor(i, worldPos, normal);
             diffuse += nl * lc;
             specular += spec * lc;
         }
