@@ -203,20 +203,28 @@ Result<RgbdInput> readRgbdInput(const std::vector<std::string>& files,
         if (!colour) return colour.status();
         Result<Image> d = readOne(files[1]);
         if (!d) return d.status();
-        if (d->width != colour->width || d->height != colour->height)
-            return inputError(fmt::format("{} is {}x{} but the colour {} is {}x{} (expected a "
-                                          "depth map of the colour's size)",
-                                          files[1], d->width, d->height, files[0], colour->width,
-                                          colour->height));
+        // A depth map of another size (phones and estimators write them smaller) is taken
+        // over the same frame: its aspect must be the colour's.
+        const double ca = double(colour->width) / colour->height, da = double(d->width) / d->height;
+        if (std::abs(da / ca - 1.0) > 0.01)
+            return inputError(fmt::format(
+                "{} is {}x{} but the colour {} is {}x{} (expected a depth map of the colour's "
+                "frame: the same aspect, any size)",
+                files[1], d->width, d->height, files[0], colour->width, colour->height));
         in.colour = std::move(*colour);
         depth = std::move(*d);
     }
-    in.grey.resize(std::size_t(depth.width) * depth.height);
-    for (std::size_t i = 0; i < in.grey.size(); ++i) {
+    std::vector<float> grey(std::size_t(depth.width) * depth.height);
+    for (std::size_t i = 0; i < grey.size(); ++i) {
         const std::uint8_t* p = depth.rgba.data() + 4 * i;
         const float g = float(int(p[0]) + int(p[1]) + int(p[2])) / (3.0f * 255.0f);
-        in.grey[i] = inverted ? 1.0f - g : g;
+        grey[i] = inverted ? 1.0f - g : g;
     }
+    const int w = in.colour.width, h = in.colour.height;
+    in.grey = depth.width == w && depth.height == h
+                  ? std::move(grey)
+                  : resample(grey, depth.width, depth.height, 1,
+                             double(depth.width) / depth.height, w, h);
     return in;
 }
 

@@ -212,6 +212,12 @@ TEST_F(RgbdComposeCli, APictureOfAnotherSizeIsCroppedAndResampled) {
             << args;
     EXPECT_TRUE(quilt("big") == quilt("plain"));
     EXPECT_TRUE(quilt("wide") == quilt("plain"));
+    // A depth map smaller than its colour (as phones write them), over the same frame.
+    write("halfdepth.png", Image(kW / 2, kH / 2, {230, 230, 230, 255}));
+    ASSERT_EQ(run("compose colour.png halfdepth.png --from-rgbd --display portrait -q -o half")
+                  .exitCode,
+              0);
+    EXPECT_TRUE(quilt("half") == quilt("plain"));
     expectBarAt(quilt("plain"), 0.5 - 230.0 / 255.0, 1.0, 45.0, "grey 230");
 }
 
@@ -219,7 +225,7 @@ TEST_F(RgbdComposeCli, ARenderedModelComposesCloseToItsRenderedQuilt) {
     const std::filesystem::path spot = test::sharedModels() / "spot.obj";
     if (!std::filesystem::exists(spot))
         MVR_SKIP(ModelsMissing) << "no spot.obj in " << test::sharedModels();
-    const std::string model = "'" + spot.string() + "'";
+    const std::string model = fmt::format("'{}'", spot.string());
     // The centre camera's RGB-D and the display's 48 views, one sample a pixel.
     ASSERT_EQ(run(fmt::format("render {} --display portrait --views 1 --aa 1 --format rgbd -q -o "
                               "rgbd",
@@ -260,7 +266,7 @@ TEST_F(RgbdComposeCli, Refusals) {
     write("small.png", Image(10, 10));
     expectError("compose pic.png small.png --from-rgbd --display portrait -o out", 2,
                 "small.png is 10x10 but the colour pic.png is 840x560 (expected a depth map of "
-                "the colour's size)");
+                "the colour's frame: the same aspect, any size)");
     writeText("pic.json", "{\"settings\": {\"depth_loc\": 2");
     const test::CliRun r = run("compose pic.png --from-rgbd --display portrait -o out");
     EXPECT_EQ(r.exitCode, 2);

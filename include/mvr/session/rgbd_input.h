@@ -43,8 +43,9 @@ struct RgbdInput {
 };
 
 /// Reads an RGB-D picture: one file holding colour and depth side by side (`position`, or the
-/// sidecar's depth_loc, else right), or two files, colour then depth. Errors: Input naming the
-/// file (unreadable, sizes, a malformed sidecar), Usage for a file count other than 1 or 2.
+/// sidecar's depth_loc, else right), or two files, colour then depth (a depth map of another
+/// size but the colour's aspect is area-resampled to the colour's size). Errors: Input naming
+/// the file (unreadable, sizes, a malformed sidecar), Usage for a file count other than 1 or 2.
 Result<RgbdInput> readRgbdInput(const std::vector<std::string>& files,
                                 std::optional<composite::DepthPosition> position);
 
