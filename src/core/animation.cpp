@@ -113,8 +113,11 @@ Result<Rig> rigAt(const Rig& rig, const Camera& camera, const ScreenEyes* eyes) 
 
 Status validateSampler(const Sampler& s) {
     if (s.input.empty()) return usageError("sampler: no keys");
-    if (s.components < 1 || s.components > 16) {
-        return usageError(fmt::format("sampler: {} components (expected 1..16)", s.components));
+    // 16 for transforms; morph target weights: one a target (face rigs have dozens).
+    constexpr int kMaxComponents = 256;
+    if (s.components < 1 || s.components > kMaxComponents) {
+        return usageError(
+            fmt::format("sampler: {} components (expected 1..{})", s.components, kMaxComponents));
     }
     if (s.rotation && s.components != 4) {
         return usageError(
@@ -229,7 +232,7 @@ Status validateSceneAnimation(const SceneAnimation& a) {
         }
         if (!n.animation) continue;
         for (const auto* s : {&n.animation->translation, &n.animation->rotation,
-                              &n.animation->scale}) {
+                              &n.animation->scale, &n.animation->weights}) {
             if (!*s) continue;
             if (Status st = validateSampler(**s); !st) {
                 return inputError(fmt::format("{}: {}", where, st.message()));
@@ -262,8 +265,11 @@ void animateScene(Scene& scene, const SceneAnimation& a, double time) {
     const std::vector<glm::mat4> world = nodeWorldsAt(a, time);
     for (const SceneAnimation::Target& t : a.instances) {
         if (t.instance < int(scene.instances.size())) {
-            scene.instances[std::size_t(t.instance)].worldFromModel =
-                t.worldFromRoot * world[std::size_t(t.node)];
+            Instance& inst = scene.instances[std::size_t(t.instance)];
+            inst.worldFromModel = t.worldFromRoot * world[std::size_t(t.node)];
+            const std::optional<NodeAnimation>& na = a.nodes[std::size_t(t.node)].animation;
+            if (na && na->weights && inst.mesh >= 0 && inst.mesh < int(scene.meshes.size()))
+                applyMorphWeights(scene.meshes[std::size_t(inst.mesh)], sample(*na->weights, time));
         }
     }
     if (a.cameraNode >= 0 && scene.camera) {

@@ -48,6 +48,25 @@ Status validateMesh(const Mesh& mesh, const std::string& what) {
             }
         }
     }
+    if (!mesh.morphTargets.empty()) {
+        const std::size_t n = mesh.positions.size();
+        if (mesh.basePositions.size() != n || mesh.baseNormals.size() != n)
+            return inputError(fmt::format("{}: morph targets without the unmorphed mesh", what));
+        for (std::size_t t = 0; t < mesh.morphTargets.size(); ++t) {
+            const MorphTarget& m = mesh.morphTargets[t];
+            if (m.positions.size() != n || (!m.normals.empty() && m.normals.size() != n))
+                return inputError(fmt::format(
+                    "{}: morph target {} has {} positions and {} normals for {} vertices", what,
+                    t, m.positions.size(), m.normals.size(), n));
+            for (std::size_t i = 0; i < n; ++i) {
+                const glm::vec3 d = m.positions[i] + (m.normals.empty() ? glm::vec3(0.0f)
+                                                                         : m.normals[i]);
+                if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
+                    return inputError(fmt::format(
+                        "{}: morph target {} moves vertex {} by a non-finite amount", what, t, i));
+            }
+        }
+    }
     for (std::size_t i = 0; i < mesh.indices.size(); ++i) {
         if (mesh.indices[i] >= mesh.positions.size()) {
             return inputError(fmt::format("{}: index {} out of range for {} vertices", what,
@@ -125,6 +144,31 @@ glm::vec4 decodeSrgbColor(glm::vec4 c) {
         c[k] = v;
     }
     return c;
+}
+
+void applyMorphWeights(Mesh& mesh, const std::vector<float>& weights) {
+    if (mesh.morphTargets.empty()) return;
+    const std::size_t n = mesh.basePositions.size();
+    mesh.positions = mesh.basePositions;
+    mesh.normals = mesh.baseNormals;
+    mesh.morphWeights.assign(mesh.morphTargets.size(), 0.0f);
+    for (std::size_t t = 0; t < mesh.morphTargets.size() && t < weights.size(); ++t) {
+        const float w = weights[t];
+        mesh.morphWeights[t] = w;
+        if (w == 0.0f) continue;
+        const MorphTarget& m = mesh.morphTargets[t];
+        for (std::size_t i = 0; i < n; ++i) mesh.positions[i] += w * m.positions[i];
+        if (!mesh.computedNormals && !m.normals.empty())
+            for (std::size_t i = 0; i < n; ++i) mesh.normals[i] += w * m.normals[i];
+    }
+    if (mesh.computedNormals) {
+        computeSmoothNormals(mesh);
+        return;
+    }
+    for (glm::vec3& v : mesh.normals) {
+        const float len = glm::length(v);
+        v = len > 0.0f && std::isfinite(len) ? v / len : glm::vec3(0.0f, 0.0f, 1.0f);
+    }
 }
 
 std::uint64_t contentHash(const Mesh& m) {

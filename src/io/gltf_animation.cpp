@@ -281,12 +281,33 @@ Result<std::optional<GltfAnimationFile>> read(Reader& r) {
         const std::size_t g = target.at("node").get<std::size_t>();
         if (g >= n) return inputError(fmt::format("{}: no node {}", where, g));
         if (order[g] < 0) continue;  // a node outside the default scene
-        if (pathName != "translation" && pathName != "rotation" && pathName != "scale") {
+        const bool weights = pathName == "weights";
+        if (pathName != "translation" && pathName != "rotation" && pathName != "scale" &&
+            !weights) {
             out.warnings.push_back(fmt::format("animation '{}': {}: path '{}' is not played",
                                                anim.name, where, pathName));
             continue;
         }
-        if (nodes.at(g).contains("matrix")) {
+        // Morph weights: one per target of the node's mesh (its first primitive's count; glTF
+        // requires every primitive to have the same).
+        int targets = 0;
+        if (weights) {
+            const json& nd = nodes.at(g);
+            const std::size_t mi = nd.value("mesh", std::size_t(-1));
+            const json meshes = doc.value("meshes", json::array());
+            if (mi < meshes.size()) {
+                const json prims = meshes.at(mi).value("primitives", json::array());
+                if (!prims.empty())
+                    targets = int(prims.at(0).value("targets", json::array()).size());
+            }
+            if (targets == 0) {
+                out.warnings.push_back(fmt::format(
+                    "animation '{}': {}: node {} animates morph weights but its mesh has no "
+                    "morph targets: not played",
+                    anim.name, where, g));
+                continue;
+            }
+        } else if (nodes.at(g).contains("matrix")) {
             return inputError(
                 fmt::format("{}: node {} has a matrix and cannot be animated", where, g));
         }
@@ -304,9 +325,11 @@ Result<std::optional<GltfAnimationFile>> read(Reader& r) {
         else
             return inputError(fmt::format("{}: interpolation '{}'", where, interp));
         s.rotation = pathName == "rotation";
-        s.components = s.rotation ? 4 : 3;
+        s.components = weights ? targets : s.rotation ? 4 : 3;
         auto in = r.accessor(js.at("input").get<std::size_t>(), 1);
-        auto values = in ? r.accessor(js.at("output").get<std::size_t>(), s.components)
+        // Weights are a SCALAR accessor of keys × targets values.
+        auto values = in ? r.accessor(js.at("output").get<std::size_t>(),
+                                      weights ? 1 : s.components)
                          : Result<std::vector<float>>(in.status());
         if (!values) {
             if (values.status().code() == ErrorCode::Unsupported) {
@@ -323,7 +346,10 @@ Result<std::optional<GltfAnimationFile>> read(Reader& r) {
         }
         anim.duration = std::max(anim.duration, double(s.input.back()));
         NodeAnimation& na = *anim.nodes[std::size_t(order[g])].animation;
-        (s.rotation ? na.rotation : pathName == "scale" ? na.scale : na.translation) = std::move(s);
+        (weights      ? na.weights
+         : s.rotation ? na.rotation
+         : pathName == "scale" ? na.scale
+                               : na.translation) = std::move(s);
         animated[std::size_t(order[g])] = true;
     }
     for (std::size_t i = 0; i < anim.nodes.size(); ++i)

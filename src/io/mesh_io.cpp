@@ -42,6 +42,12 @@ void optimizeMeshLocality(Mesh& mesh) {
     remapStream(mesh.normals);
     remapStream(mesh.texcoords);
     remapStream(mesh.colors);
+    remapStream(mesh.basePositions);
+    remapStream(mesh.baseNormals);
+    for (MorphTarget& t : mesh.morphTargets) {
+        remapStream(t.positions);
+        remapStream(t.normals);
+    }
 }
 
 namespace {

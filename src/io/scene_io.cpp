@@ -421,6 +421,35 @@ std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name, bool 
         if (normalsUsable) n /= len;
     }
     if (!normalsUsable) computeSmoothNormals(mesh);
+    // Morph targets (glTF `targets`): assimp holds each as the morphed mesh (base +
+    // displacement) and the mesh's default weight; mvr keeps the displacements.
+    std::vector<float> weights;
+    for (unsigned t = 0; t < in.mNumAnimMeshes; ++t) {
+        const aiAnimMesh* am = in.mAnimMeshes[t];
+        if (!am || am->mNumVertices != in.mNumVertices) continue;
+        MorphTarget target;
+        target.positions.resize(in.mNumVertices, glm::vec3(0.0f));
+        if (am->HasPositions())
+            for (unsigned v = 0; v < in.mNumVertices; ++v) {
+                const aiVector3D d = am->mVertices[v] - in.mVertices[v];
+                target.positions[v] = glm::vec3(d.x, d.y, d.z);
+            }
+        if (am->HasNormals() && in.HasNormals()) {
+            target.normals.resize(in.mNumVertices);
+            for (unsigned v = 0; v < in.mNumVertices; ++v) {
+                const aiVector3D d = am->mNormals[v] - in.mNormals[v];
+                target.normals[v] = glm::vec3(d.x, d.y, d.z);
+            }
+        }
+        mesh.morphTargets.push_back(std::move(target));
+        weights.push_back(std::isfinite(am->mWeight) ? am->mWeight : 0.0f);
+    }
+    if (!mesh.morphTargets.empty()) {
+        mesh.computedNormals = !normalsUsable;
+        mesh.basePositions = mesh.positions;
+        mesh.baseNormals = mesh.normals;
+        applyMorphWeights(mesh, weights);  // the mesh's default weights
+    }
     return mesh;
 }
 

@@ -97,6 +97,9 @@ glm::quat sampleRotation(const Sampler& sampler, double time);
 /// missing one keeps the node's rest value).
 struct NodeAnimation {
     std::optional<Sampler> translation, rotation, scale;
+    /// The morph target weights of the node's mesh (glTF path "weights": one component per
+    /// target); animateScene() morphs the meshes of the node's instances.
+    std::optional<Sampler> weights;
     glm::vec3 restTranslation{0.0f};
     glm::quat restRotation{1.0f, 0.0f, 0.0f, 0.0f};
     glm::vec3 restScale{1.0f};
@@ -135,7 +138,9 @@ Status validateSceneAnimation(const SceneAnimation& animation);
 /// Every node's world matrix (relative to the file's root) at `time`.
 std::vector<glm::mat4> nodeWorldsAt(const SceneAnimation& animation, double time);
 
-/// Moves `scene`'s animated instances and (cameraNode >= 0) its camera to `time`.
+/// Moves `scene`'s animated instances and (cameraNode >= 0) its camera to `time`, and morphs
+/// the meshes of instances whose node animates its weights (applyMorphWeights(); a mesh two
+/// such nodes share takes the later node's).
 /// Precondition: validateSceneAnimation() passed and the indices fit `scene`.
 void animateScene(Scene& scene, const SceneAnimation& animation, double time);
 

@@ -35,6 +35,13 @@ struct Bounds {
     float radius() const { return glm::length(max - min) * 0.5f; }
 };
 
+/// One glTF morph target (glTF 2.0 §3.7.2.2): per vertex the displacement of its position
+/// and of its normal (empty: the target moves no normal).
+struct MorphTarget {
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;
+};
+
 struct Mesh {
     std::string name;
     std::vector<glm::vec3> positions;
@@ -45,6 +52,15 @@ struct Mesh {
     /// sRGB-decoded by the readers), interpolated across each triangle like a texture.
     std::vector<glm::vec4> colors;
     std::vector<std::uint32_t> indices;  ///< 3 per triangle, counter-clockwise = front
+    /// Morph targets (glTF's `targets`): empty, or each with one displacement per position.
+    /// `positions` / `normals` then hold the mesh at `morphWeights` (applyMorphWeights()),
+    /// `basePositions` / `baseNormals` the mesh at weights 0.
+    std::vector<MorphTarget> morphTargets;
+    std::vector<float> morphWeights;  ///< the weights positions / normals hold, one per target
+    std::vector<glm::vec3> basePositions, baseNormals;
+    /// The normals were computed from the triangles (the file had none): a morph recomputes
+    /// them rather than displacing them.
+    bool computedNormals = false;
 
     std::size_t triangleCount() const { return indices.size() / 3; }
     Bounds bounds() const;
@@ -68,6 +84,11 @@ Status validateMesh(const Mesh& mesh, const std::string& what);
 /// Mesh::colors holds it: each channel clamped to 0..1, RGB decoded with the exact
 /// IEC 61966-2-1 curve, alpha unchanged; a NaN channel becomes 0.
 glm::vec4 decodeSrgbColor(glm::vec4 encoded);
+
+/// Sets the mesh to the morph `weights` (one per target; missing ones 0, extra ones ignored):
+/// positions = base + Σ wᵢ · Δpᵢ, normals = normalize(base + Σ wᵢ · Δnᵢ) (glTF 2.0 §3.7.2.2;
+/// computed normals are recomputed instead). No-op for a mesh without morph targets.
+void applyMorphWeights(Mesh& mesh, const std::vector<float>& weights);
 
 /// Computes area-weighted smooth vertex normals (degenerate triangles contribute nothing; a
 /// vertex with no usable triangle gets +Z).
