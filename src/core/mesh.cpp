@@ -1,4 +1,5 @@
 #include "mvr/core/mesh.h"
+#include "mvr/core/content_hash.h"
 
 #include <cstring>
 
@@ -136,6 +137,13 @@ std::uint64_t hashBytes(std::uint64_t h, const void* data, std::size_t size) {
     return h ^ size;
 }
 }  // namespace
+
+std::uint64_t contentHash(const Image& image) {
+    std::uint64_t h = 0x84222325CBF29CE4ull ^ (std::uint64_t(image.width) << 32) ^
+                      std::uint64_t(std::uint32_t(image.height));
+    h = hashBytes(h, image.rgba.data(), image.rgba.size());
+    return h == 0 ? 1 : h;
+}
 
 glm::vec4 decodeSrgbColor(glm::vec4 c) {
     for (int k = 0; k < 4; ++k) {

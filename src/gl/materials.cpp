@@ -6,27 +6,12 @@
 
 #include <fmt/format.h>
 
+#include "mvr/core/content_hash.h"
 #include "renderer.h"
 
 namespace mvr::gl::detail {
 
 namespace {
-
-std::uint64_t hashImage(const mvr::Texture& t) {
-    std::uint64_t h = 0x84222325CBF29CE4ull ^ (std::uint64_t(t.image.width) << 32) ^
-                      std::uint64_t(t.image.height);
-    const auto* p = reinterpret_cast<const unsigned char*>(t.image.rgba.data());
-    const std::size_t n = t.image.rgba.size();
-    std::size_t i = 0;
-    for (; i + 8 <= n; i += 8) {
-        std::uint64_t w;
-        std::memcpy(&w, p + i, 8);
-        h = (h ^ w) * 0x100000001B3ull;
-        h ^= h >> 29;
-    }
-    for (; i < n; ++i) h = (h ^ p[i]) * 0x100000001B3ull;
-    return h;
-}
 
 GLint wrapMode(TextureWrap w) {
     switch (w) {
@@ -59,7 +44,7 @@ Status Renderer::prepareTextures(const Scene& scene, Frame& frame, std::uint64_t
     frame.textures.assign(scene.textures.size(), 0);
     for (std::size_t i = 0; i < scene.textures.size(); ++i) {
         const mvr::Texture& src = scene.textures[i];
-        const std::uint64_t key = hashImage(src);
+        const std::uint64_t key = contentHash(src.image);
         sceneKey = (sceneKey ^ key) * 0x100000001B3ull;
         auto it = mGpu->textures.find(key);
         if (it == mGpu->textures.end()) {

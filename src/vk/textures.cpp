@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "mvr/core/content_hash.h"
 #include "mvr/core/scene.h"
 #include "renderer.h"
 
@@ -15,20 +16,10 @@ namespace {
 
 constexpr VkFormat kTextureFormat = VK_FORMAT_R8G8B8A8_SRGB;
 
-std::uint64_t hashImage(const Image& image) {
-    std::uint64_t h = 0x84222325CBF29CE4ull ^ (std::uint64_t(image.width) << 32) ^
-                      std::uint64_t(image.height);
-    const auto* p = image.rgba.data();
-    const std::size_t n = image.rgba.size();
-    std::size_t i = 0;
-    for (; i + 8 <= n; i += 8) {
-        std::uint64_t w;
-        std::memcpy(&w, p + i, 8);
-        h = (h ^ w) * 0x100000001B3ull;
-        h ^= h >> 29;
-    }
-    for (; i < n; ++i) h = (h ^ p[i]) * 0x100000001B3ull;
-    return h == 0 ? 1 : h;  // 0 is the white texel's key
+/// The sampler cache's key of a TextureSampler.
+int samplerKey(const TextureSampler& s) {
+    return int(s.magFilter) | int(s.minFilter) << 1 | int(s.mipmaps) << 2 | int(s.wrapS) << 3 |
+           int(s.wrapT) << 5;
 }
 
 int mipLevels(int w, int h) {
@@ -281,8 +272,7 @@ Status Renderer::prepareShadows() {
 }
 
 Result<VkSampler> Renderer::sampler(const TextureSampler& s) {
-    const int key = int(s.magFilter) | int(s.minFilter) << 1 | int(s.mipmaps) << 2 |
-                    int(s.wrapS) << 3 | int(s.wrapT) << 5;
+    const int key = samplerKey(s);
     if (auto it = mSamplers.find(key); it != mSamplers.end()) return it->second.get();
     VkSamplerCreateInfo ci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     ci.magFilter = s.magFilter == TextureFilter::Linear ? VK_FILTER_LINEAR : VK_FILTER_NEAREST;
@@ -314,7 +304,7 @@ Status Renderer::prepareTextures(const Scene& scene) {
     ++mUseCounter;
     std::vector<std::uint64_t> keys(scene.textures.size());
     for (std::size_t i = 0; i < scene.textures.size(); ++i) {
-        const std::uint64_t key = hashImage(scene.textures[i].image);
+        const std::uint64_t key = contentHash(scene.textures[i].image);  // never 0
         keys[i] = key;
         auto it = mTextures.find(key);
         if (it == mTextures.end()) {
@@ -346,10 +336,8 @@ Status Renderer::prepareTextures(const Scene& scene) {
         const TextureSampler samplerInfo = textured ? m.sampler : TextureSampler{};
         auto smp = sampler(samplerInfo);
         if (!smp) return smp.status();
-        const int samplerKey = int(samplerInfo.magFilter) | int(samplerInfo.minFilter) << 1 |
-                               int(samplerInfo.mipmaps) << 2 | int(samplerInfo.wrapS) << 3 |
-                               int(samplerInfo.wrapT) << 5;
-        auto it = mTextureSets.find({key, samplerKey});
+        const int sampled = samplerKey(samplerInfo);
+        auto it = mTextureSets.find({key, sampled});
         if (it == mTextureSets.end()) {
             if (mTextureSets.size() >= kTextureSets) {  // every set of this frame is made anew
                 if (restarted)
@@ -382,7 +370,7 @@ Status Renderer::prepareTextures(const Scene& scene) {
             w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
             w.pImageInfo = &ii;
             vkUpdateDescriptorSets(d, 1, &w, 0, nullptr);
-            it = mTextureSets.emplace(std::make_pair(key, samplerKey), set).first;
+            it = mTextureSets.emplace(std::make_pair(key, sampled), set).first;
         }
         mInstanceSets[i] = it->second;
     }
