@@ -199,15 +199,8 @@ py::array fromRgbd(const py::object& filesObj, const py::object& displayObj,
         if (!input) {
             views = input.status();
         } else {
-            // As the tool: an mvr sidecar's camera already holds its focal plane; a foreign
-            // picture's sidecar settings apply where the keywords are not given.
-            const bool own = input->measured;
-            const double depthiness = depthinessGiven ? *depthinessGiven
-                                      : !own && input->depthiness ? *input->depthiness
-                                                                  : 1.0;
-            const double focus = focusGiven ? *focusGiven : !own && input->focus ? *input->focus
-                                                                                 : 0.0;
-            views = session::viewsFromRgbd(*input, display, depthiness, focus);
+            const session::RgbdLook look = session::rgbdLook(*input, depthinessGiven, focusGiven);
+            views = session::viewsFromRgbd(*input, display, look.depthiness, look.focus);
         }
     }
     std::vector<Image> imgs = check(std::move(views));

@@ -34,7 +34,7 @@ void parallaxFactors(const View& view, float convergence, const DepthImage& dept
 struct Source {
     const Image* color = nullptr;
     const DepthImage* depth = nullptr;
-    const std::vector<float>* factor = nullptr;
+    const float* factor = nullptr;  ///< per pixel, 1 − C / w
     float shear = 0.0f;  ///< clipShear.x
 };
 
@@ -73,7 +73,7 @@ void warpView(const Source* sources, int count, float shear, Image& color, Depth
                                    depth.depth.begin() + std::ptrdiff_t(row + w),
                                    kHole) == depth.depth.begin() + std::ptrdiff_t(row + w))
                 continue;
-            const float* fa = src.factor->data() + row;
+            const float* fa = src.factor + row;
             const float* sd = src.depth->depth.data() + row;
             const std::uint8_t* sc = src.color->row(y);
             float* td = depth.depth.data() + row;
@@ -265,7 +265,8 @@ Status synthesizeViews(const Rig& rig, const std::vector<int>& exact, RenderOutp
             const int a = row * rig.columns + left, b = row * rig.columns + right;
             Source src[2];
             auto source = [&](int v) {
-                return Source{&out.color[v], &out.depth[v], &factors[v], rig.views[v].clipShear->x};
+                return Source{&out.color[v], &out.depth[v], factors[v].data(),
+                              rig.views[v].clipShear->x};
             };
             // The nearer exact view first: it keeps the ties.
             const bool leftNearer = col - left <= right - col;
@@ -286,12 +287,11 @@ Result<std::vector<Image>> warpFromView(const Image& color, const DepthImage& de
         return internalError(fmt::format(
             "view synthesis: a {}x{} colour image with a {}x{} depth image and {} factors",
             color.width, color.height, depth.width, depth.height, factor.size()));
-    const std::vector<float> factors(factor.begin(), factor.end());
     std::vector<Image> views(shears.size());
     forEachParallel(int(shears.size()), threads, [&](int i) {
         views[std::size_t(i)] = Image(color.width, color.height);
         DepthImage scratch(color.width, color.height);
-        const Source src{&color, &depth, &factors, 0.0f};
+        const Source src{&color, &depth, factor.data(), 0.0f};
         warpView(&src, 1, shears[std::size_t(i)], views[std::size_t(i)], scratch, maxStretch);
     });
     return views;

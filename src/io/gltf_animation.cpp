@@ -292,13 +292,13 @@ Result<std::optional<GltfAnimationFile>> read(Reader& r) {
         // requires every primitive to have the same).
         int targets = 0;
         if (weights) {
-            const json& nd = nodes.at(g);
-            const std::size_t mi = nd.value("mesh", std::size_t(-1));
-            const json meshes = doc.value("meshes", json::array());
-            if (mi < meshes.size()) {
-                const json prims = meshes.at(mi).value("primitives", json::array());
-                if (!prims.empty())
-                    targets = int(prims.at(0).value("targets", json::array()).size());
+            const std::size_t mi = nodes.at(g).value("mesh", std::size_t(-1));
+            if (doc.contains("meshes") && mi < doc.at("meshes").size()) {
+                const json& mesh = doc.at("meshes").at(mi);
+                if (mesh.contains("primitives") && !mesh.at("primitives").empty()) {
+                    const json& first = mesh.at("primitives").at(0);
+                    if (first.contains("targets")) targets = int(first.at("targets").size());
+                }
             }
             if (targets == 0) {
                 out.warnings.push_back(fmt::format(

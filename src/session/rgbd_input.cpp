@@ -4,12 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include "mvr/composite/jpeg.h"
 #include "mvr/composite/rgbd.h"
 #include "mvr/core/rig.h"
 #include "mvr/core/synthesize.h"
@@ -39,14 +38,11 @@ Status readSidecar(const fs::path& image, RgbdInput& in, std::optional<int>& dep
     std::error_code ec;
     if (!fs::is_regular_file(json, ec)) return {};
     in.sidecar = json.string();
-    std::ifstream file(json, std::ios::binary);
-    std::stringstream text;
-    text << file.rdbuf();
-    if (!file && !file.eof())
-        return inputError(fmt::format("{}: cannot read the RGB-D sidecar", in.sidecar));
+    Result<std::vector<std::uint8_t>> bytes = composite::readFileBytes(json);
+    if (!bytes) return bytes.status();
     nlohmann::json doc;
     try {
-        doc = nlohmann::json::parse(text.str());
+        doc = nlohmann::json::parse(bytes->begin(), bytes->end());
     } catch (const nlohmann::json::exception& e) {
         return inputError(fmt::format("{}: not JSON ({}); expected an RGB-D sidecar such as "
                                       "mvr render --format rgbd writes",
@@ -228,6 +224,16 @@ Result<RgbdInput> readRgbdInput(const std::vector<std::string>& files,
     return in;
 }
 
+RgbdLook rgbdLook(const RgbdInput& in, std::optional<double> depthiness,
+                  std::optional<double> focus) {
+    // An mvr sidecar's camera already holds the render's focal plane: its settings are Bridge's
+    // alone. A foreign picture's sidecar speaks for it where the caller does not.
+    RgbdLook look;
+    look.depthiness = depthiness ? *depthiness : !in.measured && in.depthiness ? *in.depthiness : 1.0;
+    look.focus = focus ? *focus : !in.measured && in.focus ? *in.focus : 0.0;
+    return look;
+}
+
 Result<std::vector<Image>> viewsFromRgbd(const RgbdInput& in, const DisplayPreset& display,
                                          double depthiness, double focus, int threads) {
     if (display.viewConeDegrees <= 0.0f || display.views < 2 || display.viewWidth < 1)
@@ -238,22 +244,20 @@ Result<std::vector<Image>> viewsFromRgbd(const RgbdInput& in, const DisplayPrese
     const int w = display.viewWidth, h = display.viewHeight;
     const int sw = in.colour.width, sh = in.colour.height;
     // The picture at the view size: as it is, or cropped to the display's aspect and resampled.
-    Image colour;
-    std::vector<float> grey;
+    Image resampledColour;
+    std::vector<float> resampledGrey;
     const bool asIs = sw == w && sh == h;
-    if (asIs) {
-        colour = in.colour;
-        grey = in.grey;
-    } else {
-        std::vector<float> rgba(std::size_t(sw) * sh * 4);
-        for (std::size_t i = 0; i < rgba.size(); ++i) rgba[i] = in.colour.rgba[i];
+    if (!asIs) {
+        const std::vector<float> rgba(in.colour.rgba.begin(), in.colour.rgba.end());
         const double aspect = display.aspect > 0.0f ? display.aspect : double(w) / h;
         const std::vector<float> c = resample(rgba, sw, sh, 4, aspect, w, h);
-        grey = resample(in.grey, sw, sh, 1, aspect, w, h);
-        colour = Image(w, h);
+        resampledGrey = resample(in.grey, sw, sh, 1, aspect, w, h);
+        resampledColour = Image(w, h);
         for (std::size_t i = 0; i < c.size(); ++i)
-            colour.rgba[i] = std::uint8_t(std::clamp(std::lround(c[i]), 0L, 255L));
+            resampledColour.rgba[i] = std::uint8_t(std::clamp(std::lround(c[i]), 0L, 255L));
     }
+    const Image& colour = asIs ? in.colour : resampledColour;
+    const std::vector<float>& grey = asIs ? in.grey : resampledGrey;
     // The camera: mvr's own (measured) or mvr's default one at a unit focal distance.
     Camera camera;
     camera.fovYDegrees = in.measured ? float(in.fovYDegrees) : 45.0f;

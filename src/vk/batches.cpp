@@ -58,19 +58,6 @@ std::vector<int> drawOrder(const Scene& scene) {
     return order;
 }
 
-Result<ImageView> makeView(VkDevice device, VkImage image, VkFormat format,
-                           VkImageAspectFlags aspect, int firstLayer, int layers, bool array) {
-    VkImageViewCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    ci.image = image;
-    ci.viewType = array ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
-    ci.format = format;
-    ci.subresourceRange = {aspect, 0, 1, std::uint32_t(firstLayer), std::uint32_t(layers)};
-    VkImageView v = VK_NULL_HANDLE;
-    if (Status s = check(vkCreateImageView(device, &ci, nullptr, &v), "vkCreateImageView"); !s)
-        return s;
-    return ImageView(device, v);
-}
-
 Result<Framebuffer> makeFramebuffer(VkDevice device, VkRenderPass pass, VkImageView color,
                                     VkImageView depth, int w, int h, int layers) {
     VkImageView views[2] = {color, depth};

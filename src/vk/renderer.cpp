@@ -89,6 +89,21 @@ Result<RenderPass> makeRenderPassFor(VkDevice device, std::uint32_t viewMask) {
     return RenderPass(device, pass);
 }
 
+Result<ImageView> makeView(VkDevice device, VkImage image, VkFormat format,
+                           VkImageAspectFlags aspect, int firstLayer, int layers, bool array,
+                           int levels) {
+    VkImageViewCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    ci.image = image;
+    ci.viewType = array ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+    ci.format = format;
+    ci.subresourceRange = {aspect, 0, std::uint32_t(levels), std::uint32_t(firstLayer),
+                           std::uint32_t(layers)};
+    VkImageView v = VK_NULL_HANDLE;
+    if (Status s = check(vkCreateImageView(device, &ci, nullptr, &v), "vkCreateImageView"); !s)
+        return s;
+    return ImageView(device, v);
+}
+
 const char* methodName(Method m) {
     switch (m) {
         case Method::Multipass: return "multipass";

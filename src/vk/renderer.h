@@ -24,6 +24,12 @@ const char* methodName(Method m);
 /// multiview.
 Result<RenderPass> makeRenderPassFor(VkDevice device, std::uint32_t viewMask);
 
+/// A view of `layers` layers from `firstLayer` and `levels` mip levels of `image` (2D, or a 2D
+/// array when `array`).
+Result<ImageView> makeView(VkDevice device, VkImage image, VkFormat format,
+                           VkImageAspectFlags aspect, int firstLayer, int layers, bool array,
+                           int levels = 1);
+
 /// The most views one batch target holds (layers of one image array): larger batches repeat
 /// less vertex work, smaller ones keep the targets and the staging buffers small.
 inline constexpr int kLayersPerBatch = 16;

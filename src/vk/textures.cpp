@@ -129,17 +129,11 @@ Result<GpuTexture> Renderer::uploadTexture(const Image& image, const std::string
     });
     if (!recorded) return recorded;
 
-    VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    vci.image = im;
-    vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    vci.format = kTextureFormat;
-    vci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, std::uint32_t(levels), 0, 1};
-    VkImageView view = VK_NULL_HANDLE;
-    if (Status s = check(vkCreateImageView(d, &vci, nullptr, &view), "vkCreateImageView"); !s)
-        return s;
+    auto view = makeView(d, im, kTextureFormat, VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, false, levels);
+    if (!view) return view.status();
     GpuTexture t;
     t.image = std::move(*img);
-    t.view = ImageView(d, view);
+    t.view = std::move(*view);
     return t;
 }
 
@@ -193,18 +187,13 @@ Status Renderer::prepareShadows() {
         ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
         auto img = mContext->makeImage(ci);
         if (!img) return img.status();
-        VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-        vci.image = img->image.get();
-        vci.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
-        vci.format = VK_FORMAT_R32_SFLOAT;
-        vci.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, std::uint32_t(layers)};
-        VkImageView view = VK_NULL_HANDLE;
-        if (Status s = check(vkCreateImageView(d, &vci, nullptr, &view), "vkCreateImageView"); !s)
-            return s;
+        auto view = makeView(d, img->image.get(), VK_FORMAT_R32_SFLOAT, VK_IMAGE_ASPECT_COLOR_BIT,
+                             0, layers, true);
+        if (!view) return view.status();
         if (mShadowBound == target.view.get()) mShadowBound = VK_NULL_HANDLE;
         target = {};
         target.image = std::move(*img);
-        target.view = ImageView(d, view);
+        target.view = std::move(*view);
         target.size = size, target.layers = layers;
     }
     // The maps' distances (rows bottom first: texel (x, y) is depth[y · size + x], as gl's

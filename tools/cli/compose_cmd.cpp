@@ -83,12 +83,9 @@ int runFromRgbd(ComposeCommandOptions& o) {
     if (o.depthPositionGiven) position = o.compose.rgbdDepth;
     Result<session::RgbdInput> input = session::readRgbdInput(o.inputs, position);
     if (!input) return fail(input.status());
-    // Looking Glass's two settings: the command line's, else (a foreign picture's sidecar)
-    // Bridge's; an mvr sidecar's camera already holds the render's focal plane.
-    double depthiness = o.compose.depthiness, focus = o.compose.focus;
-    if (!input->measured && !o.depthinessGiven && input->depthiness)
-        depthiness = *input->depthiness;
-    if (!input->measured && !o.focusGiven && input->focus) focus = *input->focus;
+    const session::RgbdLook look = session::rgbdLook(
+        *input, o.depthinessGiven ? std::optional<double>(o.compose.depthiness) : std::nullopt,
+        o.focusGiven ? std::optional<double>(o.compose.focus) : std::nullopt);
     std::vector<std::string> formats;
     if (o.formatGiven) formats.push_back(o.format);
     session::displayOutputs(*display, o.calibrationGiven, o.quiltGiven, display->aspect, formats,
@@ -97,7 +94,7 @@ int runFromRgbd(ComposeCommandOptions& o) {
     std::optional<TerminalProgress> progress;
     progress.emplace(fmt::format("warping {} views from {}", display->views, o.inputs[0]));
     Result<std::vector<Image>> views =
-        session::viewsFromRgbd(*input, *display, depthiness, focus);
+        session::viewsFromRgbd(*input, *display, look.depthiness, look.focus);
     if (!views) return fail(views.status());
     auto path = session::writeComposed(o.format, *views, o.compose, std::filesystem::path(o.output));
     if (!path) return fail(path.status());

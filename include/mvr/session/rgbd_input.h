@@ -49,6 +49,15 @@ struct RgbdInput {
 Result<RgbdInput> readRgbdInput(const std::vector<std::string>& files,
                                 std::optional<composite::DepthPosition> position);
 
+/// Looking Glass's two settings for `input`: the caller's (the command line's, Python's
+/// keywords) where given, else a foreign picture's sidecar's, else 1 and 0. An mvr sidecar's
+/// settings are not taken: its camera already holds the render's focal plane.
+struct RgbdLook {
+    double depthiness = 1.0, focus = 0.0;
+};
+RgbdLook rgbdLook(const RgbdInput& input, std::optional<double> depthiness,
+                  std::optional<double> focus);
+
 /// The display's views (view 0 leftmost) from `input`, as the header says: the picture
 /// cropped about its centre to the display's aspect and resampled (area average) to its view
 /// size when it is not that size already. Errors: Usage for a display without a view cone.
