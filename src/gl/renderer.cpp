@@ -505,8 +505,10 @@ void Renderer::setInstanceUniforms(GLuint prog, const Instance& inst) {
                      : mat.alphaMode == AlphaMode::Blend ? 2
                                                          : 0;
     glProgramUniform4i(prog, 6, mat.baseColorTexture >= 0 ? 1 : 0, mode, mat.doubleSided ? 1 : 0,
-                       0);
+                       int(mat.model));
     glProgramUniform2f(prog, 7, mat.alpha, mat.alphaCutoff);
+    glProgramUniform2f(prog, 20, mat.metallic, mat.roughness);
+    glProgramUniform3f(prog, 21, mat.emissive.x, mat.emissive.y, mat.emissive.z);
 }
 
 void Renderer::setCommonState(const RenderSettings& s) {

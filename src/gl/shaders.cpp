@@ -30,8 +30,10 @@ layout(location = 2) uniform mat4 uNormalFromModel;  // inverse transpose (upper
 layout(location = 3) uniform mat4 uCofactor;         // det * inverse transpose: model edge cross -> world edge cross
 layout(location = 4) uniform vec4 uMaterial;         // albedo rgb, specular
 layout(location = 5) uniform float uShininess;
-layout(location = 6) uniform ivec4 uMatFlags;        // x: textured, y: alpha mode (0 opaque, 1 mask, 2 blend), z: double-sided
+layout(location = 6) uniform ivec4 uMatFlags;        // x: textured, y: alpha mode (0 opaque, 1 mask, 2 blend), z: double-sided, w: MaterialModel (0 Blinn-Phong, 1 metallic-roughness, 2 unlit)
 layout(location = 7) uniform vec2 uAlphaCutoff;      // x: material alpha, y: mask cutoff
+layout(location = 20) uniform vec2 uMetalRough;      // metallic, roughness (model 1)
+layout(location = 21) uniform vec3 uEmissive;        // model 1
 
 // Lighting kept as D and S (below) for a base colour that varies across the triangle: a
 // texture's, or (VERTEX_COLORS: some mesh of the frame has them, as the soft backend's
@@ -124,6 +126,7 @@ vec3 facingNormal(vec3 n, vec3 p) {
 // Shadows (issue 15): each light's term × shadowFactor at p, with the unflipped normal (as the
 // soft backend's shadowFactors).
 vec3 shadeFlat(vec3 faceNormal, vec3 p) {
+    if (uMatFlags.w == 2) return clamp(uMaterial.rgb, 0.0, 1.0);
     vec3 n0 = faceNormal;
     faceNormal = facingNormal(faceNormal, p);
     vec3 albedo = uMaterial.rgb;
@@ -136,8 +139,49 @@ vec3 shadeFlat(vec3 faceNormal, vec3 p) {
     return clamp(c, 0.0, 1.0);
 }
 
-// lighting.h shadeBlinnPhong()
+// lighting.h metallicRoughnessTerms(): glTF 2.0 Appendix B's BRDF as D (× base colour) and S
+// (added, with the emissive), π folded in as mvr's light convention.
+void metallicRoughnessTerms(vec3 normal, vec3 worldPos, out vec3 diffuse, out vec3 specular) {
+    vec3 n = normalize(facingNormal(normal, worldPos));
+    vec3 v = normalize(uCenterEye.xyz - worldPos);
+    float metal = clamp(uMetalRough.x, 0.0, 1.0);
+    float rough = clamp(uMetalRough.y, 0.0, 1.0);
+    float alpha = max(rough * rough, 1e-3);
+    float a2 = alpha * alpha;
+    float nv = abs(dot(n, v));
+    diffuse = uAmbient.rgb;
+    specular = vec3(0.0);
+    for (int i = 0; i < uCounts.x; ++i) {
+        vec3 l;
+        vec3 lc = lightAt(i, worldPos, l);
+        float nl = dot(n, l);
+        if (nl > 0.0) {
+            vec3 h = normalize(l + v);
+            float nh = max(dot(n, h), 0.0);
+            float vh = clamp(dot(v, h), 0.0, 1.0);
+            float d = nh * nh * (a2 - 1.0) + 1.0;
+            float kl = nl + sqrt(a2 + (1.0 - a2) * (nl * nl));
+            float kv = nv + sqrt(a2 + (1.0 - a2) * (nv * nv));
+            float spec = a2 / ((d * d) * (kl * kv));
+            float w1 = 1.0 - vh, w2 = w1 * w1;
+            float w = w2 * w2 * w1;
+            float f = 0.04 + 0.96 * w;
+            lc *= shadowFactor(i, worldPos, normal) * nl;
+            diffuse += ((1.0 - metal) * (1.0 - f) + metal * spec * (1.0 - w)) * lc;
+            specular += (spec * ((1.0 - metal) * f + metal * w)) * lc;
+        }
+    }
+    specular += uEmissive;
+}
+
+// lighting.h shadeBlinnPhong(): the smooth colour of every model
 vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
+    if (uMatFlags.w == 1) {
+        vec3 d, sp;
+        metallicRoughnessTerms(normal, worldPos, d, sp);
+        return clamp(uMaterial.rgb * d + sp, 0.0, 1.0);
+    }
+    if (uMatFlags.w == 2) return clamp(uMaterial.rgb, 0.0, 1.0);
     vec3 albedo = uMaterial.rgb;
     vec3 n = normalize(facingNormal(normal, worldPos));
     vec3 v = normalize(uCenterEye.xyz - worldPos);
@@ -160,6 +204,7 @@ vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
 // texel) and S (the specular sum, added): clamp(base · D + S), in the fragment shader.
 // lighting.h flatTerms(): D only.
 vec3 flatDiffuse(vec3 faceNormal, vec3 p) {
+    if (uMatFlags.w == 2) return vec3(1.0);
     vec3 n0 = faceNormal;
     faceNormal = facingNormal(faceNormal, p);
     vec3 d = uAmbient.rgb;
@@ -173,6 +218,15 @@ vec3 flatDiffuse(vec3 faceNormal, vec3 p) {
 
 // lighting.h blinnPhongTerms()
 void blinnPhongTerms(vec3 normal, vec3 worldPos, out vec3 diffuse, out vec3 specular) {
+    if (uMatFlags.w == 1) {
+        metallicRoughnessTerms(normal, worldPos, diffuse, specular);
+        return;
+    }
+    if (uMatFlags.w == 2) {
+        diffuse = vec3(1.0);
+        specular = vec3(0.0);
+        return;
+    }
     vec3 n = normalize(facingNormal(normal, worldPos));
     vec3 v = normalize(uCenterEye.xyz - worldPos);
     diffuse = uAmbient.rgb;

@@ -180,6 +180,12 @@ struct GltfMaterialUv {
     bool baseColorTexture = false;  ///< pbrMetallicRoughness.baseColorTexture is given
     int baseColorTexCoord = 0;      ///< its set, the transform's texCoord having won
     std::optional<TextureTransform> baseColor, metallicRoughness, normal, occlusion, emissive;
+    // The metallic-roughness model's factors (issue 39 item 1), read here rather than through
+    // assimp so that glTF's defaults (metallic 1, roughness 1) and KHR_materials_emissive_strength
+    // / KHR_materials_unlit, which assimp 5.2.5 does not import, are the file's.
+    float metallic = 1.0f, roughness = 1.0f;
+    glm::vec3 emissiveColor{0.0f};  ///< emissiveFactor × emissive_strength
+    bool unlit = false;
 };
 
 /// The file's materials[i] as GltfMaterialUv, index for index as assimp's mMaterials[i]
@@ -228,6 +234,28 @@ std::vector<GltfMaterialUv> materialTextureCoords(const nlohmann::json& doc) {
                 slot(*pbr, "baseColorTexture", &uv.baseColorTexture, uv.baseColorTexCoord,
                      uv.baseColor);
                 slot(*pbr, "metallicRoughnessTexture", nullptr, unused, uv.metallicRoughness);
+            }
+            if (const auto pbr = m.find("pbrMetallicRoughness");
+                pbr != m.end() && pbr->is_object()) {
+                if (auto f = pbr->find("metallicFactor"); f != pbr->end() && f->is_number())
+                    uv.metallic = std::clamp(f->get<float>(), 0.0f, 1.0f);
+                if (auto f = pbr->find("roughnessFactor"); f != pbr->end() && f->is_number())
+                    uv.roughness = std::clamp(f->get<float>(), 0.0f, 1.0f);
+            }
+            if (auto e = m.find("emissiveFactor");
+                e != m.end() && e->is_array() && e->size() == 3 &&
+                std::all_of(e->begin(), e->end(), [](const auto& x) { return x.is_number(); }))
+                uv.emissiveColor = glm::max(glm::vec3((*e)[0].get<float>(), (*e)[1].get<float>(),
+                                                 (*e)[2].get<float>()),
+                                       glm::vec3(0.0f));
+            if (const auto ext = m.find("extensions"); ext != m.end() && ext->is_object()) {
+                if (const auto k = ext->find("KHR_materials_emissive_strength");
+                    k != ext->end() && k->is_object()) {
+                    const auto st = k->find("emissiveStrength");
+                    if (st != k->end() && st->is_number() && st->get<float>() >= 0.0f)
+                        uv.emissiveColor *= st->get<float>();
+                }
+                uv.unlit = ext->contains("KHR_materials_unlit");
             }
             slot(m, "normalTexture", nullptr, unused, uv.normal);
             slot(m, "occlusionTexture", nullptr, unused, uv.occlusion);
@@ -345,6 +373,10 @@ struct Loader {
             out.normalTransform = uv->normal;
             out.occlusionTransform = uv->occlusion;
             out.emissiveTransform = uv->emissive;
+            out.model = uv->unlit ? MaterialModel::Unlit : MaterialModel::MetallicRoughness;
+            out.metallic = uv->metallic;
+            out.roughness = uv->roughness;
+            out.emissive = uv->emissiveColor;
         }
         for (aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}) {
             if (m.GetTextureCount(type) == 0) continue;

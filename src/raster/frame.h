@@ -251,7 +251,9 @@ struct FrameContext {
     /// Vertex lighting through the scalar lighting.h functions instead of the SIMD kernel
     /// (which implements directional, single-sided Blinn-Phong only).
     bool scalarVertexPath(const DrawItem& item) const {
-        return textured || punctualLights || item.instance->material.doubleSided;
+        const Material& m = item.instance->material;
+        return textured || punctualLights || m.doubleSided ||
+               m.model != MaterialModel::BlinnPhong;
     }
 };
 

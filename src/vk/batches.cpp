@@ -33,6 +33,8 @@ struct InstanceData {
     glm::mat4 worldFromModel, normalFromModel, cofactor;
     glm::vec4 material, params;
     glm::ivec4 flags;
+    glm::vec4 pbr;       ///< metallic, roughness, MaterialModel, 0 (common.glsl)
+    glm::vec4 emissive;  ///< rgb
 };
 struct Push {
     std::int32_t instance = 0, viewBase = 0;
@@ -445,6 +447,8 @@ Status Renderer::uploadFrame(const Scene& scene, const Rig& rig) {
         const bool textured = mt.baseColorTexture >= 0 &&
                               std::size_t(mt.baseColorTexture) < scene.textures.size();
         o.flags = glm::ivec4(textured ? 1 : 0, mode, mt.doubleSided ? 1 : 0, colored ? 1 : 0);
+        o.pbr = glm::vec4(mt.metallic, mt.roughness, float(int(mt.model)), 0.0f);
+        o.emissive = glm::vec4(mt.emissive, 0.0f);
     }
     return {};
 }

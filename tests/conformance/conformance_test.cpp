@@ -46,6 +46,7 @@ struct SceneCase {
     int views() const { return columns * rows; }
     std::vector<std::string> tags() const {
         std::vector<std::string> t{scene};
+        if (scene == "textured-pbr") t.push_back("textured");
         if (cull) t.push_back("cull");
         if (wire) t.push_back("wire");
         if (shadows) t.push_back(shading == Shading::Flat ? "shadows-flat" : "shadows");
@@ -111,6 +112,15 @@ const std::vector<SceneCase>& sceneCases() {
         {"suzanne", 2, 1, Shading::Vertex, false, false, false, 4},
         {"default", 3, 2, Shading::Pixel, false, false, false, 4},
         {"textured", 2, 1, Shading::Flat, false, false, false, 4},
+        // Issue 39: glTF metallic-roughness materials (and an unlit one and an emissive one),
+        // every shading, textured, shadowed.
+        {"pbr", 2, 1, Shading::Flat},
+        {"pbr", 2, 1, Shading::Vertex},
+        {"pbr", 2, 1, Shading::Pixel},
+        {"pbr", 3, 2, Shading::Vertex},
+        {"pbr", 2, 1, Shading::Pixel, false, false, true},
+        {"textured-pbr", 2, 1, Shading::Vertex},
+        {"textured-pbr", 3, 2, Shading::Pixel},
     };
     return cases;
 }
@@ -122,6 +132,11 @@ const Scene* sceneNamed(const std::string& name) {
     if (name == "octahedra") return &test::octahedraScene();
     if (name == "engine") return &test::engineScene();
     if (name == "colored") return &test::coloredScene();
+    if (name == "pbr") return &test::pbrScene();
+    if (name == "textured-pbr") {
+        static const Scene texturedPbr = test::withMetallicRoughness(makeTexturedScene());
+        return &texturedPbr;
+    }
     if (name == "textured") {
         static const Scene textured = makeTexturedScene();
         return &textured;

@@ -173,7 +173,8 @@ inline std::filesystem::path writeBlenderGltf(const std::filesystem::path& dir,
                   R"("pbrMetallicRoughness":{"baseColorTexture":{"index":0},)"
                   R"("metallicFactor":0,"roughnessFactor":0.5}})"
                 : R"({"doubleSided":true,"name":"Checker",)"
-                  R"("pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})";
+                  R"("pbrMetallicRoughness":{"baseColorTexture":{"index":0},)"
+                  R"("metallicFactor":0,"roughnessFactor":0.5}})";
     const std::string sampler = blender ? R"({"magFilter":9729,"minFilter":9987})"
                                         : R"({"magFilter":9729,"minFilter":9987,"wrapS":10497,)"
                                           R"("wrapT":10497})";

@@ -33,7 +33,9 @@ void expectTexels(const std::string& what, const std::string& extension, glm::dv
     ASSERT_TRUE(loaded) << loaded.status().message();
     Scene scene = std::move(loaded).value();
     // Lit along the normal with ambient 0.1 and no specular: every channel is 0 or
-    // min(1, 1.1 · 1) = 1, so a pixel is its texel's colour exactly.
+    // min(1, 1.1 · 1) = 1, so a pixel is its texel's colour exactly (Blinn-Phong: the file's
+    // metallic-roughness material has a specular lobe of its own).
+    scene.instances[0].material.model = MaterialModel::BlinnPhong;
     Light l;
     l.towardLight = {0, 0, 1};
     scene.lights = {l};

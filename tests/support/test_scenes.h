@@ -39,6 +39,25 @@ inline const Scene& defaultScene() {
     return s;
 }
 
+/// Issue 39: `scene` with glTF metallic-roughness materials (lighting.h): instance i has
+/// metallic (i mod 3) / 2 and roughness 0.2 + 0.25 · (i mod 4), the second a faint emissive, the
+/// fourth unlit; base colours as they were. Every shading path of the model, glossy to rough,
+/// dielectric to metal.
+inline Scene withMetallicRoughness(Scene s) {
+    for (std::size_t i = 0; i < s.instances.size(); ++i) {
+        Material& m = s.instances[i].material;
+        m.model = i == 3 ? MaterialModel::Unlit : MaterialModel::MetallicRoughness;
+        m.metallic = float(i % 3) * 0.5f;
+        m.roughness = 0.2f + 0.25f * float(i % 4);
+        if (i == 1) m.emissive = glm::vec3(0.15f, 0.05f, 0.0f);
+    }
+    return s;
+}
+inline const Scene& pbrScene() {
+    static const Scene s = withMetallicRoughness(makeDefaultScene());
+    return s;
+}
+
 /// One model from shared/models laid out as `mvr render MODEL` does (makeGridScene, 1 copy);
 /// nullopt when the file cannot be loaded.
 /// The default scene with vertex colours (Mesh::colors) on every mesh, a smooth function of

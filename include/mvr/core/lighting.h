@@ -41,6 +41,24 @@
 // fragment writes neither color nor depth); Blend: color = src·alpha + dst·(1 − alpha) over
 // the framebuffer's value, depth tested but not written; blended instances are drawn after
 // all others, in instance order, unsorted (the backends' draw order).
+//
+// Material models (issue 39, Material::model): everything above is MaterialModel::BlinnPhong.
+// MetallicRoughness is glTF 2.0's BRDF as its specification's Appendix B writes it, in the same
+// D / S split (so textures and vertex colours combine with it as above): per light with n·l > 0,
+// h = normalize(l + v), α = max(roughness², 1e-3) (a mirror's delta is a 0/0), w = (1 − v·h)^5,
+//   specular_brdf = V · D,  D = α² / (π ((n·h)² (α² − 1) + 1)²),
+//                   V = 1 / ((n·l + √(α² + (1 − α²)(n·l)²)) (|n·v| + √(α² + (1 − α²)(n·v)²))),
+//   dielectric    = mix(base / π, specular_brdf, f),  f = 0.04 + 0.96 w,
+//   metal         = specular_brdf · (base + (1 − base) w),
+//   f(l, v)       = mix(dielectric, metal, metallic),
+// which is affine in base: D += π · n·l · lc · ((1 − m)(1 − f)/π + m · V·D · (1 − w)) and
+// S += π · n·l · lc · V·D · ((1 − m) f + m w) (lc: the light's colour × attenuation × shadow).
+// The factor π is mvr's light convention: a light's colour is the irradiance it gives at normal
+// incidence over π, so a white Lambertian surface facing a light of colour 1 is 1 in either
+// model, and a glTF file and an OBJ of the same lights are equally bright. The ambient term is
+// ambient · base, as Blinn-Phong's; emissive (Material::emissive) is added to S once. v is the
+// centre eye's, as for Blinn-Phong: computed once for all views. Flat shading stays Lambert of
+// the base colour (no specular) in every model but Unlit. Unlit: D = 1, S = 0 (the base colour).
 // Double-sided materials (Material::doubleSided): never back-face culled; the normal used for
 // lighting is flipped when it faces away from the rig's CENTER eye (facingNormal) — a
 // view-independent rule like the rest of shading, so vertex lighting is still done once for
@@ -190,11 +208,66 @@ inline float shadowFactor(const ShadingContext& ctx, const DirectionalLight& l,
     return shadow ? shadow[&l - ctx.lights.data()] : 1.0f;
 }
 
+/// The lighting of a textured surface before its base color is known: `diffuse` D multiplies
+/// the base color (albedo × texel), `specular` S is added (see the header). Not clamped.
+struct LightTerms {
+    glm::vec3 diffuse{0.0f};
+    glm::vec3 specular{0.0f};
+};
+
+/// glTF 2.0 Appendix B's specular_brdf times π (V · D · π, the light convention of the header):
+/// α = max(roughness², 1e-3); nl > 0; nv is |n·v|.
+inline float metallicRoughnessSpecular(float alpha, float nh, float nl, float nv) {
+    const float a2 = alpha * alpha;
+    const float d = nh * nh * (a2 - 1.0f) + 1.0f;
+    const float gl = nl + std::sqrt(a2 + (1.0f - a2) * (nl * nl));
+    const float gv = nv + std::sqrt(a2 + (1.0f - a2) * (nv * nv));
+    return a2 / ((d * d) * (gl * gv));  // (1 / (gl gv)) · (α² / (π d²)) · π
+}
+
+/// The D / S terms of a MaterialModel::MetallicRoughness surface (see the header): D multiplies
+/// the base colour (albedo × texel × vertex colour), S is added; S includes the emissive.
+/// `normal` need not be unit. `shadow`: per-light factors (issue 15), null = lit.
+inline LightTerms metallicRoughnessTerms(const ShadingContext& ctx, const Material& m,
+                                         glm::vec3 normal, glm::vec3 worldPos,
+                                         const float* shadow = nullptr) {
+    const glm::vec3 n = glm::normalize(facingNormal(ctx, m, normal, worldPos));
+    const glm::vec3 v = glm::normalize(ctx.centerEye - worldPos);
+    const float metal = std::clamp(m.metallic, 0.0f, 1.0f);
+    const float rough = std::clamp(m.roughness, 0.0f, 1.0f);
+    const float alpha = std::max(rough * rough, 1e-3f);
+    const float nv = std::abs(glm::dot(n, v));
+    LightTerms t;
+    t.diffuse = ctx.ambient;
+    for (const DirectionalLight& l : ctx.lights) {
+        const LightSample s = lightAt(l, worldPos);
+        const float nl = glm::dot(n, s.toLight);
+        if (nl > 0.0f) {
+            const glm::vec3 h = glm::normalize(s.toLight + v);
+            const float nh = std::max(glm::dot(n, h), 0.0f);
+            const float vh = std::clamp(glm::dot(v, h), 0.0f, 1.0f);
+            const float spec = metallicRoughnessSpecular(alpha, nh, nl, nv);
+            const float w1 = 1.0f - vh, w2 = w1 * w1;
+            const float w = w2 * w2 * w1;
+            const float f = 0.04f + 0.96f * w;
+            const glm::vec3 lc = l.color * s.attenuation * shadowFactor(ctx, l, shadow) * nl;
+            t.diffuse += ((1.0f - metal) * (1.0f - f) + metal * spec * (1.0f - w)) * lc;
+            t.specular += (spec * ((1.0f - metal) * f + metal * w)) * lc;
+        }
+    }
+    t.specular += m.emissive;
+    return t;
+}
+
+/// Unlit's terms: the base colour as it is (D = 1, S = 0).
+inline LightTerms unlitTerms() { return {glm::vec3(1.0f), glm::vec3(0.0f)}; }
+
 /// Flat at `worldPos` (the triangle's centroid; only point / spot lights use it): ambient +
 /// Σ att · max(dot(n, l), 0) · albedo · lightColor. `faceNormal` unit, world space.
 /// `shadow` (issue 15): per light, the factor (shadows.h) multiplying its term; null = lit.
 inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal,
                            glm::vec3 worldPos, const float* shadow = nullptr) {
+    if (m.model == MaterialModel::Unlit) return glm::clamp(m.albedo, 0.0f, 1.0f);
     faceNormal = facingNormal(ctx, m, faceNormal, worldPos);
     glm::vec3 c = ctx.ambient * m.albedo;
     for (const DirectionalLight& l : ctx.lights) {
@@ -220,8 +293,15 @@ inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::ve
 /// (only where n·l > 0)] · lightColor, with h = normalize(l + v), v = normalize(centerEye − p).
 /// `normal` need not be unit (it is normalized here). `shadow` (issue 15): per light, the
 /// factor (shadows.h) multiplying its diffuse + specular; null = lit.
+/// The smooth (Vertex / Pixel) colour of every model: the others as clamp(albedo ⊙ D + S) of
+/// their terms, the formula of textured surfaces (shadeTextured), so the two agree.
 inline glm::vec3 shadeBlinnPhong(const ShadingContext& ctx, const Material& m, glm::vec3 normal,
                                  glm::vec3 worldPos, const float* shadow = nullptr) {
+    if (m.model == MaterialModel::MetallicRoughness) {
+        const LightTerms t = metallicRoughnessTerms(ctx, m, normal, worldPos, shadow);
+        return glm::clamp(m.albedo * t.diffuse + t.specular, 0.0f, 1.0f);
+    }
+    if (m.model == MaterialModel::Unlit) return glm::clamp(m.albedo, 0.0f, 1.0f);
     const glm::vec3 n = glm::normalize(facingNormal(ctx, m, normal, worldPos));
     const glm::vec3 v = glm::normalize(ctx.centerEye - worldPos);
     glm::vec3 c = ctx.ambient * m.albedo;
@@ -243,17 +323,11 @@ inline glm::vec3 shadeBlinnPhong(const ShadingContext& ctx, const Material& m, g
     return glm::clamp(c, 0.0f, 1.0f);
 }
 
-/// The lighting of a textured surface before its base color is known: `diffuse` D multiplies
-/// the base color (albedo × texel), `specular` S is added (see the header). Not clamped.
-struct LightTerms {
-    glm::vec3 diffuse{0.0f};
-    glm::vec3 specular{0.0f};
-};
-
 /// Flat's terms: D = ambient + Σ att · max(n·l, 0) · lightColor at `worldPos` (the centroid),
 /// S = 0. `faceNormal` unit. `shadow`: per-light factors (issue 15), null = lit.
 inline LightTerms flatTerms(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal,
                             glm::vec3 worldPos, const float* shadow = nullptr) {
+    if (m.model == MaterialModel::Unlit) return unlitTerms();
     faceNormal = facingNormal(ctx, m, faceNormal, worldPos);
     LightTerms t;
     t.diffuse = ctx.ambient;
@@ -270,6 +344,9 @@ inline LightTerms flatTerms(const ShadingContext& ctx, const Material& m, glm::v
 /// per-light factors (issue 15) multiplying each light's D and S terms, null = lit.
 inline LightTerms blinnPhongTerms(const ShadingContext& ctx, const Material& m, glm::vec3 normal,
                                   glm::vec3 worldPos, const float* shadow = nullptr) {
+    if (m.model == MaterialModel::MetallicRoughness)
+        return metallicRoughnessTerms(ctx, m, normal, worldPos, shadow);
+    if (m.model == MaterialModel::Unlit) return unlitTerms();
     const glm::vec3 n = glm::normalize(facingNormal(ctx, m, normal, worldPos));
     const glm::vec3 v = glm::normalize(ctx.centerEye - worldPos);
     LightTerms t;

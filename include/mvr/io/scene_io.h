@@ -9,8 +9,13 @@
 // - every mesh instance of a node → one Instance per primitive, worldFromModel = the node's
 //   world transform; each primitive → one Mesh (shared by the nodes that instance it).
 // - baseColorFactor → Material::albedo + alpha; baseColorTexture → a Texture and its sampler
-//   (filters, wrap); alphaMode / alphaCutoff; doubleSided. metallic/roughness are not used:
-//   specular 0.25 / shininess 32 as every built-in material.
+//   (filters, wrap); alphaMode / alphaCutoff; doubleSided. A glTF material is
+//   MaterialModel::MetallicRoughness (lighting.h, the specification's BRDF) with its
+//   metallicFactor / roughnessFactor (glTF's defaults 1, 1) and emissiveFactor ×
+//   KHR_materials_emissive_strength, read from the file's JSON; KHR_materials_unlit makes it
+//   MaterialModel::Unlit. The metallic-roughness, normal, occlusion and emissive textures are
+//   not drawn yet. OBJ, PLY and primitives without a material: Blinn-Phong, specular 0.25 /
+//   shininess 32 as every built-in material.
 // - texture coordinate sets 0 and 1 (TEXCOORD_0, TEXCOORD_1; another set is an error naming
 //   the material) and KHR_texture_transform on every slot, read from the file's JSON: each
 //   slot's transform is recorded on the Material (baseColorTransform, normalTransform, ...);

@@ -29,6 +29,9 @@ struct InstanceData {
     vec4 params;           // x shininess, y alpha, z mask cutoff
     ivec4 flags;           // x textured, y alpha mode (0 opaque, 1 mask, 2 blend), z double-sided,
                            // w vertex colours (lighting split into D and S, as gl's SPLIT_LIGHTING)
+    vec4 pbr;              // x metallic, y roughness, z MaterialModel (0 Blinn-Phong, 1
+                           // metallic-roughness, 2 unlit)
+    vec4 emissive;         // rgb (model 1)
 };
 layout(std430, set = 0, binding = 1) readonly buffer Instances { InstanceData uInstances[]; };
 
@@ -103,6 +106,7 @@ vec3 facingNormal(InstanceData m, vec3 n, vec3 p) {
 }
 
 vec3 shadeFlat(InstanceData m, vec3 faceNormal, vec3 p) {
+    if (m.pbr.z == 2.0) return clamp(m.material.rgb, 0.0, 1.0);
     vec3 n0 = faceNormal;
     faceNormal = facingNormal(m, faceNormal, p);
     vec3 albedo = m.material.rgb;
@@ -115,7 +119,48 @@ vec3 shadeFlat(InstanceData m, vec3 faceNormal, vec3 p) {
     return clamp(c, 0.0, 1.0);
 }
 
+// lighting.h metallicRoughnessTerms(), as gl's shaders.cpp has it.
+void metallicRoughnessTerms(InstanceData m, vec3 normal, vec3 worldPos, out vec3 diffuse,
+                            out vec3 specular) {
+    vec3 n = normalize(facingNormal(m, normal, worldPos));
+    vec3 v = normalize(uCenterEye.xyz - worldPos);
+    float metal = clamp(m.pbr.x, 0.0, 1.0);
+    float rough = clamp(m.pbr.y, 0.0, 1.0);
+    float alpha = max(rough * rough, 1e-3);
+    float a2 = alpha * alpha;
+    float nv = abs(dot(n, v));
+    diffuse = uAmbient.rgb;
+    specular = vec3(0.0);
+    for (int i = 0; i < uCounts.x; ++i) {
+        vec3 l;
+        vec3 lc = lightAt(i, worldPos, l);
+        float nl = dot(n, l);
+        if (nl > 0.0) {
+            vec3 h = normalize(l + v);
+            float nh = max(dot(n, h), 0.0);
+            float vh = clamp(dot(v, h), 0.0, 1.0);
+            float d = nh * nh * (a2 - 1.0) + 1.0;
+            float kl = nl + sqrt(a2 + (1.0 - a2) * (nl * nl));
+            float kv = nv + sqrt(a2 + (1.0 - a2) * (nv * nv));
+            float spec = a2 / ((d * d) * (kl * kv));
+            float w1 = 1.0 - vh, w2 = w1 * w1;
+            float w = w2 * w2 * w1;
+            float f = 0.04 + 0.96 * w;
+            lc *= shadowFactor(i, worldPos, normal) * nl;
+            diffuse += ((1.0 - metal) * (1.0 - f) + metal * spec * (1.0 - w)) * lc;
+            specular += (spec * ((1.0 - metal) * f + metal * w)) * lc;
+        }
+    }
+    specular += m.emissive.rgb;
+}
+
 vec3 shadeBlinnPhong(InstanceData m, vec3 normal, vec3 worldPos) {
+    if (m.pbr.z == 1.0) {
+        vec3 d, sp;
+        metallicRoughnessTerms(m, normal, worldPos, d, sp);
+        return clamp(m.material.rgb * d + sp, 0.0, 1.0);
+    }
+    if (m.pbr.z == 2.0) return clamp(m.material.rgb, 0.0, 1.0);
     vec3 albedo = m.material.rgb;
     vec3 n = normalize(facingNormal(m, normal, worldPos));
     vec3 v = normalize(uCenterEye.xyz - worldPos);
@@ -137,6 +182,7 @@ vec3 shadeBlinnPhong(InstanceData m, vec3 normal, vec3 worldPos) {
 // across the triangle, so the lighting is kept as D (ambient + sum of max(n.l, 0) light, which
 // multiplies albedo x vertex colour) and S (the specular sum, added): clamp(base * D + S).
 vec3 flatDiffuse(InstanceData m, vec3 faceNormal, vec3 p) {
+    if (m.pbr.z == 2.0) return vec3(1.0);
     vec3 n0 = faceNormal;
     faceNormal = facingNormal(m, faceNormal, p);
     vec3 d = uAmbient.rgb;
@@ -150,6 +196,15 @@ vec3 flatDiffuse(InstanceData m, vec3 faceNormal, vec3 p) {
 
 void blinnPhongTerms(InstanceData m, vec3 normal, vec3 worldPos, out vec3 diffuse,
                      out vec3 specular) {
+    if (m.pbr.z == 1.0) {
+        metallicRoughnessTerms(m, normal, worldPos, diffuse, specular);
+        return;
+    }
+    if (m.pbr.z == 2.0) {
+        diffuse = vec3(1.0);
+        specular = vec3(0.0);
+        return;
+    }
     vec3 n = normalize(facingNormal(m, normal, worldPos));
     vec3 v = normalize(uCenterEye.xyz - worldPos);
     diffuse = uAmbient.rgb;

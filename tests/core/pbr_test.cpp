@@ -1,0 +1,255 @@
+// glTF metallic-roughness materials (issue 39 item 1; lighting.h): the BRDF at known normal /
+// light / view angles against glTF 2.0's Appendix B written out here in double precision (the
+// specification's functions by their names: D_GGX, V_GGX, conductor_fresnel, fresnel_mix), the
+// D / S split textured surfaces use against the same formula, unlit, and what the glTF reader
+// takes from a file laid out as Blender's exporter writes materials.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+
+#include "mvr/core/lighting.h"
+#include "mvr/io/scene_io.h"
+#include "test_files.h"
+
+namespace mvr {
+namespace {
+
+using dvec3 = glm::dvec3;
+constexpr double kPi = 3.14159265358979323846;
+
+// ---- glTF 2.0 Appendix B, as the specification writes it ------------------------------------
+double heaviside(double x) { return x > 0.0 ? 1.0 : 0.0; }
+double dGgx(double alpha, double nh) {
+    const double a2 = alpha * alpha;
+    const double k = nh * nh * (a2 - 1.0) + 1.0;
+    return a2 * heaviside(nh) / (kPi * k * k);
+}
+double vGgx(double alpha, double nl, double nv, double hl, double hv) {
+    const double a2 = alpha * alpha;
+    return heaviside(hl) * heaviside(hv) /
+           ((std::abs(nl) + std::sqrt(a2 + (1.0 - a2) * nl * nl)) *
+            (std::abs(nv) + std::sqrt(a2 + (1.0 - a2) * nv * nv)));
+}
+/// f(l, v) of the metallic-roughness material (Appendix B.3.5's "complete model").
+dvec3 brdf(dvec3 base, double metallic, double roughness, dvec3 n, dvec3 l, dvec3 v) {
+    const dvec3 h = glm::normalize(l + v);
+    const double alpha = roughness * roughness;
+    const double specular = vGgx(alpha, glm::dot(n, l), glm::dot(n, v), glm::dot(h, l),
+                                 glm::dot(h, v)) *
+                            dGgx(alpha, glm::dot(n, h));
+    const double vh5 = std::pow(1.0 - std::abs(glm::dot(v, h)), 5.0);
+    const dvec3 metal = specular * (base + (dvec3(1.0) - base) * vh5);   // conductor_fresnel
+    const double f0 = std::pow((1.0 - 1.5) / (1.0 + 1.5), 2.0);          // ior 1.5: 0.04
+    const double fr = f0 + (1.0 - f0) * vh5;
+    const dvec3 dielectric = glm::mix(base / kPi, dvec3(specular), fr);  // fresnel_mix
+    return glm::mix(dielectric, metal, metallic);
+}
+
+glm::vec3 fromAngles(double theta, double phi) {  // about +z
+    return glm::vec3(float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)),
+                     float(std::cos(theta)));
+}
+
+struct Surface {
+    Light light;
+    ShadingContext ctx;
+    glm::vec3 n, l, v;
+};
+
+/// A surface at the origin with normal n, a directional light from l, the centre eye 10 along
+/// v; ambient 0.05; light colour (0.9, 0.8, 0.7).
+Surface surface(glm::vec3 n, glm::vec3 l, glm::vec3 v) {
+    Surface s;
+    s.n = n, s.l = l, s.v = v;
+    s.light.towardLight = l;
+    s.light.color = glm::vec3(0.9f, 0.8f, 0.7f);
+    s.ctx.ambient = glm::vec3(0.05f);
+    s.ctx.centerEye = 10.0f * v;
+    return s;
+}
+
+TEST(MetallicRoughness, BrdfAtKnownAnglesIsTheSpecifications) {
+    const glm::vec3 n(0, 0, 1);
+    struct Angles {
+        double lTheta, lPhi, vTheta, vPhi;
+    };
+    // Near the mirror direction (the highlight), off it, grazing, and head-on.
+    const Angles angles[] = {{0.5, 0.0, 0.5, kPi}, {0.6, 0.3, 0.2, 2.0}, {1.3, 0.0, 0.4, 1.0},
+                             {0.0, 0.0, 0.0, 0.0}};
+    const glm::vec3 base(0.6f, 0.3f, 0.15f);
+    int checked = 0;
+    for (const Angles& a : angles) {
+        Surface s = surface(n, fromAngles(a.lTheta, a.lPhi), fromAngles(a.vTheta, a.vPhi));
+        s.ctx.lights = std::span<const Light>(&s.light, 1);
+        for (float metallic : {0.0f, 0.5f, 1.0f}) {
+            for (float roughness : {0.3f, 0.6f, 1.0f}) {
+                Material m(base);
+                m.model = MaterialModel::MetallicRoughness;
+                m.metallic = metallic;
+                m.roughness = roughness;
+                const dvec3 f = brdf(dvec3(base), metallic, roughness, dvec3(n), dvec3(s.l),
+                                     dvec3(s.v));
+                // The light dimmed where the highlight would clip (so the formula is seen).
+                const dvec3 unit = kPi * f * double(glm::dot(n, s.l)) * dvec3(0.9, 0.8, 0.7);
+                const double peak = std::max({unit.x, unit.y, unit.z});
+                s.light.color = glm::vec3(0.9f, 0.8f, 0.7f) * float(peak > 0.8 ? 0.8 / peak : 1.0);
+                // mvr's light convention (lighting.h): radiance = π · f · n·l · colour.
+                const dvec3 want = dvec3(s.ctx.ambient) * dvec3(base) +
+                                   kPi * f * double(glm::dot(n, s.l)) * dvec3(s.light.color);
+                const glm::vec3 got = shadeBlinnPhong(s.ctx, m, n, glm::vec3(0.0f));
+                const std::string what = fmt::format("l ({}, {}), v ({}, {}), metallic {}, "
+                                                     "roughness {}",
+                                                     a.lTheta, a.lPhi, a.vTheta, a.vPhi, metallic,
+                                                     roughness);
+                for (int k = 0; k < 3; ++k) {
+                    ASSERT_LT(want[k], 1.0) << what;  // not clamped: the formula is seen
+                    EXPECT_NEAR(got[k], want[k], 2e-6 + 2e-5 * want[k]) << what << ", channel " << k;
+                }
+                // The textured split: base ⊙ D + S with the base colour in the texel.
+                Material white = m;
+                white.albedo = glm::vec3(1.0f);
+                const LightTerms t = blinnPhongTerms(s.ctx, white, n, glm::vec3(0.0f));
+                const glm::vec3 split = shadeTextured(base, t);
+                for (int k = 0; k < 3; ++k)
+                    EXPECT_NEAR(split[k], want[k], 2e-6 + 2e-5 * want[k]) << what << " (split)";
+                ++checked;
+            }
+        }
+    }
+    EXPECT_EQ(checked, 36);
+}
+
+TEST(MetallicRoughness, HighlightSharpensWithLowRoughnessAndMetalsTintIt) {
+    // Mirror configuration: a smoother surface's highlight is brighter; a metal's specular
+    // takes the base colour, a dielectric's stays white (its R = G = B apart from the diffuse).
+    Surface s = surface(glm::vec3(0, 0, 1), fromAngles(0.4, 0.0), fromAngles(0.4, kPi));
+    s.ctx.lights = std::span<const Light>(&s.light, 1);
+    s.light.color = glm::vec3(0.2f);
+    s.ctx.ambient = glm::vec3(0.0f);
+    Material m(glm::vec3(0.9f, 0.5f, 0.1f));
+    m.model = MaterialModel::MetallicRoughness;
+    m.metallic = 1.0f;
+    float last = 0.0f;
+    for (float r : {1.0f, 0.7f, 0.5f, 0.35f}) {
+        m.roughness = r;
+        const float g = shadeBlinnPhong(s.ctx, m, s.n, glm::vec3(0.0f)).y;
+        EXPECT_GT(g, last) << "roughness " << r;
+        last = g;
+    }
+    const LightTerms metal = blinnPhongTerms(s.ctx, m, s.n, glm::vec3(0.0f));
+    EXPECT_GT(glm::length(metal.diffuse), 0.0f);  // the tint rides on D (× base)
+    m.metallic = 0.0f;
+    const LightTerms dielectric = blinnPhongTerms(s.ctx, m, s.n, glm::vec3(0.0f));
+    EXPECT_FLOAT_EQ(dielectric.specular.x, dielectric.specular.y);
+    EXPECT_FLOAT_EQ(dielectric.specular.y, dielectric.specular.z);
+    // A mirror (roughness 0) stays finite.
+    m.roughness = 0.0f;
+    const glm::vec3 mirror = shadeBlinnPhong(s.ctx, m, s.n, glm::vec3(0.0f));
+    for (int k = 0; k < 3; ++k) EXPECT_TRUE(std::isfinite(mirror[k]));
+}
+
+TEST(MetallicRoughness, EmissiveIsAddedOnceAndUnlitIsTheBaseColour) {
+    Surface s = surface(glm::vec3(0, 0, 1), fromAngles(0.3, 0.0), fromAngles(0.2, 1.0));
+    s.ctx.lights = std::span<const Light>(&s.light, 1);
+    Material m(glm::vec3(0.2f, 0.1f, 0.1f));
+    m.model = MaterialModel::MetallicRoughness;
+    m.metallic = 0.0f;
+    m.roughness = 0.8f;
+    const glm::vec3 dark = shadeBlinnPhong(s.ctx, m, s.n, glm::vec3(0.0f));
+    m.emissive = glm::vec3(0.25f, 0.0f, 0.5f);
+    const glm::vec3 lit = shadeBlinnPhong(s.ctx, m, s.n, glm::vec3(0.0f));
+    EXPECT_NEAR(lit.x - dark.x, 0.25f, 1e-6f);
+    EXPECT_NEAR(lit.y - dark.y, 0.0f, 1e-6f);
+    EXPECT_NEAR(lit.z - dark.z, 0.5f, 1e-6f);
+
+    Material u(glm::vec3(0.3f, 0.6f, 0.9f));
+    u.model = MaterialModel::Unlit;
+    const glm::vec3 p(0.0f);
+    EXPECT_EQ(shadeBlinnPhong(s.ctx, u, s.n, p), u.albedo);
+    EXPECT_EQ(shadeFlat(s.ctx, u, s.n, p), u.albedo);
+    EXPECT_EQ(shadeTextured(u.albedo, blinnPhongTerms(s.ctx, u, s.n, p)), u.albedo);
+    EXPECT_EQ(shadeTextured(u.albedo, flatTerms(s.ctx, u, s.n, p)), u.albedo);
+    // Facing away from the light too: unlit ignores lights.
+    EXPECT_EQ(shadeBlinnPhong(s.ctx, u, -s.n, p), u.albedo);
+}
+
+// ---- the reader ----------------------------------------------------------------------------
+
+/// Three triangles, one a material, as Blender's exporter writes them: a glossy, partly
+/// metallic, emissive one with KHR_materials_emissive_strength (Blender writes it for
+/// strength > 1), an unlit one (KHR_materials_unlit, "Background" shader), and one with an
+/// empty pbrMetallicRoughness (glTF's defaults: metallic 1, roughness 1).
+std::filesystem::path writeMaterials(const std::filesystem::path& dir) {
+    std::string bin;
+    const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    bin.append(reinterpret_cast<const char*>(pos), sizeof pos);
+    const std::string json = fmt::format(
+        R"({{"asset":{{"version":"2.0","generator":"Khronos glTF Blender I/O v3.6.27"}},
+"extensionsUsed":["KHR_materials_emissive_strength","KHR_materials_unlit"],
+"scene":0,"scenes":[{{"name":"Scene","nodes":[0]}}],
+"nodes":[{{"mesh":0,"name":"Tris"}}],
+"materials":[
+ {{"name":"Brass","emissiveFactor":[1,0.5,0],
+   "extensions":{{"KHR_materials_emissive_strength":{{"emissiveStrength":4}}}},
+   "pbrMetallicRoughness":{{"baseColorFactor":[0.8,0.6,0.2,1],"metallicFactor":0.75,"roughnessFactor":0.3}}}},
+ {{"name":"Flat","extensions":{{"KHR_materials_unlit":{{}}}},
+   "pbrMetallicRoughness":{{"baseColorFactor":[0.1,0.7,0.3,1],"metallicFactor":0,"roughnessFactor":0.9}}}},
+ {{"name":"Default","pbrMetallicRoughness":{{}}}}],
+"meshes":[{{"name":"Tris","primitives":[
+ {{"attributes":{{"POSITION":0}},"material":0}},
+ {{"attributes":{{"POSITION":0}},"material":1}},
+ {{"attributes":{{"POSITION":0}},"material":2}}]}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}],
+"bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36}}],
+"buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,{}"}}]}})",
+        test::base64(bin));
+    const auto path = dir / "materials.gltf";
+    std::ofstream(path) << json;
+    return path;
+}
+
+const Material* named(const Scene& s, const std::string& name) {
+    for (const Instance& i : s.instances)
+        if (i.material.name == name) return &i.material;
+    return nullptr;
+}
+
+TEST(MetallicRoughness, GltfMaterialsAreReadAsTheFileSays) {
+    test::TempDir dir("mvr-pbr");
+    auto scene = loadScene(writeMaterials(dir.path()));
+    ASSERT_TRUE(scene) << scene.status().message();
+    const Material* brass = named(*scene, "Brass");
+    const Material* flat = named(*scene, "Flat");
+    const Material* def = named(*scene, "Default");
+    ASSERT_TRUE(brass && flat && def);
+    EXPECT_EQ(brass->model, MaterialModel::MetallicRoughness);
+    EXPECT_FLOAT_EQ(brass->metallic, 0.75f);
+    EXPECT_FLOAT_EQ(brass->roughness, 0.3f);
+    EXPECT_FLOAT_EQ(brass->emissive.x, 4.0f);
+    EXPECT_FLOAT_EQ(brass->emissive.y, 2.0f);
+    EXPECT_FLOAT_EQ(brass->emissive.z, 0.0f);
+    EXPECT_FLOAT_EQ(brass->albedo.y, 0.6f);
+    EXPECT_EQ(flat->model, MaterialModel::Unlit);
+    EXPECT_FLOAT_EQ(flat->albedo.y, 0.7f);
+    EXPECT_EQ(def->model, MaterialModel::MetallicRoughness);
+    EXPECT_FLOAT_EQ(def->metallic, 1.0f);
+    EXPECT_FLOAT_EQ(def->roughness, 1.0f);
+    EXPECT_EQ(def->emissive, glm::vec3(0.0f));
+}
+
+TEST(MetallicRoughness, ObjKeepsBlinnPhong) {
+    test::TempDir dir("mvr-pbr-obj");
+    const auto path = dir.path() / "tri.obj";
+    std::ofstream(path) << "# exported by another tool\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    auto scene = loadScene(path);
+    ASSERT_TRUE(scene) << scene.status().message();
+    ASSERT_FALSE(scene->instances.empty());
+    for (const Instance& i : scene->instances)
+        EXPECT_EQ(i.material.model, MaterialModel::BlinnPhong);
+}
+
+}  // namespace
+}  // namespace mvr
