@@ -130,6 +130,7 @@ def render(
     fov: float = ...,
     no_file_camera: bool = ...,
     exposure: float | Literal["auto"] = ...,
+    tonemap: Literal["none", "khr-neutral", "aces", "auto"] = ...,
     size: _Pair = ...,
     shading: Literal["flat", "vertex", "pixel"] = ...,
     cull: bool = ...,

@@ -410,6 +410,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"depth_percent", Kind::Float},
             {"convergence", Kind::FloatOrAuto}, {"fov", Kind::Float},
             {"no_file_camera", Kind::Flag},  {"exposure", Kind::FloatOrAuto},
+            {"tonemap", Kind::Text},
             {"size", Kind::Text},            {"display", Kind::Text},
             {"screen_width", Kind::Float},   {"viewing_distance", Kind::Float},
             {"shading", Kind::Text},         {"cull", Kind::Flag},
@@ -527,6 +528,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
         r.exposureAuto = v->isAuto;
         if (!v->isAuto) r.exposure = v->number;
     }
+    if (auto* v = get("tonemap")) r.tonemap = v->text;
     if (auto* v = get("size")) r.size = v->text;
     if (auto* v = get("display")) r.display = v->text;
     if (auto* v = get("screen_width")) r.screenWidthCm = v->number;

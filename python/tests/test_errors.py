@@ -23,6 +23,7 @@ USAGE = [
     (dict(separation=-0.5), "out of range"),
     (dict(rig="sideways"), "sideways"),
     (dict(shading="toon"), "toon"),
+    (dict(tonemap="filmic"), "--tonemap filmic: not a tone mapping"),
     (dict(backend="nope"), "unknown backend 'nope'"),
     (dict(method="nope"), "unknown method 'nope'"),
     (dict(grid=3), "--grid 3 needs a model file"),

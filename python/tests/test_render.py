@@ -16,6 +16,7 @@ CASES = [
     ({"views": 2, "rig": "parallel", "separation": 0.05, "shading": "flat", "method": "multipass"},
      ["--views", "2", "--rig", "parallel", "--separation", "0.05", "--shading", "flat",
       "--method", "multipass"]),
+    ({"tonemap": "aces", "shading": "pixel"}, ["--tonemap", "aces", "--shading", "pixel"]),
     ({"sky": "gradient", "floating_window": True, "letterbox": 8, "label": ["HI@0.5,0.3,3"],
       "label_anchor": "A@0,0.5,0"},
      ["--sky", "gradient", "--floating-window", "--letterbox", "8", "--label", "HI@0.5,0.3,3",

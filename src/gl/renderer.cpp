@@ -455,7 +455,7 @@ void Renderer::uploadFrameBlock(const Frame& f) {
         b.lightCone[i] =
             glm::vec4(lights[i].range, lights[i].innerConeCos, lights[i].outerConeCos, 0.0f);
     }
-    b.ambient = glm::vec4(f.scene->ambient, 0.0f);
+    b.ambient = glm::vec4(f.scene->ambient, float(int(f.scene->tonemap)));  // w: finishColor
     b.centerEye = glm::vec4(f.rig->centerEye(), 1.0f);
     b.counts = {static_cast<int>(std::min<std::size_t>(lights.size(), kMaxLights)), f.views,
                 f.settings->width, f.settings->height};

@@ -122,11 +122,34 @@ vec3 facingNormal(vec3 n, vec3 p) {
     return (uMatFlags.z != 0 && dot(n, uCenterEye.xyz - p) < 0.0) ? -n : n;
 }
 
+// lighting.h finishColor(): tone mapped (uAmbient.w: Tonemap 0 none, 1 Khronos PBR Neutral,
+// 2 ACES Narkowicz), then clamped.
+vec3 finishColor(vec3 c) {
+    int t = int(uAmbient.w);
+    if (t == 1) {
+        float x = min(c.r, min(c.g, c.b));
+        float offset = x < 0.08 ? x - 6.25 * x * x : 0.04;
+        c -= offset;
+        float peak = max(c.r, max(c.g, c.b));
+        if (peak >= 0.76) {
+            float d = 1.0 - 0.76;
+            float newPeak = 1.0 - d * d / (peak + d - 0.76);
+            c *= newPeak / peak;
+            float g = 1.0 - 1.0 / (0.15 * (peak - newPeak) + 1.0);
+            c = mix(c, vec3(newPeak), g);
+        }
+    } else if (t == 2) {
+        c = max(c, vec3(0.0));
+        c = (c * (2.51 * c + 0.03)) / (c * (2.43 * c + 0.59) + 0.14);
+    }
+    return clamp(c, 0.0, 1.0);
+}
+
 // lighting.h shadeFlat() (p: the triangle's centroid, for point / spot lights)
 // Shadows (issue 15): each light's term × shadowFactor at p, with the unflipped normal (as the
 // soft backend's shadowFactors).
 vec3 shadeFlat(vec3 faceNormal, vec3 p) {
-    if (uMatFlags.w == 2) return clamp(uMaterial.rgb, 0.0, 1.0);
+    if (uMatFlags.w == 2) return finishColor(uMaterial.rgb);
     vec3 n0 = faceNormal;
     faceNormal = facingNormal(faceNormal, p);
     vec3 albedo = uMaterial.rgb;
@@ -136,7 +159,7 @@ vec3 shadeFlat(vec3 faceNormal, vec3 p) {
         vec3 lc = lightAt(i, p, l);
         c += (max(dot(faceNormal, l), 0.0) * albedo * lc) * shadowFactor(i, p, n0);
     }
-    return clamp(c, 0.0, 1.0);
+    return finishColor(c);
 }
 
 // lighting.h metallicRoughnessTerms(): glTF 2.0 Appendix B's BRDF as D (× base colour) and S
@@ -179,9 +202,9 @@ vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
     if (uMatFlags.w == 1) {
         vec3 d, sp;
         metallicRoughnessTerms(normal, worldPos, d, sp);
-        return clamp(uMaterial.rgb * d + sp, 0.0, 1.0);
+        return finishColor(uMaterial.rgb * d + sp);
     }
-    if (uMatFlags.w == 2) return clamp(uMaterial.rgb, 0.0, 1.0);
+    if (uMatFlags.w == 2) return finishColor(uMaterial.rgb);
     vec3 albedo = uMaterial.rgb;
     vec3 n = normalize(facingNormal(normal, worldPos));
     vec3 v = normalize(uCenterEye.xyz - worldPos);
@@ -196,7 +219,7 @@ vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
             c += ((nl * albedo + vec3(spec)) * lc) * shadowFactor(i, worldPos, normal);
         }
     }
-    return clamp(c, 0.0, 1.0);
+    return finishColor(c);
 }
 
 // Textured surfaces (lighting.h LightTerms): the texel varies across the triangle, so the
@@ -524,13 +547,13 @@ void main() {
     if (SPLIT_LIGHTING) {
         vec3 d, sp;
         blinnPhongTerms(iNormal, iWorld, d, sp);
-        c = clamp(uMaterial.rgb * tex.rgb * d + sp, 0.0, 1.0);
+        c = finishColor(uMaterial.rgb * tex.rgb * d + sp);
     } else {
         c = shadeBlinnPhong(iNormal, iWorld);
     }
 #else
     // lighting.h shadeTextured(): base = albedo × texel.
-    c = SPLIT_LIGHTING ? clamp(uMaterial.rgb * tex.rgb * iColor + iSpecular, 0.0, 1.0) : iColor;
+    c = SPLIT_LIGHTING ? finishColor(uMaterial.rgb * tex.rgb * iColor + iSpecular) : iColor;
 #endif
 #ifdef GS_OUT_FLAG
     // sorbier2008 §4.2: every fragment is written to both MRT attachments; the other eye's

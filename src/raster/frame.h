@@ -253,7 +253,7 @@ struct FrameContext {
     bool scalarVertexPath(const DrawItem& item) const {
         const Material& m = item.instance->material;
         return textured || punctualLights || m.doubleSided ||
-               m.model != MaterialModel::BlinnPhong;
+               m.model != MaterialModel::BlinnPhong || shading.tonemap != Tonemap::None;
     }
 };
 

@@ -648,7 +648,7 @@ struct FragmentSink {
             terms = blinnPhongTerms(*shade.ctx, m, n, p,
                                     shadowFactors(shade.ctx->shadows, shade.ctx->lights, p, n, sh));
         }
-        glm::vec3 c = shadeTextured(glm::vec3(base), terms);
+        glm::vec3 c = shadeTextured(*shade.ctx, glm::vec3(base), terms);
         if (m.alphaMode == AlphaMode::Blend) {
             const float a = std::clamp(base.w, 0.0f, 1.0f);
             const std::uint32_t dst = target.color[i];

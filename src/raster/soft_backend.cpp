@@ -145,6 +145,7 @@ private:
                                false,
                                {},
                                false};
+        f.shading.tonemap = scene.tonemap;
         detail::prepareTextures(f);
         detail::Kernels shadowKernels = f.kernels;
         std::optional<detail::FrameContext> shadowed;

@@ -193,6 +193,18 @@ Status applyExposure(Prepared& out, std::optional<double> ev, bool isAuto, bool 
     return {};
 }
 
+/// --tonemap NAME onto Scene::tonemap; auto keeps the scene's (loadModels: khr-neutral under
+/// the files' own lights, else none).
+Status applyTonemap(Scene& scene, const std::string& name) {
+    if (name == "none") scene.tonemap = Tonemap::None;
+    else if (name == "khr-neutral") scene.tonemap = Tonemap::KhrNeutral;
+    else if (name == "aces") scene.tonemap = Tonemap::Aces;
+    else if (name != "auto")
+        return usageError(fmt::format(
+            "--tonemap {}: not a tone mapping (expected none, khr-neutral, aces or auto)", name));
+    return {};
+}
+
 }  // namespace
 
 namespace {
@@ -342,6 +354,9 @@ Result<Scene> loadModels(const std::vector<std::string>& args,
         fileLights.resize(kMaxLights);
     }
     combined.lights = fileLights.empty() ? defaultLights() : fileLights;
+    // --tonemap auto's choice (applyTonemap): the files' own lights are KHR_lights_punctual's
+    // physical units, whose highlights a clamp would flatten.
+    combined.tonemap = fileLights.empty() ? Tonemap::None : Tonemap::KhrNeutral;
     if (grid > 1) {
         const Bounds b = combined.bounds();
         const glm::vec3 size = b.max - b.min;
@@ -753,6 +768,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     }
     if (Status s = validateScene(out.scene); !s) return s;
     if (Status s = applyExposure(out, r.exposure, r.exposureAuto, !noModels); !s) return s;
+    if (Status s = applyTonemap(out.scene, r.tonemap); !s) return s;
 
     // The camera, near/far, convergence and spacing: the library's framing (framing.h).
     params.fovYDegrees = static_cast<float>(fov);

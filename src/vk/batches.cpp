@@ -413,7 +413,7 @@ Status Renderer::uploadFrame(const Scene& scene, const Rig& rig) {
         f->lightPos[i] = glm::vec4(l.position, type);
         f->lightCone[i] = glm::vec4(l.range, l.innerConeCos, l.outerConeCos, 0.0f);
     }
-    f->ambient = glm::vec4(scene.ambient, 0.0f);
+    f->ambient = glm::vec4(scene.ambient, float(int(scene.tonemap)));  // w: finishColor
     f->centerEye = glm::vec4(rig.centerEye(), 1.0f);
     f->counts = glm::ivec4(int(scene.lights.size()), int(rig.views.size()), 0, 0);
     for (std::size_t v = 0; v < rig.views.size(); ++v)

@@ -714,6 +714,7 @@ TEST_F(Cli, StereoSurfaces) {
 #include "../core/blender_fixture.h"
 #include "../core/gltf_fixture.h"
 #include "mvr_test_support.h"
+#include "tonemap_reference.h"
 
 namespace mvr {
 namespace {
@@ -883,6 +884,52 @@ TEST_P(CliGltfBackends, BlenderExporterLayoutRendersAsItsHandWrittenEquivalent) 
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) covered += !isBackground(images[0].at(x, y), bg);
     EXPECT_GT(covered, w * h / 20) << backend;
+}
+
+// --tonemap (issue 39 item 2): auto is khr-neutral under a file's own lights and none under the
+// default lights; each pixel of the neutral picture is the reference curve (written out in
+// tonemap_reference.h) of the clamped picture's where that one did not clip (pixel shading:
+// both map the same fragment colour); a bad name is a usage error.
+TEST_F(Cli, TonemapAutoFollowsWhereTheLightsComeFrom) {
+    const auto lit = test::writeBlenderGltf(mDir, "lit", test::BlenderLayout::Exporter);
+    // A black background: the curve keeps black, so every pixel can be checked.
+    const std::string file = "'" + lit.string() + "' --shading pixel --background 0,0,0";
+    auto render = [&](const std::string& args, const std::string& out) -> Image {
+        const CliRun r = run(fmt::format("render {} --views 1 --size 96x64 -o {}", args, out));
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        auto img = readPng(mDir / out / "view-0.png");
+        EXPECT_TRUE(img) << out;
+        return img ? std::move(*img) : Image();
+    };
+    const Image autoLit = render(file, "a");
+    const Image neutral = render(file + " --tonemap khr-neutral", "n");
+    const Image none = render(file + " --tonemap none", "o");
+    const Image aces = render(file + " --tonemap aces", "c");
+    EXPECT_EQ(compareImages(autoLit, neutral).differingPixels, 0);
+    EXPECT_GT(compareImages(none, neutral, 2).differingPixels, 100);
+    EXPECT_GT(compareImages(aces, neutral, 2).differingPixels, 100);
+    int checked = 0;
+    for (int y = 0; y < none.height; ++y) {
+        for (int x = 0; x < none.width; ++x) {
+            const Rgba8 c = none.at(x, y), t = neutral.at(x, y);
+            if (std::max({c.r, c.g, c.b}) >= 250) continue;  // clipped: the curve saw more
+            const glm::dvec3 want =
+                test::khrPbrNeutralReference(glm::dvec3(c.r, c.g, c.b) / 255.0) * 255.0;
+            // The clamped picture's 8 bits hold the colour to ±0.5 / 255; the curve's slope is
+            // at most 1; both round.
+            EXPECT_NEAR(t.r, want.x, 1.5) << x << "," << y;
+            EXPECT_NEAR(t.g, want.y, 1.5) << x << "," << y;
+            EXPECT_NEAR(t.b, want.z, 1.5) << x << "," << y;
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 96 * 64 / 2);
+    // The default scene's lights are mvr's: auto is none.
+    const Image def = render("", "d");
+    EXPECT_EQ(compareImages(def, render("--tonemap none", "dn")).differingPixels, 0);
+    EXPECT_GT(compareImages(def, render("--tonemap aces", "da"), 2).differingPixels, 100);
+    expectError("render --tonemap filmic", 1,
+                "--tonemap filmic: not a tone mapping (expected none, khr-neutral, aces or auto)");
 }
 
 /// A glTF of one quad (mesh 0: corners `pos`, normal +Z, in a data URI) after `head`, the JSON

@@ -46,7 +46,7 @@ struct SceneCase {
     int views() const { return columns * rows; }
     std::vector<std::string> tags() const {
         std::vector<std::string> t{scene};
-        if (scene == "textured-pbr") t.push_back("textured");
+        if (scene.rfind("textured-", 0) == 0) t.push_back("textured");
         if (cull) t.push_back("cull");
         if (wire) t.push_back("wire");
         if (shadows) t.push_back(shading == Shading::Flat ? "shadows-flat" : "shadows");
@@ -121,6 +121,12 @@ const std::vector<SceneCase>& sceneCases() {
         {"pbr", 2, 1, Shading::Pixel, false, false, true},
         {"textured-pbr", 2, 1, Shading::Vertex},
         {"textured-pbr", 3, 2, Shading::Pixel},
+        // Issue 39 item 2: tone mapping where the clamp was (lighting.h finishColor), under
+        // lights bright enough to need it.
+        {"pbr-neutral", 2, 1, Shading::Vertex},
+        {"pbr-neutral", 3, 2, Shading::Pixel},
+        {"textured-aces", 2, 1, Shading::Vertex},
+        {"textured-aces", 2, 1, Shading::Flat},
     };
     return cases;
 }
@@ -136,6 +142,14 @@ const Scene* sceneNamed(const std::string& name) {
     if (name == "textured-pbr") {
         static const Scene texturedPbr = test::withMetallicRoughness(makeTexturedScene());
         return &texturedPbr;
+    }
+    if (name == "pbr-neutral") {
+        static const Scene neutral = test::toneMapped(test::pbrScene(), Tonemap::KhrNeutral, 3.0f);
+        return &neutral;
+    }
+    if (name == "textured-aces") {
+        static const Scene aces = test::toneMapped(makeTexturedScene(), Tonemap::Aces, 2.0f);
+        return &aces;
     }
     if (name == "textured") {
         static const Scene textured = makeTexturedScene();

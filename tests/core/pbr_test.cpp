@@ -13,6 +13,7 @@
 #include "mvr/core/lighting.h"
 #include "mvr/io/scene_io.h"
 #include "test_files.h"
+#include "tonemap_reference.h"
 
 namespace mvr {
 namespace {
@@ -174,6 +175,61 @@ TEST(MetallicRoughness, EmissiveIsAddedOnceAndUnlitIsTheBaseColour) {
     EXPECT_EQ(shadeTextured(u.albedo, flatTerms(s.ctx, u, s.n, p)), u.albedo);
     // Facing away from the light too: unlit ignores lights.
     EXPECT_EQ(shadeBlinnPhong(s.ctx, u, -s.n, p), u.albedo);
+}
+
+// ---- tone mapping (issue 39 item 2) ----------------------------------------------------------
+
+TEST(Tonemap, CurvesAreTheirSourcesAtKnownColours) {
+    const glm::vec3 colours[] = {{0.5f, 0.3f, 0.1f}, {2.0f, 1.0f, 0.5f}, {10.0f, 10.0f, 10.0f},
+                                 {0.02f, 0.5f, 0.9f}, {0.0f, 0.0f, 0.0f}, {0.7f, 0.75f, 0.8f}};
+    ShadingContext neutral, aces, none;
+    neutral.tonemap = Tonemap::KhrNeutral;
+    aces.tonemap = Tonemap::Aces;
+    for (const glm::vec3& c : colours) {
+        const glm::dvec3 n = glm::clamp(test::khrPbrNeutralReference(glm::dvec3(c)), 0.0, 1.0);
+        const glm::dvec3 a = test::acesNarkowiczReference(glm::dvec3(c));
+        const glm::vec3 gotN = finishColor(neutral, c), gotA = finishColor(aces, c);
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_NEAR(gotN[k], n[k], 1e-6) << c.x << " " << c.y << " " << c.z;
+            EXPECT_NEAR(gotA[k], a[k], 1e-6) << c.x << " " << c.y << " " << c.z;
+            EXPECT_LE(gotN[k], 1.0f);
+        }
+        // none is the clamp, bit for bit.
+        EXPECT_EQ(finishColor(none, c), glm::clamp(c, 0.0f, 1.0f));
+    }
+    // Neutral keeps colours under its knee apart from the small offset: 0.5 → 0.46.
+    EXPECT_NEAR(finishColor(neutral, glm::vec3(0.5f)).x, 0.46f, 1e-6f);
+    // ACES: 1 → 2.54 / 3.16.
+    EXPECT_NEAR(finishColor(aces, glm::vec3(1.0f)).x, 2.54f / 3.16f, 1e-6f);
+}
+
+TEST(Tonemap, ShadingToneMapsWhereItClamped) {
+    Surface s = surface(glm::vec3(0, 0, 1), fromAngles(0.4, 0.0), fromAngles(0.4, kPi));
+    s.ctx.lights = std::span<const Light>(&s.light, 1);
+    s.light.color = glm::vec3(6.0f);  // a bright highlight: clamped, it would be white
+    s.ctx.tonemap = Tonemap::KhrNeutral;
+    Material m(glm::vec3(0.8f, 0.4f, 0.2f));
+    m.model = MaterialModel::MetallicRoughness;
+    m.metallic = 0.0f;
+    m.roughness = 0.4f;
+    const LightTerms t = blinnPhongTerms(s.ctx, m, s.n, glm::vec3(0.0f));
+    const glm::dvec3 lit = glm::dvec3(m.albedo) * glm::dvec3(t.diffuse) + glm::dvec3(t.specular);
+    ASSERT_GT(lit.x, 1.0);
+    const glm::dvec3 want = glm::clamp(test::khrPbrNeutralReference(lit), 0.0, 1.0);
+    const glm::vec3 got = shadeBlinnPhong(s.ctx, m, s.n, glm::vec3(0.0f));
+    const glm::vec3 split = shadeTextured(s.ctx, m.albedo, t);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(got[k], want[k], 1e-5);
+        EXPECT_NEAR(split[k], want[k], 1e-5);
+    }
+    EXPECT_LT(got.x, 1.0f);  // the highlight keeps a gradient
+    // Blinn-Phong and flat are tone mapped too.
+    Material bp(glm::vec3(0.5f));
+    const glm::vec3 flat = shadeFlat(s.ctx, bp, s.n, glm::vec3(0.0f));
+    ShadingContext clampOnly = s.ctx;
+    clampOnly.tonemap = Tonemap::None;
+    EXPECT_EQ(shadeFlat(clampOnly, bp, s.n, glm::vec3(0.0f)), glm::vec3(1.0f));
+    EXPECT_LT(flat.x, 1.0f);
 }
 
 // ---- the reader ----------------------------------------------------------------------------

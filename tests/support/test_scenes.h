@@ -53,6 +53,12 @@ inline Scene withMetallicRoughness(Scene s) {
     }
     return s;
 }
+/// `scene` tone mapped with `t` under its lights made `gain` times brighter (issue 39 item 2).
+inline Scene toneMapped(Scene s, Tonemap t, float gain) {
+    for (Light& l : s.lights) l.color *= gain;
+    s.tonemap = t;
+    return s;
+}
 inline const Scene& pbrScene() {
     static const Scene s = withMetallicRoughness(makeDefaultScene());
     return s;

@@ -230,6 +230,12 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
            "photometric units (Blender's exporter) saturate. auto: the brightest light lights "
            "the scene's centre at full colour")
         ->type_name("EV|auto");
+    app->add_option("--tonemap", tonemap,
+                    "Tone mapping of the lit colours: none (clamped), khr-neutral (Khronos PBR "
+                    "Neutral) or aces (Narkowicz's ACES fit); auto: khr-neutral when a model "
+                    "file's own lights (physical units) light the scene, else none")
+        ->default_val(tonemap)
+        ->type_name("none|khr-neutral|aces|auto");
     sizeOption = app->add_option("--size", size, "Size of one view, WxH pixels")->default_val(size);
     std::string displayHelp =
         "Render for a display (`mvr info --displays` lists them): its views, view size, view "
@@ -285,6 +291,7 @@ session::RenderRecipe SceneOptions::recipe() const {
     r.background = background;
     r.exposure = exposure;
     r.exposureAuto = exposureAuto;
+    r.tonemap = tonemap;
     r.billboards = billboards;
     r.billboardSize = billboardSize;
     // Without a preset the values are the ones to use; with one, those given on the command

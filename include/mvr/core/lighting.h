@@ -59,6 +59,13 @@
 // ambient · base, as Blinn-Phong's; emissive (Material::emissive) is added to S once. v is the
 // centre eye's, as for Blinn-Phong: computed once for all views. Flat shading stays Lambert of
 // the base colour (no specular) in every model but Unlit. Unlit: D = 1, S = 0 (the base colour).
+//
+// Tone mapping (issue 39 item 2; ShadingContext::tonemap, from Scene::tonemap): finishColor() is
+// the last step of every lit colour, where the clamp to [0, 1] was: Khronos PBR Neutral or ACES
+// (Narkowicz's fit), then the clamp; Tonemap::None is the clamp alone (the same bits as before).
+// Where the clamp was is where it is: per vertex for untextured vertex shading (the colours
+// are interpolated after), per fragment for textured (base ⊙ D + S) and pixel shading, before
+// blending.
 // Double-sided materials (Material::doubleSided): never back-face culled; the normal used for
 // lighting is flipped when it faces away from the rig's CENTER eye (facingNormal) — a
 // view-independent rule like the rest of shading, so vertex lighting is still done once for
@@ -88,7 +95,39 @@ struct ShadingContext {
     glm::vec3 ambient{0.12f};
     glm::vec3 centerEye{0.0f};           ///< world-space eye used for the specular view vector
     const ShadowSet* shadows = nullptr;  ///< issue 15: shadow maps, or none (every light lit)
+    Tonemap tonemap = Tonemap::None;     ///< Scene::tonemap (finishColor)
 };
+
+/// Khronos PBR Neutral (the KhronosGroup/ToneMapping specification's reference function):
+/// linear in, linear [0, 1] out; colours whose peak is below 0.76 only lose the small offset.
+inline glm::vec3 khrPbrNeutral(glm::vec3 c) {
+    constexpr float kStart = 0.8f - 0.04f, kDesaturation = 0.15f;
+    const float x = std::min(c.x, std::min(c.y, c.z));
+    const float offset = x < 0.08f ? x - 6.25f * x * x : 0.04f;
+    c -= offset;
+    const float peak = std::max(c.x, std::max(c.y, c.z));
+    if (peak < kStart) return c;
+    constexpr float d = 1.0f - kStart;
+    const float newPeak = 1.0f - d * d / (peak + d - kStart);
+    c *= newPeak / peak;
+    const float g = 1.0f - 1.0f / (kDesaturation * (peak - newPeak) + 1.0f);
+    return glm::mix(c, glm::vec3(newPeak), g);
+}
+
+/// ACES filmic, Narkowicz's fit of the RRT + ODT (2016): x (2.51 x + 0.03) / (x (2.43 x +
+/// 0.59) + 0.14), per channel, x ≥ 0.
+inline glm::vec3 acesNarkowicz(glm::vec3 c) {
+    c = glm::max(c, glm::vec3(0.0f));
+    return (c * (2.51f * c + 0.03f)) / (c * (2.43f * c + 0.59f) + 0.14f);
+}
+
+/// The last step of every lit colour: tone mapped (ctx.tonemap), then clamped to [0, 1]. With
+/// Tonemap::None, the clamp alone (the pixels of before tone mapping, bit for bit).
+inline glm::vec3 finishColor(const ShadingContext& ctx, glm::vec3 c) {
+    if (ctx.tonemap == Tonemap::KhrNeutral) c = khrPbrNeutral(c);
+    else if (ctx.tonemap == Tonemap::Aces) c = acesNarkowicz(c);
+    return glm::clamp(c, 0.0f, 1.0f);
+}
 
 /// Constants of specularPow (shared with the soft backend's SIMD kernels, which evaluate the
 /// same operations lane by lane).
@@ -267,7 +306,7 @@ inline LightTerms unlitTerms() { return {glm::vec3(1.0f), glm::vec3(0.0f)}; }
 /// `shadow` (issue 15): per light, the factor (shadows.h) multiplying its term; null = lit.
 inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal,
                            glm::vec3 worldPos, const float* shadow = nullptr) {
-    if (m.model == MaterialModel::Unlit) return glm::clamp(m.albedo, 0.0f, 1.0f);
+    if (m.model == MaterialModel::Unlit) return finishColor(ctx, m.albedo);
     faceNormal = facingNormal(ctx, m, faceNormal, worldPos);
     glm::vec3 c = ctx.ambient * m.albedo;
     for (const DirectionalLight& l : ctx.lights) {
@@ -281,7 +320,7 @@ inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::ve
                  sf;
         }
     }
-    return glm::clamp(c, 0.0f, 1.0f);
+    return finishColor(ctx, c);
 }
 /// Flat with directional lights only (the position is not needed).
 inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal,
@@ -299,9 +338,9 @@ inline glm::vec3 shadeBlinnPhong(const ShadingContext& ctx, const Material& m, g
                                  glm::vec3 worldPos, const float* shadow = nullptr) {
     if (m.model == MaterialModel::MetallicRoughness) {
         const LightTerms t = metallicRoughnessTerms(ctx, m, normal, worldPos, shadow);
-        return glm::clamp(m.albedo * t.diffuse + t.specular, 0.0f, 1.0f);
+        return finishColor(ctx, m.albedo * t.diffuse + t.specular);
     }
-    if (m.model == MaterialModel::Unlit) return glm::clamp(m.albedo, 0.0f, 1.0f);
+    if (m.model == MaterialModel::Unlit) return finishColor(ctx, m.albedo);
     const glm::vec3 n = glm::normalize(facingNormal(ctx, m, normal, worldPos));
     const glm::vec3 v = glm::normalize(ctx.centerEye - worldPos);
     glm::vec3 c = ctx.ambient * m.albedo;
@@ -320,7 +359,7 @@ inline glm::vec3 shadeBlinnPhong(const ShadingContext& ctx, const Material& m, g
             }
         }
     }
-    return glm::clamp(c, 0.0f, 1.0f);
+    return finishColor(ctx, c);
 }
 
 /// Flat's terms: D = ambient + Σ att · max(n·l, 0) · lightColor at `worldPos` (the centroid),
@@ -369,6 +408,10 @@ inline LightTerms blinnPhongTerms(const ShadingContext& ctx, const Material& m, 
 /// A textured surface's color: clamp(base ⊙ D + S, 0, 1), base = albedo × texel (linear).
 inline glm::vec3 shadeTextured(glm::vec3 base, const LightTerms& t) {
     return glm::clamp(base * t.diffuse + t.specular, 0.0f, 1.0f);
+}
+/// The same, tone mapped as ctx says (finishColor).
+inline glm::vec3 shadeTextured(const ShadingContext& ctx, glm::vec3 base, const LightTerms& t) {
+    return finishColor(ctx, base * t.diffuse + t.specular);
 }
 
 /// The base color and alpha of a fragment: (albedo, alpha) × texel (linear RGBA).

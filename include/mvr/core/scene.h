@@ -44,6 +44,10 @@ enum class AlphaMode { Opaque, Mask, Blend };
 /// How a material is lit (lighting.h): Blinn-Phong (built-in scenes, OBJ, PLY, glTF primitives
 /// without a material), glTF 2.0's metallic-roughness BRDF (Appendix B), or unlit
 /// (KHR_materials_unlit: the base colour as it is).
+/// Tone mapping of the lit colour (issue 39 item 2; lighting.h finishColor): none (clamped,
+/// the papers' benches' pixels), Khronos PBR Neutral, or ACES (Narkowicz's fit).
+enum class Tonemap { None = 0, KhrNeutral = 1, Aces = 2 };  // gl / vk GLSL use the numbers
+
 enum class MaterialModel { BlinnPhong = 0, MetallicRoughness = 1, Unlit = 2 };  // gl / vk GLSL use the numbers
 
 /// glTF's KHR_texture_transform on one texture slot: an affine map of the slot's texture
@@ -160,6 +164,7 @@ struct Scene {
     std::vector<DirectionalLight> lights;  ///< at most kMaxLights
     glm::vec3 ambient{0.12f};
     glm::vec3 background{0.08f};              ///< clear colour, linear [0, 1]
+    Tonemap tonemap = Tonemap::None;          ///< applied to every lit colour (lighting.h)
     std::optional<SceneViewpoint> viewpoint;  ///< absent: framing fits the bounds (framing.h)
     std::vector<Texture> textures;            ///< Material::baseColorTexture indexes these
     std::optional<SceneCamera> camera;        ///< from the file, if it has one

@@ -147,6 +147,9 @@ struct RenderRecipe {
     bool strict = false;            ///< a model's missing texture is an error (else a warning)
     std::optional<double> exposure;  ///< EV (stops)
     bool exposureAuto = false;
+    /// none | khr-neutral | aces | auto (khr-neutral when the models' own lights light the
+    /// scene: KHR_lights_punctual is in physical units; else none). Scene::tonemap.
+    std::string tonemap = "auto";
     int billboards = 0;           ///< camera-facing quads scattered through the bounds
     double billboardSize = 0.0;   ///< 0: 3 % of the scene's radius
 

@@ -105,8 +105,31 @@ vec3 facingNormal(InstanceData m, vec3 n, vec3 p) {
     return (m.flags.z != 0 && dot(n, uCenterEye.xyz - p) < 0.0) ? -n : n;
 }
 
+// lighting.h finishColor(): tone mapped (uAmbient.w: Tonemap 0 none, 1 Khronos PBR Neutral,
+// 2 ACES Narkowicz), then clamped.
+vec3 finishColor(vec3 c) {
+    int t = int(uAmbient.w);
+    if (t == 1) {
+        float x = min(c.r, min(c.g, c.b));
+        float offset = x < 0.08 ? x - 6.25 * x * x : 0.04;
+        c -= offset;
+        float peak = max(c.r, max(c.g, c.b));
+        if (peak >= 0.76) {
+            float d = 1.0 - 0.76;
+            float newPeak = 1.0 - d * d / (peak + d - 0.76);
+            c *= newPeak / peak;
+            float g = 1.0 - 1.0 / (0.15 * (peak - newPeak) + 1.0);
+            c = mix(c, vec3(newPeak), g);
+        }
+    } else if (t == 2) {
+        c = max(c, vec3(0.0));
+        c = (c * (2.51 * c + 0.03)) / (c * (2.43 * c + 0.59) + 0.14);
+    }
+    return clamp(c, 0.0, 1.0);
+}
+
 vec3 shadeFlat(InstanceData m, vec3 faceNormal, vec3 p) {
-    if (m.pbr.z == 2.0) return clamp(m.material.rgb, 0.0, 1.0);
+    if (m.pbr.z == 2.0) return finishColor(m.material.rgb);
     vec3 n0 = faceNormal;
     faceNormal = facingNormal(m, faceNormal, p);
     vec3 albedo = m.material.rgb;
@@ -116,7 +139,7 @@ vec3 shadeFlat(InstanceData m, vec3 faceNormal, vec3 p) {
         vec3 lc = lightAt(i, p, l);
         c += (max(dot(faceNormal, l), 0.0) * albedo * lc) * shadowFactor(i, p, n0);
     }
-    return clamp(c, 0.0, 1.0);
+    return finishColor(c);
 }
 
 // lighting.h metallicRoughnessTerms(), as gl's shaders.cpp has it.
@@ -158,9 +181,9 @@ vec3 shadeBlinnPhong(InstanceData m, vec3 normal, vec3 worldPos) {
     if (m.pbr.z == 1.0) {
         vec3 d, sp;
         metallicRoughnessTerms(m, normal, worldPos, d, sp);
-        return clamp(m.material.rgb * d + sp, 0.0, 1.0);
+        return finishColor(m.material.rgb * d + sp);
     }
-    if (m.pbr.z == 2.0) return clamp(m.material.rgb, 0.0, 1.0);
+    if (m.pbr.z == 2.0) return finishColor(m.material.rgb);
     vec3 albedo = m.material.rgb;
     vec3 n = normalize(facingNormal(m, normal, worldPos));
     vec3 v = normalize(uCenterEye.xyz - worldPos);
@@ -175,7 +198,7 @@ vec3 shadeBlinnPhong(InstanceData m, vec3 normal, vec3 worldPos) {
             c += ((nl * albedo + vec3(spec)) * lc) * shadowFactor(i, worldPos, normal);
         }
     }
-    return clamp(c, 0.0, 1.0);
+    return finishColor(c);
 }
 
 // Meshes with vertex colours (lighting.h LightTerms, gl's SPLIT_LIGHTING): the colour varies

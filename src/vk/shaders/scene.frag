@@ -34,14 +34,14 @@ void main() {
     if (split) {
         vec3 d, sp;
         blinnPhongTerms(m, iNormal, iWorld, d, sp);
-        c = clamp(base * d + sp, 0.0, 1.0);
+        c = finishColor(base * d + sp);
     } else {
         c = shadeBlinnPhong(m, iNormal, iWorld);
     }
 #elif defined(SHADING_FLAT)
-    vec3 c = split ? clamp(base * iColor, 0.0, 1.0) : iColor;
+    vec3 c = split ? finishColor(base * iColor) : iColor;
 #else
-    vec3 c = split ? clamp(base * iColor + iSpecular, 0.0, 1.0) : iColor;
+    vec3 c = split ? finishColor(base * iColor + iSpecular) : iColor;
 #endif
     oColor0 = vec4(c, alpha);
 }
