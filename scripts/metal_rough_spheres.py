@@ -5,6 +5,9 @@ in Khronos's MetalRoughSpheres sample. docs/metal-rough-spheres.png is
 
     python3 scripts/metal_rough_spheres.py /tmp/spheres.gltf
     mvr render /tmp/spheres.gltf --views 1 --size 480x360 --shading pixel -o out
+
+--sun LUX adds a KHR_lights_punctual sun of that intensity (docs/tonemap-none-vs-khr-neutral.png:
+--sun 3, rendered at 400x300 with --tonemap none and with the default, side by side).
 """
 import base64
 import json
@@ -28,7 +31,7 @@ def sphere(nu=32, nv=16):
     return pos, idx
 
 
-def main(path):
+def main(path, sun=None):
     pos, idx = sphere()
     blob = struct.pack(f"{len(pos)}f", *pos) * 2 + struct.pack(f"{len(idx)}H", *idx)
     count = len(pos) // 3
@@ -59,9 +62,22 @@ def main(path):
                      "uri": "data:application/octet-stream;base64," +
                             base64.b64encode(blob).decode()}],
     }
+    if sun is not None:
+        doc["extensionsUsed"] = ["KHR_lights_punctual"]
+        doc["extensions"] = {"KHR_lights_punctual": {"lights": [
+            {"type": "directional", "intensity": sun, "color": [1, 0.95, 0.9]}]}}
+        doc["nodes"].append({"name": "Sun", "rotation": [-0.3, 0.2, 0.0, 0.93],
+                             "extensions": {"KHR_lights_punctual": {"light": 0}}})
+        doc["scenes"][0]["nodes"].append(len(doc["nodes"]) - 1)
     with open(path, "w") as f:
         json.dump(doc, f)
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "metal-rough-spheres.gltf")
+    args = sys.argv[1:]
+    sun = None
+    if "--sun" in args:
+        i = args.index("--sun")
+        sun = float(args[i + 1])
+        del args[i:i + 2]
+    main(args[0] if args else "metal-rough-spheres.gltf", sun)

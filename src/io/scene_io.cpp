@@ -180,12 +180,18 @@ struct GltfMaterialUv {
     bool baseColorTexture = false;  ///< pbrMetallicRoughness.baseColorTexture is given
     int baseColorTexCoord = 0;      ///< its set, the transform's texCoord having won
     std::optional<TextureTransform> baseColor, metallicRoughness, normal, occlusion, emissive;
-    // The metallic-roughness model's factors (issue 39 item 1), read here rather than through
-    // assimp so that glTF's defaults (metallic 1, roughness 1) and KHR_materials_emissive_strength
-    // / KHR_materials_unlit, which assimp 5.2.5 does not import, are the file's.
+    // The metallic-roughness model's factors (issue 39 item 1), read here beside the slots
+    // (assimp 5.2.5 does not import KHR_materials_emissive_strength).
     float metallic = 1.0f, roughness = 1.0f;
     glm::vec3 emissiveColor{0.0f};  ///< emissiveFactor × emissive_strength
     bool unlit = false;
+    // Textures the factors multiply, not drawn yet: exporters write neutral factors beside them
+    // (Blender: emissiveFactor [1, 1, 1] under an emission texture; metallic and roughness 1
+    // under a packed metallic-roughness map), which alone would be a white glow or a rough
+    // metal. So material() keeps Blinn-Phong for a metallicRoughnessTexture and drops the
+    // emissive of an emissiveTexture until the textures are sampled.
+    bool metallicRoughnessTexture = false, emissiveTexture = false;
+    bool specularGlossiness = false;  ///< KHR_materials_pbrSpecularGlossiness without MR
 };
 
 /// The file's materials[i] as GltfMaterialUv, index for index as assimp's mMaterials[i]
@@ -233,7 +239,8 @@ std::vector<GltfMaterialUv> materialTextureCoords(const nlohmann::json& doc) {
                 pbr != m.end() && pbr->is_object()) {
                 slot(*pbr, "baseColorTexture", &uv.baseColorTexture, uv.baseColorTexCoord,
                      uv.baseColor);
-                slot(*pbr, "metallicRoughnessTexture", nullptr, unused, uv.metallicRoughness);
+                slot(*pbr, "metallicRoughnessTexture", &uv.metallicRoughnessTexture, unused,
+                     uv.metallicRoughness);
             }
             if (const auto pbr = m.find("pbrMetallicRoughness");
                 pbr != m.end() && pbr->is_object()) {
@@ -245,21 +252,25 @@ std::vector<GltfMaterialUv> materialTextureCoords(const nlohmann::json& doc) {
             if (auto e = m.find("emissiveFactor");
                 e != m.end() && e->is_array() && e->size() == 3 &&
                 std::all_of(e->begin(), e->end(), [](const auto& x) { return x.is_number(); }))
-                uv.emissiveColor = glm::max(glm::vec3((*e)[0].get<float>(), (*e)[1].get<float>(),
-                                                 (*e)[2].get<float>()),
-                                       glm::vec3(0.0f));
+                uv.emissiveColor = glm::clamp(glm::vec3((*e)[0].get<float>(),
+                                                        (*e)[1].get<float>(), (*e)[2].get<float>()),
+                                              0.0f, 1e6f);
             if (const auto ext = m.find("extensions"); ext != m.end() && ext->is_object()) {
                 if (const auto k = ext->find("KHR_materials_emissive_strength");
                     k != ext->end() && k->is_object()) {
                     const auto st = k->find("emissiveStrength");
-                    if (st != k->end() && st->is_number() && st->get<float>() >= 0.0f)
-                        uv.emissiveColor *= st->get<float>();
+                    const float strength =
+                        st != k->end() && st->is_number() ? st->get<float>() : 1.0f;
+                    if (std::isfinite(strength) && strength >= 0.0f)  // kept finite:
+                        uv.emissiveColor = glm::min(uv.emissiveColor * strength, glm::vec3(1e6f));
                 }
                 uv.unlit = ext->contains("KHR_materials_unlit");
+                uv.specularGlossiness = ext->contains("KHR_materials_pbrSpecularGlossiness") &&
+                                        !m.contains("pbrMetallicRoughness");
             }
             slot(m, "normalTexture", nullptr, unused, uv.normal);
             slot(m, "occlusionTexture", nullptr, unused, uv.occlusion);
-            slot(m, "emissiveTexture", nullptr, unused, uv.emissive);
+            slot(m, "emissiveTexture", &uv.emissiveTexture, unused, uv.emissive);
         }
         out.push_back(uv);
     }
@@ -373,10 +384,13 @@ struct Loader {
             out.normalTransform = uv->normal;
             out.occlusionTransform = uv->occlusion;
             out.emissiveTransform = uv->emissive;
-            out.model = uv->unlit ? MaterialModel::Unlit : MaterialModel::MetallicRoughness;
+            out.model = uv->unlit ? MaterialModel::Unlit
+                        : uv->metallicRoughnessTexture || uv->specularGlossiness
+                            ? MaterialModel::BlinnPhong
+                            : MaterialModel::MetallicRoughness;
             out.metallic = uv->metallic;
             out.roughness = uv->roughness;
-            out.emissive = uv->emissiveColor;
+            if (!uv->emissiveTexture) out.emissive = uv->emissiveColor;
         }
         for (aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}) {
             if (m.GetTextureCount(type) == 0) continue;

@@ -36,6 +36,8 @@ struct InstanceData {
     glm::vec4 pbr;       ///< metallic, roughness, MaterialModel, 0 (common.glsl)
     glm::vec4 emissive;  ///< rgb
 };
+// common.glsl's std430 InstanceData: three mat4, five vec4-sized members, no padding.
+static_assert(sizeof(InstanceData) == 3 * 64 + 5 * 16);
 struct Push {
     std::int32_t instance = 0, viewBase = 0;
 };

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "mvr/core/lighting.h"
+#include "mvr/io/png.h"
 #include "mvr/io/scene_io.h"
 #include "test_files.h"
 #include "tonemap_reference.h"
@@ -140,8 +141,12 @@ TEST(MetallicRoughness, HighlightSharpensWithLowRoughnessAndMetalsTintIt) {
         EXPECT_GT(g, last) << "roughness " << r;
         last = g;
     }
-    const LightTerms metal = blinnPhongTerms(s.ctx, m, s.n, glm::vec3(0.0f));
-    EXPECT_GT(glm::length(metal.diffuse), 0.0f);  // the tint rides on D (× base)
+    // At the mirror angle w ≈ 0: a metal's highlight is its base colour (0.9, 0.5, 0.1), the
+    // tint riding on D (× base). The light dimmed so that nothing clips.
+    s.light.color = glm::vec3(0.02f);
+    const glm::vec3 metal = shadeBlinnPhong(s.ctx, m, s.n, glm::vec3(0.0f));
+    EXPECT_NEAR(metal.x / metal.z, 9.0f, 0.05f);
+    EXPECT_NEAR(metal.y / metal.z, 5.0f, 0.05f);
     m.metallic = 0.0f;
     const LightTerms dielectric = blinnPhongTerms(s.ctx, m, s.n, glm::vec3(0.0f));
     EXPECT_FLOAT_EQ(dielectric.specular.x, dielectric.specular.y);
@@ -234,17 +239,19 @@ TEST(Tonemap, ShadingToneMapsWhereItClamped) {
 
 // ---- the reader ----------------------------------------------------------------------------
 
-/// Three triangles, one a material, as Blender's exporter writes them: a glossy, partly
+/// Six triangles, one a material, as Blender's exporter writes them: a glossy, partly
 /// metallic, emissive one with KHR_materials_emissive_strength (Blender writes it for
-/// strength > 1), an unlit one (KHR_materials_unlit, "Background" shader), and one with an
-/// empty pbrMetallicRoughness (glTF's defaults: metallic 1, roughness 1).
+/// strength > 1), an unlit one (KHR_materials_unlit, "Background" shader), one with an
+/// empty pbrMetallicRoughness (glTF's defaults: metallic 1, roughness 1), one with a packed
+/// metallic-roughness texture and the factors 1 / 1 beside it, one with an emission texture and
+/// emissiveFactor [1, 1, 1] beside it, and a KHR_materials_pbrSpecularGlossiness one.
 std::filesystem::path writeMaterials(const std::filesystem::path& dir) {
     std::string bin;
     const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
     bin.append(reinterpret_cast<const char*>(pos), sizeof pos);
     const std::string json = fmt::format(
         R"({{"asset":{{"version":"2.0","generator":"Khronos glTF Blender I/O v3.6.27"}},
-"extensionsUsed":["KHR_materials_emissive_strength","KHR_materials_unlit"],
+"extensionsUsed":["KHR_materials_emissive_strength","KHR_materials_unlit","KHR_materials_pbrSpecularGlossiness"],
 "scene":0,"scenes":[{{"name":"Scene","nodes":[0]}}],
 "nodes":[{{"mesh":0,"name":"Tris"}}],
 "materials":[
@@ -253,15 +260,23 @@ std::filesystem::path writeMaterials(const std::filesystem::path& dir) {
    "pbrMetallicRoughness":{{"baseColorFactor":[0.8,0.6,0.2,1],"metallicFactor":0.75,"roughnessFactor":0.3}}}},
  {{"name":"Flat","extensions":{{"KHR_materials_unlit":{{}}}},
    "pbrMetallicRoughness":{{"baseColorFactor":[0.1,0.7,0.3,1],"metallicFactor":0,"roughnessFactor":0.9}}}},
- {{"name":"Default","pbrMetallicRoughness":{{}}}}],
+ {{"name":"Default","pbrMetallicRoughness":{{}}}},
+ {{"name":"Packed","pbrMetallicRoughness":{{"metallicRoughnessTexture":{{"index":0}}}}}},
+ {{"name":"Glow","emissiveFactor":[1,1,1],"emissiveTexture":{{"index":0}},"pbrMetallicRoughness":{{"metallicFactor":0}}}},
+ {{"name":"Gloss","extensions":{{"KHR_materials_pbrSpecularGlossiness":{{"diffuseFactor":[0.5,0.5,0.5,1],"glossinessFactor":0.8}}}}}}],
+"textures":[{{"source":0}}],"images":[{{"uri":"maps.png"}}],
 "meshes":[{{"name":"Tris","primitives":[
  {{"attributes":{{"POSITION":0}},"material":0}},
  {{"attributes":{{"POSITION":0}},"material":1}},
- {{"attributes":{{"POSITION":0}},"material":2}}]}}],
+ {{"attributes":{{"POSITION":0}},"material":2}},
+ {{"attributes":{{"POSITION":0}},"material":3}},
+ {{"attributes":{{"POSITION":0}},"material":4}},
+ {{"attributes":{{"POSITION":0}},"material":5}}]}}],
 "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}],
 "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36}}],
 "buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,{}"}}]}})",
         test::base64(bin));
+    EXPECT_TRUE(writePng(dir / "maps.png", Image(4, 4, Rgba8{0, 128, 255, 255})));
     const auto path = dir / "materials.gltf";
     std::ofstream(path) << json;
     return path;
@@ -294,6 +309,17 @@ TEST(MetallicRoughness, GltfMaterialsAreReadAsTheFileSays) {
     EXPECT_FLOAT_EQ(def->metallic, 1.0f);
     EXPECT_FLOAT_EQ(def->roughness, 1.0f);
     EXPECT_EQ(def->emissive, glm::vec3(0.0f));
+    // The textures the factors multiply are not drawn: the factors alone would be a rough metal
+    // and a white glow, so the first keeps Blinn-Phong and the second has no emissive.
+    const Material* packed = named(*scene, "Packed");
+    const Material* glow = named(*scene, "Glow");
+    const Material* gloss = named(*scene, "Gloss");
+    ASSERT_TRUE(packed && glow && gloss);
+    EXPECT_EQ(packed->model, MaterialModel::BlinnPhong);
+    EXPECT_EQ(glow->model, MaterialModel::MetallicRoughness);
+    EXPECT_EQ(glow->emissive, glm::vec3(0.0f));
+    EXPECT_FLOAT_EQ(glow->metallic, 0.0f);
+    EXPECT_EQ(gloss->model, MaterialModel::BlinnPhong);
 }
 
 TEST(MetallicRoughness, ObjKeepsBlinnPhong) {

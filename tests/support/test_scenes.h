@@ -59,8 +59,19 @@ inline Scene toneMapped(Scene s, Tonemap t, float gain) {
     s.tonemap = t;
     return s;
 }
+/// withMetallicRoughness(the default scene) with a fourth light, a point light with a range,
+/// so that the model's point-light path is compared across backends too.
 inline const Scene& pbrScene() {
-    static const Scene s = withMetallicRoughness(makeDefaultScene());
+    static const Scene s = [] {
+        Scene p = withMetallicRoughness(makeDefaultScene());
+        Light point;
+        point.type = LightType::Point;
+        point.position = glm::vec3(1.5f, 2.0f, 2.5f);
+        point.color = glm::vec3(4.0f, 3.5f, 3.0f);
+        point.range = 12.0f;
+        if (p.lights.size() < std::size_t(kMaxLights)) p.lights.push_back(point);
+        return p;
+    }();
     return s;
 }
 

@@ -56,9 +56,10 @@
 // The factor π is mvr's light convention: a light's colour is the irradiance it gives at normal
 // incidence over π, so a white Lambertian surface facing a light of colour 1 is 1 in either
 // model, and a glTF file and an OBJ of the same lights are equally bright. The ambient term is
-// ambient · base, as Blinn-Phong's; emissive (Material::emissive) is added to S once. v is the
-// centre eye's, as for Blinn-Phong: computed once for all views. Flat shading stays Lambert of
-// the base colour (no specular) in every model but Unlit. Unlit: D = 1, S = 0 (the base colour).
+// ambient · base, as Blinn-Phong's; emissive (Material::emissive) is added to S once (smooth
+// shading only). v is the centre eye's, as for Blinn-Phong: computed once for all views. Flat
+// shading stays Lambert of the base colour (no specular, no emissive) for Blinn-Phong and
+// metallic-roughness alike. Unlit: D = 1, S = 0 (the base colour), in every shading.
 //
 // Tone mapping (issue 39 item 2; ShadingContext::tonemap, from Scene::tonemap): finishColor() is
 // the last step of every lit colour, where the clamp to [0, 1] was: Khronos PBR Neutral or ACES
@@ -405,7 +406,8 @@ inline LightTerms blinnPhongTerms(const ShadingContext& ctx, const Material& m, 
     return t;
 }
 
-/// A textured surface's color: clamp(base ⊙ D + S, 0, 1), base = albedo × texel (linear).
+/// A textured surface's color: clamp(base ⊙ D + S, 0, 1), base = albedo × texel (linear), not
+/// tone mapped (Tonemap::None; the backends call the ShadingContext overload below).
 inline glm::vec3 shadeTextured(glm::vec3 base, const LightTerms& t) {
     return glm::clamp(base * t.diffuse + t.specular, 0.0f, 1.0f);
 }

@@ -42,13 +42,14 @@ struct Texture {
 enum class AlphaMode { Opaque, Mask, Blend };
 
 /// How a material is lit (lighting.h): Blinn-Phong (built-in scenes, OBJ, PLY, glTF primitives
-/// without a material), glTF 2.0's metallic-roughness BRDF (Appendix B), or unlit
-/// (KHR_materials_unlit: the base colour as it is).
+/// without a material, and glTF materials whose metallic / roughness come from a texture or
+/// that are specular-glossiness, until those are drawn), glTF 2.0's metallic-roughness BRDF
+/// (Appendix B), or unlit (KHR_materials_unlit: the base colour as it is).
+enum class MaterialModel { BlinnPhong = 0, MetallicRoughness = 1, Unlit = 2 };  // gl / vk GLSL use the numbers
+
 /// Tone mapping of the lit colour (issue 39 item 2; lighting.h finishColor): none (clamped,
 /// the papers' benches' pixels), Khronos PBR Neutral, or ACES (Narkowicz's fit).
 enum class Tonemap { None = 0, KhrNeutral = 1, Aces = 2 };  // gl / vk GLSL use the numbers
-
-enum class MaterialModel { BlinnPhong = 0, MetallicRoughness = 1, Unlit = 2 };  // gl / vk GLSL use the numbers
 
 /// glTF's KHR_texture_transform on one texture slot: an affine map of the slot's texture
 /// coordinates (in Texture's convention: u right, v down from the image's top-left),
@@ -107,8 +108,8 @@ struct Material {
     std::optional<TextureTransform> occlusionTransform;
     std::optional<TextureTransform> emissiveTransform;
     // Appended for glTF's metallic-roughness materials (issue 39 item 1). `specular` and
-    // `shininess` are Blinn-Phong's only; metallic, roughness and emissive are read by the
-    // other models only (lighting.h).
+    // `shininess` are Blinn-Phong's only; metallic, roughness and emissive MetallicRoughness's
+    // only (lighting.h).
     MaterialModel model = MaterialModel::BlinnPhong;
     float metallic = 1.0f;          ///< glTF metallicFactor, [0, 1]
     float roughness = 1.0f;         ///< glTF roughnessFactor (perceptual), [0, 1]

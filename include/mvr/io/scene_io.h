@@ -14,8 +14,11 @@
 //   metallicFactor / roughnessFactor (glTF's defaults 1, 1) and emissiveFactor ×
 //   KHR_materials_emissive_strength, read from the file's JSON; KHR_materials_unlit makes it
 //   MaterialModel::Unlit. The metallic-roughness, normal, occlusion and emissive textures are
-//   not drawn yet. OBJ, PLY and primitives without a material: Blinn-Phong, specular 0.25 /
-//   shininess 32 as every built-in material.
+//   not drawn yet: a material with a metallicRoughnessTexture keeps Blinn-Phong (its factors
+//   are the texture's multipliers, 1 and 1 beside a packed map: alone, a rough metal), one with
+//   an emissiveTexture has no emissive (Blender writes factor 1 beside it), and a
+//   KHR_materials_pbrSpecularGlossiness one keeps Blinn-Phong. OBJ, PLY and primitives without
+//   a material: Blinn-Phong, specular 0.25 / shininess 32 as every built-in material.
 // - texture coordinate sets 0 and 1 (TEXCOORD_0, TEXCOORD_1; another set is an error naming
 //   the material) and KHR_texture_transform on every slot, read from the file's JSON: each
 //   slot's transform is recorded on the Material (baseColorTransform, normalTransform, ...);

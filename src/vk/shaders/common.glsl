@@ -169,7 +169,7 @@ void metallicRoughnessTerms(InstanceData m, vec3 normal, vec3 worldPos, out vec3
             float w1 = 1.0 - vh, w2 = w1 * w1;
             float w = w2 * w2 * w1;
             float f = 0.04 + 0.96 * w;
-            lc *= shadowFactor(i, worldPos, normal) * nl;
+            lc = lc * shadowFactor(i, worldPos, normal) * nl;  // C++'s order
             diffuse += ((1.0 - metal) * (1.0 - f) + metal * spec * (1.0 - w)) * lc;
             specular += (spec * ((1.0 - metal) * f + metal * w)) * lc;
         }
