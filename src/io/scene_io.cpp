@@ -241,9 +241,6 @@ std::vector<GltfMaterialUv> materialTextureCoords(const nlohmann::json& doc) {
                      uv.baseColor);
                 slot(*pbr, "metallicRoughnessTexture", &uv.metallicRoughnessTexture, unused,
                      uv.metallicRoughness);
-            }
-            if (const auto pbr = m.find("pbrMetallicRoughness");
-                pbr != m.end() && pbr->is_object()) {
                 if (auto f = pbr->find("metallicFactor"); f != pbr->end() && f->is_number())
                     uv.metallic = std::clamp(f->get<float>(), 0.0f, 1.0f);
                 if (auto f = pbr->find("roughnessFactor"); f != pbr->end() && f->is_number())
