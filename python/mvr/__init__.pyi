@@ -133,6 +133,7 @@ def render(
     tonemap: Literal["none", "khr-neutral", "aces", "auto"] = ...,
     size: _Pair = ...,
     shading: Literal["flat", "vertex", "pixel"] = ...,
+    specular: Literal["center", "per-view"] = ...,
     cull: bool = ...,
     wireframe: bool = ...,
     shadows: bool = ...,

@@ -414,6 +414,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"size", Kind::Text},            {"display", Kind::Text},
             {"screen_width", Kind::Float},   {"viewing_distance", Kind::Float},
             {"shading", Kind::Text},         {"cull", Kind::Flag},
+            {"specular", Kind::Text},
             {"wireframe", Kind::Flag},       {"shadows", Kind::Flag},
             {"shadow_map_size", Kind::Int},  {"aa", Kind::Int},  {"billboards", Kind::Int},
             {"synthesize", Kind::Int},
@@ -534,6 +535,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     if (auto* v = get("screen_width")) r.screenWidthCm = v->number;
     if (auto* v = get("viewing_distance")) r.viewingDistanceCm = v->number;
     if (auto* v = get("shading")) r.shading = v->text;
+    if (auto* v = get("specular")) r.specular = v->text;
     if (auto* v = get("cull")) r.cull = v->flag;
     if (auto* v = get("wireframe")) r.wireframe = v->flag;
     if (auto* v = get("shadows")) r.shadows = v->flag;

@@ -24,6 +24,8 @@ USAGE = [
     (dict(rig="sideways"), "sideways"),
     (dict(shading="toon"), "toon"),
     (dict(tonemap="filmic"), "--tonemap filmic: not a tone mapping"),
+    (dict(specular="eye"), "--specular eye: not a shading eye (expected center or per-view)"),
+    (dict(specular="per-view", shading="flat"), "--specular per-view needs --shading pixel"),
     (dict(backend="nope"), "unknown backend 'nope'"),
     (dict(method="nope"), "unknown method 'nope'"),
     (dict(grid=3), "--grid 3 needs a model file"),

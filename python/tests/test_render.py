@@ -17,6 +17,8 @@ CASES = [
      ["--views", "2", "--rig", "parallel", "--separation", "0.05", "--shading", "flat",
       "--method", "multipass"]),
     ({"tonemap": "aces", "shading": "pixel"}, ["--tonemap", "aces", "--shading", "pixel"]),
+    ({"views": 5, "interaxial": 0.5, "specular": "per-view"},
+     ["--views", "5", "--interaxial", "0.5", "--specular", "per-view"]),
     ({"sky": "gradient", "floating_window": True, "letterbox": 8, "label": ["HI@0.5,0.3,3"],
       "label_anchor": "A@0,0.5,0"},
      ["--sky", "gradient", "--floating-window", "--letterbox", "8", "--label", "HI@0.5,0.3,3",

@@ -219,10 +219,14 @@ const std::vector<GlMethod>& glMethods() {
                     return std::vector<ViewLimitTerm>{layers(c), viewsOvr(c)};
                 },
             .defines =
-                [](ProgramDesc& d, const GlCaps&, int n) {
+                [](ProgramDesc& d, const GlCaps& c, int n) {
                     addDefine(d, "VS_MULTIVIEW");
                     addDefine(d, "NUM_VIEWS", n);
                     d.vsExtensions = "#extension GL_OVR_multiview : require\n";
+                    // The view index may reach outputs other than the position (--specular
+                    // per-view's eye, shaders.cpp) only with GL_OVR_multiview2.
+                    if (c.has("GL_OVR_multiview2"))
+                        d.vsExtensions += "#extension GL_OVR_multiview2 : enable\n";
                 },
             .flatProvoking = true,
             .draw = &Renderer::drawMultiview,

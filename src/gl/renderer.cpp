@@ -200,10 +200,16 @@ int Renderer::viewLimit(const GlMethod& m, Shading shading, int width, int heigh
 }
 
 ProgramDesc Renderer::passProgram(const GlMethod& method, Shading shading, int views,
-                                  bool shadows) const {
+                                  bool shadows, bool perViewEye) const {
     ProgramDesc desc = methodProgram(method, mCaps, shading, views);
     if (shadows) addDefine(desc, "SHADOWS");  // shadow_maps.cpp
     if (mVertexColors) addDefine(desc, "VERTEX_COLORS");
+    if (perViewEye && shading == Shading::Pixel) {
+        // The fragment's view from gl_Layer / gl_ViewportIndex / the MRT flag / uView, or
+        // (kalaiah, multiview) a flat output of the vertex shader: no geometry shader output
+        // grows, so the views a pass takes stay as they are.
+        addDefine(desc, "PER_VIEW_EYE");
+    }
     return desc;
 }
 
@@ -433,6 +439,7 @@ void Renderer::uploadFrameBlock(const Frame& f) {
     FrameBlock b{};
     for (int v = 0; v < f.views; ++v) {
         b.clipFromWorld[v] = f.rig->views[static_cast<std::size_t>(v)].clipFromWorld();
+        b.viewEye[v] = glm::vec4(f.rig->views[static_cast<std::size_t>(v)].eyeWorld, 1.0f);
         if (tiles) {
             // ndc' = (ndc + 1) / C + 2c / C − 1, i.e. clip.x' = clip.x / C + clip.w ((1 + 2c) / C − 1).
             // In NDC, whose y points up whatever the clip origin: column c, row R − 1 − r.
@@ -748,7 +755,8 @@ Status Renderer::renderOnce(const Scene& scene, const Rig& rig, const RenderSett
 Status Renderer::drawPass(Frame& f, int pass, GlFrameStats& stats) {
     const GlMethod& method = *f.method;
     const RenderSettings& s = *f.settings;
-    const ProgramDesc desc = passProgram(method, s.shading, f.views, mShadows != nullptr);
+    const ProgramDesc desc = passProgram(method, s.shading, f.views, mShadows != nullptr,
+                                         s.specular == SpecularEye::PerView);
     Result<GLuint> prog = program(method.name, desc);
     if (!prog) return prog.status();
     if (method.prepare) {

@@ -95,6 +95,8 @@ struct FrameBlock {
     // x range, y cos inner cone, z cos outer cone.
     glm::vec4 lightPos[kMaxLights];
     glm::vec4 lightCone[kMaxLights];
+    // Appended (--specular per-view): each view's eye, world space.
+    glm::vec4 viewEye[kMaxViews];
 };
 // std140: mat4 arrays have a 64-byte stride, vec4 / ivec4 arrays and members 16 bytes, no padding.
 static_assert(std::extent_v<decltype(FrameBlock::clipFromWorld)> == kMaxViews);
@@ -108,8 +110,10 @@ static_assert(offsetof(FrameBlock, lightColor) == 80 * kMaxViews + 16 * kMaxLigh
 static_assert(offsetof(FrameBlock, ambient) == 80 * kMaxViews + 32 * kMaxLights);
 static_assert(offsetof(FrameBlock, centerEye) == 80 * kMaxViews + 32 * kMaxLights + 16);
 static_assert(offsetof(FrameBlock, counts) == 80 * kMaxViews + 32 * kMaxLights + 32);
+static_assert(offsetof(FrameBlock, viewEye) == 80 * kMaxViews + 64 * kMaxLights + 48);
+static_assert(sizeof(FrameBlock) <= 16384);  // GL's smallest GL_MAX_UNIFORM_BLOCK_SIZE
 static_assert(offsetof(FrameBlock, lightPos) == 80 * kMaxViews + 32 * kMaxLights + 48);
-static_assert(sizeof(FrameBlock) == 80 * kMaxViews + 64 * kMaxLights + 48);
+static_assert(sizeof(FrameBlock) == 96 * kMaxViews + 64 * kMaxLights + 48);
 
 /// One scene texture on the GPU (GL_SRGB8_ALPHA8 with its full mip chain), keyed by a hash of
 /// its pixels so a scene rendered again uploads nothing.
@@ -265,7 +269,9 @@ private:
     /// The program of `desc`, built once; build errors say "gl: LABEL: …".
     Result<GLuint> program(const std::string& label, const ProgramDesc& desc);
     /// The program one pass of `views` views of `method` draws with.
-    ProgramDesc passProgram(const GlMethod& method, Shading shading, int views, bool shadows) const;
+    /// perViewEye: --specular per-view (pixel shading): each fragment shaded from its view's eye.
+    ProgramDesc passProgram(const GlMethod& method, Shading shading, int views, bool shadows,
+                            bool perViewEye = false) const;
     void setInstanceUniforms(GLuint program, const Instance& instance);
     /// The instance's material state: its texture and sampler bound (unit 2), culling off
     /// when double-sided, blending with depth writes off for AlphaMode::Blend.

@@ -23,6 +23,7 @@ layout(std140, binding = 0) uniform Frame {
     ivec4 uCounts;              // x: lights, y: views, zw: per-view target size in pixels
     vec4 uLightPos[MAX_LIGHTS];  // xyz: position (point / spot), w: 0 directional, 1 point, 2 spot
     vec4 uLightCone[MAX_LIGHTS]; // x: range (0 = infinite), y: cos inner, z: cos outer
+    vec4 uViewEye[MAX_VIEWS];    // each view's eye, world space (--specular per-view)
 };
 layout(location = 0) uniform int uView;
 layout(location = 1) uniform mat4 uWorldFromModel;
@@ -34,6 +35,15 @@ layout(location = 6) uniform ivec4 uMatFlags;        // x: textured, y: alpha mo
 layout(location = 7) uniform vec2 uAlphaCutoff;      // x: material alpha, y: mask cutoff
 layout(location = 20) uniform vec2 uMetalRough;      // metallic, roughness (model 1)
 layout(location = 21) uniform vec3 uEmissive;        // model 1
+
+// The eye shading looks from (lighting.h SpecularEye): the rig's centre eye, or (--specular
+// per-view, pixel shading) the fragment's own view's, whose index main() finds first.
+#if defined(PER_VIEW_EYE) && defined(FRAGMENT_STAGE) && !defined(DEPTH_ONLY)
+int gEyeView;
+#define SHADING_EYE (uViewEye[gEyeView].xyz)
+#else
+#define SHADING_EYE (uCenterEye.xyz)
+#endif
 
 // Lighting kept as D and S (below) for a base colour that varies across the triangle: a
 // texture's, or (VERTEX_COLORS: some mesh of the frame has them, as the soft backend's
@@ -119,7 +129,7 @@ vec3 lightAt(int i, vec3 p, out vec3 l) {
 // lighting.h facingNormal(): a double-sided material's normal is flipped where it faces away
 // from the centre eye (view-independent, like the rest of shading).
 vec3 facingNormal(vec3 n, vec3 p) {
-    return (uMatFlags.z != 0 && dot(n, uCenterEye.xyz - p) < 0.0) ? -n : n;
+    return (uMatFlags.z != 0 && dot(n, SHADING_EYE - p) < 0.0) ? -n : n;
 }
 
 // lighting.h finishColor(): tone mapped (uAmbient.w: Tonemap 0 none, 1 Khronos PBR Neutral,
@@ -166,7 +176,7 @@ vec3 shadeFlat(vec3 faceNormal, vec3 p) {
 // (added, with the emissive), π folded in as mvr's light convention.
 void metallicRoughnessTerms(vec3 normal, vec3 worldPos, out vec3 diffuse, out vec3 specular) {
     vec3 n = normalize(facingNormal(normal, worldPos));
-    vec3 v = normalize(uCenterEye.xyz - worldPos);
+    vec3 v = normalize(SHADING_EYE - worldPos);
     float metal = clamp(uMetalRough.x, 0.0, 1.0);
     float rough = clamp(uMetalRough.y, 0.0, 1.0);
     float alpha = max(rough * rough, 1e-3);
@@ -207,7 +217,7 @@ vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
     if (uMatFlags.w == 2) return finishColor(uMaterial.rgb);
     vec3 albedo = uMaterial.rgb;
     vec3 n = normalize(facingNormal(normal, worldPos));
-    vec3 v = normalize(uCenterEye.xyz - worldPos);
+    vec3 v = normalize(SHADING_EYE - worldPos);
     vec3 c = uAmbient.rgb * albedo;
     for (int i = 0; i < uCounts.x; ++i) {
         vec3 l;
@@ -251,7 +261,7 @@ void blinnPhongTerms(vec3 normal, vec3 worldPos, out vec3 diffuse, out vec3 spec
         return;
     }
     vec3 n = normalize(facingNormal(normal, worldPos));
-    vec3 v = normalize(uCenterEye.xyz - worldPos);
+    vec3 v = normalize(SHADING_EYE - worldPos);
     diffuse = uAmbient.rgb;
     specular = vec3(0.0);
     for (int i = 0; i < uCounts.x; ++i) {
@@ -320,6 +330,9 @@ layout(location = 6) out vec3 oSpecular;
 #endif
 #endif
 layout(location = 5) out vec2 oTexcoord;
+#if defined(PER_VIEW_EYE) && (defined(VS_KALAIAH) || defined(VS_MULTIVIEW))
+layout(location = 8) flat out int oEyeView;  // the fragment's view (PER_VIEW_EYE)
+#endif
 
 #ifdef VS_MULTIVIEW
 layout(num_views = NUM_VIEWS) in;
@@ -380,8 +393,17 @@ void main() {
     gl_Position = uClipFromWorld[gl_InstanceID] * world;
 #elif defined(VS_MULTIVIEW)
     gl_Position = uClipFromWorld[int(gl_ViewID_OVR)] * world;
+#ifdef PER_VIEW_EYE
+#ifndef GL_OVR_multiview2
+#error "--specular per-view on gl:multiview needs GL_OVR_multiview2 (the view index as an output)"
+#endif
+    oEyeView = int(gl_ViewID_OVR);
+#endif
 #elif defined(VS_KALAIAH)
     vec4 clip = uClipFromWorld[view] * world;
+#ifdef PER_VIEW_EYE
+    oEyeView = view;
+#endif
     // Per-view clipping: the view's own frustum sides, since the partitioned buffer's
     // viewport would otherwise let a triangle spill into the neighbouring view.
     gl_ClipDistance[0] = clip.w + clip.x;
@@ -505,9 +527,26 @@ layout(location = 4) flat in int iFlag;
 layout(location = 1) out vec4 oColor1;
 #endif
 layout(location = 0) out vec4 oColor0;
+#if defined(PER_VIEW_EYE) && (defined(VS_KALAIAH) || defined(VS_MULTIVIEW))
+layout(location = 8) flat in int iEyeView;
+#endif
 #endif
 
 void main() {
+#if defined(PER_VIEW_EYE) && !defined(DEPTH_ONLY)
+    // The fragment's view in the frame block (a pass's views: uploadFrameBlock).
+#if defined(GS_OUT_LAYER) || defined(VS_INSTANCED_LAYER)
+    gEyeView = gl_Layer;
+#elif defined(GS_OUT_VIEWPORT)
+    gEyeView = gl_ViewportIndex;
+#elif defined(GS_OUT_FLAG)
+    gEyeView = iFlag;
+#elif defined(VS_DIRECT)
+    gEyeView = uView;
+#else
+    gEyeView = iEyeView;
+#endif
+#endif
     // The base color texture (sampled in uniform control flow: its derivatives choose the
     // mip level) times the material's color and alpha.
     vec4 tex = uMatFlags.x != 0 ? texture(uBaseColor, iTexcoord) : vec4(1.0);
@@ -636,7 +675,8 @@ Result<Program> buildProgram(const ProgramDesc& desc) {
     auto vs =
         compile(GL_VERTEX_SHADER, head + desc.vsExtensions + desc.defines + common() + kVertex);
     if (!vs) return vs.status();
-    auto fs = compile(GL_FRAGMENT_SHADER, head + desc.defines + common() + kFragment);
+    auto fs = compile(GL_FRAGMENT_SHADER,
+                      head + desc.defines + "#define FRAGMENT_STAGE\n" + common() + kFragment);
     if (!fs) return fs.status();
     if (desc.geometry) {
         auto gs = compile(GL_GEOMETRY_SHADER, head + desc.defines + common() + kGeometry);

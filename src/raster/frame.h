@@ -243,6 +243,24 @@ struct FrameContext {
     /// after the uv (pipeline.h colorAttribute); such a frame is always textured.
     bool colored = false;
 
+    /// --specular per-view (RenderSettings::specular, pixel shading): view v's copy of `shading`
+    /// with its own eye (View::eyeWorld) as centerEye; empty otherwise (setViewShading).
+    std::vector<ShadingContext> viewShading;
+
+    /// The shading context view v's fragments are shaded with.
+    const ShadingContext& shadingOf(std::size_t view) const {
+        return view < viewShading.size() ? viewShading[view] : shading;
+    }
+    /// Fills viewShading from `shading` when the settings ask for per-view specular in pixel
+    /// shading (the only shading evaluated per view); call after `shading` is final.
+    void setViewShading() {
+        viewShading.clear();
+        if (settings.specular != SpecularEye::PerView || settings.shading != Shading::Pixel) return;
+        viewShading.assign(rig.views.size(), shading);
+        for (std::size_t v = 0; v < rig.views.size(); ++v)
+            viewShading[v].centerEye = rig.views[v].eyeWorld;
+    }
+
     const MipChain* textureOf(const Material& m) const {
         return m.baseColorTexture >= 0 && std::size_t(m.baseColorTexture) < mips.size()
                    ? &mips[std::size_t(m.baseColorTexture)]

@@ -199,7 +199,8 @@ void drawWireframe(const FrameContext& f, const ViewVertexData& d, const std::ui
 }
 
 template <Shading S>
-void rasterStage(FrameContext& f, ViewVertexData& d, const Bins& bins, const Target& image) {
+void rasterStage(FrameContext& f, ViewVertexData& d, const Bins& bins, const Target& image,
+                 int view) {
     const int attrCount = attributeCount(S, f.textured, f.colored);
     const std::uint32_t clear = packColor(f.settings.clearColor);
     // Streamed bands (as unified's, FrameContext::streamBands): each worker draws a band into a
@@ -217,7 +218,7 @@ void rasterStage(FrameContext& f, ViewVertexData& d, const Bins& bins, const Tar
         }
         clearRows(target, rowLo, rowHi, clear);  // into the cache just before it is drawn
         FragmentTri frag{};
-        FragmentSink<S> sink{target, &frag, {&f.shading, nullptr, f.textured, nullptr, f.colored}};
+        FragmentSink<S> sink{target, &frag, {&f.shadingOf(std::size_t(view)), nullptr, f.textured, nullptr, f.colored}};
         // Small triangles wait in a queue and are set up 16 at a time (lanes.h), as in unified;
         // everything drawn directly flushes the queue first (submission order).
         LaneQueue<S> queue;
@@ -288,9 +289,9 @@ void renderMultipass(FrameContext& f, std::span<const Target> targets, StageTime
         binStage(f, view, d, bins);
         times.setupMs += clock.lap();
         switch (f.settings.shading) {
-            case Shading::Flat: rasterStage<Shading::Flat>(f, d, bins, targets[v]); break;
-            case Shading::Vertex: rasterStage<Shading::Vertex>(f, d, bins, targets[v]); break;
-            case Shading::Pixel: rasterStage<Shading::Pixel>(f, d, bins, targets[v]); break;
+            case Shading::Flat: rasterStage<Shading::Flat>(f, d, bins, targets[v], v); break;
+            case Shading::Vertex: rasterStage<Shading::Vertex>(f, d, bins, targets[v], v); break;
+            case Shading::Pixel: rasterStage<Shading::Pixel>(f, d, bins, targets[v], v); break;
         }
         times.rasterMs += clock.lap();
     }

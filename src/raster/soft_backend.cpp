@@ -144,7 +144,9 @@ private:
                                false,
                                false,
                                {},
-                               false};
+                               false,
+                               false,
+                               {}};
         f.shading.tonemap = scene.tonemap;
         detail::prepareTextures(f);
         detail::Kernels shadowKernels = f.kernels;
@@ -157,9 +159,11 @@ private:
             shadowed.emplace(detail::FrameContext{f.scene, f.rig, f.settings, f.pool, f.shading,
                                                   std::move(f.draw), f.bands, f.centerClip,
                                                   shadowKernels, f.textured, f.punctualLights,
-                                                  std::move(f.mips), f.streamBands, f.colored});
+                                                  std::move(f.mips), f.streamBands, f.colored,
+                                                  {}});
         }
         detail::FrameContext& frame = shadowed ? *shadowed : f;
+        frame.setViewShading();  // --specular per-view
         const double imageBytes = double(rig.viewCount()) * settings.width * settings.height * 8.0;
         frame.streamBands = imageBytes > double(mOptions.streamAboveBytes);
         std::vector<detail::Target> targets;

@@ -815,8 +815,10 @@ void rasterStage(FrameContext& f, UnifiedData& d, std::span<const Target> target
         // sized so that they fit L2 with all views: makeBands).
         for (const Target& t : draw) clearRows(t, b.rowLo, b.rowHi, clear);
         b.sinks.reserve(draw.size());
-        for (const Target& t : draw)
-            b.sinks.push_back(FragmentSink<S>{t, &b.frag, {&f.shading, nullptr, f.textured, nullptr, f.colored}});
+        for (std::size_t v = 0; v < draw.size(); ++v) {
+            b.sinks.push_back(FragmentSink<S>{
+                draw[v], &b.frag, {&f.shadingOf(v), nullptr, f.textured, nullptr, f.colored}});
+        }
         if (laneFragments) b.slots = stream ? &scratch[std::size_t(worker)].slots : &slots;
         // The queue's fragments side by side (drawLanes) where the views' images are one
         // block (a streamed band's scratch); a slot serves all its views' lanes, so its vertex

@@ -645,6 +645,23 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     auto sh = parseShading(r.shading);
     if (!sh) return usageError(fmt::format("--shading {}: {}", r.shading, sh.status().message()));
     out.settings.shading = *sh;
+    if (r.specular == "per-view") {
+        if (out.settings.shading == Shading::Flat) {
+            return usageError(
+                "--specular per-view needs --shading pixel or vertex (flat shading has no "
+                "highlight)");
+        }
+        out.settings.specular = SpecularEye::PerView;
+        if (out.settings.shading == Shading::Vertex) {
+            out.settings.shading = Shading::Pixel;
+            out.notes.push_back(
+                "note: --specular per-view shades per pixel (vertex colours are shared by all "
+                "views)");
+        }
+    } else if (r.specular != "center") {
+        return usageError(fmt::format(
+            "--specular {}: not a shading eye (expected center or per-view)", r.specular));
+    }
     out.settings.cullBackFaces = r.cull, out.settings.wireframe = r.wireframe;
     if (Status s = applySampling(r, out); !s) return s;  // --aa (sampling.h)
     if (r.shadowMapSize < 16 || r.shadowMapSize > 8192) {

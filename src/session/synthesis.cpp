@@ -18,6 +18,12 @@ Status resolveSynthesis(const RenderRecipe& r, Prepared& p) {
     if (k == 1) return {};
     if (Status s = checkSynthesisRig(p.rig, fmt::format("--synthesize {}", k)); !s) return s;
     p.synthesize = k;
+    if (p.settings.specular == SpecularEye::PerView) {
+        p.notes.push_back(fmt::format(
+            "note: --synthesize {}: the warped views carry their sources' highlights "
+            "(--specular per-view shades the exact views from their eyes)",
+            k));
+    }
     return {};
 }
 

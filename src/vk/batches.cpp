@@ -28,6 +28,7 @@ struct FrameData {
     glm::mat4 clipFromWorld[kMaxViews];
     glm::mat4 shadowClip[kMaxLights];
     glm::vec4 shadowInfo[kMaxLights], shadowTexel[kMaxLights];
+    glm::vec4 viewEye[kMaxViews];  ///< --specular per-view: each view's eye (counts.z = 1)
 };
 struct InstanceData {
     glm::mat4 worldFromModel, normalFromModel, cofactor;
@@ -374,7 +375,7 @@ Status Renderer::prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes)
     return {};
 }
 
-Status Renderer::uploadFrame(const Scene& scene, const Rig& rig) {
+Status Renderer::uploadFrame(const Scene& scene, const Rig& rig, const RenderSettings& s) {
     const std::size_t instanceBytes = std::max<std::size_t>(scene.instances.size(), 1) *
                                       sizeof(InstanceData);
     bool rebind = false;
@@ -417,9 +418,12 @@ Status Renderer::uploadFrame(const Scene& scene, const Rig& rig) {
     }
     f->ambient = glm::vec4(scene.ambient, float(int(scene.tonemap)));  // w: finishColor
     f->centerEye = glm::vec4(rig.centerEye(), 1.0f);
-    f->counts = glm::ivec4(int(scene.lights.size()), int(rig.views.size()), 0, 0);
-    for (std::size_t v = 0; v < rig.views.size(); ++v)
+    const bool perViewEye = s.specular == SpecularEye::PerView && s.shading == Shading::Pixel;
+    f->counts = glm::ivec4(int(scene.lights.size()), int(rig.views.size()), perViewEye ? 1 : 0, 0);
+    for (std::size_t v = 0; v < rig.views.size(); ++v) {
         f->clipFromWorld[v] = rig.views[v].clipFromWorld();
+        f->viewEye[v] = glm::vec4(rig.views[v].eyeWorld, 1.0f);
+    }
     // As gl's setShadowUniforms(): per light its map, or layer −1 (lit).
     for (int k = 0; k < kMaxLights; ++k) {
         f->shadowClip[k] = glm::mat4(1.0f);
@@ -615,7 +619,7 @@ Status Renderer::renderMethod(const Scene& scene, const Rig& rig, const RenderSe
     if (Status st = ensureSlots(s.width, s.height, perBatch); !st) return st;
     std::vector<GpuMesh*> meshes;
     if (Status st = prepareScene(scene, meshes); !st) return st;
-    if (Status st = uploadFrame(scene, rig); !st) return st;
+    if (Status st = uploadFrame(scene, rig, s); !st) return st;
     if (Status st = prepareTextures(scene); !st) return st;
     if (Status st = prepareShadows(); !st) return st;
     out.color.resize(std::size_t(total));

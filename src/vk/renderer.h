@@ -121,7 +121,7 @@ private:
     Result<VkPipeline> pipeline(Method m, Shading shading, int views, bool cull, bool blend,
                                 bool wire);
     Status prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes);
-    Status uploadFrame(const Scene& scene, const Rig& rig);
+    Status uploadFrame(const Scene& scene, const Rig& rig, const RenderSettings& s);
     /// The scene's textures on the device and, per instance, the descriptor set (set 1) of its
     /// base colour texture and sampler (a white texel for untextured ones): mInstanceSets.
     Status prepareTextures(const Scene& scene);

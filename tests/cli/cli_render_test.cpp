@@ -932,6 +932,36 @@ TEST_F(Cli, TonemapAutoFollowsWhereTheLightsComeFrom) {
                 "--tonemap filmic: not a tone mapping (expected none, khr-neutral, aces or auto)");
 }
 
+// --specular per-view (issue 39 item 1): each view's highlights from its own eye. The centre
+// view of an odd row is the centre eye, so its image is --specular center's pixel for pixel
+// (vertex shading, the default, becomes pixel, with a note); the outer views differ; flat
+// shading and a bad name are usage errors.
+TEST_F(Cli, SpecularPerViewShadesEachViewFromItsEye) {
+    const std::string rig = "render --views 3 --interaxial 0.6 --size 96x64";
+    const CliRun centre = run(rig + " --shading pixel -o c");
+    ASSERT_EQ(centre.exitCode, 0) << centre.err;
+    const CliRun perView = run(rig + " --specular per-view -o p");
+    ASSERT_EQ(perView.exitCode, 0) << perView.err;
+    EXPECT_NE(perView.err.find("note: --specular per-view shades per pixel"), std::string::npos)
+        << perView.err;
+    for (int v = 0; v < 3; ++v) {
+        auto a = readPng(mDir / "c" / fmt::format("view-{}.png", v));
+        auto b = readPng(mDir / "p" / fmt::format("view-{}.png", v));
+        ASSERT_TRUE(a && b) << v;
+        const ImageDiff d = compareImages(*a, *b, 1);
+        if (v == 1) {
+            EXPECT_EQ(compareImages(*a, *b).differingPixels, 0);
+        } else {
+            EXPECT_GT(d.differingPixels, 20) << "view " << v;  // the highlights moved
+        }
+    }
+    expectError("render --specular eye", 1,
+                "--specular eye: not a shading eye (expected center or per-view)");
+    expectError("render --specular per-view --shading flat", 1,
+                "--specular per-view needs --shading pixel or vertex (flat shading has no "
+                "highlight)");
+}
+
 /// A glTF of one quad (mesh 0: corners `pos`, normal +Z, in a data URI) after `head`, the JSON
 /// members before "meshes" (asset, scenes, nodes, cameras, lights, materials); `material`:
 /// whether the quad uses material 0.

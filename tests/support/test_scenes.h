@@ -209,16 +209,18 @@ inline Camera cameraFor(const Scene& scene, float aspect) {
     return c;
 }
 
-/// An off-axis rig of columns × rows views with exaggerated spacing (so the eyes really differ).
-inline Rig rigFor(const Scene& scene, int columns, int rows, float aspect = 4.0f / 3.0f) {
+/// An off-axis rig of columns × rows views with exaggerated spacing (so the eyes really differ),
+/// `spread` times wider still where asked.
+inline Rig rigFor(const Scene& scene, int columns, int rows, float aspect = 4.0f / 3.0f,
+                  float spread = 1.0f) {
     const Camera cam = cameraFor(scene, aspect);
     RigParams p;
     p.columns = columns;
     p.rows = rows;
     const float dist = glm::length(cam.position - cam.target);
     p.convergence = dist;
-    p.interaxial = 0.06f * dist;
-    p.interaxialY = 0.03f * dist;
+    p.interaxial = 0.06f * dist * spread;
+    p.interaxialY = 0.03f * dist * spread;
     auto rig = makeRig(cam, p);
     EXPECT_TRUE(rig) << rig.status().message();
     return rig ? *rig : Rig{};

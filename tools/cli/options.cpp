@@ -253,6 +253,12 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
                     "cm the budget is half the eye separation (desktop, nvidia-gtc2010)");
     app->add_option("--shading", shading, "Shading: flat, vertex (Gouraud) or pixel (per-fragment)")
         ->default_val(shading);
+    app->add_option("--specular", specular,
+                    "Whose eye the highlights are seen from: center (the rig's centre eye, "
+                    "shading shared by every view) or per-view (each view's own eye, per pixel: "
+                    "highlights move between views as on a real surface)")
+        ->default_val(specular)
+        ->type_name("center|per-view");
     app->add_flag("--cull", cullBackFaces, "Cull back faces");
     app->add_flag("--wireframe", wireframe, "Draw triangle edges only");
     app->add_flag("--shadows", shadows,
@@ -314,6 +320,7 @@ session::RenderRecipe SceneOptions::recipe() const {
     r.screen = screen;
     if (display.empty() || given(sizeOption)) r.size = size;
     r.shading = shading;
+    r.specular = specular;
     r.cull = cullBackFaces;
     r.wireframe = wireframe;
     r.shadows = shadows;

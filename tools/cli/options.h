@@ -58,6 +58,7 @@ struct SceneOptions {
     double fov = 45.0;
     std::string size = "1024x768";
     std::string shading = "vertex";
+    std::string specular = "center";  ///< --specular
     bool cullBackFaces = false;
     bool wireframe = false;
     bool shadows = false;                     ///< --shadows (issue 15, shadows.h)

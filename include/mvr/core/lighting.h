@@ -12,7 +12,8 @@
 // The view vector for the specular term points from the surface to the rig's CENTER eye
 // (Rig::centerEye), not to each view's eye: shading is view-independent, so it can be done
 // once for all views (kalaiah2007's view-independent attributes) and every method, single
-// pass or multipass, produces the same colors.
+// pass or multipass, produces the same colors. RenderSettings::specular PerView (SpecularEye,
+// `--specular per-view`) sets centerEye to each view's own eye, per pixel, instead.
 // Output is linear [0, 1] per channel, clamped, alpha 1; quantized to 8 bits as
 // uint8(clamp(c, 0, 1) * 255 + 0.5).
 //
@@ -89,6 +90,13 @@ namespace mvr {
 struct ShadowSet;  // shadows.h
 
 enum class Shading { Flat, Vertex, Pixel };
+
+/// Whose eye shading looks from (issue 39, `--specular`): Center, the rig's centre eye for every
+/// view (the default: shading is view-independent, computed once for all views); PerView, each
+/// view's own eye (View::eyeWorld) as ShadingContext::centerEye, so highlights and the
+/// double-sided flip move between views as they do on a real surface. PerView is per pixel
+/// (shadedSettings); flat shading has no highlight and keeps the centre eye's flip.
+enum class SpecularEye { Center, PerView };
 
 /// Everything shading needs that does not depend on the view.
 struct ShadingContext {

@@ -45,6 +45,8 @@ struct RenderSettings {
     /// Samples a pixel (issue 38, `--aa N`: 1, 2, 4, 8; mvr/core/antialias.h): > 1 renders
     /// that many sub-pixel passes and resolves them (renderSampled()), in every backend.
     int samples = 1;
+    /// The shading eye (issue 39, `--specular center|per-view`; lighting.h SpecularEye).
+    SpecularEye specular = SpecularEye::Center;
 };
 
 /// Caller-owned memory for the images of one render: `views` colour images of width×height
@@ -166,9 +168,12 @@ inline Result<RenderOutput> renderThroughInto(Backend& backend, const Scene& sce
 /// The settings a backend renders `s` with. Shadow maps are looked up where the lighting is
 /// evaluated, and per vertex they vanish inside large triangles (a ground quad of four
 /// vertices under a floating plate shows no shadow at all): vertex shading with shadows is
-/// shaded per pixel. Flat keeps one shadow factor per triangle (at its centroid).
+/// shaded per pixel. Flat keeps one shadow factor per triangle (at its centroid). Per-view
+/// specular is per pixel too: vertex colours are computed once for all views.
 inline RenderSettings shadedSettings(RenderSettings s) {
     if (s.shadows && s.shading == Shading::Vertex) s.shading = Shading::Pixel;
+    if (s.specular == SpecularEye::PerView && s.shading == Shading::Vertex)
+        s.shading = Shading::Pixel;
     return s;
 }
 

@@ -182,6 +182,9 @@ struct RenderRecipe {
     // ---- the image ----
     std::optional<std::string> size;  ///< "WxH" per view (default 1024x768, or the display's)
     std::string shading = "vertex";  ///< flat | vertex | pixel
+    /// --specular center | per-view (RenderSettings::specular): per-view shades each view from
+    /// its own eye, per pixel (vertex shading becomes pixel; flat is refused).
+    std::string specular = "center";
     bool cull = false;
     bool wireframe = false;
     bool shadows = false;

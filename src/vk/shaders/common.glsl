@@ -17,7 +17,17 @@ layout(std430, set = 0, binding = 0) readonly buffer FrameData {
     mat4 uShadowClip[MAX_LIGHTS];
     vec4 uShadowInfo[MAX_LIGHTS];
     vec4 uShadowTexel[MAX_LIGHTS];
+    vec4 uViewEye[MAX_VIEWS];      // each view's eye (--specular per-view: uCounts.z = 1)
 };
+
+// The eye shading looks from (lighting.h SpecularEye): the rig's centre eye, or in the fragment
+// shader (pixel shading, --specular per-view) the fragment's view's, which main() sets first.
+#ifdef FRAGMENT_STAGE
+vec3 gShadingEye;
+#define SHADING_EYE gShadingEye
+#else
+#define SHADING_EYE (uCenterEye.xyz)
+#endif
 // Linear distances, one layer per map (a 1x1 layer no light reads when there are none).
 layout(set = 0, binding = 2) uniform sampler2DArray uShadowMaps;
 
@@ -102,7 +112,7 @@ vec3 lightAt(int i, vec3 p, out vec3 l) {
 }
 
 vec3 facingNormal(InstanceData m, vec3 n, vec3 p) {
-    return (m.flags.z != 0 && dot(n, uCenterEye.xyz - p) < 0.0) ? -n : n;
+    return (m.flags.z != 0 && dot(n, SHADING_EYE - p) < 0.0) ? -n : n;
 }
 
 // lighting.h finishColor(): tone mapped (uAmbient.w: Tonemap 0 none, 1 Khronos PBR Neutral,
@@ -146,7 +156,7 @@ vec3 shadeFlat(InstanceData m, vec3 faceNormal, vec3 p) {
 void metallicRoughnessTerms(InstanceData m, vec3 normal, vec3 worldPos, out vec3 diffuse,
                             out vec3 specular) {
     vec3 n = normalize(facingNormal(m, normal, worldPos));
-    vec3 v = normalize(uCenterEye.xyz - worldPos);
+    vec3 v = normalize(SHADING_EYE - worldPos);
     float metal = clamp(m.pbr.x, 0.0, 1.0);
     float rough = clamp(m.pbr.y, 0.0, 1.0);
     float alpha = max(rough * rough, 1e-3);
@@ -186,7 +196,7 @@ vec3 shadeBlinnPhong(InstanceData m, vec3 normal, vec3 worldPos) {
     if (m.pbr.z == 2.0) return finishColor(m.material.rgb);
     vec3 albedo = m.material.rgb;
     vec3 n = normalize(facingNormal(m, normal, worldPos));
-    vec3 v = normalize(uCenterEye.xyz - worldPos);
+    vec3 v = normalize(SHADING_EYE - worldPos);
     vec3 c = uAmbient.rgb * albedo;
     for (int i = 0; i < uCounts.x; ++i) {
         vec3 l;
@@ -229,7 +239,7 @@ void blinnPhongTerms(InstanceData m, vec3 normal, vec3 worldPos, out vec3 diffus
         return;
     }
     vec3 n = normalize(facingNormal(m, normal, worldPos));
-    vec3 v = normalize(uCenterEye.xyz - worldPos);
+    vec3 v = normalize(SHADING_EYE - worldPos);
     diffuse = uAmbient.rgb;
     specular = vec3(0.0);
     for (int i = 0; i < uCounts.x; ++i) {

@@ -1,4 +1,5 @@
 #version 450
+#define FRAGMENT_STAGE
 #include "common.glsl"
 
 layout(location = 3) in vec4 iVertexColor;
@@ -7,6 +8,7 @@ layout(set = 1, binding = 0) uniform sampler2D uBaseColor;  // sRGB: sampled in 
 #if defined(SHADING_PIXEL)
 layout(location = 0) in vec3 iWorld;
 layout(location = 1) in vec3 iNormal;
+layout(location = 6) flat in int iView;  // the request's index of the fragment's view
 #elif defined(SHADING_FLAT)
 layout(location = 2) flat in vec3 iColor;
 #else
@@ -16,6 +18,11 @@ layout(location = 4) in vec3 iSpecular;
 layout(location = 0) out vec4 oColor0;
 
 void main() {
+#if defined(SHADING_PIXEL)
+    gShadingEye = uCounts.z != 0 ? uViewEye[iView].xyz : uCenterEye.xyz;
+#else
+    gShadingEye = uCenterEye.xyz;
+#endif
     InstanceData m = uInstances[pc.instance];
     // The base colour texture (sampled in uniform control flow: its derivatives choose the mip
     // level; untextured instances bind a white texel) times glTF's COLOR_0, times the

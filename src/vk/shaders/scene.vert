@@ -23,6 +23,7 @@ layout(location = 5) out vec2 oTexcoord;
 #ifdef SHADING_PIXEL
 layout(location = 0) out vec3 oWorld;
 layout(location = 1) out vec3 oNormal;
+layout(location = 6) flat out int oView;  // --specular per-view: the view's eye (scene.frag)
 #elif defined(SHADING_FLAT)
 layout(location = 2) flat out vec3 oColor;
 #else
@@ -60,6 +61,9 @@ void main() {
 #else
     int view = pc.viewBase + gl_InstanceIndex;
     gl_Layer = gl_InstanceIndex;
+#endif
+#ifdef SHADING_PIXEL
+    oView = view;
 #endif
     vec4 clip = uClipFromWorld[view] * world;
     // mvr's clip space is OpenGL's (z in [-w, w], +y up): Vulkan's y points down and its depth
