@@ -155,6 +155,9 @@ vec3 finishColor(vec3 c) {
     return clamp(c, 0.0, 1.0);
 }
 
+// lighting.h flatSpecular(): flat's S, a metallic-roughness material's emissive.
+vec3 flatSpecular() { return uMatFlags.w == 1 ? uEmissive : vec3(0.0); }
+
 // lighting.h shadeFlat() (p: the triangle's centroid, for point / spot lights)
 // Shadows (issue 15): each light's term × shadowFactor at p, with the unflipped normal (as the
 // soft backend's shadowFactors).
@@ -169,7 +172,7 @@ vec3 shadeFlat(vec3 faceNormal, vec3 p) {
         vec3 lc = lightAt(i, p, l);
         c += (max(dot(faceNormal, l), 0.0) * albedo * lc) * shadowFactor(i, p, n0);
     }
-    return finishColor(c);
+    return finishColor(c + flatSpecular());
 }
 
 // lighting.h metallicRoughnessTerms(): glTF 2.0 Appendix B's BRDF as D (× base colour) and S
@@ -592,7 +595,12 @@ void main() {
     }
 #else
     // lighting.h shadeTextured(): base = albedo × texel.
-    c = SPLIT_LIGHTING ? finishColor(uMaterial.rgb * tex.rgb * iColor + iSpecular) : iColor;
+#if defined(SHADING_FLAT)
+    vec3 s = flatSpecular();  // flatTerms' S
+#else
+    vec3 s = iSpecular;
+#endif
+    c = SPLIT_LIGHTING ? finishColor(uMaterial.rgb * tex.rgb * iColor + s) : iColor;
 #endif
 #ifdef GS_OUT_FLAG
     // sorbier2008 §4.2: every fragment is written to both MRT attachments; the other eye's

@@ -638,6 +638,7 @@ struct FragmentSink {
         LightTerms terms;
         if constexpr (S == Shading::Flat) {
             terms.diffuse = tri->flatD;
+            terms.specular = flatSpecular(m);
         } else if constexpr (S == Shading::Vertex) {
             terms.diffuse = glm::vec3(at(0), at(1), at(2));
             terms.specular = glm::vec3(at(3), at(4), at(5));

@@ -121,6 +121,7 @@ const std::vector<SceneCase>& sceneCases() {
         {"pbr", 2, 1, Shading::Pixel},
         {"pbr", 3, 2, Shading::Vertex},
         {"pbr", 2, 1, Shading::Pixel, false, false, true},
+        {"textured-pbr", 2, 1, Shading::Flat},
         {"textured-pbr", 2, 1, Shading::Vertex},
         {"textured-pbr", 3, 2, Shading::Pixel},
         // Issue 39 item 2: tone mapping where the clamp was (lighting.h finishColor), under

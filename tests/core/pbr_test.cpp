@@ -170,6 +170,22 @@ TEST(MetallicRoughness, EmissiveIsAddedOnceAndUnlitIsTheBaseColour) {
     EXPECT_NEAR(lit.x - dark.x, 0.25f, 1e-6f);
     EXPECT_NEAR(lit.y - dark.y, 0.0f, 1e-6f);
     EXPECT_NEAR(lit.z - dark.z, 0.5f, 1e-6f);
+    // Flat: Lambert of the base colour (ambient + n·l · light), plus the emissive, once.
+    {
+        const glm::vec3 p(0.0f);
+        const double nl = std::max(0.0, double(glm::dot(s.n, s.light.towardLight)));
+        const glm::dvec3 lambert = glm::dvec3(m.albedo) *
+                                   (glm::dvec3(s.ctx.ambient) + nl * glm::dvec3(s.light.color));
+        const glm::vec3 flat = shadeFlat(s.ctx, m, s.n, p);
+        EXPECT_NEAR(flat.x, lambert.x + 0.25, 1e-5);
+        EXPECT_NEAR(flat.y, lambert.y, 1e-5);
+        EXPECT_NEAR(flat.z, lambert.z + 0.5, 1e-5);
+        const LightTerms t = flatTerms(s.ctx, m, s.n, p);
+        EXPECT_EQ(t.specular, m.emissive);
+        EXPECT_EQ(shadeTextured(m.albedo, t), flat);  // textured flat agrees with untextured
+        Material bp(m.albedo);  // Blinn-Phong has no emissive
+        EXPECT_EQ(flatTerms(s.ctx, bp, s.n, p).specular, glm::vec3(0.0f));
+    }
 
     Material u(glm::vec3(0.3f, 0.6f, 0.9f));
     u.model = MaterialModel::Unlit;

@@ -57,10 +57,10 @@
 // The factor π is mvr's light convention: a light's colour is the irradiance it gives at normal
 // incidence over π, so a white Lambertian surface facing a light of colour 1 is 1 in either
 // model, and a glTF file and an OBJ of the same lights are equally bright. The ambient term is
-// ambient · base, as Blinn-Phong's; emissive (Material::emissive) is added to S once (smooth
-// shading only). v is the centre eye's, as for Blinn-Phong: computed once for all views. Flat
-// shading stays Lambert of the base colour (no specular, no emissive) for Blinn-Phong and
-// metallic-roughness alike. Unlit: D = 1, S = 0 (the base colour), in every shading.
+// ambient · base, as Blinn-Phong's; emissive (Material::emissive) is added to S once. v is the
+// centre eye's, as for Blinn-Phong: computed once for all views. Flat shading stays Lambert of
+// the base colour (no specular) for Blinn-Phong and metallic-roughness alike, plus the
+// emissive (flatSpecular). Unlit: D = 1, S = 0 (the base colour), in every shading.
 //
 // Tone mapping (issue 39 item 2; ShadingContext::tonemap, from Scene::tonemap): finishColor() is
 // the last step of every lit colour, where the clamp to [0, 1] was: Khronos PBR Neutral or ACES
@@ -310,8 +310,14 @@ inline LightTerms metallicRoughnessTerms(const ShadingContext& ctx, const Materi
 /// Unlit's terms: the base colour as it is (D = 1, S = 0).
 inline LightTerms unlitTerms() { return {glm::vec3(1.0f), glm::vec3(0.0f)}; }
 
+/// Flat's S: a metallic-roughness material's emissive (flat shading has no highlight), else 0.
+inline glm::vec3 flatSpecular(const Material& m) {
+    return m.model == MaterialModel::MetallicRoughness ? m.emissive : glm::vec3(0.0f);
+}
+
 /// Flat at `worldPos` (the triangle's centroid; only point / spot lights use it): ambient +
-/// Σ att · max(dot(n, l), 0) · albedo · lightColor. `faceNormal` unit, world space.
+/// Σ att · max(dot(n, l), 0) · albedo · lightColor (+ the emissive: flatSpecular). `faceNormal`
+/// unit, world space.
 /// `shadow` (issue 15): per light, the factor (shadows.h) multiplying its term; null = lit.
 inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal,
                            glm::vec3 worldPos, const float* shadow = nullptr) {
@@ -329,7 +335,7 @@ inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::ve
                  sf;
         }
     }
-    return finishColor(ctx, c);
+    return finishColor(ctx, c + flatSpecular(m));
 }
 /// Flat with directional lights only (the position is not needed).
 inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal,
@@ -372,7 +378,7 @@ inline glm::vec3 shadeBlinnPhong(const ShadingContext& ctx, const Material& m, g
 }
 
 /// Flat's terms: D = ambient + Σ att · max(n·l, 0) · lightColor at `worldPos` (the centroid),
-/// S = 0. `faceNormal` unit. `shadow`: per-light factors (issue 15), null = lit.
+/// S = flatSpecular (the emissive). `faceNormal` unit. `shadow`: per-light factors (issue 15), null = lit.
 inline LightTerms flatTerms(const ShadingContext& ctx, const Material& m, glm::vec3 faceNormal,
                             glm::vec3 worldPos, const float* shadow = nullptr) {
     if (m.model == MaterialModel::Unlit) return unlitTerms();
@@ -384,6 +390,7 @@ inline LightTerms flatTerms(const ShadingContext& ctx, const Material& m, glm::v
         t.diffuse += (std::max(glm::dot(faceNormal, s.toLight), 0.0f) * (l.color * s.attenuation)) *
                      shadowFactor(ctx, l, shadow);
     }
+    t.specular = flatSpecular(m);
     return t;
 }
 

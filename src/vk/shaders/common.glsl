@@ -138,6 +138,9 @@ vec3 finishColor(vec3 c) {
     return clamp(c, 0.0, 1.0);
 }
 
+// lighting.h flatSpecular(): flat's S, a metallic-roughness material's emissive.
+vec3 flatSpecular(InstanceData m) { return m.pbr.z == 1.0 ? m.emissive.rgb : vec3(0.0); }
+
 vec3 shadeFlat(InstanceData m, vec3 faceNormal, vec3 p) {
     if (m.pbr.z == 2.0) return finishColor(m.material.rgb);
     vec3 n0 = faceNormal;
@@ -149,7 +152,7 @@ vec3 shadeFlat(InstanceData m, vec3 faceNormal, vec3 p) {
         vec3 lc = lightAt(i, p, l);
         c += (max(dot(faceNormal, l), 0.0) * albedo * lc) * shadowFactor(i, p, n0);
     }
-    return finishColor(c);
+    return finishColor(c + flatSpecular(m));
 }
 
 // lighting.h metallicRoughnessTerms(), as gl's shaders.cpp has it.

@@ -46,7 +46,7 @@ void main() {
         c = shadeBlinnPhong(m, iNormal, iWorld);
     }
 #elif defined(SHADING_FLAT)
-    vec3 c = split ? finishColor(base * iColor) : iColor;
+    vec3 c = split ? finishColor(base * iColor + flatSpecular(m)) : iColor;
 #else
     vec3 c = split ? finishColor(base * iColor + iSpecular) : iColor;
 #endif
