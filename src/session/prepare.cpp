@@ -184,11 +184,13 @@ Status applyExposure(Prepared& out, std::optional<double> ev, bool isAuto, bool 
     } else if (ev) {
         exposeLights(out.scene, float(*ev));
     } else if (fromFiles && peak > 8.0f && std::isfinite(peak)) {
+        // Tone mapped (applyTonemap ran first), colours this bright still wash out to white.
         out.notes.push_back(fmt::format(
             "warning: the lights of {} light the scene's centre at {:.3g}x full colour "
-            "(photometric units, as Blender's exporter writes them?): surfaces saturate; "
+            "(photometric units, as Blender's exporter writes them?): surfaces {}; "
             "--exposure auto scales them to 1x, --exposure EV by 2^EV",
-            out.sceneName, peak));
+            out.sceneName, peak,
+            out.scene.tonemap == Tonemap::None ? "saturate" : "wash out to white"));
     }
     return {};
 }
@@ -784,8 +786,13 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
         out.scene = std::move(loaded).value();
     }
     if (Status s = validateScene(out.scene); !s) return s;
-    if (Status s = applyExposure(out, r.exposure, r.exposureAuto, !noModels); !s) return s;
     if (Status s = applyTonemap(out.scene, r.tonemap); !s) return s;
+    if (r.tonemap == "auto" && out.scene.tonemap != Tonemap::None) {
+        out.notes.push_back(
+            "note: --tonemap auto chose khr-neutral: the model files' own lights (physical "
+            "units) light the scene; --tonemap none clamps instead");
+    }
+    if (Status s = applyExposure(out, r.exposure, r.exposureAuto, !noModels); !s) return s;
 
     // The camera, near/far, convergence and spacing: the library's framing (framing.h).
     params.fovYDegrees = static_cast<float>(fov);

@@ -924,6 +924,12 @@ TEST_F(Cli, TonemapAutoFollowsWhereTheLightsComeFrom) {
         }
     }
     EXPECT_GT(checked, 96 * 64 / 2);
+    // auto's choice is said; a tone mapping given is not.
+    const CliRun noted = run(fmt::format("render {} --views 1 --size 32x24 -o t", file));
+    EXPECT_NE(noted.err.find("note: --tonemap auto chose khr-neutral"), std::string::npos)
+        << noted.err;
+    const CliRun given = run(fmt::format("render {} --tonemap aces --views 1 --size 32x24 -o t", file));
+    EXPECT_EQ(given.err.find("--tonemap auto"), std::string::npos) << given.err;
     // The default scene's lights are mvr's: auto is none.
     const Image def = render("", "d");
     EXPECT_EQ(compareImages(def, render("--tonemap none", "dn")).differingPixels, 0);
@@ -1118,6 +1124,10 @@ TEST_P(CliGltfBackends, ExposureScalesTheFilesLights) {
     ASSERT_TRUE(bright);
     EXPECT_NE(err.find("warning: the lights of "), std::string::npos) << err;
     EXPECT_NE(err.find("at 1e+03x full colour"), std::string::npos) << err;
+    // The file's lights chose khr-neutral (--tonemap auto), which compresses but cannot save
+    // a scene this bright; the note says what was chosen.
+    EXPECT_NE(err.find("surfaces wash out to white"), std::string::npos) << err;
+    EXPECT_NE(err.find("note: --tonemap auto chose khr-neutral"), std::string::npos) << err;
     EXPECT_NE(err.find("--exposure auto"), std::string::npos) << err;
     EXPECT_GT(compareImages(*one, *bright, 2).differingPixels, 160 * 120 / 4) << backend;
     const auto autoExposed = render("auto.gltf", 1000.0f, "--exposure auto", &err);
