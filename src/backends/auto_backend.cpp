@@ -92,8 +92,9 @@ private:
     };
 
     static std::string requestKey(const Scene& scene, const Rig& rig, const RenderSettings& s) {
-        return fmt::format("{}/{}x{}/{}/{}{}/{}:{}/{}/{}/{}/{}/{}", rig.viewCount(), s.width,
+        return fmt::format("{}/{}x{}/{}/{}{}/{}/{}:{}/{}/{}/{}/{}/{}", rig.viewCount(), s.width,
                            s.height, shadingName(s.shading), s.cullBackFaces, s.wireframe,
+                           int(s.specular),
                            s.shadows, s.shadows ? s.shadowMapSize : 0, scene.triangleCount(),
                            scene.instances.size(), scene.meshes.size(), scene.textures.size(),
                            scene.lights.size());

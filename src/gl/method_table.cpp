@@ -228,6 +228,12 @@ const std::vector<GlMethod>& glMethods() {
                     if (c.has("GL_OVR_multiview2"))
                         d.vsExtensions += "#extension GL_OVR_multiview2 : enable\n";
                 },
+            .perViewEyeMissing = [](const GlCaps& c) -> std::string {
+                if (c.has("GL_OVR_multiview2")) return {};
+                return fmt::format("needs GL_OVR_multiview2 (the view index as a vertex "
+                                   "shader output); {} has only GL_OVR_multiview",
+                                   driverName(c));
+            },
             .flatProvoking = true,
             .draw = &Renderer::drawMultiview,
         },

@@ -49,6 +49,9 @@ struct GlMethod {
                                          int height) = nullptr;
     /// The method's #defines (after the shading one), vertex-shader extensions, GS flag.
     void (*defines)(ProgramDesc& d, const GlCaps& caps, int views) = nullptr;
+    /// What the driver lacks for `--specular per-view` in pixel shading, the fragment's view as
+    /// an output of the vertex stage ("" when nothing); nullptr: no requirement beyond `missing`.
+    std::string (*perViewEyeMissing)(const GlCaps& caps) = nullptr;
     /// Flat shading draws the provoking-vertex arrays (FLAT_PROVOKING): no stage before the
     /// fragment shader sees the whole triangle.
     bool flatProvoking = false;

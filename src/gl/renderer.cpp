@@ -248,6 +248,11 @@ int Renderer::linkedViewLimit(const GlMethod& method, Shading shading, bool shad
 }
 
 Status Renderer::checkViews(const GlMethod& m, int views, const RenderSettings& s) const {
+    if (s.specular == SpecularEye::PerView && s.shading == Shading::Pixel &&
+        m.perViewEyeMissing) {
+        if (const std::string why = m.perViewEyeMissing(mCaps); !why.empty())
+            return unsupportedError(fmt::format("gl: {}: --specular per-view {}", m.name, why));
+    }
     // Colour (4 bytes) + depth (4 bytes) per pixel per view on the GPU side, the same again
     // for the images handed back: refuse what would not fit in memory instead of failing
     // (or being killed) halfway.
@@ -813,8 +818,8 @@ Status Renderer::renderAuto(const Scene& scene, const Rig& rig, const RenderSett
     std::uint64_t sceneKey = 0;
     if (Status st = prepareScene(scene, probe, sceneKey); !st) return st;
     const std::string key =
-        fmt::format("{:x}/{}x{}/{}/{}/{}{}", sceneKey, s.width, s.height, rig.viewCount(),
-                    shadingName(s.shading), s.cullBackFaces, s.wireframe);
+        fmt::format("{:x}/{}x{}/{}/{}/{}{}/{}", sceneKey, s.width, s.height, rig.viewCount(),
+                    shadingName(s.shading), s.cullBackFaces, s.wireframe, int(s.specular));
     if (auto it = mAutoChoices.find(key); it != mAutoChoices.end()) {
         if (Status st = renderOnce(scene, rig, s, *it->second.method, out); !st) return st;
         out.method = it->second.method->name;

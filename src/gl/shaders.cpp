@@ -127,7 +127,8 @@ vec3 lightAt(int i, vec3 p, out vec3 l) {
 }
 
 // lighting.h facingNormal(): a double-sided material's normal is flipped where it faces away
-// from the centre eye (view-independent, like the rest of shading).
+// from the shading eye (the centre eye, view-independent like the rest of shading; with
+// PER_VIEW_EYE the fragment's view's).
 vec3 facingNormal(vec3 n, vec3 p) {
     return (uMatFlags.z != 0 && dot(n, SHADING_EYE - p) < 0.0) ? -n : n;
 }

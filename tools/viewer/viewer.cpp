@@ -439,6 +439,11 @@ void Viewer::apply(Action action) {
             say(mSettings.wireframe ? "wireframe on" : "wireframe off");
             return;
         case Action::NextShading:
+            if (mSettings.specular == SpecularEye::PerView) {
+                // Per-view highlights are per pixel (shadedSettings): nothing to cycle.
+                say("pixel shading (--specular per-view)");
+                return;
+            }
             mSettings.shading = mSettings.shading == Shading::Flat     ? Shading::Vertex
                                 : mSettings.shading == Shading::Vertex ? Shading::Pixel
                                                                        : Shading::Flat;

@@ -71,7 +71,7 @@
 // Double-sided materials (Material::doubleSided): never back-face culled; the normal used for
 // lighting is flipped when it faces away from the rig's CENTER eye (facingNormal) — a
 // view-independent rule like the rest of shading, so vertex lighting is still done once for
-// all views. Single-sided materials keep their normal (back faces are only drawn when culling
+// all views (with --specular per-view, pixel shading, each view's own eye: ctx.centerEye). Single-sided materials keep their normal (back faces are only drawn when culling
 // is off).
 #pragma once
 
@@ -242,7 +242,8 @@ inline LightSample lightAt(const Light& l, glm::vec3 worldPos) {
 }
 
 /// The normal lighting uses: `n` itself, or −n for a double-sided material when n faces away
-/// from the center eye (dot(n, centerEye − p) < 0). `n` need not be unit.
+/// from the shading eye (dot(n, centerEye − p) < 0: the rig's centre eye, or the view's own
+/// with --specular per-view). `n` need not be unit.
 inline glm::vec3 facingNormal(const ShadingContext& ctx, const Material& m, glm::vec3 n,
                               glm::vec3 worldPos) {
     if (m.doubleSided && glm::dot(n, ctx.centerEye - worldPos) < 0.0f) return -n;

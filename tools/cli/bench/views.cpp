@@ -189,7 +189,7 @@ int runViews(const ViewsOptions& o) {
         const std::size_t first = report.rows.size();
         for (std::size_t j = 0; j < jobs.size(); ++j) {
             RenderRow row = renderRow(jobs[j], m[j], p.scene.triangleCount());
-            row.shading = shadingLabel, row.model = model, row.copies = o.grid;
+            row.shading = shadingName(p.settings.shading), row.model = model, row.copies = o.grid;
             row.views = c * r, row.samples = a, row.synthesize = k;
             row.config = fmt::format("{}x{}{}{}", c, r, a > 1 ? fmt::format(" aa{}", a) : "",
                                      k > 1 ? fmt::format(" k{}", k) : "");
