@@ -204,7 +204,7 @@ ProgramDesc Renderer::passProgram(const GlMethod& method, Shading shading, int v
     ProgramDesc desc = methodProgram(method, mCaps, shading, views);
     if (shadows) addDefine(desc, "SHADOWS");  // shadow_maps.cpp
     if (mVertexColors) addDefine(desc, "VERTEX_COLORS");
-    if (perViewEye && shading == Shading::Pixel) {
+    if (perViewEye) {
         // The fragment's view from gl_Layer / gl_ViewportIndex / the MRT flag / uView, or
         // (kalaiah, multiview) a flat output of the vertex shader: no geometry shader output
         // grows, so the views a pass takes stay as they are.
@@ -248,8 +248,7 @@ int Renderer::linkedViewLimit(const GlMethod& method, Shading shading, bool shad
 }
 
 Status Renderer::checkViews(const GlMethod& m, int views, const RenderSettings& s) const {
-    if (s.specular == SpecularEye::PerView && s.shading == Shading::Pixel &&
-        m.perViewEyeMissing) {
+    if (shadesFromEachEye(s) && m.perViewEyeMissing) {
         if (const std::string why = m.perViewEyeMissing(mCaps); !why.empty())
             return unsupportedError(fmt::format("gl: {}: --specular per-view {}", m.name, why));
     }
@@ -761,7 +760,7 @@ Status Renderer::drawPass(Frame& f, int pass, GlFrameStats& stats) {
     const GlMethod& method = *f.method;
     const RenderSettings& s = *f.settings;
     const ProgramDesc desc = passProgram(method, s.shading, f.views, mShadows != nullptr,
-                                         s.specular == SpecularEye::PerView);
+                                         shadesFromEachEye(s));
     Result<GLuint> prog = program(method.name, desc);
     if (!prog) return prog.status();
     if (method.prepare) {

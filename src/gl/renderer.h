@@ -269,7 +269,7 @@ private:
     /// The program of `desc`, built once; build errors say "gl: LABEL: …".
     Result<GLuint> program(const std::string& label, const ProgramDesc& desc);
     /// The program one pass of `views` views of `method` draws with.
-    /// perViewEye: --specular per-view (pixel shading): each fragment shaded from its view's eye.
+    /// perViewEye: each fragment shaded from its view's eye (shadesFromEachEye).
     ProgramDesc passProgram(const GlMethod& method, Shading shading, int views, bool shadows,
                             bool perViewEye = false) const;
     void setInstanceUniforms(GLuint program, const Instance& instance);

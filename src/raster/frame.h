@@ -255,7 +255,7 @@ struct FrameContext {
     /// shading (the only shading evaluated per view); call after `shading` is final.
     void setViewShading() {
         viewShading.clear();
-        if (settings.specular != SpecularEye::PerView || settings.shading != Shading::Pixel) return;
+        if (!shadesFromEachEye(settings)) return;
         viewShading.assign(rig.views.size(), shading);
         for (std::size_t v = 0; v < rig.views.size(); ++v)
             viewShading[v].centerEye = rig.views[v].eyeWorld;

@@ -655,7 +655,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
         }
         out.settings.specular = SpecularEye::PerView;
         if (out.settings.shading == Shading::Vertex) {
-            out.settings.shading = Shading::Pixel;
+            out.settings = shadedSettings(out.settings);  // what the backends render (render.h)
             out.notes.push_back(
                 "note: --specular per-view shades per pixel (vertex colours are shared by all "
                 "views)");

@@ -418,8 +418,8 @@ Status Renderer::uploadFrame(const Scene& scene, const Rig& rig, const RenderSet
     }
     f->ambient = glm::vec4(scene.ambient, float(int(scene.tonemap)));  // w: finishColor
     f->centerEye = glm::vec4(rig.centerEye(), 1.0f);
-    const bool perViewEye = s.specular == SpecularEye::PerView && s.shading == Shading::Pixel;
-    f->counts = glm::ivec4(int(scene.lights.size()), int(rig.views.size()), perViewEye ? 1 : 0, 0);
+    f->counts = glm::ivec4(int(scene.lights.size()), int(rig.views.size()),
+                           shadesFromEachEye(s) ? 1 : 0, 0);
     for (std::size_t v = 0; v < rig.views.size(); ++v) {
         f->clipFromWorld[v] = rig.views[v].clipFromWorld();
         f->viewEye[v] = glm::vec4(rig.views[v].eyeWorld, 1.0f);

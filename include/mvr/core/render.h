@@ -177,6 +177,12 @@ inline RenderSettings shadedSettings(RenderSettings s) {
     return s;
 }
 
+/// Whether each view's fragments are shaded from that view's own eye: --specular per-view in
+/// pixel shading (the one shading evaluated per view; flat keeps the centre eye).
+inline bool shadesFromEachEye(const RenderSettings& s) {
+    return s.specular == SpecularEye::PerView && s.shading == Shading::Pixel;
+}
+
 /// The range of the drawn pixels (depth < 1) of one window-depth image.
 DepthRange depthRangeOfImage(std::span<const float> depth);
 
