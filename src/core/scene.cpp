@@ -245,21 +245,25 @@ Status validateScene(const Scene& scene) {
         if (Status st = validateMesh(m, fmt::format("mesh '{}'", m.name)); !st) return st;
     }
     for (const Instance& inst : scene.instances) {
-        const int t = inst.material.baseColorTexture;
-        if (t < 0) continue;
-        if (std::size_t(t) >= scene.textures.size()) {
-            return inputError(fmt::format("material '{}' refers to texture {} of {}",
-                                          inst.material.name, t, scene.textures.size()));
-        }
-        if (scene.textures[t].image.empty()) {
-            return inputError(fmt::format("texture '{}' of material '{}' is empty",
-                                          scene.textures[t].name, inst.material.name));
-        }
-        if (scene.meshes[inst.mesh].texcoords.size() != scene.meshes[inst.mesh].positions.size()) {
-            return inputError(
-                fmt::format("mesh '{}' has a texture (material '{}') but no texture "
-                            "coordinates",
-                            scene.meshes[inst.mesh].name, inst.material.name));
+        const Material& m = inst.material;
+        for (const int t : {m.baseColorTexture, m.metallicRoughnessTexture, m.occlusionTexture,
+                            m.emissiveTexture}) {
+            if (t < 0) continue;
+            if (std::size_t(t) >= scene.textures.size()) {
+                return inputError(fmt::format("material '{}' refers to texture {} of {}", m.name,
+                                              t, scene.textures.size()));
+            }
+            if (scene.textures[t].image.empty()) {
+                return inputError(fmt::format("texture '{}' of material '{}' is empty",
+                                              scene.textures[t].name, m.name));
+            }
+            if (scene.meshes[inst.mesh].texcoords.size() !=
+                scene.meshes[inst.mesh].positions.size()) {
+                return inputError(
+                    fmt::format("mesh '{}' has a texture (material '{}') but no texture "
+                                "coordinates",
+                                scene.meshes[inst.mesh].name, m.name));
+            }
         }
     }
     return {};

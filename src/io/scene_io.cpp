@@ -185,13 +185,41 @@ struct GltfMaterialUv {
     float metallic = 1.0f, roughness = 1.0f;
     glm::vec3 emissiveColor{0.0f};  ///< emissiveFactor × emissive_strength
     bool unlit = false;
-    // Textures the factors multiply, not drawn yet: exporters write neutral factors beside them
-    // (Blender: emissiveFactor [1, 1, 1] under an emission texture; metallic and roughness 1
-    // under a packed metallic-roughness map), which alone would be a white glow or a rough
-    // metal. So material() keeps Blinn-Phong for a metallicRoughnessTexture and drops the
-    // emissive of an emissiveTexture until the textures are sampled.
-    bool metallicRoughnessTexture = false, emissiveTexture = false;
+    // The other slots (issue 39): given or not, and their sets. Exporters write neutral factors
+    // beside a texture (Blender: emissiveFactor [1, 1, 1] under an emission texture; metallic
+    // and roughness 1 under a packed metallic-roughness map), which alone would be a white glow
+    // or a rough metal: material() drops those factors when the texture is not drawn.
+    bool metallicRoughnessTexture = false, emissiveTexture = false, occlusionTexture = false;
+    bool normalTexture = false;  ///< not drawn yet
+    int metallicRoughnessTexCoord = 0, occlusionTexCoord = 0, emissiveTexCoord = 0;
     bool specularGlossiness = false;  ///< KHR_materials_pbrSpecularGlossiness without MR
+
+    /// The texture coordinates a mesh of this material holds (Mesh::texcoords, one array for
+    /// every slot): the set and transform of its first slot given, in the order base colour,
+    /// metallic-roughness, occlusion, emissive; set 0 untransformed when it has none.
+    struct Coords {
+        int set = 0;
+        std::optional<TextureTransform> transform;
+    };
+    Coords coords() const {
+        if (baseColorTexture) return {baseColorTexCoord, baseColor};
+        if (metallicRoughnessTexture) return {metallicRoughnessTexCoord, metallicRoughness};
+        if (occlusionTexture) return {occlusionTexCoord, occlusion};
+        if (emissiveTexture) return {emissiveTexCoord, emissive};
+        return {};
+    }
+    /// Whether a slot reading set `set` through `transform` reads coords() (an absent transform
+    /// is the identity). `setsAlike`: the material's meshes hold the same values in sets 0 and
+    /// 1 (exporters that put the occlusion map on TEXCOORD_1, three.js's among them, often
+    /// name one accessor twice), so either set reads the same coordinates.
+    bool readsCoords(int set, const std::optional<TextureTransform>& transform,
+                     bool setsAlike) const {
+        const Coords c = coords();
+        const TextureTransform a = transform.value_or(TextureTransform{});
+        const TextureTransform b = c.transform.value_or(TextureTransform{});
+        return (set == c.set || setsAlike) && a.offset == b.offset && a.rotation == b.rotation &&
+               a.scale == b.scale;
+    }
 };
 
 /// The file's materials[i] as GltfMaterialUv, index for index as assimp's mMaterials[i]
@@ -239,8 +267,8 @@ std::vector<GltfMaterialUv> materialTextureCoords(const nlohmann::json& doc) {
                 pbr != m.end() && pbr->is_object()) {
                 slot(*pbr, "baseColorTexture", &uv.baseColorTexture, uv.baseColorTexCoord,
                      uv.baseColor);
-                slot(*pbr, "metallicRoughnessTexture", &uv.metallicRoughnessTexture, unused,
-                     uv.metallicRoughness);
+                slot(*pbr, "metallicRoughnessTexture", &uv.metallicRoughnessTexture,
+                     uv.metallicRoughnessTexCoord, uv.metallicRoughness);
                 if (auto f = pbr->find("metallicFactor"); f != pbr->end() && f->is_number())
                     uv.metallic = std::clamp(f->get<float>(), 0.0f, 1.0f);
                 if (auto f = pbr->find("roughnessFactor"); f != pbr->end() && f->is_number())
@@ -265,9 +293,9 @@ std::vector<GltfMaterialUv> materialTextureCoords(const nlohmann::json& doc) {
                 uv.specularGlossiness = ext->contains("KHR_materials_pbrSpecularGlossiness") &&
                                         !m.contains("pbrMetallicRoughness");
             }
-            slot(m, "normalTexture", nullptr, unused, uv.normal);
-            slot(m, "occlusionTexture", nullptr, unused, uv.occlusion);
-            slot(m, "emissiveTexture", &uv.emissiveTexture, unused, uv.emissive);
+            slot(m, "normalTexture", &uv.normalTexture, unused, uv.normal);
+            slot(m, "occlusionTexture", &uv.occlusionTexture, uv.occlusionTexCoord, uv.occlusion);
+            slot(m, "emissiveTexture", &uv.emissiveTexture, uv.emissiveTexCoord, uv.emissive);
         }
         out.push_back(uv);
     }
@@ -284,8 +312,14 @@ struct Loader {
     bool isObj = false;
     SceneLoadInfo* info = nullptr;  ///< strict in, warnings out
 
-    Result<int> texture(const std::string& key, const std::string& materialName) {
-        if (auto it = textureByKey.find(key); it != textureByKey.end()) return it->second;
+    /// The Texture of image `key` (a file beside the model, or assimp's "*N" embedded image),
+    /// as colour or, `linear`, as data (scene.h Texture::linear: one Texture each); -1 when the
+    /// file is missing (a warning saying `fallback`, what is drawn instead).
+    Result<int> texture(const std::string& key, const std::string& materialName,
+                        bool linear = false,
+                        const char* fallback = "the material's base colour is used") {
+        const std::string cacheKey = linear ? key + "\n(linear)" : key;
+        if (auto it = textureByKey.find(cacheKey); it != textureByKey.end()) return it->second;
         const std::string where =
             fmt::format("{}: material '{}': texture '{}'", what, materialName, key);
         Result<Image> image = inputError("unset");
@@ -320,11 +354,9 @@ struct Loader {
             if (!std::filesystem::exists(file, ec) && !(info && info->strict)) {
                 if (info) {
                     info->warnings.push_back(fmt::format(
-                        "{}: file not found: the material's base colour is used (--strict: an "
-                        "error)",
-                        where));
+                        "{}: file not found: {} (--strict: an error)", where, fallback));
                 }
-                textureByKey.emplace(key, -1);
+                textureByKey.emplace(cacheKey, -1);
                 return -1;
             }
             name = file.string();
@@ -332,14 +364,16 @@ struct Loader {
         }
         if (!image) return image.status();
         const int index = int(scene.textures.size());
-        scene.textures.push_back({name, std::move(*image)});
-        textureByKey.emplace(key, index);
+        scene.textures.push_back({name, std::move(*image), linear});
+        textureByKey.emplace(cacheKey, index);
         return index;
     }
 
     /// `uv`: the glTF material's texture slots (null for OBJ, and for assimp's default
     /// material).
-    Result<Material> material(const aiMaterial& m, const GltfMaterialUv* uv) {
+    /// `setsAlike`: GltfMaterialUv::readsCoords.
+    Result<Material> material(const aiMaterial& m, const GltfMaterialUv* uv,
+                              bool setsAlike = false) {
         Material out;
         aiString name;
         if (m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS) out.name = name.C_Str();
@@ -381,28 +415,17 @@ struct Loader {
             out.normalTransform = uv->normal;
             out.occlusionTransform = uv->occlusion;
             out.emissiveTransform = uv->emissive;
-            out.model = uv->unlit ? MaterialModel::Unlit
-                        : uv->metallicRoughnessTexture || uv->specularGlossiness
-                            ? MaterialModel::BlinnPhong
-                            : MaterialModel::MetallicRoughness;
+            out.model = uv->unlit                ? MaterialModel::Unlit
+                        : uv->specularGlossiness ? MaterialModel::BlinnPhong
+                                                 : MaterialModel::MetallicRoughness;
             out.metallic = uv->metallic;
             out.roughness = uv->roughness;
-            if (!uv->emissiveTexture) out.emissive = uv->emissiveColor;
+            out.emissive = uv->emissiveColor;
         }
-        for (aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}) {
-            if (m.GetTextureCount(type) == 0) continue;
-            aiString file;
-            unsigned uvIndex = 0;
-            aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
-            if (m.GetTexture(type, 0, &file, nullptr, &uvIndex, nullptr, nullptr, modes) !=
-                AI_SUCCESS)
-                continue;
-            // The set: baseColorTexture's (0 or 1, baked into Mesh::texcoords by convertMesh);
-            // otherwise (KHR_materials_pbrSpecularGlossiness' diffuse) set 0 only.
-            if (uvIndex != 0 && !(uv && uv->baseColorTexture)) break;
-            auto t = texture(file.C_Str(), out.name);
-            if (!t) return t.status();
-            out.baseColorTexture = *t;
+        bool samplerRead = false;  // the first slot drawn gives the material's one sampler
+        auto readSampler = [&](aiTextureType type, const aiTextureMapMode modes[2]) {
+            if (samplerRead) return;
+            samplerRead = true;
             int wrapU = modes[0], wrapV = modes[1];
             m.Get(AI_MATKEY_MAPPINGMODE_U(type, 0), wrapU);
             m.Get(AI_MATKEY_MAPPINGMODE_V(type, 0), wrapV);
@@ -419,9 +442,88 @@ struct Loader {
                                             : TextureFilter::Linear;
                 out.sampler.mipmaps = min >= 9984 && min <= 9987;
             }
+        };
+        for (aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}) {
+            if (m.GetTextureCount(type) == 0) continue;
+            aiString file;
+            unsigned uvIndex = 0;
+            aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+            if (m.GetTexture(type, 0, &file, nullptr, &uvIndex, nullptr, nullptr, modes) !=
+                AI_SUCCESS)
+                continue;
+            // The set: baseColorTexture's (0 or 1, baked into Mesh::texcoords by convertMesh);
+            // otherwise (KHR_materials_pbrSpecularGlossiness' diffuse) set 0 only.
+            if (uvIndex != 0 && !(uv && uv->baseColorTexture)) break;
+            auto t = texture(file.C_Str(), out.name);
+            if (!t) return t.status();
+            out.baseColorTexture = *t;
+            readSampler(type, modes);
             break;
         }
+        if (!uv) return out;
+        // glTF's other slots (issue 39; assimp 5.2.5 lists the metallic-roughness texture as
+        // aiTextureType_METALNESS, the occlusion as LIGHTMAP with its strength, the emissive as
+        // EMISSIVE). Each reads Mesh::texcoords, which hold one set through one transform
+        // (GltfMaterialUv::coords): a slot reading others is not drawn, with a warning.
+        struct MapSlot {
+            const char* name;
+            aiTextureType type;
+            bool given;
+            int set;
+            const std::optional<TextureTransform>* transform;
+            bool linear;
+            int* index;
+        };
+        const MapSlot slots[] = {
+            {"metallic-roughness", aiTextureType_METALNESS, uv->metallicRoughnessTexture,
+             uv->metallicRoughnessTexCoord, &uv->metallicRoughness, true,
+             &out.metallicRoughnessTexture},
+            {"occlusion", aiTextureType_LIGHTMAP, uv->occlusionTexture, uv->occlusionTexCoord,
+             &uv->occlusion, true, &out.occlusionTexture},
+            {"emissive", aiTextureType_EMISSIVE, uv->emissiveTexture, uv->emissiveTexCoord,
+             &uv->emissive, false, &out.emissiveTexture},
+        };
+        for (const MapSlot& slot : slots) {
+            if (!slot.given) continue;
+            aiString file;
+            aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+            if (m.GetTextureCount(slot.type) == 0 ||
+                m.GetTexture(slot.type, 0, &file, nullptr, nullptr, nullptr, nullptr, modes) !=
+                    AI_SUCCESS)
+                continue;
+            if (!uv->readsCoords(slot.set, *slot.transform, setsAlike)) {
+                if (info) {
+                    info->warnings.push_back(fmt::format(
+                        "{}: material '{}': its {} texture reads other texture coordinates "
+                        "(set {} or KHR_texture_transform) than its first texture: not drawn",
+                        what, out.name, slot.name, slot.set));
+                }
+                continue;
+            }
+            auto t = texture(file.C_Str(), out.name, slot.linear, "the map is not drawn");
+            if (!t) return t.status();
+            *slot.index = *t;
+            if (*t >= 0) readSampler(slot.type, modes);
+        }
+        if (uv->occlusionTexture) {
+            float strength = 1.0f;
+            if (m.Get(AI_MATKEY_GLTF_TEXTURE_STRENGTH(aiTextureType_LIGHTMAP, 0), strength) ==
+                    AI_SUCCESS &&
+                std::isfinite(strength))
+                out.occlusionStrength = std::clamp(strength, 0.0f, 1.0f);
+        }
+        withoutNeutralFactors(out, *uv);
         return out;
+    }
+
+    /// The neutral factors exporters write beside a texture (GltfMaterialUv) are not drawn
+    /// without it: an emissive map not drawn takes its emissive with it, a metallic-roughness
+    /// map not drawn leaves Blinn-Phong (its factors 1 and 1 alone are a rough metal).
+    static void withoutNeutralFactors(Material& m, const GltfMaterialUv& uv) {
+        if (uv.emissiveTexture && m.emissiveTexture < 0) m.emissive = glm::vec3(0.0f);
+        if (uv.metallicRoughnessTexture && m.metallicRoughnessTexture < 0 &&
+            m.model == MaterialModel::MetallicRoughness)
+            m.model = MaterialModel::BlinnPhong;
     }
 };
 
@@ -550,7 +652,10 @@ void appendScene(Scene& scene, Scene other) {
     for (Texture& t : other.textures) scene.textures.push_back(std::move(t));
     for (Instance inst : other.instances) {
         inst.mesh += meshBase;
-        if (inst.material.baseColorTexture >= 0) inst.material.baseColorTexture += textureBase;
+        Material& m = inst.material;
+        for (int* t : {&m.baseColorTexture, &m.metallicRoughnessTexture, &m.occlusionTexture,
+                       &m.emissiveTexture})
+            if (*t >= 0) *t += textureBase;
         scene.instances.push_back(std::move(inst));
     }
     for (const Light& l : other.lights) scene.lights.push_back(l);
@@ -632,19 +737,21 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
         const aiMesh& am = *ai->mMeshes[m];
         std::string name = am.mName.length ? am.mName.C_Str() : fmt::format("mesh {}", m);
         const GltfMaterialUv* uv = uvOf(am.mMaterialIndex);
-        unsigned set = uv && uv->baseColorTexture ? unsigned(uv->baseColorTexCoord) : 0u;
+        const GltfMaterialUv::Coords coords = uv ? uv->coords() : GltfMaterialUv::Coords{};
+        unsigned set = unsigned(coords.set);
         std::string missingSet;
         if (set != 0 && !am.HasTextureCoords(set) && am.HasTextureCoords(0)) {
             aiString materialName;
             ai->mMaterials[am.mMaterialIndex]->Get(AI_MATKEY_NAME, materialName);
             missingSet = fmt::format(
-                "{}: material '{}': its base colour texture reads texture coordinate set {} "
+                "{}: material '{}': its {} texture reads texture coordinate set {} "
                 "(TEXCOORD_{}), which mesh '{}' does not have",
-                loader.what, materialName.C_Str(), set, set, name);
+                loader.what, materialName.C_Str(),
+                uv->baseColorTexture ? "base colour" : "first", set, set, name);
             set = 0;
         }
         auto mesh = convertMesh(am, fmt::format("{}: {}", path.filename().string(), name), !gltf,
-                                set, uv ? uv->baseColor : std::nullopt);
+                                set, coords.transform);
         if (!mesh) continue;
         if (!missingSet.empty()) {
             if (out.strict) return inputError(missingSet);
@@ -661,6 +768,22 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
         meshIndex[m] = int(scene.meshes.size());
         scene.meshes.push_back(std::move(*mesh));
     }
+    // Whether every mesh of material `mi` holds the same texture coordinates in sets 0 and 1.
+    auto setsAlike = [&](unsigned mi) {
+        bool any = false;
+        for (unsigned k = 0; k < ai->mNumMeshes; ++k) {
+            const aiMesh& am = *ai->mMeshes[k];
+            if (am.mMaterialIndex != mi) continue;
+            if (!am.HasTextureCoords(0) || !am.HasTextureCoords(1)) return false;
+            for (unsigned v = 0; v < am.mNumVertices; ++v) {
+                if (am.mTextureCoords[0][v].x != am.mTextureCoords[1][v].x ||
+                    am.mTextureCoords[0][v].y != am.mTextureCoords[1][v].y)
+                    return false;
+            }
+            any = true;
+        }
+        return any;
+    };
     // Materials, decoded lazily: only those an instance uses.
     std::vector<std::optional<Material>> materials(ai->mNumMaterials);
     std::map<std::string, glm::mat4> worldByName;
@@ -693,18 +816,20 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
             Material mat;
             if (mi < ai->mNumMaterials) {
                 if (!materials[mi]) {
-                    auto made = loader.material(*ai->mMaterials[mi], uvOf(mi));
+                    auto made = loader.material(*ai->mMaterials[mi], uvOf(mi), setsAlike(mi));
                     if (!made) return made.status();
                     materials[mi] = std::move(*made);
                 }
                 mat = *materials[mi];
             }
-            if (mat.baseColorTexture >= 0 && scene.meshes[meshIndex[m]].texcoords.empty()) {
+            if (hasTexture(mat) && scene.meshes[meshIndex[m]].texcoords.empty()) {
                 out.warnings.push_back(fmt::format(
                     "{}: material '{}': its texture is not drawn on mesh '{}' (no texture "
                     "coordinates)",
                     loader.what, mat.name, scene.meshes[meshIndex[m]].name));
-                mat.baseColorTexture = -1;
+                mat.baseColorTexture = mat.metallicRoughnessTexture = -1;
+                mat.occlusionTexture = mat.emissiveTexture = -1;
+                if (const GltfMaterialUv* uv = uvOf(mi)) Loader::withoutNeutralFactors(mat, *uv);
             }
             if (animation) {
                 if (auto it = animNode.find(node); it != animNode.end()) {

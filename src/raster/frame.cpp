@@ -174,7 +174,7 @@ void prepareTextures(FrameContext& f) {
     f.colored = false;
     for (const Instance& inst : f.scene.instances) {
         const Material& m = inst.material;
-        f.textured = f.textured || m.baseColorTexture >= 0 || m.alphaMode != AlphaMode::Opaque;
+        f.textured = f.textured || hasTexture(m) || m.alphaMode != AlphaMode::Opaque;
         f.colored = f.colored || (inst.mesh >= 0 && std::size_t(inst.mesh) < f.scene.meshes.size() &&
                                   !f.scene.meshes[std::size_t(inst.mesh)].colors.empty());
     }
@@ -186,12 +186,15 @@ void prepareTextures(FrameContext& f) {
     if (f.mips.empty()) return;
     f.pool.run(int(f.mips.size()), [&](int t, int) {
         const Texture& tex = f.scene.textures[std::size_t(t)];
-        // Mip levels are built when any material sampling this texture wants them.
+        // Mip levels are built when any material sampling this texture (in any slot) wants them.
         bool mipmaps = false;
-        for (const Instance& inst : f.scene.instances)
-            mipmaps =
-                mipmaps || (inst.material.baseColorTexture == t && inst.material.sampler.mipmaps);
-        f.mips[std::size_t(t)] = buildMipChain(tex.image, mipmaps);
+        for (const Instance& inst : f.scene.instances) {
+            const Material& m = inst.material;
+            const bool samples = m.baseColorTexture == t || m.metallicRoughnessTexture == t ||
+                                 m.occlusionTexture == t || m.emissiveTexture == t;
+            mipmaps = mipmaps || (samples && m.sampler.mipmaps);
+        }
+        f.mips[std::size_t(t)] = buildMipChain(tex.image, mipmaps, tex.linear);
     });
 }
 

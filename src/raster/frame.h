@@ -231,8 +231,8 @@ struct FrameContext {
     BandLayout bands;
     glm::mat4 centerClip;
     const Kernels& kernels;
-    /// Textured attribute layout (pipeline.h kMaxAttrs): some material has a base color texture
-    /// or an alpha mode other than Opaque. Untextured scenes keep the old layout and images.
+    /// Textured attribute layout (pipeline.h kMaxAttrs): some material has a texture (any
+    /// slot: hasTexture) or an alpha mode other than Opaque. Untextured scenes keep the old layout and images.
     bool textured = false;
     bool punctualLights = false;  ///< some light is a point or spot light
     std::vector<MipChain> mips;   ///< per Scene::textures, built once per render (not per view)
@@ -261,10 +261,18 @@ struct FrameContext {
             viewShading[v].centerEye = rig.views[v].eyeWorld;
     }
 
-    const MipChain* textureOf(const Material& m) const {
-        return m.baseColorTexture >= 0 && std::size_t(m.baseColorTexture) < mips.size()
-                   ? &mips[std::size_t(m.baseColorTexture)]
-                   : nullptr;
+    /// The mip chain of Scene::textures[index], or null (-1, out of range, untextured frame).
+    const MipChain* mipsOf(int index) const {
+        return index >= 0 && std::size_t(index) < mips.size() ? &mips[std::size_t(index)]
+                                                               : nullptr;
+    }
+    /// Points a fragment sink's inputs at material `m` and its textures (every slot).
+    void setMaterial(ShadeInputs& in, const Material& m) const {
+        in.material = &m;
+        in.texture = mipsOf(m.baseColorTexture);
+        in.metallicRoughness = mipsOf(m.metallicRoughnessTexture);
+        in.occlusion = mipsOf(m.occlusionTexture);
+        in.emissive = mipsOf(m.emissiveTexture);
     }
     /// Vertex lighting through the scalar lighting.h functions instead of the SIMD kernel
     /// (which implements directional, single-sided Blinn-Phong only).

@@ -232,8 +232,8 @@ void rasterStage(FrameContext& f, ViewVertexData& d, const Bins& bins, const Tar
         const Material* material = nullptr;
         auto onItem = [&](const DrawItem& it) {
             flush();  // the queued triangles shade with the previous material
-            sink.shade.material = material = &it.instance->material;
-            sink.shade.texture = f.textureOf(*material);
+            material = &it.instance->material;
+            f.setMaterial(sink.shade, *material);
         };
         forBandTriangles(f.draw, bins, band, f.bands.count, onItem, [&](const std::uint32_t v[3]) {
             if constexpr (S == Shading::Flat) {

@@ -560,6 +560,10 @@ struct ShadeInputs {
     bool textured = false;              ///< the frame's textured attribute layout (kMaxAttrs)
     const MipChain* texture = nullptr;  ///< the material's base color texture, or none
     bool colored = false;               ///< the frame's layout has vertex colours
+    // The material's other texture slots (issue 39, lighting.h SurfaceMaps), or none.
+    const MipChain* metallicRoughness = nullptr;
+    const MipChain* occlusion = nullptr;
+    const MipChain* emissive = nullptr;
 };
 
 /// Depth test (LESS) and shading of one fragment; the screen barycentrics l0..l2 come from
@@ -619,22 +623,36 @@ struct FragmentSink {
         const float* a2 = tri->attr[2];
         auto at = [&](int k) { return ((p0 * a0[k] + p1 * a1[k]) + p2 * a2[k]) * inv; };
         const Material& m = *shade.material;
-        glm::vec4 texel(1.0f);
-        if (shade.texture && !shade.texture->levels.empty()) {
-            constexpr int k = uvAttribute(S);
-            const glm::vec2 uv(at(k), at(k + 1));
-            const glm::vec2 uvi[3] = {{a0[k], a0[k + 1]}, {a1[k], a1[k + 1]}, {a2[k], a2[k + 1]}};
+        constexpr int ku = uvAttribute(S);
+        const glm::vec2 uv(at(ku), at(ku + 1));
+        // Every slot reads the same coordinates through the material's sampler, each at its
+        // own level of detail (its own size).
+        auto sample = [&](const MipChain* chain, glm::vec4 absent) {
+            if (!chain || chain->levels.empty()) return absent;
+            const glm::vec2 uvi[3] = {
+                {a0[ku], a0[ku + 1]}, {a1[ku], a1[ku + 1]}, {a2[ku], a2[ku + 1]}};
             const UvDerivatives d = uvDerivatives(gx, gy, tri->q, uvi, uv, inv);
-            const MipLevel& base = shade.texture->levels[0];
-            texel = sampleTexture(*shade.texture, m.sampler, uv,
-                                  textureLod(d, base.width, base.height));
-        }
+            const MipLevel& level0 = chain->levels[0];
+            return sampleTexture(*chain, m.sampler, uv,
+                                 textureLod(d, level0.width, level0.height));
+        };
+        glm::vec4 texel = sample(shade.texture, glm::vec4(1.0f));
         if (shade.colored) {  // the vertex colour multiplies the texel (glTF COLOR_0)
             constexpr int k = colorAttribute(S);
             texel *= glm::vec4(at(k), at(k + 1), at(k + 2), at(k + 3));
         }
         const glm::vec4 base = baseColor(m, texel);
         if (m.alphaMode == AlphaMode::Mask && base.w < m.alphaCutoff) return;
+        // The other slots (lighting.h SurfaceMaps): the metallic-roughness map per pixel only.
+        SurfaceMaps maps;
+        if (S == Shading::Pixel && shade.metallicRoughness) {
+            const glm::vec4 t = sample(shade.metallicRoughness, glm::vec4(1.0f));
+            maps.roughness = t.y, maps.metallic = t.z;
+        }
+        if (shade.occlusion)
+            maps.occlusion = occlusionOf(sample(shade.occlusion, glm::vec4(1.0f)).x,
+                                         m.occlusionStrength);
+        if (shade.emissive) maps.emissive = glm::vec3(sample(shade.emissive, glm::vec4(1.0f)));
         LightTerms terms;
         if constexpr (S == Shading::Flat) {
             terms.diffuse = tri->flatD;
@@ -646,9 +664,12 @@ struct FragmentSink {
             const glm::vec3 n(at(0), at(1), at(2));
             const glm::vec3 p(at(3), at(4), at(5));
             float sh[kMaxLights];
-            terms = blinnPhongTerms(*shade.ctx, m, n, p,
-                                    shadowFactors(shade.ctx->shadows, shade.ctx->lights, p, n, sh));
+            const float* shadow = shadowFactors(shade.ctx->shadows, shade.ctx->lights, p, n, sh);
+            terms = blinnPhongTerms(*shade.ctx, m, n, p, shadow,
+                                    shade.metallicRoughness ? &maps : nullptr);
         }
+        if (shade.occlusion || shade.emissive)
+            terms = applySurfaceMaps(*shade.ctx, m, terms, maps);
         glm::vec3 c = shadeTextured(*shade.ctx, glm::vec3(base), terms);
         if (m.alphaMode == AlphaMode::Blend) {
             const float a = std::clamp(base.w, 0.0f, 1.0f);

@@ -641,8 +641,7 @@ void rasterBand(BandContext<S>& b, const Bins& bins, int band) {
         flushLanes(b);  // the queued triangles shade with the previous material
         material = &it.instance->material;
         b.cull = f.settings.cullBackFaces && !material->doubleSided;
-        const MipChain* texture = f.textureOf(*material);
-        for (auto& sink : b.sinks) sink.shade.material = material, sink.shade.texture = texture;
+        for (auto& sink : b.sinks) f.setMaterial(sink.shade, *material);
     };
     // Rows of one view count known at compile time (a stereo pair, a 3-view grid's rows): the
     // lanes are copied at their width.

@@ -75,6 +75,58 @@ inline const Scene& pbrScene() {
     return s;
 }
 
+/// Issue 39: withMetallicRoughness(makeTexturedScene()) with glTF's other texture slots,
+/// generated: a metallic-roughness map (linear; G roughness and B metallic in 8×8 checks of
+/// 0.1 / 1.0 and 1.0 / 0.0, so rough and glossy, metal and dielectric neighbours), an occlusion
+/// map (linear R: dark rings, strength 0.8) and an emissive map (sRGB: orange stripes under an
+/// emissive factor of 0.6). Instance i has the metallic-roughness map when i is even, the
+/// occlusion map when i mod 3 ≠ 2, the emissive map when i is 1 or 4; the unlit one (3) keeps its
+/// maps, which unlit ignores; instance 5 has the maps and no base colour texture.
+inline Scene withSurfaceMaps(Scene s) {
+    const int first = int(s.textures.size());
+    auto add = [&](int size, bool linear, const std::string& name, auto texel) {
+        Texture t;
+        t.name = name;
+        t.linear = linear;
+        t.image = Image(size, size);
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x) t.image.set(x, y, texel(x, y, size));
+        s.textures.push_back(std::move(t));
+    };
+    add(64, true, "metallic-roughness (generated)", [](int x, int y, int n) {
+        const bool a = ((x * 8 / n) + (y * 8 / n)) & 1;
+        return Rgba8{0, std::uint8_t(a ? 26 : 255), std::uint8_t(a ? 255 : 0), 255};
+    });
+    add(64, true, "occlusion (generated)", [](int x, int y, int n) {
+        const float dx = float(x) / float(n) - 0.5f, dy = float(y) / float(n) - 0.5f;
+        const float r = std::sqrt(dx * dx + dy * dy);
+        const float occ = 0.5f + 0.5f * std::cos(r * 40.0f);
+        return Rgba8{std::uint8_t(occ * 255.0f + 0.5f), 255, 255, 255};
+    });
+    add(32, false, "emissive (generated)", [](int x, int y, int n) {
+        const bool on = ((x + y) * 6 / n) % 2 == 0;
+        return on ? Rgba8{255, 150, 40, 255} : Rgba8{0, 0, 0, 255};
+    });
+    for (std::size_t i = 0; i < s.instances.size(); ++i) {
+        Material& m = s.instances[i].material;
+        if (i % 2 == 0) m.metallicRoughnessTexture = first;
+        if (i % 3 != 2) {
+            m.occlusionTexture = first + 1;
+            m.occlusionStrength = 0.8f;
+        }
+        if (i == 1 || i == 4) {
+            m.emissiveTexture = first + 2;
+            m.emissive = glm::vec3(0.6f);
+        }
+        if (i == 5) m.baseColorTexture = -1;
+    }
+    return s;
+}
+inline const Scene& mappedScene() {
+    static const Scene s = withSurfaceMaps(withMetallicRoughness(makeTexturedScene()));
+    return s;
+}
+
 /// One model from shared/models laid out as `mvr render MODEL` does (makeGridScene, 1 copy);
 /// nullopt when the file cannot be loaded.
 /// The default scene with vertex colours (Mesh::colors) on every mesh, a smooth function of

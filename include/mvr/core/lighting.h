@@ -62,6 +62,12 @@
 // the base colour (no specular) for Blinn-Phong and metallic-roughness alike, plus the
 // emissive (flatSpecular). Unlit: D = 1, S = 0 (the base colour), in every shading.
 //
+// Texture maps (issue 39; Material's metallicRoughnessTexture, occlusionTexture,
+// emissiveTexture, SurfaceMaps): sampled with the base colour's coordinates and sampler; the
+// metallic-roughness texel scales the factors of the BRDF evaluated per pixel
+// (metallicRoughnessTerms' `maps`; vertex and flat shading evaluate the factors alone), the occlusion scales the ambient term
+// and the emissive texel the emissive, in every shading (applySurfaceMaps).
+//
 // Tone mapping (issue 39 item 2; ShadingContext::tonemap, from Scene::tonemap): finishColor() is
 // the last step of every lit colour, where the clamp to [0, 1] was: Khronos PBR Neutral or ACES
 // (Narkowicz's fit), then the clamp; Tonemap::None is the clamp alone (the same bits as before).
@@ -264,6 +270,16 @@ struct LightTerms {
     glm::vec3 specular{0.0f};
 };
 
+/// What a material's texture slots beyond the base colour give one fragment (issue 39,
+/// glTF 2.0's material definitions): the metallic-roughness texel's G (roughness) and B
+/// (metallic), the occlusion = 1 + strength · (R − 1) of the occlusion texel, the emissive
+/// texel (linear). The defaults are an absent slot's: they change nothing.
+struct SurfaceMaps {
+    float roughness = 1.0f, metallic = 1.0f;  ///< multiply the material's factors
+    float occlusion = 1.0f;
+    glm::vec3 emissive{1.0f};  ///< multiplies Material::emissive
+};
+
 /// glTF 2.0 Appendix B's specular_brdf times π (V · D · π, the light convention of the header):
 /// α = max(roughness², 1e-3); nl > 0; nv is |n·v|.
 inline float metallicRoughnessSpecular(float alpha, float nh, float nl, float nv) {
@@ -276,14 +292,17 @@ inline float metallicRoughnessSpecular(float alpha, float nh, float nl, float nv
 
 /// The D / S terms of a MaterialModel::MetallicRoughness surface (see the header): D multiplies
 /// the base colour (albedo × texel × vertex colour), S is added; S includes the emissive.
-/// `normal` need not be unit. `shadow`: per-light factors (issue 15), null = lit.
+/// `normal` need not be unit. `shadow`: per-light factors (issue 15), null = lit. `maps`: the
+/// metallic-roughness texel's factors (SurfaceMaps; pixel shading), null = the factors alone.
 inline LightTerms metallicRoughnessTerms(const ShadingContext& ctx, const Material& m,
                                          glm::vec3 normal, glm::vec3 worldPos,
-                                         const float* shadow = nullptr) {
+                                         const float* shadow = nullptr,
+                                         const SurfaceMaps* maps = nullptr) {
     const glm::vec3 n = glm::normalize(facingNormal(ctx, m, normal, worldPos));
     const glm::vec3 v = glm::normalize(ctx.centerEye - worldPos);
-    const float metal = std::clamp(m.metallic, 0.0f, 1.0f);
-    const float rough = std::clamp(m.roughness, 0.0f, 1.0f);
+    const float metal = std::clamp(maps ? m.metallic * maps->metallic : m.metallic, 0.0f, 1.0f);
+    const float rough =
+        std::clamp(maps ? m.roughness * maps->roughness : m.roughness, 0.0f, 1.0f);
     const float alpha = std::max(rough * rough, 1e-3f);
     const float nv = std::abs(glm::dot(n, v));
     LightTerms t;
@@ -397,11 +416,13 @@ inline LightTerms flatTerms(const ShadingContext& ctx, const Material& m, glm::v
 
 /// Blinn-Phong's terms: D = ambient + Σ att · max(n·l, 0) · lightColor, S = Σ att · specular ·
 /// max(n·h, 0)^shininess · lightColor (where n·l > 0). `normal` need not be unit. `shadow`:
-/// per-light factors (issue 15) multiplying each light's D and S terms, null = lit.
+/// per-light factors (issue 15) multiplying each light's D and S terms, null = lit. `maps`: a
+/// metallic-roughness material's texel factors (metallicRoughnessTerms), ignored otherwise.
 inline LightTerms blinnPhongTerms(const ShadingContext& ctx, const Material& m, glm::vec3 normal,
-                                  glm::vec3 worldPos, const float* shadow = nullptr) {
+                                  glm::vec3 worldPos, const float* shadow = nullptr,
+                                  const SurfaceMaps* maps = nullptr) {
     if (m.model == MaterialModel::MetallicRoughness)
-        return metallicRoughnessTerms(ctx, m, normal, worldPos, shadow);
+        return metallicRoughnessTerms(ctx, m, normal, worldPos, shadow, maps);
     if (m.model == MaterialModel::Unlit) return unlitTerms();
     const glm::vec3 n = glm::normalize(facingNormal(ctx, m, normal, worldPos));
     const glm::vec3 v = glm::normalize(ctx.centerEye - worldPos);
@@ -431,6 +452,22 @@ inline glm::vec3 shadeTextured(glm::vec3 base, const LightTerms& t) {
 inline glm::vec3 shadeTextured(const ShadingContext& ctx, glm::vec3 base, const LightTerms& t) {
     return finishColor(ctx, base * t.diffuse + t.specular);
 }
+
+/// A lit fragment's terms under its maps, in every shading (D and S computed without them):
+/// the occlusion scales the ambient term only (glTF: "indirect lighting"), D − ambient · (1 −
+/// occlusion); a metallic-roughness material's S holds its emissive once, which the emissive
+/// texel scales: S + emissive · (texel − 1). Unlit terms are left as they are.
+inline LightTerms applySurfaceMaps(const ShadingContext& ctx, const Material& m, LightTerms t,
+                                   const SurfaceMaps& maps) {
+    if (m.model == MaterialModel::Unlit) return t;
+    t.diffuse -= ctx.ambient * (1.0f - maps.occlusion);
+    if (m.model == MaterialModel::MetallicRoughness)
+        t.specular += m.emissive * (maps.emissive - glm::vec3(1.0f));
+    return t;
+}
+
+/// The occlusion of an occlusion texel's R channel (linear, [0, 1]) at `strength`.
+inline float occlusionOf(float r, float strength) { return 1.0f + strength * (r - 1.0f); }
 
 /// The base color and alpha of a fragment: (albedo, alpha) × texel (linear RGBA).
 inline glm::vec4 baseColor(const Material& m, glm::vec4 texel) {

@@ -31,12 +31,15 @@ struct TextureSampler {
     TextureWrap wrapT = TextureWrap::Repeat;
 };
 
-/// A base color texture: 8-bit RGBA, sRGB-encoded color (decoded to linear when sampled),
-/// straight alpha. Texture coordinate (0, 0) is the top-left of the image (row 0), as in glTF;
-/// loaders of other conventions (OBJ: v up) flip v when they load.
+/// A texture: 8-bit RGBA, straight alpha. Colour (base colour, emissive) is sRGB-encoded and
+/// decoded to linear when sampled; data (`linear`: glTF's metallic-roughness and occlusion
+/// maps) is sampled as it is (byte / 255). Texture coordinate (0, 0) is the top-left of the
+/// image (row 0), as in glTF; loaders of other conventions (OBJ: v up) flip v when they load.
+/// An image a file uses both as colour and as data is two Textures.
 struct Texture {
     std::string name;  ///< the file, or "FILE: image N" for embedded images (for messages)
     Image image;
+    bool linear = false;  ///< data, not colour: no sRGB decoding (appended for issue 39)
 };
 
 enum class AlphaMode { Opaque, Mask, Blend };
@@ -114,7 +117,24 @@ struct Material {
     float metallic = 1.0f;          ///< glTF metallicFactor, [0, 1]
     float roughness = 1.0f;         ///< glTF roughnessFactor (perceptual), [0, 1]
     glm::vec3 emissive{0.0f};       ///< emissiveFactor × KHR_materials_emissive_strength, linear
+    // Appended for glTF's other texture slots (issue 39 item 1; lighting.h SurfaceMaps). Each
+    // indexes Scene::textures or is -1, reads Mesh::texcoords (the base colour's set and
+    // transform: loadScene() drops a slot that reads others, with a warning) through `sampler`.
+    int metallicRoughnessTexture = -1;  ///< linear: roughness × G, metallic × B
+    int occlusionTexture = -1;          ///< linear: R, the ambient term's occlusion
+    float occlusionStrength = 1.0f;     ///< occlusion = 1 + strength · (R − 1)
+    int emissiveTexture = -1;           ///< sRGB: emissive × texel
 };
+
+/// Whether a material samples any texture (every slot reads Mesh::texcoords).
+inline bool hasTexture(const Material& m) {
+    return m.baseColorTexture >= 0 || m.metallicRoughnessTexture >= 0 ||
+           m.occlusionTexture >= 0 || m.emissiveTexture >= 0;
+}
+/// Whether a material has texture slots beyond the base colour (lighting.h SurfaceMaps).
+inline bool hasSurfaceMaps(const Material& m) {
+    return m.metallicRoughnessTexture >= 0 || m.occlusionTexture >= 0 || m.emissiveTexture >= 0;
+}
 
 struct Instance {
     int mesh = 0;  ///< index into Scene::meshes
@@ -167,7 +187,7 @@ struct Scene {
     glm::vec3 background{0.08f};              ///< clear colour, linear [0, 1]
     Tonemap tonemap = Tonemap::None;          ///< applied to every lit colour (lighting.h)
     std::optional<SceneViewpoint> viewpoint;  ///< absent: framing fits the bounds (framing.h)
-    std::vector<Texture> textures;            ///< Material::baseColorTexture indexes these
+    std::vector<Texture> textures;            ///< Material's texture slots index these
     std::optional<SceneCamera> camera;        ///< from the file, if it has one
 
     std::size_t triangleCount() const;  ///< over all instances

@@ -96,8 +96,9 @@ inline MipLevel downsampleLevel(const MipLevel& src) {
     return dst;
 }
 
-/// Decodes an sRGB RGBA8 image and, if `mipmaps`, builds every level down to 1×1.
-inline MipChain buildMipChain(const Image& image, bool mipmaps) {
+/// Decodes an sRGB RGBA8 image (or, `linear`, a data texture's bytes as byte / 255: scene.h
+/// Texture::linear) and, if `mipmaps`, builds every level down to 1×1.
+inline MipChain buildMipChain(const Image& image, bool mipmaps, bool linear = false) {
     MipChain chain;
     if (image.empty()) return chain;
     MipLevel base;
@@ -106,7 +107,10 @@ inline MipChain buildMipChain(const Image& image, bool mipmaps) {
     const auto& table = srgbDecodeTable();
     for (std::size_t k = 0; k < base.texels.size(); ++k) {
         const std::uint8_t* p = &image.rgba[k * 4];
-        base.texels[k] = glm::vec4(table[p[0]], table[p[1]], table[p[2]], float(p[3]) / 255.0f);
+        base.texels[k] =
+            linear ? glm::vec4(float(p[0]) / 255.0f, float(p[1]) / 255.0f, float(p[2]) / 255.0f,
+                               float(p[3]) / 255.0f)
+                   : glm::vec4(table[p[0]], table[p[1]], table[p[2]], float(p[3]) / 255.0f);
     }
     chain.levels.push_back(std::move(base));
     while (mipmaps && (chain.levels.back().width > 1 || chain.levels.back().height > 1)) {

@@ -13,19 +13,23 @@
 //   MaterialModel::MetallicRoughness (lighting.h, the specification's BRDF) with its
 //   metallicFactor / roughnessFactor (glTF's defaults 1, 1) and emissiveFactor ×
 //   KHR_materials_emissive_strength, read from the file's JSON; KHR_materials_unlit makes it
-//   MaterialModel::Unlit. The metallic-roughness, normal, occlusion and emissive textures are
-//   not drawn yet: a material with a metallicRoughnessTexture keeps Blinn-Phong (its factors
-//   are the texture's multipliers, 1 and 1 beside a packed map: alone, a rough metal), one with
-//   an emissiveTexture has no emissive (Blender writes factor 1 beside it), and a
-//   KHR_materials_pbrSpecularGlossiness one keeps Blinn-Phong. OBJ, PLY and primitives without
-//   a material: Blinn-Phong, specular 0.25 / shininess 32 as every built-in material.
+//   MaterialModel::Unlit. Its metallicRoughnessTexture and occlusionTexture (with its
+//   strength) become linear Textures (Texture::linear), its emissiveTexture an sRGB one
+//   (Material's slots, lighting.h SurfaceMaps). A map whose file is missing is not drawn (a
+//   warning), and the neutral factor exporters write beside it goes with it (no emissive
+//   without its map; Blinn-Phong without the metallic-roughness map: alone, factors 1 and 1
+//   are a rough metal). Normal maps are not drawn yet. A KHR_materials_pbrSpecularGlossiness
+//   material keeps Blinn-Phong. OBJ, PLY and primitives without a material: Blinn-Phong,
+//   specular 0.25 / shininess 32 as every built-in material.
 // - texture coordinate sets 0 and 1 (TEXCOORD_0, TEXCOORD_1; another set is an error naming
 //   the material) and KHR_texture_transform on every slot, read from the file's JSON: each
 //   slot's transform is recorded on the Material (baseColorTransform, normalTransform, ...);
-//   a mesh's texcoords are the set its material's base colour texture reads, with that slot's
-//   transform baked in (TextureTransform, scene.h: uv' = T · R · S · uv). The other slots are
-//   not drawn; their transforms are a record. A set the mesh lacks: a warning naming the
-//   file, material, set and mesh, set 0 used (info->strict: an error).
+//   a mesh's texcoords are the set its material's first texture reads (base colour, else
+//   metallic-roughness, occlusion, emissive), with that slot's transform baked in
+//   (TextureTransform, scene.h: uv' = T · R · S · uv), and the material's sampler is that
+//   slot's. Every slot drawn reads those coordinates: a slot reading another set or transform
+//   is not drawn (a warning naming the file, material and slot). A set the mesh lacks: a
+//   warning naming the file, material, set and mesh, set 0 used (info->strict: an error).
 // - texture coordinates follow Texture's convention (uv (0, 0) = top-left): glTF's as written,
 //   OBJ's v flipped.
 // - the first camera (perspective: yfov, aspectRatio, znear, zfar) → Scene::camera.
@@ -36,8 +40,8 @@
 //   drops range, so color, intensity, range and the cone angles are read from the file's JSON
 //   (nlohmann_json), light i of the extension being assimp's mLights[i]. A file without
 //   lights gets defaultLights(); lights past kMaxLights are dropped with a warning.
-// - a missing, unreadable or corrupt texture is an error naming the model, the material and
-//   the image (no silent fallback to the base color).
+// - an unreadable or corrupt texture is an error naming the model, the material and the
+//   image; a missing one a warning (info->strict: an error).
 #pragma once
 
 #include <filesystem>
