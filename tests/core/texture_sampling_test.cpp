@@ -49,7 +49,8 @@ TEST(TextureSampling, WrapModes) {
 }
 
 TEST(TextureSampling, NearestAndBilinearAtKnownCoordinates) {
-    const MipChain chain = buildMipChain(gradientImage(4, 4), false);
+    const Image image = gradientImage(4, 4);
+    const MipChain chain = buildMipChain(image, false);
     ASSERT_EQ(chain.levels.size(), 1u);
     TextureSampler s;
     // Texel (2, 1)'s centre is uv ((2 + ½)/4, (1 + ½)/4): nearest and bilinear both give it.
@@ -87,7 +88,8 @@ TEST(TextureSampling, MipChainBoxFiltersInLinearSpace) {
     EXPECT_FLOAT_EQ(chain.levels[1].texels[0].x, 0.5f);   // linear mean of 1, 0, 0, 1
     EXPECT_FLOAT_EQ(chain.levels[1].texels[0].w, 0.75f);  // straight alpha mean
     // 5×3: levels 5×3, 2×1, 1×1 (GL sizes floor(w/2), at least 1).
-    const MipChain odd = buildMipChain(gradientImage(5, 3), true);
+    const Image oddImage = gradientImage(5, 3);
+    const MipChain odd = buildMipChain(oddImage, true);
     ASSERT_EQ(odd.levels.size(), 3u);
     EXPECT_EQ(odd.levels[1].width, 2);
     EXPECT_EQ(odd.levels[1].height, 1);
@@ -130,7 +132,8 @@ TEST(TextureSampling, PerspectiveDerivativesMatchFiniteDifferences) {
 }
 
 TEST(TextureSampling, TrilinearMixesLevels) {
-    const MipChain chain = buildMipChain(gradientImage(4, 4), true);
+    const Image image = gradientImage(4, 4);
+    const MipChain chain = buildMipChain(image, true);
     ASSERT_EQ(chain.levels.size(), 3u);
     TextureSampler s;
     const glm::vec2 uv(0.5f, 0.5f);

@@ -8,7 +8,7 @@
 //    are decoded to linear with the exact IEC 61966-2-1 curve (srgbToLinear: a 256-entry table
 //    computed in double, rounded to float once); alpha is linear already (a / 255).
 // 2. Mip chain (buildMipChain), built ONCE per texture and render, never per view: level 0 is
-//    the decoded image; level k + 1 is max(1, floor(w/2)) × max(1, floor(h/2)) (GL's level
+//    the decoded image (decoded as it is read: MipLevel::bytes); level k + 1 is max(1, floor(w/2)) × max(1, floor(h/2)) (GL's level
 //    sizes), each texel the box average of the 2×2 texels (2i, 2j) .. (2i + 1, 2j + 1) of level
 //    k (indices clamped to level k, so a 1-wide level repeats its column; an odd size drops its
 //    last row / column, as a 2×2 box must). Filtered in LINEAR space, after the decode: that
@@ -69,8 +69,22 @@ inline float srgbToLinear(std::uint8_t b) { return srgbDecodeTable()[b]; }
 /// One level of a mip chain: linear RGBA texels, row 0 = texture coordinate v = 0.
 struct MipLevel {
     int width = 0, height = 0;
-    std::vector<glm::vec4> texels;  ///< width · height, row-major
-    const glm::vec4& at(int i, int j) const { return texels[std::size_t(j) * width + i]; }
+    std::vector<glm::vec4> texels;  ///< width · height, row-major (unless `bytes`)
+    /// Level 0 of a chain: the image's own RGBA8 bytes (not copied: the image outlives the
+    /// chain), decoded as they are read (sRGB through srgbDecodeTable(), or `linear` data as
+    /// byte / 255) into the very floats `texels` would hold. A 2048² texture is 16 MiB of
+    /// bytes where its decoded level 0 was 64 MiB of floats, written once per render.
+    const std::uint8_t* bytes = nullptr;
+    const float* srgb = nullptr;  ///< srgbDecodeTable(), or null for a `linear` texture
+    glm::vec4 at(int i, int j) const {
+        const std::size_t k = std::size_t(j) * width + i;
+        if (!bytes) return texels[k];
+        const std::uint8_t* p = bytes + 4 * k;
+        if (!srgb)
+            return glm::vec4(float(p[0]) / 255.0f, float(p[1]) / 255.0f, float(p[2]) / 255.0f,
+                             float(p[3]) / 255.0f);
+        return glm::vec4(srgb[p[0]], srgb[p[1]], srgb[p[2]], float(p[3]) / 255.0f);
+    }
 };
 
 /// A texture's decoded image and (when built with mipmaps) its box-filtered levels.
@@ -96,22 +110,16 @@ inline MipLevel downsampleLevel(const MipLevel& src) {
     return dst;
 }
 
-/// Decodes an sRGB RGBA8 image (or, `linear`, a data texture's bytes as byte / 255: scene.h
-/// Texture::linear) and, if `mipmaps`, builds every level down to 1×1.
+/// The mip chain of an sRGB RGBA8 image (or, `linear`, a data texture's bytes as byte / 255:
+/// scene.h Texture::linear): level 0 reads `image`'s bytes as they are (MipLevel::bytes; the
+/// image must outlive the chain) and, if `mipmaps`, every level down to 1×1 is built.
 inline MipChain buildMipChain(const Image& image, bool mipmaps, bool linear = false) {
     MipChain chain;
     if (image.empty()) return chain;
     MipLevel base;
     base.width = image.width, base.height = image.height;
-    base.texels.resize(std::size_t(image.width) * image.height);
-    const auto& table = srgbDecodeTable();
-    for (std::size_t k = 0; k < base.texels.size(); ++k) {
-        const std::uint8_t* p = &image.rgba[k * 4];
-        base.texels[k] =
-            linear ? glm::vec4(float(p[0]) / 255.0f, float(p[1]) / 255.0f, float(p[2]) / 255.0f,
-                               float(p[3]) / 255.0f)
-                   : glm::vec4(table[p[0]], table[p[1]], table[p[2]], float(p[3]) / 255.0f);
-    }
+    base.bytes = image.rgba.data();
+    base.srgb = linear ? nullptr : srgbDecodeTable().data();
     chain.levels.push_back(std::move(base));
     while (mipmaps && (chain.levels.back().width > 1 || chain.levels.back().height > 1)) {
         MipLevel next = downsampleLevel(chain.levels.back());
@@ -119,6 +127,8 @@ inline MipChain buildMipChain(const Image& image, bool mipmaps, bool linear = fa
     }
     return chain;
 }
+/// A temporary image would leave level 0 reading freed bytes.
+MipChain buildMipChain(const Image&& image, bool mipmaps, bool linear = false) = delete;
 
 /// Texel index i wrapped into [0, n) (GL §8.14.2 Table 8.20).
 inline int wrapTexel(std::int64_t i, int n, TextureWrap mode) {
