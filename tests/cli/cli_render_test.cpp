@@ -713,6 +713,7 @@ TEST_F(Cli, StereoSurfaces) {
 
 #include "../core/blender_fixture.h"
 #include "../core/gltf_fixture.h"
+#include "../core/gltf_maps_fixture.h"
 #include "mvr_test_support.h"
 #include "tonemap_reference.h"
 
@@ -966,6 +967,32 @@ TEST_F(Cli, SpecularPerViewShadesEachViewFromItsEye) {
     expectError("render --specular per-view --shading flat", 1,
                 "--specular per-view needs --shading pixel or vertex (flat shading has no "
                 "highlight)");
+}
+
+TEST_F(Cli, TextureMapsAreDrawnPerPixelAndTheirFaultsSaid) {
+    const auto file = test::writeMapsGltf(mDir);
+    // The default vertex shading becomes pixel for the metallic-roughness maps, said once; the
+    // maps the file gets wrong are warnings naming them.
+    const CliRun r = run(fmt::format("render {} --views 2 --size 64x48 -o m", file.string()));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("note: the scene's metallic-roughness textures shade per pixel"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("material 'Moved': its occlusion texture reads other texture "
+                         "coordinates"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("texture 'gone.png': file not found: the map is not drawn"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.out.find("pixel shading"), std::string::npos) << r.out;
+    // Asked for pixel shading, nothing to say; --strict refuses the missing map.
+    const CliRun p = run(fmt::format("render {} --views 2 --size 64x48 --shading pixel -o p",
+                                     file.string()));
+    ASSERT_EQ(p.exitCode, 0) << p.err;
+    EXPECT_EQ(p.err.find("shade per pixel"), std::string::npos) << p.err;
+    expectError(fmt::format("render {} --strict -o s", file.string()), 2,
+                "material 'Lost': texture 'gone.png': file not found");
 }
 
 /// A glTF of one quad (mesh 0: corners `pos`, normal +Z, in a data URI) after `head`, the JSON
