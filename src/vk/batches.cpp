@@ -32,8 +32,9 @@ struct FrameData {
 };
 struct InstanceData {
     glm::mat4 worldFromModel, normalFromModel, cofactor;
-    glm::vec4 material, params;
-    glm::ivec4 flags;
+    glm::vec4 material;
+    glm::vec4 params;    ///< shininess, alpha, mask cutoff, occlusion strength
+    glm::ivec4 flags;    ///< texture slots (kSlot* bits), alpha mode, double-sided, vertex colours
     glm::vec4 pbr;       ///< metallic, roughness, MaterialModel, 0 (common.glsl)
     glm::vec4 emissive;  ///< rgb
 };
@@ -42,6 +43,9 @@ static_assert(sizeof(InstanceData) == 3 * 64 + 5 * 16);
 struct Push {
     std::int32_t instance = 0, viewBase = 0;
 };
+/// InstanceData::flags.x: the texture slots a material samples (common.glsl's SLOT_*), one bit
+/// each; any of them (scene.h hasTexture) splits the lighting into D and S.
+constexpr int kSlotBaseColor = 1, kSlotMetallicRoughness = 2, kSlotOcclusion = 4, kSlotEmissive = 8;
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
@@ -446,13 +450,19 @@ Status Renderer::uploadFrame(const Scene& scene, const Rig& rig, const RenderSet
         o.cofactor = glm::mat4(glm::determinant(m3) * glm::inverseTranspose(m3));
         const Material& mt = in.material;
         o.material = glm::vec4(mt.albedo, mt.specular);
-        o.params = glm::vec4(mt.shininess, mt.alpha, mt.alphaCutoff, 0.0f);
+        o.params = glm::vec4(mt.shininess, mt.alpha, mt.alphaCutoff, mt.occlusionStrength);
         const int mode = mt.alphaMode == AlphaMode::Opaque ? 0 : mt.alphaMode == AlphaMode::Mask ? 1 : 2;
         const Mesh& mesh = scene.meshes[std::size_t(in.mesh)];
         const bool colored = !mesh.colors.empty() && mesh.colors.size() == mesh.positions.size();
-        const bool textured = mt.baseColorTexture >= 0 &&
-                              std::size_t(mt.baseColorTexture) < scene.textures.size();
-        o.flags = glm::ivec4(textured ? 1 : 0, mode, mt.doubleSided ? 1 : 0, colored ? 1 : 0);
+        // A slot counts when it names a texture (prepareTextures binds the white texel else).
+        auto slot = [&](int texture, int bit) {
+            return texture >= 0 && std::size_t(texture) < scene.textures.size() ? bit : 0;
+        };
+        const int slots = slot(mt.baseColorTexture, kSlotBaseColor) |
+                          slot(mt.metallicRoughnessTexture, kSlotMetallicRoughness) |
+                          slot(mt.occlusionTexture, kSlotOcclusion) |
+                          slot(mt.emissiveTexture, kSlotEmissive);
+        o.flags = glm::ivec4(slots, mode, mt.doubleSided ? 1 : 0, colored ? 1 : 0);
         o.pbr = glm::vec4(mt.metallic, mt.roughness, float(int(mt.model)), 0.0f);
         o.emissive = glm::vec4(mt.emissive, 0.0f);
     }

@@ -229,22 +229,26 @@ Status Renderer::ensureStatic() {
     ai.pSetLayouts = &layout;
     if (Status s = check(vkAllocateDescriptorSets(d, &ai, &mSet), "vkAllocateDescriptorSets"); !s)
         return s;
-    // Set 1: the base colour texture and its sampler (fragment stage).
-    VkDescriptorSetLayoutBinding tb{};
-    tb.binding = 0;
-    tb.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-    tb.descriptorCount = 1;
-    tb.stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
+    // Set 1: the texture slots (base colour, metallic-roughness, occlusion, emissive: bindings
+    // 0 to 3), each with the material's sampler (fragment stage).
+    VkDescriptorSetLayoutBinding tb[kTextureSlots]{};
+    for (std::uint32_t i = 0; i < kTextureSlots; ++i) {
+        tb[i].binding = i;
+        tb[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        tb[i].descriptorCount = 1;
+        tb[i].stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
+    }
     VkDescriptorSetLayoutCreateInfo tci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    tci.bindingCount = 1;
-    tci.pBindings = &tb;
+    tci.bindingCount = kTextureSlots;
+    tci.pBindings = tb;
     VkDescriptorSetLayout textureLayout = VK_NULL_HANDLE;
     if (Status s = check(vkCreateDescriptorSetLayout(d, &tci, nullptr, &textureLayout),
                          "vkCreateDescriptorSetLayout");
         !s)
         return s;
     mTextureLayout = DescriptorSetLayout(d, textureLayout);
-    VkDescriptorPoolSize tsize{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kTextureSets};
+    VkDescriptorPoolSize tsize{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                               kTextureSets * kTextureSlots};
     VkDescriptorPoolCreateInfo tpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     tpci.maxSets = kTextureSets;
     tpci.poolSizeCount = 1;

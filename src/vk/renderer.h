@@ -3,12 +3,14 @@
 // pipelines and the per-method draws.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "context.h"
@@ -42,7 +44,8 @@ struct GpuMesh {
     std::uint64_t lastUse = 0;
 };
 
-/// A scene texture on the device: sRGB, its mip chain made by blits (gl: glGenerateMipmap).
+/// A scene texture on the device: sRGB (colour) or UNORM (data: Texture::linear), its mip chain
+/// made by blits (gl: glGenerateMipmap).
 struct GpuTexture {
     ImageMemory image;
     ImageView view;
@@ -50,8 +53,15 @@ struct GpuTexture {
 };
 /// Textures kept between renders (least recently used evicted past it), as gl keeps.
 inline constexpr std::size_t kTexturesKept = 64;
-/// Descriptor sets of (texture, sampler) pairs the pool holds; past it the pool is reset.
+/// Descriptor sets of (textures, sampler) the pool holds; past it the pool is reset.
 inline constexpr std::uint32_t kTextureSets = 256;
+/// Set 1's bindings, one a texture slot: base colour, metallic-roughness, occlusion, emissive
+/// (scene.frag; a white texel where the material has none).
+inline constexpr std::uint32_t kTextureSlots = 4;
+/// A texture's cache key: its content hash and whether it is data (Texture::linear, sampled as
+/// UNORM) rather than colour (sRGB), so one image used both ways is two device images;
+/// {0, false} is the white texel.
+using TextureKey = std::pair<std::uint64_t, bool>;
 
 /// Shadow maps on the device: linear distances (R32_SFLOAT), one layer per map.
 struct ShadowImage {
@@ -123,9 +133,11 @@ private:
     Status prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes);
     Status uploadFrame(const Scene& scene, const Rig& rig, const RenderSettings& s);
     /// The scene's textures on the device and, per instance, the descriptor set (set 1) of its
-    /// base colour texture and sampler (a white texel for untextured ones): mInstanceSets.
+    /// texture slots (kTextureSlots; a white texel for each slot it lacks) and sampler:
+    /// mInstanceSets.
     Status prepareTextures(const Scene& scene);
-    Result<GpuTexture> uploadTexture(const Image& image, const std::string& name);
+    /// `linear`: data (Texture::linear), R8G8B8A8_UNORM; else colour, R8G8B8A8_SRGB.
+    Result<GpuTexture> uploadTexture(const Image& image, const std::string& name, bool linear);
     Result<VkSampler> sampler(const TextureSampler& s);
     /// Records `record` into a one-time command buffer, submits it and waits (uploads; nothing
     /// else is in flight between renders).
@@ -150,14 +162,14 @@ private:
     std::map<std::uint32_t, Pipeline> mPipelines;
     std::map<int, ShaderModule> mModules;
     BufferMemory mFrameBuffer, mInstanceBuffer;
-    // Textures (set 1: the base colour's combined image sampler): by content hash; the white
-    // texel untextured instances bind; samplers by TextureSampler; sets by (texture, sampler).
+    // Textures (set 1: a combined image sampler per texture slot): by TextureKey; the white
+    // texel absent slots bind; samplers by TextureSampler; sets by (slots' textures, sampler).
     DescriptorSetLayout mTextureLayout;
     DescriptorPool mTexturePool;
-    std::map<std::uint64_t, GpuTexture> mTextures;
+    std::map<TextureKey, GpuTexture> mTextures;
     std::optional<GpuTexture> mWhite;
     std::map<int, SamplerHandle> mSamplers;
-    std::map<std::pair<std::uint64_t, int>, VkDescriptorSet> mTextureSets;
+    std::map<std::pair<std::array<TextureKey, kTextureSlots>, int>, VkDescriptorSet> mTextureSets;
     std::vector<VkDescriptorSet> mInstanceSets;
     const ShadowSet* mShadows = nullptr;
     ShadowImage mShadowImage;  ///< the last maps' image (reused while size and count hold)

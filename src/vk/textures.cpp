@@ -1,7 +1,11 @@
-// The vk backend's base colour textures (renderer.h): sRGB images with their mip chain made by
-// linear blits on the device (as gl's glGenerateMipmap: the box filter of the decoded colour),
-// samplers from the material's TextureSampler, and one descriptor set (set 1) per instance.
+// The vk backend's textures (renderer.h): sRGB images (colour: base colour, emissive) or UNORM
+// ones (data, Texture::linear: metallic-roughness, occlusion) with their mip chain made by
+// linear blits on the device (as gl's glGenerateMipmap: the box filter of the decoded colour,
+// or of the bytes / 255 for data, as texture_sampling.h's buildMipChain), samplers from the
+// material's TextureSampler, and one descriptor set (set 1, a binding per texture slot) per
+// instance.
 #include <algorithm>
+#include <array>
 #include <cstring>
 
 #include <fmt/format.h>
@@ -14,7 +18,9 @@ namespace mvr::vk::detail {
 
 namespace {
 
-constexpr VkFormat kTextureFormat = VK_FORMAT_R8G8B8A8_SRGB;
+/// Colour is decoded from sRGB when sampled; data (Texture::linear) is byte / 255.
+constexpr VkFormat kColorTextureFormat = VK_FORMAT_R8G8B8A8_SRGB;
+constexpr VkFormat kDataTextureFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
 /// The sampler cache's key of a TextureSampler.
 int samplerKey(const TextureSampler& s) {
@@ -55,26 +61,29 @@ void barrier(VkCommandBuffer cmd, VkImage image, int level, int levels, VkImageL
 
 }  // namespace
 
-Result<GpuTexture> Renderer::uploadTexture(const Image& image, const std::string& name) {
+Result<GpuTexture> Renderer::uploadTexture(const Image& image, const std::string& name,
+                                           bool linear) {
     VkDevice d = mContext->device();
     const int w = image.width, h = image.height;
     const DeviceCaps& caps = mContext->caps();
     if (w <= 0 || h <= 0 || std::uint32_t(std::max(w, h)) > caps.maxImageDimension2D)
         return unsupportedError(fmt::format("vk: texture '{}' is {}x{} (maxImageDimension2D = {})",
                                             name, w, h, caps.maxImageDimension2D));
+    const VkFormat format = linear ? kDataTextureFormat : kColorTextureFormat;
     VkFormatProperties fp{};
-    vkGetPhysicalDeviceFormatProperties(mContext->physical(), kTextureFormat, &fp);
+    vkGetPhysicalDeviceFormatProperties(mContext->physical(), format, &fp);
     const VkFormatFeatureFlags need = VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT |
                                       VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT |
                                       VK_FORMAT_FEATURE_BLIT_SRC_BIT |
                                       VK_FORMAT_FEATURE_BLIT_DST_BIT;
     if ((fp.optimalTilingFeatures & need) != need)
-        return unsupportedError(
-            "vk: the device cannot sample, filter and blit R8G8B8A8_SRGB images (textures)");
+        return unsupportedError(fmt::format(
+            "vk: the device cannot sample, filter and blit R8G8B8A8_{} images (textures)",
+            linear ? "UNORM" : "SRGB"));
     const int levels = mipLevels(w, h);
     VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     ci.imageType = VK_IMAGE_TYPE_2D;
-    ci.format = kTextureFormat;
+    ci.format = format;
     ci.extent = {std::uint32_t(w), std::uint32_t(h), 1};
     ci.mipLevels = std::uint32_t(levels);
     ci.arrayLayers = 1;
@@ -129,7 +138,7 @@ Result<GpuTexture> Renderer::uploadTexture(const Image& image, const std::string
     });
     if (!recorded) return recorded;
 
-    auto view = makeView(d, im, kTextureFormat, VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, false, levels);
+    auto view = makeView(d, im, format, VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, false, levels);
     if (!view) return view.status();
     GpuTexture t;
     t.image = std::move(*img);
@@ -284,16 +293,18 @@ Result<VkSampler> Renderer::sampler(const TextureSampler& s) {
 Status Renderer::prepareTextures(const Scene& scene) {
     VkDevice d = mContext->device();
     if (!mWhite) {
-        auto white = uploadTexture(Image(1, 1, {255, 255, 255, 255}), "white");
+        auto white = uploadTexture(Image(1, 1, {255, 255, 255, 255}), "white", false);
         if (!white) return white.status();
         mWhite = std::move(*white);
     }
-    // The scene's textures: kept by content; past kTexturesKept the least recently used go,
-    // with every descriptor set (they may name them): nothing is in flight here.
+    // The scene's textures: kept by content and kind (colour / data); past kTexturesKept the
+    // least recently used go, with every descriptor set (they may name them): nothing is in
+    // flight here.
     ++mUseCounter;
-    std::vector<std::uint64_t> keys(scene.textures.size());
+    std::vector<TextureKey> keys(scene.textures.size());
     for (std::size_t i = 0; i < scene.textures.size(); ++i) {
-        const std::uint64_t key = contentHash(scene.textures[i].image);  // never 0
+        const Texture& tex = scene.textures[i];
+        const TextureKey key{contentHash(tex.image), tex.linear};  // hash never 0
         keys[i] = key;
         auto it = mTextures.find(key);
         if (it == mTextures.end()) {
@@ -308,30 +319,40 @@ Status Renderer::prepareTextures(const Scene& scene) {
                 mTextureSets.clear();
                 mTextures.erase(lru);
             }
-            auto t = uploadTexture(scene.textures[i].image, scene.textures[i].name);
+            auto t = uploadTexture(tex.image, tex.name, tex.linear);
             if (!t) return t.status();
             it = mTextures.emplace(key, std::move(*t)).first;
         }
         it->second.lastUse = mUseCounter;
     }
-    // One set per (texture, sampler) pair an instance uses.
+    // The key of texture index `t` in a slot: the white texel ({0, false}) for none.
+    const TextureKey white{0, false};
+    auto slotKey = [&](int t) {
+        return t >= 0 && std::size_t(t) < keys.size() ? keys[std::size_t(t)] : white;
+    };
+    // One set per (slots' textures, sampler) an instance uses.
     mInstanceSets.assign(scene.instances.size(), VK_NULL_HANDLE);
     bool restarted = false;
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
         const Material& m = scene.instances[i].material;
-        const bool textured =
-            m.baseColorTexture >= 0 && std::size_t(m.baseColorTexture) < keys.size();
-        const std::uint64_t key = textured ? keys[std::size_t(m.baseColorTexture)] : 0;
-        const TextureSampler samplerInfo = textured ? m.sampler : TextureSampler{};
+        // Binding order (scene.frag): base colour, metallic-roughness, occlusion, emissive.
+        const std::array<TextureKey, kTextureSlots> slots = {
+            slotKey(m.baseColorTexture), slotKey(m.metallicRoughnessTexture),
+            slotKey(m.occlusionTexture), slotKey(m.emissiveTexture)};
+        // Every slot samples with the material's one sampler; an instance with no texture
+        // (validateScene checked the indices) samples only white texels, with the default
+        // sampler (fewer distinct sets).
+        const TextureSampler samplerInfo = hasTexture(m) ? m.sampler : TextureSampler{};
         auto smp = sampler(samplerInfo);
         if (!smp) return smp.status();
         const int sampled = samplerKey(samplerInfo);
-        auto it = mTextureSets.find({key, sampled});
+        auto it = mTextureSets.find({slots, sampled});
         if (it == mTextureSets.end()) {
             if (mTextureSets.size() >= kTextureSets) {  // every set of this frame is made anew
                 if (restarted)
                     return unsupportedError(fmt::format(
-                        "vk: the scene's materials use more than {} texture and sampler pairs",
+                        "vk: the scene's materials use more than {} combinations of textures "
+                        "and sampler",
                         kTextureSets));
                 restarted = true;
                 vkResetDescriptorPool(d, mTexturePool.get(), 0);
@@ -350,16 +371,20 @@ Status Renderer::prepareTextures(const Scene& scene) {
             if (Status s = check(vkAllocateDescriptorSets(d, &ai, &set), "vkAllocateDescriptorSets");
                 !s)
                 return s;
-            const GpuTexture& tex = key == 0 ? *mWhite : mTextures.at(key);
-            VkDescriptorImageInfo ii{*smp, tex.view.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-            VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-            w.dstSet = set;
-            w.dstBinding = 0;
-            w.descriptorCount = 1;
-            w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-            w.pImageInfo = &ii;
-            vkUpdateDescriptorSets(d, 1, &w, 0, nullptr);
-            it = mTextureSets.emplace(std::make_pair(key, sampled), set).first;
+            VkDescriptorImageInfo ii[kTextureSlots];
+            VkWriteDescriptorSet w[kTextureSlots];
+            for (std::uint32_t k = 0; k < kTextureSlots; ++k) {
+                const GpuTexture& tex = slots[k] == white ? *mWhite : mTextures.at(slots[k]);
+                ii[k] = {*smp, tex.view.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+                w[k] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+                w[k].dstSet = set;
+                w[k].dstBinding = k;
+                w[k].descriptorCount = 1;
+                w[k].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+                w[k].pImageInfo = &ii[k];
+            }
+            vkUpdateDescriptorSets(d, kTextureSlots, w, 0, nullptr);
+            it = mTextureSets.emplace(std::make_pair(slots, sampled), set).first;
         }
         mInstanceSets[i] = it->second;
     }

@@ -1,7 +1,8 @@
 // Tests of the vk backend (include/mvr/vk/vk_backend.h) on the machine's Vulkan device (lavapipe
 // in CI), validation layers on (validation_env.cpp): the registry row, `mvr info`'s lines,
 // batching past maxMultiviewViewCount, every method against vk:multipass and soft:multipass,
-// depth on and off, textures and vertex colours at known places, and the Unsupported messages. The conformance suite (tests/conformance)
+// depth on and off, textures and vertex colours at known places, data and colour texture maps,
+// and the Unsupported messages. The conformance suite (tests/conformance)
 // compares every vk method with soft:multipass on all its scenes.
 #include <algorithm>
 #include <cmath>
@@ -285,6 +286,49 @@ TEST(VkBackend, TexelsAndVertexColoursLandWhereTheQuadPutsThem) {
         EXPECT_NEAR(p.r, 128, 1);
         EXPECT_NEAR(p.g, 255, 1);
         EXPECT_NEAR(p.b, 64, 1);
+    }
+}
+
+// Issue 39's texture maps (lighting.h SurfaceMaps): one grey image (128) as an occlusion map
+// (data: Texture::linear, sampled as 128/255) and as an emissive map (colour: sRGB-decoded), on
+// a metallic-roughness quad with no base colour texture, lit by ambient (1, 1, 0) and no light,
+// emissive factor (0, 0, 1): red and green show the occlusion (ambient × occlusion), blue the
+// emissive texel, in every shading and method. The two uses of one image are two device images
+// (colour and data keyed apart), and a material with maps but no base colour samples them.
+TEST(VkBackend, DataMapsAreReadAsStoredAndColourMapsDecoded) {
+    MVR_SKIP_WITHOUT_VK();
+    Scene scene = quadScene(glm::vec4(1.0f), false);
+    for (const bool linear : {true, false}) {
+        Texture t;
+        t.name = linear ? "grey (data)" : "grey (colour)";
+        t.image = Image(2, 2);
+        for (int y = 0; y < 2; ++y)
+            for (int x = 0; x < 2; ++x) t.image.set(x, y, {128, 128, 128, 255});
+        t.linear = linear;
+        scene.textures.push_back(t);
+    }
+    Material& m = scene.instances[0].material;
+    m.model = MaterialModel::MetallicRoughness;
+    m.occlusionTexture = 0;
+    m.occlusionStrength = 1.0f;
+    m.emissiveTexture = 1;
+    m.emissive = glm::vec3(0.0f, 0.0f, 1.0f);
+    m.sampler.magFilter = m.sampler.minFilter = TextureFilter::Nearest;
+    m.sampler.mipmaps = false;
+    scene.ambient = glm::vec3(1.0f, 1.0f, 0.0f);
+    const Rig rig = quadRig();
+    for (Shading shading : {Shading::Flat, Shading::Vertex, Shading::Pixel}) {
+        for (const char* method : {"multipass", "multiview", "instanced-layer"}) {
+            RenderSettings s = small(shading);
+            s.width = s.height = 64;
+            auto r = backend().render(scene, rig, s, method);
+            ASSERT_TRUE(r) << method << ": " << r.status().message();
+            const Rgba8 p = r->color[0].at(32, 32);
+            const std::string where = fmt::format("{}, shading {}", method, int(shading));
+            EXPECT_NEAR(p.r, 128, 1) << where;  // not decoded(128): data
+            EXPECT_NEAR(p.g, 128, 1) << where;
+            EXPECT_NEAR(p.b, decoded(128), 2) << where;  // decoded: colour
+        }
     }
 }
 

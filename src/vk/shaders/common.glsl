@@ -36,14 +36,21 @@ struct InstanceData {
     mat4 normalFromModel;  // inverse transpose (upper 3x3)
     mat4 cofactor;         // model edge cross -> world edge cross
     vec4 material;         // albedo rgb, specular
-    vec4 params;           // x shininess, y alpha, z mask cutoff
-    ivec4 flags;           // x textured, y alpha mode (0 opaque, 1 mask, 2 blend), z double-sided,
+    vec4 params;           // x shininess, y alpha, z mask cutoff, w occlusion strength
+    ivec4 flags;           // x texture slots (SLOT_* bits; any: the lighting split into D and S),
+                           // y alpha mode (0 opaque, 1 mask, 2 blend), z double-sided,
                            // w vertex colours (lighting split into D and S, as gl's SPLIT_LIGHTING)
     vec4 pbr;              // x metallic, y roughness, z MaterialModel (0 Blinn-Phong, 1
                            // metallic-roughness, 2 unlit)
     vec4 emissive;         // rgb (model 1)
 };
 layout(std430, set = 0, binding = 1) readonly buffer Instances { InstanceData uInstances[]; };
+// InstanceData.flags.x: the texture slots a material samples (batches.cpp kSlot*; set 1's
+// bindings 0 to 3 in this order).
+#define SLOT_BASE_COLOR 1
+#define SLOT_METALLIC_ROUGHNESS 2
+#define SLOT_OCCLUSION 4
+#define SLOT_EMISSIVE 8
 
 layout(push_constant) uniform Push {
     int instance;
@@ -257,4 +264,14 @@ void blinnPhongTerms(InstanceData m, vec3 normal, vec3 worldPos, out vec3 diffus
             specular += spec * lc;
         }
     }
+}
+
+// lighting.h applySurfaceMaps(): a lit fragment's terms under its texture maps, in every
+// shading (D and S computed without them): the occlusion scales the ambient term, a
+// metallic-roughness material's emissive (held once in S) the emissive texel. Unlit: unchanged.
+void applySurfaceMaps(InstanceData m, float occlusion, vec3 emissiveTexel, inout vec3 diffuse,
+                      inout vec3 specular) {
+    if (m.pbr.z == 2.0) return;
+    diffuse -= uAmbient.rgb * (1.0 - occlusion);
+    if (m.pbr.z == 1.0) specular += m.emissive.rgb * (emissiveTexel - vec3(1.0));
 }

@@ -4,7 +4,12 @@
 
 layout(location = 3) in vec4 iVertexColor;
 layout(location = 5) in vec2 iTexcoord;
-layout(set = 1, binding = 0) uniform sampler2D uBaseColor;  // sRGB: sampled in linear
+// Set 1: the material's texture slots, all with its sampler and the base colour's coordinates
+// (a white texel where it has none: white changes nothing in any slot).
+layout(set = 1, binding = 0) uniform sampler2D uBaseColor;          // sRGB: sampled in linear
+layout(set = 1, binding = 1) uniform sampler2D uMetallicRoughness;  // data: G roughness, B metallic
+layout(set = 1, binding = 2) uniform sampler2D uOcclusion;          // data: R
+layout(set = 1, binding = 3) uniform sampler2D uEmissive;           // sRGB: sampled in linear
 #if defined(SHADING_PIXEL)
 layout(location = 0) in vec3 iWorld;
 layout(location = 1) in vec3 iNormal;
@@ -24,31 +29,58 @@ void main() {
     gShadingEye = uCenterEye.xyz;
 #endif
     InstanceData m = uInstances[pc.instance];
-    // The base colour texture (sampled in uniform control flow: its derivatives choose the mip
-    // level; untextured instances bind a white texel) times glTF's COLOR_0, times the
-    // material's colour and alpha (gl's and the soft backend's order).
-    bool colored = m.flags.w != 0;
-    bool split = m.flags.x != 0 || colored;
+    // Every slot is sampled in uniform control flow, before the mask's discard (their
+    // derivatives choose the mip level), then selected by the material's slots.
+    int slots = m.flags.x;
     vec4 vc = texture(uBaseColor, iTexcoord);
-    if (m.flags.x == 0) vc = vec4(1.0);
+    vec4 mrTexel = texture(uMetallicRoughness, iTexcoord);
+    float occlusionTexel = texture(uOcclusion, iTexcoord).r;
+    vec3 emissiveTexel = texture(uEmissive, iTexcoord).rgb;
+    // The base colour texture times glTF's COLOR_0, times the material's colour and alpha (gl's
+    // and the soft backend's order).
+    bool colored = m.flags.w != 0;
+    bool split = slots != 0 || colored;
+    if ((slots & SLOT_BASE_COLOR) == 0) vc = vec4(1.0);
     if (colored) vc *= iVertexColor;
     float alpha = m.params.y * vc.a;
     if (m.flags.y == 1 && alpha < m.params.z) discard;
     alpha = m.flags.y == 2 ? alpha : 1.0;
     vec3 base = m.material.rgb * vc.rgb;
+    // lighting.h SurfaceMaps: an absent slot's defaults change nothing.
+    bool mapped = (slots & SLOT_METALLIC_ROUGHNESS) != 0;
+    float mapRoughness = mapped ? mrTexel.g : 1.0;
+    float mapMetallic = mapped ? mrTexel.b : 1.0;
+    float occlusion = (slots & SLOT_OCCLUSION) != 0
+                          ? 1.0 + m.params.w * (occlusionTexel - 1.0)  // lighting.h occlusionOf
+                          : 1.0;
+    vec3 emissive = (slots & SLOT_EMISSIVE) != 0 ? emissiveTexel : vec3(1.0);
 #if defined(SHADING_PIXEL)
     vec3 c;
     if (split) {
+        // lighting.h metallicRoughnessTerms' `maps`: pixel shading lights the factors × the
+        // metallic-roughness texel (vertex and flat shading the factors alone).
+        InstanceData mm = m;
+        mm.pbr.x = m.pbr.x * mapMetallic;
+        mm.pbr.y = m.pbr.y * mapRoughness;
         vec3 d, sp;
-        blinnPhongTerms(m, iNormal, iWorld, d, sp);
+        blinnPhongTerms(mm, iNormal, iWorld, d, sp);
+        applySurfaceMaps(m, occlusion, emissive, d, sp);
         c = finishColor(base * d + sp);
     } else {
         c = shadeBlinnPhong(m, iNormal, iWorld);
     }
-#elif defined(SHADING_FLAT)
-    vec3 c = split ? finishColor(base * iColor + flatSpecular(m)) : iColor;
 #else
-    vec3 c = split ? finishColor(base * iColor + iSpecular) : iColor;
+    vec3 c = iColor;
+    if (split) {
+        vec3 d = iColor;
+#if defined(SHADING_FLAT)
+        vec3 sp = flatSpecular(m);
+#else
+        vec3 sp = iSpecular;
+#endif
+        applySurfaceMaps(m, occlusion, emissive, d, sp);
+        c = finishColor(base * d + sp);
+    }
 #endif
     oColor0 = vec4(c, alpha);
 }

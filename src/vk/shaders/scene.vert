@@ -36,7 +36,8 @@ void main() {
     vec4 world = m.worldFromModel * vec4(aPosition, 1.0);
     oVertexColor = aColor;
     oTexcoord = aTexcoord;
-    // Textured or coloured: the lighting split into D and S (the base colour varies).
+    // Any texture slot (scene.h hasTexture) or vertex colours: the lighting split into D and S
+    // (the base colour varies, or the maps apply to the terms: scene.frag).
     bool split = m.flags.x != 0 || m.flags.w != 0;
 #if defined(SHADING_PIXEL)
     oWorld = world.xyz;
