@@ -1,7 +1,9 @@
-// src/gl/materials.cpp — the gl backend's materials: scene textures on the GPU (sRGB, mip
-// chains), sampler objects, the per-instance state a material asks for (its texture and
-// sampler, double-sided culling, alpha blending) and the draw order that blending needs.
+// src/gl/materials.cpp — the gl backend's materials: scene textures on the GPU (sRGB colour or
+// linear data, mip chains), sampler objects, the per-instance state a material asks for (its
+// textures and sampler, double-sided culling, alpha blending) and the draw order that blending
+// needs.
 #include <algorithm>
+#include <array>
 #include <cstring>
 
 #include <fmt/format.h>
@@ -21,6 +23,21 @@ GLint wrapMode(TextureWrap w) {
     }
     return GL_REPEAT;
 }
+
+/// The texture units of a material's slots, in materialSlots' order (shaders.cpp's
+/// uBaseColor, uMetallicRoughnessMap, uOcclusionMap, uEmissiveMap bindings). Units 0 and 1 are the
+/// methods' and read-back's own (sorbier2008's depth map, composites), 3 the shadow maps.
+constexpr GLuint kSlotUnits[4] = {2, 4, 5, 6};
+
+/// A material's texture slots (Scene::textures indices or -1) in kSlotUnits' order.
+std::array<int, 4> materialSlots(const Material& m) {
+    return {m.baseColorTexture, m.metallicRoughnessTexture, m.occlusionTexture,
+            m.emissiveTexture};
+}
+
+/// Mixed into a linear texture's cache key: the same image may be uploaded twice, as colour
+/// (sRGB) and as data (linear), which are different GL textures.
+constexpr std::uint64_t kLinearKeySalt = 0x6C696E6561720001ull;
 
 int mipLevels(int w, int h) {
     int levels = 1;
@@ -44,7 +61,7 @@ Status Renderer::prepareTextures(const Scene& scene, Frame& frame, std::uint64_t
     frame.textures.assign(scene.textures.size(), 0);
     for (std::size_t i = 0; i < scene.textures.size(); ++i) {
         const mvr::Texture& src = scene.textures[i];
-        const std::uint64_t key = contentHash(src.image);
+        const std::uint64_t key = contentHash(src.image) ^ (src.linear ? kLinearKeySalt : 0);
         sceneKey = (sceneKey ^ key) * 0x100000001B3ull;
         auto it = mGpu->textures.find(key);
         if (it == mGpu->textures.end()) {
@@ -57,9 +74,11 @@ Status Renderer::prepareTextures(const Scene& scene, Frame& frame, std::uint64_t
             }
             GpuTexture g;
             g.texture = createTexture(GL_TEXTURE_2D);
-            // sRGB-encoded colour: the sampler decodes to linear before filtering; the mip
-            // chain is the driver's box filter (glGenerateMipmap).
-            glTextureStorage2D(g.texture.get(), mipLevels(w, h), GL_SRGB8_ALPHA8, w, h);
+            // sRGB-encoded colour: the sampler decodes to linear before filtering; data
+            // (metallic-roughness, occlusion) is sampled as stored. The mip chain is the
+            // driver's box filter (glGenerateMipmap) either way.
+            glTextureStorage2D(g.texture.get(), mipLevels(w, h),
+                               src.linear ? GL_RGBA8 : GL_SRGB8_ALPHA8, w, h);
             glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
             glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
             // Row 0 of the image = texture coordinate t = 0 (glTF's v = 0 is the top row).
@@ -97,10 +116,13 @@ GLuint Renderer::sampler(const TextureSampler& s) {
 
 void Renderer::setInstanceState(const Frame& f, const Instance& inst) {
     const Material& m = inst.material;
-    if (m.baseColorTexture >= 0 &&
-        static_cast<std::size_t>(m.baseColorTexture) < f.textures.size()) {
-        glBindTextureUnit(2, f.textures[static_cast<std::size_t>(m.baseColorTexture)]);
-        glBindSampler(2, sampler(m.sampler));
+    // Every slot through the material's one sampler (scene.h); an absent slot keeps whatever
+    // is bound, which the shader does not sample (uMatFlags.x's bits).
+    const std::array<int, 4> slots = materialSlots(m);
+    for (std::size_t k = 0; k < slots.size(); ++k) {
+        if (slots[k] < 0 || static_cast<std::size_t>(slots[k]) >= f.textures.size()) continue;
+        glBindTextureUnit(kSlotUnits[k], f.textures[static_cast<std::size_t>(slots[k])]);
+        glBindSampler(kSlotUnits[k], sampler(m.sampler));
     }
     if (f.settings->cullBackFaces && !m.doubleSided) {
         glEnable(GL_CULL_FACE);
@@ -125,8 +147,10 @@ void Renderer::endInstanceState(const Frame& f) {
     } else {
         glDisable(GL_CULL_FACE);
     }
-    glBindSampler(2, 0);
-    glBindTextureUnit(2, 0);
+    for (GLuint unit : kSlotUnits) {
+        glBindSampler(unit, 0);
+        glBindTextureUnit(unit, 0);
+    }
     if (f.method->target == TargetKind::Mrt) return;
     glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);

@@ -515,9 +515,14 @@ void Renderer::setInstanceUniforms(GLuint prog, const Instance& inst) {
     const int mode = mat.alphaMode == AlphaMode::Mask    ? 1
                      : mat.alphaMode == AlphaMode::Blend ? 2
                                                          : 0;
-    glProgramUniform4i(prog, 6, mat.baseColorTexture >= 0 ? 1 : 0, mode, mat.doubleSided ? 1 : 0,
-                       int(mat.model));
-    glProgramUniform2f(prog, 7, mat.alpha, mat.alphaCutoff);
+    // uMatFlags.x: the texture slots present, one bit each (shaders.cpp); any of them makes the
+    // instance textured (hasTexture: split lighting, the uv path), the base colour's bit alone
+    // picks its texel.
+    const int slots = (mat.baseColorTexture >= 0 ? 1 : 0) |
+                      (mat.metallicRoughnessTexture >= 0 ? 2 : 0) |
+                      (mat.occlusionTexture >= 0 ? 4 : 0) | (mat.emissiveTexture >= 0 ? 8 : 0);
+    glProgramUniform4i(prog, 6, slots, mode, mat.doubleSided ? 1 : 0, int(mat.model));
+    glProgramUniform3f(prog, 7, mat.alpha, mat.alphaCutoff, mat.occlusionStrength);
     glProgramUniform2f(prog, 20, mat.metallic, mat.roughness);
     glProgramUniform3f(prog, 21, mat.emissive.x, mat.emissive.y, mat.emissive.z);
 }

@@ -115,8 +115,9 @@ static_assert(sizeof(FrameBlock) <= 16384);  // GL's smallest GL_MAX_UNIFORM_BLO
 static_assert(offsetof(FrameBlock, lightPos) == 80 * kMaxViews + 32 * kMaxLights + 48);
 static_assert(sizeof(FrameBlock) == 96 * kMaxViews + 64 * kMaxLights + 48);
 
-/// One scene texture on the GPU (GL_SRGB8_ALPHA8 with its full mip chain), keyed by a hash of
-/// its pixels so a scene rendered again uploads nothing.
+/// One scene texture on the GPU (GL_SRGB8_ALPHA8, or GL_RGBA8 for a linear one, with its full
+/// mip chain), keyed by a hash of its pixels and whether it is linear, so a scene rendered
+/// again uploads nothing.
 struct GpuTexture {
     Texture texture;
     std::uint64_t lastUse = 0;
@@ -273,7 +274,8 @@ private:
     ProgramDesc passProgram(const GlMethod& method, Shading shading, int views, bool shadows,
                             bool perViewEye = false) const;
     void setInstanceUniforms(GLuint program, const Instance& instance);
-    /// The instance's material state: its texture and sampler bound (unit 2), culling off
+    /// The instance's material state: its textures bound with its sampler (base colour unit 2,
+    /// metallic-roughness 4, occlusion 5, emissive 6: materials.cpp kSlotUnits), culling off
     /// when double-sided, blending with depth writes off for AlphaMode::Blend.
     void setInstanceState(const Frame& f, const Instance& instance);
     /// Back to the frame's state after the instances (depth writes on, no blending, culling

@@ -31,8 +31,8 @@ layout(location = 2) uniform mat4 uNormalFromModel;  // inverse transpose (upper
 layout(location = 3) uniform mat4 uCofactor;         // det * inverse transpose: model edge cross -> world edge cross
 layout(location = 4) uniform vec4 uMaterial;         // albedo rgb, specular
 layout(location = 5) uniform float uShininess;
-layout(location = 6) uniform ivec4 uMatFlags;        // x: textured, y: alpha mode (0 opaque, 1 mask, 2 blend), z: double-sided, w: MaterialModel (0 Blinn-Phong, 1 metallic-roughness, 2 unlit)
-layout(location = 7) uniform vec2 uAlphaCutoff;      // x: material alpha, y: mask cutoff
+layout(location = 6) uniform ivec4 uMatFlags;        // x: texture slots (bits: 1 base colour, 2 metallic-roughness, 4 occlusion, 8 emissive; any: textured), y: alpha mode (0 opaque, 1 mask, 2 blend), z: double-sided, w: MaterialModel (0 Blinn-Phong, 1 metallic-roughness, 2 unlit)
+layout(location = 7) uniform vec3 uMatFactors;       // x: material alpha, y: mask cutoff, z: occlusion strength
 layout(location = 20) uniform vec2 uMetalRough;      // metallic, roughness (model 1)
 layout(location = 21) uniform vec3 uEmissive;        // model 1
 
@@ -46,7 +46,8 @@ int gEyeView;
 #endif
 
 // Lighting kept as D and S (below) for a base colour that varies across the triangle: a
-// texture's, or (VERTEX_COLORS: some mesh of the frame has them, as the soft backend's
+// texture's (any slot, uMatFlags.x: the other maps change D and S per fragment), or
+// (VERTEX_COLORS: some mesh of the frame has them, as the soft backend's
 // FrameContext::colored) the interpolated vertex colour's, for every mesh of the frame.
 #ifdef VERTEX_COLORS
 #define SPLIT_LIGHTING true
@@ -56,7 +57,7 @@ int gEyeView;
 
 #ifdef SHADOWS
 // shadows.h shadowFactor() (issue 15): linear distances in an R32F array, one layer per map.
-layout(binding = 3) uniform sampler2DArray uShadowMaps;  // unit 2: the base color
+layout(binding = 3) uniform sampler2DArray uShadowMaps;  // units 2, 4-6: the material's textures
 layout(location = 8) uniform mat4 uShadowClip[MAX_LIGHTS];    // light clipFromWorld
 layout(location = 12) uniform vec4 uShadowInfo[MAX_LIGHTS];   // layer (< 0: none), persp, near, far
 layout(location = 16) uniform vec4 uShadowTexel[MAX_LIGHTS];  // texelWorld, size
@@ -177,12 +178,14 @@ vec3 shadeFlat(vec3 faceNormal, vec3 p) {
 }
 
 // lighting.h metallicRoughnessTerms(): glTF 2.0 Appendix B's BRDF as D (× base colour) and S
-// (added, with the emissive), π folded in as mvr's light convention.
-void metallicRoughnessTerms(vec3 normal, vec3 worldPos, out vec3 diffuse, out vec3 specular) {
+// (added, with the emissive), π folded in as mvr's light convention. metalRough: the material's
+// metallic, roughness (uMetalRough, or mappedMaterial's: × the metallic-roughness texel).
+void metallicRoughnessTerms(vec2 metalRough, vec3 normal, vec3 worldPos, out vec3 diffuse,
+                            out vec3 specular) {
     vec3 n = normalize(facingNormal(normal, worldPos));
     vec3 v = normalize(SHADING_EYE - worldPos);
-    float metal = clamp(uMetalRough.x, 0.0, 1.0);
-    float rough = clamp(uMetalRough.y, 0.0, 1.0);
+    float metal = clamp(metalRough.x, 0.0, 1.0);
+    float rough = clamp(metalRough.y, 0.0, 1.0);
     float alpha = max(rough * rough, 1e-3);
     float a2 = alpha * alpha;
     float nv = abs(dot(n, v));
@@ -215,7 +218,7 @@ void metallicRoughnessTerms(vec3 normal, vec3 worldPos, out vec3 diffuse, out ve
 vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
     if (uMatFlags.w == 1) {
         vec3 d, sp;
-        metallicRoughnessTerms(normal, worldPos, d, sp);
+        metallicRoughnessTerms(uMetalRough, normal, worldPos, d, sp);
         return finishColor(uMaterial.rgb * d + sp);
     }
     if (uMatFlags.w == 2) return finishColor(uMaterial.rgb);
@@ -253,10 +256,11 @@ vec3 flatDiffuse(vec3 faceNormal, vec3 p) {
     return d;
 }
 
-// lighting.h blinnPhongTerms()
-void blinnPhongTerms(vec3 normal, vec3 worldPos, out vec3 diffuse, out vec3 specular) {
+// lighting.h blinnPhongTerms() (metalRough: metallicRoughnessTerms')
+void blinnPhongTerms(vec2 metalRough, vec3 normal, vec3 worldPos, out vec3 diffuse,
+                     out vec3 specular) {
     if (uMatFlags.w == 1) {
-        metallicRoughnessTerms(normal, worldPos, diffuse, specular);
+        metallicRoughnessTerms(metalRough, normal, worldPos, diffuse, specular);
         return;
     }
     if (uMatFlags.w == 2) {
@@ -280,6 +284,17 @@ void blinnPhongTerms(vec3 normal, vec3 worldPos, out vec3 diffuse, out vec3 spec
             specular += spec * lc;
         }
     }
+}
+
+// lighting.h applySurfaceMaps(): a lit fragment's D and S under its maps, in every shading —
+// the occlusion scales the ambient term, the emissive texel a metallic-roughness material's
+// emissive (held once in S); unlit terms are left as they are. The defaults (occlusion 1,
+// texel 1: absent slots) change nothing.
+void applySurfaceMaps(inout vec3 diffuse, inout vec3 specular, float occlusion,
+                      vec3 emissiveTexel) {
+    if (uMatFlags.w == 2) return;
+    diffuse -= uAmbient.rgb * (1.0 - occlusion);
+    if (uMatFlags.w == 1) specular += uEmissive * (emissiveTexel - vec3(1.0));
 }
 )glsl";
 
@@ -368,7 +383,7 @@ void main() {
     oSpecular = vec3(0.0);
 #if defined(SHADING_VERTEX)
     if (SPLIT_LIGHTING) {
-        blinnPhongTerms(oNormal, world.xyz, oColor, oSpecular);
+        blinnPhongTerms(uMetalRough, oNormal, world.xyz, oColor, oSpecular);  // factors only
     } else {
         oColor = shadeBlinnPhong(oNormal, world.xyz);
     }
@@ -509,6 +524,11 @@ void main() {
 const char* const kFragment = R"glsl(
 layout(location = 5) in vec2 iTexcoord;
 layout(binding = 2) uniform sampler2D uBaseColor;  // sRGB texture: sampled in linear
+// The other slots (lighting.h SurfaceMaps; units: materials.cpp kSlotUnits, 3 is the shadow
+// maps'), through the base colour's coordinates and sampler.
+layout(binding = 4) uniform sampler2D uMetallicRoughnessMap;  // linear: G roughness, B metallic
+layout(binding = 5) uniform sampler2D uOcclusionMap;          // linear: R
+layout(binding = 6) uniform sampler2D uEmissiveMap;           // sRGB: sampled in linear
 #ifdef VERTEX_COLORS
 layout(location = 7) in vec4 iVertexColor;
 #endif
@@ -553,12 +573,27 @@ void main() {
 #endif
     // The base color texture (sampled in uniform control flow: its derivatives choose the
     // mip level) times the material's color and alpha.
-    vec4 tex = uMatFlags.x != 0 ? texture(uBaseColor, iTexcoord) : vec4(1.0);
+    vec4 tex = (uMatFlags.x & 1) != 0 ? texture(uBaseColor, iTexcoord) : vec4(1.0);
+#if !defined(DEPTH_ONLY)
+    // The other slots (lighting.h SurfaceMaps; an absent one gives its default), sampled here
+    // too: in uniform control flow, before any discard. The metallic-roughness map in pixel
+    // shading only (vertex and flat shading light the factors alone).
+#if defined(SHADING_PIXEL)
+    vec2 mapMetalRough = (uMatFlags.x & 2) != 0
+                             ? texture(uMetallicRoughnessMap, iTexcoord).bg  // metallic, roughness
+                             : vec2(1.0);
+#endif
+    // lighting.h occlusionOf()
+    float mapOcclusion = (uMatFlags.x & 4) != 0
+                             ? 1.0 + uMatFactors.z * (texture(uOcclusionMap, iTexcoord).r - 1.0)
+                             : 1.0;
+    vec3 mapEmissive = (uMatFlags.x & 8) != 0 ? texture(uEmissiveMap, iTexcoord).rgb : vec3(1.0);
+#endif
 #ifdef VERTEX_COLORS
     tex *= iVertexColor;  // glTF's COLOR_0 multiplies the base colour (the soft backend's order)
 #endif
-    float alpha = uAlphaCutoff.x * tex.a;
-    if (uMatFlags.y == 1 && alpha < uAlphaCutoff.y) discard;
+    float alpha = uMatFactors.x * tex.a;
+    if (uMatFlags.y == 1 && alpha < uMatFactors.y) discard;
     alpha = uMatFlags.y == 2 ? alpha : 1.0;
 #if !defined(DEPTH_ONLY)
 #ifdef DEPTHMAP
@@ -589,7 +624,9 @@ void main() {
 #if defined(SHADING_PIXEL)
     if (SPLIT_LIGHTING) {
         vec3 d, sp;
-        blinnPhongTerms(iNormal, iWorld, d, sp);
+        // lighting.h mappedMaterial(): the factors × the metallic-roughness texel
+        blinnPhongTerms(uMetalRough * mapMetalRough, iNormal, iWorld, d, sp);
+        applySurfaceMaps(d, sp, mapOcclusion, mapEmissive);
         c = finishColor(uMaterial.rgb * tex.rgb * d + sp);
     } else {
         c = shadeBlinnPhong(iNormal, iWorld);
@@ -601,7 +638,9 @@ void main() {
 #else
     vec3 s = iSpecular;
 #endif
-    c = SPLIT_LIGHTING ? finishColor(uMaterial.rgb * tex.rgb * iColor + s) : iColor;
+    vec3 d = iColor;
+    applySurfaceMaps(d, s, mapOcclusion, mapEmissive);
+    c = SPLIT_LIGHTING ? finishColor(uMaterial.rgb * tex.rgb * d + s) : iColor;
 #endif
 #ifdef GS_OUT_FLAG
     // sorbier2008 §4.2: every fragment is written to both MRT attachments; the other eye's

@@ -47,7 +47,7 @@ struct SceneCase {
     int views() const { return columns * rows; }
     std::vector<std::string> tags() const {
         std::vector<std::string> t{scene};
-        if (scene.rfind("textured-", 0) == 0) t.push_back("textured");
+        if (scene.rfind("textured-", 0) == 0 || scene == "mapped") t.push_back("textured");
         if (cull) t.push_back("cull");
         if (wire) t.push_back("wire");
         if (shadows) t.push_back(shading == Shading::Flat ? "shadows-flat" : "shadows");
@@ -124,6 +124,12 @@ const std::vector<SceneCase>& sceneCases() {
         {"textured-pbr", 2, 1, Shading::Flat},
         {"textured-pbr", 2, 1, Shading::Vertex},
         {"textured-pbr", 3, 2, Shading::Pixel},
+        // Issue 39 item 1: metallic-roughness, occlusion and emissive maps (test_scenes.h
+        // withSurfaceMaps), every shading (the metallic-roughness map per pixel only).
+        {"mapped", 2, 1, Shading::Flat},
+        {"mapped", 2, 1, Shading::Vertex},
+        {"mapped", 2, 1, Shading::Pixel},
+        {"mapped", 3, 2, Shading::Pixel, false, false, true},
         // Issue 39 item 2: tone mapping where the clamp was (lighting.h finishColor), under
         // lights bright enough to need it.
         {"pbr-neutral", 2, 1, Shading::Vertex},
@@ -148,6 +154,7 @@ const Scene* sceneNamed(const std::string& name) {
     if (name == "engine") return &test::engineScene();
     if (name == "colored") return &test::coloredScene();
     if (name == "pbr") return &test::pbrScene();
+    if (name == "mapped") return &test::mappedScene();
     if (name == "textured-pbr") {
         static const Scene texturedPbr = test::withMetallicRoughness(makeTexturedScene());
         return &texturedPbr;
