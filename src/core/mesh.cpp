@@ -35,6 +35,10 @@ Status validateMesh(const Mesh& mesh, const std::string& what) {
         return inputError(fmt::format("{}: {} texture coordinates for {} positions", what,
                                       mesh.texcoords.size(), mesh.positions.size()));
     }
+    if (!mesh.tangents.empty() && mesh.tangents.size() != mesh.positions.size()) {
+        return inputError(fmt::format("{}: {} tangents for {} positions", what,
+                                      mesh.tangents.size(), mesh.positions.size()));
+    }
     if (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size()) {
         return inputError(fmt::format("{}: {} vertex colours for {} positions", what,
                                       mesh.colors.size(), mesh.positions.size()));
@@ -186,6 +190,7 @@ std::uint64_t contentHash(const Mesh& m) {
     h = hashBytes(h, m.indices.data(), m.indices.size() * sizeof(std::uint32_t));
     h = hashBytes(h, m.texcoords.data(), m.texcoords.size() * sizeof(glm::vec2));
     h = hashBytes(h, m.colors.data(), m.colors.size() * sizeof(glm::vec4));
+    h = hashBytes(h, m.tangents.data(), m.tangents.size() * sizeof(glm::vec4));
     return h;
 }
 

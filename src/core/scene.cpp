@@ -247,7 +247,7 @@ Status validateScene(const Scene& scene) {
     for (const Instance& inst : scene.instances) {
         const Material& m = inst.material;
         for (const int t : {m.baseColorTexture, m.metallicRoughnessTexture, m.occlusionTexture,
-                            m.emissiveTexture}) {
+                            m.emissiveTexture, m.normalTexture}) {
             if (t < 0) continue;
             if (std::size_t(t) >= scene.textures.size()) {
                 return inputError(fmt::format("material '{}' refers to texture {} of {}", m.name,

@@ -42,6 +42,7 @@ void optimizeMeshLocality(Mesh& mesh) {
     remapStream(mesh.normals);
     remapStream(mesh.texcoords);
     remapStream(mesh.colors);
+    remapStream(mesh.tangents);
     remapStream(mesh.basePositions);
     remapStream(mesh.baseNormals);
     for (MorphTarget& t : mesh.morphTargets) {

@@ -190,13 +190,15 @@ struct GltfMaterialUv {
     // and roughness 1 under a packed metallic-roughness map), which alone would be a white glow
     // or a rough metal: material() drops those factors when the texture is not drawn.
     bool metallicRoughnessTexture = false, emissiveTexture = false, occlusionTexture = false;
-    bool normalTexture = false;  ///< not drawn yet
+    bool normalTexture = false;
     int metallicRoughnessTexCoord = 0, occlusionTexCoord = 0, emissiveTexCoord = 0;
+    int normalTexCoord = 0;
+    float normalScale = 1.0f;  ///< normalTexture.scale
     bool specularGlossiness = false;  ///< KHR_materials_pbrSpecularGlossiness without MR
 
     /// The texture coordinates a mesh of this material holds (Mesh::texcoords, one array for
     /// every slot): the set and transform of its first slot given, in the order base colour,
-    /// metallic-roughness, occlusion, emissive; set 0 untransformed when it has none.
+    /// metallic-roughness, occlusion, emissive, normal; set 0 untransformed when it has none.
     struct Coords {
         int set = 0;
         std::optional<TextureTransform> transform;
@@ -206,6 +208,7 @@ struct GltfMaterialUv {
         if (metallicRoughnessTexture) return {metallicRoughnessTexCoord, metallicRoughness};
         if (occlusionTexture) return {occlusionTexCoord, occlusion};
         if (emissiveTexture) return {emissiveTexCoord, emissive};
+        if (normalTexture) return {normalTexCoord, normal};
         return {};
     }
     /// Whether a slot reading set `set` through `transform` reads coords() (an absent transform
@@ -261,7 +264,6 @@ std::vector<GltfMaterialUv> materialTextureCoords(const nlohmann::json& doc) {
     };
     for (const nlohmann::json& m : *materials) {
         GltfMaterialUv uv;
-        int unused = 0;
         if (m.is_object()) {
             if (const auto pbr = m.find("pbrMetallicRoughness");
                 pbr != m.end() && pbr->is_object()) {
@@ -293,7 +295,12 @@ std::vector<GltfMaterialUv> materialTextureCoords(const nlohmann::json& doc) {
                 uv.specularGlossiness = ext->contains("KHR_materials_pbrSpecularGlossiness") &&
                                         !m.contains("pbrMetallicRoughness");
             }
-            slot(m, "normalTexture", &uv.normalTexture, unused, uv.normal);
+            slot(m, "normalTexture", &uv.normalTexture, uv.normalTexCoord, uv.normal);
+            if (const auto n = m.find("normalTexture"); n != m.end() && n->is_object()) {
+                if (auto k = n->find("scale"); k != n->end() && k->is_number() &&
+                                               std::isfinite(k->get<float>()))
+                    uv.normalScale = k->get<float>();
+            }
             slot(m, "occlusionTexture", &uv.occlusionTexture, uv.occlusionTexCoord, uv.occlusion);
             slot(m, "emissiveTexture", &uv.emissiveTexture, uv.emissiveTexCoord, uv.emissive);
         }
@@ -482,6 +489,8 @@ struct Loader {
              &uv->occlusion, true, &out.occlusionTexture},
             {"emissive", aiTextureType_EMISSIVE, uv->emissiveTexture, uv->emissiveTexCoord,
              &uv->emissive, false, &out.emissiveTexture},
+            {"normal", aiTextureType_NORMALS, uv->normalTexture, uv->normalTexCoord, &uv->normal,
+             true, &out.normalTexture},
         };
         for (const MapSlot& slot : slots) {
             if (!slot.given) continue;
@@ -505,6 +514,7 @@ struct Loader {
             *slot.index = *t;
             if (*t >= 0) readSampler(slot.type, modes);
         }
+        out.normalScale = uv->normalScale;
         if (uv->occlusionTexture) {
             float strength = 1.0f;
             if (m.Get(AI_MATKEY_GLTF_TEXTURE_STRENGTH(aiTextureType_LIGHTMAP, 0), strength) ==
@@ -533,7 +543,8 @@ struct Loader {
 /// glTF's uv space after FlipUVs), each mapped by `transform` when given.
 std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name, bool srgbColors,
                                 unsigned uvSet = 0,
-                                const std::optional<TextureTransform>& transform = {}) {
+                                const std::optional<TextureTransform>& transform = {},
+                                bool computedTangents = false) {
     if (!(in.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return std::nullopt;
     Mesh mesh;
     mesh.name = name;
@@ -566,6 +577,21 @@ std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name, bool 
         if (normalsUsable) n /= len;
     }
     if (!normalsUsable) computeSmoothNormals(mesh);
+    // Tangents (normal maps): the file's TANGENT (assimp keeps xyz and makes the bitangent
+    // cross(n, t) · w) or assimp's aiProcess_CalcTangentSpace's (`computedTangents`: along +u
+    // and +v of glTF's uv after FlipUVs, v down the image, where glTF's bitangent runs up it),
+    // the handedness from the bitangent's side.
+    if (in.HasTangentsAndBitangents() && !mesh.texcoords.empty()) {
+        for (unsigned v = 0; v < in.mNumVertices; ++v) {
+            const glm::vec3 t(in.mTangents[v].x, in.mTangents[v].y, in.mTangents[v].z);
+            const glm::vec3 b(in.mBitangents[v].x, in.mBitangents[v].y, in.mBitangents[v].z);
+            const float len = glm::length(t);
+            const glm::vec3 unit = std::isfinite(len) && len > 0.0f ? t / len : glm::vec3(0.0f);
+            const bool down = glm::dot(glm::cross(mesh.normals[v], unit), b) < 0.0f;
+            const float w = down != computedTangents ? -1.0f : 1.0f;
+            mesh.tangents.emplace_back(unit, w);
+        }
+    }
     // Morph targets (glTF `targets`): assimp holds each as the morphed mesh (base +
     // displacement) and the mesh's default weight; mvr keeps the displacements.
     std::vector<float> weights;
@@ -654,7 +680,7 @@ void appendScene(Scene& scene, Scene other) {
         inst.mesh += meshBase;
         Material& m = inst.material;
         for (int* t : {&m.baseColorTexture, &m.metallicRoughnessTexture, &m.occlusionTexture,
-                       &m.emissiveTexture})
+                       &m.emissiveTexture, &m.normalTexture})
             if (*t >= 0) *t += textureBase;
         scene.instances.push_back(std::move(inst));
     }
@@ -724,6 +750,20 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
     const nlohmann::json doc = gltf ? gltfDocument(path, ext == ".glb") : nlohmann::json(nullptr);
     std::vector<GltfMaterialUv> materialUv = materialTextureCoords(doc);
     if (materialUv.size() + 1 != ai->mNumMaterials) materialUv.clear();  // does not line up
+    // Normal maps need tangents: a file's TANGENT as it is, else assimp's (on set 0), only when
+    // some material has a normal map (the step costs a pass over every mesh).
+    std::vector<char> fileTangents(ai->mNumMeshes);
+    for (unsigned m = 0; m < ai->mNumMeshes; ++m)
+        fileTangents[m] = ai->mMeshes[m]->HasTangentsAndBitangents();
+    if (std::any_of(materialUv.begin(), materialUv.end(),
+                    [](const GltfMaterialUv& m) { return m.normalTexture; })) {
+        ai = importer.ApplyPostProcessing(aiProcess_CalcTangentSpace);
+        if (!ai) {
+            return inputError(fmt::format("{}: computing tangents failed (assimp: {})",
+                                          loader.what, importer.GetErrorString()));
+        }
+        loader.ai = ai;
+    }
     auto uvOf = [&](unsigned material) {
         return material < materialUv.size() ? &materialUv[material] : nullptr;
     };
@@ -751,7 +791,7 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
             set = 0;
         }
         auto mesh = convertMesh(am, fmt::format("{}: {}", path.filename().string(), name), !gltf,
-                                set, coords.transform);
+                                set, coords.transform, !fileTangents[m]);
         if (!mesh) continue;
         if (!missingSet.empty()) {
             if (out.strict) return inputError(missingSet);
@@ -828,7 +868,7 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
                     "coordinates)",
                     loader.what, mat.name, scene.meshes[meshIndex[m]].name));
                 mat.baseColorTexture = mat.metallicRoughnessTexture = -1;
-                mat.occlusionTexture = mat.emissiveTexture = -1;
+                mat.occlusionTexture = mat.emissiveTexture = mat.normalTexture = -1;
                 if (const GltfMaterialUv* uv = uvOf(mi)) Loader::withoutNeutralFactors(mat, *uv);
             }
             if (animation) {

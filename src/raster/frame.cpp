@@ -179,6 +179,15 @@ void prepareTextures(FrameContext& f) {
                                   !f.scene.meshes[std::size_t(inst.mesh)].colors.empty());
     }
     f.textured = f.textured || f.colored;
+    f.tangents = false;
+    if (f.settings.shading == Shading::Pixel) {
+        for (const Instance& inst : f.scene.instances) {
+            f.tangents = f.tangents ||
+                         (inst.material.normalTexture >= 0 && inst.mesh >= 0 &&
+                          std::size_t(inst.mesh) < f.scene.meshes.size() &&
+                          !f.scene.meshes[std::size_t(inst.mesh)].tangents.empty());
+        }
+    }
     f.punctualLights = false;
     for (const Light& l : f.scene.lights)
         f.punctualLights = f.punctualLights || l.type != LightType::Directional;
@@ -191,7 +200,8 @@ void prepareTextures(FrameContext& f) {
         for (const Instance& inst : f.scene.instances) {
             const Material& m = inst.material;
             const bool samples = m.baseColorTexture == t || m.metallicRoughnessTexture == t ||
-                                 m.occlusionTexture == t || m.emissiveTexture == t;
+                                 m.occlusionTexture == t || m.emissiveTexture == t ||
+                                 m.normalTexture == t;
             mipmaps = mipmaps || (samples && m.sampler.mipmaps);
         }
         f.mips[std::size_t(t)] = buildMipChain(tex.image, mipmaps, tex.linear);

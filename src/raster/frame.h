@@ -242,6 +242,9 @@ struct FrameContext {
     /// Some drawn mesh has vertex colours (Mesh::colors): the textured layout with the colour
     /// after the uv (pipeline.h colorAttribute); such a frame is always textured.
     bool colored = false;
+    /// Pixel shading and some drawn material has a normal map on a mesh with tangents: the
+    /// textured layout with the world tangent (pipeline.h tangentAttribute).
+    bool tangents = false;
 
     /// --specular per-view (RenderSettings::specular, pixel shading): view v's copy of `shading`
     /// with its own eye (View::eyeWorld) as centerEye; empty otherwise (setViewShading).
@@ -273,6 +276,22 @@ struct FrameContext {
         in.metallicRoughness = mipsOf(m.metallicRoughnessTexture);
         in.occlusion = mipsOf(m.occlusionTexture);
         in.emissive = mipsOf(m.emissiveTexture);
+        in.normal = tangents ? mipsOf(m.normalTexture) : nullptr;
+        in.tangents = tangents;
+    }
+    /// A textured frame's attributes of `item`'s vertex i at world position `world`
+    /// (pipeline.h texturedVertexAttributes), the same for every method.
+    void texturedAttributes(const DrawItem& item, std::uint32_t i, const glm::vec3& world,
+                            float* out) const {
+        const Mesh& mesh = *item.mesh;
+        glm::vec4 tangent(0.0f, 0.0f, 0.0f, 1.0f);  // none: the normal map is not applied
+        if (tangents && !mesh.tangents.empty())
+            tangent = worldTangent(item.instance->worldFromModel, mesh.tangents[i]);
+        texturedVertexAttributes(settings.shading, shading, item.instance->material, world,
+                                 transformDir(item.normalFromModel, mesh.normals[i]),
+                                 mesh.texcoords.empty() ? glm::vec2(0.0f) : mesh.texcoords[i],
+                                 colored, mesh.colors.empty() ? nullptr : &mesh.colors[i], out,
+                                 tangents ? &tangent : nullptr);
     }
     /// Vertex lighting through the scalar lighting.h functions instead of the SIMD kernel
     /// (which implements directional, single-sided Blinn-Phong only).

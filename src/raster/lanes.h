@@ -287,7 +287,7 @@ private:
             const FragmentTri* const callers = sink.tri;  // put back below
             sink.tri = &slotFrag[laneSlot[k]];
             if (lanes.out.mask[k] > 0) {
-                if (sink.shade.texture) {
+                if (sink.shade.samples()) {
                     const std::int32_t xk[3] = {lanes.x[0][k], lanes.x[1][k], lanes.x[2][k]};
                     const std::int32_t yk[3] = {lanes.y[0][k], lanes.y[1][k], lanes.y[2][k]};
                     sink.setTriangle(xk, yk);

@@ -27,9 +27,9 @@ struct ViewVertexData : MethodScratch {
     Bins bins;
     BandBuffers bandBuffers;  ///< streamed bands: per worker, one band's rows of the view
 
-    void resize(std::size_t n, Shading shading, bool textured, bool colored) {
+    void resize(std::size_t n, Shading shading, bool textured, bool colored, bool tangents) {
         for (auto* v : {&x, &y, &z, &w, &cx, &cy, &zw, &q}) v->resize(n);
-        attrStride = std::size_t(attributeCount(shading, textured, colored));
+        attrStride = std::size_t(attributeCount(shading, textured, colored, tangents));
         sx.resize(n), sy.resize(n), codeYZW.resize(n), codeX.resize(n), attr.resize(n * attrStride);
         world.resize(shading == Shading::Flat ? n : 0);
     }
@@ -80,12 +80,7 @@ void vertexStage(FrameContext& f, const View& view, ViewVertexData& d) {
                 const glm::vec3 world = glm::vec3(transformPoint(item.instance->worldFromModel, p));
                 if (f.textured) {
                     if (shading == Shading::Flat) d.world[gi] = world;
-                    texturedVertexAttributes(
-                        shading, f.shading, item.instance->material, world,
-                        transformDir(item.normalFromModel, item.mesh->normals[i]),
-                        item.mesh->texcoords.empty() ? glm::vec2(0.0f) : item.mesh->texcoords[i],
-                        f.colored, item.mesh->colors.empty() ? nullptr : &item.mesh->colors[i],
-                        d.attr.data() + gi * d.attrStride);
+                    f.texturedAttributes(item, i, world, d.attr.data() + gi * d.attrStride);
                 } else if (shading == Shading::Flat) {
                     d.world[gi] = world;
                 } else {
@@ -170,7 +165,7 @@ void binStage(FrameContext& f, const View& view, const ViewVertexData& d, Bins& 
 template <class SinkT>
 void drawWireframe(const FrameContext& f, const ViewVertexData& d, const std::uint32_t v[3],
                    const Target& target, int rowLo, int rowHi, SinkT& sink, FragmentTri& frag) {
-    const int attrCount = attributeCount(f.settings.shading, f.textured, f.colored);
+    const int attrCount = attributeCount(f.settings.shading, f.textured, f.colored, f.tangents);
     const float width = float(target.width), height = float(target.height);
     for (int edge = 0; edge < 3; ++edge) {
         const std::uint32_t i0 = v[edge], i1 = v[edge == 2 ? 0 : edge + 1];
@@ -201,7 +196,7 @@ void drawWireframe(const FrameContext& f, const ViewVertexData& d, const std::ui
 template <Shading S>
 void rasterStage(FrameContext& f, ViewVertexData& d, const Bins& bins, const Target& image,
                  int view) {
-    const int attrCount = attributeCount(S, f.textured, f.colored);
+    const int attrCount = attributeCount(S, f.textured, f.colored, f.tangents);
     const std::uint32_t clear = packColor(f.settings.clearColor);
     // Streamed bands (as unified's, FrameContext::streamBands): each worker draws a band into a
     // scratch that stays in its cache and streams the rows into the image (written once, never
@@ -279,7 +274,7 @@ void renderMultipass(FrameContext& f, std::span<const Target> targets, StageTime
                      std::unique_ptr<MethodScratch>& scratch) {
     if (!dynamic_cast<ViewVertexData*>(scratch.get())) scratch = std::make_unique<ViewVertexData>();
     ViewVertexData& d = static_cast<ViewVertexData&>(*scratch);
-    d.resize(f.draw.vertexCount, f.settings.shading, f.textured, f.colored);
+    d.resize(f.draw.vertexCount, f.settings.shading, f.textured, f.colored, f.tangents);
     Bins& bins = d.bins;
     for (int v = 0; v < f.rig.viewCount(); ++v) {
         const View& view = f.rig.views[std::size_t(v)];

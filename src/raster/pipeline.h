@@ -41,19 +41,26 @@ inline constexpr float kGuardBand = 64.0f;
 /// Attributes interpolated per fragment: Vertex = color (3), Pixel = normal + world position (6);
 /// in a textured frame (FrameContext::textured) Flat = uv (2), Vertex = LightTerms D, S + uv (8),
 /// Pixel = normal + world position + uv (8); a frame with vertex colours (FrameContext::colored,
-/// always textured) adds the vertex's linear RGBA (4) after the uv.
-inline constexpr int kMaxAttrs = 12;
+/// always textured) adds the vertex's linear RGBA (4) after the uv; a pixel-shaded frame with
+/// normal maps (FrameContext::tangents) the world tangent and its handedness (4) after those.
+inline constexpr int kMaxAttrs = 16;
 /// A triangle clipped by 6 planes has at most 3 + 6 vertices.
 inline constexpr int kMaxPolyVerts = 9;
 
-inline int attributeCount(Shading s, bool textured = false, bool colored = false) {
-    if (textured) return (s == Shading::Flat ? 2 : 8) + (colored ? 4 : 0);
+inline int attributeCount(Shading s, bool textured = false, bool colored = false,
+                          bool tangents = false) {
+    if (textured)
+        return (s == Shading::Flat ? 2 : 8) + (colored ? 4 : 0) +
+               (tangents && s == Shading::Pixel ? 4 : 0);
     return s == Shading::Vertex ? 3 : s == Shading::Pixel ? 6 : 0;
 }
 /// Where the texture coordinates start in a textured frame's attributes.
 inline constexpr int uvAttribute(Shading s) { return s == Shading::Flat ? 0 : 6; }
 /// Where the vertex colour starts in a coloured frame's attributes.
 inline constexpr int colorAttribute(Shading s) { return uvAttribute(s) + 2; }
+/// Where the tangent starts in a pixel-shaded frame with tangents.
+inline constexpr int tangentAttribute(bool colored) { return colored ? 12 : 8; }
+
 
 // ---- outcodes --------------------------------------------------------------------------------
 // Clip planes, in the order the clipper applies them. Near, far, bottom and top involve only
@@ -116,6 +123,13 @@ inline glm::vec3 transformDir(const glm::mat3& m, const glm::vec3& n) {
     for (int i = 0; i < 3; ++i) r[i] = (m[0][i] * n.x + m[1][i] * n.y) + m[2][i] * n.z;
     return r;
 }
+/// A model-space tangent (Mesh::tangents) in world space: its direction through the model's
+/// linear part, its handedness flipped by a mirroring one (the bitangent is a cross product).
+inline glm::vec4 worldTangent(const glm::mat4& worldFromModel, const glm::vec4& t) {
+    const glm::mat3 m(worldFromModel);
+    const float w = glm::determinant(m) < 0.0f ? -t.w : t.w;
+    return glm::vec4(transformDir(m, glm::vec3(t)), w);
+}
 /// The off-axis shear of kalaiah2007/nvidia-gtc2010: clip.x += shear · (clip.w − convergence).
 /// shearClip with w − convergence already formed (one subtraction per vertex for all views):
 /// the same operations, so the same bits.
@@ -144,11 +158,13 @@ inline void vertexAttributes(Shading shading, const ShadingContext& ctx, const M
 
 /// A textured frame's vertex attributes (see kMaxAttrs): Vertex: blinnPhongTerms' D and S;
 /// Pixel: the normal and world position; then the texture coordinates (all modes); then, in a
-/// coloured frame (`colored`), the vertex colour (`color`, or opaque white when null).
+/// coloured frame (`colored`), the vertex colour (`color`, or opaque white when null); then, in
+/// a pixel-shaded frame with tangents (`tangent` not null), the world tangent (worldTangent).
 inline void texturedVertexAttributes(Shading shading, const ShadingContext& ctx,
                                      const Material& material, const glm::vec3& worldPos,
                                      const glm::vec3& worldNormal, glm::vec2 uv, bool colored,
-                                     const glm::vec4* color, float* out) {
+                                     const glm::vec4* color, float* out,
+                                     const glm::vec4* tangent = nullptr) {
     if (shading == Shading::Vertex) {
         float sh[kMaxLights];
         const LightTerms t =
@@ -165,6 +181,11 @@ inline void texturedVertexAttributes(Shading shading, const ShadingContext& ctx,
     if (colored) {
         const glm::vec4 c = color ? *color : glm::vec4(1.0f);
         out[k + 2] = c.x, out[k + 3] = c.y, out[k + 4] = c.z, out[k + 5] = c.w;
+    }
+    if (tangent && shading == Shading::Pixel) {
+        const int j = tangentAttribute(colored);
+        out[j] = tangent->x, out[j + 1] = tangent->y, out[j + 2] = tangent->z;
+        out[j + 3] = tangent->w;
     }
 }
 
@@ -564,6 +585,12 @@ struct ShadeInputs {
     const MipChain* metallicRoughness = nullptr;
     const MipChain* occlusion = nullptr;
     const MipChain* emissive = nullptr;
+    const MipChain* normal = nullptr;  ///< drawn in a frame with tangents only (pixel shading)
+    bool tangents = false;             ///< the frame's layout has the tangent (tangentAttribute)
+
+    /// Whether the material samples any texture: its fragments need the triangle's screen
+    /// gradients (the level of detail).
+    bool samples() const { return texture || metallicRoughness || occlusion || emissive || normal; }
 };
 
 /// Depth test (LESS) and shading of one fragment; the screen barycentrics l0..l2 come from
@@ -578,7 +605,7 @@ struct FragmentSink {
     /// Called by the rasterizers before a triangle's fragments in this view (snapped window
     /// coordinates); lines never call it, so wireframe samples with zero derivatives (level 0).
     void setTriangle(const std::int32_t x[3], const std::int32_t y[3]) {
-        if (shade.texture) screenGradients(x, y, gx, gy);
+        if (shade.samples()) screenGradients(x, y, gx, gy);
     }
 
     void operator()(int x, int y, float l0, float l1, float l2) const {
@@ -664,8 +691,17 @@ struct FragmentSink {
             const glm::vec3 n(at(0), at(1), at(2));
             const glm::vec3 p(at(3), at(4), at(5));
             float sh[kMaxLights];
+            // Shadows look up with the surface's own normal (their offset), lighting with the
+            // normal map's.
             const float* shadow = shadowFactors(shade.ctx->shadows, shade.ctx->lights, p, n, sh);
-            terms = blinnPhongTerms(*shade.ctx, m, n, p, shadow,
+            glm::vec3 lit = n;
+            if (shade.normal && shade.tangents) {
+                const int j = tangentAttribute(shade.colored);
+                const glm::vec4 t(at(j), at(j + 1), at(j + 2), at(j + 3));
+                lit = perturbedNormal(n, t, glm::vec3(sample(shade.normal, glm::vec4(1.0f))),
+                                      m.normalScale);
+            }
+            terms = blinnPhongTerms(*shade.ctx, m, lit, p, shadow,
                                     shade.metallicRoughness ? &maps : nullptr);
         }
         if (shade.occlusion || shade.emissive)

@@ -146,6 +146,7 @@ private:
                                {},
                                false,
                                false,
+                               false,
                                {}};
         f.shading.tonemap = scene.tonemap;
         detail::prepareTextures(f);
@@ -160,7 +161,7 @@ private:
                                                   std::move(f.draw), f.bands, f.centerClip,
                                                   shadowKernels, f.textured, f.punctualLights,
                                                   std::move(f.mips), f.streamBands, f.colored,
-                                                  {}});
+                                                  f.tangents, {}});
         }
         detail::FrameContext& frame = shadowed ? *shadowed : f;
         frame.setViewShading();  // --specular per-view

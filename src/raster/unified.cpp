@@ -122,7 +122,7 @@ struct BandContext {
     int rowLo, rowHi;
     FragmentTri frag{};
     std::vector<FragmentSink<S>> sinks;  ///< per view, all pointing at `frag`
-    int attrCount = attributeCount(S, f.textured, f.colored);
+    int attrCount = attributeCount(S, f.textured, f.colored, f.tangents);
     bool cull = false;     ///< back-face culling for the current draw item (not double-sided)
     ViewsSetup views{};    ///< the current triangle's per-view x setup (L1)
     ViewsX xs{};           ///< a long row's derived snapped x of the current triangle
@@ -434,7 +434,7 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
                 if (culled(kv)) continue;
                 FragmentSink<S> sink = b.sinks[std::size_t(views[kv])];  // in registers
                 if (b.views.mask[k] > 0) {
-                    if (sink.shade.texture) {  // the view's λ from its own snapped x
+                    if (sink.shade.samples()) {  // the view's λ from its own snapped x
                         const std::int32_t xk[3] = {b.xs.x[0][k], b.xs.x[1][k], b.xs.x[2][k]};
                         sink.setTriangle(xk, ys.y);
                     }
@@ -462,7 +462,7 @@ void drawFamilyInside(BandContext<S>& b, const Family& fam, const std::uint32_t 
             if (culled(kv)) continue;
             FragmentSink<S> sink = b.sinks[std::size_t(views[kv])];  // in registers
             if (m > 0) {
-                if (sink.shade.texture) {
+                if (sink.shade.samples()) {
                     const std::int32_t xk[3] = {x0[kv], x1[kv], x2[kv]};
                     sink.setTriangle(xk, ys.y);
                 }
@@ -564,7 +564,7 @@ void drawTriangleFamily(BandContext<S>& b, const Family& fam, const std::uint32_
             const int view = active[base + k];
             auto& sink = b.sinks[std::size_t(view)];
             if (m > 0) {
-                if (sink.shade.texture) {
+                if (sink.shade.samples()) {
                     const std::int32_t xk[3] = {x[0][base + k], x[1][base + k], x[2][base + k]};
                     sink.setTriangle(xk, ys.y);
                 }
@@ -854,7 +854,8 @@ void renderUnified(FrameContext& f, std::span<const Target> targets, StageTimes&
         f.bands = makeBands(f.settings.height, f.pool.size(),
                             std::size_t(f.settings.width) * 8 * std::size_t(f.rig.viewCount()));
     }
-    buildFamilies(f.rig, f.settings.shading, f.textured, f.colored, f.draw.vertexCount, d);
+    buildFamilies(f.rig, f.settings.shading, f.textured, f.colored, f.tangents, f.draw.vertexCount,
+                  d);
     d.convergence = f.rig.convergence, d.width = float(f.settings.width);
     vertexStage(f, d);
     times.vertexMs += clock.lap();

@@ -124,7 +124,7 @@ inline bool ownViewCulled(const UnifiedData& d, const Family& fam, const std::ui
 }
 
 /// This frame's families and views from the rig, reusing the previous frame's arrays.
-void buildFamilies(const Rig& rig, Shading shading, bool textured, bool colored,
+void buildFamilies(const Rig& rig, Shading shading, bool textured, bool colored, bool tangents,
                    std::size_t vertexCount,
                    UnifiedData& d);
 /// Vertex stage: attributes, center clip position, per family y/z/w projection, per stored view

@@ -7,7 +7,7 @@
 
 namespace mvr::raster::detail {
 
-void buildFamilies(const Rig& rig, Shading shading, bool textured, bool colored,
+void buildFamilies(const Rig& rig, Shading shading, bool textured, bool colored, bool tangents,
                    std::size_t vertexCount,
                    UnifiedData& d) {
     // The previous frame's families give their per-vertex arrays to this frame's: at many views
@@ -99,7 +99,7 @@ void buildFamilies(const Rig& rig, Shading shading, bool textured, bool colored,
         const std::size_t own = vd.derived ? 0 : n;
         vd.x.resize(own), vd.sx.resize(own), vd.code.resize(own);
     }
-    d.attrStride = std::size_t(attributeCount(shading, textured, colored));
+    d.attrStride = std::size_t(attributeCount(shading, textured, colored, tangents));
     d.world.resize(shading == Shading::Flat ? n : 0), d.attr.resize(n * d.attrStride),
         d.anyClipX.resize(n);
     if (d.anySheared)
@@ -133,12 +133,7 @@ void vertexStage(FrameContext& f, UnifiedData& d) {
                     const glm::vec3 world =
                         glm::vec3(transformPoint(item.instance->worldFromModel, p));
                     if (shading == Shading::Flat) d.world[gi] = world;
-                    texturedVertexAttributes(
-                        shading, f.shading, item.instance->material, world,
-                        transformDir(item.normalFromModel, item.mesh->normals[i]),
-                        item.mesh->texcoords.empty() ? glm::vec2(0.0f) : item.mesh->texcoords[i],
-                        f.colored, item.mesh->colors.empty() ? nullptr : &item.mesh->colors[i],
-                        d.attr.data() + gi * d.attrStride);
+                    f.texturedAttributes(item, i, world, d.attr.data() + gi * d.attrStride);
                 } else if (shading == Shading::Flat) {
                     d.world[gi] = glm::vec3(transformPoint(item.instance->worldFromModel, p));
                 } else {

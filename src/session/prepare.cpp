@@ -787,12 +787,13 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     }
     if (Status s = validateScene(out.scene); !s) return s;
     if (out.settings.shading == Shading::Vertex &&
-        std::any_of(out.scene.instances.begin(), out.scene.instances.end(),
-                    [](const Instance& i) { return i.material.metallicRoughnessTexture >= 0; })) {
-        out.settings.shading = Shading::Pixel;  // lighting.h: the map is applied per pixel only
+        std::any_of(out.scene.instances.begin(), out.scene.instances.end(), [](const Instance& i) {
+            return i.material.metallicRoughnessTexture >= 0 || i.material.normalTexture >= 0;
+        })) {
+        out.settings.shading = Shading::Pixel;  // lighting.h: these maps are per pixel only
         out.notes.push_back(
-            "note: the scene's metallic-roughness textures shade per pixel (per vertex, only "
-            "their factors would be lit)");
+            "note: the scene's metallic-roughness and normal maps shade per pixel (per vertex, "
+            "only the factors and the surface's own normals would be lit)");
     }
     if (Status s = applyTonemap(out.scene, r.tonemap); !s) return s;
     if (r.tonemap == "auto" && out.scene.tonemap != Tonemap::None) {

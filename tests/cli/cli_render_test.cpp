@@ -975,7 +975,7 @@ TEST_F(Cli, TextureMapsAreDrawnPerPixelAndTheirFaultsSaid) {
     // maps the file gets wrong are warnings naming them.
     const CliRun r = run(fmt::format("render {} --views 2 --size 64x48 -o m", file.string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_NE(r.err.find("note: the scene's metallic-roughness textures shade per pixel"),
+    EXPECT_NE(r.err.find("note: the scene's metallic-roughness and normal maps shade per pixel"),
               std::string::npos)
         << r.err;
     EXPECT_NE(r.err.find("material 'Moved': its occlusion texture reads other texture "

@@ -19,6 +19,10 @@
 
 namespace mvr::test {
 
+/// The "Full" mesh's TANGENT, vertex by vertex.
+inline constexpr float kMapsTangents[4][4] = {
+    {0, 1, 0, -1}, {0.6f, 0.8f, 0, -1}, {0.8f, 0.6f, 0, -1}, {1, 0, 0, -1}};
+
 /// A quad with TEXCOORD_0 and TEXCOORD_1, as Blender's exporter writes a material with every
 /// map (one image file per map, the metallic-roughness map packed, the occlusion map with its
 /// strength, the emission texture under emissiveFactor [1, 1, 1]); the same image as base colour
@@ -26,17 +30,24 @@ namespace mvr::test {
 /// than its base colour; "Second" reads set 1 only, from its metallic-roughness map on;
 /// "Lost" names an emission texture whose file is not there; "Alike" has its occlusion map on
 /// TEXCOORD_1 where its mesh names TEXCOORD_0's accessor twice (as three.js's exporter writes
-/// the DamagedHelmet), "Apart" the same on a mesh whose two sets differ.
+/// the DamagedHelmet) and a normal map (scale 0.5) on a mesh without TANGENT, "Apart" the
+/// occlusion map on a mesh whose two sets differ. The "Full" mesh has TANGENT: in-plane
+/// directions of handedness −1 (kMapsTangents).
 inline std::filesystem::path writeMapsGltf(const std::filesystem::path& dir) {
     std::string bin;
     const float pos[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
     const float uv0[8] = {0, 1, 1, 1, 1, 0, 0, 0};
     const float uv1[8] = {0, 0.5f, 0.5f, 0.5f, 0.5f, 0, 0, 0};
     const std::uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
+    // Not all alike: assimp's aiProcess_FindInvalidData drops a stream whose values are.
+    const auto& tangent = kMapsTangents;
+    const float normal[12] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
     bin.append(reinterpret_cast<const char*>(pos), sizeof pos);
     bin.append(reinterpret_cast<const char*>(uv0), sizeof uv0);
     bin.append(reinterpret_cast<const char*>(uv1), sizeof uv1);
     bin.append(reinterpret_cast<const char*>(idx), sizeof idx);
+    bin.append(reinterpret_cast<const char*>(tangent), sizeof tangent);
+    bin.append(reinterpret_cast<const char*>(normal), sizeof normal);
     const std::string json = fmt::format(
         R"({{"asset":{{"version":"2.0","generator":"Khronos glTF Blender I/O v3.6.27"}},
 "extensionsUsed":["KHR_texture_transform"],
@@ -55,7 +66,7 @@ inline std::filesystem::path writeMapsGltf(const std::filesystem::path& dir) {
    "emissiveFactor":[0.5,0.5,0.5],"emissiveTexture":{{"index":3,"texCoord":1}}}},
  {{"name":"Lost","emissiveFactor":[1,1,1],"emissiveTexture":{{"index":5}},
    "pbrMetallicRoughness":{{"metallicFactor":0}}}},
- {{"name":"Alike","occlusionTexture":{{"index":2,"texCoord":1}},
+ {{"name":"Alike","occlusionTexture":{{"index":2,"texCoord":1}},"normalTexture":{{"index":4,"scale":0.5}},
    "pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}}}},
  {{"name":"Apart","occlusionTexture":{{"index":2,"texCoord":1}},
    "pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}}}}],
@@ -66,16 +77,19 @@ inline std::filesystem::path writeMapsGltf(const std::filesystem::path& dir) {
 "accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
  {{"bufferView":1,"componentType":5126,"count":4,"type":"VEC2"}},
  {{"bufferView":2,"componentType":5126,"count":4,"type":"VEC2"}},
- {{"bufferView":3,"componentType":5123,"count":6,"type":"SCALAR"}}],
+ {{"bufferView":3,"componentType":5123,"count":6,"type":"SCALAR"}},
+ {{"bufferView":4,"componentType":5126,"count":4,"type":"VEC4"}},
+ {{"bufferView":5,"componentType":5126,"count":4,"type":"VEC3"}}],
 "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},{{"buffer":0,"byteOffset":48,"byteLength":32}},
- {{"buffer":0,"byteOffset":80,"byteLength":32}},{{"buffer":0,"byteOffset":112,"byteLength":12}}],
-"buffers":[{{"byteLength":124,"uri":"data:application/octet-stream;base64,{}"}}]}})",
+ {{"buffer":0,"byteOffset":80,"byteLength":32}},{{"buffer":0,"byteOffset":112,"byteLength":12}},
+ {{"buffer":0,"byteOffset":124,"byteLength":64}},{{"buffer":0,"byteOffset":188,"byteLength":48}}],
+"buffers":[{{"byteLength":236,"uri":"data:application/octet-stream;base64,{}"}}]}})",
         [] {
             std::string meshes;
             for (int m = 0; m < 7; ++m) {
                 meshes += fmt::format(
-                    R"({}{{"name":"M{}","primitives":[{{"attributes":{{"POSITION":0,"TEXCOORD_0":1,"TEXCOORD_1":{}}},"indices":3,"material":{}}}]}})",
-                    m ? "," : "", m, m == 5 ? 1 : 2, m);
+                    R"({}{{"name":"M{}","primitives":[{{"attributes":{{"POSITION":0,"NORMAL":5,"TEXCOORD_0":1,"TEXCOORD_1":{}{}}},"indices":3,"material":{}}}]}})",
+                    m ? "," : "", m, m == 5 ? 1 : 2, m == 0 ? R"(,"TANGENT":4)" : "", m);
             }
             return meshes;
         }(),

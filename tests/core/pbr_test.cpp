@@ -407,6 +407,36 @@ TEST(MetallicRoughness, GltfMapsAreReadWithTheirCoordinatesAndColourSpaces) {
     EXPECT_TRUE(warned("material 'Apart': its occlusion texture reads other texture coordinates",
                        "not drawn"));
     EXPECT_FALSE(warned("material 'Alike'", "not drawn"));
+    // Normal maps: linear, with the scale; the file's tangents as written, else assimp's:
+    // along +u (+x here), the bitangent cross(n, t) · w up the image (+y: the quad's v = 0 row
+    // is at y = 1).
+    EXPECT_TRUE(texture(full->normalTexture).linear);
+    EXPECT_FLOAT_EQ(alike->normalScale, 0.5f);
+    ASSERT_GE(alike->normalTexture, 0);
+    for (const Instance& i : scene->instances) {
+        const Mesh& m = scene->meshes.at(std::size_t(i.mesh));
+        if (i.material.name == "Full") {
+            // (optimizeMeshLocality may reorder the vertices: each tangent is one of the file's)
+            ASSERT_EQ(m.tangents.size(), 4u);
+            for (const glm::vec4& t : m.tangents) {
+                EXPECT_TRUE(std::any_of(std::begin(test::kMapsTangents),
+                                        std::end(test::kMapsTangents), [&](const float* w) {
+                                            return glm::vec4(w[0], w[1], w[2], w[3]) == t;
+                                        }))
+                    << t.x << " " << t.y << " " << t.z << " " << t.w;
+            }
+        }
+        if (i.material.name == "Alike") {
+            ASSERT_EQ(m.tangents.size(), 4u);
+            for (std::size_t v = 0; v < 4; ++v) {
+                const glm::vec4& t = m.tangents[v];
+                EXPECT_NEAR(t.x, 1.0f, 1e-5f);
+                EXPECT_NEAR(std::abs(t.y) + std::abs(t.z), 0.0f, 1e-5f);
+                const glm::vec3 b = t.w * glm::cross(m.normals[v], glm::vec3(t));
+                EXPECT_NEAR(b.y, 1.0f, 1e-5f) << "vertex " << v;
+            }
+        }
+    }
     // --strict makes it an error.
     SceneLoadInfo strict;
     strict.strict = true;

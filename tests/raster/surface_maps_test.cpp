@@ -5,6 +5,8 @@
 // be the image of those factors without a map), and unified == multipass bit for bit on the
 // mapped scene in every shading.
 #include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
 #include <cstring>
 
 #include <fmt/core.h>
@@ -145,13 +147,64 @@ TEST(SurfaceMaps, MetallicRoughnessMapIsItsFactorsPerPixel) {
     EXPECT_NE(std::memcmp(&pa, &pb, sizeof pa), 0);
 }
 
+/// The normal a normal map's texel gives a surface whose normal, tangent and bitangent are the
+/// unit vectors n, t, b: glTF's tangent-space normal (2·rgb − 1, x and y × scale) in that frame,
+/// written out in double.
+glm::dvec3 mappedNormal(Rgba8 texel, double scale, glm::dvec3 t, glm::dvec3 b, glm::dvec3 n) {
+    const glm::dvec3 c((2.0 * texel.r / 255.0 - 1.0) * scale,
+                       (2.0 * texel.g / 255.0 - 1.0) * scale, 2.0 * texel.b / 255.0 - 1.0);
+    return glm::normalize(t * c.x + b * c.y + n * c.z);
+}
+
+TEST(SurfaceMaps, NormalMapBendsTheNormalInTheTangentFrame) {
+    auto backend = makeSoftBackend();
+    const glm::dvec3 light = glm::normalize(glm::dvec3(0.5, 0.4, 0.77));
+    for (const Rgba8 texel : {Rgba8{255, 128, 128, 255}, Rgba8{128, 255, 128, 255},
+                              Rgba8{40, 90, 200, 255}, Rgba8{128, 128, 255, 255}}) {
+        for (const bool mirrored : {false, true}) {
+            // A full-screen quad facing +z, u along +x and the image's top at +y (tangent +x,
+            // handedness +1: bitangent cross(n, t) = +y); mirrored in x, u runs along −x.
+            Scene scene = test::quadScene({-1, -1, 0.5f}, {1, 1, 0.5f});
+            Mesh& mesh = scene.meshes[0];
+            mesh.texcoords = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+            mesh.tangents.assign(4, glm::vec4(1, 0, 0, 1));
+            Material& m = scene.instances[0].material;
+            m.albedo = glm::vec3(1.0f);
+            m.specular = 0.0f;
+            m.normalScale = 0.8f;
+            m.normalTexture = 0;
+            if (mirrored)
+                scene.instances[0].worldFromModel = glm::scale(glm::mat4(1.0f), {-1, 1, 1});
+            scene.textures = {uniformTexture(texel, true)};
+            Light l;
+            l.towardLight = glm::vec3(light);
+            scene.lights = {l};
+            scene.ambient = glm::vec3(0.0f);
+            const glm::dvec3 n = mappedNormal(texel, 0.8, {mirrored ? -1.0 : 1.0, 0, 0}, {0, 1, 0},
+                                              {0, 0, 1});
+            const double want = std::max(0.0, glm::dot(n, light)) * 255.0;
+            for (const char* method : {"multipass", "unified"}) {
+                const Rgba8 px = centre(*backend, scene, Shading::Pixel, method);
+                EXPECT_NEAR(px.r, want, 0.6) << "texel " << int(texel.r) << "," << int(texel.g)
+                                             << "," << int(texel.b) << " mirrored " << mirrored
+                                             << " " << method;
+            }
+            // Without tangents, or per vertex, the surface's own normal.
+            const double flat = glm::dot(glm::dvec3(0, 0, 1), light) * 255.0;
+            EXPECT_NEAR(centre(*backend, scene, Shading::Vertex, "multipass").r, flat, 0.6);
+            scene.meshes[0].tangents.clear();
+            EXPECT_NEAR(centre(*backend, scene, Shading::Pixel, "multipass").r, flat, 0.6);
+        }
+    }
+}
+
 TEST(SurfaceMaps, UnifiedEqualsMultipassOnTheMappedScene) {
     auto backend = makeSoftBackend();
     const Scene& scene = mvr::test::mappedScene();
     Camera cam;
     cam.position = {0.5f, 1.8f, 6.0f};
     cam.aspect = 72.0f / 54.0f;
-    for (auto [c, r] : {std::pair{2, 1}, {5, 1}, {16, 1}, {3, 2}}) {
+    for (auto [c, r] : {std::pair{2, 1}, {5, 1}, {16, 1}, {45, 1}, {3, 2}, {4, 3}}) {
         RigParams p;
         p.columns = c, p.rows = r, p.interaxial = 0.2f, p.convergence = 6.0f;
         auto rig = makeRig(cam, p);

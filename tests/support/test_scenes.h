@@ -75,13 +75,48 @@ inline const Scene& pbrScene() {
     return s;
 }
 
+/// Every mesh with texture coordinates given tangents (Mesh::tangents: along +u, handedness
+/// toward image-up), accumulated per vertex from its triangles' uv gradients (Lengyel's
+/// method), as a test fixture: files get theirs from the file or assimp.
+inline Scene withTangents(Scene s) {
+    for (Mesh& m : s.meshes) {
+        if (m.texcoords.size() != m.positions.size()) continue;
+        std::vector<glm::vec3> t(m.positions.size(), glm::vec3(0.0f)), b = t;
+        for (std::size_t k = 0; k + 2 < m.indices.size(); k += 3) {
+            const std::uint32_t i0 = m.indices[k], i1 = m.indices[k + 1], i2 = m.indices[k + 2];
+            const glm::vec3 e1 = m.positions[i1] - m.positions[i0];
+            const glm::vec3 e2 = m.positions[i2] - m.positions[i0];
+            const glm::vec2 d1 = m.texcoords[i1] - m.texcoords[i0];
+            const glm::vec2 d2 = m.texcoords[i2] - m.texcoords[i0];
+            const float det = d1.x * d2.y - d2.x * d1.y;
+            if (std::abs(det) < 1e-12f) continue;
+            // texcoords are v down: image-up is −v
+            const glm::vec3 du = (e1 * d2.y - e2 * d1.y) / det;
+            const glm::vec3 dv = (e2 * d1.x - e1 * d2.x) / det;
+            for (std::uint32_t i : {i0, i1, i2}) t[i] += du, b[i] -= dv;
+        }
+        m.tangents.resize(m.positions.size());
+        for (std::size_t i = 0; i < m.positions.size(); ++i) {
+            const glm::vec3 n = m.normals[i];
+            glm::vec3 u = t[i] - n * glm::dot(n, t[i]);
+            const float len = glm::length(u);
+            u = len > 1e-12f ? u / len : glm::vec3(1.0f, 0.0f, 0.0f);
+            const float w = glm::dot(glm::cross(n, u), b[i]) < 0.0f ? -1.0f : 1.0f;
+            m.tangents[i] = glm::vec4(u, w);
+        }
+    }
+    return s;
+}
+
 /// Issue 39: withMetallicRoughness(makeTexturedScene()) with glTF's other texture slots,
 /// generated: a metallic-roughness map (linear; G roughness and B metallic in 8×8 checks of
 /// 0.1 / 1.0 and 1.0 / 0.0, so rough and glossy, metal and dielectric neighbours), an occlusion
 /// map (linear R: dark rings, strength 0.8) and an emissive map (sRGB: orange stripes under an
-/// emissive factor of 0.6). Instance i has the metallic-roughness map when i is even, the
-/// occlusion map when i mod 3 ≠ 2, the emissive map when i is 1 or 4; the unlit one (3) keeps its
-/// maps, which unlit ignores; instance 5 has the maps and no base colour texture.
+/// emissive factor of 0.6) and a normal map (linear: a grid of round bumps). Instance i has the
+/// metallic-roughness map when i is even, the occlusion map when i mod 3 ≠ 2, the emissive map
+/// when i is 1 or 4, the normal map (scale 0.9) when i < 3 or i = 5; the unlit one (3) keeps
+/// its maps, which unlit ignores; instance 5 has the maps and no base colour texture. Every
+/// mesh gets tangents (withTangents).
 inline Scene withSurfaceMaps(Scene s) {
     const int first = int(s.textures.size());
     auto add = [&](int size, bool linear, const std::string& name, auto texel) {
@@ -107,6 +142,17 @@ inline Scene withSurfaceMaps(Scene s) {
         const bool on = ((x + y) * 6 / n) % 2 == 0;
         return on ? Rgba8{255, 150, 40, 255} : Rgba8{0, 0, 0, 255};
     });
+    add(64, true, "bumps (generated)", [](int x, int y, int n) {
+        // 4 × 4 round bumps: the normal of a sphere cap over each cell, flat between.
+        const int cell = n / 4;
+        const float cx = (float(x % cell) + 0.5f) / float(cell) * 2.0f - 1.0f;
+        const float cy = (float(y % cell) + 0.5f) / float(cell) * 2.0f - 1.0f;
+        const float r2 = cx * cx + cy * cy;
+        glm::vec3 nrm(0.0f, 0.0f, 1.0f);
+        if (r2 < 0.8f) nrm = glm::normalize(glm::vec3(cx, -cy, 1.2f));  // image-up is +y
+        auto enc = [](float v) { return std::uint8_t(std::lround((v * 0.5f + 0.5f) * 255.0f)); };
+        return Rgba8{enc(nrm.x), enc(nrm.y), enc(nrm.z), 255};
+    });
     for (std::size_t i = 0; i < s.instances.size(); ++i) {
         Material& m = s.instances[i].material;
         if (i % 2 == 0) m.metallicRoughnessTexture = first;
@@ -118,9 +164,13 @@ inline Scene withSurfaceMaps(Scene s) {
             m.emissiveTexture = first + 2;
             m.emissive = glm::vec3(0.6f);
         }
+        if (i < 3 || i == 5) {
+            m.normalTexture = first + 3;
+            m.normalScale = 0.9f;
+        }
         if (i == 5) m.baseColorTexture = -1;
     }
-    return s;
+    return withTangents(std::move(s));
 }
 inline const Scene& mappedScene() {
     static const Scene s = withSurfaceMaps(withMetallicRoughness(makeTexturedScene()));

@@ -66,7 +66,8 @@
 // emissiveTexture, SurfaceMaps): sampled with the base colour's coordinates and sampler; the
 // metallic-roughness texel scales the factors of the BRDF evaluated per pixel
 // (metallicRoughnessTerms' `maps`; vertex and flat shading evaluate the factors alone), the occlusion scales the ambient term
-// and the emissive texel the emissive, in every shading (applySurfaceMaps).
+// and the emissive texel the emissive, in every shading (applySurfaceMaps); the normal map bends
+// the interpolated normal per pixel (perturbedNormal, with Mesh::tangents), before lighting.
 //
 // Tone mapping (issue 39 item 2; ShadingContext::tonemap, from Scene::tonemap): finishColor() is
 // the last step of every lit colour, where the clamp to [0, 1] was: Khronos PBR Neutral or ACES
@@ -464,6 +465,26 @@ inline LightTerms applySurfaceMaps(const ShadingContext& ctx, const Material& m,
     if (m.model == MaterialModel::MetallicRoughness)
         t.specular += m.emissive * (maps.emissive - glm::vec3(1.0f));
     return t;
+}
+
+/// glTF's normal map: the texel's RGB (linear, [0, 1]) read as a tangent-space normal
+/// c = 2·rgb − 1 with c.x, c.y × `scale`, in the frame of the interpolated normal n, the tangent
+/// t = tangent.xyz made orthogonal to n (Gram-Schmidt) and the bitangent b = tangent.w ·
+/// cross(n, t): normalize(t · c.x + b · c.y + n · c.z), as the glTF sample viewer does. A
+/// degenerate frame (a zero tangent, or one along n) keeps n. The double-sided flip
+/// (facingNormal) then applies to the result: negating it is flipping the whole frame.
+inline glm::vec3 perturbedNormal(glm::vec3 n, glm::vec4 tangent, glm::vec3 texel, float scale) {
+    n = glm::normalize(n);
+    glm::vec3 t = glm::vec3(tangent) - n * glm::dot(n, glm::vec3(tangent));
+    const float tl = glm::length(t);
+    if (!(tl > 1e-6f)) return n;
+    t /= tl;
+    const glm::vec3 b = (tangent.w < 0.0f ? -1.0f : 1.0f) * glm::cross(n, t);
+    const glm::vec3 c((2.0f * texel.x - 1.0f) * scale, (2.0f * texel.y - 1.0f) * scale,
+                      2.0f * texel.z - 1.0f);
+    const glm::vec3 p = (t * c.x + b * c.y) + n * c.z;
+    const float pl = glm::length(p);
+    return pl > 0.0f ? p / pl : n;
 }
 
 /// The occlusion of an occlusion texel's R channel (linear, [0, 1]) at `strength`.

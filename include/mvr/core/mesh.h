@@ -52,6 +52,10 @@ struct Mesh {
     /// sRGB-decoded by the readers), interpolated across each triangle like a texture.
     std::vector<glm::vec4> colors;
     std::vector<std::uint32_t> indices;  ///< 3 per triangle, counter-clockwise = front
+    /// Empty, or one per position (appended for normal maps, issue 39): glTF's TANGENT, unit
+    /// xyz along the texture's +u, w = ±1 the handedness: the bitangent w · cross(normal,
+    /// xyz) runs up the texture image (lighting.h perturbedNormal).
+    std::vector<glm::vec4> tangents;
     /// Morph targets (glTF's `targets`): empty, or each with one displacement per position.
     /// `positions` / `normals` then hold the mesh at `morphWeights` (applyMorphWeights()),
     /// `basePositions` / `baseNormals` the mesh at weights 0.

@@ -124,16 +124,21 @@ struct Material {
     int occlusionTexture = -1;          ///< linear: R, the ambient term's occlusion
     float occlusionStrength = 1.0f;     ///< occlusion = 1 + strength · (R − 1)
     int emissiveTexture = -1;           ///< sRGB: emissive × texel
+    /// Linear: a tangent-space normal (lighting.h perturbedNormal), per pixel, on meshes with
+    /// Mesh::tangents.
+    int normalTexture = -1;
+    float normalScale = 1.0f;  ///< glTF normalTexture.scale: the normal's x and y × scale
 };
 
 /// Whether a material samples any texture (every slot reads Mesh::texcoords).
 inline bool hasTexture(const Material& m) {
     return m.baseColorTexture >= 0 || m.metallicRoughnessTexture >= 0 ||
-           m.occlusionTexture >= 0 || m.emissiveTexture >= 0;
+           m.occlusionTexture >= 0 || m.emissiveTexture >= 0 || m.normalTexture >= 0;
 }
 /// Whether a material has texture slots beyond the base colour (lighting.h SurfaceMaps).
 inline bool hasSurfaceMaps(const Material& m) {
-    return m.metallicRoughnessTexture >= 0 || m.occlusionTexture >= 0 || m.emissiveTexture >= 0;
+    return m.metallicRoughnessTexture >= 0 || m.occlusionTexture >= 0 || m.emissiveTexture >= 0 ||
+           m.normalTexture >= 0;
 }
 
 struct Instance {

@@ -18,14 +18,17 @@
 //   (Material's slots, lighting.h SurfaceMaps). A map whose file is missing is not drawn (a
 //   warning), and the neutral factor exporters write beside it goes with it (no emissive
 //   without its map; Blinn-Phong without the metallic-roughness map: alone, factors 1 and 1
-//   are a rough metal). Normal maps are not drawn yet. A KHR_materials_pbrSpecularGlossiness
+//   are a rough metal). Its normalTexture (with its scale) is a linear Texture drawn on meshes
+//   with tangents: the file's TANGENT, else assimp's aiProcess_CalcTangentSpace (run when a
+//   material has a normal map; not MikkTSpace, which glTF asks for: the two agree on smooth,
+//   well-parameterised meshes and differ across uv seams). A KHR_materials_pbrSpecularGlossiness
 //   material keeps Blinn-Phong. OBJ, PLY and primitives without a material: Blinn-Phong,
 //   specular 0.25 / shininess 32 as every built-in material.
 // - texture coordinate sets 0 and 1 (TEXCOORD_0, TEXCOORD_1; another set is an error naming
 //   the material) and KHR_texture_transform on every slot, read from the file's JSON: each
 //   slot's transform is recorded on the Material (baseColorTransform, normalTransform, ...);
 //   a mesh's texcoords are the set its material's first texture reads (base colour, else
-//   metallic-roughness, occlusion, emissive), with that slot's transform baked in
+//   metallic-roughness, occlusion, emissive, normal), with that slot's transform baked in
 //   (TextureTransform, scene.h: uv' = T · R · S · uv), and the material's sampler is that
 //   slot's. Every slot drawn reads those coordinates: a slot reading another set or transform
 //   is not drawn (a warning naming the file, material and slot). A set the mesh lacks: a
