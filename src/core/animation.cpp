@@ -245,6 +245,15 @@ Status validateSceneAnimation(const SceneAnimation& a) {
                                           t.instance, t.node));
         }
     }
+    for (const SceneAnimation::Skin& s : a.skins) {
+        bool ok = s.instance >= 0 && s.meshNode >= 0 && s.meshNode < int(a.nodes.size());
+        for (const int j : s.joints) ok = ok && j >= 0 && j < int(a.nodes.size());
+        if (!ok) {
+            return inputError(fmt::format("animation '{}': the skin of instance {} names a node "
+                                          "it does not have",
+                                          a.name, s.instance));
+        }
+    }
     if (a.cameraNode >= int(a.nodes.size())) {
         return inputError(fmt::format("animation '{}': no camera node {}", a.name, a.cameraNode));
     }
@@ -261,6 +270,20 @@ std::vector<glm::mat4> nodeWorldsAt(const SceneAnimation& a, double time) {
     return world;
 }
 
+std::vector<glm::mat4> skinMatrices(const SceneAnimation::Skin& skin,
+                                    const std::vector<glm::mat4>& world) {
+    std::vector<glm::mat4> m(skin.joints.size(), glm::mat4(1.0f));
+    if (skin.meshNode < 0 || std::size_t(skin.meshNode) >= world.size()) return m;
+    const glm::mat4 modelFromRoot = glm::inverse(world[std::size_t(skin.meshNode)]);
+    for (std::size_t j = 0; j < skin.joints.size(); ++j) {
+        const int node = skin.joints[j];
+        if (node < 0 || std::size_t(node) >= world.size()) continue;
+        m[j] = modelFromRoot * world[std::size_t(node)] *
+               (j < skin.inverseBind.size() ? skin.inverseBind[j] : glm::mat4(1.0f));
+    }
+    return m;
+}
+
 void animateScene(Scene& scene, const SceneAnimation& a, double time) {
     const std::vector<glm::mat4> world = nodeWorldsAt(a, time);
     for (const SceneAnimation::Target& t : a.instances) {
@@ -271,6 +294,12 @@ void animateScene(Scene& scene, const SceneAnimation& a, double time) {
             if (na && na->weights && inst.mesh >= 0 && inst.mesh < int(scene.meshes.size()))
                 applyMorphWeights(scene.meshes[std::size_t(inst.mesh)], sample(*na->weights, time));
         }
+    }
+    for (const SceneAnimation::Skin& skin : a.skins) {
+        if (skin.instance < 0 || std::size_t(skin.instance) >= scene.instances.size()) continue;
+        const int mesh = scene.instances[std::size_t(skin.instance)].mesh;
+        if (mesh >= 0 && std::size_t(mesh) < scene.meshes.size())
+            poseSkin(scene.meshes[std::size_t(mesh)], skinMatrices(skin, world));
     }
     if (a.cameraNode >= 0 && scene.camera) {
         scene.camera->worldFromCamera = a.cameraWorldFromRoot * world[std::size_t(a.cameraNode)];

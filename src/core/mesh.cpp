@@ -35,6 +35,15 @@ Status validateMesh(const Mesh& mesh, const std::string& what) {
         return inputError(fmt::format("{}: {} texture coordinates for {} positions", what,
                                       mesh.texcoords.size(), mesh.positions.size()));
     }
+    if ((!mesh.joints.empty() || !mesh.weights.empty()) &&
+        (mesh.joints.size() != mesh.positions.size() ||
+         mesh.weights.size() != mesh.positions.size() ||
+         mesh.basePositions.size() != mesh.positions.size() ||
+         mesh.baseNormals.size() != mesh.positions.size())) {
+        return inputError(fmt::format("{}: {} joints and {} weights for {} positions", what,
+                                      mesh.joints.size(), mesh.weights.size(),
+                                      mesh.positions.size()));
+    }
     if (!mesh.tangents.empty() && mesh.tangents.size() != mesh.positions.size()) {
         return inputError(fmt::format("{}: {} tangents for {} positions", what,
                                       mesh.tangents.size(), mesh.positions.size()));
@@ -180,6 +189,42 @@ void applyMorphWeights(Mesh& mesh, const std::vector<float>& weights) {
     for (glm::vec3& v : mesh.normals) {
         const float len = glm::length(v);
         v = len > 0.0f && std::isfinite(len) ? v / len : glm::vec3(0.0f, 0.0f, 1.0f);
+    }
+}
+
+void poseSkin(Mesh& mesh, const std::vector<glm::mat4>& jointMatrices) {
+    const std::size_t n = mesh.basePositions.size();
+    if (mesh.joints.size() != n || mesh.weights.size() != n || mesh.baseNormals.size() != n)
+        return;
+    if (mesh.morphTargets.empty()) {
+        mesh.positions = mesh.basePositions;
+        mesh.normals = mesh.baseNormals;
+    } else {
+        const std::vector<float> w = mesh.morphWeights;
+        applyMorphWeights(mesh, w);  // the morphed pose, from the base again
+    }
+    std::vector<glm::mat3> normalMatrices(jointMatrices.size());
+    for (std::size_t j = 0; j < jointMatrices.size(); ++j)
+        normalMatrices[j] = glm::transpose(glm::inverse(glm::mat3(jointMatrices[j])));
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec4 p(mesh.positions[i], 1.0f);
+        glm::vec4 sp(0.0f);
+        glm::vec3 sn(0.0f);
+        for (int k = 0; k < 4; ++k) {
+            const float w = mesh.weights[i][k];
+            if (w == 0.0f) continue;
+            const std::size_t j = mesh.joints[i][k];
+            if (j < jointMatrices.size()) {
+                sp += w * (jointMatrices[j] * p);
+                sn += w * (normalMatrices[j] * mesh.normals[i]);
+            } else {
+                sp += w * p;
+                sn += w * mesh.normals[i];
+            }
+        }
+        mesh.positions[i] = glm::vec3(sp);
+        const float len = glm::length(sn);
+        mesh.normals[i] = len > 0.0f && std::isfinite(len) ? sn / len : mesh.normals[i];
     }
 }
 

@@ -43,6 +43,8 @@ void optimizeMeshLocality(Mesh& mesh) {
     remapStream(mesh.texcoords);
     remapStream(mesh.colors);
     remapStream(mesh.tangents);
+    remapStream(mesh.joints);
+    remapStream(mesh.weights);
     remapStream(mesh.basePositions);
     remapStream(mesh.baseNormals);
     for (MorphTarget& t : mesh.morphTargets) {

@@ -621,7 +621,57 @@ std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name, bool 
         mesh.baseNormals = mesh.normals;
         applyMorphWeights(mesh, weights);  // the mesh's default weights
     }
+    // Skins: assimp's bones (one per joint of the node's skin, mOffsetMatrix its inverse bind
+    // matrix; the weights follow its own vertex processing); each vertex keeps its 4 largest
+    // influences, renormalised (JOINTS_1 / WEIGHTS_1 beyond them are dropped).
+    if (in.HasBones() && in.mNumBones <= 65535u) {
+        std::vector<std::vector<std::pair<float, unsigned>>> influences(in.mNumVertices);
+        for (unsigned b = 0; b < in.mNumBones; ++b) {
+            const aiBone& bone = *in.mBones[b];
+            for (unsigned k = 0; k < bone.mNumWeights; ++k) {
+                const aiVertexWeight& vw = bone.mWeights[k];
+                if (vw.mVertexId < in.mNumVertices && vw.mWeight > 0.0f &&
+                    std::isfinite(vw.mWeight))
+                    influences[vw.mVertexId].emplace_back(vw.mWeight, b);
+            }
+        }
+        mesh.joints.resize(in.mNumVertices, glm::u16vec4(0));
+        mesh.weights.resize(in.mNumVertices, glm::vec4(0.0f));
+        for (unsigned v = 0; v < in.mNumVertices; ++v) {
+            auto& list = influences[v];
+            std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) {
+                return a.first > b.first || (a.first == b.first && a.second < b.second);
+            });
+            float sum = 0.0f;
+            for (std::size_t k = 0; k < list.size() && k < 4; ++k) sum += list[k].first;
+            for (std::size_t k = 0; k < list.size() && k < 4; ++k) {
+                mesh.joints[v][int(k)] = std::uint16_t(list[k].second);
+                mesh.weights[v][int(k)] = list[k].first / sum;
+            }
+            if (list.empty()) mesh.weights[v][0] = 0.0f;  // unweighted: stays in bind pose
+        }
+        if (mesh.basePositions.empty()) {
+            mesh.basePositions = mesh.positions;
+            mesh.baseNormals = mesh.normals;
+        }
+    }
     return mesh;
+}
+
+/// The skin of the node that instances `am` (assimp's bones), bound to `nodeOf`'s nodes:
+/// joint j is bone j's node, its inverse bind matrix the bone's offset matrix.
+struct BoundSkin {
+    std::vector<const aiNode*> joints;
+    std::vector<glm::mat4> inverseBind;
+};
+BoundSkin boundSkin(const aiScene& ai, const aiMesh& am) {
+    BoundSkin s;
+    for (unsigned b = 0; b < am.mNumBones; ++b) {
+        const aiBone& bone = *am.mBones[b];
+        s.joints.push_back(ai.mRootNode->FindNode(bone.mName));
+        s.inverseBind.push_back(toGlm(bone.mOffsetMatrix));
+    }
+    return s;
 }
 
 /// Binds the glTF nodes (depth first from the scene's roots) to assimp's: the same hierarchy
@@ -829,6 +879,7 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
     std::map<std::string, glm::mat4> worldByName;
     std::vector<std::pair<const aiNode*, glm::mat4>> nodes;
     collectWorld(*ai->mRootNode, glm::mat4(1.0f), worldByName, nodes);
+    const std::map<const aiNode*, glm::mat4> worldOf(nodes.begin(), nodes.end());
     // glTF animations (gltf_animation.h): read from the file, bound to assimp's nodes.
     std::optional<detail::GltfAnimationFile> animation;
     std::map<const aiNode*, int> animNode;
@@ -875,6 +926,32 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
                 if (auto it = animNode.find(node); it != animNode.end()) {
                     animation->animation.instances.push_back(
                         {int(scene.instances.size()), it->second, glm::mat4(1.0f)});
+                }
+            }
+            // A skinned mesh (glTF skins): posed by its joints' rest transforms here (a still
+            // shows the file's pose, not the bind pose at the mesh node), per frame by the
+            // animation (SceneAnimation::Skin).
+            Mesh& drawn = scene.meshes[std::size_t(meshIndex[m])];
+            if (!drawn.joints.empty()) {
+                const BoundSkin skin = boundSkin(*ai, *ai->mMeshes[m]);
+                const glm::mat4 modelFromRoot = glm::inverse(world);
+                std::vector<glm::mat4> matrices(skin.joints.size(), glm::mat4(1.0f));
+                SceneAnimation::Skin played;
+                played.instance = int(scene.instances.size());
+                bool bound = animation && animNode.count(node);
+                if (bound) played.meshNode = animNode.at(node);
+                for (std::size_t j = 0; j < skin.joints.size(); ++j) {
+                    auto w = skin.joints[j] ? worldOf.find(skin.joints[j]) : worldOf.end();
+                    if (w != worldOf.end())
+                        matrices[j] = modelFromRoot * w->second * skin.inverseBind[j];
+                    auto a = skin.joints[j] ? animNode.find(skin.joints[j]) : animNode.end();
+                    bound = bound && a != animNode.end();
+                    if (bound) played.joints.push_back(a->second);
+                }
+                poseSkin(drawn, matrices);
+                if (bound) {
+                    played.inverseBind = skin.inverseBind;
+                    animation->animation.skins.push_back(std::move(played));
                 }
             }
             scene.instances.push_back({meshIndex[m], world, std::move(mat)});

@@ -346,6 +346,8 @@ Result<Scene> loadModels(const std::vector<std::string>& args,
             if (placements[i]) transformAnimation(*animation, placements[i]->matrix());
             for (SceneAnimation::Target& t : animation->instances)
                 t.instance += int(combined.instances.size());
+            for (SceneAnimation::Skin& sk : animation->skins)
+                sk.instance += int(combined.instances.size());
             if (combined.camera) animation->cameraNode = -1;  // an earlier file's camera
         }
         appendScene(combined, std::move(s));
@@ -368,6 +370,7 @@ Result<Scene> loadModels(const std::vector<std::string>& args,
         const std::vector<Instance> one = combined.instances;
         combined.instances.clear();
         std::vector<SceneAnimation::Target> targets;
+        std::vector<SceneAnimation::Skin> skins;
         for (int k = 0; k < grid; ++k) {
             const glm::vec3 offset((k % columns - (columns - 1) * 0.5f) * spacing,
                                    ((rows - 1) * 0.5f - k / columns) * spacing, 0.0f);
@@ -382,11 +385,16 @@ Result<Scene> loadModels(const std::vector<std::string>& args,
                     t.worldFromRoot = xf * t.worldFromRoot;
                     targets.push_back(t);
                 }
+                for (SceneAnimation::Skin sk : animation->skins) {  // one mesh: posed alike
+                    sk.instance += k * int(one.size());
+                    skins.push_back(sk);
+                }
             }
         }
         combined.camera.reset();
         if (animation) {
             animation->instances = std::move(targets);
+            animation->skins = std::move(skins);
             animation->cameraNode = -1;
         }
     }

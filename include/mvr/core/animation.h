@@ -127,6 +127,16 @@ struct SceneAnimation {
         glm::mat4 worldFromRoot{1.0f};
     };
     std::vector<Target> instances;
+    /// A skinned instance (glTF skins): its mesh (Mesh::joints) posed by its joints' nodes,
+    /// in the model space of the node that instances it (so worldFromModel places it as any
+    /// instance): joint j's matrix is world(meshNode)⁻¹ · world(joints[j]) · inverseBind[j].
+    struct Skin {
+        int instance = 0;
+        int meshNode = 0;
+        std::vector<int> joints;  ///< nodes, in the order of Mesh::joints' indices
+        std::vector<glm::mat4> inverseBind;
+    };
+    std::vector<Skin> skins;
     int cameraNode = -1;  ///< the node of Scene::camera, -1: the camera is not animated
     glm::mat4 cameraWorldFromRoot{1.0f};
 };
@@ -138,9 +148,14 @@ Status validateSceneAnimation(const SceneAnimation& animation);
 /// Every node's world matrix (relative to the file's root) at `time`.
 std::vector<glm::mat4> nodeWorldsAt(const SceneAnimation& animation, double time);
 
-/// Moves `scene`'s animated instances and (cameraNode >= 0) its camera to `time`, and morphs
+/// A skin's joint matrices (SceneAnimation::Skin) from the nodes' world matrices `world`.
+std::vector<glm::mat4> skinMatrices(const SceneAnimation::Skin& skin,
+                                    const std::vector<glm::mat4>& world);
+
+/// Moves `scene`'s animated instances and (cameraNode >= 0) its camera to `time`, morphs
 /// the meshes of instances whose node animates its weights (applyMorphWeights(); a mesh two
-/// such nodes share takes the later node's).
+/// such nodes share takes the later node's) and poses the skinned ones (poseSkin(), with
+/// skinMatrices()).
 /// Precondition: validateSceneAnimation() passed and the indices fit `scene`.
 void animateScene(Scene& scene, const SceneAnimation& animation, double time);
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/type_precision.hpp>
 
 #include "mvr/core/status.h"
 
@@ -56,6 +57,12 @@ struct Mesh {
     /// xyz along the texture's +u, w = ±1 the handedness: the bitangent w · cross(normal,
     /// xyz) runs up the texture image (lighting.h perturbedNormal).
     std::vector<glm::vec4> tangents;
+    /// Skinning (glTF skins, issue 39 item 3): empty, or one per position: up to 4 joints
+    /// (indices into the skin's joint list, SceneAnimation::Skin) and their weights, summing
+    /// to 1. `basePositions` / `baseNormals` then hold the unskinned (bind) pose, which
+    /// poseSkin() deforms (after the morph targets).
+    std::vector<glm::u16vec4> joints;
+    std::vector<glm::vec4> weights;
     /// Morph targets (glTF's `targets`): empty, or each with one displacement per position.
     /// `positions` / `normals` then hold the mesh at `morphWeights` (applyMorphWeights()),
     /// `basePositions` / `baseNormals` the mesh at weights 0.
@@ -93,6 +100,13 @@ glm::vec4 decodeSrgbColor(glm::vec4 encoded);
 /// positions = base + Σ wᵢ · Δpᵢ, normals = normalize(base + Σ wᵢ · Δnᵢ) (glTF 2.0 §3.7.2.2;
 /// computed normals are recomputed instead). No-op for a mesh without morph targets.
 void applyMorphWeights(Mesh& mesh, const std::vector<float>& weights);
+
+/// glTF's skinning: `positions` / `normals` from the unskinned pose (basePositions /
+/// baseNormals, morphed at `morphWeights` when the mesh has targets) as Σ weight ·
+/// jointMatrices[joint] · p per vertex (normals through each matrix's inverse transpose, then
+/// normalised). A joint index past `jointMatrices` counts as the identity. No-op for a mesh
+/// without Mesh::joints.
+void poseSkin(Mesh& mesh, const std::vector<glm::mat4>& jointMatrices);
 
 /// Computes area-weighted smooth vertex normals (degenerate triangles contribute nothing; a
 /// vertex with no usable triangle gets +Z).
