@@ -226,6 +226,20 @@ void poseSkin(Mesh& mesh, const std::vector<glm::mat4>& jointMatrices) {
         const float len = glm::length(sn);
         mesh.normals[i] = len > 0.0f && std::isfinite(len) ? sn / len : mesh.normals[i];
     }
+    if (mesh.baseTangents.size() == n && mesh.tangents.size() == n) {
+        for (std::size_t i = 0; i < n; ++i) {
+            const glm::vec3 t(mesh.baseTangents[i]);
+            glm::vec3 st(0.0f);
+            for (int k = 0; k < 4; ++k) {
+                const float w = mesh.weights[i][k];
+                const std::size_t j = mesh.joints[i][k];
+                if (w != 0.0f) st += w * (j < jointMatrices.size() ? glm::mat3(jointMatrices[j]) * t : t);
+            }
+            const float len = glm::length(st);
+            mesh.tangents[i] = glm::vec4(len > 0.0f && std::isfinite(len) ? st / len : t,
+                                         mesh.baseTangents[i].w);
+        }
+    }
 }
 
 std::uint64_t contentHash(const Mesh& m) {

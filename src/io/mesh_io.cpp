@@ -43,6 +43,7 @@ void optimizeMeshLocality(Mesh& mesh) {
     remapStream(mesh.texcoords);
     remapStream(mesh.colors);
     remapStream(mesh.tangents);
+    remapStream(mesh.baseTangents);
     remapStream(mesh.joints);
     remapStream(mesh.weights);
     remapStream(mesh.basePositions);

@@ -654,6 +654,7 @@ std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name, bool 
             mesh.basePositions = mesh.positions;
             mesh.baseNormals = mesh.normals;
         }
+        mesh.baseTangents = mesh.tangents;
     }
     return mesh;
 }

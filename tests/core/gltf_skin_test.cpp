@@ -180,6 +180,15 @@ TEST(GltfSkin, PoseSkinBlendsJointMatricesByWeight) {
     // Posed again: from the base, not compounded.
     poseSkin(m, {a, b});
     EXPECT_EQ(m.positions[2], glm::vec3(0, 0, 2));
+    // Tangents turn with their joints (a quarter turn about z), handedness kept.
+    m.tangents.assign(3, glm::vec4(1, 0, 0, -1));
+    m.baseTangents = m.tangents;
+    const glm::mat4 turn = glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(0, 0, 1));
+    poseSkin(m, {turn, turn});
+    for (const glm::vec4& t : m.tangents) {
+        EXPECT_NEAR(glm::length(glm::vec3(t) - glm::vec3(0, 1, 0)), 0.0f, 1e-6f);
+        EXPECT_EQ(t.w, -1.0f);
+    }
 }
 
 }  // namespace

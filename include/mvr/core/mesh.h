@@ -63,6 +63,7 @@ struct Mesh {
     /// poseSkin() deforms (after the morph targets).
     std::vector<glm::u16vec4> joints;
     std::vector<glm::vec4> weights;
+    std::vector<glm::vec4> baseTangents;  ///< a skinned mesh's unskinned `tangents`, or empty
     /// Morph targets (glTF's `targets`): empty, or each with one displacement per position.
     /// `positions` / `normals` then hold the mesh at `morphWeights` (applyMorphWeights()),
     /// `basePositions` / `baseNormals` the mesh at weights 0.
@@ -104,7 +105,8 @@ void applyMorphWeights(Mesh& mesh, const std::vector<float>& weights);
 /// glTF's skinning: `positions` / `normals` from the unskinned pose (basePositions /
 /// baseNormals, morphed at `morphWeights` when the mesh has targets) as Σ weight ·
 /// jointMatrices[joint] · p per vertex (normals through each matrix's inverse transpose, then
-/// normalised). A joint index past `jointMatrices` counts as the identity. No-op for a mesh
+/// normalised; tangents from baseTangents through the matrices' linear parts, normalised, their
+/// handedness kept). A joint index past `jointMatrices` counts as the identity. No-op for a mesh
 /// without Mesh::joints.
 void poseSkin(Mesh& mesh, const std::vector<glm::mat4>& jointMatrices);
 
