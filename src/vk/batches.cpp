@@ -35,8 +35,8 @@ struct InstanceData {
     glm::vec4 material;
     glm::vec4 params;    ///< shininess, alpha, mask cutoff, occlusion strength
     glm::ivec4 flags;    ///< texture slots (kSlot* bits), alpha mode, double-sided, vertex colours
-    glm::vec4 pbr;       ///< metallic, roughness, MaterialModel, 0 (common.glsl)
-    glm::vec4 emissive;  ///< rgb
+    glm::vec4 pbr;       ///< metallic, roughness, MaterialModel, normal map scale (common.glsl)
+    glm::vec4 emissive;  ///< rgb, w: −1 where worldFromModel mirrors (tangent handedness), else 1
 };
 // common.glsl's std430 InstanceData: three mat4, five vec4-sized members, no padding.
 static_assert(sizeof(InstanceData) == 3 * 64 + 5 * 16);
@@ -45,7 +45,8 @@ struct Push {
 };
 /// InstanceData::flags.x: the texture slots a material samples (common.glsl's SLOT_*), one bit
 /// each; any of them (scene.h hasTexture) splits the lighting into D and S.
-constexpr int kSlotBaseColor = 1, kSlotMetallicRoughness = 2, kSlotOcclusion = 4, kSlotEmissive = 8;
+constexpr int kSlotBaseColor = 1, kSlotMetallicRoughness = 2, kSlotOcclusion = 4, kSlotEmissive = 8,
+              kSlotNormal = 16;
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
@@ -54,6 +55,8 @@ constexpr std::size_t kMeshesKept = 32;
 /// and of GpuMesh::flat (position, face edge cross product, face centroid, colour, texture
 /// coordinates).
 constexpr std::uint32_t kVertexBytes = 48, kFlatVertexBytes = 60;
+/// GpuMesh::tangents (binding 1, pixel shading): Mesh::tangents' xyzw.
+constexpr std::uint32_t kTangentBytes = 16;
 
 /// Opaque and masked instances in scene order, then the blended ones (lighting.h).
 std::vector<int> drawOrder(const Scene& scene) {
@@ -216,21 +219,25 @@ Result<VkPipeline> Renderer::pipeline(Method m, Shading shading, int views, bool
                  VK_SHADER_STAGE_VERTEX_BIT, *vs, "main", nullptr};
     stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0,
                  VK_SHADER_STAGE_FRAGMENT_BIT, *fs, "main", nullptr};
-    // Smooth: position, normal, colour; flat: the unrolled triangles' position, edge cross
-    // product, centroid, colour (GpuMesh).
+    // Smooth: position, normal, colour, uv; flat: the unrolled triangles' position, edge cross
+    // product, centroid, colour, uv (GpuMesh); pixel shading adds the tangent (binding 1: the
+    // mesh's, or the shared (0, 0, 0, 1) of mNoTangents).
     const bool flat = shading == Shading::Flat;
-    VkVertexInputBindingDescription binding{0, flat ? kFlatVertexBytes : kVertexBytes,
-                                            VK_VERTEX_INPUT_RATE_VERTEX};
+    const bool pixel = shading == Shading::Pixel;
+    const VkVertexInputBindingDescription bindings[2] = {
+        {0, flat ? kFlatVertexBytes : kVertexBytes, VK_VERTEX_INPUT_RATE_VERTEX},
+        {1, kTangentBytes, VK_VERTEX_INPUT_RATE_VERTEX}};
     const VkVertexInputAttributeDescription attrs[5] = {
         {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
         {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12},
         {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, flat ? 36u : 24u},
         {4, 0, VK_FORMAT_R32G32_SFLOAT, flat ? 52u : 40u},
-        {2, 0, VK_FORMAT_R32G32B32_SFLOAT, 24}};
+        flat ? VkVertexInputAttributeDescription{2, 0, VK_FORMAT_R32G32B32_SFLOAT, 24}
+             : VkVertexInputAttributeDescription{5, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 0}};
     VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    vi.vertexBindingDescriptionCount = 1;
-    vi.pVertexBindingDescriptions = &binding;
-    vi.vertexAttributeDescriptionCount = flat ? 5 : 4;
+    vi.vertexBindingDescriptionCount = pixel ? 2 : 1;
+    vi.pVertexBindingDescriptions = bindings;
+    vi.vertexAttributeDescriptionCount = flat || pixel ? 5 : 4;
     vi.pVertexAttributeDescriptions = attrs;
     VkPipelineInputAssemblyStateCreateInfo ia{
         VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
@@ -302,6 +309,7 @@ Result<VkPipeline> Renderer::pipeline(Method m, Shading shading, int views, bool
 Status Renderer::prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes) {
     ++mUseCounter;
     meshes.clear();
+    std::size_t noTangents = 1;  // vertices mNoTangents must cover
     for (const Mesh& mesh : scene.meshes) {
         const std::uint64_t key = contentHash(mesh);
         auto it = mMeshes.find(key);
@@ -366,6 +374,15 @@ Status Renderer::prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes)
                     std::memcpy(o + 13, &uvOf(mesh.indices[3 * t + k]), 8);
                 }
             }
+            // Tangents (pixel shading's binding 1) where the mesh has them; the others bind
+            // mNoTangents.
+            if (mesh.tangents.size() == nv && nv > 0) {
+                auto tb = mContext->makeBuffer(nv * kTangentBytes,
+                                               VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, true);
+                if (!tb) return tb.status();
+                std::memcpy(tb->mapped, mesh.tangents.data(), nv * kTangentBytes);
+                g.tangents = std::move(*tb);
+            }
             g.vertices = std::move(*v);
             g.indices = std::move(*ix);
             g.flat = std::move(*fl);
@@ -375,6 +392,17 @@ Status Renderer::prepareScene(const Scene& scene, std::vector<GpuMesh*>& meshes)
         }
         it->second.lastUse = mUseCounter;
         meshes.push_back(&it->second);
+        if (!it->second.tangents.buffer) noTangents = std::max(noTangents, mesh.positions.size());
+    }
+    // (0, 0, 0, 1) for the largest mesh without tangents: perturbedNormal's degenerate frame,
+    // the mesh's own normal (nothing is in flight between renders: it may be replaced).
+    if (mNoTangents.bytes < noTangents * kTangentBytes) {
+        auto b = mContext->makeBuffer(noTangents * kTangentBytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+                                      true);
+        if (!b) return b.status();
+        auto* p = static_cast<glm::vec4*>(b->mapped);
+        std::fill(p, p + noTangents, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+        mNoTangents = std::move(*b);
     }
     return {};
 }
@@ -461,10 +489,12 @@ Status Renderer::uploadFrame(const Scene& scene, const Rig& rig, const RenderSet
         const int slots = slot(mt.baseColorTexture, kSlotBaseColor) |
                           slot(mt.metallicRoughnessTexture, kSlotMetallicRoughness) |
                           slot(mt.occlusionTexture, kSlotOcclusion) |
-                          slot(mt.emissiveTexture, kSlotEmissive);
+                          slot(mt.emissiveTexture, kSlotEmissive) |
+                          slot(mt.normalTexture, kSlotNormal);
         o.flags = glm::ivec4(slots, mode, mt.doubleSided ? 1 : 0, colored ? 1 : 0);
-        o.pbr = glm::vec4(mt.metallic, mt.roughness, float(int(mt.model)), 0.0f);
-        o.emissive = glm::vec4(mt.emissive, 0.0f);
+        o.pbr = glm::vec4(mt.metallic, mt.roughness, float(int(mt.model)), mt.normalScale);
+        // pipeline.h worldTangent's mirror test, for the vertex shader's tangent.
+        o.emissive = glm::vec4(mt.emissive, glm::determinant(m3) < 0.0f ? -1.0f : 1.0f);
     }
     return {};
 }
@@ -489,6 +519,7 @@ Status Renderer::recordBatch(Slot& slot, Method m, const RenderSettings& s, int 
     const VkViewport viewport{0.0f, 0.0f, float(s.width), float(s.height), 0.0f, 1.0f};
     const VkRect2D scissor{{0, 0}, {std::uint32_t(s.width), std::uint32_t(s.height)}};
     const bool flat = s.shading == Shading::Flat;
+    const bool pixel = s.shading == Shading::Pixel;
 
     auto drawScene = [&](int viewBase, std::uint32_t instances) -> Status {
         vkCmdSetViewport(cmd, 0, 1, &viewport);
@@ -518,6 +549,11 @@ Status Renderer::recordBatch(Slot& slot, Method m, const RenderSettings& s, int 
             } else {
                 VkBuffer b = g.vertices.buffer.get();
                 vkCmdBindVertexBuffers(cmd, 0, 1, &b, &offset);
+                if (pixel) {
+                    VkBuffer t = g.tangents.buffer ? g.tangents.buffer.get()
+                                                   : mNoTangents.buffer.get();
+                    vkCmdBindVertexBuffers(cmd, 1, 1, &t, &offset);
+                }
                 vkCmdBindIndexBuffer(cmd, g.indices.buffer.get(), 0, VK_INDEX_TYPE_UINT32);
                 vkCmdDrawIndexed(cmd, g.indexCount, instances, 0, 0, 0);
             }

@@ -141,6 +141,7 @@ void Renderer::releaseDevice() {
         s = Slot{};
     }
     mMeshes.clear();
+    mNoTangents = {};
     mTextureSets.clear();
     mInstanceSets.clear();
     mTexturePool = {};
@@ -229,8 +230,8 @@ Status Renderer::ensureStatic() {
     ai.pSetLayouts = &layout;
     if (Status s = check(vkAllocateDescriptorSets(d, &ai, &mSet), "vkAllocateDescriptorSets"); !s)
         return s;
-    // Set 1: the texture slots (base colour, metallic-roughness, occlusion, emissive: bindings
-    // 0 to 3), each with the material's sampler (fragment stage).
+    // Set 1: the texture slots (base colour, metallic-roughness, occlusion, emissive, normal:
+    // bindings 0 to 4), each with the material's sampler (fragment stage).
     VkDescriptorSetLayoutBinding tb[kTextureSlots]{};
     for (std::uint32_t i = 0; i < kTextureSlots; ++i) {
         tb[i].binding = i;

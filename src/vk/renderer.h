@@ -40,6 +40,7 @@ struct GpuMesh {
     BufferMemory vertices;  ///< position, normal, colour, uv (48 bytes a vertex)
     BufferMemory indices;
     BufferMemory flat;  ///< unrolled triangles: position, face edge cross, centroid, colour, uv
+    BufferMemory tangents;  ///< Mesh::tangents (16 bytes a vertex), none without them
     std::uint32_t indexCount = 0, flatVertexCount = 0;
     std::uint64_t lastUse = 0;
 };
@@ -55,9 +56,10 @@ struct GpuTexture {
 inline constexpr std::size_t kTexturesKept = 64;
 /// Descriptor sets of (textures, sampler) the pool holds; past it the pool is reset.
 inline constexpr std::uint32_t kTextureSets = 256;
-/// Set 1's bindings, one a texture slot: base colour, metallic-roughness, occlusion, emissive
-/// (scene.frag; a white texel where the material has none).
-inline constexpr std::uint32_t kTextureSlots = 4;
+/// Set 1's bindings, one a texture slot: base colour, metallic-roughness, occlusion, emissive,
+/// normal (scene.frag; a white texel where the material has none, which the shader then ignores
+/// by InstanceData's slot bits).
+inline constexpr std::uint32_t kTextureSlots = 5;
 /// A texture's cache key: its content hash and whether it is data (Texture::linear, sampled as
 /// UNORM) rather than colour (sRGB), so one image used both ways is two device images;
 /// {0, false} is the white texel.
@@ -176,6 +178,8 @@ private:
     ShadowImage mNoShadow;     ///< one layer, bound when no light casts
     VkImageView mShadowBound = VK_NULL_HANDLE;
     std::map<std::uint64_t, GpuMesh> mMeshes;
+    /// (0, 0, 0, 1) per vertex, the tangents of meshes without them (pixel shading's binding 1).
+    BufferMemory mNoTangents;
     std::uint64_t mUseCounter = 0;
     Slot mSlots[2];
     std::map<std::string, std::pair<Method, std::string>> mAutoChoices;

@@ -1,6 +1,6 @@
 // The vk backend's textures (renderer.h): sRGB images (colour: base colour, emissive) or UNORM
-// ones (data, Texture::linear: metallic-roughness, occlusion) with their mip chain made by
-// linear blits on the device (as gl's glGenerateMipmap: the box filter of the decoded colour,
+// ones (data, Texture::linear: metallic-roughness, occlusion, normal) with their mip chain made
+// by linear blits on the device (as gl's glGenerateMipmap: the box filter of the decoded colour,
 // or of the bytes / 255 for data, as texture_sampling.h's buildMipChain), samplers from the
 // material's TextureSampler, and one descriptor set (set 1, a binding per texture slot) per
 // instance.
@@ -335,10 +335,11 @@ Status Renderer::prepareTextures(const Scene& scene) {
     bool restarted = false;
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
         const Material& m = scene.instances[i].material;
-        // Binding order (scene.frag): base colour, metallic-roughness, occlusion, emissive.
+        // Binding order (scene.frag): base colour, metallic-roughness, occlusion, emissive,
+        // normal.
         const std::array<TextureKey, kTextureSlots> slots = {
             slotKey(m.baseColorTexture), slotKey(m.metallicRoughnessTexture),
-            slotKey(m.occlusionTexture), slotKey(m.emissiveTexture)};
+            slotKey(m.occlusionTexture), slotKey(m.emissiveTexture), slotKey(m.normalTexture)};
         // Every slot samples with the material's one sampler; an instance with no texture
         // (validateScene checked the indices) samples only white texels, with the default
         // sampler (fewer distinct sets).

@@ -2,7 +2,7 @@
 // in CI), validation layers on (validation_env.cpp): the registry row, `mvr info`'s lines,
 // batching past maxMultiviewViewCount, every method against vk:multipass and soft:multipass,
 // depth on and off, textures and vertex colours at known places, data and colour texture maps,
-// and the Unsupported messages. The conformance suite (tests/conformance)
+// normal maps against the tangent-frame formula, and the Unsupported messages. The conformance suite (tests/conformance)
 // compares every vk method with soft:multipass on all its scenes.
 #include <algorithm>
 #include <cmath>
@@ -10,6 +10,7 @@
 #include <regex>
 
 #include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include "test_scenes.h"
@@ -231,7 +232,7 @@ Scene quadScene(const glm::vec4& vertexColor, bool textured) {
     return scene;
 }
 
-Rig quadRig() {
+Rig quadRig(int views = 1) {
     Camera c;
     c.position = {0, 0, 1};
     c.target = {0, 0, 0};
@@ -240,7 +241,8 @@ Rig quadRig() {
     c.near = 0.5f;
     c.far = 2.0f;
     RigParams p;
-    p.columns = 1;
+    p.columns = views;
+    if (views > 1) p.interaxial = 0.05f;  // the quad at the convergence plane fills every view
     p.convergence = 1.0f;
     auto rig = makeRig(c, p);
     EXPECT_TRUE(rig) << rig.status().message();
@@ -328,6 +330,88 @@ TEST(VkBackend, DataMapsAreReadAsStoredAndColourMapsDecoded) {
             EXPECT_NEAR(p.r, 128, 1) << where;  // not decoded(128): data
             EXPECT_NEAR(p.g, 128, 1) << where;
             EXPECT_NEAR(p.b, decoded(128), 2) << where;  // decoded: colour
+        }
+    }
+}
+
+/// The normal a normal map's texel gives a surface whose normal, tangent and bitangent are the
+/// unit vectors n, t, b: glTF's tangent-space normal (2·rgb − 1, x and y × scale) in that frame,
+/// written out in double (as tests/raster/surface_maps_test.cpp's).
+glm::dvec3 mappedNormal(Rgba8 texel, double scale, glm::dvec3 t, glm::dvec3 b, glm::dvec3 n) {
+    const glm::dvec3 c((2.0 * texel.r / 255.0 - 1.0) * scale,
+                       (2.0 * texel.g / 255.0 - 1.0) * scale, 2.0 * texel.b / 255.0 - 1.0);
+    return glm::normalize(t * c.x + b * c.y + n * c.z);
+}
+
+// Normal maps (lighting.h perturbedNormal, issue 39): the quad facing +z, u along +x and the
+// image's top at +y (tangent (1, 0, 0), handedness +1: bitangent cross(n, t) = +y), one light,
+// no ambient, no specular, under a uniform normal map (data) at scale 0.8: the centre of each
+// view shows Lambert of the normal bent in that frame, in every method. Mirrored in x
+// (worldFromModel's determinant < 0), u runs along −x and the handedness flips (raster/pipeline.h
+// worldTangent): the bitangent stays +y. Per vertex, flat, or on a mesh without tangents: the
+// surface's own normal.
+TEST(VkBackend, NormalMapBendsTheNormalInTheTangentFrame) {
+    MVR_SKIP_WITHOUT_VK();
+    const glm::dvec3 light = glm::normalize(glm::dvec3(0.5, 0.4, 0.77));
+    const Rig rig = quadRig(2);
+    auto render = [&](const Scene& scene, Shading shading, const char* method) {
+        RenderSettings s = small(shading);
+        s.width = s.height = 64;
+        auto r = backend().render(scene, rig, s, method);
+        EXPECT_TRUE(r) << method << ": " << r.status().message();
+        std::vector<Rgba8> centres;
+        if (r)
+            for (const Image& im : r->color) centres.push_back(im.at(32, 32));
+        return centres;
+    };
+    for (const Rgba8 texel : {Rgba8{255, 128, 128, 255}, Rgba8{128, 255, 128, 255},
+                              Rgba8{40, 90, 200, 255}, Rgba8{128, 128, 255, 255}}) {
+        for (const bool mirrored : {false, true}) {
+            Scene scene = quadScene(glm::vec4(1.0f), false);
+            Mesh& mesh = scene.meshes[0];
+            mesh.colors.clear();
+            mesh.tangents.assign(4, glm::vec4(1, 0, 0, 1));
+            Texture t;
+            t.name = "uniform normal";
+            t.linear = true;
+            t.image = Image(4, 4, texel);
+            scene.textures = {t};
+            Material& m = scene.instances[0].material;
+            m.normalTexture = 0;
+            m.normalScale = 0.8f;
+            if (mirrored)
+                scene.instances[0].worldFromModel = glm::scale(glm::mat4(1.0f), {-1, 1, 1});
+            Light l;
+            l.towardLight = glm::vec3(light);
+            scene.lights = {l};
+            scene.ambient = glm::vec3(0.0f);
+            const glm::dvec3 n = mappedNormal(texel, 0.8, {mirrored ? -1.0 : 1.0, 0, 0}, {0, 1, 0},
+                                              {0, 0, 1});
+            const double want = std::max(0.0, glm::dot(n, light)) * 255.0;
+            const double flat = glm::dot(glm::dvec3(0, 0, 1), light) * 255.0;
+            for (const char* method : {"multipass", "multiview", "instanced-layer", "auto"}) {
+                const std::string where =
+                    fmt::format("texel {},{},{} mirrored {} {}", int(texel.r), int(texel.g),
+                                int(texel.b), mirrored, method);
+                const auto px = render(scene, Shading::Pixel, method);
+                ASSERT_EQ(px.size(), 2u) << where;
+                for (const Rgba8 p : px) {
+                    EXPECT_NEAR(p.r, want, 1.0) << where;
+                    EXPECT_EQ(p.r, p.g) << where;
+                    EXPECT_EQ(p.r, p.b) << where;
+                }
+                // Per vertex and flat: the surface's own normal (flat: the face's winding,
+                // which the mirror turns to −z, so only unmirrored).
+                for (Shading shading : {Shading::Vertex, Shading::Flat}) {
+                    if (shading == Shading::Flat && mirrored) continue;
+                    for (const Rgba8 p : render(scene, shading, method))
+                        EXPECT_NEAR(p.r, flat, 1.0) << where << " shading " << int(shading);
+                }
+            }
+            // A mesh without tangents (the (0, 0, 0, 1) binding): the surface's own normal.
+            scene.meshes[0].tangents.clear();
+            for (const Rgba8 p : render(scene, Shading::Pixel, "multipass"))
+                EXPECT_NEAR(p.r, flat, 1.0) << "no tangents, mirrored " << mirrored;
         }
     }
 }

@@ -41,16 +41,18 @@ struct InstanceData {
                            // y alpha mode (0 opaque, 1 mask, 2 blend), z double-sided,
                            // w vertex colours (lighting split into D and S, as gl's SPLIT_LIGHTING)
     vec4 pbr;              // x metallic, y roughness, z MaterialModel (0 Blinn-Phong, 1
-                           // metallic-roughness, 2 unlit)
-    vec4 emissive;         // rgb (model 1)
+                           // metallic-roughness, 2 unlit), w the normal map's scale
+    vec4 emissive;         // rgb (model 1), w: −1 where worldFromModel mirrors (its linear
+                           // part's determinant < 0: the tangent's handedness flips), else 1
 };
 layout(std430, set = 0, binding = 1) readonly buffer Instances { InstanceData uInstances[]; };
 // InstanceData.flags.x: the texture slots a material samples (batches.cpp kSlot*; set 1's
-// bindings 0 to 3 in this order).
+// bindings 0 to 4 in this order).
 #define SLOT_BASE_COLOR 1
 #define SLOT_METALLIC_ROUGHNESS 2
 #define SLOT_OCCLUSION 4
 #define SLOT_EMISSIVE 8
+#define SLOT_NORMAL 16
 
 layout(push_constant) uniform Push {
     int instance;
@@ -163,8 +165,10 @@ vec3 shadeFlat(InstanceData m, vec3 faceNormal, vec3 p) {
 }
 
 // lighting.h metallicRoughnessTerms(), as gl's shaders.cpp has it.
-void metallicRoughnessTerms(InstanceData m, vec3 normal, vec3 worldPos, out vec3 diffuse,
-                            out vec3 specular) {
+// `shadowNormal`: the normal shadowFactor offsets by (the surface's own where a normal map bent
+// `normal`, pixel shading; else `normal`).
+void metallicRoughnessTerms(InstanceData m, vec3 normal, vec3 shadowNormal, vec3 worldPos,
+                            out vec3 diffuse, out vec3 specular) {
     vec3 n = normalize(facingNormal(m, normal, worldPos));
     vec3 v = normalize(SHADING_EYE - worldPos);
     float metal = clamp(m.pbr.x, 0.0, 1.0);
@@ -189,7 +193,7 @@ void metallicRoughnessTerms(InstanceData m, vec3 normal, vec3 worldPos, out vec3
             float w1 = 1.0 - vh, w2 = w1 * w1;
             float w = w2 * w2 * w1;
             float f = 0.04 + 0.96 * w;
-            lc = lc * shadowFactor(i, worldPos, normal) * nl;  // C++'s order
+            lc = lc * shadowFactor(i, worldPos, shadowNormal) * nl;  // C++'s order
             diffuse += ((1.0 - metal) * (1.0 - f) + metal * spec * (1.0 - w)) * lc;
             specular += (spec * ((1.0 - metal) * f + metal * w)) * lc;
         }
@@ -200,7 +204,7 @@ void metallicRoughnessTerms(InstanceData m, vec3 normal, vec3 worldPos, out vec3
 vec3 shadeBlinnPhong(InstanceData m, vec3 normal, vec3 worldPos) {
     if (m.pbr.z == 1.0) {
         vec3 d, sp;
-        metallicRoughnessTerms(m, normal, worldPos, d, sp);
+        metallicRoughnessTerms(m, normal, normal, worldPos, d, sp);
         return finishColor(m.material.rgb * d + sp);
     }
     if (m.pbr.z == 2.0) return finishColor(m.material.rgb);
@@ -237,10 +241,11 @@ vec3 flatDiffuse(InstanceData m, vec3 faceNormal, vec3 p) {
     return d;
 }
 
-void blinnPhongTerms(InstanceData m, vec3 normal, vec3 worldPos, out vec3 diffuse,
-                     out vec3 specular) {
+// `shadowNormal` as metallicRoughnessTerms'.
+void blinnPhongTerms(InstanceData m, vec3 normal, vec3 shadowNormal, vec3 worldPos,
+                     out vec3 diffuse, out vec3 specular) {
     if (m.pbr.z == 1.0) {
-        metallicRoughnessTerms(m, normal, worldPos, diffuse, specular);
+        metallicRoughnessTerms(m, normal, shadowNormal, worldPos, diffuse, specular);
         return;
     }
     if (m.pbr.z == 2.0) {
@@ -259,7 +264,7 @@ void blinnPhongTerms(InstanceData m, vec3 normal, vec3 worldPos, out vec3 diffus
         if (nl > 0.0) {
             vec3 h = normalize(l + v);
             float spec = m.material.w * pow(max(dot(n, h), 0.0), m.params.x);
-            lc *= shadowFactor(i, worldPos, normal);
+            lc *= shadowFactor(i, worldPos, shadowNormal);
             diffuse += nl * lc;
             specular += spec * lc;
         }
@@ -274,4 +279,22 @@ void applySurfaceMaps(InstanceData m, float occlusion, vec3 emissiveTexel, inout
     if (m.pbr.z == 2.0) return;
     diffuse -= uAmbient.rgb * (1.0 - occlusion);
     if (m.pbr.z == 1.0) specular += m.emissive.rgb * (emissiveTexel - vec3(1.0));
+}
+
+// lighting.h perturbedNormal(): the normal map's texel (linear RGB) as a tangent-space normal
+// c = 2·rgb − 1 with c.x, c.y × scale, in the frame of the interpolated normal n, the tangent
+// made orthogonal to n (Gram-Schmidt) and the bitangent sign(w) · cross(n, t); a degenerate
+// tangent (none: (0, 0, 0, 1)) keeps n.
+vec3 perturbedNormal(vec3 n, vec4 tangent, vec3 texel, float scale) {
+    n = normalize(n);
+    vec3 t = tangent.xyz - n * dot(n, tangent.xyz);
+    float tl = length(t);
+    if (!(tl > 1e-6)) return n;
+    t /= tl;
+    vec3 b = (tangent.w < 0.0 ? -1.0 : 1.0) * cross(n, t);
+    vec3 c = vec3((2.0 * texel.x - 1.0) * scale, (2.0 * texel.y - 1.0) * scale,
+                  2.0 * texel.z - 1.0);
+    vec3 p = (t * c.x + b * c.y) + n * c.z;
+    float pl = length(p);
+    return pl > 0.0 ? p / pl : n;
 }

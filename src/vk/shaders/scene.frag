@@ -10,10 +10,13 @@ layout(set = 1, binding = 0) uniform sampler2D uBaseColor;          // sRGB: sam
 layout(set = 1, binding = 1) uniform sampler2D uMetallicRoughness;  // data: G roughness, B metallic
 layout(set = 1, binding = 2) uniform sampler2D uOcclusion;          // data: R
 layout(set = 1, binding = 3) uniform sampler2D uEmissive;           // sRGB: sampled in linear
+// data: a tangent-space normal; white is no neutral normal, so SLOT_NORMAL selects it
+layout(set = 1, binding = 4) uniform sampler2D uNormalMap;
 #if defined(SHADING_PIXEL)
 layout(location = 0) in vec3 iWorld;
 layout(location = 1) in vec3 iNormal;
 layout(location = 6) flat in int iView;  // the request's index of the fragment's view
+layout(location = 7) in vec4 iTangent;   // world tangent, handedness ((0, 0, 0, 1): none)
 #elif defined(SHADING_FLAT)
 layout(location = 2) flat in vec3 iColor;
 #else
@@ -36,6 +39,7 @@ void main() {
     vec4 mrTexel = texture(uMetallicRoughness, iTexcoord);
     float occlusionTexel = texture(uOcclusion, iTexcoord).r;
     vec3 emissiveTexel = texture(uEmissive, iTexcoord).rgb;
+    vec3 normalTexel = texture(uNormalMap, iTexcoord).rgb;
     // The base colour texture times glTF's COLOR_0, times the material's colour and alpha (gl's
     // and the soft backend's order).
     bool colored = m.flags.w != 0;
@@ -62,8 +66,13 @@ void main() {
         InstanceData mm = m;
         mm.pbr.x = m.pbr.x * mapMetallic;
         mm.pbr.y = m.pbr.y * mapRoughness;
+        // The normal map (lighting.h perturbedNormal, pixel shading only) bends the normal
+        // the lighting sees; shadows look up with the surface's own (raster/pipeline.h).
+        vec3 lit = iNormal;
+        if ((slots & SLOT_NORMAL) != 0)
+            lit = perturbedNormal(iNormal, iTangent, normalTexel, m.pbr.w);
         vec3 d, sp;
-        blinnPhongTerms(mm, iNormal, iWorld, d, sp);
+        blinnPhongTerms(mm, lit, iNormal, iWorld, d, sp);
         applySurfaceMaps(m, occlusion, emissive, d, sp);
         c = finishColor(base * d + sp);
     } else {

@@ -16,6 +16,9 @@ layout(location = 2) in vec3 aFaceCenter;  // the face's model-space centroid
 #endif
 layout(location = 3) in vec4 aColor;       // linear RGBA (Mesh::colors; white if none)
 layout(location = 4) in vec2 aTexcoord;    // Mesh::texcoords (0, 0 if none)
+#ifdef SHADING_PIXEL
+layout(location = 5) in vec4 aTangent;     // Mesh::tangents ((0, 0, 0, 1) if none: binding 1)
+#endif
 
 // Only what the fragment shader reads (validation: no output it does not consume).
 layout(location = 3) out vec4 oVertexColor;
@@ -24,6 +27,7 @@ layout(location = 5) out vec2 oTexcoord;
 layout(location = 0) out vec3 oWorld;
 layout(location = 1) out vec3 oNormal;
 layout(location = 6) flat out int oView;  // --specular per-view: the view's eye (scene.frag)
+layout(location = 7) out vec4 oTangent;   // world tangent, handedness (the normal map's frame)
 #elif defined(SHADING_FLAT)
 layout(location = 2) flat out vec3 oColor;
 #else
@@ -42,9 +46,14 @@ void main() {
 #if defined(SHADING_PIXEL)
     oWorld = world.xyz;
     oNormal = mat3(m.normalFromModel) * aNormal;
+    // raster/pipeline.h worldTangent(): the direction through the model's linear part, the
+    // handedness flipped by a mirroring one (emissive.w: the sign of its determinant).
+    oTangent = vec4(mat3(m.worldFromModel) * aTangent.xyz,
+                    m.emissive.w < 0.0 ? -aTangent.w : aTangent.w);
 #elif defined(SHADING_VERTEX)
     if (split) {
-        blinnPhongTerms(m, mat3(m.normalFromModel) * aNormal, world.xyz, oColor, oSpecular);
+        vec3 n = mat3(m.normalFromModel) * aNormal;
+        blinnPhongTerms(m, n, n, world.xyz, oColor, oSpecular);
     } else {
         oColor = shadeBlinnPhong(m, mat3(m.normalFromModel) * aNormal, world.xyz);
         oSpecular = vec3(0.0);
