@@ -25,14 +25,15 @@ GLint wrapMode(TextureWrap w) {
 }
 
 /// The texture units of a material's slots, in materialSlots' order (shaders.cpp's
-/// uBaseColor, uMetallicRoughnessMap, uOcclusionMap, uEmissiveMap bindings). Units 0 and 1 are the
-/// methods' and read-back's own (sorbier2008's depth map, composites), 3 the shadow maps.
-constexpr GLuint kSlotUnits[4] = {2, 4, 5, 6};
+/// uBaseColor, uMetallicRoughnessMap, uOcclusionMap, uEmissiveMap, uNormalMap bindings). Units 0
+/// and 1 are the methods' and read-back's own (sorbier2008's depth map, composites), 3 the
+/// shadow maps.
+constexpr GLuint kSlotUnits[5] = {2, 4, 5, 6, 7};
 
 /// A material's texture slots (Scene::textures indices or -1) in kSlotUnits' order.
-std::array<int, 4> materialSlots(const Material& m) {
-    return {m.baseColorTexture, m.metallicRoughnessTexture, m.occlusionTexture,
-            m.emissiveTexture};
+std::array<int, 5> materialSlots(const Material& m) {
+    return {m.baseColorTexture, m.metallicRoughnessTexture, m.occlusionTexture, m.emissiveTexture,
+            m.normalTexture};
 }
 
 /// Mixed into a linear texture's cache key: the same image may be uploaded twice, as colour
@@ -75,7 +76,7 @@ Status Renderer::prepareTextures(const Scene& scene, Frame& frame, std::uint64_t
             GpuTexture g;
             g.texture = createTexture(GL_TEXTURE_2D);
             // sRGB-encoded colour: the sampler decodes to linear before filtering; data
-            // (metallic-roughness, occlusion) is sampled as stored. The mip chain is the
+            // (metallic-roughness, occlusion, normal) is sampled as stored. The mip chain is the
             // driver's box filter (glGenerateMipmap) either way.
             glTextureStorage2D(g.texture.get(), mipLevels(w, h),
                                src.linear ? GL_RGBA8 : GL_SRGB8_ALPHA8, w, h);
@@ -118,7 +119,7 @@ void Renderer::setInstanceState(const Frame& f, const Instance& inst) {
     const Material& m = inst.material;
     // Every slot through the material's one sampler (scene.h); an absent slot keeps whatever
     // is bound, which the shader does not sample (uMatFlags.x's bits).
-    const std::array<int, 4> slots = materialSlots(m);
+    const std::array<int, 5> slots = materialSlots(m);
     for (std::size_t k = 0; k < slots.size(); ++k) {
         if (slots[k] < 0 || static_cast<std::size_t>(slots[k]) >= f.textures.size()) continue;
         glBindTextureUnit(kSlotUnits[k], f.textures[static_cast<std::size_t>(slots[k])]);

@@ -15,9 +15,10 @@ namespace {
 std::string driverName(const GlCaps& c) { return fmt::format("{} ({})", c.renderer, c.version); }
 
 // Components a GS emits per vertex: gl_Position, the layer/viewport/flag, the varyings
-// (gs-depthmap's DEPTHMAP adds 4; it renders exactly 2 views, not limited by this).
-int gsComponentsPerVertex(Shading s) {
-    const int varyings = s == Shading::Pixel ? 6 : 3;
+// (gs-depthmap's DEPTHMAP adds 4; it renders exactly 2 views, not limited by this); a pixel
+// shading pass with normal maps (NORMAL_MAPS) the world tangent and its handedness (4).
+int gsComponentsPerVertex(Shading s, bool normalMaps) {
+    const int varyings = s == Shading::Pixel ? 6 + (normalMaps ? 4 : 0) : 3;
     return 4 + 1 + varyings;
 }
 
@@ -38,8 +39,8 @@ ViewLimitTerm layers(const GlCaps& c) {
                         c.maxArrayLayers, c.maxFramebufferLayers)};
 }
 
-ViewLimitTerm gsLoopOutput(const GlCaps& c, Shading s) {
-    const int comps = gsComponentsPerVertex(s);
+ViewLimitTerm gsLoopOutput(const GlCaps& c, Shading s, bool normalMaps) {
+    const int comps = gsComponentsPerVertex(s, normalMaps);
     return {std::min(c.maxGsOutputVertices / 3, c.maxGsTotalOutputComponents / (3 * comps)),
             fmt::format("the geometry shader emits 3 vertices x {} components per view: "
                         "GL_MAX_GEOMETRY_OUTPUT_VERTICES = {}, "
@@ -47,9 +48,9 @@ ViewLimitTerm gsLoopOutput(const GlCaps& c, Shading s) {
                         comps, c.maxGsOutputVertices, c.maxGsTotalOutputComponents)};
 }
 
-ViewLimitTerm gsInvocations(const GlCaps& c, Shading s) {
+ViewLimitTerm gsInvocations(const GlCaps& c, Shading s, bool normalMaps) {
     // One invocation emits one view's triangle; none at all if that does not fit.
-    const bool fits = 3 * gsComponentsPerVertex(s) <= c.maxGsTotalOutputComponents;
+    const bool fits = 3 * gsComponentsPerVertex(s, normalMaps) <= c.maxGsTotalOutputComponents;
     return {fits ? c.maxGsInvocations : 0,
             fmt::format("GL_MAX_GEOMETRY_SHADER_INVOCATIONS = {}", c.maxGsInvocations)};
 }
@@ -99,7 +100,7 @@ const std::vector<GlMethod>& glMethods() {
             // The reference: one full pass of the scene per view, each into its own layer.
             .name = "multipass",
             .target = TargetKind::Layered,
-            .limits = [](const GlCaps& c, Shading, int,
+            .limits = [](const GlCaps& c, Shading, bool, int,
                          int) { return std::vector<ViewLimitTerm>{layers(c)}; },
             .defines = [](ProgramDesc& d, const GlCaps&, int) { addDefine(d, "VS_DIRECT"); },
             .flatProvoking = true,
@@ -143,8 +144,8 @@ const std::vector<GlMethod>& glMethods() {
             .name = "gs-layered",
             .target = TargetKind::Layered,
             .limits =
-                [](const GlCaps& c, Shading s, int, int) {
-                    return std::vector<ViewLimitTerm>{layers(c), gsLoopOutput(c, s)};
+                [](const GlCaps& c, Shading s, bool normalMaps, int, int) {
+                    return std::vector<ViewLimitTerm>{layers(c), gsLoopOutput(c, s, normalMaps)};
                 },
             .defines = [](ProgramDesc& d, const GlCaps&, int n) { gsLoop(d, n, "GS_OUT_LAYER"); },
             .draw = &Renderer::drawLayeredGs,
@@ -154,8 +155,8 @@ const std::vector<GlMethod>& glMethods() {
             .name = "gs-invocations",
             .target = TargetKind::Layered,
             .limits =
-                [](const GlCaps& c, Shading s, int, int) {
-                    return std::vector<ViewLimitTerm>{layers(c), gsInvocations(c, s)};
+                [](const GlCaps& c, Shading s, bool normalMaps, int, int) {
+                    return std::vector<ViewLimitTerm>{layers(c), gsInvocations(c, s, normalMaps)};
                 },
             .defines =
                 [](ProgramDesc& d, const GlCaps&, int n) {
@@ -178,7 +179,7 @@ const std::vector<GlMethod>& glMethods() {
                     "shader); {} has neither",
                     driverName(c));
             },
-            .limits = [](const GlCaps& c, Shading, int,
+            .limits = [](const GlCaps& c, Shading, bool, int,
                          int) { return std::vector<ViewLimitTerm>{layers(c)}; },
             .defines =
                 [](ProgramDesc& d, const GlCaps& c, int) {
@@ -198,8 +199,8 @@ const std::vector<GlMethod>& glMethods() {
                 return fmt::format("GL_MAX_VIEWPORTS = {}", c.maxViewports);
             },
             .limits =
-                [](const GlCaps& c, Shading s, int w, int h) {
-                    return std::vector<ViewLimitTerm>{viewports(c), gsLoopOutput(c, s),
+                [](const GlCaps& c, Shading s, bool normalMaps, int w, int h) {
+                    return std::vector<ViewLimitTerm>{viewports(c), gsLoopOutput(c, s, normalMaps),
                                                       tiles(c, w, h)};
                 },
             .defines = [](ProgramDesc& d, const GlCaps&,
@@ -215,7 +216,7 @@ const std::vector<GlMethod>& glMethods() {
                 return fmt::format("GL_OVR_multiview is not supported by {}", driverName(c));
             },
             .limits =
-                [](const GlCaps& c, Shading, int, int) {
+                [](const GlCaps& c, Shading, bool, int, int) {
                     return std::vector<ViewLimitTerm>{layers(c), viewsOvr(c)};
                 },
             .defines =
@@ -247,7 +248,7 @@ const std::vector<GlMethod>& glMethods() {
                 return fmt::format("needs 4 clip distances, GL_MAX_CLIP_DISTANCES = {}",
                                    c.maxClipDistances);
             },
-            .limits = [](const GlCaps& c, Shading, int w,
+            .limits = [](const GlCaps& c, Shading, bool, int w,
                          int h) { return std::vector<ViewLimitTerm>{tiles(c, w, h)}; },
             .defines = [](ProgramDesc& d, const GlCaps&, int) { addDefine(d, "VS_KALAIAH"); },
             .prepare = &Renderer::prepareKalaiah,
@@ -291,27 +292,29 @@ Status driverSupport(const GlMethod& m, const GlCaps& caps) {
     return unsupportedError(fmt::format("{}: {}", m.name, why));
 }
 
-int viewLimit(const GlMethod& m, const GlCaps& caps, Shading shading, int width, int height) {
+int viewLimit(const GlMethod& m, const GlCaps& caps, Shading shading, int width, int height,
+              bool normalMaps) {
     if (m.fixedViews > 0) return m.fixedViews;
     int limit = kMaxViews;
     if (m.limits) {
-        for (const ViewLimitTerm& t : m.limits(caps, shading, width, height))
+        for (const ViewLimitTerm& t : m.limits(caps, shading, normalMaps, width, height))
             limit = std::min(limit, t.views);
     }
     return std::max(limit, 0);
 }
 
-Status checkMethodViews(const GlMethod& m, const GlCaps& caps, int views, const RenderSettings& s) {
+Status checkMethodViews(const GlMethod& m, const GlCaps& caps, int views, const RenderSettings& s,
+                        bool normalMaps) {
     if (m.fixedViews > 0 && views != m.fixedViews) {
         return usageError(fmt::format("gl: {} renders exactly {} views ({}); the rig has {}",
                                       m.name, m.fixedViews, m.fixedViewsWhy, views));
     }
     // More views than one pass takes are drawn in batches (Renderer::renderOnce); only a method
     // that cannot draw a single view here is refused.
-    if (viewLimit(m, caps, s.shading, s.width, s.height) >= 1) return Status::ok();
+    if (viewLimit(m, caps, s.shading, s.width, s.height, normalMaps) >= 1) return Status::ok();
     std::string why = fmt::format("mvr::kMaxViews = {}", kMaxViews);
     if (m.limits) {
-        for (ViewLimitTerm& t : m.limits(caps, s.shading, s.width, s.height)) {
+        for (ViewLimitTerm& t : m.limits(caps, s.shading, normalMaps, s.width, s.height)) {
             if (t.views < 1) {
                 why = std::move(t.why);
                 break;

@@ -44,9 +44,10 @@ struct GlMethod {
     int fixedViews = 0;
     const char* fixedViewsWhy = nullptr;
     /// The driver's limits for this shading and view size, in the order a refusal names them
-    /// (the first one exceeded); mvr::kMaxViews applies to all.
-    std::vector<ViewLimitTerm> (*limits)(const GlCaps& caps, Shading shading, int width,
-                                         int height) = nullptr;
+    /// (the first one exceeded); mvr::kMaxViews applies to all. normalMaps: a pixel-shading
+    /// pass's program carries the world tangent (NORMAL_MAPS: 4 more varying components).
+    std::vector<ViewLimitTerm> (*limits)(const GlCaps& caps, Shading shading, bool normalMaps,
+                                         int width, int height) = nullptr;
     /// The method's #defines (after the shading one), vertex-shader extensions, GS flag.
     void (*defines)(ProgramDesc& d, const GlCaps& caps, int views) = nullptr;
     /// What the driver lacks for `--specular per-view` in pixel shading, the fragment's view as
@@ -78,10 +79,14 @@ const GlMethod& defaultMethod();
 Status driverSupport(const GlMethod& m, const GlCaps& caps);
 /// The most views `m` draws in one pass on this driver for this shading and view size (0:
 /// none); the renderer draws more in batches of this many (kalaiah2007 §3). At most kMaxViews.
-int viewLimit(const GlMethod& m, const GlCaps& caps, Shading shading, int width, int height);
+/// normalMaps: the pass's program has NORMAL_MAPS (pixel shading with normal maps), whose
+/// geometry shaders emit 4 components a vertex more.
+int viewLimit(const GlMethod& m, const GlCaps& caps, Shading shading, int width, int height,
+              bool normalMaps = false);
 /// `views` against the method's own limits: Usage for a fixed-count method given another
 /// count, Unsupported naming the limit when not even one view fits in a pass.
-Status checkMethodViews(const GlMethod& m, const GlCaps& caps, int views, const RenderSettings& s);
+Status checkMethodViews(const GlMethod& m, const GlCaps& caps, int views, const RenderSettings& s,
+                        bool normalMaps = false);
 /// The passes (batches) `views` views take at `perPass` views a pass: ceil(views / perPass).
 int passCount(int views, int perPass);
 

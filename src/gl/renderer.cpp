@@ -34,9 +34,10 @@ int gsEmitLimit() {
 }
 
 // Attributes 0 position, 1 normal, 2 texture coordinate, 3 (flat arrays) the face's centroid,
-// 4 the vertex colour (read only by VERTEX_COLORS programs).
+// 4 the vertex colour (read only by VERTEX_COLORS programs), 5 the tangent (NORMAL_MAPS
+// programs; none: left disabled, the constant (0, 0, 0, 1) that setCommonState sets).
 void bindVertexArray(GLuint vao, GLuint positions, GLuint normals, GLuint texcoords, GLuint indices,
-                     GLuint colors, GLuint centers = 0) {
+                     GLuint colors, GLuint centers = 0, GLuint tangents = 0) {
     glVertexArrayVertexBuffer(vao, 0, positions, 0, sizeof(glm::vec3));
     glVertexArrayVertexBuffer(vao, 1, normals, 0, sizeof(glm::vec3));
     glVertexArrayVertexBuffer(vao, 2, texcoords, 0, sizeof(glm::vec2));
@@ -55,6 +56,12 @@ void bindVertexArray(GLuint vao, GLuint positions, GLuint normals, GLuint texcoo
         glEnableVertexArrayAttrib(vao, 3);
         glVertexArrayAttribFormat(vao, 3, 3, GL_FLOAT, GL_FALSE, 0);
         glVertexArrayAttribBinding(vao, 3, 3);
+    }
+    if (tangents) {
+        glVertexArrayVertexBuffer(vao, 5, tangents, 0, sizeof(glm::vec4));
+        glEnableVertexArrayAttrib(vao, 5);
+        glVertexArrayAttribFormat(vao, 5, 4, GL_FLOAT, GL_FALSE, 0);
+        glVertexArrayAttribBinding(vao, 5, 5);
     }
 }
 
@@ -115,6 +122,7 @@ std::vector<std::string> Renderer::info() {
                                 mContext->eglVersion(), mContext->eglVendor()));
     for (std::string& l : mCaps.describe()) lines.push_back(std::move(l));
     mVertexColors = false;  // the limits of a scene without vertex colours
+    mNormalMaps = false;    // nor normal maps
     for (const GlMethod& m : glMethods()) {
         if (m.measuresExact) continue;
         if (const std::string why = m.missing ? m.missing(mCaps) : ""; !why.empty()) {
@@ -196,7 +204,19 @@ Result<TileLayout> Renderer::tileLayout(const Rig& rig, int width, int height) c
 }
 
 int Renderer::viewLimit(const GlMethod& m, Shading shading, int width, int height) const {
-    return detail::viewLimit(m, mCaps, shading, width, height);
+    return detail::viewLimit(m, mCaps, shading, width, height,
+                             mNormalMaps && shading == Shading::Pixel);
+}
+
+bool Renderer::drawsNormalMaps(const Scene& scene, const RenderSettings& s) {
+    if (s.shading != Shading::Pixel) return false;  // flat and vertex shading ignore them
+    for (const Instance& inst : scene.instances) {
+        if (inst.material.normalTexture >= 0 && inst.mesh >= 0 &&
+            std::size_t(inst.mesh) < scene.meshes.size() &&
+            !scene.meshes[std::size_t(inst.mesh)].tangents.empty())
+            return true;
+    }
+    return false;
 }
 
 ProgramDesc Renderer::passProgram(const GlMethod& method, Shading shading, int views,
@@ -204,6 +224,8 @@ ProgramDesc Renderer::passProgram(const GlMethod& method, Shading shading, int v
     ProgramDesc desc = methodProgram(method, mCaps, shading, views);
     if (shadows) addDefine(desc, "SHADOWS");  // shadow_maps.cpp
     if (mVertexColors) addDefine(desc, "VERTEX_COLORS");
+    // The world tangent as one more varying (4 components: viewLimit counts them).
+    if (mNormalMaps && shading == Shading::Pixel) addDefine(desc, "NORMAL_MAPS");
     if (perViewEye) {
         // The fragment's view from gl_Layer / gl_ViewportIndex / the MRT flag / uView, or
         // (kalaiah, multiview) a flat output of the vertex shader: no geometry shader output
@@ -225,7 +247,8 @@ int Renderer::linkedViewLimit(const GlMethod& method, Shading shading, bool shad
                               Status* why) {
     if (method.fixedViews > 0 || limit < 1) return limit;
     const std::string key =
-        fmt::format("{}/{}/{}/{}", method.name, shadingName(shading), shadows, mVertexColors);
+        fmt::format("{}/{}/{}/{}/{}", method.name, shadingName(shading), shadows, mVertexColors,
+                    mNormalMaps && shading == Shading::Pixel);
     const auto known = mLinkedViewLimit.find(key);  // a count the driver refused above
     // The count asked first; when the driver refuses that program, the largest count it links
     // (a smaller loop emits less, so the counts that link are 1..k).
@@ -263,7 +286,7 @@ Status Renderer::checkViews(const GlMethod& m, int views, const RenderSettings& 
             views, s.width, s.height, bytes / (1024.0 * 1024 * 1024),
             kBudgetBytes / (1024.0 * 1024 * 1024)));
     }
-    return checkMethodViews(m, mCaps, views, s);
+    return checkMethodViews(m, mCaps, views, s, mNormalMaps && s.shading == Shading::Pixel);
 }
 
 Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& sceneKey) {
@@ -300,9 +323,10 @@ Status Renderer::prepareScene(const Scene& scene, Frame& frame, std::uint64_t& s
             std::vector<glm::vec4> colors = src.colors;
             colors.resize(src.positions.size(), glm::vec4(1.0f));
             g.colors = makeBuffer(colors);
+            if (!src.tangents.empty()) g.tangents = makeBuffer(src.tangents);
             g.vao = createVertexArray();
             bindVertexArray(g.vao.get(), g.positions.get(), g.normals.get(), g.texcoords.get(),
-                            g.indices.get(), g.colors.get());
+                            g.indices.get(), g.colors.get(), 0, g.tangents.get());
 
             // Provoking-vertex arrays for flat shading: rotate each triangle (keeping its
             // winding) so that its last vertex is one no earlier triangle used as provoking
@@ -418,6 +442,22 @@ Status Renderer::ensureKalaiahBuffers(GpuMesh& g, const Mesh& src, int views) {
                                       (a - 10) * static_cast<GLuint>(sizeof(glm::vec4)));
             glVertexArrayAttribBinding(vao, a, 3);
         }
+        // Per triangle: the corners' tangents (attributes 13–15), when the mesh has them; else
+        // disabled, the constant (0, 0, 0, 1) (setCommonState).
+        if (!src.tangents.empty()) {
+            std::vector<glm::vec4> tangents(src.triangleCount() * 3);
+            for (std::size_t k = 0; k < tangents.size(); ++k)
+                tangents[k] = src.tangents[src.indices[k]];
+            g.kalaiahTangents = makeBuffer(tangents);
+            glVertexArrayVertexBuffer(vao, 4, g.kalaiahTangents.get(), 0, 3 * sizeof(glm::vec4));
+            glVertexArrayBindingDivisor(vao, 4, 1);
+            for (GLuint a = 13; a <= 15; ++a) {
+                glEnableVertexArrayAttrib(vao, a);
+                glVertexArrayAttribFormat(vao, a, 4, GL_FLOAT, GL_FALSE,
+                                          (a - 13) * static_cast<GLuint>(sizeof(glm::vec4)));
+                glVertexArrayAttribBinding(vao, a, 4);
+            }
+        }
         glEnableVertexArrayAttrib(vao, 0);
         glVertexArrayAttribIFormat(vao, 0, 2, GL_INT, 0);
         glVertexArrayAttribBinding(vao, 0, 0);
@@ -517,14 +557,16 @@ void Renderer::setInstanceUniforms(GLuint prog, const Instance& inst) {
                                                          : 0;
     // uMatFlags.x: the texture slots present, one bit each (shaders.cpp); any of them makes the
     // instance textured (hasTexture: split lighting, the uv path), the base colour's bit alone
-    // picks its texel.
+    // picks its texel. The normal map's (16) is sampled by NORMAL_MAPS programs only.
     const int slots = (mat.baseColorTexture >= 0 ? 1 : 0) |
                       (mat.metallicRoughnessTexture >= 0 ? 2 : 0) |
-                      (mat.occlusionTexture >= 0 ? 4 : 0) | (mat.emissiveTexture >= 0 ? 8 : 0);
+                      (mat.occlusionTexture >= 0 ? 4 : 0) | (mat.emissiveTexture >= 0 ? 8 : 0) |
+                      (mat.normalTexture >= 0 ? 16 : 0);
     glProgramUniform4i(prog, 6, slots, mode, mat.doubleSided ? 1 : 0, int(mat.model));
     glProgramUniform3f(prog, 7, mat.alpha, mat.alphaCutoff, mat.occlusionStrength);
     glProgramUniform2f(prog, 20, mat.metallic, mat.roughness);
     glProgramUniform3f(prog, 21, mat.emissive.x, mat.emissive.y, mat.emissive.z);
+    if (mNormalMaps) glProgramUniform1f(prog, 22, mat.normalScale);  // uNormalScale
 }
 
 void Renderer::setCommonState(const RenderSettings& s) {
@@ -550,6 +592,12 @@ void Renderer::setCommonState(const RenderSettings& s) {
     glClearColor(s.clearColor.x, s.clearColor.y, s.clearColor.z, 1.0f);
     glClearDepth(1.0);
     glViewport(0, 0, s.width, s.height);
+    if (mNormalMaps) {
+        // The tangent of a mesh without tangents (its attribute arrays disabled): (0, 0, 0, 1),
+        // a degenerate frame (lighting.h perturbedNormal keeps the normal), as the soft backend.
+        glVertexAttrib4f(5, 0.0f, 0.0f, 0.0f, 1.0f);
+        for (GLuint a = 13; a <= 15; ++a) glVertexAttrib4f(a, 0.0f, 0.0f, 0.0f, 1.0f);
+    }
 }
 
 void Renderer::drawScene(const Frame& f, GLuint prog, int instances) {
@@ -633,6 +681,7 @@ Status Renderer::renderInto(const Scene& scene, const Rig& rig, const RenderSett
     if (Status st = validateRequest(scene, rig, s); !st) return st;
     if (Status st = supports(method); !st) return st;
     const GlMethod& m = *findMethod(method);  // the one look-up of the name
+    mNormalMaps = drawsNormalMaps(scene, s);  // before any view limit: the tangent's components
     if (m.measuresExact) return renderAuto(scene, rig, s, out);
     return renderOnce(scene, rig, s, m, out);
 }

@@ -32,6 +32,9 @@ struct GpuMesh {
     Buffer positions, normals, indices;
     Buffer texcoords;  ///< one per position (zeros when the mesh has none)
     Buffer colors;     ///< one linear RGBA per position (white when the mesh has none)
+    /// Mesh::tangents (attribute 5); none when the mesh has none: the attribute is disabled and
+    /// reads its constant (0, 0, 0, 1), a degenerate frame that keeps the normal.
+    Buffer tangents;
     VertexArray vao;
     GLsizei indexCount = 0;
     // Flat shading without a geometry shader, as glShadeModel(GL_FLAT) did it: every
@@ -47,6 +50,7 @@ struct GpuMesh {
     Buffer kalaiahTriangles;
     Buffer kalaiahTexcoords;  ///< per triangle: t0 t1 t2
     Buffer kalaiahColors;     ///< per triangle: c0 c1 c2 (attributes 10–12)
+    Buffer kalaiahTangents;   ///< per triangle: the corners' tangents (attributes 13–15), if any
     VertexArray kalaiahVao;
     int kalaiahViews = 0;
     Buffer kalaiahDummy;
@@ -219,7 +223,8 @@ public:
 
     /// Can this driver run `method` at all? (Usage for an unknown name.)
     Status supports(const std::string& method);
-    /// The largest view count `method` allows here for this shading and view size (0: none).
+    /// The largest view count `method` allows here for this shading and view size (0: none);
+    /// in pixel shading with normal maps (mNormalMaps), their geometry shaders' limits.
     int viewLimit(const GlMethod& method, Shading shading, int width, int height) const;
     /// The views one pass of `method` draws here: its table limit (viewLimit), the bounded
     /// target (kLayersPerTarget / kTilesPerTarget: a read costs what it reads) and the count
@@ -275,8 +280,8 @@ private:
                             bool perViewEye = false) const;
     void setInstanceUniforms(GLuint program, const Instance& instance);
     /// The instance's material state: its textures bound with its sampler (base colour unit 2,
-    /// metallic-roughness 4, occlusion 5, emissive 6: materials.cpp kSlotUnits), culling off
-    /// when double-sided, blending with depth writes off for AlphaMode::Blend.
+    /// metallic-roughness 4, occlusion 5, emissive 6, normal 7: materials.cpp kSlotUnits),
+    /// culling off when double-sided, blending with depth writes off for AlphaMode::Blend.
     void setInstanceState(const Frame& f, const Instance& instance);
     /// Back to the frame's state after the instances (depth writes on, no blending, culling
     /// as the settings say).
@@ -361,6 +366,14 @@ private:
     /// Some mesh of the frame being drawn has vertex colours: its programs are built with
     /// VERTEX_COLORS (shaders.cpp), as the soft backend's FrameContext::colored.
     bool mVertexColors = false;
+    /// The frame being drawn is shaded per pixel and some instance has a normal map on a mesh
+    /// with tangents (the soft backend's FrameContext::tangents): its programs are built with
+    /// NORMAL_MAPS (the world tangent as a varying, the normal map on unit 7), and its geometry
+    /// shaders' view limits count the tangent's 4 components. Other frames' programs, varyings
+    /// and limits are those of a build without normal maps.
+    bool mNormalMaps = false;
+    /// Whether `scene` drawn with `s` is such a frame.
+    static bool drawsNormalMaps(const Scene& scene, const RenderSettings& s);
     std::vector<Light> mShadowLights;
     void setShadowUniforms(GLuint program) const;
 };

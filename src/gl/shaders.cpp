@@ -31,10 +31,13 @@ layout(location = 2) uniform mat4 uNormalFromModel;  // inverse transpose (upper
 layout(location = 3) uniform mat4 uCofactor;         // det * inverse transpose: model edge cross -> world edge cross
 layout(location = 4) uniform vec4 uMaterial;         // albedo rgb, specular
 layout(location = 5) uniform float uShininess;
-layout(location = 6) uniform ivec4 uMatFlags;        // x: texture slots (bits: 1 base colour, 2 metallic-roughness, 4 occlusion, 8 emissive; any: textured), y: alpha mode (0 opaque, 1 mask, 2 blend), z: double-sided, w: MaterialModel (0 Blinn-Phong, 1 metallic-roughness, 2 unlit)
+layout(location = 6) uniform ivec4 uMatFlags;        // x: texture slots (bits: 1 base colour, 2 metallic-roughness, 4 occlusion, 8 emissive, 16 normal; any: textured), y: alpha mode (0 opaque, 1 mask, 2 blend), z: double-sided, w: MaterialModel (0 Blinn-Phong, 1 metallic-roughness, 2 unlit)
 layout(location = 7) uniform vec3 uMatFactors;       // x: material alpha, y: mask cutoff, z: occlusion strength
 layout(location = 20) uniform vec2 uMetalRough;      // metallic, roughness (model 1)
 layout(location = 21) uniform vec3 uEmissive;        // model 1
+// Material::normalScale: read by NORMAL_MAPS programs only, declared in every one so that the
+// location is a known (if inactive) uniform wherever setInstanceUniforms sets it.
+layout(location = 22) uniform float uNormalScale;
 
 // The eye shading looks from (lighting.h SpecularEye): the rig's centre eye, or (--specular
 // per-view, pixel shading) the fragment's own view's, whose index main() finds first.
@@ -57,7 +60,7 @@ int gEyeView;
 
 #ifdef SHADOWS
 // shadows.h shadowFactor() (issue 15): linear distances in an R32F array, one layer per map.
-layout(binding = 3) uniform sampler2DArray uShadowMaps;  // units 2, 4-6: the material's textures
+layout(binding = 3) uniform sampler2DArray uShadowMaps;  // units 2, 4-7: the material's textures
 layout(location = 8) uniform mat4 uShadowClip[MAX_LIGHTS];    // light clipFromWorld
 layout(location = 12) uniform vec4 uShadowInfo[MAX_LIGHTS];   // layer (< 0: none), persp, near, far
 layout(location = 16) uniform vec4 uShadowTexel[MAX_LIGHTS];  // texelWorld, size
@@ -180,8 +183,10 @@ vec3 shadeFlat(vec3 faceNormal, vec3 p) {
 // lighting.h metallicRoughnessTerms(): glTF 2.0 Appendix B's BRDF as D (× base colour) and S
 // (added, with the emissive), π folded in as mvr's light convention. metalRough: the material's
 // metallic, roughness (uMetalRough, or mappedMaterial's: × the metallic-roughness texel).
-void metallicRoughnessTerms(vec2 metalRough, vec3 normal, vec3 worldPos, out vec3 diffuse,
-                            out vec3 specular) {
+// shadowNormal: the normal the shadows are looked up with, the surface's own (`normal` but
+// where a normal map bent it: pipeline.h's texturedFragment).
+void metallicRoughnessTerms(vec2 metalRough, vec3 normal, vec3 shadowNormal, vec3 worldPos,
+                            out vec3 diffuse, out vec3 specular) {
     vec3 n = normalize(facingNormal(normal, worldPos));
     vec3 v = normalize(SHADING_EYE - worldPos);
     float metal = clamp(metalRough.x, 0.0, 1.0);
@@ -206,7 +211,7 @@ void metallicRoughnessTerms(vec2 metalRough, vec3 normal, vec3 worldPos, out vec
             float w1 = 1.0 - vh, w2 = w1 * w1;
             float w = w2 * w2 * w1;
             float f = 0.04 + 0.96 * w;
-            lc = lc * shadowFactor(i, worldPos, normal) * nl;  // C++'s order
+            lc = lc * shadowFactor(i, worldPos, shadowNormal) * nl;  // C++'s order
             diffuse += ((1.0 - metal) * (1.0 - f) + metal * spec * (1.0 - w)) * lc;
             specular += (spec * ((1.0 - metal) * f + metal * w)) * lc;
         }
@@ -218,7 +223,7 @@ void metallicRoughnessTerms(vec2 metalRough, vec3 normal, vec3 worldPos, out vec
 vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
     if (uMatFlags.w == 1) {
         vec3 d, sp;
-        metallicRoughnessTerms(uMetalRough, normal, worldPos, d, sp);
+        metallicRoughnessTerms(uMetalRough, normal, normal, worldPos, d, sp);
         return finishColor(uMaterial.rgb * d + sp);
     }
     if (uMatFlags.w == 2) return finishColor(uMaterial.rgb);
@@ -256,11 +261,11 @@ vec3 flatDiffuse(vec3 faceNormal, vec3 p) {
     return d;
 }
 
-// lighting.h blinnPhongTerms() (metalRough: metallicRoughnessTerms')
-void blinnPhongTerms(vec2 metalRough, vec3 normal, vec3 worldPos, out vec3 diffuse,
-                     out vec3 specular) {
+// lighting.h blinnPhongTerms() (metalRough, shadowNormal: metallicRoughnessTerms')
+void blinnPhongTerms(vec2 metalRough, vec3 normal, vec3 shadowNormal, vec3 worldPos,
+                     out vec3 diffuse, out vec3 specular) {
     if (uMatFlags.w == 1) {
-        metallicRoughnessTerms(metalRough, normal, worldPos, diffuse, specular);
+        metallicRoughnessTerms(metalRough, normal, shadowNormal, worldPos, diffuse, specular);
         return;
     }
     if (uMatFlags.w == 2) {
@@ -279,7 +284,7 @@ void blinnPhongTerms(vec2 metalRough, vec3 normal, vec3 worldPos, out vec3 diffu
         if (nl > 0.0) {
             vec3 h = normalize(l + v);
             float spec = uMaterial.w * pow(max(dot(n, h), 0.0), uShininess);
-            lc *= shadowFactor(i, worldPos, normal);
+            lc *= shadowFactor(i, worldPos, shadowNormal);
             diffuse += nl * lc;
             specular += spec * lc;
         }
@@ -323,6 +328,11 @@ layout(location = 10) in vec4 aC0;
 layout(location = 11) in vec4 aC1;
 layout(location = 12) in vec4 aC2;
 #endif
+#ifdef NORMAL_MAPS
+layout(location = 13) in vec4 aTa0;  // the corners' tangents ((0, 0, 0, 1): the mesh has none)
+layout(location = 14) in vec4 aTa1;
+layout(location = 15) in vec4 aTa2;
+#endif
 out float gl_ClipDistance[4];
 #else
 layout(location = 0) in vec3 aPosition;
@@ -331,6 +341,9 @@ layout(location = 2) in vec2 aTexcoord;
 layout(location = 3) in vec3 aFaceCenter;  // FLAT_PROVOKING: the face's model-space centroid
 #ifdef VERTEX_COLORS
 layout(location = 4) in vec4 aColor;       // linear RGBA (mesh.h Mesh::colors; white if none)
+#endif
+#ifdef NORMAL_MAPS
+layout(location = 5) in vec4 aTangent;     // mesh.h Mesh::tangents ((0, 0, 0, 1) if none)
 #endif
 #endif
 #ifdef VERTEX_COLORS
@@ -352,6 +365,9 @@ layout(location = 5) out vec2 oTexcoord;
 #if defined(PER_VIEW_EYE) && (defined(VS_KALAIAH) || defined(VS_MULTIVIEW))
 layout(location = 8) flat out int oEyeView;  // the fragment's view (PER_VIEW_EYE)
 #endif
+#if defined(NORMAL_MAPS) && !defined(DEPTH_ONLY)
+layout(location = 9) out vec4 oTangent;  // world tangent, w the handedness
+#endif
 
 #ifdef VS_MULTIVIEW
 layout(num_views = NUM_VIEWS) in;
@@ -364,6 +380,9 @@ void main() {
     vec3 p = corner == 0 ? aP0 : (corner == 1 ? aP1 : aP2);
     vec3 n = corner == 0 ? aN0 : (corner == 1 ? aN1 : aN2);
     oTexcoord = corner == 0 ? aT0 : (corner == 1 ? aT1 : aT2);
+#ifdef NORMAL_MAPS
+    vec4 tangent = corner == 0 ? aTa0 : (corner == 1 ? aTa1 : aTa2);
+#endif
 #ifdef VERTEX_COLORS
     oVertexColor = corner == 0 ? aC0 : (corner == 1 ? aC1 : aC2);
 #endif
@@ -371,6 +390,9 @@ void main() {
     vec3 p = aPosition;
     vec3 n = aNormal;
     oTexcoord = aTexcoord;
+#ifdef NORMAL_MAPS
+    vec4 tangent = aTangent;
+#endif
 #ifdef VERTEX_COLORS
     oVertexColor = aColor;
 #endif
@@ -379,11 +401,19 @@ void main() {
 #if !defined(DEPTH_ONLY)
     oWorld = world.xyz;
     oNormal = mat3(uNormalFromModel) * n;
+#ifdef NORMAL_MAPS
+    // pipeline.h worldTangent(): the direction through the model's linear part, the handedness
+    // flipped by a mirroring one (the bitangent is a cross product).
+    mat3 worldLinear = mat3(uWorldFromModel);
+    oTangent = vec4(worldLinear * tangent.xyz,
+                    determinant(worldLinear) < 0.0 ? -tangent.w : tangent.w);
+#endif
     oColor = vec3(0.0);
     oSpecular = vec3(0.0);
 #if defined(SHADING_VERTEX)
     if (SPLIT_LIGHTING) {
-        blinnPhongTerms(uMetalRough, oNormal, world.xyz, oColor, oSpecular);  // factors only
+        // factors only
+        blinnPhongTerms(uMetalRough, oNormal, oNormal, world.xyz, oColor, oSpecular);
     } else {
         oColor = shadeBlinnPhong(oNormal, world.xyz);
     }
@@ -453,6 +483,11 @@ layout(location = 6) in vec3 gSpecular[];
 layout(location = 7) in vec4 gVertexColor[];
 layout(location = 7) out vec4 oVertexColor;
 #endif
+#ifdef NORMAL_MAPS
+// Pixel shading with normal maps: 4 more components a vertex (method_table.cpp's limits).
+layout(location = 9) in vec4 gTangent[];
+layout(location = 9) out vec4 oTangent;
+#endif
 
 #if defined(SHADING_PIXEL)
 layout(location = 0) out vec3 oWorld;
@@ -482,6 +517,9 @@ void emitView(int view, vec4 w[3], vec3 faceColor) {
 #if defined(SHADING_PIXEL)
         oWorld = gWorld[i];
         oNormal = gNormal[i];
+#ifdef NORMAL_MAPS
+        oTangent = gTangent[i];
+#endif
 #elif defined(SHADING_FLAT)
         oColor = faceColor;
         oSpecular = vec3(0.0);
@@ -554,6 +592,30 @@ layout(location = 0) out vec4 oColor0;
 #if defined(PER_VIEW_EYE) && (defined(VS_KALAIAH) || defined(VS_MULTIVIEW))
 layout(location = 8) flat in int iEyeView;
 #endif
+#ifdef NORMAL_MAPS
+// Pixel shading in a frame with normal maps (Renderer::mNormalMaps): the world tangent and the
+// normal map (slot bit 16, unit 7: materials.cpp kSlotUnits), linear, through the base colour's
+// coordinates and sampler.
+layout(location = 9) in vec4 iTangent;
+layout(binding = 7) uniform sampler2D uNormalMap;
+
+// lighting.h perturbedNormal(): the texel as a tangent-space normal (2·rgb − 1, x and y ×
+// scale) in the frame of n, the tangent made orthogonal to n and the bitangent sign(w) ·
+// cross(n, t); a degenerate frame (no tangent: (0, 0, 0, 1)) keeps n.
+vec3 perturbedNormal(vec3 n, vec4 tangent, vec3 texel, float scale) {
+    n = normalize(n);
+    vec3 t = tangent.xyz - n * dot(n, tangent.xyz);
+    float tl = length(t);
+    if (!(tl > 1e-6)) return n;
+    t /= tl;
+    vec3 b = (tangent.w < 0.0 ? -1.0 : 1.0) * cross(n, t);
+    vec3 c = vec3((2.0 * texel.x - 1.0) * scale, (2.0 * texel.y - 1.0) * scale,
+                  2.0 * texel.z - 1.0);
+    vec3 p = (t * c.x + b * c.y) + n * c.z;
+    float pl = length(p);
+    return pl > 0.0 ? p / pl : n;
+}
+#endif
 #endif
 
 void main() {
@@ -582,6 +644,10 @@ void main() {
     vec2 mapMetalRough = (uMatFlags.x & 2) != 0
                              ? texture(uMetallicRoughnessMap, iTexcoord).bg  // metallic, roughness
                              : vec2(1.0);
+#ifdef NORMAL_MAPS
+    vec3 mapNormal = (uMatFlags.x & 16) != 0 ? texture(uNormalMap, iTexcoord).rgb
+                                             : vec3(0.5, 0.5, 1.0);  // (unused then)
+#endif
 #endif
     // lighting.h occlusionOf()
     float mapOcclusion = (uMatFlags.x & 4) != 0
@@ -624,8 +690,15 @@ void main() {
 #if defined(SHADING_PIXEL)
     if (SPLIT_LIGHTING) {
         vec3 d, sp;
+        // The normal map bends the normal lighting sees; shadows keep the surface's own
+        // (pipeline.h texturedFragment).
+        vec3 litNormal = iNormal;
+#ifdef NORMAL_MAPS
+        if ((uMatFlags.x & 16) != 0)
+            litNormal = perturbedNormal(iNormal, iTangent, mapNormal, uNormalScale);
+#endif
         // lighting.h mappedMaterial(): the factors × the metallic-roughness texel
-        blinnPhongTerms(uMetalRough * mapMetalRough, iNormal, iWorld, d, sp);
+        blinnPhongTerms(uMetalRough * mapMetalRough, litNormal, iNormal, iWorld, d, sp);
         applySurfaceMaps(d, sp, mapOcclusion, mapEmissive);
         c = finishColor(uMaterial.rgb * tex.rgb * d + sp);
     } else {

@@ -10,6 +10,9 @@
 //   geometry  GS_VIEWS n (loop) | GS_INVOCATIONS n, and GS_OUT_LAYER | GS_OUT_VIEWPORT |
 //             GS_OUT_FLAG (sorbier2008 MRT); DEPTHMAP (sorbier2008 §5.2 test)
 //   multiview NUM_VIEWS n
+//   maps      NORMAL_MAPS (pixel shading, a frame with a normal-mapped instance on a mesh with
+//             tangents: the world tangent as a varying, location 9, 4 components more a
+//             vertex; the normal map on unit 7)
 // buildProgram() puts MAX_VIEWS (mvr::kMaxViews) and MAX_LIGHTS (mvr::kMaxLights) before the
 // shared source: the sizes of the Frame block's arrays (renderer.h's FrameBlock).
 #pragma once

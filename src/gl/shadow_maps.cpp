@@ -48,7 +48,7 @@ void Renderer::setShadowUniforms(GLuint prog) const {
     glProgramUniformMatrix4fv(prog, 8, kMaxLights, GL_FALSE, &clip[0][0][0]);
     glProgramUniform4fv(prog, 12, kMaxLights, &info[0][0]);
     glProgramUniform4fv(prog, 16, kMaxLights, &texel[0][0]);
-    // The lights' positions come from the Frame block (uLightPos); units 2 and 4–6 are the
+    // The lights' positions come from the Frame block (uLightPos); units 2 and 4–7 are the
     // material's textures (materials.cpp kSlotUnits).
     glBindTextureUnit(3, mGpu->shadowMaps.get());
 }

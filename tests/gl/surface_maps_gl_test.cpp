@@ -3,13 +3,16 @@
 // (sRGB) scaling a metallic-roughness material's emissive, in every shading and exact method,
 // on a material without a base colour texture; one image used as colour and as data (two GL
 // textures, not one cached upload); the metallic-roughness map per pixel only. Texels at known
-// coordinates against values computed here; each exact method against gl:multipass on the
-// mapped scene of the conformance suite (kGlExact).
+// coordinates against values computed here; the normal map's bent normal against the
+// tangent-frame formula written out; each exact method against gl:multipass on the mapped
+// scene of the conformance suite (kGlExact).
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include "../conformance/tolerances.h"
@@ -250,6 +253,90 @@ TEST(GlSurfaceMaps, MetallicRoughnessMapScalesTheFactorsPerPixel) {
     }
 }
 
+/// The normal a normal map's texel gives a surface whose normal, tangent and bitangent are the
+/// unit vectors n, t, b: glTF's tangent-space normal (2·rgb − 1, x and y × scale) in that frame,
+/// written out in double.
+glm::dvec3 mappedNormal(Rgba8 texel, double scale, glm::dvec3 t, glm::dvec3 b, glm::dvec3 n) {
+    const glm::dvec3 c((2.0 * texel.r / 255.0 - 1.0) * scale, (2.0 * texel.g / 255.0 - 1.0) * scale,
+                       2.0 * texel.b / 255.0 - 1.0);
+    return glm::normalize(t * c.x + b * c.y + n * c.z);
+}
+
+// The normal map bends the normal in the tangent frame, per pixel, in every exact method: a
+// white Lambert quad under one light, a uniform normal map (linear data), its colour the
+// tangent-frame normal's n · l; mirrored in x (u runs along −x, the handedness flips with the
+// mirror, the bitangent stays +y). Per vertex, and on a mesh without tangents (also in a frame
+// where another mesh has them), the quad's own normal.
+TEST(GlSurfaceMaps, NormalMapBendsTheNormalInTheTangentFrame) {
+    MVR_SKIP_WITHOUT_GL();
+    const glm::dvec3 light = glm::normalize(glm::dvec3(0.5, 0.4, 0.77));
+    const Probe centre{kW / 2, kH / 2, 0, 0};
+    auto pixel = [&](const Scene& scene, Shading sh, const std::string& method) {
+        auto out = backend().render(scene, monoRig(), settings(sh), method);
+        if (!out && out.status().code() == ErrorCode::Unsupported) return -1;
+        EXPECT_TRUE(out) << method << ": " << out.status().message();
+        return out ? int(out->color[0].at(centre.x, centre.y).r) : -1;
+    };
+    const double flat = glm::dot(glm::dvec3(0, 0, 1), light) * 255.0;
+    for (const Rgba8 texel : {Rgba8{255, 128, 128, 255}, Rgba8{128, 255, 128, 255},
+                              Rgba8{40, 90, 200, 255}, Rgba8{128, 128, 255, 255}}) {
+        for (const bool mirrored : {false, true}) {
+            // The quad faces +z with u along +x and the image's top at +y: tangent +x,
+            // handedness +1 (bitangent cross(n, t) = +y).
+            Scene scene = quadScene();
+            scene.meshes[0].tangents.assign(4, glm::vec4(1, 0, 0, 1));
+            scene.ambient = glm::vec3(0.0f);
+            Light l;
+            l.towardLight = glm::vec3(light);
+            l.color = glm::vec3(1.0f);
+            scene.lights = {l};
+            scene.textures.push_back(texture(Image(4, 4, texel), true, "normal"));
+            Material& m = scene.instances[0].material;
+            m.specular = 0.0f;
+            m.normalTexture = 0;
+            m.normalScale = 0.8f;
+            if (mirrored)
+                scene.instances[0].worldFromModel = glm::scale(glm::mat4(1.0f), {-1, 1, 1});
+            const glm::dvec3 n =
+                mappedNormal(texel, 0.8, {mirrored ? -1.0 : 1.0, 0, 0}, {0, 1, 0}, {0, 0, 1});
+            const double want = std::max(0.0, glm::dot(n, light)) * 255.0;
+            const std::string what = fmt::format("texel {},{},{} mirrored {}", int(texel.r),
+                                                 int(texel.g), int(texel.b), mirrored);
+            for (const std::string& method : exactMethods()) {
+                if (!backend().supports(method)) continue;
+                const int got = pixel(scene, Shading::Pixel, method);
+                if (got < 0) continue;
+                EXPECT_NEAR(got, want, 1.0) << what << " " << method;
+                // Per vertex: the surface's own normal.
+                EXPECT_NEAR(pixel(scene, Shading::Vertex, method), flat, 1.0)
+                    << what << " " << method << " vertex";
+            }
+            // A mesh without tangents: the surface's own normal, alone and beside a mesh with
+            // them (a frame drawn with the tangent, its attribute the constant (0, 0, 0, 1)):
+            // a small normal-mapped quad with tangents in a corner.
+            Scene bare = scene;
+            bare.meshes[0].tangents.clear();
+            Scene beside = bare;
+            beside.meshes.push_back(scene.meshes[0]);
+            Instance corner = scene.instances[0];
+            corner.mesh = 1;
+            corner.worldFromModel =
+                glm::scale(glm::translate(glm::mat4(1.0f), {0.9f, 0.9f, 0.0f}), glm::vec3(0.05f));
+            beside.instances.push_back(corner);
+            for (const std::string& method : exactMethods()) {
+                if (!backend().supports(method)) continue;
+                for (const Scene* sc : {&bare, &beside}) {
+                    const int got = pixel(*sc, Shading::Pixel, method);
+                    if (got < 0) continue;
+                    EXPECT_NEAR(got, flat, 1.0)
+                        << what << " " << method << " without tangents"
+                        << (sc == &beside ? " beside a mesh with them" : "");
+                }
+            }
+        }
+    }
+}
+
 // Every exact method on the mapped scene (the conformance suite's: every slot, some instances
 // without a base colour texture) against gl:multipass in every shading (kGlExact).
 TEST(GlSurfaceMaps, EveryExactMethodMatchesMultipass) {
@@ -273,6 +360,39 @@ TEST(GlSurfaceMaps, EveryExactMethodMatchesMultipass) {
                     << m << " " << shadingName(sh) << " view " << v << ": " << 100 * share
                     << " % off by more than " << b.channel << "/255, max " << d.maxDelta;
             }
+        }
+    }
+}
+
+// Pixel shading with normal maps on more views than a geometry-shader pass takes with the
+// tangent (its 4 components a vertex lower the views a pass: 22 on llvmpipe's 1024 components,
+// 31 without): every method batches them and matches gl:multipass (kGlExact), view by view.
+TEST(GlSurfaceMaps, NormalMappedViewsBatchOnEveryMethod) {
+    MVR_SKIP_WITHOUT_GL();
+    const Scene& scene = ::mvr::test::mappedScene();
+    const conformance::Bound& b = conformance::kGlExact;
+    constexpr int kViews = 40, kSmallW = 64, kSmallH = 48;
+    const Rig rig = rigFor(scene, kViews, 1, float(kSmallW) / kSmallH, 0.2f);
+    ASSERT_EQ(rig.viewCount(), kViews);
+    RenderSettings s = settings(Shading::Pixel);
+    s.width = kSmallW;
+    s.height = kSmallH;
+    auto ref = backend().render(scene, rig, s, "multipass");
+    ASSERT_TRUE(ref) << ref.status().message();
+    for (const std::string& m : exactMethods()) {
+        if (!backend().supports(m)) continue;
+        auto out = backend().render(scene, rig, s, m);
+        if (!out && out.status().code() == ErrorCode::Unsupported) continue;
+        ASSERT_TRUE(out) << m << ": " << out.status().message();
+        ASSERT_EQ(out->color.size(), ref->color.size()) << m;
+        const auto stats = backend().lastStats();
+        ASSERT_TRUE(stats) << m;
+        for (std::size_t v = 0; v < ref->color.size(); ++v) {
+            const ImageDiff d = compareImages(ref->color[v], out->color[v], b.channel);
+            const double share = double(d.differingPixels) / (kSmallW * kSmallH);
+            EXPECT_TRUE(b.shareFor(int(v)).holds(share))
+                << m << " (" << stats->passes << " passes) view " << v << ": " << 100 * share
+                << " % off by more than " << b.channel << "/255, max " << d.maxDelta;
         }
     }
 }
