@@ -246,7 +246,7 @@ Status validateSceneAnimation(const SceneAnimation& a) {
         }
     }
     for (const SceneAnimation::Skin& s : a.skins) {
-        bool ok = s.instance >= 0 && s.meshNode >= 0 && s.meshNode < int(a.nodes.size());
+        bool ok = s.instance >= 0 && s.meshNode >= -1 && s.meshNode < int(a.nodes.size());
         for (const int j : s.joints) ok = ok && j >= 0 && j < int(a.nodes.size());
         if (!ok) {
             return inputError(fmt::format("animation '{}': the skin of instance {} names a node "
@@ -273,8 +273,9 @@ std::vector<glm::mat4> nodeWorldsAt(const SceneAnimation& a, double time) {
 std::vector<glm::mat4> skinMatrices(const SceneAnimation::Skin& skin,
                                     const std::vector<glm::mat4>& world) {
     std::vector<glm::mat4> m(skin.joints.size(), glm::mat4(1.0f));
-    if (skin.meshNode < 0 || std::size_t(skin.meshNode) >= world.size()) return m;
-    const glm::mat4 modelFromRoot = glm::inverse(world[std::size_t(skin.meshNode)]);
+    if (std::size_t(skin.meshNode) >= world.size() && skin.meshNode >= 0) return m;
+    const glm::mat4 modelFromRoot =
+        skin.meshNode >= 0 ? glm::inverse(world[std::size_t(skin.meshNode)]) : glm::mat4(1.0f);
     for (std::size_t j = 0; j < skin.joints.size(); ++j) {
         const int node = skin.joints[j];
         if (node < 0 || std::size_t(node) >= world.size()) continue;

@@ -203,10 +203,17 @@ void poseSkin(Mesh& mesh, const std::vector<glm::mat4>& jointMatrices) {
         const std::vector<float> w = mesh.morphWeights;
         applyMorphWeights(mesh, w);  // the morphed pose, from the base again
     }
+    // Normals through each joint's cofactor matrix (det · inverse transpose: defined for a
+    // joint scaled to nothing, as files do to hide a part; the normalisation below removes det).
     std::vector<glm::mat3> normalMatrices(jointMatrices.size());
-    for (std::size_t j = 0; j < jointMatrices.size(); ++j)
-        normalMatrices[j] = glm::transpose(glm::inverse(glm::mat3(jointMatrices[j])));
+    for (std::size_t j = 0; j < jointMatrices.size(); ++j) {
+        const glm::mat3 a(jointMatrices[j]);
+        normalMatrices[j] = glm::mat3(glm::cross(a[1], a[2]), glm::cross(a[2], a[0]),
+                                      glm::cross(a[0], a[1]));
+    }
     for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec4& wv = mesh.weights[i];
+        if (((wv.x + wv.y) + (wv.z + wv.w)) == 0.0f) continue;  // unweighted: left as it is
         const glm::vec4 p(mesh.positions[i], 1.0f);
         glm::vec4 sp(0.0f);
         glm::vec3 sn(0.0f);
@@ -228,6 +235,11 @@ void poseSkin(Mesh& mesh, const std::vector<glm::mat4>& jointMatrices) {
     }
     if (mesh.baseTangents.size() == n && mesh.tangents.size() == n) {
         for (std::size_t i = 0; i < n; ++i) {
+            const glm::vec4& wv = mesh.weights[i];
+            if (((wv.x + wv.y) + (wv.z + wv.w)) == 0.0f) {
+                mesh.tangents[i] = mesh.baseTangents[i];
+                continue;
+            }
             const glm::vec3 t(mesh.baseTangents[i]);
             glm::vec3 st(0.0f);
             for (int k = 0; k < 4; ++k) {

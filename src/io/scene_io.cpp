@@ -509,7 +509,10 @@ struct Loader {
                 }
                 continue;
             }
-            auto t = texture(file.C_Str(), out.name, slot.linear, "the map is not drawn");
+            auto t = texture(file.C_Str(), out.name, slot.linear,
+                             slot.index == &out.metallicRoughnessTexture
+                                 ? "the map is not drawn (the material keeps Blinn-Phong)"
+                                 : "the map is not drawn");
             if (!t) return t.status();
             *slot.index = *t;
             if (*t >= 0) readSampler(slot.type, modes);
@@ -648,7 +651,7 @@ std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name, bool 
                 mesh.joints[v][int(k)] = std::uint16_t(list[k].second);
                 mesh.weights[v][int(k)] = list[k].first / sum;
             }
-            if (list.empty()) mesh.weights[v][0] = 0.0f;  // unweighted: stays in bind pose
+            // unweighted (all 0): poseSkin leaves the vertex where it is
         }
         if (mesh.basePositions.empty()) {
             mesh.basePositions = mesh.positions;
@@ -844,6 +847,22 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
         auto mesh = convertMesh(am, fmt::format("{}: {}", path.filename().string(), name), !gltf,
                                 set, coords.transform, !fileTangents[m]);
         if (!mesh) continue;
+        // assimp computes tangents on set 0 as the file holds it: they frame Mesh::texcoords
+        // only when those are set 0 without a rotating or mirroring transform.
+        const bool framed = !coords.transform || (coords.transform->rotation == 0.0f &&
+                                                  coords.transform->scale.x > 0.0f &&
+                                                  coords.transform->scale.y > 0.0f);
+        if (!fileTangents[m] && !mesh->tangents.empty() && !(set == 0 && framed)) {
+            mesh->tangents.clear();
+            mesh->baseTangents.clear();
+            if (uv && uv->normalTexture) {
+                out.warnings.push_back(fmt::format(
+                    "{}: mesh '{}': its normal map is not drawn (the file gives no TANGENT, and "
+                    "tangents are computed for texture coordinate set 0 without a rotating or "
+                    "mirroring KHR_texture_transform)",
+                    loader.what, name));
+            }
+        }
         if (!missingSet.empty()) {
             if (out.strict) return inputError(missingSet);
             out.warnings.push_back(missingSet + ": set 0 is used (--strict: an error)");
@@ -923,28 +942,29 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
                 mat.occlusionTexture = mat.emissiveTexture = mat.normalTexture = -1;
                 if (const GltfMaterialUv* uv = uvOf(mi)) Loader::withoutNeutralFactors(mat, *uv);
             }
-            if (animation) {
-                if (auto it = animNode.find(node); it != animNode.end()) {
-                    animation->animation.instances.push_back(
-                        {int(scene.instances.size()), it->second, glm::mat4(1.0f)});
-                }
-            }
-            // A skinned mesh (glTF skins): posed by its joints' rest transforms here (a still
-            // shows the file's pose, not the bind pose at the mesh node), per frame by the
-            // animation (SceneAnimation::Skin).
+            // A skinned mesh (glTF skins): the node's own transform does not place it (the
+            // specification's rule), its joints do, in the file's root space: posed by their
+            // rest transforms here (a still shows the file's pose, not the bind pose moved by
+            // the node), per frame by the animation (SceneAnimation::Skin). The instance stays
+            // where the root is, so nodes sharing the mesh draw it alike.
             Mesh& drawn = scene.meshes[std::size_t(meshIndex[m])];
-            if (!drawn.joints.empty()) {
+            const bool skinned = !drawn.joints.empty();
+            if (skinned) {
                 const BoundSkin skin = boundSkin(*ai, *ai->mMeshes[m]);
-                const glm::mat4 modelFromRoot = glm::inverse(world);
                 std::vector<glm::mat4> matrices(skin.joints.size(), glm::mat4(1.0f));
                 SceneAnimation::Skin played;
                 played.instance = int(scene.instances.size());
-                bool bound = animation && animNode.count(node);
-                if (bound) played.meshNode = animNode.at(node);
+                bool bound = bool(animation);
                 for (std::size_t j = 0; j < skin.joints.size(); ++j) {
                     auto w = skin.joints[j] ? worldOf.find(skin.joints[j]) : worldOf.end();
-                    if (w != worldOf.end())
-                        matrices[j] = modelFromRoot * w->second * skin.inverseBind[j];
+                    if (w != worldOf.end()) {
+                        matrices[j] = w->second * skin.inverseBind[j];
+                    } else {
+                        out.warnings.push_back(fmt::format(
+                            "{}: mesh '{}': its skin's joint {} ('{}') is not a node of the "
+                            "file: that joint does not move it",
+                            loader.what, drawn.name, j, ai->mMeshes[m]->mBones[j]->mName.C_Str()));
+                    }
                     auto a = skin.joints[j] ? animNode.find(skin.joints[j]) : animNode.end();
                     bound = bound && a != animNode.end();
                     if (bound) played.joints.push_back(a->second);
@@ -954,8 +974,14 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
                     played.inverseBind = skin.inverseBind;
                     animation->animation.skins.push_back(std::move(played));
                 }
+            } else if (animation) {
+                if (auto it = animNode.find(node); it != animNode.end()) {
+                    animation->animation.instances.push_back(
+                        {int(scene.instances.size()), it->second, glm::mat4(1.0f)});
+                }
             }
-            scene.instances.push_back({meshIndex[m], world, std::move(mat)});
+            scene.instances.push_back(
+                {meshIndex[m], skinned ? glm::mat4(1.0f) : world, std::move(mat)});
         }
     }
     if (scene.instances.empty()) {

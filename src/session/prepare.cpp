@@ -385,10 +385,9 @@ Result<Scene> loadModels(const std::vector<std::string>& args,
                     t.worldFromRoot = xf * t.worldFromRoot;
                     targets.push_back(t);
                 }
-                for (SceneAnimation::Skin sk : animation->skins) {  // one mesh: posed alike
-                    sk.instance += k * int(one.size());
-                    skins.push_back(sk);
-                }
+                // The copies share the posed mesh (and a skinned instance stands at the root, moved
+                // only by its copy's matrix): posed once, by the first copy.
+                if (k == 0) skins = animation->skins;
             }
         }
         combined.camera.reset();

@@ -35,8 +35,9 @@ glm::vec3 posed(const glm::vec3& bind, float degrees) {
 
 /// `restDegrees`: Tip's rest rotation (the node's own "rotation"); `animated`: a LINEAR
 /// rotation channel on Tip from 0° at t = 0 to 90° at t = 1.
+/// `twice`: a second node ("Copy", 5 to the right) instances the skinned mesh too.
 std::filesystem::path writeSkinnedStrip(const std::filesystem::path& dir, float restDegrees,
-                                        bool animated) {
+                                        bool animated, bool twice = false) {
     std::string bin;
     std::vector<float> pos, nrm;
     std::vector<std::uint8_t> joints;
@@ -83,10 +84,10 @@ std::filesystem::path writeSkinnedStrip(const std::filesystem::path& dir, float 
     const std::string json = fmt::format(
         R"({{"asset":{{"version":"2.0","generator":"Khronos glTF Blender I/O v3.6.27"}},
 "scene":0,"scenes":[{{"name":"Scene","nodes":[0]}}],
-"nodes":[{{"name":"Armature","translation":[2,0,0],"children":[1,3]}},
+"nodes":[{{"name":"Armature","translation":[2,0,0],"children":[1,3{}]}},
  {{"name":"Root","children":[2]}},
  {{"name":"Tip","translation":[0,1,0],"rotation":[0,0,{},{}]}},
- {{"name":"Strip","mesh":0,"skin":0}}],
+ {{"name":"Strip","mesh":0,"skin":0}}{}],
 "skins":[{{"name":"Armature","inverseBindMatrices":5,"joints":[1,2]}}],
 "meshes":[{{"name":"Strip","primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1,"JOINTS_0":2,"WEIGHTS_0":3}},"indices":4}}]}}],
 "accessors":[
@@ -104,19 +105,22 @@ std::filesystem::path writeSkinnedStrip(const std::filesystem::path& dir, float 
  {{"buffer":0,"byteOffset":{},"byteLength":48}},{{"buffer":0,"byteOffset":{},"byteLength":128}},
  {{"buffer":0,"byteOffset":{},"byteLength":8}},{{"buffer":0,"byteOffset":{},"byteLength":32}}],
 "buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}]{}}})",
-        std::sin(ra), std::cos(ra), posAt, nrmAt, jointsAt, weightsAt, idxAt, ibmAt, timesAt,
+        twice ? ",4" : "", std::sin(ra), std::cos(ra),
+        twice ? R"(,{"name":"Copy","mesh":0,"skin":0,"translation":[5,0,0]})" : "", posAt, nrmAt, jointsAt, weightsAt, idxAt, ibmAt, timesAt,
         rotAt, bin.size(), test::base64(bin),
         animated ? R"(,"animations":[{"name":"Bend","channels":[{"sampler":0,"target":{"node":2,"path":"rotation"}}],"samplers":[{"input":6,"output":7,"interpolation":"LINEAR"}]}])"
                  : "");
-    const auto path = dir / fmt::format("strip-{}-{}.gltf", int(restDegrees), animated);
+    const auto path =
+        dir / fmt::format("strip-{}-{}-{}.gltf", int(restDegrees), animated, twice);
     std::ofstream(path) << json;
     return path;
 }
 
 /// Every vertex of the strip's instance in world space against posed(its bind position).
-void expectPosed(const Scene& scene, float degrees, const std::string& what) {
-    ASSERT_EQ(scene.instances.size(), 1u) << what;
-    const Instance& inst = scene.instances[0];
+void expectPosed(const Scene& scene, float degrees, const std::string& what,
+                 std::size_t instance = 0) {
+    ASSERT_GT(scene.instances.size(), instance) << what;
+    const Instance& inst = scene.instances[instance];
     const Mesh& mesh = scene.meshes.at(std::size_t(inst.mesh));
     ASSERT_EQ(mesh.basePositions.size(), 10u) << what;
     ASSERT_EQ(mesh.joints.size(), 10u) << what;
@@ -141,6 +145,21 @@ TEST(GltfSkin, StillShowsTheFilesRestPose) {
         ASSERT_TRUE(scene) << scene.status().message();
         expectPosed(*scene, rest, fmt::format("rest {}°", rest));
     }
+}
+
+TEST(GltfSkin, NodesSharingASkinnedMeshDrawItAlike) {
+    // glTF: a skinned mesh's node transform is ignored, so the "Copy" node 5 to the right draws
+    // the strip where its joints put it, as the first node does.
+    test::TempDir dir("mvr-gltf-skin-twice");
+    SceneLoadInfo info;
+    auto scene = loadScene(writeSkinnedStrip(dir.path(), 0.0f, true, true), &info);
+    ASSERT_TRUE(scene) << scene.status().message();
+    ASSERT_EQ(scene->instances.size(), 2u);
+    ASSERT_TRUE(info.animation);
+    Scene s = *scene;
+    animateScene(s, *info.animation, 1.0);
+    expectPosed(s, 90.0f, "first node", 0);
+    expectPosed(s, 90.0f, "second node", 1);
 }
 
 TEST(GltfSkin, AnimationTurnsTheTipBoneAndItsVertices) {
@@ -180,6 +199,15 @@ TEST(GltfSkin, PoseSkinBlendsJointMatricesByWeight) {
     // Posed again: from the base, not compounded.
     poseSkin(m, {a, b});
     EXPECT_EQ(m.positions[2], glm::vec3(0, 0, 2));
+    // A vertex with no weight stays where it is (not at the origin).
+    m.weights[1] = glm::vec4(0.0f);
+    poseSkin(m, {a, b});
+    EXPECT_EQ(m.positions[1], glm::vec3(0, 1, 0));
+    EXPECT_EQ(m.normals[1], glm::vec3(0, 0, 1));
+    // A joint scaled to nothing (a hidden part) still gives finite normals elsewhere.
+    m.weights[1] = glm::vec4(0.5f, 0.5f, 0, 0);
+    poseSkin(m, {a, glm::scale(glm::mat4(1.0f), glm::vec3(0.0f))});
+    EXPECT_NEAR(glm::length(m.normals[1]), 1.0f, 1e-6f);
     // Tangents turn with their joints (a quarter turn about z), handedness kept.
     m.tangents.assign(3, glm::vec4(1, 0, 0, -1));
     m.baseTangents = m.tangents;

@@ -127,12 +127,13 @@ struct SceneAnimation {
         glm::mat4 worldFromRoot{1.0f};
     };
     std::vector<Target> instances;
-    /// A skinned instance (glTF skins): its mesh (Mesh::joints) posed by its joints' nodes,
-    /// in the model space of the node that instances it (so worldFromModel places it as any
-    /// instance): joint j's matrix is world(meshNode)⁻¹ · world(joints[j]) · inverseBind[j].
+    /// A skinned instance (glTF skins): its mesh (Mesh::joints) posed by its joints' nodes:
+    /// joint j's matrix is world(meshNode)⁻¹ · world(joints[j]) · inverseBind[j], or without a
+    /// mesh node (-1: the loader's, whose skinned instances stand at the root, as glTF ignores
+    /// the node's own transform) world(joints[j]) · inverseBind[j].
     struct Skin {
         int instance = 0;
-        int meshNode = 0;
+        int meshNode = -1;
         std::vector<int> joints;  ///< nodes, in the order of Mesh::joints' indices
         std::vector<glm::mat4> inverseBind;
     };

@@ -63,10 +63,11 @@
 // emissive (flatSpecular). Unlit: D = 1, S = 0 (the base colour), in every shading.
 //
 // Texture maps (issue 39; Material's metallicRoughnessTexture, occlusionTexture,
-// emissiveTexture, SurfaceMaps): sampled with the base colour's coordinates and sampler; the
-// metallic-roughness texel scales the factors of the BRDF evaluated per pixel
-// (metallicRoughnessTerms' `maps`; vertex and flat shading evaluate the factors alone), the occlusion scales the ambient term
-// and the emissive texel the emissive, in every shading (applySurfaceMaps); the normal map bends
+// emissiveTexture, normalTexture, SurfaceMaps): sampled with the material's one set of texture
+// coordinates (Mesh::texcoords) and its sampler; the metallic-roughness texel scales the
+// factors of the BRDF evaluated per pixel (metallicRoughnessTerms' `maps`; vertex and flat
+// shading evaluate the factors alone), the occlusion scales the ambient term and the emissive
+// texel the emissive, in every shading (applySurfaceMaps); the normal map bends
 // the interpolated normal per pixel (perturbedNormal, with Mesh::tangents), before lighting.
 //
 // Tone mapping (issue 39 item 2; ShadingContext::tonemap, from Scene::tonemap): finishColor() is

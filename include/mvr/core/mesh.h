@@ -59,7 +59,7 @@ struct Mesh {
     std::vector<glm::vec4> tangents;
     /// Skinning (glTF skins, issue 39 item 3): empty, or one per position: up to 4 joints
     /// (indices into the skin's joint list, SceneAnimation::Skin) and their weights, summing
-    /// to 1. `basePositions` / `baseNormals` then hold the unskinned (bind) pose, which
+    /// to 1 (all 0: the vertex is not skinned). `basePositions` / `baseNormals` then hold the unskinned (bind) pose, which
     /// poseSkin() deforms (after the morph targets).
     std::vector<glm::u16vec4> joints;
     std::vector<glm::vec4> weights;
@@ -104,9 +104,10 @@ void applyMorphWeights(Mesh& mesh, const std::vector<float>& weights);
 
 /// glTF's skinning: `positions` / `normals` from the unskinned pose (basePositions /
 /// baseNormals, morphed at `morphWeights` when the mesh has targets) as Σ weight ·
-/// jointMatrices[joint] · p per vertex (normals through each matrix's inverse transpose, then
-/// normalised; tangents from baseTangents through the matrices' linear parts, normalised, their
-/// handedness kept). A joint index past `jointMatrices` counts as the identity. No-op for a mesh
+/// jointMatrices[joint] · p per vertex (normals through each matrix's cofactor, i.e. its
+/// inverse transpose up to scale, then normalised; tangents from baseTangents through the
+/// matrices' linear parts, normalised, their handedness kept). A vertex whose weights are all
+/// 0 keeps its unskinned pose. A joint index past `jointMatrices` counts as the identity. No-op for a mesh
 /// without Mesh::joints.
 void poseSkin(Mesh& mesh, const std::vector<glm::mat4>& jointMatrices);
 

@@ -135,11 +135,6 @@ inline bool hasTexture(const Material& m) {
     return m.baseColorTexture >= 0 || m.metallicRoughnessTexture >= 0 ||
            m.occlusionTexture >= 0 || m.emissiveTexture >= 0 || m.normalTexture >= 0;
 }
-/// Whether a material has texture slots beyond the base colour (lighting.h SurfaceMaps).
-inline bool hasSurfaceMaps(const Material& m) {
-    return m.metallicRoughnessTexture >= 0 || m.occlusionTexture >= 0 || m.emissiveTexture >= 0 ||
-           m.normalTexture >= 0;
-}
 
 struct Instance {
     int mesh = 0;  ///< index into Scene::meshes
