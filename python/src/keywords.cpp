@@ -411,6 +411,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"convergence", Kind::FloatOrAuto}, {"fov", Kind::Float},
             {"no_file_camera", Kind::Flag},  {"exposure", Kind::FloatOrAuto},
             {"tonemap", Kind::Text},
+            {"environment", Kind::File},
             {"size", Kind::Text},            {"display", Kind::Text},
             {"screen_width", Kind::Float},   {"viewing_distance", Kind::Float},
             {"shading", Kind::Text},         {"cull", Kind::Flag},
@@ -530,6 +531,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
         if (!v->isAuto) r.exposure = v->number;
     }
     if (auto* v = get("tonemap")) r.tonemap = v->text;
+    if (auto* v = get("environment")) r.environment = v->text;
     if (auto* v = get("size")) r.size = v->text;
     if (auto* v = get("display")) r.display = v->text;
     if (auto* v = get("screen_width")) r.screenWidthCm = v->number;

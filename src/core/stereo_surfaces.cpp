@@ -93,6 +93,36 @@ std::optional<float> parseFloat(std::string_view s) {
 
 // ---- sky (loadSky(): scene_io.cpp) ------------------------------------------------------------
 
+CubeCrossPoint cubeCrossPoint(glm::vec3 d) {
+    const glm::vec3 a = glm::abs(d);
+    CubeCrossPoint c;
+    if (a.x >= a.y && a.x >= a.z) {
+        c.row = 1;
+        if (d.x > 0) {
+            c.col = 2, c.u = d.z / a.x;
+        } else {
+            c.col = 0, c.u = -d.z / a.x;
+        }
+        c.v = -d.y / a.x;
+    } else if (a.y >= a.z) {
+        c.col = 1, c.u = d.x / a.y;
+        if (d.y > 0) {
+            c.row = 0, c.v = -d.z / a.y;
+        } else {
+            c.row = 2, c.v = d.z / a.y;
+        }
+    } else {
+        c.row = 1;
+        if (d.z < 0) {
+            c.col = 1, c.u = d.x / a.z;
+        } else {
+            c.col = 3, c.u = -d.x / a.z;
+        }
+        c.v = -d.y / a.z;
+    }
+    return c;
+}
+
 glm::vec3 skyColor(const Sky& sky, glm::vec3 dir) {
     const glm::vec3 d = glm::normalize(dir);
     switch (sky.kind) {
@@ -109,35 +139,9 @@ glm::vec3 skyColor(const Sky& sky, glm::vec3 dir) {
         }
         case Sky::Kind::CubeCross: {
             const int s = sky.image.width / 4;
-            const glm::vec3 a = glm::abs(d);
-            int col = 1, row = 1;
-            float u = 0, v = 0;  // in [−1, 1], v down
-            if (a.x >= a.y && a.x >= a.z) {
-                row = 1;
-                if (d.x > 0) {
-                    col = 2, u = d.z / a.x;
-                } else {
-                    col = 0, u = -d.z / a.x;
-                }
-                v = -d.y / a.x;
-            } else if (a.y >= a.z) {
-                col = 1, u = d.x / a.y;
-                if (d.y > 0) {
-                    row = 0, v = -d.z / a.y;
-                } else {
-                    row = 2, v = d.z / a.y;
-                }
-            } else {
-                row = 1;
-                if (d.z < 0) {
-                    col = 1, u = d.x / a.z;
-                } else {
-                    col = 3, u = -d.x / a.z;
-                }
-                v = -d.y / a.z;
-            }
-            return bilinear(sky.image, col * s, row * s, s, s, (u + 1.0f) * 0.5f * float(s),
-                            (v + 1.0f) * 0.5f * float(s), false);
+            const CubeCrossPoint c = cubeCrossPoint(d);
+            return bilinear(sky.image, c.col * s, c.row * s, s, s, (c.u + 1.0f) * 0.5f * float(s),
+                            (c.v + 1.0f) * 0.5f * float(s), false);
         }
     }
     return sky.horizon;

@@ -31,8 +31,11 @@
 #include <nlohmann/json.hpp>
 
 #include "gltf_animation.h"
+#include "radiance.h"
 #include "model_guard.h"
 #include "mvr/core/input_file.h"
+#include "mvr/core/stereo_surfaces.h"
+#include "mvr/core/texture_sampling.h"
 #include "mvr/io/jpeg.h"
 #include "mvr/io/mesh_io.h"
 #include "mvr/io/mtl.h"
@@ -1111,6 +1114,89 @@ Result<Sky> loadSky(const std::string& spec) {
     }
     sky.image = std::move(image).value();
     return sky;
+}
+
+
+Result<RadianceMap> loadEnvironmentMap(const std::string& path) {
+    const std::string what = fmt::format("--environment '{}'", path);
+    if (Status s = checkRegularFile(path, what); !s) return s;  // no FIFO, device, directory
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec) return inputError(fmt::format("{}: cannot be read", what));
+    if (size > (std::uintmax_t(512) << 20))
+        return inputError(fmt::format("{}: is larger than 512 MiB", what));
+    std::vector<std::uint8_t> bytes(size);
+    std::ifstream in(path, std::ios::binary);
+    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
+    if (!in) return inputError(fmt::format("{}: cannot be read", what));
+    static const std::uint8_t kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    RadianceMap map;
+    if (detail::isExrBytes(bytes)) {
+        auto exr = detail::readExrRadiance(path, what);
+        if (!exr) return exr.status();
+        map = std::move(*exr);
+    } else if (detail::isRadianceBytes(bytes)) {
+        auto hdr = detail::decodeRadiance(bytes, what);
+        if (!hdr) return hdr.status();
+        map = std::move(*hdr);
+    } else if ((bytes.size() >= 8 && std::equal(kPng, kPng + 8, bytes.begin())) ||
+               isJpegBytes(bytes)) {
+        auto image = decodeImageBytes(bytes, what);
+        if (!image) return image.status();
+        map.width = image->width, map.height = image->height;
+        map.texels.resize(std::size_t(map.width) * std::size_t(map.height));
+        for (std::size_t k = 0; k < map.texels.size(); ++k) {
+            const std::uint8_t* p = image->rgba.data() + 4 * k;
+            map.texels[k] = glm::vec3(srgbToLinear(p[0]), srgbToLinear(p[1]), srgbToLinear(p[2]));
+        }
+    } else {
+        return inputError(fmt::format(
+            "{}: not a Radiance (.hdr), OpenEXR, PNG or JPEG image", what));
+    }
+    for (std::size_t k = 0; k < map.texels.size(); ++k) {
+        const glm::vec3 c = map.texels[k];
+        if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z)) {
+            return inputError(fmt::format("{}: texel ({}, {}) is not finite", what,
+                                          k % std::size_t(map.width), k / std::size_t(map.width)));
+        }
+        map.texels[k] = glm::max(c, glm::vec3(0.0f));  // light is never negative
+    }
+    const int w = map.width, h = map.height;
+    if (w == 2 * h) {
+        map.name = path;
+        return map;
+    }
+    if (!(w * 3 == h * 4 && w % 4 == 0)) {
+        return usageError(fmt::format(
+            "{}: {}x{} is neither an equirectangular map (width = 2 x height) nor a horizontal "
+            "cube cross (4:3)",
+            what, w, h));
+    }
+    // A cube cross, resampled to an equirectangular map of 4s × 2s (bilinear in each face,
+    // clamped at its edges, as the sky reads it).
+    const int s = w / 4;
+    RadianceMap eq;
+    eq.width = 4 * s, eq.height = 2 * s, eq.name = path;
+    eq.texels.resize(std::size_t(eq.width) * std::size_t(eq.height));
+    auto at = [&](int x, int y) { return map.texels[std::size_t(y) * std::size_t(w) + std::size_t(x)]; };
+    for (int j = 0; j < eq.height; ++j) {
+        for (int i = 0; i < eq.width; ++i) {
+            const CubeCrossPoint c = cubeCrossPoint(equirectDirection(
+                (float(i) + 0.5f) / float(eq.width), (float(j) + 0.5f) / float(eq.height)));
+            const float x = (c.u + 1.0f) * 0.5f * float(s) - 0.5f;
+            const float y = (c.v + 1.0f) * 0.5f * float(s) - 0.5f;
+            const float fx = std::floor(x), fy = std::floor(y);
+            const int x0 = std::clamp(int(fx), 0, s - 1), x1 = std::clamp(int(fx) + 1, 0, s - 1);
+            const int y0 = std::clamp(int(fy), 0, s - 1), y1 = std::clamp(int(fy) + 1, 0, s - 1);
+            const float ax = x - fx, ay = y - fy;
+            const int ox = c.col * s, oy = c.row * s;
+            const glm::vec3 top = at(ox + x0, oy + y0) * (1.0f - ax) + at(ox + x1, oy + y0) * ax;
+            const glm::vec3 bot = at(ox + x0, oy + y1) * (1.0f - ax) + at(ox + x1, oy + y1) * ax;
+            eq.texels[std::size_t(j) * std::size_t(eq.width) + std::size_t(i)] =
+                top * (1.0f - ay) + bot * ay;
+        }
+    }
+    return eq;
 }
 
 }  // namespace mvr

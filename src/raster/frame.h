@@ -294,11 +294,12 @@ struct FrameContext {
                                  tangents ? &tangent : nullptr);
     }
     /// Vertex lighting through the scalar lighting.h functions instead of the SIMD kernel
-    /// (which implements directional, single-sided Blinn-Phong only).
+    /// (which implements directional, single-sided Blinn-Phong only, without image lighting).
     bool scalarVertexPath(const DrawItem& item) const {
         const Material& m = item.instance->material;
         return textured || punctualLights || m.doubleSided ||
-               m.model != MaterialModel::BlinnPhong || shading.tonemap != Tonemap::None;
+               m.model != MaterialModel::BlinnPhong || shading.tonemap != Tonemap::None ||
+               shading.environment;
     }
 };
 

@@ -702,7 +702,7 @@ struct FragmentSink {
                                       m.normalScale);
             }
             terms = blinnPhongTerms(*shade.ctx, m, lit, p, shadow,
-                                    shade.metallicRoughness ? &maps : nullptr);
+                                    shade.metallicRoughness || shade.occlusion ? &maps : nullptr);
         }
         if (shade.occlusion || shade.emissive)
             terms = applySurfaceMaps(*shade.ctx, m, terms, maps);

@@ -149,6 +149,7 @@ private:
                                false,
                                {}};
         f.shading.tonemap = scene.tonemap;
+        f.shading.environment = scene.environment.get();
         detail::prepareTextures(f);
         detail::Kernels shadowKernels = f.kernels;
         std::optional<detail::FrameContext> shadowed;

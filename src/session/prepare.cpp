@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
+#include <mutex>
 #include <regex>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -17,6 +19,7 @@
 #include "mvr/adelson/village_scene.h"
 #include "mvr/core/billboards.h"
 #include "mvr/core/displays.h"
+#include "mvr/core/environment.h"
 #include "mvr/core/framing.h"
 #include "mvr/io/png.h"
 #include "mvr/io/scene_io.h"
@@ -162,7 +165,9 @@ Status chooseAutoRig(Prepared& out, FramingParams& params, bool convergenceAuto,
 
 /// --exposure EV | auto (framing.h's exposeLights), and the warning for a model file's lights
 /// that saturate the scene's centre when no exposure is given.
-Status applyExposure(Prepared& out, std::optional<double> ev, bool isAuto, bool fromFiles) {
+Status applyExposure(Prepared& out, std::optional<double> ev, bool isAuto, bool fromFiles,
+                     float& appliedEv) {
+    appliedEv = 0.0f;
     if (ev && (!std::isfinite(*ev) || std::abs(*ev) > 64.0)) {
         return usageError(fmt::format(
             "--exposure {} is out of range (expected -64..64 stops, or auto)", *ev));
@@ -177,12 +182,14 @@ Status applyExposure(Prepared& out, std::optional<double> ev, bool isAuto, bool 
         }
         const float chosen = -std::log2(peak);
         exposeLights(out.scene, chosen);
+        appliedEv = chosen;
         out.notes.push_back(fmt::format(
             "note: --exposure auto chose {:+.3g} EV: the brightest light lit the scene's centre "
             "at {:.4g}x full colour, now 1x",
             chosen, peak));
     } else if (ev) {
         exposeLights(out.scene, float(*ev));
+        appliedEv = float(*ev);
     } else if (fromFiles && peak > 8.0f && std::isfinite(peak)) {
         // Tone mapped (applyTonemap ran first), colours this bright still wash out to white.
         out.notes.push_back(fmt::format(
@@ -191,6 +198,55 @@ Status applyExposure(Prepared& out, std::optional<double> ev, bool isAuto, bool 
             "--exposure auto scales them to 1x, --exposure EV by 2^EV",
             out.sceneName, peak,
             out.scene.tonemap == Tonemap::None ? "saturate" : "wash out to white"));
+    }
+    return {};
+}
+
+/// The environment of `path` lit at 2^ev: built once per (file, size, time, ev) in a process
+/// and shared (a sequence, MPI ranks' frames and Python's repeated renders reuse it).
+Result<std::shared_ptr<const Environment>> environmentOf(const std::string& path, float ev) {
+    static std::mutex mutex;
+    static std::string lastKey;
+    static std::shared_ptr<const Environment> last;
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    const auto time = std::filesystem::last_write_time(path, ec);
+    const std::string key =
+        ec ? std::string() : fmt::format("{}\n{}\n{}\n{}", path, size,
+                                         time.time_since_epoch().count(), ev);
+    {
+        std::lock_guard lock(mutex);
+        if (!key.empty() && key == lastKey) return last;
+    }
+    auto map = loadEnvironmentMap(path);
+    if (!map) return map.status();
+    auto env = std::make_shared<const Environment>(buildEnvironment(*map, std::exp2(ev)));
+    std::lock_guard lock(mutex);
+    lastKey = key, last = env;
+    return std::shared_ptr<const Environment>(env);
+}
+
+/// --environment MAP (issue 39 item 2): the map lights the scene (lighting.h "Image
+/// lighting") at the exposure the lights have, in place of the constant ambient; an
+/// occlusion map darkens its light per pixel only, so vertex shading becomes pixel shading.
+Status applyEnvironment(Prepared& out, const std::string& path, float ev) {
+    if (path.empty()) return {};
+    auto env = environmentOf(path, ev);
+    if (!env) return env.status();
+    out.scene.environment = *env;
+    out.scene.ambient = glm::vec3(0.0f);
+    const bool occlusion =
+        std::any_of(out.scene.instances.begin(), out.scene.instances.end(),
+                    [](const Instance& i) { return i.material.occlusionTexture >= 0; });
+    if (occlusion && out.settings.shading == Shading::Vertex) {
+        out.settings.shading = Shading::Pixel;
+        out.notes.push_back(
+            "note: --environment with the scene's occlusion maps shades per pixel (per vertex, "
+            "the maps could not darken the environment's light)");
+    } else if (occlusion && out.settings.shading == Shading::Flat) {
+        out.notes.push_back(
+            "note: in flat shading the scene's occlusion maps do not darken the environment's "
+            "light (one colour a triangle); --shading pixel draws them");
     }
     return {};
 }
@@ -808,7 +864,9 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
             "note: --tonemap auto chose khr-neutral: the model files' own lights (physical "
             "units) light the scene; --tonemap none clamps instead");
     }
-    if (Status s = applyExposure(out, r.exposure, r.exposureAuto, !noModels); !s) return s;
+    float ev = 0.0f;
+    if (Status s = applyExposure(out, r.exposure, r.exposureAuto, !noModels, ev); !s) return s;
+    if (Status s = applyEnvironment(out, r.environment, ev); !s) return s;
 
     // The camera, near/far, convergence and spacing: the library's framing (framing.h).
     params.fovYDegrees = static_cast<float>(fov);

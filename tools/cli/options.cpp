@@ -236,6 +236,12 @@ void SceneOptions::addTo(CLI::App* app, bool withModels) {
                     "file's own lights (physical units) light the scene, else none")
         ->default_val(tonemap)
         ->type_name("none|khr-neutral|aces|auto");
+    app->add_option("--environment", environment,
+                    "Light the scene with an environment map (image lighting: diffuse and "
+                    "glossy reflections, in place of the constant ambient): Radiance .hdr, "
+                    "OpenEXR, PNG or JPEG, equirectangular (2:1) or a horizontal cube cross "
+                    "(4:3), scaled by --exposure as the lights are")
+        ->type_name("MAP");
     sizeOption = app->add_option("--size", size, "Size of one view, WxH pixels")->default_val(size);
     std::string displayHelp =
         "Render for a display (`mvr info --displays` lists them): its views, view size, view "
@@ -298,6 +304,7 @@ session::RenderRecipe SceneOptions::recipe() const {
     r.exposure = exposure;
     r.exposureAuto = exposureAuto;
     r.tonemap = tonemap;
+    r.environment = environment;
     r.billboards = billboards;
     r.billboardSize = billboardSize;
     // Without a preset the values are the ones to use; with one, those given on the command

@@ -75,6 +75,7 @@ struct SceneOptions {
     std::optional<double> exposure;           ///< --exposure EV (stops; framing.h)
     bool exposureAuto = false;                ///< --exposure auto
     std::string tonemap = "auto";             ///< --tonemap
+    std::string environment;                  ///< --environment
     bool separationAuto = false;              ///< --separation auto
     std::optional<double> depthPercent;       ///< --depth-percent P (with --separation auto)
     /// The options a preset fills in; one given on the command line (count() > 0) overrides

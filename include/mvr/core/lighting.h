@@ -70,6 +70,24 @@
 // texel the emissive, in every shading (applySurfaceMaps); the normal map bends
 // the interpolated normal per pixel (perturbedNormal, with Mesh::tangents), before lighting.
 //
+// Image lighting (issue 39 item 2, ShadingContext::environment from Scene::environment;
+// environment.h computes its parts once per map): the environment adds to D and S, after the
+// lights, in the split sum's form (environmentTerms), with n the lit normal (double-sided flip
+// and normal map applied), v the shading eye's, n·v = |n·v|, R = 2 (n·v) n − v, E =
+// diffuseLight(n), P = prefiltered(R, roughness), (A, B) = splitSum(n·v, roughness), Fd = 0.04 A
+// + B (a dielectric's Fresnel over the lobe) and o the occlusion (SurfaceMaps::occlusion, 1
+// without a map; glTF's occlusion acts on this indirect light):
+//   metallic-roughness  D += o ((1 − m)(1 − Fd) E + m A P),  S += o P ((1 − m) Fd + m B)
+//                       (the glTF sample viewer's mix(diffuse, specular, Fd) for the dielectric
+//                       and P (base A + B) for the metal, mixed by metallic m, affine in base);
+//   Blinn-Phong         D += o E,  S += o · specular · Fd · P with roughness
+//                       roughnessOfShininess(shininess);
+//   flat                D += E(face normal) (no specular, no occlusion: the map is per pixel
+//                       and flat's D per triangle); unlit: nothing.
+// Vertex shading evaluates it per vertex like the rest (once for all views). The constant
+// ambient stays as it is; the session sets it to 0 under --environment (the map is the
+// ambient light).
+//
 // Tone mapping (issue 39 item 2; ShadingContext::tonemap, from Scene::tonemap): finishColor() is
 // the last step of every lit colour, where the clamp to [0, 1] was: Khronos PBR Neutral or ACES
 // (Narkowicz's fit), then the clamp; Tonemap::None is the clamp alone (the same bits as before).
@@ -91,6 +109,7 @@
 
 #include <glm/glm.hpp>
 
+#include "mvr/core/environment.h"
 #include "mvr/core/scene.h"
 
 namespace mvr {
@@ -113,6 +132,7 @@ struct ShadingContext {
     glm::vec3 centerEye{0.0f};           ///< world-space eye used for the specular view vector
     const ShadowSet* shadows = nullptr;  ///< issue 15: shadow maps, or none (every light lit)
     Tonemap tonemap = Tonemap::None;     ///< Scene::tonemap (finishColor)
+    const Environment* environment = nullptr;  ///< Scene::environment (image lighting), or none
 };
 
 /// Khronos PBR Neutral (the KhronosGroup/ToneMapping specification's reference function):
@@ -292,6 +312,30 @@ inline float metallicRoughnessSpecular(float alpha, float nh, float nl, float nv
     return a2 / ((d * d) * (gl * gv));  // (1 / (gl gv)) · (α² / (π d²)) · π
 }
 
+/// Image lighting's D and S (see the header) at unit lit normal `n` and unit `v` (toward the
+/// shading eye): `metal` and `rough` a metallic-roughness material's (its maps applied; ignored
+/// for Blinn-Phong, which reflects with roughnessOfShininess), `occlusion` the occlusion map's.
+inline LightTerms environmentTerms(const Environment& env, const Material& m, glm::vec3 n,
+                                   glm::vec3 v, float metal, float rough, float occlusion) {
+    const float ndotv = glm::dot(n, v);
+    const glm::vec3 r = n * (2.0f * ndotv) - v;
+    const bool blinnPhong = m.model != MaterialModel::MetallicRoughness;
+    const float roughness = blinnPhong ? roughnessOfShininess(m.shininess) : rough;
+    const glm::vec3 e = diffuseLight(env, n);
+    const glm::vec3 p = prefiltered(env, r, roughness);
+    const glm::vec2 ab = splitSum(std::abs(ndotv), roughness);
+    const float fd = 0.04f * ab.x + ab.y;
+    LightTerms t;
+    if (blinnPhong) {
+        t.diffuse = e * occlusion;
+        t.specular = p * (occlusion * m.specular * fd);
+    } else {
+        t.diffuse = ((1.0f - metal) * (1.0f - fd) * e + (metal * ab.x) * p) * occlusion;
+        t.specular = p * (occlusion * ((1.0f - metal) * fd + metal * ab.y));
+    }
+    return t;
+}
+
 /// The D / S terms of a MaterialModel::MetallicRoughness surface (see the header): D multiplies
 /// the base colour (albedo × texel × vertex colour), S is added; S includes the emissive.
 /// `normal` need not be unit. `shadow`: per-light factors (issue 15), null = lit. `maps`: the
@@ -325,6 +369,12 @@ inline LightTerms metallicRoughnessTerms(const ShadingContext& ctx, const Materi
             t.specular += (spec * ((1.0f - metal) * f + metal * w)) * lc;
         }
     }
+    if (ctx.environment) {
+        const LightTerms e = environmentTerms(*ctx.environment, m, n, v, metal, rough,
+                                              maps ? maps->occlusion : 1.0f);
+        t.diffuse += e.diffuse;
+        t.specular += e.specular;
+    }
     t.specular += m.emissive;
     return t;
 }
@@ -357,6 +407,7 @@ inline glm::vec3 shadeFlat(const ShadingContext& ctx, const Material& m, glm::ve
                  sf;
         }
     }
+    if (ctx.environment) c += diffuseLight(*ctx.environment, faceNormal) * m.albedo;
     return finishColor(ctx, c + flatSpecular(m));
 }
 /// Flat with directional lights only (the position is not needed).
@@ -396,6 +447,10 @@ inline glm::vec3 shadeBlinnPhong(const ShadingContext& ctx, const Material& m, g
             }
         }
     }
+    if (ctx.environment) {
+        const LightTerms e = environmentTerms(*ctx.environment, m, n, v, 0.0f, 0.0f, 1.0f);
+        c += m.albedo * e.diffuse + e.specular;
+    }
     return finishColor(ctx, c);
 }
 
@@ -412,6 +467,7 @@ inline LightTerms flatTerms(const ShadingContext& ctx, const Material& m, glm::v
         t.diffuse += (std::max(glm::dot(faceNormal, s.toLight), 0.0f) * (l.color * s.attenuation)) *
                      shadowFactor(ctx, l, shadow);
     }
+    if (ctx.environment) t.diffuse += diffuseLight(*ctx.environment, faceNormal);
     t.specular = flatSpecular(m);
     return t;
 }
@@ -419,7 +475,8 @@ inline LightTerms flatTerms(const ShadingContext& ctx, const Material& m, glm::v
 /// Blinn-Phong's terms: D = ambient + Σ att · max(n·l, 0) · lightColor, S = Σ att · specular ·
 /// max(n·h, 0)^shininess · lightColor (where n·l > 0). `normal` need not be unit. `shadow`:
 /// per-light factors (issue 15) multiplying each light's D and S terms, null = lit. `maps`: a
-/// metallic-roughness material's texel factors (metallicRoughnessTerms), ignored otherwise.
+/// metallic-roughness material's texel factors (metallicRoughnessTerms), and the occlusion of
+/// the environment's light (environmentTerms); null = none.
 inline LightTerms blinnPhongTerms(const ShadingContext& ctx, const Material& m, glm::vec3 normal,
                                   glm::vec3 worldPos, const float* shadow = nullptr,
                                   const SurfaceMaps* maps = nullptr) {
@@ -441,6 +498,12 @@ inline LightTerms blinnPhongTerms(const ShadingContext& ctx, const Material& m, 
             t.diffuse += nl * lc;
             t.specular += spec * lc;
         }
+    }
+    if (ctx.environment) {
+        const LightTerms e = environmentTerms(*ctx.environment, m, n, v, 0.0f, 0.0f,
+                                              maps ? maps->occlusion : 1.0f);
+        t.diffuse += e.diffuse;
+        t.specular += e.specular;
     }
     return t;
 }

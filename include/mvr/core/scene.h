@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +19,8 @@
 #include "mvr/core/mesh.h"
 
 namespace mvr {
+
+struct Environment;  // environment.h
 
 enum class TextureFilter { Nearest, Linear };
 enum class TextureWrap { Repeat, ClampToEdge, MirroredRepeat };
@@ -189,6 +192,8 @@ struct Scene {
     std::optional<SceneViewpoint> viewpoint;  ///< absent: framing fits the bounds (framing.h)
     std::vector<Texture> textures;            ///< Material's texture slots index these
     std::optional<SceneCamera> camera;        ///< from the file, if it has one
+    /// Image lighting (issue 39 item 2, `--environment MAP`; environment.h, lighting.h), or none.
+    std::shared_ptr<const Environment> environment;
 
     std::size_t triangleCount() const;  ///< over all instances
     Bounds bounds() const;              ///< world-space bounds of all instances

@@ -55,6 +55,15 @@ struct Sky {
 /// loadSky() (a sky from "gradient" or a PNG / JPEG file) is in mvr/core/scene_io.h (library
 /// mvr::scene_io): it decodes through mvr's PNG and JPEG readers, as textures do.
 
+/// Where a direction (any length > 0) meets a CubeCross map: the face's column and row in the
+/// cross (face side units) and the point on the face, u right and v down, in [−1, 1]. Shared
+/// by the sky and the environment maps (mvr::io's loadEnvironmentMap).
+struct CubeCrossPoint {
+    int col = 1, row = 1;
+    float u = 0.0f, v = 0.0f;
+};
+CubeCrossPoint cubeCrossPoint(glm::vec3 dir);
+
 /// The sky's color (linear [0, 1]) in world direction `dir` (any length > 0).
 glm::vec3 skyColor(const Sky& sky, glm::vec3 dir);
 

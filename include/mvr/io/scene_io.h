@@ -56,6 +56,7 @@
 #include <vector>
 
 #include "mvr/core/animation.h"
+#include "mvr/core/environment.h"
 #include "mvr/core/scene.h"
 #include "mvr/core/stereo_surfaces.h"
 #include "mvr/core/status.h"
@@ -91,6 +92,18 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info =
 /// CubeCross. Errors: Input naming the file ("--sky 'F': file not found …", "not a PNG or
 /// JPEG image", the decoder's reason), Usage for another aspect ratio.
 Result<Sky> loadSky(const std::string& spec);
+
+/// An environment map for image lighting (issue 39 item 2, `--environment MAP`;
+/// mvr/core/environment.h): a Radiance RGBE (.hdr: FORMAT=32-bit_rle_rgbe, rows top down,
+/// flat or run-length scanlines; decoded by mvr, see radiance.cpp), an OpenEXR (R, G, B or Y,
+/// half or float, through OpenEXR) or a PNG / JPEG (sRGB decoded to linear) file, told apart
+/// by their bytes, not their names: equirectangular (2:1) as it is, or a horizontal cube cross
+/// (4:3, the sky's layout) resampled to a 4s × 2s equirectangular map. Negative texels read 0.
+/// At most 512 MiB and 8192 × 4096 texels. Errors: Input naming the file ("--environment 'F':
+/// file not found", "not a Radiance (.hdr), OpenEXR, PNG or JPEG image", "scanline 7 of 64: the
+/// file ends early", "texel (3, 5) is not finite", the decoder's reason), Usage for another
+/// aspect ratio.
+Result<RadianceMap> loadEnvironmentMap(const std::string& path);
 
 /// A model's placement in the scene: translation, uniform scale and rotation about +Y.
 /// FILE@X,Y,Z[,SCALE[,YAW]] is bounded: |X|, |Y|, |Z| <= kMaxPlacementOffset, SCALE in

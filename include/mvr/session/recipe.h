@@ -150,6 +150,9 @@ struct RenderRecipe {
     /// none | khr-neutral | aces | auto (khr-neutral when the models' own lights light the
     /// scene: KHR_lights_punctual is in physical units; else none). Scene::tonemap.
     std::string tonemap = "auto";
+    /// An environment map lighting the scene (issue 39 item 2; loadEnvironmentMap: .hdr, .exr,
+    /// PNG or JPEG, equirectangular or cube cross); empty: none.
+    std::string environment;
     int billboards = 0;           ///< camera-facing quads scattered through the bounds
     double billboardSize = 0.0;   ///< 0: 3 % of the scene's radius
 
