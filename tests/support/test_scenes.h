@@ -17,6 +17,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include "mvr/core/environment.h"
 #include "mvr/core/image.h"
 #include "mvr/core/mesh.h"
 #include "mvr/core/render.h"
@@ -179,6 +180,38 @@ inline Scene withSurfaceMaps(Scene s) {
 }
 inline const Scene& mappedScene() {
     static const Scene s = withSurfaceMaps(withMetallicRoughness(makeTexturedScene()));
+    return s;
+}
+
+/// A synthetic environment map for image lighting (issue 39 item 2; environment.h), 128 × 64:
+/// a blue sky brightening to the horizon, a warm ground, and a small bright sun up to the
+/// right of the default view, so diffuse, glossy and mirror reflections all show structure.
+inline RadianceMap testRadianceMap() {
+    RadianceMap m;
+    m.width = 128, m.height = 64, m.name = "test sky";
+    m.texels.resize(std::size_t(m.width * m.height));
+    const glm::vec3 sun = glm::normalize(glm::vec3(0.5f, 0.7f, 0.4f));
+    for (int j = 0; j < m.height; ++j) {
+        for (int i = 0; i < m.width; ++i) {
+            const glm::vec3 d = equirectDirection((float(i) + 0.5f) / float(m.width),
+                                                  (float(j) + 0.5f) / float(m.height));
+            glm::vec3 c = d.y > 0.0f ? glm::mix(glm::vec3(0.9f, 0.95f, 1.0f),
+                                                glm::vec3(0.25f, 0.45f, 0.9f), d.y)
+                                     : glm::vec3(0.45f, 0.3f, 0.2f) * (1.0f + 0.3f * d.x);
+            if (glm::dot(d, sun) > 0.985f) c = glm::vec3(12.0f, 11.0f, 9.0f);
+            m.texels[std::size_t(j * m.width + i)] = c;
+        }
+    }
+    return m;
+}
+inline std::shared_ptr<const Environment> testEnvironment() {
+    static const auto env = std::make_shared<const Environment>(buildEnvironment(testRadianceMap()));
+    return env;
+}
+/// `s` lit by testEnvironment() in place of its ambient (as `--environment` does).
+inline Scene withEnvironment(Scene s) {
+    s.environment = testEnvironment();
+    s.ambient = glm::vec3(0.0f);
     return s;
 }
 
