@@ -34,6 +34,7 @@
 #include "radiance.h"
 #include "model_guard.h"
 #include "mvr/core/input_file.h"
+#include "mvr/core/lighting.h"
 #include "mvr/core/stereo_surfaces.h"
 #include "mvr/core/texture_sampling.h"
 #include "mvr/io/jpeg.h"
@@ -1083,7 +1084,7 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
 
 // ---- sky maps (--sky FILE) ----------------------------------------------------------------------
 
-Result<Sky> loadSky(const std::string& spec) {
+Result<Sky> loadSky(const std::string& spec, float hdrScale, Tonemap tonemap) {
     Sky sky;
     if (spec == "gradient") return sky;
     // mvr's PNG and JPEG decoders, not stb_image: stb_image 2.27 (Debian 12) writes past a
@@ -1092,13 +1093,29 @@ Result<Sky> loadSky(const std::string& spec) {
     const std::string what = fmt::format("--sky '{}'", spec);
     std::error_code ec;
     if (!std::filesystem::exists(spec, ec))
-        return inputError(fmt::format("{}: file not found (a PNG/JPEG map, or 'gradient')", what));
+        return inputError(fmt::format(
+            "{}: file not found (a PNG, JPEG, .hdr or .exr map, 'gradient' or 'environment')",
+            what));
     if (Status s = checkRegularFile(spec, what); !s) return s;  // no FIFO, device, directory
-    std::uint8_t head[8] = {};
+    std::uint8_t head[16] = {};
     std::ifstream(spec, std::ios::binary).read(reinterpret_cast<char*>(head), sizeof head);
     static const std::uint8_t kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    if (detail::isRadianceBytes(head) || detail::isExrBytes(head)) {
+        auto map = loadEnvironmentMap(spec, "--sky");
+        if (!map) return map.status();
+        sky.kind = Sky::Kind::Equirect;
+        sky.image = Image(map->width, map->height, Rgba8{0, 0, 0, 255});
+        ShadingContext shown;
+        shown.tonemap = tonemap;
+        for (std::size_t k = 0; k < map->texels.size(); ++k) {
+            const glm::vec3 c = finishColor(shown, map->texels[k] * hdrScale);
+            std::uint8_t* p = sky.image.rgba.data() + 4 * k;
+            p[0] = quantizeUnorm8(c.x), p[1] = quantizeUnorm8(c.y), p[2] = quantizeUnorm8(c.z);
+        }
+        return sky;
+    }
     if (!std::equal(head, head + 8, kPng) && !isJpegBytes(head))
-        return inputError(fmt::format("{}: not a PNG or JPEG image", what));
+        return inputError(fmt::format("{}: not a PNG, JPEG, Radiance or OpenEXR image", what));
     auto image = readImageFile(spec, what);
     if (!image) return image.status();
     const int w = image->width, h = image->height;
@@ -1117,8 +1134,8 @@ Result<Sky> loadSky(const std::string& spec) {
 }
 
 
-Result<RadianceMap> loadEnvironmentMap(const std::string& path) {
-    const std::string what = fmt::format("--environment '{}'", path);
+Result<RadianceMap> loadEnvironmentMap(const std::string& path, const std::string& option) {
+    const std::string what = fmt::format("{} '{}'", option, path);
     if (Status s = checkRegularFile(path, what); !s) return s;  // no FIFO, device, directory
     std::error_code ec;
     const std::uintmax_t size = std::filesystem::file_size(path, ec);

@@ -67,7 +67,7 @@ Status resolveAngularAA(const RenderRecipe& r, Prepared& p) {
 }
 
 Result<StereoSurfaces> buildSurfaces(const RenderRecipe& recipe, const Prepared& prepared) {
-    auto s = buildSurfaces(recipe);
+    auto s = buildSurfaces(recipe, prepared.exposureScale, prepared.scene.tonemap);
     if (!s) return s;
     s->angularAA = prepared.angularAA;
     s->angularAAOptional = recipe.surfaces.angularAA == "auto";

@@ -332,10 +332,11 @@ bool writeTextFile(const std::string& path, const std::string& text) {
     return std::fclose(f) == 0 && ok;
 }
 
-Result<StereoSurfaces> buildSurfaces(const SurfaceRecipe& recipe) {
+Result<StereoSurfaces> buildSurfaces(const SurfaceRecipe& recipe, float hdrScale,
+                                     Tonemap tonemap) {
     StereoSurfaces s;
     if (!recipe.sky.empty()) {
-        auto loaded = loadSky(recipe.sky);
+        auto loaded = loadSky(recipe.sky, hdrScale, tonemap);
         if (!loaded) return loaded.status();
         s.sky = std::move(*loaded);
     }
@@ -363,8 +364,15 @@ bool isTransparentBackground(const std::string& background) {
     return background == "transparent";
 }
 
-Result<StereoSurfaces> buildSurfaces(const RenderRecipe& recipe) {
-    auto s = buildSurfaces(recipe.surfaces);
+Result<StereoSurfaces> buildSurfaces(const RenderRecipe& recipe, float hdrScale,
+                                     Tonemap tonemap) {
+    SurfaceRecipe surfaces = recipe.surfaces;
+    if (surfaces.sky == "environment") {  // the map that lights the scene
+        if (recipe.environment.empty())
+            return usageError("--sky environment needs --environment MAP (the map to show)");
+        surfaces.sky = recipe.environment;
+    }
+    auto s = buildSurfaces(surfaces, hdrScale, tonemap);
     if (!s || !isTransparentBackground(recipe.background)) return s;
     const SurfaceRecipe& r = recipe.surfaces;
     for (const auto& [given, name] :

@@ -866,6 +866,7 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     }
     float ev = 0.0f;
     if (Status s = applyExposure(out, r.exposure, r.exposureAuto, !noModels, ev); !s) return s;
+    out.exposureScale = std::exp2(ev);
     if (Status s = applyEnvironment(out, r.environment, ev); !s) return s;
 
     // The camera, near/far, convergence and spacing: the library's framing (framing.h).

@@ -416,8 +416,10 @@ TEST_F(Cli, EveryRefusalNamesItsCulprit) {
         {"--shadow-map-size 8", 1, "--shadow-map-size 8 is out of range (expected 16..8192)"},
         {"--shadow-map-size abc", 1, "--shadow-map-size = abc"},
         {"--sky nosuch.png", 2,
-         "--sky 'nosuch.png': file not found (a PNG/JPEG map, or 'gradient')"},
-        {"--sky '" + textSky + "'", 2, "--sky '" + textSky + "': not a PNG or JPEG image"},
+         "--sky 'nosuch.png': file not found (a PNG, JPEG, .hdr or .exr map, 'gradient' or "
+         "'environment')"},
+        {"--sky '" + textSky + "'", 2,
+         "--sky '" + textSky + "': not a PNG, JPEG, Radiance or OpenEXR image"},
         {"--sky '" + mDir.string() + "'", 2, "--sky '" + mDir.string() + "': not a regular file"},
         {"--sky '" + oddSky + "'", 1,
          "--sky '" + oddSky + "': 6x5 is neither an equirectangular map"},
@@ -993,6 +995,65 @@ TEST_F(Cli, TextureMapsAreDrawnPerPixelAndTheirFaultsSaid) {
     EXPECT_EQ(p.err.find("shade per pixel"), std::string::npos) << p.err;
     expectError(fmt::format("render {} --strict -o s", file.string()), 2,
                 "material 'Lost': texture 'gone.png': file not found");
+}
+
+/// A Radiance RGBE file of w × h flat texels of one value per half: `top` above the horizon
+/// row, `bottom` below (values with an exact RGBE form: a power of two times k / 256).
+void writeRadianceHalves(const std::filesystem::path& path, int w, int h, glm::vec3 top,
+                         glm::vec3 bottom) {
+    std::ofstream out(path, std::ios::binary);
+    out << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y " << h << " +X " << w << "\n";
+    for (int y = 0; y < h; ++y) {
+        const glm::vec3 c = y < h / 2 ? top : bottom;
+        const float v = std::max({c.x, c.y, c.z});
+        int e = 0;
+        const float m = std::frexp(v, &e) * 256.0f / v;
+        for (int x = 0; x < w; ++x) {
+            out << char(std::uint8_t(c.x * m)) << char(std::uint8_t(c.y * m))
+                << char(std::uint8_t(c.z * m)) << char(std::uint8_t(e + 128));
+        }
+    }
+}
+
+TEST_F(Cli, AnEnvironmentMapLightsTheSceneAndTheSkyShowsIt) {
+    writeRadianceHalves(mDir / "sky.hdr", 64, 32, {0.5f, 0.5f, 0.5f}, {0.25f, 0.125f, 0.0625f});
+    const CliRun lit =
+        run("render --environment sky.hdr --sky environment --views 2 --size 64x48 -o e");
+    ASSERT_EQ(lit.exitCode, 0) << lit.err;
+    const CliRun plain = run("render --views 2 --size 64x48 -o n");
+    ASSERT_EQ(plain.exitCode, 0) << plain.err;
+    auto e = readPng(mDir / "e/view-0.png"), n = readPng(mDir / "n/view-0.png");
+    ASSERT_TRUE(e && n);
+    EXPECT_NE(e->rgba, n->rgba);
+    // The sky is the map: the top corner looks up into the upper half, radiance 0.5 shown as
+    // 0.5 · 255 → 128; --exposure 1 doubles it to full.
+    EXPECT_EQ(e->at(0, 0).r, 128);
+    EXPECT_EQ(e->at(0, 0).b, 128);
+    ASSERT_EQ(run("render --environment sky.hdr --sky environment --exposure 1 --views 2 --size "
+                  "64x48 -o x")
+                  .exitCode,
+              0);
+    auto x = readPng(mDir / "x/view-0.png");
+    ASSERT_TRUE(x);
+    EXPECT_EQ(x->at(0, 0).r, 255);
+    // The faults: one line naming the option and the file.
+    expectError("render --sky environment", 1,
+                "--sky environment needs --environment MAP (the map to show)");
+    expectError("render --environment nosuch.hdr", 2,
+                "--environment 'nosuch.hdr': file not found");
+    writeRadianceHalves(mDir / "wide.hdr", 48, 16, glm::vec3(1.0f), glm::vec3(1.0f));
+    expectError("render --environment wide.hdr", 1,
+                "--environment 'wide.hdr': 48x16 is neither an equirectangular map");
+    // Occlusion maps in flat shading cannot darken the map's light: said.
+    const auto file = test::writeMapsGltf(mDir);
+    const CliRun flat = run(fmt::format(
+        "render {} --environment sky.hdr --shading flat --views 2 --size 64x48 -o f",
+        file.string()));
+    ASSERT_EQ(flat.exitCode, 0) << flat.err;
+    EXPECT_NE(flat.err.find("note: in flat shading the scene's occlusion maps do not darken the "
+                            "environment's light"),
+              std::string::npos)
+        << flat.err;
 }
 
 /// A glTF of one quad (mesh 0: corners `pos`, normal +Z, in a data URI) after `head`, the JSON

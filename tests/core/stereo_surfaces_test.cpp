@@ -178,7 +178,7 @@ TEST(Sky, BadFilesAreRefusedNamingTheFile) {
     auto notImage = loadSky(text.string());
     ASSERT_FALSE(notImage);
     EXPECT_EQ(notImage.status().message(),
-              "--sky '" + text.string() + "': not a PNG or JPEG image");
+              "--sky '" + text.string() + "': not a PNG, JPEG, Radiance or OpenEXR image");
     const std::filesystem::path stbCrash = std::filesystem::path(MVR_TEST_SOURCE_ROOT) /
                                            "tests/fuzz/regressions/sky/stb-dht-counts-over-256.jpg";
     ASSERT_TRUE(std::filesystem::exists(stbCrash)) << stbCrash;

@@ -7,9 +7,11 @@ namespace mvr::cli {
 void StereoSurfaceOptions::addTo(CLI::App* app) {
     app->add_option("--sky", sky,
                     "Sky at infinity behind everything, with each view's stereo projection "
-                    "(parallax = the separation): 'gradient', or a PNG/JPEG map: equirectangular "
-                    "(2:1, centre column looks down -Z) or a horizontal cube cross (4:3: "
-                    "+Y above; -X -Z +X +Z; -Y below). Needs a depth buffer");
+                    "(parallax = the separation): 'gradient', 'environment' (the --environment "
+                    "map), or a PNG/JPEG map or an HDR one (.hdr, .exr: exposed and tone mapped "
+                    "as the scene): equirectangular (2:1, centre column looks down -Z) or a "
+                    "horizontal cube cross (4:3: +Y above; -X -Z +X +Z; -Y below). Needs a "
+                    "depth buffer");
     app->add_flag("--floating-window", floatingWindow,
                   "Black out, per view, the strip at the left/right frame edge where an object "
                   "nearer than the screen is seen by one eye only (width from the rig and the "

@@ -89,9 +89,14 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info =
 /// A sky for StereoSurfaces (stereo_surfaces.h): "gradient", or a PNG / JPEG file decoded by
 /// mvr's own readers (libpng, libjpeg; as textures are: at most 256 MiB, a header that claims
 /// more pixels than the bytes can hold refused before decoding): 2:1 → Equirect, 4:3 →
-/// CubeCross. Errors: Input naming the file ("--sky 'F': file not found …", "not a PNG or
-/// JPEG image", the decoder's reason), Usage for another aspect ratio.
-Result<Sky> loadSky(const std::string& spec);
+/// CubeCross; or a high-dynamic-range map (Radiance .hdr or OpenEXR, read as
+/// loadEnvironmentMap reads it, a cube cross made equirectangular) shown as the scene's lit
+/// colours are: its radiance × `hdrScale` (2^EV of --exposure) through `tonemap`
+/// (lighting.h finishColor), clamped and quantized — so a sky and an --environment of the same
+/// map agree. Errors: Input naming the file ("--sky 'F': file not found …", "not a PNG,
+/// JPEG, Radiance or OpenEXR image", the decoder's reason), Usage for another aspect ratio.
+Result<Sky> loadSky(const std::string& spec, float hdrScale = 1.0f,
+                    Tonemap tonemap = Tonemap::None);
 
 /// An environment map for image lighting (issue 39 item 2, `--environment MAP`;
 /// mvr/core/environment.h): a Radiance RGBE (.hdr: FORMAT=32-bit_rle_rgbe, rows top down,
@@ -103,7 +108,9 @@ Result<Sky> loadSky(const std::string& spec);
 /// file not found", "not a Radiance (.hdr), OpenEXR, PNG or JPEG image", "scanline 7 of 64: the
 /// file ends early", "texel (3, 5) is not finite", the decoder's reason), Usage for another
 /// aspect ratio.
-Result<RadianceMap> loadEnvironmentMap(const std::string& path);
+/// `option` names the file in messages ("--sky" when the sky reads it).
+Result<RadianceMap> loadEnvironmentMap(const std::string& path,
+                                       const std::string& option = "--environment");
 
 /// A model's placement in the scene: translation, uniform scale and rotation about +Y.
 /// FILE@X,Y,Z[,SCALE[,YAW]] is bounded: |X|, |Y|, |Z| <= kMaxPlacementOffset, SCALE in

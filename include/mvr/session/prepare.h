@@ -60,6 +60,8 @@ struct Prepared {
     /// One-line notes: what --convergence auto / --separation auto chose ("note: …") and
     /// warnings ("warning: …", e.g. views that see nothing of the scene).
     std::vector<std::string> notes;
+    /// 2^EV of --exposure (1 without): the lights', the environment's and an HDR sky's scale.
+    float exposureScale = 1.0f;
     /// The model file's animation (glTF's first), played by sequences (docs/animation.md);
     /// cameraNode is -1 when the file camera is not the rig's (noFileCamera, grid).
     std::optional<SceneAnimation> animation;

@@ -11,14 +11,20 @@
 
 namespace mvr::session {
 
-/// The surfaces of a recipe, parsed (the sky map loaded, the labels parsed).
-Result<StereoSurfaces> buildSurfaces(const SurfaceRecipe& recipe);
+/// The surfaces of a recipe, parsed (the sky map loaded, the labels parsed). A high-dynamic-
+/// range sky (.hdr, .exr) is shown at `hdrScale` (2^EV) through `tonemap`, as lit colours are
+/// (loadSky).
+Result<StereoSurfaces> buildSurfaces(const SurfaceRecipe& recipe, float hdrScale = 1.0f,
+                                     Tonemap tonemap = Tonemap::None);
 /// The same, with the recipe's --background transparent (refused beside the surfaces that paint
-/// the background: --sky, --letterbox, --floating-window, labels).
-Result<StereoSurfaces> buildSurfaces(const RenderRecipe& recipe);
+/// the background: --sky, --letterbox, --floating-window, labels). `--sky environment` shows the
+/// recipe's --environment map (an error without one).
+Result<StereoSurfaces> buildSurfaces(const RenderRecipe& recipe, float hdrScale = 1.0f,
+                                     Tonemap tonemap = Tonemap::None);
 /// The same, with the prepared render's angular anti-aliasing (Prepared::angularAA, applied by
 /// applySurfaces() after the sky: mvr/core/angular_aa.h). Every render of a recipe builds its
-/// surfaces this way, so that every backend's views are filtered alike.
+/// surfaces this way, so that every backend's views are filtered alike. An HDR sky is exposed
+/// and tone mapped as the prepared scene is (Prepared::exposureScale, Scene::tonemap).
 Result<StereoSurfaces> buildSurfaces(const RenderRecipe& recipe, const Prepared& prepared);
 
 /// Whether a --background value asks for a transparent background ("transparent").
