@@ -95,6 +95,80 @@ Status Renderer::prepareTextures(const Scene& scene, Frame& frame, std::uint64_t
     return Status::ok();
 }
 
+Status Renderer::prepareEnvironment(const Scene& scene) {
+    const std::shared_ptr<const Environment>& env = scene.environment;
+    if (!env) return Status::ok();
+    if (!mGpu->splitSum) {
+        // environment.h splitSum(): texture() of the table, bilinear, clamped; row 0 (t = 0) is
+        // roughness 0, column 0 (s = 0) n·v 0.
+        const auto& table = splitSumTable();
+        Texture t = createTexture(GL_TEXTURE_2D);
+        glTextureStorage2D(t.get(), 1, GL_RG32F, kBrdfSize, kBrdfSize);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+        glTextureSubImage2D(t.get(), 0, 0, 0, kBrdfSize, kBrdfSize, GL_RG, GL_FLOAT, table.data());
+        glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(t.get(), GL_TEXTURE_MAX_LEVEL, 0);
+        if (Status s = checkGlError("uploading the split sum's table"); !s) return s;
+        mGpu->splitSum = std::move(t);
+    }
+    // The same Environment object as the one uploaded (alive since, so not another one at its
+    // address) with the same coefficients: nothing to do (a render sequence's every frame).
+    if (mGpu->environment && mGpu->environmentSource.lock() == env &&
+        mGpu->environmentSh == env->sh)
+        return Status::ok();
+    constexpr int kLevels = Environment::kLevels;
+    const int w = env->levels[0].width, h = env->levels[0].height;
+    if (w <= 0 || h <= 0 || w > mCaps.maxTextureSize || h > mCaps.maxTextureSize) {
+        return unsupportedError(
+            fmt::format("gl: environment '{}' is {}x{} (GL_MAX_TEXTURE_SIZE = {})", env->name, w,
+                        h, mCaps.maxTextureSize));
+    }
+    for (int k = 0; k < kLevels; ++k) {
+        const Environment::Level& l = env->levels[std::size_t(k)];
+        // GL's mip chain: level k is max(1, size >> k), as buildEnvironment makes it.
+        if (l.width != std::max(1, w >> k) || l.height != std::max(1, h >> k) ||
+            l.texels.size() != std::size_t(l.width) * std::size_t(l.height)) {
+            return internalError(fmt::format(
+                "gl: environment '{}': level {} is {}x{} ({} texels), not a mip level of {}x{}",
+                env->name, k, l.width, l.height, l.texels.size(), w, h));
+        }
+    }
+    // environment.h prefiltered(): textureLod(map, equirectUv(R), roughness · (kLevels − 1))
+    // with LINEAR_MIPMAP_LINEAR, REPEAT in s, CLAMP_TO_EDGE in t; row 0 (t = 0) straight up.
+    Texture t = createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.get(), kLevels, GL_RGBA32F, w, h);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    for (int k = 0; k < kLevels; ++k) {
+        const Environment::Level& l = env->levels[std::size_t(k)];
+        glTextureSubImage2D(t.get(), k, 0, 0, l.width, l.height, GL_RGBA, GL_FLOAT,
+                            l.texels.data());
+    }
+    glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t.get(), GL_TEXTURE_BASE_LEVEL, 0);
+    glTextureParameteri(t.get(), GL_TEXTURE_MAX_LEVEL, kLevels - 1);
+    if (Status s = checkGlError("uploading the environment map"); !s) return s;
+    mGpu->environment = std::move(t);  // the previous one (if any) deleted: the context is current
+    mGpu->environmentSource = env;
+    mGpu->environmentSh = env->sh;
+    return Status::ok();
+}
+
+void Renderer::bindEnvironment() const {
+    // Texture parameters only: no sampler object on these units (0 unbinds any).
+    glBindSampler(kEnvironmentUnit, 0);
+    glBindSampler(kSplitSumUnit, 0);
+    glBindTextureUnit(kEnvironmentUnit, mGpu->environment.get());
+    glBindTextureUnit(kSplitSumUnit, mGpu->splitSum.get());
+}
+
 GLuint Renderer::sampler(const TextureSampler& s) {
     const int key = int(s.magFilter) | int(s.minFilter) << 1 | int(s.mipmaps) << 2 |
                     int(s.wrapS) << 3 | int(s.wrapT) << 5;

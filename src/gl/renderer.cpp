@@ -123,6 +123,7 @@ std::vector<std::string> Renderer::info() {
     for (std::string& l : mCaps.describe()) lines.push_back(std::move(l));
     mVertexColors = false;  // the limits of a scene without vertex colours
     mNormalMaps = false;    // nor normal maps
+    mEnvironment = false;   // nor an environment
     for (const GlMethod& m : glMethods()) {
         if (m.measuresExact) continue;
         if (const std::string why = m.missing ? m.missing(mCaps) : ""; !why.empty()) {
@@ -226,6 +227,9 @@ ProgramDesc Renderer::passProgram(const GlMethod& method, Shading shading, int v
     if (mVertexColors) addDefine(desc, "VERTEX_COLORS");
     // The world tangent as one more varying (4 components: viewLimit counts them).
     if (mNormalMaps && shading == Shading::Pixel) addDefine(desc, "NORMAL_MAPS");
+    // Image lighting: uniforms and textures only (the SH in the Frame block, units 8 and 9),
+    // no varying, so the view limits stay as they are.
+    if (mEnvironment) addDefine(desc, "ENVIRONMENT");
     if (perViewEye) {
         // The fragment's view from gl_Layer / gl_ViewportIndex / the MRT flag / uView, or
         // (kalaiah, multiview) a flat output of the vertex shader: no geometry shader output
@@ -247,8 +251,8 @@ int Renderer::linkedViewLimit(const GlMethod& method, Shading shading, bool shad
                               Status* why) {
     if (method.fixedViews > 0 || limit < 1) return limit;
     const std::string key =
-        fmt::format("{}/{}/{}/{}/{}", method.name, shadingName(shading), shadows, mVertexColors,
-                    mNormalMaps && shading == Shading::Pixel);
+        fmt::format("{}/{}/{}/{}/{}/{}", method.name, shadingName(shading), shadows,
+                    mVertexColors, mNormalMaps && shading == Shading::Pixel, mEnvironment);
     const auto known = mLinkedViewLimit.find(key);  // a count the driver refused above
     // The count asked first; when the driver refuses that program, the largest count it links
     // (a smaller loop emits less, so the counts that link are 1..k).
@@ -510,6 +514,10 @@ void Renderer::uploadFrameBlock(const Frame& f) {
     b.centerEye = glm::vec4(f.rig->centerEye(), 1.0f);
     b.counts = {static_cast<int>(std::min<std::size_t>(lights.size(), kMaxLights)), f.views,
                 f.settings->width, f.settings->height};
+    if (f.scene->environment) {
+        for (std::size_t k = 0; k < 9; ++k)
+            b.envSh[k] = glm::vec4(f.scene->environment->sh[k], 0.0f);
+    }
     glNamedBufferSubData(mGpu->frameUbo.get(), 0, sizeof(FrameBlock), &b);
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, mGpu->frameUbo.get());
 }
@@ -682,6 +690,7 @@ Status Renderer::renderInto(const Scene& scene, const Rig& rig, const RenderSett
     if (Status st = supports(method); !st) return st;
     const GlMethod& m = *findMethod(method);  // the one look-up of the name
     mNormalMaps = drawsNormalMaps(scene, s);  // before any view limit: the tangent's components
+    mEnvironment = scene.environment != nullptr;  // before any program is built
     if (m.measuresExact) return renderAuto(scene, rig, s, out);
     return renderOnce(scene, rig, s, m, out);
 }
@@ -711,6 +720,7 @@ Status Renderer::renderOnce(const Scene& scene, const Rig& rig, const RenderSett
     f.views = views;
     f.targetViews = perPass;
     if (Status st = prepareScene(scene, f, mLastSceneKey); !st) return st;
+    if (Status st = prepareEnvironment(scene); !st) return st;
     f.order = drawOrder(scene);
     f.flatProvoking = s.shading == Shading::Flat && method.flatProvoking;
 
@@ -838,6 +848,7 @@ Status Renderer::drawPass(Frame& f, int pass, GlFrameStats& stats) {
     mLastGeometryProgram = desc.geometry ? *prog : 0;
     glUseProgram(*prog);
     if (mShadows) setShadowUniforms(*prog);
+    if (mEnvironment) bindEnvironment();
     if (Status st = checkGlError("setting up the frame"); !st) return st;
 
     const auto tDraw = Clock::now();

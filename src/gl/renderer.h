@@ -2,6 +2,7 @@
 // targets, programs and the per-method draw paths (methods.cpp).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -17,6 +18,7 @@
 #include "egl_context.h"
 #include "gl_objects.h"
 #include "method_table.h"
+#include "mvr/core/environment.h"
 #include "mvr/core/render.h"
 #include "mvr/core/rig.h"
 #include "mvr/core/scene.h"
@@ -101,6 +103,8 @@ struct FrameBlock {
     glm::vec4 lightCone[kMaxLights];
     // Appended (--specular per-view): each view's eye, world space.
     glm::vec4 viewEye[kMaxViews];
+    // Appended (image lighting, ENVIRONMENT programs): Environment::sh, rgb (zeros: none).
+    glm::vec4 envSh[9];
 };
 // std140: mat4 arrays have a 64-byte stride, vec4 / ivec4 arrays and members 16 bytes, no padding.
 static_assert(std::extent_v<decltype(FrameBlock::clipFromWorld)> == kMaxViews);
@@ -117,7 +121,15 @@ static_assert(offsetof(FrameBlock, counts) == 80 * kMaxViews + 32 * kMaxLights +
 static_assert(offsetof(FrameBlock, viewEye) == 80 * kMaxViews + 64 * kMaxLights + 48);
 static_assert(sizeof(FrameBlock) <= 16384);  // GL's smallest GL_MAX_UNIFORM_BLOCK_SIZE
 static_assert(offsetof(FrameBlock, lightPos) == 80 * kMaxViews + 32 * kMaxLights + 48);
-static_assert(sizeof(FrameBlock) == 96 * kMaxViews + 64 * kMaxLights + 48);
+static_assert(offsetof(FrameBlock, envSh) == 96 * kMaxViews + 64 * kMaxLights + 48);
+static_assert(sizeof(FrameBlock) == 96 * kMaxViews + 64 * kMaxLights + 48 + 9 * 16);
+
+/// Image lighting's texture units (shaders.cpp ENVIRONMENT): the prefiltered levels (one
+/// RGBA32F texture, mip levels 0..Environment::kLevels − 1) and the split sum's table (RG32F).
+/// Units 0–1 are the methods' and read-back's, 2 and 4–7 the material's slots, 3 the shadow
+/// maps.
+inline constexpr GLuint kEnvironmentUnit = 8;
+inline constexpr GLuint kSplitSumUnit = 9;
 
 /// One scene texture on the GPU (GL_SRGB8_ALPHA8, or GL_RGBA8 for a linear one, with its full
 /// mip chain), keyed by a hash of its pixels and whether it is linear, so a scene rendered
@@ -207,6 +219,14 @@ struct GpuObjects {
     MrtTarget mrt;
     TiledTarget tiled;
     Texture shadowMaps;
+    /// Image lighting (Scene::environment): the prefiltered levels of `environmentSource`,
+    /// uploaded once per Environment object (re-uploaded when the scene holds another one, or
+    /// the same address rebuilt: the weak pointer expired, or other SH coefficients), and the
+    /// split sum's table, uploaded once.
+    Texture environment;
+    std::weak_ptr<const Environment> environmentSource;
+    std::array<glm::vec3, 9> environmentSh{};
+    Texture splitSum;
     Program depthRangeProgram;  ///< readback.cpp: the views' depth ranges (built on first use)
     Buffer depthRanges;         ///< 2 uints a view: the nearest and farthest depth's bits
 };
@@ -269,6 +289,11 @@ private:
                       RenderOutput& out);
 
     Status prepareScene(const Scene& scene, Frame& frame, std::uint64_t& sceneKey);
+    /// Image lighting: scene.environment's textures on the GPU (once per Environment, the split
+    /// sum's table once per renderer); nothing without one.
+    Status prepareEnvironment(const Scene& scene);
+    /// Binds them on kEnvironmentUnit / kSplitSumUnit (a pass of an ENVIRONMENT program).
+    void bindEnvironment() const;
     /// Uploads the scene's textures not on the GPU yet (materials.cpp); frame.textures.
     Status prepareTextures(const Scene& scene, Frame& frame, std::uint64_t& sceneKey);
     void uploadFrameBlock(const Frame& frame);
@@ -374,6 +399,11 @@ private:
     bool mNormalMaps = false;
     /// Whether `scene` drawn with `s` is such a frame.
     static bool drawsNormalMaps(const Scene& scene, const RenderSettings& s);
+    /// The frame being drawn has an environment (Scene::environment): its programs are built
+    /// with ENVIRONMENT (shaders.cpp: the SH in the Frame block, the prefiltered map and the
+    /// split sum's table on units 8 and 9); no varying is added, so the view limits are those
+    /// of a frame without. Other frames' programs are unchanged.
+    bool mEnvironment = false;
     std::vector<Light> mShadowLights;
     void setShadowUniforms(GLuint program) const;
 };

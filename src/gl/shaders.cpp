@@ -24,6 +24,7 @@ layout(std140, binding = 0) uniform Frame {
     vec4 uLightPos[MAX_LIGHTS];  // xyz: position (point / spot), w: 0 directional, 1 point, 2 spot
     vec4 uLightCone[MAX_LIGHTS]; // x: range (0 = infinite), y: cos inner, z: cos outer
     vec4 uViewEye[MAX_VIEWS];    // each view's eye, world space (--specular per-view)
+    vec4 uEnvSh[9];              // ENVIRONMENT: Environment::sh (rgb), environment.h's order
 };
 layout(location = 0) uniform int uView;
 layout(location = 1) uniform mat4 uWorldFromModel;
@@ -163,6 +164,71 @@ vec3 finishColor(vec3 c) {
 // lighting.h flatSpecular(): flat's S, a metallic-roughness material's emissive.
 vec3 flatSpecular() { return uMatFlags.w == 1 ? uEmissive : vec3(0.0); }
 
+#ifdef ENVIRONMENT
+// Image lighting (issue 39 item 2; environment.h, lighting.h environmentTerms): the map's
+// irradiance as 9 SH coefficients (uEnvSh, the Frame block), its GGX-prefiltered levels as the
+// mip levels 0..5 of one RGBA32F texture (LINEAR_MIPMAP_LINEAR, REPEAT in s, CLAMP_TO_EDGE in
+// t) and the split sum's (A, B) table (32x32 RG32F, LINEAR, CLAMP_TO_EDGE; s = n·v, t =
+// roughness). Units 8 and 9 (renderer.h kEnvironmentUnit, kSplitSumUnit).
+layout(binding = 8) uniform sampler2D uEnvironmentMap;
+layout(binding = 9) uniform sampler2D uSplitSumTable;
+
+// environment.h equirectUv()
+vec2 equirectUv(vec3 d) {
+    float lon = atan(d.x, -d.z);
+    float lat = asin(clamp(d.y, -1.0, 1.0));
+    return vec2(0.5 + lon * (0.5 / 3.14159265358979), 0.5 - lat * (1.0 / 3.14159265358979));
+}
+
+// environment.h diffuseLight()
+vec3 diffuseLight(vec3 n) {
+    vec3 e = uEnvSh[0].rgb * 0.282095;
+    e += (uEnvSh[1].rgb * n.y + uEnvSh[2].rgb * n.z + uEnvSh[3].rgb * n.x) * 0.488603;
+    e += (uEnvSh[4].rgb * (n.x * n.y) + uEnvSh[5].rgb * (n.y * n.z) +
+          uEnvSh[7].rgb * (n.x * n.z)) * 1.092548;
+    e += uEnvSh[6].rgb * (0.315392 * (3.0 * n.z * n.z - 1.0));
+    e += uEnvSh[8].rgb * (0.546274 * (n.x * n.x - n.y * n.y));
+    return max(e, vec3(0.0));
+}
+
+// environment.h prefiltered(): level roughness · (kLevels − 1), trilinear (explicit level: no
+// derivatives, so it is the same in every stage and control flow).
+vec3 prefiltered(vec3 r, float roughness) {
+    return textureLod(uEnvironmentMap, equirectUv(r), clamp(roughness, 0.0, 1.0) * 5.0).rgb;
+}
+
+// environment.h splitSum() (the table has one level: textureLod 0 is texture()'s value)
+vec2 splitSum(float nv, float roughness) {
+    return textureLod(uSplitSumTable, vec2(clamp(nv, 0.0, 1.0), clamp(roughness, 0.0, 1.0)),
+                      0.0).rg;
+}
+
+// environment.h roughnessOfShininess()
+float roughnessOfShininess(float s) { return sqrt(sqrt(2.0 / (max(s, 0.0) + 2.0))); }
+
+// lighting.h environmentTerms(): the environment's D and S at unit lit normal n and unit v
+// (toward the shading eye); metal, rough: a metallic-roughness material's (maps applied),
+// occlusion: the occlusion map's.
+void environmentTerms(vec3 n, vec3 v, float metal, float rough, float occlusion,
+                      out vec3 diffuse, out vec3 specular) {
+    float ndotv = dot(n, v);
+    vec3 r = n * (2.0 * ndotv) - v;
+    bool blinnPhong = uMatFlags.w != 1;
+    float roughness = blinnPhong ? roughnessOfShininess(uShininess) : rough;
+    vec3 e = diffuseLight(n);
+    vec3 p = prefiltered(r, roughness);
+    vec2 ab = splitSum(abs(ndotv), roughness);
+    float fd = 0.04 * ab.x + ab.y;
+    if (blinnPhong) {
+        diffuse = e * occlusion;
+        specular = p * (occlusion * uMaterial.w * fd);
+    } else {
+        diffuse = ((1.0 - metal) * (1.0 - fd) * e + (metal * ab.x) * p) * occlusion;
+        specular = p * (occlusion * ((1.0 - metal) * fd + metal * ab.y));
+    }
+}
+#endif
+
 // lighting.h shadeFlat() (p: the triangle's centroid, for point / spot lights)
 // Shadows (issue 15): each light's term × shadowFactor at p, with the unflipped normal (as the
 // soft backend's shadowFactors).
@@ -177,6 +243,9 @@ vec3 shadeFlat(vec3 faceNormal, vec3 p) {
         vec3 lc = lightAt(i, p, l);
         c += (max(dot(faceNormal, l), 0.0) * albedo * lc) * shadowFactor(i, p, n0);
     }
+#ifdef ENVIRONMENT
+    c += diffuseLight(faceNormal) * albedo;
+#endif
     return finishColor(c + flatSpecular());
 }
 
@@ -184,9 +253,10 @@ vec3 shadeFlat(vec3 faceNormal, vec3 p) {
 // (added, with the emissive), π folded in as mvr's light convention. metalRough: the material's
 // metallic, roughness (uMetalRough, or mappedMaterial's: × the metallic-roughness texel).
 // shadowNormal: the normal the shadows are looked up with, the surface's own (`normal` but
-// where a normal map bent it: pipeline.h's texturedFragment).
+// where a normal map bent it: pipeline.h's texturedFragment). occlusion: the occlusion map's,
+// for the environment's light (ENVIRONMENT; 1 without a map, and per vertex).
 void metallicRoughnessTerms(vec2 metalRough, vec3 normal, vec3 shadowNormal, vec3 worldPos,
-                            out vec3 diffuse, out vec3 specular) {
+                            float occlusion, out vec3 diffuse, out vec3 specular) {
     vec3 n = normalize(facingNormal(normal, worldPos));
     vec3 v = normalize(SHADING_EYE - worldPos);
     float metal = clamp(metalRough.x, 0.0, 1.0);
@@ -216,6 +286,14 @@ void metallicRoughnessTerms(vec2 metalRough, vec3 normal, vec3 shadowNormal, vec
             specular += (spec * ((1.0 - metal) * f + metal * w)) * lc;
         }
     }
+#ifdef ENVIRONMENT
+    {
+        vec3 ed, es;
+        environmentTerms(n, v, metal, rough, occlusion, ed, es);
+        diffuse += ed;
+        specular += es;
+    }
+#endif
     specular += uEmissive;
 }
 
@@ -223,7 +301,7 @@ void metallicRoughnessTerms(vec2 metalRough, vec3 normal, vec3 shadowNormal, vec
 vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
     if (uMatFlags.w == 1) {
         vec3 d, sp;
-        metallicRoughnessTerms(uMetalRough, normal, normal, worldPos, d, sp);
+        metallicRoughnessTerms(uMetalRough, normal, normal, worldPos, 1.0, d, sp);
         return finishColor(uMaterial.rgb * d + sp);
     }
     if (uMatFlags.w == 2) return finishColor(uMaterial.rgb);
@@ -241,6 +319,13 @@ vec3 shadeBlinnPhong(vec3 normal, vec3 worldPos) {
             c += ((nl * albedo + vec3(spec)) * lc) * shadowFactor(i, worldPos, normal);
         }
     }
+#ifdef ENVIRONMENT
+    {
+        vec3 ed, es;
+        environmentTerms(n, v, 0.0, 0.0, 1.0, ed, es);
+        c += albedo * ed + es;
+    }
+#endif
     return finishColor(c);
 }
 
@@ -258,14 +343,18 @@ vec3 flatDiffuse(vec3 faceNormal, vec3 p) {
         vec3 lc = lightAt(i, p, l);
         d += (max(dot(faceNormal, l), 0.0) * lc) * shadowFactor(i, p, n0);
     }
+#ifdef ENVIRONMENT
+    d += diffuseLight(faceNormal);
+#endif
     return d;
 }
 
-// lighting.h blinnPhongTerms() (metalRough, shadowNormal: metallicRoughnessTerms')
+// lighting.h blinnPhongTerms() (metalRough, shadowNormal, occlusion: metallicRoughnessTerms')
 void blinnPhongTerms(vec2 metalRough, vec3 normal, vec3 shadowNormal, vec3 worldPos,
-                     out vec3 diffuse, out vec3 specular) {
+                     float occlusion, out vec3 diffuse, out vec3 specular) {
     if (uMatFlags.w == 1) {
-        metallicRoughnessTerms(metalRough, normal, shadowNormal, worldPos, diffuse, specular);
+        metallicRoughnessTerms(metalRough, normal, shadowNormal, worldPos, occlusion, diffuse,
+                               specular);
         return;
     }
     if (uMatFlags.w == 2) {
@@ -289,6 +378,14 @@ void blinnPhongTerms(vec2 metalRough, vec3 normal, vec3 shadowNormal, vec3 world
             specular += spec * lc;
         }
     }
+#ifdef ENVIRONMENT
+    {
+        vec3 ed, es;
+        environmentTerms(n, v, 0.0, 0.0, occlusion, ed, es);
+        diffuse += ed;
+        specular += es;
+    }
+#endif
 }
 
 // lighting.h applySurfaceMaps(): a lit fragment's D and S under its maps, in every shading —
@@ -413,7 +510,7 @@ void main() {
 #if defined(SHADING_VERTEX)
     if (SPLIT_LIGHTING) {
         // factors only
-        blinnPhongTerms(uMetalRough, oNormal, oNormal, world.xyz, oColor, oSpecular);
+        blinnPhongTerms(uMetalRough, oNormal, oNormal, world.xyz, 1.0, oColor, oSpecular);
     } else {
         oColor = shadeBlinnPhong(oNormal, world.xyz);
     }
@@ -697,8 +794,10 @@ void main() {
         if ((uMatFlags.x & 16) != 0)
             litNormal = perturbedNormal(iNormal, iTangent, mapNormal, uNormalScale);
 #endif
-        // lighting.h mappedMaterial(): the factors × the metallic-roughness texel
-        blinnPhongTerms(uMetalRough * mapMetalRough, litNormal, iNormal, iWorld, d, sp);
+        // lighting.h mappedMaterial(): the factors × the metallic-roughness texel; the
+        // occlusion texel reaches the environment's light (pipeline.h passes the maps)
+        blinnPhongTerms(uMetalRough * mapMetalRough, litNormal, iNormal, iWorld, mapOcclusion, d,
+                        sp);
         applySurfaceMaps(d, sp, mapOcclusion, mapEmissive);
         c = finishColor(uMaterial.rgb * tex.rgb * d + sp);
     } else {

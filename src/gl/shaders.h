@@ -13,6 +13,9 @@
 //   maps      NORMAL_MAPS (pixel shading, a frame with a normal-mapped instance on a mesh with
 //             tangents: the world tangent as a varying, location 9, 4 components more a
 //             vertex; the normal map on unit 7)
+//   image     ENVIRONMENT (Scene::environment: lighting.h environmentTerms — the SH in the Frame
+//             block's uEnvSh, the prefiltered map on unit 8, the split sum's table on unit 9;
+//             no varying, so no view limit changes)
 // buildProgram() puts MAX_VIEWS (mvr::kMaxViews) and MAX_LIGHTS (mvr::kMaxLights) before the
 // shared source: the sizes of the Frame block's arrays (renderer.h's FrameBlock).
 #pragma once

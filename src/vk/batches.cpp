@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <glm/gtc/matrix_inverse.hpp>
 
+#include "mvr/core/environment.h"
 #include "mvr/core/rig.h"
 #include "mvr/core/scene.h"
 #include "renderer.h"
@@ -29,6 +30,7 @@ struct FrameData {
     glm::mat4 shadowClip[kMaxLights];
     glm::vec4 shadowInfo[kMaxLights], shadowTexel[kMaxLights];
     glm::vec4 viewEye[kMaxViews];  ///< --specular per-view: each view's eye (counts.z = 1)
+    glm::vec4 envSh[9];  ///< image lighting: Environment::sh (counts.w = 1), rgb
 };
 struct InstanceData {
     glm::mat4 worldFromModel, normalFromModel, cofactor;
@@ -451,7 +453,9 @@ Status Renderer::uploadFrame(const Scene& scene, const Rig& rig, const RenderSet
     f->ambient = glm::vec4(scene.ambient, float(int(scene.tonemap)));  // w: finishColor
     f->centerEye = glm::vec4(rig.centerEye(), 1.0f);
     f->counts = glm::ivec4(int(scene.lights.size()), int(rig.views.size()),
-                           shadesFromEachEye(s) ? 1 : 0, 0);
+                           shadesFromEachEye(s) ? 1 : 0, scene.environment ? 1 : 0);
+    for (std::size_t k = 0; k < 9; ++k)
+        f->envSh[k] = scene.environment ? glm::vec4(scene.environment->sh[k], 0.0f) : glm::vec4(0.0f);
     for (std::size_t v = 0; v < rig.views.size(); ++v) {
         f->clipFromWorld[v] = rig.views[v].clipFromWorld();
         f->viewEye[v] = glm::vec4(rig.views[v].eyeWorld, 1.0f);
@@ -668,6 +672,7 @@ Status Renderer::renderMethod(const Scene& scene, const Rig& rig, const RenderSe
     if (Status st = uploadFrame(scene, rig, s); !st) return st;
     if (Status st = prepareTextures(scene); !st) return st;
     if (Status st = prepareShadows(); !st) return st;
+    if (Status st = prepareEnvironment(scene); !st) return st;
     out.color.resize(std::size_t(total));
     if (s.depth) {
         out.depth.resize(std::size_t(total));

@@ -148,6 +148,11 @@ void Renderer::releaseDevice() {
     mShadowImage = {};
     mNoShadow = {};
     mShadowBound = VK_NULL_HANDLE;
+    mEnvironment = {};
+    mEnvironmentKey = {nullptr, 0};
+    mSplitSum = {};
+    mNoEnvironment = {};
+    mEnvironmentBound = VK_NULL_HANDLE;
     mTextures.clear();
     mWhite.reset();
     mSamplers.clear();
@@ -194,10 +199,11 @@ Status Renderer::ensureStatic() {
     if (!single) return single.status();
     mSinglePass = std::move(*single);
 
-    // Set 0: the frame's and the instances' storage buffers, the shadow maps (vertex shading
-    // looks them up in the vertex stage).
-    VkDescriptorSetLayoutBinding b[3]{};
-    for (std::uint32_t i = 0; i < 3; ++i) {
+    // Set 0: the frame's and the instances' storage buffers, the shadow maps, the environment's
+    // prefiltered levels and the split-sum table (vertex shading looks them up in the vertex
+    // stage).
+    VkDescriptorSetLayoutBinding b[5]{};
+    for (std::uint32_t i = 0; i < 5; ++i) {
         b[i].binding = i;
         b[i].descriptorType = i < 2 ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
                                     : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
@@ -205,7 +211,7 @@ Status Renderer::ensureStatic() {
         b[i].stageFlags = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     }
     VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    lci.bindingCount = 3;
+    lci.bindingCount = 5;
     lci.pBindings = b;
     VkDescriptorSetLayout layout = VK_NULL_HANDLE;
     if (Status s = check(vkCreateDescriptorSetLayout(d, &lci, nullptr, &layout),
@@ -214,7 +220,7 @@ Status Renderer::ensureStatic() {
         return s;
     mSetLayout = DescriptorSetLayout(d, layout);
     const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2},
-                                           {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}};
+                                           {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3}};
     VkDescriptorPoolCreateInfo pci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pci.maxSets = 1;
     pci.poolSizeCount = 2;
@@ -322,6 +328,18 @@ std::vector<std::string> Renderer::info() {
                           : fmt::format("vk method {}: unsupported: {}", methodName(m),
                                         s.message()));
     }
+    auto formatName = [](VkFormat f) {
+        switch (f) {
+            case VK_FORMAT_R32G32B32A32_SFLOAT: return "R32G32B32A32_SFLOAT";
+            case VK_FORMAT_R16G16B16A16_SFLOAT: return "R16G16B16A16_SFLOAT";
+            case VK_FORMAT_R32G32_SFLOAT: return "R32G32_SFLOAT";
+            case VK_FORMAT_R16G16_SFLOAT: return "R16G16_SFLOAT";
+            default: return "none (unsupported)";
+        }
+    };
+    lines.push_back(fmt::format("vk image lighting: map {}, split-sum table {}",
+                                formatName(environmentFormat(mContext->physical(), 4)),
+                                formatName(environmentFormat(mContext->physical(), 2))));
     lines.push_back(fmt::format("vk validation: {}", mContext->validation() ? "on" : "off"));
     return lines;
 }

@@ -13,6 +13,8 @@
 #include <utility>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "context.h"
 #include "mvr/core/render.h"
 #include "mvr/core/shadows.h"
@@ -71,6 +73,19 @@ struct ShadowImage {
     ImageView view;
     int size = 0, layers = 0;
 };
+
+/// Image lighting on the device (environment.cpp): a float image sampled by set 0's bindings 3
+/// (an Environment's prefiltered levels as its mip levels) and 4 (the split-sum table).
+struct GpuFloatImage {
+    ImageMemory image;
+    ImageView view;
+    VkFormat format = VK_FORMAT_UNDEFINED;
+};
+
+/// The format image lighting's images of `channels` (2 or 4) floats take on `physical`: 32-bit
+/// floats where it filters them linearly (VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT),
+/// else 16-bit; VK_FORMAT_UNDEFINED when neither filters.
+VkFormat environmentFormat(VkPhysicalDevice physical, int channels);
 
 /// A view of `layers` layers of a batch target and its framebuffers.
 struct ArrayTarget {
@@ -146,6 +161,13 @@ private:
     Status submitOnce(const std::function<void(VkCommandBuffer)>& record);
     /// mShadows' maps (or one unused 1x1 layer) into set 0's binding 2 (textures.cpp).
     Status prepareShadows();
+    /// Scene::environment's levels and the split-sum table (or a 1x1 image for both when there
+    /// is none) into set 0's bindings 3 and 4 (environment.cpp); uploads an Environment once.
+    Status prepareEnvironment(const Scene& scene);
+    /// A float image of `channels` (2 or 4) floats a texel with the given mip levels (each
+    /// `channels` · w · h floats), 32-bit where the device filters it, else 16-bit.
+    Result<GpuFloatImage> uploadFloatImage(const std::vector<std::pair<glm::ivec2, const float*>>& levels,
+                                           int channels, const char* what);
     Status recordBatch(Slot& slot, Method m, const RenderSettings& s, int firstView, int views,
                        const Scene& scene, const std::vector<GpuMesh*>& meshes);
     /// Waits for the slot's fence and copies its views out (adding the copy's time to copyMs).
@@ -177,6 +199,14 @@ private:
     ShadowImage mShadowImage;  ///< the last maps' image (reused while size and count hold)
     ShadowImage mNoShadow;     ///< one layer, bound when no light casts
     VkImageView mShadowBound = VK_NULL_HANDLE;
+    // Image lighting (set 0, bindings 3 and 4): the last Environment uploaded, keyed by its
+    // address and content hash; the split-sum table (once per device); the 1x1 image bound to
+    // both when the scene has none; the view bound to binding 3.
+    GpuFloatImage mEnvironment;
+    std::pair<const void*, std::uint64_t> mEnvironmentKey{nullptr, 0};
+    GpuFloatImage mSplitSum;
+    GpuFloatImage mNoEnvironment;
+    VkImageView mEnvironmentBound = VK_NULL_HANDLE;
     std::map<std::uint64_t, GpuMesh> mMeshes;
     /// (0, 0, 0, 1) per vertex, the tangents of meshes without them (pixel shading's binding 1).
     BufferMemory mNoTangents;

@@ -10,7 +10,7 @@ layout(std430, set = 0, binding = 0) readonly buffer FrameData {
     vec4 uLightCone[MAX_LIGHTS];   // x range (0 = infinite), y cos inner, z cos outer
     vec4 uAmbient;
     vec4 uCenterEye;
-    ivec4 uCounts;                 // x lights
+    ivec4 uCounts;                 // x lights, y views, z per-view eye, w image lighting
     mat4 uClipFromWorld[MAX_VIEWS];
     // Shadows (shadows.h, gl's uShadowClip / uShadowInfo / uShadowTexel): per light its map's
     // clipFromWorld, (layer (< 0: none), perspective, near, far), (texelWorld, size).
@@ -18,6 +18,9 @@ layout(std430, set = 0, binding = 0) readonly buffer FrameData {
     vec4 uShadowInfo[MAX_LIGHTS];
     vec4 uShadowTexel[MAX_LIGHTS];
     vec4 uViewEye[MAX_VIEWS];      // each view's eye (--specular per-view: uCounts.z = 1)
+    // Image lighting (environment.h Environment::sh, uCounts.w = 1): the 9 SH coefficients
+    // of diffuseLight, rgb, in Environment::sh's order.
+    vec4 uEnvSh[9];
 };
 
 // The eye shading looks from (lighting.h SpecularEye): the rig's centre eye, or in the fragment
@@ -30,6 +33,12 @@ vec3 gShadingEye;
 #endif
 // Linear distances, one layer per map (a 1x1 layer no light reads when there are none).
 layout(set = 0, binding = 2) uniform sampler2DArray uShadowMaps;
+// Image lighting (environment.h; uCounts.w = 1, else a 1x1 image bound to both, never read):
+// Environment::levels as mip levels 0..5 of one equirectangular image (linear, linear mipmaps,
+// REPEAT in u, CLAMP_TO_EDGE in v) and splitSumTable() as a 32x32 RG image (linear, clamped;
+// u = n.v, v = roughness, row 0 = roughness 0).
+layout(set = 0, binding = 3) uniform sampler2D uEnvironment;
+layout(set = 0, binding = 4) uniform sampler2D uSplitSum;
 
 struct InstanceData {
     mat4 worldFromModel;
@@ -124,6 +133,66 @@ vec3 facingNormal(InstanceData m, vec3 n, vec3 p) {
     return (m.flags.z != 0 && dot(n, SHADING_EYE - p) < 0.0) ? -n : n;
 }
 
+// Image lighting, environment.h's lookups and lighting.h environmentTerms() line for line.
+#define ENV_LEVELS 6  // Environment::kLevels
+#define ENV_PI 3.14159265358979
+
+bool hasEnvironment() { return uCounts.w != 0; }
+
+// environment.h equirectUv(): u = 0.5 + atan2(d.x, −d.z) / 2π, v = 0.5 − asin(d.y) / π.
+vec2 equirectUv(vec3 d) {
+    float lon = atan(d.x, -d.z);
+    float lat = asin(clamp(d.y, -1.0, 1.0));
+    return vec2(0.5 + lon * (0.5 / ENV_PI), 0.5 - lat * (1.0 / ENV_PI));
+}
+
+// environment.h diffuseLight(): the SH irradiance at unit normal n, at least 0.
+vec3 diffuseLight(vec3 n) {
+    vec3 e = uEnvSh[0].rgb * 0.282095;
+    e += (uEnvSh[1].rgb * n.y + uEnvSh[2].rgb * n.z + uEnvSh[3].rgb * n.x) * 0.488603;
+    e += (uEnvSh[4].rgb * (n.x * n.y) + uEnvSh[5].rgb * (n.y * n.z) +
+          uEnvSh[7].rgb * (n.x * n.z)) * 1.092548;
+    e += uEnvSh[6].rgb * (0.315392 * (3.0 * n.z * n.z - 1.0));
+    e += uEnvSh[8].rgb * (0.546274 * (n.x * n.x - n.y * n.y));
+    return max(e, vec3(0.0));
+}
+
+// environment.h prefiltered(): the mip chain at λ = roughness · (kLevels − 1) (explicit: the
+// same in the vertex and fragment stages).
+vec3 prefiltered(vec3 r, float roughness) {
+    return textureLod(uEnvironment, equirectUv(r),
+                      clamp(roughness, 0.0, 1.0) * float(ENV_LEVELS - 1)).rgb;
+}
+
+// environment.h splitSum(): (A, B) at n.v and roughness, bilinear, clamped.
+vec2 splitSum(float nv, float roughness) {
+    return textureLod(uSplitSum, vec2(clamp(nv, 0.0, 1.0), clamp(roughness, 0.0, 1.0)), 0.0).rg;
+}
+
+// environment.h roughnessOfShininess(): α² = 2 / (s + 2), r = √α.
+float roughnessOfShininess(float s) { return sqrt(sqrt(2.0 / (max(s, 0.0) + 2.0))); }
+
+// lighting.h environmentTerms(): unit lit normal n, unit v toward the shading eye; metal and
+// rough a metallic-roughness material's (maps applied), occlusion the occlusion map's.
+void environmentTerms(InstanceData m, vec3 n, vec3 v, float metal, float rough, float occlusion,
+                      out vec3 diffuse, out vec3 specular) {
+    float ndotv = dot(n, v);
+    vec3 r = n * (2.0 * ndotv) - v;
+    bool blinnPhong = m.pbr.z != 1.0;
+    float roughness = blinnPhong ? roughnessOfShininess(m.params.x) : rough;
+    vec3 e = diffuseLight(n);
+    vec3 p = prefiltered(r, roughness);
+    vec2 ab = splitSum(abs(ndotv), roughness);
+    float fd = 0.04 * ab.x + ab.y;
+    if (blinnPhong) {
+        diffuse = e * occlusion;
+        specular = p * (occlusion * m.material.w * fd);
+    } else {
+        diffuse = ((1.0 - metal) * (1.0 - fd) * e + (metal * ab.x) * p) * occlusion;
+        specular = p * (occlusion * ((1.0 - metal) * fd + metal * ab.y));
+    }
+}
+
 // lighting.h finishColor(): tone mapped (uAmbient.w: Tonemap 0 none, 1 Khronos PBR Neutral,
 // 2 ACES Narkowicz), then clamped.
 vec3 finishColor(vec3 c) {
@@ -161,14 +230,16 @@ vec3 shadeFlat(InstanceData m, vec3 faceNormal, vec3 p) {
         vec3 lc = lightAt(i, p, l);
         c += (max(dot(faceNormal, l), 0.0) * albedo * lc) * shadowFactor(i, p, n0);
     }
+    if (hasEnvironment()) c += diffuseLight(faceNormal) * albedo;
     return finishColor(c + flatSpecular(m));
 }
 
 // lighting.h metallicRoughnessTerms(), as gl's shaders.cpp has it.
 // `shadowNormal`: the normal shadowFactor offsets by (the surface's own where a normal map bent
 // `normal`, pixel shading; else `normal`).
+// `occlusion`: the occlusion map's, for the environment's light (1 without a map or per vertex).
 void metallicRoughnessTerms(InstanceData m, vec3 normal, vec3 shadowNormal, vec3 worldPos,
-                            out vec3 diffuse, out vec3 specular) {
+                            float occlusion, out vec3 diffuse, out vec3 specular) {
     vec3 n = normalize(facingNormal(m, normal, worldPos));
     vec3 v = normalize(SHADING_EYE - worldPos);
     float metal = clamp(m.pbr.x, 0.0, 1.0);
@@ -198,13 +269,19 @@ void metallicRoughnessTerms(InstanceData m, vec3 normal, vec3 shadowNormal, vec3
             specular += (spec * ((1.0 - metal) * f + metal * w)) * lc;
         }
     }
+    if (hasEnvironment()) {
+        vec3 ed, es;
+        environmentTerms(m, n, v, metal, rough, occlusion, ed, es);
+        diffuse += ed;
+        specular += es;
+    }
     specular += m.emissive.rgb;
 }
 
 vec3 shadeBlinnPhong(InstanceData m, vec3 normal, vec3 worldPos) {
     if (m.pbr.z == 1.0) {
         vec3 d, sp;
-        metallicRoughnessTerms(m, normal, normal, worldPos, d, sp);
+        metallicRoughnessTerms(m, normal, normal, worldPos, 1.0, d, sp);
         return finishColor(m.material.rgb * d + sp);
     }
     if (m.pbr.z == 2.0) return finishColor(m.material.rgb);
@@ -222,6 +299,11 @@ vec3 shadeBlinnPhong(InstanceData m, vec3 normal, vec3 worldPos) {
             c += ((nl * albedo + vec3(spec)) * lc) * shadowFactor(i, worldPos, normal);
         }
     }
+    if (hasEnvironment()) {
+        vec3 ed, es;
+        environmentTerms(m, n, v, 0.0, 0.0, 1.0, ed, es);
+        c += albedo * ed + es;
+    }
     return finishColor(c);
 }
 
@@ -238,14 +320,15 @@ vec3 flatDiffuse(InstanceData m, vec3 faceNormal, vec3 p) {
         vec3 lc = lightAt(i, p, l);
         d += (max(dot(faceNormal, l), 0.0) * lc) * shadowFactor(i, p, n0);
     }
+    if (hasEnvironment()) d += diffuseLight(faceNormal);
     return d;
 }
 
-// `shadowNormal` as metallicRoughnessTerms'.
+// `shadowNormal` and `occlusion` as metallicRoughnessTerms'.
 void blinnPhongTerms(InstanceData m, vec3 normal, vec3 shadowNormal, vec3 worldPos,
-                     out vec3 diffuse, out vec3 specular) {
+                     float occlusion, out vec3 diffuse, out vec3 specular) {
     if (m.pbr.z == 1.0) {
-        metallicRoughnessTerms(m, normal, shadowNormal, worldPos, diffuse, specular);
+        metallicRoughnessTerms(m, normal, shadowNormal, worldPos, occlusion, diffuse, specular);
         return;
     }
     if (m.pbr.z == 2.0) {
@@ -268,6 +351,12 @@ void blinnPhongTerms(InstanceData m, vec3 normal, vec3 shadowNormal, vec3 worldP
             diffuse += nl * lc;
             specular += spec * lc;
         }
+    }
+    if (hasEnvironment()) {
+        vec3 ed, es;
+        environmentTerms(m, n, v, 0.0, 0.0, occlusion, ed, es);
+        diffuse += ed;
+        specular += es;
     }
 }
 

@@ -71,8 +71,10 @@ void main() {
         vec3 lit = iNormal;
         if ((slots & SLOT_NORMAL) != 0)
             lit = perturbedNormal(iNormal, iTangent, normalTexel, m.pbr.w);
+        // The occlusion (1 without the slot) also scales the environment's light
+        // (lighting.h environmentTerms; raster/pipeline.h passes the maps with either slot).
         vec3 d, sp;
-        blinnPhongTerms(mm, lit, iNormal, iWorld, d, sp);
+        blinnPhongTerms(mm, lit, iNormal, iWorld, occlusion, d, sp);
         applySurfaceMaps(m, occlusion, emissive, d, sp);
         c = finishColor(base * d + sp);
     } else {

@@ -53,7 +53,7 @@ void main() {
 #elif defined(SHADING_VERTEX)
     if (split) {
         vec3 n = mat3(m.normalFromModel) * aNormal;
-        blinnPhongTerms(m, n, n, world.xyz, oColor, oSpecular);
+        blinnPhongTerms(m, n, n, world.xyz, 1.0, oColor, oSpecular);
     } else {
         oColor = shadeBlinnPhong(m, mat3(m.normalFromModel) * aNormal, world.xyz);
         oSpecular = vec3(0.0);
