@@ -47,7 +47,8 @@ struct SceneCase {
     int views() const { return columns * rows; }
     std::vector<std::string> tags() const {
         std::vector<std::string> t{scene};
-        if (scene.rfind("textured-", 0) == 0 || scene == "mapped") t.push_back("textured");
+        if (scene.rfind("textured-", 0) == 0 || scene == "mapped" || scene == "environment")
+            t.push_back("textured");
         if (cull) t.push_back("cull");
         if (wire) t.push_back("wire");
         if (shadows) t.push_back(shading == Shading::Flat ? "shadows-flat" : "shadows");
@@ -142,6 +143,16 @@ const std::vector<SceneCase>& sceneCases() {
         {"pbr", 2, 1, Shading::Pixel, false, false, false, 1, true},
         {"pbr", 3, 2, Shading::Vertex, false, false, false, 1, true},
         {"textured-pbr", 2, 1, Shading::Pixel, false, false, true, 1, true},
+        // Issue 39 item 2: image lighting (test_scenes.h testEnvironment): the mapped scene's
+        // metallic-roughness maps and occlusion, Blinn-Phong's reflection, every shading.
+        {"environment", 2, 1, Shading::Flat},
+        {"environment", 2, 1, Shading::Vertex},
+        {"environment", 2, 1, Shading::Pixel},
+        {"environment", 3, 2, Shading::Pixel, false, false, true},
+        {"environment-pbr", 3, 2, Shading::Vertex},
+        {"environment-pbr", 2, 1, Shading::Pixel, false, false, false, 1, true},
+        {"environment-default", 2, 1, Shading::Vertex},
+        {"environment-default", 3, 2, Shading::Pixel},
     };
     return cases;
 }
@@ -155,6 +166,18 @@ const Scene* sceneNamed(const std::string& name) {
     if (name == "colored") return &test::coloredScene();
     if (name == "pbr") return &test::pbrScene();
     if (name == "mapped") return &test::mappedScene();
+    if (name == "environment") {
+        static const Scene lit = test::withEnvironment(test::mappedScene());
+        return &lit;
+    }
+    if (name == "environment-pbr") {
+        static const Scene lit = test::withEnvironment(test::pbrScene());
+        return &lit;
+    }
+    if (name == "environment-default") {
+        static const Scene lit = test::withEnvironment(test::defaultScene());
+        return &lit;
+    }
     if (name == "textured-pbr") {
         static const Scene texturedPbr = test::withMetallicRoughness(makeTexturedScene());
         return &texturedPbr;
