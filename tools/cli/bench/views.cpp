@@ -32,6 +32,7 @@ struct ViewsOptions {
     std::string size = "420x560";
     std::string shading = "vertex";
     std::string specular = "center";  ///< --specular center | per-view
+    std::string environment;          ///< --environment MAP (image lighting); empty: none
     std::vector<std::string> methods{"soft:multipass", "soft:unified"};
     int rounds = 1;  ///< sweeps over the view counts, pooled
     std::vector<int> aa{1};  ///< --aa: samples a pixel, each count measured with each
@@ -141,6 +142,7 @@ int runViews(const ViewsOptions& o) {
         so.size = o.size;
         so.shading = o.shading;
         so.specular = o.specular;
+        so.environment = o.environment;
         auto prepared = so.prepare();
         if (!prepared) return fail(prepared.status());
         scenes.push_back(std::move(prepared).value());
@@ -176,7 +178,8 @@ int runViews(const ViewsOptions& o) {
     }
     // Per-view specular is per pixel (the prepared settings).
     const std::string shadingLabel =
-        o.specular == "per-view" ? std::string("pixel per-view") : o.shading;
+        (o.specular == "per-view" ? std::string("pixel per-view") : o.shading) +
+        (o.environment.empty() ? "" : " + environment");
     RenderReport report;
     report.bench = "views", report.machine = &machine, report.skipped = skipped;
     for (const Job& j : jobs) report.series.push_back(j.text());
@@ -293,6 +296,10 @@ PaperBench addViews(CLI::App* bench) {
     v->add_option("--specular", o->specular,
                   "center or per-view: each view's highlights from its own eye (per pixel)")
         ->default_val(o->specular);
+    v->add_option("--environment", o->environment,
+                  "Light the scene with an environment map (as render's --environment; built "
+                  "once, before timing)")
+        ->type_name("MAP");
     addMethodsOption(v, o->methods,
                      "BACKEND:METHOD list (BACKEND:multipass is added as the baseline)",
                      "soft:multipass,soft:unified");
