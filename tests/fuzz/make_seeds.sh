@@ -6,7 +6,8 @@ set -euo pipefail
 mvr=$(realpath "$1")
 shared=$(realpath "${2:-$(dirname "$0")/../../../shared}")
 cd "$(dirname "$0")"
-# Only the folders made here: scene_gltf, scene_glb and mtl_reader seeds were written by hand.
+# Only the folders made here: scene_gltf, scene_glb, mtl_reader and environment seeds were
+# written by hand (environment: tests/fuzz/corpus/environment, RGBE by a few lines of Python).
 rm -rf corpus/{obj,mtl,ply,gltf,glb,png,jpeg,mpo,jps,visual_json,sky,camera_path}
 mkdir -p corpus/{obj,mtl,ply,gltf,glb,png,jpeg,mpo,jps,visual_json}
 
