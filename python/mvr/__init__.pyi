@@ -131,6 +131,7 @@ def render(
     no_file_camera: bool = ...,
     exposure: float | Literal["auto"] = ...,
     tonemap: Literal["none", "khr-neutral", "aces", "auto"] = ...,
+    environment: _Path = ...,
     size: _Pair = ...,
     shading: Literal["flat", "vertex", "pixel"] = ...,
     specular: Literal["center", "per-view"] = ...,
