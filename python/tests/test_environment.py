@@ -31,8 +31,10 @@ def test_environment_equals_cli_and_lights_the_scene(cli, tmp_path):
     lit = mvr.render(size=(96, 64), environment=hdr, sky="environment", shading="pixel")
     for v in range(lit.color.shape[0]):
         np.testing.assert_array_equal(lit.color[v], read_png(tmp_path / "cli" / f"view-{v}.png"))
-    plain = mvr.render(size=(96, 64), shading="pixel")
-    assert not np.array_equal(lit.color[0], plain.color[0])
+    # The map lights the surfaces: against the same sky over the unlit scene.
+    unlit = mvr.render(size=(96, 64), shading="pixel", sky=hdr)
+    differ = np.abs(lit.color[0].astype(int) - unlit.color[0].astype(int)).max(axis=2) > 8
+    assert differ.mean() > 0.25
     # The sky shows the map: radiance 0.5 above the horizon is 128 in the top corner.
     assert tuple(lit.color[0][0, 0, :3]) == (128, 128, 128)
 
@@ -42,7 +44,7 @@ def test_environment_faults_are_python_errors(tmp_path):
         mvr.render(size=(32, 32), environment=tmp_path / "nosuch.hdr")
     bad = tmp_path / "bad.hdr"
     bad.write_bytes(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 8\n\x01\x02")
-    with pytest.raises(Exception, match=r"scanline 0 of 4: the file ends early"):
+    with pytest.raises(Exception, match=r"the file ends early"):
         mvr.render(size=(32, 32), environment=bad)
     with pytest.raises(ValueError, match="--sky environment needs --environment MAP"):
         mvr.render(size=(32, 32), sky="environment")

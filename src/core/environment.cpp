@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -51,9 +52,13 @@ void parallelRows(int rows, const std::function<void(int)>& body) {
         std::clamp(int(std::thread::hardware_concurrency()), 1, std::max(1, std::min(rows, 16)));
     std::vector<std::thread> pool;
     for (int t = 0; t < threads; ++t) {
-        pool.emplace_back([&, t] {
+        try {
+            pool.emplace_back([&, t] {
+                for (int r = t; r < rows; r += threads) body(r);
+            });
+        } catch (const std::system_error&) {  // no thread to be had: this one does its rows
             for (int r = t; r < rows; r += threads) body(r);
-        });
+        }
     }
     for (std::thread& th : pool) th.join();
 }
@@ -66,7 +71,7 @@ Level resample(const RadianceMap& map, int w, int h, float scale) {
     src.width = map.width, src.height = map.height;
     src.texels.resize(map.texels.size());
     for (std::size_t k = 0; k < map.texels.size(); ++k)
-        src.texels[k] = glm::vec4(map.texels[k] * scale, 1.0f);
+        src.texels[k] = glm::vec4(glm::min(map.texels[k] * scale, glm::vec3(kMaxRadiance)), 1.0f);
     Level out;
     out.width = w, out.height = h;
     out.texels.resize(std::size_t(w) * std::size_t(h));
@@ -121,7 +126,7 @@ glm::vec3 chainSample(const std::vector<Level>& chain, glm::vec3 d, float lod) {
     return t == 0.0f ? a : a * (1.0f - t) + environmentBilinear(chain[std::size_t(l1)], uv) * t;
 }
 
-/// GGX's D (without 1 / π's π: the pdf below keeps it) at α² and n·h.
+/// GGX's D at α² and n·h: α² / (π ((n·h)² (α² − 1) + 1)²).
 float ggxD(float a2, float nh) {
     const float d = nh * nh * (a2 - 1.0f) + 1.0f;
     return a2 / (kEnvPi * d * d);
@@ -167,9 +172,11 @@ Environment buildEnvironment(const RadianceMap& map, float scale) {
     // Specular: the box chain of level 0, then GGX filtered importance sampling per level.
     std::vector<Level> chain{base};
     while (chain.back().width > 2) chain.push_back(halve(chain.back()));
-    const float texelOmega = 4.0f * kEnvPi / float(w * h);
-    const int n = Environment::kPrefilterSamples;
+    // A level-0 texel's solid angle at the equator (cos(lat) times it elsewhere).
+    const float texelOmega = (2.0f * kEnvPi / float(w)) * (kEnvPi / float(h));
     for (int k = 1; k < Environment::kLevels; ++k) {
+        // More samples for the rougher, smaller levels: the same work a level, finer lobes.
+        const int n = std::min(Environment::kPrefilterSamples << (k - 1), 1024);
         const float r = float(k) / float(Environment::kLevels - 1);
         const float alpha = std::max(r * r, 1e-3f), a2 = alpha * alpha;
         Level& out = env.levels[std::size_t(k)];
@@ -192,8 +199,10 @@ Environment buildEnvironment(const RadianceMap& map, float scale) {
                     // pdf of l = D · n·h / (4 v·h), n = v: D / 4.
                     const float pdf = ggxD(a2, hz.z) * 0.25f;
                     const float sampleOmega = 1.0f / (float(n) * pdf + 1e-6f);
-                    const float lod = 0.5f * std::log2(sampleOmega / texelOmega) + 1.0f;
-                    sum += chainSample(chain, glm::normalize(l), lod) * nl;
+                    const glm::vec3 ln = glm::normalize(l);
+                    const float cosLat = std::sqrt(std::max(1.0f - ln.y * ln.y, 1e-6f));
+                    const float lod = 0.5f * std::log2(sampleOmega / (texelOmega * cosLat));
+                    sum += chainSample(chain, ln, lod) * nl;
                     weight += nl;
                 }
                 out.texels[std::size_t(j) * std::size_t(out.width) + std::size_t(i)] =

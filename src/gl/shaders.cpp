@@ -175,7 +175,7 @@ layout(binding = 9) uniform sampler2D uSplitSumTable;
 
 // environment.h equirectUv()
 vec2 equirectUv(vec3 d) {
-    float lon = atan(d.x, -d.z);
+    float lon = (d.x == 0.0 && d.z == 0.0) ? 0.0 : atan(d.x, -d.z);  // straight up / down
     float lat = asin(clamp(d.y, -1.0, 1.0));
     return vec2(0.5 + lon * (0.5 / 3.14159265358979), 0.5 - lat * (1.0 / 3.14159265358979));
 }

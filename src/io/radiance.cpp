@@ -9,6 +9,7 @@
 #include "radiance.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <exception>
@@ -26,7 +27,7 @@ namespace mvr::detail {
 namespace {
 
 /// At most this many texels (8192 × 4096: 400 MB of floats), checked before allocating.
-constexpr std::int64_t kMaxTexels = std::int64_t(8192) * 4096;
+constexpr std::int64_t kMaxTexels = std::int64_t(kMaxEnvironmentTexels);
 
 glm::vec3 rgbeToFloat(const std::uint8_t* p) {
     if (p[3] == 0) return glm::vec3(0.0f);
@@ -58,6 +59,7 @@ Result<RadianceMap> decodeRadiance(std::span<const std::uint8_t> bytes, const st
         }
         if (pos >= bytes.size()) return false;
         ++pos;
+        if (!line.empty() && line.back() == '\r') line.pop_back();  // written on Windows
         return true;
     };
     std::string line;
@@ -65,8 +67,10 @@ Result<RadianceMap> decodeRadiance(std::span<const std::uint8_t> bytes, const st
         return inputError(fmt::format("{}: not a Radiance file (no '#?RADIANCE' line)", what));
     bool rgbe = true;
     for (int n = 0;; ++n) {
-        if (n > 1000 || !readLine(line))
-            return inputError(fmt::format("{}: the header does not end (no empty line)", what));
+        if (n > 1000 || !readLine(line)) {
+            return inputError(fmt::format(
+                "{}: the header does not end (no empty line within 1000 lines of 4 KiB)", what));
+        }
         if (line.empty()) break;
         if (line.rfind("FORMAT=", 0) == 0) rgbe = line == "FORMAT=32-bit_rle_rgbe";
     }
@@ -76,9 +80,27 @@ Result<RadianceMap> decodeRadiance(std::span<const std::uint8_t> bytes, const st
     }
     if (!readLine(line))
         return inputError(fmt::format("{}: no resolution line after the header", what));
+    // "-Y H +X W", tokens separated by blanks (std::from_chars: no overflow).
     int h = 0, w = 0;
-    char tail = 0;
-    if (std::sscanf(line.c_str(), "-Y %d +X %d%c", &h, &w, &tail) != 2) {
+    bool parsed = false;
+    {
+        std::string_view rest(line);
+        auto token = [&]() {
+            while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t')) rest.remove_prefix(1);
+            std::size_t n = 0;
+            while (n < rest.size() && rest[n] != ' ' && rest[n] != '\t') ++n;
+            const std::string_view t = rest.substr(0, n);
+            rest.remove_prefix(n);
+            return t;
+        };
+        auto number = [](std::string_view t, int& out) {
+            const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), out);
+            return ec == std::errc() && p == t.data() + t.size();
+        };
+        parsed = token() == "-Y" && number(token(), h) && token() == "+X" && number(token(), w) &&
+                 token().empty();
+    }
+    if (!parsed) {
         return inputError(fmt::format(
             "{}: resolution '{}' is not '-Y H +X W' (the only orientation read: rows top down)",
             what, line.substr(0, 40)));
@@ -86,6 +108,17 @@ Result<RadianceMap> decodeRadiance(std::span<const std::uint8_t> bytes, const st
     if (w < 1 || h < 1 || std::int64_t(w) * h > kMaxTexels) {
         return inputError(
             fmt::format("{}: {}x{} texels: out of range (at most {} texels)", what, w, h, kMaxTexels));
+    }
+    // The least a scanline takes (flat: 4 w; run-length: its 4-byte head and a run of at most
+    // 127 bytes per 2 bytes in each channel): the file must be able to hold h of them before
+    // w · h texels are allocated.
+    const std::uint64_t leastRow =
+        w >= 8 && w < 0x8000 ? std::min<std::uint64_t>(4u * std::uint64_t(w), 4u + 8u * ((std::uint64_t(w) + 126u) / 127u))
+                             : 4u * std::uint64_t(w);
+    if (std::uint64_t(bytes.size() - pos) < leastRow * std::uint64_t(h)) {
+        return inputError(fmt::format(
+            "{}: {} bytes cannot hold {} scanlines of {} texels (the file ends early)", what,
+            bytes.size() - pos, h, w));
     }
     RadianceMap map;
     map.width = w, map.height = h;
@@ -118,7 +151,11 @@ Result<RadianceMap> decodeRadiance(std::span<const std::uint8_t> bytes, const st
                         const std::uint8_t v = bytes[pos++];
                         for (int k = 0; k < count; ++k) row[std::size_t(x++) * 4 + c] = v;
                     } else {  // count literal values (0 is malformed: it would never advance)
-                        if (count == 0 || count > w - x) {
+                        if (count == 0) {
+                            return inputError(fmt::format(
+                                "{}: scanline {}: a run of length 0", what, y));
+                        }
+                        if (count > w - x) {
                             return inputError(fmt::format(
                                 "{}: scanline {}: a run goes past the row's end", what, y));
                         }
@@ -151,6 +188,11 @@ Result<RadianceMap> readExrRadiance(const std::filesystem::path& path, const std
                                           what, w, h, kMaxTexels));
         }
         const Imf::ChannelList& channels = file.header().channels();
+        if (channels.findChannel("RY") || channels.findChannel("BY")) {
+            return inputError(fmt::format(
+                "{}: a luminance-chroma OpenEXR (RY, BY channels) is not read; save it as RGB",
+                what));
+        }
         const bool grey = !channels.findChannel("R") && !channels.findChannel("G") &&
                           !channels.findChannel("B") && channels.findChannel("Y");
         if (!grey && !channels.findChannel("R") && !channels.findChannel("G") &&

@@ -21,6 +21,7 @@
 #include <functional>
 #include <map>
 #include <numbers>
+#include <span>
 
 #include <assimp/GltfMaterial.h>
 #include <assimp/Importer.hpp>
@@ -1084,7 +1085,7 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info) 
 
 // ---- sky maps (--sky FILE) ----------------------------------------------------------------------
 
-Result<Sky> loadSky(const std::string& spec, float hdrScale, Tonemap tonemap) {
+Result<Sky> loadSky(const std::string& spec, float hdrScale, Tonemap tonemap, bool asRadiance) {
     Sky sky;
     if (spec == "gradient") return sky;
     // mvr's PNG and JPEG decoders, not stb_image: stb_image 2.27 (Debian 12) writes past a
@@ -1100,7 +1101,7 @@ Result<Sky> loadSky(const std::string& spec, float hdrScale, Tonemap tonemap) {
     std::uint8_t head[16] = {};
     std::ifstream(spec, std::ios::binary).read(reinterpret_cast<char*>(head), sizeof head);
     static const std::uint8_t kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-    if (detail::isRadianceBytes(head) || detail::isExrBytes(head)) {
+    if (asRadiance || detail::isRadianceBytes(head) || detail::isExrBytes(head)) {
         auto map = loadEnvironmentMap(spec, "--sky");
         if (!map) return map.status();
         sky.kind = Sky::Kind::Equirect;
@@ -1108,7 +1109,8 @@ Result<Sky> loadSky(const std::string& spec, float hdrScale, Tonemap tonemap) {
         ShadingContext shown;
         shown.tonemap = tonemap;
         for (std::size_t k = 0; k < map->texels.size(); ++k) {
-            const glm::vec3 c = finishColor(shown, map->texels[k] * hdrScale);
+            const glm::vec3 c = finishColor(
+                shown, glm::min(map->texels[k] * hdrScale, glm::vec3(kMaxRadiance)));
             std::uint8_t* p = sky.image.rgba.data() + 4 * k;
             p[0] = quantizeUnorm8(c.x), p[1] = quantizeUnorm8(c.y), p[2] = quantizeUnorm8(c.z);
         }
@@ -1134,6 +1136,26 @@ Result<Sky> loadSky(const std::string& spec, float hdrScale, Tonemap tonemap) {
 }
 
 
+namespace {
+/// FNV-1a (64 bits) of a file's bytes: RadianceMap::contentHash.
+std::uint64_t bytesHash(std::span<const std::uint8_t> bytes) {
+    std::uint64_t hash = 14695981039346656037ull;
+    for (const std::uint8_t b : bytes) hash = (hash ^ b) * 1099511628211ull;
+    return hash;
+}
+}  // namespace
+
+std::uint64_t environmentFileHash(const std::string& path) {
+    if (!checkRegularFile(path, path)) return 0;
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec || size > (std::uintmax_t(512) << 20)) return 0;
+    std::vector<std::uint8_t> bytes(size);
+    std::ifstream in(path, std::ios::binary);
+    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
+    return in ? bytesHash(bytes) : 0;
+}
+
 Result<RadianceMap> loadEnvironmentMap(const std::string& path, const std::string& option) {
     const std::string what = fmt::format("{} '{}'", option, path);
     if (Status s = checkRegularFile(path, what); !s) return s;  // no FIFO, device, directory
@@ -1148,6 +1170,7 @@ Result<RadianceMap> loadEnvironmentMap(const std::string& path, const std::strin
     if (!in) return inputError(fmt::format("{}: cannot be read", what));
     static const std::uint8_t kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
     RadianceMap map;
+    const std::uint64_t hash = bytesHash(bytes);
     if (detail::isExrBytes(bytes)) {
         auto exr = detail::readExrRadiance(path, what);
         if (!exr) return exr.status();
@@ -1170,13 +1193,19 @@ Result<RadianceMap> loadEnvironmentMap(const std::string& path, const std::strin
         return inputError(fmt::format(
             "{}: not a Radiance (.hdr), OpenEXR, PNG or JPEG image", what));
     }
+    if (map.texels.size() > kMaxEnvironmentTexels) {
+        return inputError(fmt::format("{}: {}x{} texels: out of range (at most {} texels)", what,
+                                      map.width, map.height, kMaxEnvironmentTexels));
+    }
+    map.contentHash = hash;
     for (std::size_t k = 0; k < map.texels.size(); ++k) {
         const glm::vec3 c = map.texels[k];
         if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z)) {
             return inputError(fmt::format("{}: texel ({}, {}) is not finite", what,
                                           k % std::size_t(map.width), k / std::size_t(map.width)));
         }
-        map.texels[k] = glm::max(c, glm::vec3(0.0f));  // light is never negative
+        // Light is never negative; kMaxRadiance keeps every sum of the build finite.
+        map.texels[k] = glm::clamp(c, glm::vec3(0.0f), glm::vec3(kMaxRadiance));
     }
     const int w = map.width, h = map.height;
     if (w == 2 * h) {
@@ -1193,7 +1222,7 @@ Result<RadianceMap> loadEnvironmentMap(const std::string& path, const std::strin
     // clamped at its edges, as the sky reads it).
     const int s = w / 4;
     RadianceMap eq;
-    eq.width = 4 * s, eq.height = 2 * s, eq.name = path;
+    eq.width = 4 * s, eq.height = 2 * s, eq.name = path, eq.contentHash = hash;
     eq.texels.resize(std::size_t(eq.width) * std::size_t(eq.height));
     auto at = [&](int x, int y) { return map.texels[std::size_t(y) * std::size_t(w) + std::size_t(x)]; };
     for (int j = 0; j < eq.height; ++j) {

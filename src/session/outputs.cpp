@@ -367,12 +367,17 @@ bool isTransparentBackground(const std::string& background) {
 Result<StereoSurfaces> buildSurfaces(const RenderRecipe& recipe, float hdrScale,
                                      Tonemap tonemap) {
     SurfaceRecipe surfaces = recipe.surfaces;
-    if (surfaces.sky == "environment") {  // the map that lights the scene
+    std::optional<Sky> environmentSky;
+    if (surfaces.sky == "environment") {  // the map that lights the scene, read as its light
         if (recipe.environment.empty())
             return usageError("--sky environment needs --environment MAP (the map to show)");
-        surfaces.sky = recipe.environment;
+        auto sky = loadSky(recipe.environment, hdrScale, tonemap, true);
+        if (!sky) return sky.status();
+        environmentSky = std::move(*sky);
+        surfaces.sky.clear();
     }
     auto s = buildSurfaces(surfaces, hdrScale, tonemap);
+    if (s && environmentSky) s->sky = std::move(environmentSky);
     if (!s || !isTransparentBackground(recipe.background)) return s;
     const SurfaceRecipe& r = recipe.surfaces;
     for (const auto& [given, name] :

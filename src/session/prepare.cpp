@@ -202,27 +202,25 @@ Status applyExposure(Prepared& out, std::optional<double> ev, bool isAuto, bool 
     return {};
 }
 
-/// The environment of `path` lit at 2^ev: built once per (file, size, time, ev) in a process
-/// and shared (a sequence, MPI ranks' frames and Python's repeated renders reuse it).
+/// The environment of `path` lit at 2^ev: built once per (file contents, ev) in a process and
+/// shared (a sequence, MPI ranks' frames and Python's repeated renders reuse it). The key is a
+/// hash of the bytes (environmentFileHash: a read, cheap next to the decode and the build), so
+/// a file rewritten in place, or another file at the same path after a chdir, is built anew.
 Result<std::shared_ptr<const Environment>> environmentOf(const std::string& path, float ev) {
     static std::mutex mutex;
-    static std::string lastKey;
+    static std::uint64_t lastHash = 0;
+    static float lastEv = 0.0f;
     static std::shared_ptr<const Environment> last;
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(path, ec);
-    const auto time = std::filesystem::last_write_time(path, ec);
-    const std::string key =
-        ec ? std::string() : fmt::format("{}\n{}\n{}\n{}", path, size,
-                                         time.time_since_epoch().count(), ev);
+    const std::uint64_t hash = environmentFileHash(path);
     {
         std::lock_guard lock(mutex);
-        if (!key.empty() && key == lastKey) return last;
+        if (last && hash != 0 && hash == lastHash && ev == lastEv) return last;
     }
     auto map = loadEnvironmentMap(path);
     if (!map) return map.status();
     auto env = std::make_shared<const Environment>(buildEnvironment(*map, std::exp2(ev)));
     std::lock_guard lock(mutex);
-    lastKey = key, last = env;
+    lastHash = map->contentHash, lastEv = ev, last = env;  // the bytes the map was made of
     return std::shared_ptr<const Environment>(env);
 }
 

@@ -7,6 +7,7 @@
 // Each Environment is uploaded once (the last one is kept, by address and content), the
 // table once per device; without an environment a 1x1 image is bound to both (never read:
 // FrameData's counts.w is 0).
+#include <algorithm>
 #include <cstring>
 
 #include <fmt/format.h>
@@ -114,7 +115,9 @@ Result<GpuFloatImage> Renderer::uploadFloatImage(
             std::memcpy(o, levels[k].second, n * sizeof(float));
         } else {
             for (std::size_t i = 0; i < n; ++i) {
-                const std::uint16_t h = glm::packHalf1x16(levels[k].second[i]);
+                // 16-bit floats end at 65504 (a bright sun can be more): clamped, not inf.
+                const std::uint16_t h =
+                    glm::packHalf1x16(std::min(levels[k].second[i], 65504.0f));
                 std::memcpy(o + 2 * i, &h, 2);
             }
         }

@@ -1017,24 +1017,43 @@ void writeRadianceHalves(const std::filesystem::path& path, int w, int h, glm::v
 
 TEST_F(Cli, AnEnvironmentMapLightsTheSceneAndTheSkyShowsIt) {
     writeRadianceHalves(mDir / "sky.hdr", 64, 32, {0.5f, 0.5f, 0.5f}, {0.25f, 0.125f, 0.0625f});
-    const CliRun lit =
-        run("render --environment sky.hdr --sky environment --views 2 --size 64x48 -o e");
-    ASSERT_EQ(lit.exitCode, 0) << lit.err;
-    const CliRun plain = run("render --views 2 --size 64x48 -o n");
-    ASSERT_EQ(plain.exitCode, 0) << plain.err;
-    auto e = readPng(mDir / "e/view-0.png"), n = readPng(mDir / "n/view-0.png");
-    ASSERT_TRUE(e && n);
-    EXPECT_NE(e->rgba, n->rgba);
+    // The map lights the surfaces (the background, no sky, stays the clear colour).
+    for (const char* args : {"--environment sky.hdr -o e", "-o n", "--environment sky.hdr "
+                                                                    "--exposure -1 -o h"}) {
+        const CliRun r = run(fmt::format("render --views 2 --size 64x48 {}", args));
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+    }
+    auto e = readPng(mDir / "e/view-0.png"), n = readPng(mDir / "n/view-0.png"),
+         h = readPng(mDir / "h/view-0.png");
+    ASSERT_TRUE(e && n && h);
+    EXPECT_EQ(e->at(0, 0).r, n->at(0, 0).r);
+    int lit = 0, halved = 0, unsaturated = 0;
+    for (int y = 0; y < 48; ++y) {
+        for (int x = 0; x < 64; ++x) {
+            const Rgba8 a = e->at(x, y), b = n->at(x, y), c = h->at(x, y);
+            lit += std::abs(a.g - b.g) > 8;
+            // --exposure −1 halves the lights and the map alike: every unclamped pixel of the
+            // lit scene halves (the clear colour aside).
+            if (a.g < 250 && a.g != n->at(0, 0).g && a.g > 40) {
+                ++unsaturated;
+                halved += std::abs(c.g - a.g / 2.0) <= 1.5;
+            }
+        }
+    }
+    EXPECT_GT(lit, 64 * 48 / 4);
+    EXPECT_GT(unsaturated, 64 * 48 / 4);
+    EXPECT_GT(halved, unsaturated * 95 / 100) << halved << " of " << unsaturated;
     // The sky is the map: the top corner looks up into the upper half, radiance 0.5 shown as
     // 0.5 · 255 → 128; --exposure 1 doubles it to full.
-    EXPECT_EQ(e->at(0, 0).r, 128);
-    EXPECT_EQ(e->at(0, 0).b, 128);
-    ASSERT_EQ(run("render --environment sky.hdr --sky environment --exposure 1 --views 2 --size "
-                  "64x48 -o x")
-                  .exitCode,
-              0);
-    auto x = readPng(mDir / "x/view-0.png");
-    ASSERT_TRUE(x);
+    for (const char* args : {"-o s", "--exposure 1 -o x"}) {
+        const CliRun r = run(fmt::format(
+            "render --environment sky.hdr --sky environment --views 2 --size 64x48 {}", args));
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+    }
+    auto s = readPng(mDir / "s/view-0.png"), x = readPng(mDir / "x/view-0.png");
+    ASSERT_TRUE(s && x);
+    EXPECT_EQ(s->at(0, 0).r, 128);
+    EXPECT_EQ(s->at(0, 0).b, 128);
     EXPECT_EQ(x->at(0, 0).r, 255);
     // The faults: one line naming the option and the file.
     expectError("render --sky environment", 1,

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -88,6 +89,62 @@ TEST(Environment, AMapLitInItsUpperHalfGivesTheClampedCosinesClosedForm) {
     const Environment twice = buildEnvironment(
         mapOf(256, 128, [](glm::vec3 d) { return glm::vec3(d.y > 0 ? 1.0f : 0.0f); }), 2.0f);
     EXPECT_NEAR(diffuseLight(twice, {0, 1, 0}).x, 2.0, 1.2e-2);
+}
+
+TEST(Environment, TheSecondBandIsConvolvedByAQuarter) {
+    // Radiance d.y² = 1/3 + (2/3) P2(d.y), P2 = (3y² − 1) / 2: bands 0 and 2 only, so the
+    // irradiance / π is 1/3 + (1/4)(2/3) P2(n.y) exactly (Â_2 / π = 1/4).
+    const Environment env =
+        buildEnvironment(mapOf(256, 128, [](glm::vec3 d) { return glm::vec3(d.y * d.y); }));
+    for (const glm::vec3 n : someNormals()) {
+        const double want = 1.0 / 3.0 + (1.0 / 6.0) * (3.0 * n.y * n.y - 1.0) / 2.0;
+        EXPECT_NEAR(diffuseLight(env, n).x, want, 2e-3) << n.x << " " << n.y << " " << n.z;
+    }
+}
+
+/// The GGX-prefiltered radiance of `radiance` about unit n (n = v = r, split sum's assumption)
+/// by brute force: every direction of a fine grid weighted by D(h) · n·l (the GGX sample
+/// density times the n·l weight), D written out.
+double prefilteredByQuadrature(const std::function<double(glm::dvec3)>& radiance, glm::dvec3 n,
+                               double roughness) {
+    const double alpha = std::max(roughness * roughness, 1e-3), a2 = alpha * alpha;
+    double sum = 0.0, weight = 0.0;
+    const int nt = 720, np = 1440;
+    for (int t = 0; t < nt; ++t) {
+        const double lat = (0.5 - (t + 0.5) / nt) * kPiD;
+        for (int p = 0; p < np; ++p) {
+            const double lon = ((p + 0.5) / np - 0.5) * 2.0 * kPiD;
+            const glm::dvec3 l(std::cos(lat) * std::sin(lon), std::sin(lat),
+                               -std::cos(lat) * std::cos(lon));
+            const double nl = glm::dot(n, l);
+            if (nl <= 0.0) continue;
+            const double nh = glm::dot(n, glm::normalize(n + l));
+            const double d = a2 / (kPiD * std::pow(nh * nh * (a2 - 1.0) + 1.0, 2.0));
+            const double w = d * nl * std::cos(lat);  // × the grid cell's solid angle
+            sum += radiance(l) * w;
+            weight += w;
+        }
+    }
+    return sum / weight;
+}
+
+TEST(Environment, ThePrefilteredLevelsAreTheGgxLobesAverage) {
+    auto radiance = [](glm::dvec3 d) { return 1.0 + d.x + 0.5 * d.y * d.y; };
+    const Environment env = buildEnvironment(
+        mapOf(512, 256, [&](glm::vec3 d) { return glm::vec3(float(radiance(glm::dvec3(d)))); }));
+    for (const double r : {0.4, 0.6, 1.0}) {
+        for (const glm::vec3 n : {glm::vec3(1, 0, 0), glm::vec3(-0.6f, 0.0f, 0.8f),
+                                  glm::vec3(0.0f, 0.6f, -0.8f), glm::vec3(0.48f, -0.6f, 0.64f)}) {
+            const double want = prefilteredByQuadrature(radiance, glm::dvec3(n), r);
+            // 3 %: the roughest level is 16 × 8 texels, read bilinearly between them.
+            EXPECT_NEAR(prefiltered(env, n, float(r)).x, want, 0.03 * want)
+                << "roughness " << r << " n " << n.x << "," << n.y << "," << n.z;
+        }
+    }
+    // The roughest lobe is the cosine-weighted mean: 1 + (2/3) n.x for the linear part.
+    EXPECT_NEAR(prefilteredByQuadrature([](glm::dvec3 d) { return 1.0 + d.x; },
+                                        glm::dvec3(1, 0, 0), 1.0),
+                1.0 + 2.0 / 3.0, 1e-3);
 }
 
 /// ∫ f · cos over the hemisphere of glTF's specular BRDF with F0 = 1 − Fc (A) and Fc (B)
@@ -307,6 +364,22 @@ TEST(EnvironmentFiles, OpenExrAndACubeCrossLoad) {
     }
 }
 
+TEST(EnvironmentFiles, TheBrightestTexelsAreKeptFinite) {
+    // RGBE's largest exponent (255: about 1.7e38 a channel) reads kMaxRadiance, and a map of
+    // it scaled by --exposure's 2^64 builds finite levels and SH.
+    const auto dir = tempDir();
+    std::string hdr = radianceHeader(8, 4);
+    for (int k = 0; k < 32; ++k) hdr += k == 5 ? std::string{char(255), char(255), char(255), char(255)} : rgbe(1, 1, 1);
+    writeBytes(dir / "sun.hdr", hdr);
+    auto map = loadEnvironmentMap((dir / "sun.hdr").string());
+    ASSERT_TRUE(map) << map.status().message();
+    EXPECT_EQ(map->texels[5].x, kMaxRadiance);
+    const Environment env = buildEnvironment(*map, std::exp2(64.0f));
+    for (const auto& level : env.levels)
+        for (const glm::vec4& t : level.texels) ASSERT_TRUE(std::isfinite(t.x)) << level.width;
+    EXPECT_TRUE(std::isfinite(diffuseLight(env, {0, 1, 0}).x));
+}
+
 TEST(EnvironmentFiles, FaultsAreOneLineNamingTheFileAndThePlace) {
     const auto dir = tempDir();
     auto error = [](const std::filesystem::path& p) {
@@ -321,15 +394,18 @@ TEST(EnvironmentFiles, FaultsAreOneLineNamingTheFileAndThePlace) {
     EXPECT_NE(error(dir / "short.hdr").find("scanline 2 of 4: the file ends early"),
               std::string::npos)
         << error(dir / "short.hdr");
-    std::string runaway = radianceHeader(8, 4) + std::string{2, 2, 0, 8} + char(128 + 100) + 'x';
+    const std::string padding(64, '\1');  // bytes enough for 4 scanlines, so the rows are read
+    std::string runaway =
+        radianceHeader(8, 4) + std::string{2, 2, 0, 8} + char(128 + 100) + 'x' + padding;
     writeBytes(dir / "runaway.hdr", runaway);
     EXPECT_NE(error(dir / "runaway.hdr").find("scanline 0: a run goes past the row's end"),
               std::string::npos)
         << error(dir / "runaway.hdr");
     // A zero-length literal run would never advance (stb_image's hang): refused.
-    std::string stuck = radianceHeader(8, 4) + std::string{2, 2, 0, 8} + std::string(1, '\0');
+    std::string stuck = radianceHeader(8, 4) + std::string{2, 2, 0, 8} + std::string(1, '\0') + padding;
     writeBytes(dir / "stuck.hdr", stuck);
-    EXPECT_NE(error(dir / "stuck.hdr").find("a run goes past"), std::string::npos);
+    EXPECT_NE(error(dir / "stuck.hdr").find("scanline 0: a run of length 0"), std::string::npos)
+        << error(dir / "stuck.hdr");
     writeBytes(dir / "xyze.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 4 +X 8\n");
     EXPECT_NE(error(dir / "xyze.hdr").find("only FORMAT=32-bit_rle_rgbe is read"),
               std::string::npos);
@@ -348,6 +424,25 @@ TEST(EnvironmentFiles, FaultsAreOneLineNamingTheFileAndThePlace) {
                                            "': not a Radiance (.hdr), OpenEXR, PNG or JPEG image");
     writeBytes(dir / "broken.exr", std::string("\x76\x2f\x31\x01garbage", 11));
     EXPECT_NE(error(dir / "broken.exr").find("not a readable OpenEXR file"), std::string::npos);
+    {  // a NaN texel, as a broken EXR export writes it
+        std::vector<Imf::Rgba> px(8, Imf::Rgba(half(1.0f), half(1.0f), half(1.0f), half(1.0f)));
+        px[3].g = half(std::numeric_limits<float>::quiet_NaN());
+        Imf::RgbaOutputFile out((dir / "nan.exr").c_str(), 4, 2, Imf::WRITE_RGBA);
+        out.setFrameBuffer(px.data(), 1, 4);
+        out.writePixels(2);
+    }
+    EXPECT_NE(error(dir / "nan.exr").find("texel (3, 0) is not finite"), std::string::npos)
+        << error(dir / "nan.exr");
+    // Windows line ends in the header, blanks around the size: read.
+    std::string crlf = "#?RADIANCE\r\nFORMAT=32-bit_rle_rgbe\r\n\r\n-Y 4 +X 8 \n";
+    for (int k = 0; k < 32; ++k) crlf += rgbe(1, 1, 1);
+    writeBytes(dir / "crlf.hdr", crlf);
+    EXPECT_EQ(error(dir / "crlf.hdr"), "(loaded)");
+    // A header that claims more texels than its bytes could hold is refused before allocating.
+    writeBytes(dir / "claims.hdr", "#?RADIANCE\n\n-Y 4096 +X 8192\n" + std::string(100, '\2'));
+    EXPECT_NE(error(dir / "claims.hdr").find("cannot hold 4096 scanlines of 8192 texels"),
+              std::string::npos)
+        << error(dir / "claims.hdr");
     std::filesystem::create_directories(dir / "folder.hdr");
     EXPECT_NE(error(dir / "folder.hdr").find("not a regular file (a directory)"), std::string::npos);
 }

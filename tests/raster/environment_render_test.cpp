@@ -107,23 +107,26 @@ TEST(EnvironmentRender, AnOcclusionMapDarkensTheEnvironmentsLightByItsTexel) {
     t.linear = true;
     t.image = Image(4, 4, Rgba8{128, 255, 255, 255});
     scene.textures = {t};
-    Material& m = scene.instances[0].material;
-    m.model = MaterialModel::MetallicRoughness;
-    m.albedo = glm::vec3(1.0f);
-    m.metallic = 0.0f, m.roughness = 1.0f;
-    m.occlusionTexture = 0;
-    m.occlusionStrength = 1.0f;
     auto backend = makeSoftBackend();
     RenderSettings s;
     s.width = s.height = 16;
     s.shading = Shading::Pixel;
-    auto with = backend->render(scene, test::identityRig(1), s, "multipass");
-    scene.instances[0].material.occlusionTexture = -1;
-    auto without = backend->render(scene, test::identityRig(1), s, "multipass");
-    ASSERT_TRUE(with && without);
-    // The whole environment term scales by the occlusion (128 / 255), diffuse and specular.
-    const double ratio = double(with->color[0].at(8, 8).g) / double(without->color[0].at(8, 8).g);
-    EXPECT_NEAR(ratio, 128.0 / 255.0, 0.02);
+    for (const MaterialModel model : {MaterialModel::MetallicRoughness, MaterialModel::BlinnPhong}) {
+        Material& m = scene.instances[0].material;
+        m.model = model;
+        m.albedo = glm::vec3(1.0f);
+        m.metallic = 0.0f, m.roughness = 1.0f;
+        m.occlusionTexture = 0;
+        m.occlusionStrength = 1.0f;
+        auto with = backend->render(scene, test::identityRig(1), s, "multipass");
+        scene.instances[0].material.occlusionTexture = -1;
+        auto without = backend->render(scene, test::identityRig(1), s, "multipass");
+        ASSERT_TRUE(with && without);
+        // The whole environment term scales by the occlusion (128 / 255), diffuse and specular.
+        const double ratio =
+            double(with->color[0].at(8, 8).g) / double(without->color[0].at(8, 8).g);
+        EXPECT_NEAR(ratio, 128.0 / 255.0, 0.02) << int(model);
+    }
 }
 
 TEST(EnvironmentRender, UnifiedEqualsMultipassUnderAMap) {

@@ -14,9 +14,12 @@
 //    (kLevels − 1), stored as a mip chain of equirectangular images (level k is level 0's size
 //    halved k times; level 0, r = 0, is the map itself resampled). Each texel of level k ≥ 1
 //    integrates the map around its direction R with N = V = R (the split sum's assumption),
-//    kPrefilterSamples GGX importance samples (Hammersley points) weighted by n·l, each read
-//    from the map's box-filtered chain at the level the sample's solid angle covers ("filtered
-//    importance sampling", Colbert and Křivánek, GPU Gems 3 ch. 20).
+//    kPrefilterSamples · 2^(k − 1) GGX importance samples (at most 1024; Hammersley points)
+//    weighted by n·l, each read from the map's box-filtered chain at the level the sample's
+//    solid angle covers, ½ log2(Ω_sample / Ω_texel) with the level-0 texel's solid angle at the
+//    sample's latitude ("filtered importance sampling", Colbert and Křivánek, GPU Gems 3 ch.
+//    20, without their +1 bias, which blurred a rough level's lobe measurably: the test holds
+//    the levels to a quadrature of the lobe within 3 %).
 //  - The BRDF's scale and bias (A, B) of F0 over (n·v, roughness): splitSumTable(), computed
 //    once per process from the same V · D as lighting.h's metallicRoughnessSpecular, so
 //    ∫ f · cos = F0 · A + B for the environment's light.
@@ -36,6 +39,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -49,14 +54,22 @@ struct RadianceMap {
     int width = 0, height = 0;
     std::vector<glm::vec3> texels;  ///< width · height, row-major
     std::string name;               ///< the file (for messages)
+    std::uint64_t contentHash = 0;  ///< FNV-1a of the file's bytes (0: not from a file)
 };
+
+/// The brightest radiance a map keeps (a texel above it reads it; buildEnvironment clamps the
+/// scaled radiance too): every sum the build makes stays finite, and 16-bit float uploads
+/// (65504 at most) are the only other limit (vk clamps there).
+inline constexpr float kMaxRadiance = 1.0e8f;
+/// The most texels an environment map may have (8192 × 4096).
+inline constexpr std::size_t kMaxEnvironmentTexels = std::size_t(8192) * 4096;
 
 /// A map prepared for lighting (see the header): built by buildEnvironment, shared by every
 /// view, frame and backend of a render.
 struct Environment {
     static constexpr int kLevels = 6;             ///< prefiltered roughnesses 0, 0.2, …, 1
     static constexpr int kMaxWidth = 512;         ///< level 0's width at most (a power of two)
-    static constexpr int kPrefilterSamples = 64;  ///< GGX samples a prefiltered texel
+    static constexpr int kPrefilterSamples = 64;  ///< GGX samples a level-1 texel (× 2 a level)
     /// One prefiltered level: linear RGB, a = 1 (RGBA for the GPUs' upload), row-major.
     struct Level {
         int width = 0, height = 0;
@@ -85,7 +98,9 @@ inline constexpr float kEnvPi = 3.14159265358979f;
 
 /// The sky's equirectangular coordinates of a unit direction (see the header).
 inline glm::vec2 equirectUv(glm::vec3 d) {
-    const float lon = std::atan2(d.x, -d.z);
+    // Straight up or down, longitude 0 (atan2(0, ±0) is ±π or 0 by zeros' signs; GLSL's atan
+    // is undefined there).
+    const float lon = d.x == 0.0f && d.z == 0.0f ? 0.0f : std::atan2(d.x, -d.z);
     const float lat = std::asin(std::clamp(d.y, -1.0f, 1.0f));
     return {0.5f + lon * (0.5f / kEnvPi), 0.5f - lat * (1.0f / kEnvPi)};
 }
@@ -108,7 +123,7 @@ inline glm::vec3 diffuseLight(const Environment& env, glm::vec3 n) {
     return glm::max(e, glm::vec3(0.0f));
 }
 
-/// Level `k`'s bilinear texel at (u, v) (REPEAT in u, CLAMP_TO_EDGE in v; texel centres).
+/// A level's bilinear texel at (u, v) (REPEAT in u, CLAMP_TO_EDGE in v; texel centres).
 inline glm::vec3 environmentBilinear(const Environment::Level& l, glm::vec2 uv) {
     const float x = uv.x * float(l.width) - 0.5f, y = uv.y * float(l.height) - 0.5f;
     const float fx = std::floor(x), fy = std::floor(y);

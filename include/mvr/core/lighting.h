@@ -73,9 +73,9 @@
 // Image lighting (issue 39 item 2, ShadingContext::environment from Scene::environment;
 // environment.h computes its parts once per map): the environment adds to D and S, after the
 // lights, in the split sum's form (environmentTerms), with n the lit normal (double-sided flip
-// and normal map applied), v the shading eye's, n·v = |n·v|, R = 2 (n·v) n − v, E =
-// diffuseLight(n), P = prefiltered(R, roughness), (A, B) = splitSum(n·v, roughness), Fd = 0.04 A
-// + B (a dielectric's Fresnel over the lobe) and o the occlusion (SurfaceMaps::occlusion, 1
+// and normal map applied), v the shading eye's, R = 2 (n·v) n − v (signed n·v), E =
+// diffuseLight(n), P = prefiltered(R, roughness), (A, B) = splitSum(|n·v|, roughness), Fd =
+// 0.04 A + B (a dielectric's Fresnel over the lobe) and o the occlusion (SurfaceMaps::occlusion, 1
 // without a map; glTF's occlusion acts on this indirect light):
 //   metallic-roughness  D += o ((1 − m)(1 − Fd) E + m A P),  S += o P ((1 − m) Fd + m B)
 //                       (the glTF sample viewer's mix(diffuse, specular, Fd) for the dielectric
@@ -560,7 +560,8 @@ inline glm::vec4 baseColor(const Material& m, glm::vec4 texel) {
 }
 
 inline std::uint8_t quantizeUnorm8(float c) {
-    return static_cast<std::uint8_t>(std::clamp(c, 0.0f, 1.0f) * 255.0f + 0.5f);
+    // max(0, c) first: a NaN reads 0 (std::clamp would pass it on to an undefined cast).
+    return static_cast<std::uint8_t>(std::min(std::max(0.0f, c), 1.0f) * 255.0f + 0.5f);
 }
 
 }  // namespace mvr

@@ -95,22 +95,28 @@ Result<Scene> loadScene(const std::filesystem::path& path, SceneLoadInfo* info =
 /// (lighting.h finishColor), clamped and quantized — so a sky and an --environment of the same
 /// map agree. Errors: Input naming the file ("--sky 'F': file not found …", "not a PNG,
 /// JPEG, Radiance or OpenEXR image", the decoder's reason), Usage for another aspect ratio.
+/// `asRadiance`: read even a PNG / JPEG as loadEnvironmentMap does (sRGB decoded, then shown
+/// as lit colours are), as `--sky environment` does, so that the sky and the light agree.
 Result<Sky> loadSky(const std::string& spec, float hdrScale = 1.0f,
-                    Tonemap tonemap = Tonemap::None);
+                    Tonemap tonemap = Tonemap::None, bool asRadiance = false);
 
 /// An environment map for image lighting (issue 39 item 2, `--environment MAP`;
 /// mvr/core/environment.h): a Radiance RGBE (.hdr: FORMAT=32-bit_rle_rgbe, rows top down,
 /// flat or run-length scanlines; decoded by mvr, see radiance.cpp), an OpenEXR (R, G, B or Y,
 /// half or float, through OpenEXR) or a PNG / JPEG (sRGB decoded to linear) file, told apart
 /// by their bytes, not their names: equirectangular (2:1) as it is, or a horizontal cube cross
-/// (4:3, the sky's layout) resampled to a 4s × 2s equirectangular map. Negative texels read 0.
-/// At most 512 MiB and 8192 × 4096 texels. Errors: Input naming the file ("--environment 'F':
+/// (4:3, the sky's layout) resampled to a 4s × 2s equirectangular map. Negative texels read 0,
+/// texels above kMaxRadiance read kMaxRadiance. At most 512 MiB and 8192 × 4096 texels in
+/// every format. RadianceMap::contentHash: a hash of the file's bytes. Errors: Input naming the file ("--environment 'F':
 /// file not found", "not a Radiance (.hdr), OpenEXR, PNG or JPEG image", "scanline 7 of 64: the
 /// file ends early", "texel (3, 5) is not finite", the decoder's reason), Usage for another
 /// aspect ratio.
 /// `option` names the file in messages ("--sky" when the sky reads it).
 Result<RadianceMap> loadEnvironmentMap(const std::string& path,
                                        const std::string& option = "--environment");
+/// The hash loadEnvironmentMap gives the file's bytes (RadianceMap::contentHash), without
+/// decoding them; 0 when the file cannot be read (a cache key: the session's, prepare.cpp).
+std::uint64_t environmentFileHash(const std::string& path);
 
 /// A model's placement in the scene: translation, uniform scale and rotation about +Y.
 /// FILE@X,Y,Z[,SCALE[,YAW]] is bounded: |X|, |Y|, |Z| <= kMaxPlacementOffset, SCALE in

@@ -13,7 +13,8 @@ namespace mvr::session {
 
 /// The surfaces of a recipe, parsed (the sky map loaded, the labels parsed). A high-dynamic-
 /// range sky (.hdr, .exr) is shown at `hdrScale` (2^EV) through `tonemap`, as lit colours are
-/// (loadSky).
+/// (loadSky). "environment" is the RenderRecipe overload's (a SurfaceRecipe has no map): here
+/// it is a file name like any other.
 Result<StereoSurfaces> buildSurfaces(const SurfaceRecipe& recipe, float hdrScale = 1.0f,
                                      Tonemap tonemap = Tonemap::None);
 /// The same, with the recipe's --background transparent (refused beside the surfaces that paint

@@ -141,7 +141,7 @@ bool hasEnvironment() { return uCounts.w != 0; }
 
 // environment.h equirectUv(): u = 0.5 + atan2(d.x, −d.z) / 2π, v = 0.5 − asin(d.y) / π.
 vec2 equirectUv(vec3 d) {
-    float lon = atan(d.x, -d.z);
+    float lon = (d.x == 0.0 && d.z == 0.0) ? 0.0 : atan(d.x, -d.z);  // straight up / down
     float lat = asin(clamp(d.y, -1.0, 1.0));
     return vec2(0.5 + lon * (0.5 / ENV_PI), 0.5 - lat * (1.0 / ENV_PI));
 }
