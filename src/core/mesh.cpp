@@ -44,6 +44,14 @@ Status validateMesh(const Mesh& mesh, const std::string& what) {
                                       mesh.joints.size(), mesh.weights.size(),
                                       mesh.positions.size()));
     }
+    if ((!mesh.joints1.empty() || !mesh.weights1.empty()) &&
+        (mesh.joints.size() != mesh.positions.size() ||
+         mesh.joints1.size() != mesh.positions.size() ||
+         mesh.weights1.size() != mesh.positions.size())) {
+        return inputError(fmt::format("{}: {} second joints and {} second weights for {} positions",
+                                      what, mesh.joints1.size(), mesh.weights1.size(),
+                                      mesh.positions.size()));
+    }
     if (!mesh.tangents.empty() && mesh.tangents.size() != mesh.positions.size()) {
         return inputError(fmt::format("{}: {} tangents for {} positions", what,
                                       mesh.tangents.size(), mesh.positions.size()));
@@ -196,6 +204,24 @@ void poseSkin(Mesh& mesh, const std::vector<glm::mat4>& jointMatrices) {
     const std::size_t n = mesh.basePositions.size();
     if (mesh.joints.size() != n || mesh.weights.size() != n || mesh.baseNormals.size() != n)
         return;
+    const bool eight = mesh.joints1.size() == n && mesh.weights1.size() == n;
+    // Influence k (0..7) of vertex i: JOINTS_0 / WEIGHTS_0, then JOINTS_1 / WEIGHTS_1.
+    auto weightOf = [&](std::size_t i, int k) {
+        return k < 4 ? mesh.weights[i][k] : mesh.weights1[i][k - 4];
+    };
+    auto jointOf = [&](std::size_t i, int k) -> std::size_t {
+        return k < 4 ? mesh.joints[i][k] : mesh.joints1[i][k - 4];
+    };
+    const int influences = eight ? 8 : 4;
+    auto unweighted = [&](std::size_t i) {
+        const glm::vec4& a = mesh.weights[i];
+        float sum = (a.x + a.y) + (a.z + a.w);
+        if (eight) {
+            const glm::vec4& b = mesh.weights1[i];
+            sum += (b.x + b.y) + (b.z + b.w);
+        }
+        return sum == 0.0f;
+    };
     if (mesh.morphTargets.empty()) {
         mesh.positions = mesh.basePositions;
         mesh.normals = mesh.baseNormals;
@@ -212,15 +238,14 @@ void poseSkin(Mesh& mesh, const std::vector<glm::mat4>& jointMatrices) {
                                       glm::cross(a[0], a[1]));
     }
     for (std::size_t i = 0; i < n; ++i) {
-        const glm::vec4& wv = mesh.weights[i];
-        if (((wv.x + wv.y) + (wv.z + wv.w)) == 0.0f) continue;  // unweighted: left as it is
+        if (unweighted(i)) continue;  // left as it is
         const glm::vec4 p(mesh.positions[i], 1.0f);
         glm::vec4 sp(0.0f);
         glm::vec3 sn(0.0f);
-        for (int k = 0; k < 4; ++k) {
-            const float w = mesh.weights[i][k];
+        for (int k = 0; k < influences; ++k) {
+            const float w = weightOf(i, k);
             if (w == 0.0f) continue;
-            const std::size_t j = mesh.joints[i][k];
+            const std::size_t j = jointOf(i, k);
             if (j < jointMatrices.size()) {
                 sp += w * (jointMatrices[j] * p);
                 sn += w * (normalMatrices[j] * mesh.normals[i]);
@@ -235,16 +260,15 @@ void poseSkin(Mesh& mesh, const std::vector<glm::mat4>& jointMatrices) {
     }
     if (mesh.baseTangents.size() == n && mesh.tangents.size() == n) {
         for (std::size_t i = 0; i < n; ++i) {
-            const glm::vec4& wv = mesh.weights[i];
-            if (((wv.x + wv.y) + (wv.z + wv.w)) == 0.0f) {
+            if (unweighted(i)) {
                 mesh.tangents[i] = mesh.baseTangents[i];
                 continue;
             }
             const glm::vec3 t(mesh.baseTangents[i]);
             glm::vec3 st(0.0f);
-            for (int k = 0; k < 4; ++k) {
-                const float w = mesh.weights[i][k];
-                const std::size_t j = mesh.joints[i][k];
+            for (int k = 0; k < influences; ++k) {
+                const float w = weightOf(i, k);
+                const std::size_t j = jointOf(i, k);
                 if (w != 0.0f) st += w * (j < jointMatrices.size() ? glm::mat3(jointMatrices[j]) * t : t);
             }
             const float len = glm::length(st);

@@ -46,6 +46,8 @@ void optimizeMeshLocality(Mesh& mesh) {
     remapStream(mesh.baseTangents);
     remapStream(mesh.joints);
     remapStream(mesh.weights);
+    remapStream(mesh.joints1);
+    remapStream(mesh.weights1);
     remapStream(mesh.basePositions);
     remapStream(mesh.baseNormals);
     for (MorphTarget& t : mesh.morphTargets) {

@@ -630,8 +630,9 @@ std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name, bool 
         applyMorphWeights(mesh, weights);  // the mesh's default weights
     }
     // Skins: assimp's bones (one per joint of the node's skin, mOffsetMatrix its inverse bind
-    // matrix; the weights follow its own vertex processing); each vertex keeps its 4 largest
-    // influences, renormalised (JOINTS_1 / WEIGHTS_1 beyond them are dropped).
+    // matrix; the weights follow its own vertex processing); each vertex keeps its 8 largest
+    // influences (JOINTS_0 / WEIGHTS_0 and JOINTS_1 / WEIGHTS_1: Mesh::joints1 / weights1,
+    // only when a vertex has more than 4), renormalised; a ninth and beyond are dropped.
     if (in.HasBones() && in.mNumBones <= 65535u) {
         std::vector<std::vector<std::pair<float, unsigned>>> influences(in.mNumVertices);
         for (unsigned b = 0; b < in.mNumBones; ++b) {
@@ -645,16 +646,24 @@ std::optional<Mesh> convertMesh(const aiMesh& in, const std::string& name, bool 
         }
         mesh.joints.resize(in.mNumVertices, glm::u16vec4(0));
         mesh.weights.resize(in.mNumVertices, glm::vec4(0.0f));
+        const bool eight = std::any_of(influences.begin(), influences.end(),
+                                       [](const auto& list) { return list.size() > 4; });
+        if (eight) {
+            mesh.joints1.resize(in.mNumVertices, glm::u16vec4(0));
+            mesh.weights1.resize(in.mNumVertices, glm::vec4(0.0f));
+        }
         for (unsigned v = 0; v < in.mNumVertices; ++v) {
             auto& list = influences[v];
             std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) {
                 return a.first > b.first || (a.first == b.first && a.second < b.second);
             });
             float sum = 0.0f;
-            for (std::size_t k = 0; k < list.size() && k < 4; ++k) sum += list[k].first;
-            for (std::size_t k = 0; k < list.size() && k < 4; ++k) {
-                mesh.joints[v][int(k)] = std::uint16_t(list[k].second);
-                mesh.weights[v][int(k)] = list[k].first / sum;
+            for (std::size_t k = 0; k < list.size() && k < 8; ++k) sum += list[k].first;
+            for (std::size_t k = 0; k < list.size() && k < 8; ++k) {
+                auto& joints = k < 4 ? mesh.joints[v] : mesh.joints1[v];
+                auto& weights = k < 4 ? mesh.weights[v] : mesh.weights1[v];
+                joints[int(k % 4)] = std::uint16_t(list[k].second);
+                weights[int(k % 4)] = list[k].first / sum;
             }
             // unweighted (all 0): poseSkin leaves the vertex where it is
         }

@@ -22,33 +22,49 @@ namespace {
 constexpr float kRows[5] = {0.0f, 0.5f, 1.0f, 1.5f, 2.0f};
 
 float tipWeight(float y) { return y < 0.75f ? 0.0f : y > 1.25f ? 1.0f : 0.5f; }
+/// With `eight` influences the middle row is Tip 0.3, Root 0.1 and four more joints at Root's
+/// place 0.15 each (JOINTS_1 / WEIGHTS_1 hold two of them): Tip's share 0.3 of all eight (the 4
+/// largest alone would give it 0.3 / 0.75 = 0.4).
+float tipWeight(float y, bool eight) { return eight && y > 0.75f && y < 1.25f ? 0.3f : tipWeight(y); }
 
 /// Where a bind-pose vertex goes when Tip is turned by `degrees` about +z at its head (2, 1):
 /// Root's matrix world · IBM is the identity, Tip's T(2, 1, 0) · R(θ) · T(−2, −1, 0).
-glm::vec3 posed(const glm::vec3& bind, float degrees) {
+glm::vec3 posed(const glm::vec3& bind, float degrees, bool eight = false) {
     const float a = glm::radians(degrees), c = std::cos(a), s = std::sin(a);
     const glm::vec3 d = bind - glm::vec3(2, 1, 0);
     const glm::vec3 tip = glm::vec3(2, 1, 0) + glm::vec3(c * d.x - s * d.y, s * d.x + c * d.y, d.z);
-    const float w = tipWeight(bind.y);
+    const float w = tipWeight(bind.y, eight);
     return (1.0f - w) * bind + w * tip;
 }
 
 /// `restDegrees`: Tip's rest rotation (the node's own "rotation"); `animated`: a LINEAR
 /// rotation channel on Tip from 0° at t = 0 to 90° at t = 1.
 /// `twice`: a second node ("Copy", 5 to the right) instances the skinned mesh too.
+/// `eight`: four more joints ("J2".."J5", children of Root at its place) and the middle row
+/// spread over six influences, JOINTS_1 / WEIGHTS_1 as Blender writes a vertex of more than 4
+/// groups (not with `twice`).
 std::filesystem::path writeSkinnedStrip(const std::filesystem::path& dir, float restDegrees,
-                                        bool animated, bool twice = false) {
+                                        bool animated, bool twice = false, bool eight = false) {
     std::string bin;
     std::vector<float> pos, nrm;
-    std::vector<std::uint8_t> joints;
-    std::vector<float> weights;
+    std::vector<std::uint8_t> joints, joints1;
+    std::vector<float> weights, weights1;
     for (float y : kRows) {
         for (float x : {1.9f, 2.1f}) {
             pos.insert(pos.end(), {x, y, 0.0f});
             nrm.insert(nrm.end(), {0.0f, 0.0f, 1.0f});
             const float w = tipWeight(y);
-            joints.insert(joints.end(), {0, 1, 0, 0});
-            weights.insert(weights.end(), {1.0f - w, w, 0.0f, 0.0f});
+            if (eight && w == 0.5f) {
+                joints.insert(joints.end(), {0, 1, 2, 3});
+                weights.insert(weights.end(), {0.1f, 0.3f, 0.15f, 0.15f});
+                joints1.insert(joints1.end(), {4, 5, 0, 0});
+                weights1.insert(weights1.end(), {0.15f, 0.15f, 0.0f, 0.0f});
+            } else {
+                joints.insert(joints.end(), {0, 1, 0, 0});
+                weights.insert(weights.end(), {1.0f - w, w, 0.0f, 0.0f});
+                joints1.insert(joints1.end(), {0, 0, 0, 0});
+                weights1.insert(weights1.end(), {0.0f, 0.0f, 0.0f, 0.0f});
+            }
         }
     }
     std::vector<std::uint16_t> idx;
@@ -57,9 +73,11 @@ std::filesystem::path writeSkinnedStrip(const std::filesystem::path& dir, float 
         idx.insert(idx.end(), {a, std::uint16_t(a + 1), std::uint16_t(a + 3), a,
                                std::uint16_t(a + 3), std::uint16_t(a + 2)});
     }
-    // Inverse bind matrices (column-major): T(−2, 0, 0) and T(−2, −1, 0).
-    const std::vector<float> ibm = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -2, 0, 0, 1,
-                                    1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -2, -1, 0, 1};
+    // Inverse bind matrices (column-major): T(−2, 0, 0) and T(−2, −1, 0) (and Root's for J2..J5).
+    std::vector<float> ibm = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -2, 0, 0, 1,
+                              1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -2, -1, 0, 1};
+    for (int k = 0; eight && k < 4; ++k)
+        ibm.insert(ibm.end(), {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -2, 0, 0, 1});
     const float h = std::sin(glm::radians(45.0f));
     auto align = [&] { while (bin.size() % 4) bin.push_back('\0'); };
     const std::size_t posAt = bin.size();
@@ -80,45 +98,56 @@ std::filesystem::path writeSkinnedStrip(const std::filesystem::path& dir, float 
     test::detail_fixture::appendFloats(bin, {0.0f, 1.0f});
     const std::size_t rotAt = bin.size();
     test::detail_fixture::appendFloats(bin, {0, 0, 0, 1, 0, 0, h, h});
+    const std::size_t joints1At = bin.size();
+    bin.append(reinterpret_cast<const char*>(joints1.data()), joints1.size());
+    align();
+    const std::size_t weights1At = bin.size();
+    test::detail_fixture::appendFloats(bin, weights1);
     const float ra = glm::radians(restDegrees) / 2.0f;
     const std::string json = fmt::format(
         R"({{"asset":{{"version":"2.0","generator":"Khronos glTF Blender I/O v3.6.27"}},
 "scene":0,"scenes":[{{"name":"Scene","nodes":[0]}}],
 "nodes":[{{"name":"Armature","translation":[2,0,0],"children":[1,3{}]}},
- {{"name":"Root","children":[2]}},
+ {{"name":"Root","children":[2{}]}},
  {{"name":"Tip","translation":[0,1,0],"rotation":[0,0,{},{}]}},
  {{"name":"Strip","mesh":0,"skin":0}}{}],
-"skins":[{{"name":"Armature","inverseBindMatrices":5,"joints":[1,2]}}],
-"meshes":[{{"name":"Strip","primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1,"JOINTS_0":2,"WEIGHTS_0":3}},"indices":4}}]}}],
+"skins":[{{"name":"Armature","inverseBindMatrices":5,"joints":[1,2{}]}}],
+"meshes":[{{"name":"Strip","primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1,"JOINTS_0":2,"WEIGHTS_0":3{}}},"indices":4}}]}}],
 "accessors":[
  {{"bufferView":0,"componentType":5126,"count":10,"type":"VEC3","min":[1.9,0,0],"max":[2.1,2,0]}},
  {{"bufferView":1,"componentType":5126,"count":10,"type":"VEC3"}},
  {{"bufferView":2,"componentType":5121,"count":10,"type":"VEC4"}},
  {{"bufferView":3,"componentType":5126,"count":10,"type":"VEC4"}},
  {{"bufferView":4,"componentType":5123,"count":24,"type":"SCALAR"}},
- {{"bufferView":5,"componentType":5126,"count":2,"type":"MAT4"}},
+ {{"bufferView":5,"componentType":5126,"count":{},"type":"MAT4"}},
  {{"bufferView":6,"componentType":5126,"count":2,"type":"SCALAR","min":[0],"max":[1]}},
- {{"bufferView":7,"componentType":5126,"count":2,"type":"VEC4"}}],
+ {{"bufferView":7,"componentType":5126,"count":2,"type":"VEC4"}},
+ {{"bufferView":8,"componentType":5121,"count":10,"type":"VEC4"}},
+ {{"bufferView":9,"componentType":5126,"count":10,"type":"VEC4"}}],
 "bufferViews":[
  {{"buffer":0,"byteOffset":{},"byteLength":120}},{{"buffer":0,"byteOffset":{},"byteLength":120}},
  {{"buffer":0,"byteOffset":{},"byteLength":40}},{{"buffer":0,"byteOffset":{},"byteLength":160}},
- {{"buffer":0,"byteOffset":{},"byteLength":48}},{{"buffer":0,"byteOffset":{},"byteLength":128}},
- {{"buffer":0,"byteOffset":{},"byteLength":8}},{{"buffer":0,"byteOffset":{},"byteLength":32}}],
+ {{"buffer":0,"byteOffset":{},"byteLength":48}},{{"buffer":0,"byteOffset":{},"byteLength":{}}},
+ {{"buffer":0,"byteOffset":{},"byteLength":8}},{{"buffer":0,"byteOffset":{},"byteLength":32}},
+ {{"buffer":0,"byteOffset":{},"byteLength":40}},{{"buffer":0,"byteOffset":{},"byteLength":160}}],
 "buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}]{}}})",
-        twice ? ",4" : "", std::sin(ra), std::cos(ra),
-        twice ? R"(,{"name":"Copy","mesh":0,"skin":0,"translation":[5,0,0]})" : "", posAt, nrmAt, jointsAt, weightsAt, idxAt, ibmAt, timesAt,
-        rotAt, bin.size(), test::base64(bin),
+        twice ? ",4" : "", eight ? ",4,5,6,7" : "", std::sin(ra), std::cos(ra),
+        twice ? R"(,{"name":"Copy","mesh":0,"skin":0,"translation":[5,0,0]})"
+              : eight ? R"(,{"name":"J2"},{"name":"J3"},{"name":"J4"},{"name":"J5"})" : "",
+        eight ? ",4,5,6,7" : "", eight ? R"(,"JOINTS_1":8,"WEIGHTS_1":9)" : "",
+        eight ? 6 : 2, posAt, nrmAt, jointsAt, weightsAt, idxAt, ibmAt, eight ? 384 : 128,
+        timesAt, rotAt, joints1At, weights1At, bin.size(), test::base64(bin),
         animated ? R"(,"animations":[{"name":"Bend","channels":[{"sampler":0,"target":{"node":2,"path":"rotation"}}],"samplers":[{"input":6,"output":7,"interpolation":"LINEAR"}]}])"
                  : "");
     const auto path =
-        dir / fmt::format("strip-{}-{}-{}.gltf", int(restDegrees), animated, twice);
+        dir / fmt::format("strip-{}-{}-{}-{}.gltf", int(restDegrees), animated, twice, eight);
     std::ofstream(path) << json;
     return path;
 }
 
 /// Every vertex of the strip's instance in world space against posed(its bind position).
 void expectPosed(const Scene& scene, float degrees, const std::string& what,
-                 std::size_t instance = 0) {
+                 std::size_t instance = 0, bool eight = false) {
     ASSERT_GT(scene.instances.size(), instance) << what;
     const Instance& inst = scene.instances[instance];
     const Mesh& mesh = scene.meshes.at(std::size_t(inst.mesh));
@@ -130,7 +159,7 @@ void expectPosed(const Scene& scene, float degrees, const std::string& what,
         // skinned mesh (glTF), so the instance's own matrix must not move it twice.
         const glm::vec3 bind = mesh.basePositions[i];
         const glm::vec3 got = glm::vec3(inst.worldFromModel * glm::vec4(mesh.positions[i], 1));
-        const glm::vec3 want = posed(bind, degrees);
+        const glm::vec3 want = posed(bind, degrees, eight);
         EXPECT_LT(glm::length(got - want), 1e-5f)
             << what << ": vertex at (" << bind.x << ", " << bind.y << ") is at (" << got.x
             << ", " << got.y << ", " << got.z << "), expected (" << want.x << ", " << want.y
@@ -145,6 +174,22 @@ TEST(GltfSkin, StillShowsTheFilesRestPose) {
         ASSERT_TRUE(scene) << scene.status().message();
         expectPosed(*scene, rest, fmt::format("rest {}°", rest));
     }
+}
+
+TEST(GltfSkin, MoreThanFourInfluencesAreAllBlended) {
+    // JOINTS_1 / WEIGHTS_1: the middle row's six influences all count (Tip 0.3 of them), at
+    // rest and with Tip turned 90° by the animation.
+    test::TempDir dir("mvr-gltf-skin-eight");
+    SceneLoadInfo info;
+    auto scene = loadScene(writeSkinnedStrip(dir.path(), 0.0f, true, false, true), &info);
+    ASSERT_TRUE(scene) << scene.status().message();
+    ASSERT_TRUE(info.animation);
+    const Mesh& mesh = scene->meshes.at(0);
+    ASSERT_EQ(mesh.joints1.size(), 10u);
+    expectPosed(*scene, 0.0f, "eight, rest", 0, true);
+    Scene s = *scene;
+    animateScene(s, *info.animation, 1.0);
+    expectPosed(s, 90.0f, "eight, 90°", 0, true);
 }
 
 TEST(GltfSkin, NodesSharingASkinnedMeshDrawItAlike) {

@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include "exactness.h"
 #include "gltf_anim_fixture.h"
 #include "mvr/core/animation.h"
 #include "mvr/core/mesh.h"
@@ -131,27 +132,8 @@ TEST(AnimationRender, UnifiedEqualsMultipassOnASkinnedAndMorphedMesh) {
     }
     ASSERT_GT(moved, 100u);  // the pose moved the meshes
     auto backend = raster::makeSoftBackend();
-    Camera cam;
-    cam.position = {0.5f, 1.8f, 6.0f};
-    cam.aspect = 80.0f / 60.0f;
-    for (auto [c, r] : {std::pair{2, 1}, {5, 1}, {16, 1}, {3, 2}}) {
-        RigParams p;
-        p.columns = c, p.rows = r, p.interaxial = 0.2f, p.convergence = 6.0f;
-        auto rig = makeRig(cam, p);
-        ASSERT_TRUE(rig);
-        for (int mode = 0; mode < 3; ++mode) {
-            RenderSettings s;
-            s.width = 80, s.height = 60;
-            s.shading = Shading(mode);
-            auto mp = backend->render(scene, *rig, s, "multipass");
-            auto un = backend->render(scene, *rig, s, "unified");
-            ASSERT_TRUE(mp && un);
-            for (std::size_t v = 0; v < mp->color.size(); ++v) {
-                EXPECT_EQ(mp->color[v].rgba, un->color[v].rgba)
-                    << c << "x" << r << " view " << v << " shading " << mode;
-            }
-        }
-    }
+    raster::test::expectUnifiedEqualsMultipass(*backend, scene, {{2, 1}, {5, 1}, {16, 1}, {3, 2}},
+                                               80, 60);
 }
 
 }  // namespace

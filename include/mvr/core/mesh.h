@@ -59,11 +59,16 @@ struct Mesh {
     std::vector<glm::vec4> tangents;
     /// Skinning (glTF skins, issue 39 item 3): empty, or one per position: up to 4 joints
     /// (indices into the skin's joint list, SceneAnimation::Skin) and their weights, summing
-    /// to 1 (all 0: the vertex is not skinned). `basePositions` / `baseNormals` then hold the unskinned (bind) pose, which
-    /// poseSkin() deforms (after the morph targets).
+    /// to 1 with joints1 / weights1's (all 0: the vertex is not skinned). `basePositions` /
+    /// `baseNormals` then hold the unskinned (bind) pose, which poseSkin() deforms (after the
+    /// morph targets).
     std::vector<glm::u16vec4> joints;
     std::vector<glm::vec4> weights;
     std::vector<glm::vec4> baseTangents;  ///< a skinned mesh's unskinned `tangents`, or empty
+    /// Influences 5 to 8 (glTF's JOINTS_1 / WEIGHTS_1): empty when no vertex has more than 4,
+    /// else one per position (0 weights where a vertex has fewer).
+    std::vector<glm::u16vec4> joints1;
+    std::vector<glm::vec4> weights1;
     /// Morph targets (glTF's `targets`): empty, or each with one displacement per position.
     /// `positions` / `normals` then hold the mesh at `morphWeights` (applyMorphWeights()),
     /// `basePositions` / `baseNormals` the mesh at weights 0.

@@ -8,7 +8,7 @@
 // Mapping (docs/architecture.md, "Scenes from files"):
 // - every mesh instance of a node → one Instance per primitive, worldFromModel = the node's
 //   world transform; each primitive → one Mesh (shared by the nodes that instance it). A
-//   skinned one (glTF skins: assimp's bones, 4 influences a vertex) is posed by its joints in
+//   skinned one (glTF skins: assimp's bones, up to 8 influences a vertex) is posed by its joints in
 //   the file's root space (poseSkin; the node's own transform does not place it, glTF's rule),
 //   its Instance at the root.
 // - baseColorFactor → Material::albedo + alpha; baseColorTexture → a Texture and its sampler
