@@ -45,9 +45,13 @@ glm::vec3 texelDirection(int i, int j, int w, int h) {
     return equirectDirection((float(i) + 0.5f) / float(w), (float(j) + 0.5f) / float(h));
 }
 
-/// Runs body(row) for rows [0, rows) on the machine's cores (each row written by one thread:
-/// the result does not depend on the thread count).
+/// Runs body(row) for rows [0, rows) on the machine's cores, or on this thread for 16 rows or
+/// fewer (each row written by one thread: the result does not depend on the thread count).
 void parallelRows(int rows, const std::function<void(int)>& body) {
+    if (rows <= 16) {  // a small level: starting threads would cost more than it saves
+        for (int r = 0; r < rows; ++r) body(r);
+        return;
+    }
     const int threads =
         std::clamp(int(std::thread::hardware_concurrency()), 1, std::max(1, std::min(rows, 16)));
     std::vector<std::thread> pool;

@@ -77,18 +77,27 @@ Result<Image> decodeImageBytes(std::span<const std::uint8_t> data, const std::st
     return decodePng(data, what);
 }
 
-Result<Image> readImageFile(const std::filesystem::path& path, const std::string& what) {
-    if (Status s = checkRegularFile(path, what); !s) return s;  // no FIFO, device, directory
+/// A regular file's bytes (no FIFO, device or directory), at most `limitMiB` MiB. Errors
+/// (Input) name `what`: "cannot be read", "is larger than N MiB", checkRegularFile's.
+Result<std::vector<std::uint8_t>> readFileBytes(const std::filesystem::path& path,
+                                                const std::string& what, int limitMiB) {
+    if (Status s = checkRegularFile(path, what); !s) return s;
     std::error_code ec;
     const std::uintmax_t size = std::filesystem::file_size(path, ec);
     if (ec) return inputError(fmt::format("{}: cannot be read", what));
-    if (size > (std::uintmax_t(256) << 20))
-        return inputError(fmt::format("{}: is larger than 256 MiB", what));
+    if (size > (std::uintmax_t(limitMiB) << 20))
+        return inputError(fmt::format("{}: is larger than {} MiB", what, limitMiB));
     std::ifstream in(path, std::ios::binary);
     std::vector<std::uint8_t> bytes(size);
     in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
     if (!in) return inputError(fmt::format("{}: cannot be read", what));
-    return decodeImageBytes(bytes, what);
+    return bytes;
+}
+
+Result<Image> readImageFile(const std::filesystem::path& path, const std::string& what) {
+    auto bytes = readFileBytes(path, what, 256);
+    if (!bytes) return bytes.status();
+    return decodeImageBytes(*bytes, what);
 }
 
 TextureWrap wrapFrom(int mode) {
@@ -1154,29 +1163,19 @@ std::uint64_t bytesHash(std::span<const std::uint8_t> bytes) {
 }
 }  // namespace
 
+/// An environment map file holds at most this many MiB.
+constexpr int kMaxEnvironmentMiB = 512;
+
 std::uint64_t environmentFileHash(const std::string& path) {
-    if (!checkRegularFile(path, path)) return 0;
-    std::error_code ec;
-    const std::uintmax_t size = std::filesystem::file_size(path, ec);
-    if (ec || size > (std::uintmax_t(512) << 20)) return 0;
-    std::vector<std::uint8_t> bytes(size);
-    std::ifstream in(path, std::ios::binary);
-    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
-    return in ? bytesHash(bytes) : 0;
+    auto bytes = readFileBytes(path, path, kMaxEnvironmentMiB);
+    return bytes ? bytesHash(*bytes) : 0;
 }
 
 Result<RadianceMap> loadEnvironmentMap(const std::string& path, const std::string& option) {
     const std::string what = fmt::format("{} '{}'", option, path);
-    if (Status s = checkRegularFile(path, what); !s) return s;  // no FIFO, device, directory
-    std::error_code ec;
-    const std::uintmax_t size = std::filesystem::file_size(path, ec);
-    if (ec) return inputError(fmt::format("{}: cannot be read", what));
-    if (size > (std::uintmax_t(512) << 20))
-        return inputError(fmt::format("{}: is larger than 512 MiB", what));
-    std::vector<std::uint8_t> bytes(size);
-    std::ifstream in(path, std::ios::binary);
-    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
-    if (!in) return inputError(fmt::format("{}: cannot be read", what));
+    auto read = readFileBytes(path, what, kMaxEnvironmentMiB);
+    if (!read) return read.status();
+    const std::vector<std::uint8_t>& bytes = *read;
     static const std::uint8_t kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
     RadianceMap map;
     const std::uint64_t hash = bytesHash(bytes);
