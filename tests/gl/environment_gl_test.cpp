@@ -97,14 +97,6 @@ const std::vector<Case>& cases() {
     return c;
 }
 
-std::vector<std::string> exactMethods() {
-    std::vector<std::string> out;
-    for (const std::string& m : backend().methods()) {
-        if (m != "auto" && m != "gs-mrt" && m != "gs-depthmap") out.push_back(m);
-    }
-    return out;
-}
-
 /// An off-axis rig of columns × rows views closer to the scene than rigFor's (the default
 /// scene's objects fill the views: its ground is large), so most pixels show the lighting.
 Rig closeRig(const Scene& scene, int columns, int rows) {
@@ -340,33 +332,6 @@ TEST(GlEnvironment, RemovingTheEnvironmentRestoresTheImage) {
             }
         }
     }
-}
-
-// A unit quad in the XY plane facing +Z, before a camera on +Z.
-Mesh quadMesh() {
-    Mesh m;
-    m.name = "quad";
-    m.positions = {{-1, 1, 0}, {1, 1, 0}, {1, -1, 0}, {-1, -1, 0}};
-    m.normals.assign(4, glm::vec3(0, 0, 1));
-    m.texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    m.indices = {0, 3, 2, 0, 2, 1};
-    return m;
-}
-
-Rig monoRig() {
-    Camera cam;
-    cam.position = {0, 0, 2.0f};
-    cam.target = {0, 0, 0};
-    cam.fovYDegrees = 60.0f;
-    cam.aspect = float(kW) / kH;
-    RigParams p;
-    p.columns = 1;
-    p.rows = 1;
-    p.convergence = 2.0f;
-    p.interaxial = 0.0f;
-    auto rig = makeRig(cam, p);
-    EXPECT_TRUE(rig) << rig.status().message();
-    return rig ? *rig : Rig{};
 }
 
 RadianceMap uniformMap(glm::vec3 c) {

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -44,6 +45,44 @@ inline mvr::Backend& backend() {
 using ::mvr::test::cameraFor;
 using ::mvr::test::defaultScene;
 using ::mvr::test::depthMismatch;
+/// A unit quad in the XY plane facing +Z, texture coordinates (0, 0) at its top left.
+inline Mesh quadMesh() {
+    Mesh m;
+    m.name = "quad";
+    m.positions = {{-1, 1, 0}, {1, 1, 0}, {1, -1, 0}, {-1, -1, 0}};
+    m.normals.assign(4, glm::vec3(0, 0, 1));
+    m.texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    m.indices = {0, 3, 2, 0, 2, 1};
+    return m;
+}
+
+/// One view from (0, 0, 2) looking at the origin, 60° high, of a 160 × 120 image's aspect
+/// (the textured, surface-map and environment tests' size).
+inline Rig monoRig() {
+    Camera cam;
+    cam.position = {0, 0, 2.0f};
+    cam.target = {0, 0, 0};
+    cam.fovYDegrees = 60.0f;
+    cam.aspect = 160.0f / 120.0f;
+    RigParams p;
+    p.columns = 1;
+    p.rows = 1;
+    p.convergence = 2.0f;
+    p.interaxial = 0.0f;
+    auto rig = makeRig(cam, p);
+    EXPECT_TRUE(rig) << rig.status().message();
+    return rig ? *rig : Rig{};
+}
+
+/// The backend's methods that draw every view exactly (not auto, gs-mrt, gs-depthmap).
+inline std::vector<std::string> exactMethods() {
+    std::vector<std::string> out;
+    for (const std::string& m : backend().methods()) {
+        if (m != "auto" && m != "gs-mrt" && m != "gs-depthmap") out.push_back(m);
+    }
+    return out;
+}
+
 using ::mvr::test::rigFor;
 using ::mvr::test::sharedDir;
 using ::mvr::test::suzanneScene;

@@ -48,16 +48,6 @@ double srgbDecode(int b) {
 
 // A unit quad in the XY plane facing +Z (toward a camera on +Z), texture coordinates (0, 0)
 // at the top-left corner (image row 0 at the top, as glTF).
-Mesh quadMesh() {
-    Mesh m;
-    m.name = "quad";
-    m.positions = {{-1, 1, 0}, {1, 1, 0}, {1, -1, 0}, {-1, -1, 0}};
-    m.normals.assign(4, glm::vec3(0, 0, 1));
-    m.texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    m.indices = {0, 3, 2, 0, 2, 1};
-    return m;
-}
-
 // A 2x2 texture of four distinct colors: top-left red-ish, top-right green-ish, bottom-left
 // blue-ish, bottom-right grey, with alpha 255 / 128 / 255 / 40.
 mvr::Texture quadTexture() {
@@ -88,30 +78,6 @@ Scene quadScene(AlphaMode mode = AlphaMode::Opaque) {
     s.ambient = glm::vec3(1.0f);
     s.background = glm::vec3(0.0f);
     return s;
-}
-
-Rig monoRig() {
-    Camera cam;
-    cam.position = {0, 0, 2.0f};
-    cam.target = {0, 0, 0};
-    cam.fovYDegrees = 60.0f;
-    cam.aspect = float(kW) / kH;
-    RigParams p;
-    p.columns = 1;
-    p.rows = 1;
-    p.convergence = 2.0f;
-    p.interaxial = 0.0f;
-    auto rig = makeRig(cam, p);
-    EXPECT_TRUE(rig) << rig.status().message();
-    return rig ? *rig : Rig{};
-}
-
-std::vector<std::string> exactMethods() {
-    std::vector<std::string> out;
-    for (const std::string& m : backend().methods()) {
-        if (m != "auto" && m != "gs-mrt" && m != "gs-depthmap") out.push_back(m);
-    }
-    return out;
 }
 
 // Texels at known texture coordinates: the quad's four quarters are the four texels, decoded
