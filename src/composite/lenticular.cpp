@@ -231,33 +231,59 @@ int lenticularView(const LenticularShaderParams& p, int viewCount, int screenWid
     return std::clamp(view, 0, viewCount - 1);
 }
 
-Result<Image> lenticular(std::span<const Image> views, const LenticularCalibration& cal) {
-    if (Status s = validateViews(views, 2, 1 << 20, "mvr::composite::lenticular()"); !s) return s;
-    const int vw = views[0].width, vh = views[0].height;
-    const int sw = cal.screenWidth > 0 ? cal.screenWidth : vw;
-    const int sh = cal.screenHeight > 0 ? cal.screenHeight : vh;
+Result<LenticularLayout> lenticularLayout(const LenticularCalibration& cal, int viewCount,
+                                          int viewWidth, int viewHeight) {
+    const int sw = cal.screenWidth > 0 ? cal.screenWidth : viewWidth;
+    const int sh = cal.screenHeight > 0 ? cal.screenHeight : viewHeight;
     Result<LenticularShaderParams> params = lenticularShaderParams(cal, sw, sh);
     if (!params) return params.status();
-    const LenticularShaderParams& p = *params;
-    const int n = static_cast<int>(views.size());
-    Image out(sw, sh);
+    LenticularLayout l;
+    l.params = *params;
+    l.views = viewCount;
+    l.viewWidth = viewWidth, l.viewHeight = viewHeight;
+    l.screenWidth = sw, l.screenHeight = sh;
+    // Nearest view pixel of (u, v); the lookup is mirrored for a flipped panel.
+    l.sourceColumn.resize(std::size_t(sw));
+    for (int px = 0; px < sw; ++px) {
+        const int vx0 = std::min(viewWidth - 1, static_cast<int>((px + 0.5) * viewWidth / sw));
+        l.sourceColumn[std::size_t(px)] = cal.flipX ? viewWidth - 1 - vx0 : vx0;
+    }
+    l.sourceRow.resize(std::size_t(sh));
     for (int py = 0; py < sh; ++py) {
-        // Nearest view pixel of (u, v); the lookup is mirrored for a flipped panel.
-        const int vy0 = std::min(vh - 1, static_cast<int>((py + 0.5) * vh / sh));
-        const int vy = cal.flipY ? vh - 1 - vy0 : vy0;
-        std::uint8_t* d = out.row(py);
-        for (int px = 0; px < sw; ++px) {
-            const int vx0 = std::min(vw - 1, static_cast<int>((px + 0.5) * vw / sw));
-            const int vx = cal.flipX ? vw - 1 - vx0 : vx0;
-            const std::size_t at = (static_cast<std::size_t>(vy) * vw + vx) * 4;
-            const int viewR = lenticularView(p, n, sw, sh, px, py, p.ri);
-            const int viewG = lenticularView(p, n, sw, sh, px, py, 1);
-            const int viewB = lenticularView(p, n, sw, sh, px, py, p.bi);
-            d[px * 4 + 0] = views[viewR].rgba[at + 0];
-            d[px * 4 + 1] = views[viewG].rgba[at + 1];
-            d[px * 4 + 2] = views[viewB].rgba[at + 2];
-            d[px * 4 + 3] = 255;
-        }
+        const int vy0 = std::min(viewHeight - 1, static_cast<int>((py + 0.5) * viewHeight / sh));
+        l.sourceRow[std::size_t(py)] = cal.flipY ? viewHeight - 1 - vy0 : vy0;
+    }
+    return l;
+}
+
+void lenticularRow(const LenticularLayout& l, int py, const std::uint8_t* const* viewRows,
+                   std::uint8_t* d) {
+    const LenticularShaderParams& p = l.params;
+    const int n = l.views, sw = l.screenWidth, sh = l.screenHeight;
+    for (int px = 0; px < sw; ++px) {
+        const std::size_t at = std::size_t(l.sourceColumn[std::size_t(px)]) * 4;
+        const int viewR = lenticularView(p, n, sw, sh, px, py, p.ri);
+        const int viewG = lenticularView(p, n, sw, sh, px, py, 1);
+        const int viewB = lenticularView(p, n, sw, sh, px, py, p.bi);
+        d[px * 4 + 0] = viewRows[viewR][at + 0];
+        d[px * 4 + 1] = viewRows[viewG][at + 1];
+        d[px * 4 + 2] = viewRows[viewB][at + 2];
+        d[px * 4 + 3] = 255;
+    }
+}
+
+Result<Image> lenticular(std::span<const Image> views, const LenticularCalibration& cal) {
+    if (Status s = validateViews(views, 2, 1 << 20, "mvr::composite::lenticular()"); !s) return s;
+    Result<LenticularLayout> layout =
+        lenticularLayout(cal, int(views.size()), views[0].width, views[0].height);
+    if (!layout) return layout.status();
+    const LenticularLayout& l = *layout;
+    Image out(l.screenWidth, l.screenHeight);
+    std::vector<const std::uint8_t*> rows(views.size());
+    for (int py = 0; py < l.screenHeight; ++py) {
+        const std::size_t row = std::size_t(l.sourceRow[std::size_t(py)]) * l.viewWidth * 4;
+        for (std::size_t v = 0; v < views.size(); ++v) rows[v] = views[v].rgba.data() + row;
+        lenticularRow(l, py, rows.data(), out.row(py));
     }
     return out;
 }

@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "mvr/core/render.h"
+#include "mvr/raster/soft_backend.h"
 #include "cpu.h"
 #include "pipeline.h"
 #include "thread_pool.h"
@@ -249,6 +250,10 @@ struct FrameContext {
     /// --specular per-view (RenderSettings::specular, pixel shading): view v's copy of `shading`
     /// with its own eye (View::eyeWorld) as centerEye; empty otherwise (setViewShading).
     std::vector<ShadingContext> viewShading;
+    /// RowStreamingBackend::renderRows (soft_backend.h): unified streams every band (streamBands)
+    /// and hands the band's rows of every view here instead of into the images (the targets
+    /// then carry only the views' size).
+    ViewRowSink* rowSink = nullptr;
 
     /// The shading context view v's fragments are shaded with.
     const ShadingContext& shadingOf(std::size_t view) const {

@@ -53,7 +53,7 @@ int findMethod(const std::string& name) {
     return -1;
 }
 
-class SoftBackend final : public Backend {
+class SoftBackend final : public Backend, public RowStreamingBackend {
 public:
     explicit SoftBackend(const SoftOptions& options) : mOptions(options) {
         mSimd = detail::resolveSimd(options.simd);
@@ -118,12 +118,45 @@ public:
         }
     }
 
+    Status renderRows(const Scene& scene, const Rig& rig, const RenderSettings& requested,
+                      const std::string& method, ViewRowSink& sink) override {
+        if (requested.samples > 1)
+            return unsupportedError(fmt::format(
+                "soft backend: rows are streamed one sample a pixel (asked {})",
+                requested.samples));
+        const RenderSettings settings = shadedSettings(requested);
+        if (Status s = validateRequest(scene, rig, settings); !s) return s;
+        if (Status s = supports(method); !s) return s;
+        if (method != "unified" || rig.viewCount() < 2)
+            return unsupportedError(fmt::format(
+                "soft:{} with {} view{}: only soft:unified with 2 or more views draws every "
+                "view's rows at once",
+                method, rig.viewCount(), rig.viewCount() == 1 ? "" : "s"));
+        try {
+            ShadowSet shadows;
+            if (settings.shadows) {
+                Result<ShadowSet> set =
+                    renderShadowSet(*this, scene, settings.shadowMapSize, method);
+                if (!set) return set.status();
+                shadows = std::move(*set);
+            }
+            RenderOutput unused;
+            renderChecked(scene, rig, settings, method, shadows, unused, &sink);
+            return {};
+        } catch (const std::bad_alloc&) {
+            return internalError(
+                fmt::format("soft backend: out of memory rendering {} views of {}x{}",
+                            rig.viewCount(), settings.width, settings.height));
+        }
+    }
+
 private:
     /// Renders into `out`, keeping its images' storage where the view count and size match
     /// (allocateOutputs: then only the clear). `shadows`: the frame's shadow maps (issue 15),
     /// or an empty set.
     void renderChecked(const Scene& scene, const Rig& rig, const RenderSettings& settings,
-                       const std::string& method, const ShadowSet& shadows, RenderOutput& out) {
+                       const std::string& method, const ShadowSet& shadows, RenderOutput& out,
+                       ViewRowSink* sink = nullptr) {
         std::lock_guard lock(mMutex);  // one render at a time per backend (shared pool, scratch)
         const auto start = std::chrono::steady_clock::now();
         detail::ThreadPool& pool = this->pool();
@@ -169,7 +202,15 @@ private:
         const double imageBytes = double(rig.viewCount()) * settings.width * settings.height * 8.0;
         frame.streamBands = imageBytes > double(mOptions.streamAboveBytes);
         std::vector<detail::Target> targets;
-        detail::allocateOutputs(pool, out, rig.viewCount(), settings, targets);
+        if (sink) {
+            // renderRows: every band streamed to the sink; the targets only size the scratch.
+            frame.streamBands = true;
+            frame.rowSink = sink;
+            targets.assign(std::size_t(rig.viewCount()),
+                           detail::Target{nullptr, nullptr, settings.width, settings.height});
+        } else {
+            detail::allocateOutputs(pool, out, rig.viewCount(), settings, targets);
+        }
         out.stages.fillMs = clock.lap();
         const auto row = static_cast<std::size_t>(findMethod(method));  // supports() passed
         kMethods[row].render(frame, targets, out.stages, mScratch[row]);

@@ -826,7 +826,19 @@ void rasterStage(FrameContext& f, UnifiedData& d, std::span<const Target> target
         b.queue.useDrawLanes(f.kernels.drawLanes, f.textured, draw.data(), draw.size(), true);
         rasterBand(b, d.bins, band);
         flushLanes(b);
-        if (stream) streamRows(local, targets, b.rowLo, b.rowHi);
+        if (stream && f.rowSink) {
+            // The band's rows handed over in place of the images (renderRows).
+            std::array<const std::uint8_t*, kMaxViews> first{};
+            const int top = f.settings.height - 1 - b.rowHi;
+            for (std::size_t v = 0; v < local.size(); ++v)
+                first[v] = reinterpret_cast<const std::uint8_t*>(local[v].color +
+                                                                 local[v].index(0, b.rowHi));
+            f.rowSink->rows(ViewRows{top, f.settings.height - 1 - b.rowLo, f.settings.width,
+                                     std::span<const std::uint8_t* const>(first.data(),
+                                                                          local.size())});
+        } else if (stream) {
+            streamRows(local, targets, b.rowLo, b.rowHi);
+        }
     });
 }
 

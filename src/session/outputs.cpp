@@ -47,15 +47,18 @@ Status runParallel(const std::vector<std::function<Status()>>& jobs, int threads
 Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const RenderOutput& out,
                                   const Rig& rig, const FrameOutputs& outputs,
                                   const Backend* backend, const std::string& keepFormat,
-                                  const std::vector<ExtraFile>& extra) {
+                                  const std::vector<ExtraFile>& extra,
+                                  ComposedImages* precomposed) {
     const auto start = std::chrono::steady_clock::now();
     // No file in `dir` (a video's image alone, the report alone): no folder either.
     const bool inDir = outputs.writesFiles(out.color.size(), out.depth.size());
-    if (!inDir && extra.empty()) return writeFrameFiles(dir, out, rig, outputs, backend, keepFormat);
+    if (!inDir && extra.empty())
+        return writeFrameFiles(dir, out, rig, outputs, backend, keepFormat, precomposed);
     auto staged = inDir ? StagedFiles::inFolder(dir) : Result<StagedFiles>(StagedFiles::elsewhere());
     if (!staged) return staged.status();
     auto written =
-        writeFrameFiles(inDir ? staged->folder() : dir, out, rig, outputs, backend, keepFormat);
+        writeFrameFiles(inDir ? staged->folder() : dir, out, rig, outputs, backend, keepFormat,
+                        precomposed);
     // Errors name the files as the user knows them, not their temporary names.
     if (!written) return staged->withFinalNames(written.status());
     for (const ExtraFile& file : extra) {
@@ -250,7 +253,12 @@ Result<WrittenFrame> writeFrameFiles(const std::filesystem::path& dir, const Ren
             continue;
         }
         if (info->extension == ".png") {
-            auto name = composite::compositeFileName(format, out.color, compose);
+            // A precomposed image without its views (--direct) is named by its format alone.
+            const bool viewless = out.color.empty() && precomposed &&
+                                  info->size.rule != composite::SizeRule::QuiltGrid;
+            auto name = viewless ? Result<std::string>(std::string(info->name) +
+                                                       std::string(info->extension))
+                                 : composite::compositeFileName(format, out.color, compose);
             if (!name) return name.status();
             auto image = composeImage(format);
             if (!image) return image.status();

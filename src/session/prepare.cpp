@@ -991,6 +991,12 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
         displayOutputs(*out.display, r.outputs.calibrationGiven,
                        r.outputs.quiltGiven || out.rig.viewCount() != out.display->views,
                        out.rig.camera.aspect, out.formats, out.compose);
+        // --direct (direct.h): the panel image alone; the preset's quilt would need the views.
+        const auto& asked = r.outputs.formats;
+        if (r.outputs.direct && std::find(asked.begin(), asked.end(), "quilt") == asked.end() &&
+            std::find(out.formats.begin(), out.formats.end(), "lenticular") != out.formats.end())
+            out.formats.erase(std::remove(out.formats.begin(), out.formats.end(), "quilt"),
+                              out.formats.end());
     }
     for (std::string& w : ignoredOptionWarnings(r, out.formats)) out.notes.push_back(std::move(w));
     // No silent nonsense: a quilt layout nothing uses.

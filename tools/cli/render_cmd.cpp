@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <optional>
 
@@ -21,6 +22,7 @@
 #include "mvr/backends.h"
 #include "mvr/composite/compose.h"
 #include "mvr/core/synthesize.h"
+#include "mvr/session/direct.h"
 #include "mvr/session/outputs.h"
 #include "mvr/session/prepare.h"
 #include "mvr/session/sequence.h"
@@ -41,6 +43,7 @@ struct RenderOptions {
     std::string write;                    ///< --write: what is written (empty: the defaults)
     bool quiet = false;
     bool check = false;
+    bool direct = false;  ///< --direct (mvr/session/direct.h)
     composite::ComposeOptions compose;
     StereoSurfaceOptions surfaces;  ///< --sky, --floating-window, --letterbox, --label…
     SequenceOptions sequence;       ///< --frames, --orbit, ...: sequence.cpp owns the frame loop
@@ -111,6 +114,60 @@ Status checkSynthesis(Backend& backend, const std::string& method, const Prepare
     return {};
 }
 
+/// `--direct`: the lenticular image composed from the views' rows as they are finished
+/// (mvr/session/direct.h), written alone.
+int runDirect(const RenderOptions& o, const Prepared& p, Backend& backend,
+              const std::string& method, const StereoSurfaces& surfaces,
+              const std::function<void()>& printNotes) {
+    for (const auto& [given, option] :
+         {std::pair{o.check, "--check"}, std::pair{!o.reportJson.empty(), "--report-json"},
+          std::pair{!o.viewRange.empty(), "--view-range"}}) {
+        if (given)
+            return fail(usageError(fmt::format(
+                "--direct: keeps no view, so {} has nothing to read (leave one of them out)",
+                option)));
+    }
+    std::vector<std::string> notes;
+    if (Status s = session::checkDirect(p, surfaces, backend, o.backend.empty() ? backend.name()
+                                                                                : o.backend,
+                                        method, &notes);
+        !s)
+        return fail(s);
+    printNotes();
+    for (const std::string& note : notes)
+        if (!o.quiet) fmt::print(stderr, "{}\n", note);
+    const session::FrameOutputs outputs = session::frameOutputs(p);
+    const auto start = std::chrono::steady_clock::now();
+    std::optional<TerminalProgress> progress;
+    progress.emplace(fmt::format("rendering {} views of {}x{} into a {}x{} panel", p.rig.viewCount(),
+                                 p.settings.width, p.settings.height,
+                                 outputs.compose.lenticular.screenWidth,
+                                 outputs.compose.lenticular.screenHeight));
+    auto panel = session::renderDirectLenticular(backend, p.scene, p.rig, p.settings, method,
+                                                 outputs.compose.lenticular);
+    progress.reset();
+    if (!panel) return fail(panel.status());
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const int panelWidth = panel->width, panelHeight = panel->height;
+    session::ComposedImages composed;
+    composed.images.emplace_back("lenticular", std::move(panel).value());
+    RenderOutput none;
+    none.method = method;
+    auto files = session::writeOutputs(o.outDir, none, p.rig, outputs, &backend, {}, {}, &composed);
+    if (!files) return fail(files.status());
+    if (!o.quiet) {
+        fmt::print("rendered {} ({} triangles) from {} views at {}x{} straight into a {}x{} "
+                   "lenticular panel, {} shading, soft:{} in {:.1f} ms\n",
+                   p.sceneName, p.scene.triangleCount(), p.rig.viewCount(), p.settings.width,
+                   p.settings.height, panelWidth, panelHeight, shadingName(p.settings.shading),
+                   method, ms);
+        fmt::print("wrote:\n");
+        for (const std::string& w : files->paths) fmt::print("  {}\n", w);
+    }
+    return 0;
+}
+
 /// The recipe of the command line (mvr/session/recipe.h).
 session::RenderRecipe recipeOf(const RenderOptions& o) {
     session::RenderRecipe r = o.scene.recipe();
@@ -130,6 +187,7 @@ session::RenderRecipe recipeOf(const RenderOptions& o) {
     r.outputs.compose = o.compose;
     r.outputs.calibrationGiven = calibrationGiven;
     r.outputs.quiltGiven = o.quiltOption && o.quiltOption->count() > 0;
+    r.outputs.direct = o.direct;
     r.viewRange = o.viewRange;
     r.backend = o.backend;
     r.method = o.method;
@@ -182,6 +240,9 @@ int runRender(const RenderOptions& o) {
     };
     const session::FrameOutputs outputs = session::frameOutputs(p);
 
+    if (recipe.outputs.direct && recipe.sequence.active())
+        return fail(usageError("--direct: renders a still; a sequence's frames need their views "
+                               "(leave --direct out)"));
     if (recipe.sequence.active()) {
         // The output folder, removed again (when empty) should no frame be complete.
         auto made = session::MadeFolders::make(o.outDir);
@@ -192,6 +253,7 @@ int runRender(const RenderOptions& o) {
         return runSequence(recipe.sequence, job);
     }
 
+    if (recipe.outputs.direct) return runDirect(o, p, **backend, method, *surfaces, printNotes);
     printNotes();
     const auto start = std::chrono::steady_clock::now();
     std::optional<TerminalProgress> progress;
@@ -298,6 +360,11 @@ const CommandRegistrar kRender(10, [](CLI::App& root) -> std::function<int()> {
                   "Also render the reference (the backend's multipass; for a multipass method, "
                   "the first backend's multipass) and print per view the fraction of pixels "
                   "more than 2/255 off it and the largest difference");
+    app->add_flag("--direct", o->direct,
+                  "With --format lenticular (or a display preset and its calibration): compose "
+                  "the panel image from the views' rows as soft:unified finishes them, with no "
+                  "view or quilt in memory; the same pixels as composing the rendered views "
+                  "(a preset's quilt is then not written; docs/displays.md)");
     app->add_option("--format", o->formats,
                     "Also write composites: DIR/<format>.png (.mpo, .jps); repeatable")
         ->check(CLI::IsMember(composite::formatNames()));

@@ -30,6 +30,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "mvr/composite/compose.h"
 #include "mvr/core/image.h"
@@ -65,6 +66,29 @@ Result<LenticularShaderParams> lenticularShaderParams(const LenticularCalibratio
 /// (px, py) shows.
 int lenticularView(const LenticularShaderParams& params, int viewCount, int screenWidth,
                    int screenHeight, int px, int py, int subpixel);
+
+/// Where lenticular() reads each panel pixel: the derived values and, per panel row and
+/// column, the view pixel sampled (nearest, mirrored by flipX / flipY). One row of the panel reads
+/// one row of every view, so a panel can be composed from the views' rows as they are finished
+/// (direct lenticular rendering: mvr/session/direct.h) by the same lenticularRow().
+struct LenticularLayout {
+    LenticularShaderParams params;
+    int views = 0;
+    int viewWidth = 0, viewHeight = 0;
+    int screenWidth = 0, screenHeight = 0;
+    std::vector<int> sourceColumn;  ///< per panel column: the view column it reads
+    std::vector<int> sourceRow;     ///< per panel row: the view row it reads
+};
+
+/// The layout of `viewCount` views of viewWidth×viewHeight on the calibration's panel
+/// (screenWidth×screenHeight, 0 = the view size). Errors: Usage (sizes, calibration).
+Result<LenticularLayout> lenticularLayout(const LenticularCalibration& calibration, int viewCount,
+                                          int viewWidth, int viewHeight);
+
+/// Panel row `py` of the layout into `out` (screenWidth RGBA8 pixels): `viewRows[v]` is view v's
+/// row layout.sourceRow[py] (viewWidth RGBA8 pixels).
+void lenticularRow(const LenticularLayout& layout, int py, const std::uint8_t* const* viewRows,
+                   std::uint8_t* out);
 
 /// Interleaves views (2..N, one size) into a screenWidth×screenHeight image (0 = view size).
 /// Errors: Usage (view count/sizes, calibration).

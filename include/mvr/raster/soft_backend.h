@@ -31,7 +31,9 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "mvr/core/render.h"
@@ -50,6 +52,40 @@ struct SoftOptions {
     /// rows cleared just before). 0: always stream. (4 MiB: streaming was as fast for a pair of 420x560 and
     /// 256x256, faster from 4 views of 420x560 and a pair of 1024x768 on; src/raster/README.md.)
     std::size_t streamAboveBytes = std::size_t(4) << 20;
+};
+
+/// Finished image rows of every view, handed over band by band in place of the views' images
+/// (RowStreamingBackend::renderRows): rows firstRow..lastRow (top first, inclusive) of each view.
+struct ViewRows {
+    int firstRow = 0, lastRow = 0;
+    int width = 0;  ///< pixels a row
+    /// Per view: its row firstRow, `width` RGBA8 pixels, the next rows after it.
+    std::span<const std::uint8_t* const> first;
+    const std::uint8_t* row(int view, int r) const {
+        return first[std::size_t(view)] + std::size_t(r - firstRow) * std::size_t(width) * 4;
+    }
+};
+
+/// Where RowStreamingBackend::renderRows() hands the rows: called from the backend's worker
+/// threads, concurrently, each call for other rows; each row of every view comes exactly once.
+class ViewRowSink {
+public:
+    virtual ~ViewRowSink() = default;
+    virtual void rows(const ViewRows& rows) = 0;
+};
+
+/// A backend that can hand its views' rows over as they are finished, so that a composite is
+/// made without the views' images in memory (the soft backend's "unified" method: its bands are
+/// drawn into a per-worker scratch of every view's rows; direct lenticular rendering).
+class RowStreamingBackend {
+public:
+    virtual ~RowStreamingBackend() = default;
+    /// Renders as Backend::renderInto() does (one sample a pixel, colour only) and gives every
+    /// row of every view to `sink`; nothing else is kept. Errors: as renderInto()'s, and
+    /// Unsupported for a method that does not stream every view's rows at once (multipass) or
+    /// a rig of one view, and for settings.samples > 1.
+    virtual Status renderRows(const Scene& scene, const Rig& rig, const RenderSettings& settings,
+                              const std::string& method, ViewRowSink& sink) = 0;
 };
 
 /// "scalar" | "avx2" | "avx512".

@@ -84,17 +84,22 @@ struct ExtraFile {
     std::string option;  ///< e.g. "--report-json"
 };
 
+struct ComposedImages;
+
 /// Writes the files of one frame into `dir` as one set (mvr/session/pending.h): under a
 /// staging folder inside `dir` (made, with `dir` when missing, only when a file is written:
 /// "cannot create output directory '...'", ErrorCode::Output), moved into place when every file
 /// is written; on any failure, `dir` is left as it was. `keepFormat` is composed even when
 /// composites are not written. Image composites are composed where `backend` composes (a GPU
 /// backend on its GPU; null: the CPU). `extra` files are written and moved with the set.
+/// `precomposed`: image composites made already (as writeFrameFiles() takes them; --direct's
+/// lenticular image, with `out` holding no view).
 /// Errors: the first file that fails.
 Result<WrittenFrame> writeOutputs(const std::filesystem::path& dir, const RenderOutput& out,
                                   const Rig& rig, const FrameOutputs& outputs,
                                   const Backend* backend, const std::string& keepFormat = {},
-                                  const std::vector<ExtraFile>& extra = {});
+                                  const std::vector<ExtraFile>& extra = {},
+                                  ComposedImages* precomposed = nullptr);
 
 /// A frame's image composites composed ahead of writeFrameFiles() (composeImages()).
 struct ComposedImages {

@@ -75,6 +75,10 @@ struct OutputRecipe {
     composite::ComposeOptions compose;
     bool calibrationGiven = false;  ///< compose.lenticular comes from a visual.json
     bool quiltGiven = false;        ///< compose.quilt* were given (a preset keeps them)
+    /// --direct: the lenticular image composed from the views' rows as soft:unified finishes
+    /// them, with no view or quilt in memory (mvr/session/direct.h); a display preset then
+    /// writes its lenticular image alone.
+    bool direct = false;
 };
 
 /// The centre camera's viewpoint when the caller gives one (over the file's camera and the
