@@ -147,6 +147,58 @@ TEST_F(Displays, ACalibrationAddsTheLenticularImage) {
     EXPECT_FALSE(std::filesystem::exists(mDir / "len/view-0.png"));
 }
 
+// --direct: the preset's lenticular image alone, composed from the views' rows, the same file
+// as the one composed from the rendered views (default --aa 4; angular anti-aliasing, which
+// filters whole views, left off with a note); what it cannot serve is refused by name.
+TEST_F(Displays, DirectWritesTheSameLenticularImageAlone) {
+    std::ofstream(mDir / "visual.json") << R"({"pitch": {"value": 52.59}, "slope": {"value": -7.08},
+        "center": {"value": 0.82}, "DPI": {"value": 324.0}, "screenW": {"value": 300},
+        "screenH": {"value": 400}, "flipImageY": {"value": 1}})";
+    const std::string base =
+        "render pyramid.obj --display portrait --views 6 --size 42x56 "
+        "--lenticular-calibration visual.json ";
+    const ToolRun full = run(base + "--angular-aa off -q -o full");
+    ASSERT_EQ(full.exitCode, 0) << full.err;
+    const ToolRun direct = run(base + "--direct -o direct");
+    ASSERT_EQ(direct.exitCode, 0) << direct.err;
+    EXPECT_NE(direct.err.find("note: --direct: angular anti-aliasing is off"), std::string::npos)
+        << direct.err;
+    EXPECT_NE(direct.out.find("straight into a 300x400 lenticular panel"), std::string::npos)
+        << direct.out;
+    EXPECT_EQ(slurp(mDir / "direct/lenticular.png"), slurp(mDir / "full/lenticular.png"));
+    std::size_t files = 0;
+    for ([[maybe_unused]] const auto& f : std::filesystem::directory_iterator(mDir / "direct"))
+        ++files;
+    EXPECT_EQ(files, 1u);  // no quilt, no view
+
+    for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+             {"--direct --angular-aa 1",
+              "error: --direct: --angular-aa filters whole views by their depth"},
+             {"--direct --method multipass",
+              "error: --direct: soft:multipass renders whole views"},
+             {"--direct --format quilt",
+              "error: --direct: writes the lenticular image alone, and --format also asks for "
+              "quilt"},
+             {"--direct --write views,composites",
+              "error: --direct: keeps no view, so it cannot write view-N.png"},
+             {"--direct --frames 2", "error: --direct: renders a still"},
+             {"--direct --sky gradient", "error: --direct: --sky is drawn over whole views"},
+             {"--direct --synthesize 2", "error: --direct: --synthesize 2 warps whole views"},
+             {"--direct --check", "error: --direct: keeps no view, so --check"},
+         }) {
+        const ToolRun r = run(base + args + " -o refused");
+        EXPECT_NE(r.exitCode, 0) << args;
+        EXPECT_EQ(r.err.rfind(message, 0), 0u) << args << ": " << r.err;
+        EXPECT_FALSE(std::filesystem::exists(mDir / "refused")) << args;
+    }
+    const ToolRun plain = run("render pyramid.obj --views 4 --size 42x56 --direct -o refused");
+    EXPECT_EQ(plain.err.rfind("error: --direct: renders the lenticular panel image; give "
+                              "--format lenticular",
+                              0),
+              0u)
+        << plain.err;
+}
+
 // visual.json's viewCone is the default cone: it replaces the preset's, spreads a plain row of
 // more than two views, and --view-cone still wins. The cone is read back from --report-json;
 // the views' spacing (the report's interaxial, the mean spacing of a view-cone row) is checked
