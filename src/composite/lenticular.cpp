@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
@@ -220,15 +221,33 @@ Result<LenticularShaderParams> lenticularShaderParams(const LenticularCalibratio
     return p;
 }
 
+namespace {
+
+/// std::floor, without a libm call below 2^52 (where every double's floor is its truncation,
+/// less one for a negative non-integer): the compose runs it twice a sub-pixel.
+inline double floorExact(double x) {
+    if (!(std::abs(x) < 4503599627370496.0)) return std::floor(x);  // 2^52; NaN, infinities
+    const double t = static_cast<double>(static_cast<std::int64_t>(x));
+    return t > x ? t - 1.0 : t;
+}
+
+/// The view of sub-pixel `subpixel` at u, with v·tilt given: lenticularView()'s formula.
+inline int viewAt(const LenticularShaderParams& p, int viewCount, double u, double vTilt,
+                  int subpixel) {
+    double z = (u + subpixel * p.subp + vTilt) * p.pitchU - p.center;
+    z -= floorExact(z);
+    if (p.invertViews) z = 1.0 - z;
+    const int view = static_cast<int>(floorExact(z * viewCount));
+    return std::clamp(view, 0, viewCount - 1);
+}
+
+}  // namespace
+
 int lenticularView(const LenticularShaderParams& p, int viewCount, int screenWidth,
                    int screenHeight, int px, int py, int subpixel) {
     const double u = (px + 0.5) / screenWidth;
     const double v = 1.0 - (py + 0.5) / screenHeight;
-    double z = (u + subpixel * p.subp + v * p.tilt) * p.pitchU - p.center;
-    z -= std::floor(z);
-    if (p.invertViews) z = 1.0 - z;
-    const int view = static_cast<int>(std::floor(z * viewCount));
-    return std::clamp(view, 0, viewCount - 1);
+    return viewAt(p, viewCount, u, v * p.tilt, subpixel);
 }
 
 Result<LenticularLayout> lenticularLayout(const LenticularCalibration& cal, int viewCount,
@@ -260,11 +279,13 @@ void lenticularRow(const LenticularLayout& l, int py, const std::uint8_t* const*
                    std::uint8_t* d) {
     const LenticularShaderParams& p = l.params;
     const int n = l.views, sw = l.screenWidth, sh = l.screenHeight;
+    const double v = 1.0 - (py + 0.5) / sh, vTilt = v * p.tilt;  // as lenticularView()
     for (int px = 0; px < sw; ++px) {
         const std::size_t at = std::size_t(l.sourceColumn[std::size_t(px)]) * 4;
-        const int viewR = lenticularView(p, n, sw, sh, px, py, p.ri);
-        const int viewG = lenticularView(p, n, sw, sh, px, py, 1);
-        const int viewB = lenticularView(p, n, sw, sh, px, py, p.bi);
+        const double u = (px + 0.5) / sw;
+        const int viewR = viewAt(p, n, u, vTilt, p.ri);
+        const int viewG = viewAt(p, n, u, vTilt, 1);
+        const int viewB = viewAt(p, n, u, vTilt, p.bi);
         d[px * 4 + 0] = viewRows[viewR][at + 0];
         d[px * 4 + 1] = viewRows[viewG][at + 1];
         d[px * 4 + 2] = viewRows[viewB][at + 2];

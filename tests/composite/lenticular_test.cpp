@@ -1,5 +1,6 @@
 #include "mvr/composite/lenticular.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -241,6 +242,48 @@ TEST(Lenticular, RejectsBadCalibration) {
     cal.pitch = std::nan("");
     EXPECT_FALSE(lenticular(taggedViews(2, 4, 4), cal));
     EXPECT_FALSE(lenticular(taggedViews(1, 4, 4), LenticularCalibration{}));
+}
+
+}  // namespace
+}  // namespace mvr::composite
+
+namespace mvr::composite {
+namespace {
+
+// lenticularView() takes its floors without libm below 2^52: the views of every sub-pixel of
+// three panels — a Portrait's lenses, a phase that makes z negative, and lenses so fine and
+// slanted that z passes 2^52 (std::floor's own path) — against lenticular.h's formula written
+// out here with std::floor.
+TEST(Lenticular, ViewsFollowTheFormulaWithStdFloor) {
+    LenticularCalibration portrait;
+    portrait.pitch = 52.59267044067383, portrait.slope = -7.083540916442871;
+    portrait.center = 0.8167931437492371, portrait.dpi = 324.0, portrait.invertViews = true;
+    LenticularCalibration negative = portrait;
+    negative.center = 917.25, negative.invertViews = false;
+    LenticularCalibration huge = portrait;
+    huge.pitch = 9000.0, huge.dpi = 1.0e-12, huge.slope = 1.0e-6;  // z ~ 5e17
+    for (const LenticularCalibration& cal : {portrait, negative, huge}) {
+        const int sw = 97, sh = 61, n = 45;
+        auto p = lenticularShaderParams(cal, sw, sh);
+        ASSERT_TRUE(p) << p.status().message();
+        std::set<int> seen;
+        for (int py = 0; py < sh; ++py) {
+            for (int px = 0; px < sw; ++px) {
+                for (int i = 0; i < 3; ++i) {
+                    const double u = (px + 0.5) / sw, v = 1.0 - (py + 0.5) / sh;
+                    double z = (u + i * p->subp + v * p->tilt) * p->pitchU - p->center;
+                    z -= std::floor(z);
+                    if (p->invertViews) z = 1.0 - z;
+                    const int want = std::clamp(int(std::floor(z * n)), 0, n - 1);
+                    ASSERT_EQ(lenticularView(*p, n, sw, sh, px, py, i), want)
+                        << "pitch " << cal.pitch << " at " << px << "," << py << " sub-pixel " << i;
+                    seen.insert(want);
+                }
+            }
+        }
+        // The panel shows most views, not one; past 2^52 no fraction is left (one view).
+        if (cal.pitch != huge.pitch) EXPECT_GT(seen.size(), 20u);
+    }
 }
 
 }  // namespace

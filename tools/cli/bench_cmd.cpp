@@ -89,7 +89,8 @@ const CommandRegistrar kBench(30, [](CLI::App& root) -> std::function<int()> {
     // bench sorbier | kalaiah | adelson
     const std::vector<bench::PaperBench> papers = {bench::addSorbier(app), bench::addKalaiah(app),
                                                    bench::addAdelson(app), bench::addViews(app),
-                                                   bench::addShadows(app), bench::addOutputs(app)};
+                                                   bench::addShadows(app), bench::addOutputs(app),
+                                                   bench::addLenticular(app)};
     return [o, papers] {
         for (const bench::PaperBench& p : papers) {
             if (p.app->parsed()) return p.run();

@@ -22,5 +22,6 @@ PaperBench addAdelson(CLI::App* bench);  ///< adelson.cpp
 PaperBench addViews(CLI::App* bench);    ///< views.cpp: N views, × one view
 PaperBench addShadows(CLI::App* bench);  ///< shadows.cpp: K lights' maps, one pass vs K
 PaperBench addOutputs(CLI::App* bench);  ///< outputs.cpp: writing files and videos (issue 37)
+PaperBench addLenticular(CLI::App* bench);  ///< lenticular.cpp: direct lenticular (issue 43)
 
 }  // namespace mvr::cli::bench
