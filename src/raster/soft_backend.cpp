@@ -99,23 +99,7 @@ public:
         const RenderSettings settings = shadedSettings(requested);
         if (Status s = validateRequest(scene, rig, settings); !s) return s;
         if (Status s = supports(method); !s) return s;
-        try {
-            // Shadows (issue 15): the casters' maps once for all views, as one multi-view
-            // render whose views are the lights, with the same method.
-            ShadowSet shadows;
-            if (settings.shadows) {
-                Result<ShadowSet> set =
-                    renderShadowSet(*this, scene, settings.shadowMapSize, method);
-                if (!set) return set.status();
-                shadows = std::move(*set);
-            }
-            renderChecked(scene, rig, settings, method, shadows, out);
-            return {};
-        } catch (const std::bad_alloc&) {
-            return internalError(
-                fmt::format("soft backend: out of memory rendering {} views of {}x{}",
-                            rig.viewCount(), settings.width, settings.height));
-        }
+        return renderWithShadows(scene, rig, settings, method, out, nullptr);
     }
 
     Status renderRows(const Scene& scene, const Rig& rig, const RenderSettings& requested,
@@ -132,6 +116,16 @@ public:
                 "soft:{} with {} view{}: only soft:unified with 2 or more views draws every "
                 "view's rows at once",
                 method, rig.viewCount(), rig.viewCount() == 1 ? "" : "s"));
+        RenderOutput unused;
+        return renderWithShadows(scene, rig, settings, method, unused, &sink);
+    }
+
+private:
+    /// renderChecked() after the frame's shadow maps (issue 15: the casters' maps once for all
+    /// views, as one multi-view render whose views are the lights, with the same method); out of
+    /// memory is an error naming the request.
+    Status renderWithShadows(const Scene& scene, const Rig& rig, const RenderSettings& settings,
+                             const std::string& method, RenderOutput& out, ViewRowSink* sink) {
         try {
             ShadowSet shadows;
             if (settings.shadows) {
@@ -140,8 +134,7 @@ public:
                 if (!set) return set.status();
                 shadows = std::move(*set);
             }
-            RenderOutput unused;
-            renderChecked(scene, rig, settings, method, shadows, unused, &sink);
+            renderChecked(scene, rig, settings, method, shadows, out, sink);
             return {};
         } catch (const std::bad_alloc&) {
             return internalError(
@@ -150,7 +143,6 @@ public:
         }
     }
 
-private:
     /// Renders into `out`, keeping its images' storage where the view count and size match
     /// (allocateOutputs: then only the clear). `shadows`: the frame's shadow maps (issue 15),
     /// or an empty set.
