@@ -47,6 +47,9 @@ def render(models=None, **options):
     ...). output=DIR also writes the files ``mvr render -o DIR`` writes (view-N.png,
     depth-N.png with depth=True, anaglyph.png for a pair, the formats' files; ``.written``
     lists them); quiet is accepted (nothing is printed). The depth is always returned.
+    direct=True with format="lenticular" (``mvr render --direct``, docs/displays.md): the panel
+    composed from the views' rows as soft:unified finishes them, in
+    ``.composites["lenticular"]``; no view is kept (``.color`` and ``.depth`` are None).
 
     Returns a :class:`RenderResult`: ``.color`` uint8 (N, H, W, 4), ``.depth`` float32
     (N, H, W) (window depth, 1 = nothing drawn), ``.method``, ``.rig`` (dict), ``.comfort``

@@ -161,6 +161,7 @@ def render(
     label_anchor: str | Sequence[str] = ...,
     angular_aa: float | Literal["auto", "off"] = ...,
     synthesize: int = ...,
+    direct: bool = ...,
     azimuth: float = ...,
     elevation: float = ...,
     distance: float | Literal["auto"] = ...,

@@ -418,7 +418,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
             {"specular", Kind::Text},
             {"wireframe", Kind::Flag},       {"shadows", Kind::Flag},
             {"shadow_map_size", Kind::Int},  {"aa", Kind::Int},  {"billboards", Kind::Int},
-            {"synthesize", Kind::Int},
+            {"synthesize", Kind::Int},       {"direct", Kind::Flag},
             {"billboard_size", Kind::Float}, {"backend", Kind::Text},
             {"method", Kind::Text},          {"output", Kind::Text},
             {"depth", Kind::Flag},           {"quiet", Kind::Flag},
@@ -549,6 +549,7 @@ RenderKeywords renderKeywords(const py::object& models, const py::dict& kwargs, 
     if (auto* v = get("backend")) r.backend = v->text;
     if (auto* v = get("method")) r.method = v->text;
     if (auto* v = get("output")) r.outputs.directory = v->text;
+    if (auto* v = get("direct")) r.outputs.direct = v->flag;
     if (auto* v = get("depth")) r.outputs.depth = v->flag;
     if (auto* v = get("write_cameras")) r.outputs.cameras = v->flag;
     if (auto* v = get("png_compression")) r.outputs.pngCompression = v->text;

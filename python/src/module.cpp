@@ -358,7 +358,9 @@ PYBIND11_MODULE(_core, m) {
     m.attr("ParameterError") = py::handle(err);
 
     py::class_<RenderResult>(m, "RenderResult", "What mvr.render() returns.")
-        .def_readonly("color", &RenderResult::color, "uint8 (N, H, W, 4): the views, RGBA")
+        .def_readonly("color", &RenderResult::color,
+                      "uint8 (N, H, W, 4): the views, RGBA (None with direct=True: the panel "
+                      "is composites['lenticular'])")
         .def_readonly("depth", &RenderResult::depth,
                       "float32 (N, H, W): window depth in [0, 1] (1 = nothing drawn)")
         .def_readonly("method", &RenderResult::method, "the method that ran")

@@ -9,6 +9,7 @@
 
 #include "mvr/composite/jpeg.h"
 #include "mvr/session/cameras.h"
+#include "mvr/session/direct.h"
 #include "mvr/session/outputs.h"
 #include "mvr/session/prepare.h"
 #include "mvr/session/surfaces.h"
@@ -346,13 +347,104 @@ RenderResult renderFrame(Job& job, const Scene& scene, const Rig& rig,
 
 }  // namespace
 
+namespace {
+
+/// direct=True (mvr/session/direct.h): the lenticular panel composed from the views' rows, as
+/// `mvr render --direct`; the result holds it in composites["lenticular"], no views (color and
+/// depth None).
+RenderResult renderDirect(Job& job) {
+    const session::Prepared& p = job.prepared;
+    const session::RenderRecipe& recipe = job.keywords.recipe;
+    session::FrameOutputs outputs = session::frameOutputs(p);
+    const std::string& outDir = recipe.outputs.directory;
+    if (outDir.empty()) outputs.views = outputs.depth = outputs.cameras = false;
+    for (const auto& [given, keyword] :
+         {std::pair{!recipe.outputs.reportJson.empty(), "report_json"},
+          std::pair{!recipe.viewRange.empty(), "view_range"}}) {
+        if (given)
+            throwStatus(usageError(fmt::format(
+                "direct: keeps no view, so {} has nothing to read (leave one of them out)",
+                keyword)));
+    }
+    std::vector<std::string> notes = p.notes;
+    if (Status s = session::checkDirect(p, outputs, job.surfaces, *job.backend, job.backendName,
+                                        job.method, &notes);
+        !s) {
+        // The keyword's spelling in the message: direct=, not --direct.
+        std::string m = s.message();
+        if (m.rfind("--direct", 0) == 0) m = "direct" + m.substr(8);
+        throwStatus(Status(s.code(), m));
+    }
+    Result<Image> panel = usageError("");
+    double ms = 0.0;
+    {
+        py::gil_scoped_release release;
+        const auto start = std::chrono::steady_clock::now();
+        panel = session::renderDirectLenticular(*job.backend, p.scene, p.rig, p.settings,
+                                                job.method, outputs.compose.lenticular);
+        ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                 .count();
+    }
+    Image image = check(std::move(panel));
+    std::vector<std::string> written;
+    if (!outDir.empty()) {
+        session::ComposedImages composed;
+        composed.images.emplace_back("lenticular", image);
+        RenderOutput none;
+        none.method = job.method;
+        Result<session::WrittenFrame> files = usageError("");
+        {
+            py::gil_scoped_release release;
+            files = session::writeOutputs(outDir, none, p.rig, outputs, job.backend.get(), {}, {},
+                                          &composed);
+        }
+        written = check(std::move(files)).paths;
+    }
+    RenderResult r;
+    r.method = py::str(job.method);
+    r.note = py::str("");
+    r.backend = py::str(job.backendName);
+    r.scene = py::str(p.sceneName);
+    r.triangles = py::int_(p.scene.triangleCount());
+    r.size = py::make_tuple(p.settings.width, p.settings.height);
+    r.shading = py::str(std::string(shadingName(p.settings.shading)));
+    r.elapsedMs = py::float_(ms);
+    r.color = py::none();
+    r.depth = py::none();
+    py::dict rd;
+    rd["kind"] = std::string(rigKindName(p.rig.kind));
+    rd["columns"] = p.rig.columns;
+    rd["rows"] = p.rig.rows;
+    rd["views"] = p.rig.viewCount();
+    rd["interaxial"] = p.rig.interaxial;
+    rd["convergence"] = p.rig.convergence;
+    py::list noteList;
+    for (const std::string& n : notes) noteList.append(n);
+    rd["notes"] = noteList;
+    rd["view_cone"] = p.viewConeDegrees;
+    r.rig = rd;
+    r.comfort = py::dict();
+    py::dict composites;
+    composites["lenticular"] = imageArray(std::move(image));
+    r.composites = composites;
+    r.written = py::cast(written);
+    r.views = py::list();
+    return r;
+}
+
+}  // namespace
+
 RenderResult render(const py::object& models, const py::kwargs& kwargs) {
     std::unique_ptr<Job> job = makeJob(renderKeywords(models, kwargs, /*sequence=*/false));
+    if (job->keywords.recipe.outputs.direct) return renderDirect(*job);
     return renderFrame(*job, job->prepared.scene, job->prepared.rig, nullptr, 0);
 }
 
 Sequence::Sequence(const py::object& models, const py::kwargs& kwargs) {
     RenderKeywords keywords = renderKeywords(models, kwargs, /*sequence=*/true);
+    if (keywords.recipe.outputs.direct)
+        throwStatus(usageError("direct: renders a still; a sequence's frames need their views "
+                               "(leave direct out)"));
     if (Status s = session::checkSequence(keywords.recipe.sequence); !s) throwStatus(s);
     mPlan = check(session::planSequence(keywords.recipe.sequence));
     mJob = makeJob(std::move(keywords));

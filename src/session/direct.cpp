@@ -50,10 +50,9 @@ private:
 
 }  // namespace
 
-Status checkDirect(const Prepared& p, const StereoSurfaces& surfaces, Backend& backend,
-                   const std::string& backendName, const std::string& method,
+Status checkDirect(const Prepared& p, const FrameOutputs& outputs, const StereoSurfaces& surfaces,
+                   Backend& backend, const std::string& backendName, const std::string& method,
                    std::vector<std::string>* notes) {
-    const FrameOutputs outputs = frameOutputs(p);
     const bool lenticular =
         std::find(outputs.formats.begin(), outputs.formats.end(), "lenticular") !=
         outputs.formats.end();

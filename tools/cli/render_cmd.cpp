@@ -128,15 +128,15 @@ int runDirect(const RenderOptions& o, const Prepared& p, Backend& backend,
                 option)));
     }
     std::vector<std::string> notes;
-    if (Status s = session::checkDirect(p, surfaces, backend, o.backend.empty() ? backend.name()
-                                                                                : o.backend,
-                                        method, &notes);
+    const session::FrameOutputs outputs = session::frameOutputs(p);
+    if (Status s = session::checkDirect(p, outputs, surfaces, backend,
+                                        o.backend.empty() ? backend.name() : o.backend, method,
+                                        &notes);
         !s)
         return fail(s);
     printNotes();
     for (const std::string& note : notes)
         if (!o.quiet) fmt::print(stderr, "{}\n", note);
-    const session::FrameOutputs outputs = session::frameOutputs(p);
     const auto start = std::chrono::steady_clock::now();
     std::optional<TerminalProgress> progress;
     progress.emplace(fmt::format("rendering {} views of {}x{} into a {}x{} panel", p.rig.viewCount(),

@@ -14,6 +14,7 @@
 #include "mvr/core/scene.h"
 #include "mvr/core/status.h"
 #include "mvr/core/stereo_surfaces.h"
+#include "mvr/session/outputs.h"
 #include "mvr/session/prepare.h"
 
 namespace mvr::session {
@@ -24,7 +25,10 @@ namespace mvr::session {
 /// without a surface drawn over the views (sky, floating window, letterbox, labels, an explicit
 /// --angular-aa; --angular-aa auto is left off, with a note in `notes`). Errors name --direct
 /// and the option in the way (ErrorCode::Usage / Unsupported).
-Status checkDirect(const Prepared& prepared, const StereoSurfaces& surfaces, Backend& backend,
+/// `outputs`: what the render writes (frameOutputs(prepared); Python's without output=
+/// writes nothing).
+Status checkDirect(const Prepared& prepared, const FrameOutputs& outputs,
+                   const StereoSurfaces& surfaces, Backend& backend,
                    const std::string& backendName, const std::string& method,
                    std::vector<std::string>* notes = nullptr);
 
