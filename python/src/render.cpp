@@ -153,6 +153,41 @@ std::unique_ptr<Job> makeJob(RenderKeywords keywords) {
     return job;
 }
 
+/// What every result says of the render: method, backend, scene, size, time and the rig's
+/// parameters (`.rig`, a dict the caller may add to).
+RenderResult resultOf(const Job& job, const Rig& rig, const std::string& method,
+                      const std::string& note, double ms) {
+    const session::Prepared& p = job.prepared;
+    RenderResult r;
+    r.method = py::str(method);
+    r.note = py::str(note);
+    r.backend = py::str(job.backendName);
+    r.scene = py::str(p.sceneName);
+    r.triangles = py::int_(p.scene.triangleCount());
+    r.size = py::make_tuple(p.settings.width, p.settings.height);
+    r.shading = py::str(std::string(shadingName(p.settings.shading)));
+    r.elapsedMs = py::float_(ms);
+    py::dict rd;
+    rd["kind"] = std::string(rigKindName(rig.kind));
+    rd["columns"] = rig.columns;
+    rd["rows"] = rig.rows;
+    rd["views"] = rig.viewCount();
+    rd["interaxial"] = rig.interaxial;
+    rd["interaxial_y"] = rig.interaxialY;
+    rd["convergence"] = rig.convergence;
+    rd["separation"] = rig.separation();
+    rd["fov"] = rig.camera.fovYDegrees;
+    rd["aspect"] = rig.camera.aspect;
+    rd["near"] = rig.camera.near;
+    rd["far"] = rig.camera.far;
+    py::list eyes;
+    for (const View& v : rig.views)
+        eyes.append(py::make_tuple(v.eyeWorld.x, v.eyeWorld.y, v.eyeWorld.z));
+    rd["eyes"] = eyes;
+    r.rig = rd;
+    return r;
+}
+
 /// Renders one frame of the job — the prepared rig, or a sequence's frame `frame` (its scene and
 /// rig) — into a fresh output block, and returns it as the result; output= writes its files
 /// (the still's, or the sequence's frame folder).
@@ -193,33 +228,8 @@ RenderResult renderFrame(Job& job, const Scene& scene, const Rig& rig,
         throwStatus(internalError(fmt::format("backend returned {} images for {} views",
                                               out.color.size(), rig.viewCount())));
 
-    RenderResult r;
-    r.method = py::str(out.method);
-    r.note = py::str(out.note);
-    r.backend = py::str(job.backendName);
-    r.scene = py::str(p.sceneName);
-    r.triangles = py::int_(p.scene.triangleCount());
-    r.size = py::make_tuple(p.settings.width, p.settings.height);
-    r.shading = py::str(std::string(shadingName(p.settings.shading)));
-    r.elapsedMs = py::float_(ms);
-    py::dict rd;
-    rd["kind"] = std::string(rigKindName(rig.kind));
-    rd["columns"] = rig.columns;
-    rd["rows"] = rig.rows;
-    rd["views"] = rig.viewCount();
-    rd["interaxial"] = rig.interaxial;
-    rd["interaxial_y"] = rig.interaxialY;
-    rd["convergence"] = rig.convergence;
-    rd["separation"] = rig.separation();
-    rd["fov"] = rig.camera.fovYDegrees;
-    rd["aspect"] = rig.camera.aspect;
-    rd["near"] = rig.camera.near;
-    rd["far"] = rig.camera.far;
-    py::list eyes;
-    for (const View& v : rig.views)
-        eyes.append(py::make_tuple(v.eyeWorld.x, v.eyeWorld.y, v.eyeWorld.z));
-    rd["eyes"] = eyes;
-    r.rig = rd;
+    RenderResult r = resultOf(job, rig, out.method, out.note, ms);
+    py::dict rd = r.rig;
     py::dict comfort;
     if (auto c = session::comfortReport(rig, out)) {
         comfort["min_parallax"] = c->range.minParallax;
@@ -400,29 +410,14 @@ RenderResult renderDirect(Job& job) {
         }
         written = check(std::move(files)).paths;
     }
-    RenderResult r;
-    r.method = py::str(job.method);
-    r.note = py::str("");
-    r.backend = py::str(job.backendName);
-    r.scene = py::str(p.sceneName);
-    r.triangles = py::int_(p.scene.triangleCount());
-    r.size = py::make_tuple(p.settings.width, p.settings.height);
-    r.shading = py::str(std::string(shadingName(p.settings.shading)));
-    r.elapsedMs = py::float_(ms);
+    RenderResult r = resultOf(job, p.rig, job.method, "", ms);
     r.color = py::none();
     r.depth = py::none();
-    py::dict rd;
-    rd["kind"] = std::string(rigKindName(p.rig.kind));
-    rd["columns"] = p.rig.columns;
-    rd["rows"] = p.rig.rows;
-    rd["views"] = p.rig.viewCount();
-    rd["interaxial"] = p.rig.interaxial;
-    rd["convergence"] = p.rig.convergence;
+    py::dict rd = r.rig;
     py::list noteList;
     for (const std::string& n : notes) noteList.append(n);
     rd["notes"] = noteList;
     rd["view_cone"] = p.viewConeDegrees;
-    r.rig = rd;
     r.comfort = py::dict();
     py::dict composites;
     composites["lenticular"] = imageArray(std::move(image));
