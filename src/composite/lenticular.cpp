@@ -267,6 +267,13 @@ Result<LenticularLayout> lenticularLayout(const LenticularCalibration& cal, int 
         const int vx0 = std::min(viewWidth - 1, static_cast<int>((px + 0.5) * viewWidth / sw));
         l.sourceColumn[std::size_t(px)] = cal.flipX ? viewWidth - 1 - vx0 : vx0;
     }
+    l.columnU.resize(std::size_t(sw));
+    for (int px = 0; px < sw; ++px) l.columnU[std::size_t(px)] = (px + 0.5) / sw;
+    // |z| <= (|u| + 2 subp + |v tilt|) |pitchU| + |center| with u, v in [0, 1].
+    const LenticularShaderParams& p = l.params;
+    const double bound =
+        (1.0 + 2.0 * std::abs(p.subp) + std::abs(p.tilt)) * std::abs(p.pitchU) + std::abs(p.center);
+    l.smallPhases = bound < 1125899906842624.0;  // 2^50
     l.sourceRow.resize(std::size_t(sh));
     for (int py = 0; py < sh; ++py) {
         const int vy0 = std::min(viewHeight - 1, static_cast<int>((py + 0.5) * viewHeight / sh));
@@ -275,21 +282,67 @@ Result<LenticularLayout> lenticularLayout(const LenticularCalibration& cal, int 
     return l;
 }
 
+namespace {
+
+/// floor(x) for |x| < 2^51 by rounding to an integer with 1.5 · 2^52 (round to nearest, then one
+/// less where that is above x): exact.
+inline double floorSmall(double x) {
+    constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52
+    const double t = (x + kRound) - kRound;
+    return t > x ? t - 1.0 : t;
+}
+
+/// The views of sub-pixel `subpixel` of `count` pixels from column px0: viewAt()'s formula with
+/// u read from the layout and the floors by floorSmall() (no libm, no int64 conversion).
+void smallPhaseViews(const LenticularLayout& l, int px0, int count, double vTilt, int subpixel,
+                     int* views) {
+    const LenticularShaderParams& p = l.params;
+    const double* u = l.columnU.data() + px0;
+    const double s = subpixel * p.subp, pitchU = p.pitchU, center = p.center;
+    const double n = l.views, last = l.views - 1;
+    const bool invert = p.invertViews;
+    for (int k = 0; k < count; ++k) {
+        double z = (u[k] + s + vTilt) * pitchU - center;
+        z -= floorSmall(z);
+        if (invert) z = 1.0 - z;
+        double f = floorSmall(z * n);
+        f = f < 0.0 ? 0.0 : f;
+        f = f > last ? last : f;
+        views[k] = static_cast<int>(f);
+    }
+}
+
+}  // namespace
+
 void lenticularRow(const LenticularLayout& l, int py, const std::uint8_t* const* viewRows,
                    std::uint8_t* d) {
     const LenticularShaderParams& p = l.params;
     const int n = l.views, sw = l.screenWidth, sh = l.screenHeight;
     const double v = 1.0 - (py + 0.5) / sh, vTilt = v * p.tilt;  // as lenticularView()
-    for (int px = 0; px < sw; ++px) {
-        const std::size_t at = std::size_t(l.sourceColumn[std::size_t(px)]) * 4;
-        const double u = (px + 0.5) / sw;
-        const int viewR = viewAt(p, n, u, vTilt, p.ri);
-        const int viewG = viewAt(p, n, u, vTilt, 1);
-        const int viewB = viewAt(p, n, u, vTilt, p.bi);
-        d[px * 4 + 0] = viewRows[viewR][at + 0];
-        d[px * 4 + 1] = viewRows[viewG][at + 1];
-        d[px * 4 + 2] = viewRows[viewB][at + 2];
-        d[px * 4 + 3] = 255;
+    constexpr int kChunk = 64;
+    int viewR[kChunk], viewG[kChunk], viewB[kChunk];
+    for (int px0 = 0; px0 < sw; px0 += kChunk) {
+        const int count = std::min(kChunk, sw - px0);
+        if (l.smallPhases) {
+            smallPhaseViews(l, px0, count, vTilt, p.ri, viewR);
+            smallPhaseViews(l, px0, count, vTilt, 1, viewG);
+            smallPhaseViews(l, px0, count, vTilt, p.bi, viewB);
+        } else {
+            for (int k = 0; k < count; ++k) {
+                const double u = l.columnU[std::size_t(px0 + k)];
+                viewR[k] = viewAt(p, n, u, vTilt, p.ri);
+                viewG[k] = viewAt(p, n, u, vTilt, 1);
+                viewB[k] = viewAt(p, n, u, vTilt, p.bi);
+            }
+        }
+        for (int k = 0; k < count; ++k) {
+            const int px = px0 + k;
+            const std::size_t at = std::size_t(l.sourceColumn[std::size_t(px)]) * 4;
+            d[px * 4 + 0] = viewRows[viewR[k]][at + 0];
+            d[px * 4 + 1] = viewRows[viewG[k]][at + 1];
+            d[px * 4 + 2] = viewRows[viewB[k]][at + 2];
+            d[px * 4 + 3] = 255;
+        }
     }
 }
 

@@ -281,6 +281,24 @@ TEST(Lenticular, ViewsFollowTheFormulaWithStdFloor) {
                 }
             }
         }
+        // lenticular() (lenticularRow(): the vectorized floors below 2^50, else these) takes
+        // every sub-pixel from that view: views of one colour each, (v, 2v, 3v).
+        std::vector<Image> views;
+        for (int v = 0; v < n; ++v)
+            views.push_back(solid(5, 3, {std::uint8_t(v), std::uint8_t(2 * v),
+                                         std::uint8_t(3 * v), 255}));
+        LenticularCalibration sized = cal;
+        sized.screenWidth = sw, sized.screenHeight = sh;
+        auto panel = lenticular(views, sized);
+        ASSERT_TRUE(panel) << panel.status().message();
+        for (int py = 0; py < sh; ++py) {
+            for (int px = 0; px < sw; ++px) {
+                const Rgba8 c = panel->at(px, py);
+                ASSERT_EQ(c.r, lenticularView(*p, n, sw, sh, px, py, 0)) << px << "," << py;
+                ASSERT_EQ(c.g, 2 * lenticularView(*p, n, sw, sh, px, py, 1)) << px << "," << py;
+                ASSERT_EQ(c.b, 3 * lenticularView(*p, n, sw, sh, px, py, 2)) << px << "," << py;
+            }
+        }
         // The panel shows most views, not one; past 2^52 no fraction is left (one view).
         if (cal.pitch != huge.pitch) EXPECT_GT(seen.size(), 20u);
     }

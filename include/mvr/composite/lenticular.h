@@ -78,6 +78,11 @@ struct LenticularLayout {
     int screenWidth = 0, screenHeight = 0;
     std::vector<int> sourceColumn;  ///< per panel column: the view column it reads
     std::vector<int> sourceRow;     ///< per panel row: the view row it reads
+    std::vector<double> columnU;    ///< per panel column: u = (px + 0.5) / screenWidth
+    /// Every lens phase z of the panel is below 2^50 in magnitude, so lenticularRow() takes its
+    /// floors with the round-to-integer constant, several sub-pixels a vector (else one by one,
+    /// as lenticularView()); the views chosen are the same.
+    bool smallPhases = false;
 };
 
 /// The layout of `viewCount` views of viewWidth×viewHeight on the calibration's panel
