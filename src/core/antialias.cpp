@@ -9,6 +9,8 @@
 #include <fmt/core.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "parallel.h"
+
 namespace mvr {
 
 namespace {
@@ -56,6 +58,16 @@ Rig offsetRig(const Rig& rig, glm::vec2 offsetPx, int width, int height) {
     return moved;
 }
 
+void resolveSampleSums(const std::uint16_t* sums, std::uint8_t* out, std::size_t count,
+                       int samples) {
+    // samples is a power of two: (sum + n/2) / n as a shift (vectorised; a division is not).
+    const unsigned half = unsigned(samples) / 2,
+                   shift = samples == 2 ? 1 : samples == 4 ? 2 : samples == 8 ? 3 : 0;
+    const std::uint16_t* __restrict s = sums;
+    std::uint8_t* __restrict c = out;
+    for (std::size_t i = 0; i < count; ++i) c[i] = std::uint8_t((s[i] + half) >> shift);
+}
+
 Status renderSampled(Backend& backend, const Scene& scene, const Rig& rig,
                      const RenderSettings& settings, const std::string& method,
                      RenderOutput& out) {
@@ -82,45 +94,48 @@ Status renderSampled(Backend& backend, const Scene& scene, const Rig& rig,
         return s;
     if (Status s = check(out); !s) return s;
     sums.resize(views * bytes);
-    for (std::size_t v = 0; v < views; ++v) {
-        const std::uint8_t* __restrict c = out.color[v].rgba.data();
-        std::uint16_t* __restrict sum = sums.data() + v * bytes;
+    // Per view on the machine's cores (the calling thread's thread_local buffers named here:
+    // a worker's own would be empty).
+    std::uint16_t* const sumBase = sums.data();
+    RenderOutput& scratch = pass;
+    const bool parallel = views * bytes >= (std::size_t(1) << 20);
+    detail::parallelFor(int(views), parallel, [&](int v) {
+        const std::uint8_t* __restrict c = out.color[std::size_t(v)].rgba.data();
+        std::uint16_t* __restrict sum = sumBase + std::size_t(v) * bytes;
         for (std::size_t i = 0; i < bytes; ++i) sum[i] = c[i];
-    }
+    });
     one.output = nullptr;
     StageTimes stages = out.stages;
     for (int k = 1; k < n; ++k) {
         const Rig moved = offsetRig(rig, samplePositions(n)[std::size_t(k)], w, h);
-        if (Status s = backend.renderInto(scene, moved, one, method, pass); !s) return s;
-        if (Status s = check(pass); !s) return s;
-        for (std::size_t v = 0; v < views; ++v) {
-            const std::uint8_t* __restrict c = pass.color[v].rgba.data();
-            std::uint16_t* __restrict sum = sums.data() + v * bytes;
+        if (Status s = backend.renderInto(scene, moved, one, method, scratch); !s) return s;
+        if (Status s = check(scratch); !s) return s;
+        const std::size_t depthViews = std::min(out.depth.size(), scratch.depth.size());
+        detail::parallelFor(int(views), parallel, [&](int v) {
+            const std::uint8_t* __restrict c = scratch.color[std::size_t(v)].rgba.data();
+            std::uint16_t* __restrict sum = sumBase + std::size_t(v) * bytes;
             for (std::size_t i = 0; i < bytes; ++i) sum[i] = std::uint16_t(sum[i] + c[i]);
-        }
-        for (std::size_t v = 0; v < std::min(out.depth.size(), pass.depth.size()); ++v) {
-            float* __restrict d = out.depth[v].depth.data();
-            const float* __restrict p = pass.depth[v].depth.data();
+            if (std::size_t(v) >= depthViews) return;
+            float* __restrict d = out.depth[std::size_t(v)].depth.data();
+            const float* __restrict p = scratch.depth[std::size_t(v)].depth.data();
             for (std::size_t i = 0; i < bytes / 4; ++i) d[i] = std::min(d[i], p[i]);
-        }
-        for (std::size_t v = 0; v < std::min(out.depthRange.size(), pass.depthRange.size()); ++v) {
+        });
+        for (std::size_t v = 0; v < std::min(out.depthRange.size(), scratch.depthRange.size());
+             ++v) {
             DepthRange& r = out.depthRange[v];
-            r.nearest = std::min(r.nearest, pass.depthRange[v].nearest);
-            r.farthest = std::max(r.farthest, pass.depthRange[v].farthest);
+            r.nearest = std::min(r.nearest, scratch.depthRange[v].nearest);
+            r.farthest = std::max(r.farthest, scratch.depthRange[v].farthest);
         }
-        stages.vertexMs += pass.stages.vertexMs;
-        stages.setupMs += pass.stages.setupMs;
-        stages.rasterMs += pass.stages.rasterMs;
-        stages.fillMs += pass.stages.fillMs;
+        stages.vertexMs += scratch.stages.vertexMs;
+        stages.setupMs += scratch.stages.setupMs;
+        stages.rasterMs += scratch.stages.rasterMs;
+        stages.fillMs += scratch.stages.fillMs;
     }
     out.stages = stages;
-    // n is a power of two: (sum + n/2) / n as a shift (vectorised; a division is not).
-    const unsigned half = unsigned(n) / 2, shift = n == 2 ? 1 : n == 4 ? 2 : 3;
-    for (std::size_t v = 0; v < views; ++v) {
-        std::uint8_t* __restrict c = out.color[v].rgba.data();
-        const std::uint16_t* __restrict sum = sums.data() + v * bytes;
-        for (std::size_t i = 0; i < bytes; ++i) c[i] = std::uint8_t((sum[i] + half) >> shift);
-    }
+    detail::parallelFor(int(views), parallel, [&](int v) {
+        resolveSampleSums(sumBase + std::size_t(v) * bytes, out.color[std::size_t(v)].rgba.data(),
+                          bytes, n);
+    });
     return {};
 }
 

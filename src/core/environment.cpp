@@ -6,9 +6,9 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
-#include <system_error>
-#include <thread>
 #include <vector>
+
+#include "parallel.h"
 
 namespace mvr {
 namespace {
@@ -45,26 +45,10 @@ glm::vec3 texelDirection(int i, int j, int w, int h) {
     return equirectDirection((float(i) + 0.5f) / float(w), (float(j) + 0.5f) / float(h));
 }
 
-/// Runs body(row) for rows [0, rows) on the machine's cores, or on this thread for 16 rows or
-/// fewer (each row written by one thread: the result does not depend on the thread count).
+/// body(row) for rows [0, rows) on the machine's cores, or on this thread for 16 rows or fewer
+/// (a small level: starting threads would cost more than it saves).
 void parallelRows(int rows, const std::function<void(int)>& body) {
-    if (rows <= 16) {  // a small level: starting threads would cost more than it saves
-        for (int r = 0; r < rows; ++r) body(r);
-        return;
-    }
-    const int threads =
-        std::clamp(int(std::thread::hardware_concurrency()), 1, std::max(1, std::min(rows, 16)));
-    std::vector<std::thread> pool;
-    for (int t = 0; t < threads; ++t) {
-        try {
-            pool.emplace_back([&, t] {
-                for (int r = t; r < rows; r += threads) body(r);
-            });
-        } catch (const std::system_error&) {  // no thread to be had: this one does its rows
-            for (int r = t; r < rows; r += threads) body(r);
-        }
-    }
-    for (std::thread& th : pool) th.join();
+    detail::parallelFor(rows, rows > 16, body);
 }
 
 using Level = Environment::Level;

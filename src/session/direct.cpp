@@ -137,9 +137,7 @@ Result<Image> renderDirectLenticular(Backend& backend, const Scene& scene, const
         std::uint16_t* __restrict sum = sums.data();
         for (std::size_t i = 0; i < sums.size(); ++i) sum[i] = std::uint16_t(sum[i] + c[i]);
     }
-    const unsigned half = unsigned(n) / 2, shift = n == 2 ? 1 : n == 4 ? 2 : 3;
-    std::uint8_t* __restrict c = panel.rgba.data();
-    for (std::size_t i = 0; i < sums.size(); ++i) c[i] = std::uint8_t((sums[i] + half) >> shift);
+    resolveSampleSums(sums.data(), panel.rgba.data(), sums.size(), n);
     return panel;
 }
 

@@ -22,6 +22,8 @@
 // it); gl's device-measured depth range (RenderOutput::depthRange) the union over the samples.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <span>
 #include <string>
 
@@ -42,6 +44,11 @@ std::span<const glm::vec2> samplePositions(int samples);
 /// view samples the scene at centre + `offsetPx` (x right, y down), and Rig::clipJitter set
 /// to the same NDC offset per unit w for the centre camera.
 Rig offsetRig(const Rig& rig, glm::vec2 offsetPx, int width, int height);
+
+/// The resolve of N passes' sums (N = 2, 4, 8): out[i] = (sums[i] + N/2) / N, for `count`
+/// bytes — renderSampled()'s, and that of a panel composed per pass (mvr/session/direct.h).
+void resolveSampleSums(const std::uint16_t* sums, std::uint8_t* out, std::size_t count,
+                       int samples);
 
 /// Renders `settings.samples` sub-pixel passes of `rig` on `backend` (its renderInto() with
 /// samples = 1) and resolves them into `out` (the header). Errors: the backend's, and Usage
