@@ -24,7 +24,7 @@ def cal(tmp_path):
 def test_direct_equals_the_composed_views_and_the_cli(cli, tmp_path, cal):
     common = dict(views=8, size=(60, 80), format="lenticular", lenticular_calibration=cal, aa=2)
     composed = mvr.render(**common).composites["lenticular"]
-    r = mvr.render(**common, direct=True, output=tmp_path / "py", write="composites")
+    r = mvr.render(**common, direct=True, output=tmp_path / "py")  # no view written by default
     assert r.color is None and r.depth is None
     panel = r.composites["lenticular"]
     assert panel.shape == (320, 240, 4)
@@ -32,8 +32,7 @@ def test_direct_equals_the_composed_views_and_the_cli(cli, tmp_path, cal):
     assert [p.rsplit("/", 1)[-1] for p in r.written] == ["lenticular.png"]
     np.testing.assert_array_equal(read_png(tmp_path / "py" / "lenticular.png"), panel)
     cli("render", "--views", "8", "--size", "60x80", "--format", "lenticular",
-        "--lenticular-calibration", cal, "--aa", "2", "--direct", "--write", "composites",
-        "-o", tmp_path / "cli")
+        "--lenticular-calibration", cal, "--aa", "2", "--direct", "-o", tmp_path / "cli")
     np.testing.assert_array_equal(read_png(tmp_path / "cli" / "lenticular.png"), panel)
 
 

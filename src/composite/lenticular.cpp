@@ -1,6 +1,7 @@
 #include "mvr/composite/lenticular.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -252,6 +253,11 @@ int lenticularView(const LenticularShaderParams& p, int viewCount, int screenWid
 
 Result<LenticularLayout> lenticularLayout(const LenticularCalibration& cal, int viewCount,
                                           int viewWidth, int viewHeight) {
+    if (viewCount < 1 || viewCount > (1 << 20) || viewWidth < 1 || viewHeight < 1 ||
+        viewWidth > 16384 || viewHeight > 16384)
+        return usageError(fmt::format("mvr::composite::lenticularLayout(): {} views of {}x{} "
+                                      "(expected 1..2^20 views of 1..16384 on each side)",
+                                      viewCount, viewWidth, viewHeight));
     const int sw = cal.screenWidth > 0 ? cal.screenWidth : viewWidth;
     const int sh = cal.screenHeight > 0 ? cal.screenHeight : viewHeight;
     Result<LenticularShaderParams> params = lenticularShaderParams(cal, sw, sh);
@@ -273,7 +279,14 @@ Result<LenticularLayout> lenticularLayout(const LenticularCalibration& cal, int 
     const LenticularShaderParams& p = l.params;
     const double bound =
         (1.0 + 2.0 * std::abs(p.subp) + std::abs(p.tilt)) * std::abs(p.pitchU) + std::abs(p.center);
+    // The rounding constant needs each add and subtract rounded to double (no x87 excess
+    // precision, no -ffast-math reassociation): elsewhere std::floor's path.
+#if defined(__FAST_MATH__) || !defined(FLT_EVAL_METHOD) || FLT_EVAL_METHOD != 0
+    l.smallPhases = false;
+    (void)bound;
+#else
     l.smallPhases = bound < 1125899906842624.0;  // 2^50
+#endif
     l.sourceRow.resize(std::size_t(sh));
     for (int py = 0; py < sh; ++py) {
         const int vy0 = std::min(viewHeight - 1, static_cast<int>((py + 0.5) * viewHeight / sh));

@@ -590,7 +590,8 @@ Result<WriteSet> writeSetOf(const RenderRecipe& r, bool display) {
     WriteSet w;
     const bool video = !r.sequence.video.empty();
     if (r.outputs.write.empty()) {
-        w.views = !display && !video;
+        // --direct keeps no view: its default is the lenticular image alone (direct.h).
+        w.views = !display && !video && !r.outputs.direct;
         w.composites = !video;
         w.video = video;
     } else {
@@ -1003,8 +1004,11 @@ Result<Prepared> prepare(const RenderRecipe& r, const WarningSink& warnIn) {
     if (r.outputs.quiltGiven &&
         std::find(out.formats.begin(), out.formats.end(), "quilt") == out.formats.end()) {
         return usageError(
-            "--quilt lays out a quilt, and no quilt is written (give --format quilt, or a "
-            "--display whose output is a quilt)");
+            r.outputs.direct
+                ? "--quilt lays out a quilt, and --direct writes the lenticular image alone "
+                  "(leave --quilt or --direct out)"
+                : "--quilt lays out a quilt, and no quilt is written (give --format quilt, or a "
+                  "--display whose output is a quilt)");
     }
     if (Status s = resolveAngularAA(r, out); !s) return s;  // angular_aa.cpp
     if (Status s = restrictToViewRange(r, out); !s) return s;  // view_range.h

@@ -191,6 +191,21 @@ TEST_F(Displays, DirectWritesTheSameLenticularImageAlone) {
         EXPECT_EQ(r.err.rfind(message, 0), 0u) << args << ": " << r.err;
         EXPECT_FALSE(std::filesystem::exists(mDir / "refused")) << args;
     }
+    // Without a preset: --format lenticular alone, and by default no view is written either.
+    const ToolRun row = run("render pyramid.obj --views 4 --size 42x56 --format lenticular "
+                            "--lenticular-calibration visual.json --direct -o row");
+    ASSERT_EQ(row.exitCode, 0) << row.err;
+    files = 0;
+    for ([[maybe_unused]] const auto& f : std::filesystem::directory_iterator(mDir / "row"))
+        ++files;
+    EXPECT_EQ(files, 1u);
+    EXPECT_TRUE(std::filesystem::exists(mDir / "row/lenticular.png"));
+    const ToolRun quilt = run(base + "--direct --quilt 3x2 -o refused");
+    EXPECT_EQ(quilt.err.rfind("error: --quilt lays out a quilt, and --direct writes the "
+                              "lenticular image alone",
+                              0),
+              0u)
+        << quilt.err;
     const ToolRun plain = run("render pyramid.obj --views 4 --size 42x56 --direct -o refused");
     EXPECT_EQ(plain.err.rfind("error: --direct: renders the lenticular panel image; give "
                               "--format lenticular",

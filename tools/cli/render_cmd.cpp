@@ -139,10 +139,11 @@ int runDirect(const RenderOptions& o, const Prepared& p, Backend& backend,
         if (!o.quiet) fmt::print(stderr, "{}\n", note);
     const auto start = std::chrono::steady_clock::now();
     std::optional<TerminalProgress> progress;
+    const composite::LenticularCalibration& cal = outputs.compose.lenticular;
     progress.emplace(fmt::format("rendering {} views of {}x{} into a {}x{} panel", p.rig.viewCount(),
                                  p.settings.width, p.settings.height,
-                                 outputs.compose.lenticular.screenWidth,
-                                 outputs.compose.lenticular.screenHeight));
+                                 cal.screenWidth > 0 ? cal.screenWidth : p.settings.width,
+                                 cal.screenHeight > 0 ? cal.screenHeight : p.settings.height));
     auto panel = session::renderDirectLenticular(backend, p.scene, p.rig, p.settings, method,
                                                  outputs.compose.lenticular);
     progress.reset();
