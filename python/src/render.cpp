@@ -398,15 +398,11 @@ RenderResult renderDirect(Job& job) {
     Image image = check(std::move(panel));
     std::vector<std::string> written;
     if (!outDir.empty()) {
-        session::ComposedImages composed;
-        composed.images.emplace_back("lenticular", image);
-        RenderOutput none;
-        none.method = job.method;
         Result<session::WrittenFrame> files = usageError("");
         {
             py::gil_scoped_release release;
-            files = session::writeOutputs(outDir, none, p.rig, outputs, job.backend.get(), {}, {},
-                                          &composed);
+            files = session::writeDirectPanel(outDir, image, p.rig, outputs, job.backend.get(),
+                                              job.method);
         }
         written = check(std::move(files)).paths;
     }

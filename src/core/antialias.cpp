@@ -58,6 +58,12 @@ Rig offsetRig(const Rig& rig, glm::vec2 offsetPx, int width, int height) {
     return moved;
 }
 
+void accumulateSamples(const std::uint8_t* bytes, std::uint16_t* sums, std::size_t count) {
+    const std::uint8_t* __restrict c = bytes;
+    std::uint16_t* __restrict sum = sums;
+    for (std::size_t i = 0; i < count; ++i) sum[i] = std::uint16_t(sum[i] + c[i]);
+}
+
 void resolveSampleSums(const std::uint16_t* sums, std::uint8_t* out, std::size_t count,
                        int samples) {
     // samples is a power of two: (sum + n/2) / n as a shift (vectorised; a division is not).
@@ -112,9 +118,8 @@ Status renderSampled(Backend& backend, const Scene& scene, const Rig& rig,
         if (Status s = check(scratch); !s) return s;
         const std::size_t depthViews = std::min(out.depth.size(), scratch.depth.size());
         detail::parallelFor(int(views), parallel, [&](int v) {
-            const std::uint8_t* __restrict c = scratch.color[std::size_t(v)].rgba.data();
-            std::uint16_t* __restrict sum = sumBase + std::size_t(v) * bytes;
-            for (std::size_t i = 0; i < bytes; ++i) sum[i] = std::uint16_t(sum[i] + c[i]);
+            accumulateSamples(scratch.color[std::size_t(v)].rgba.data(),
+                              sumBase + std::size_t(v) * bytes, bytes);
             if (std::size_t(v) >= depthViews) return;
             float* __restrict d = out.depth[std::size_t(v)].depth.data();
             const float* __restrict p = scratch.depth[std::size_t(v)].depth.data();

@@ -120,8 +120,8 @@ Result<Image> renderDirectLenticular(Backend& backend, const Scene& scene, const
     one.output = nullptr;
     one.depth = false;
     const int n = settings.samples;
+    PanelSink sink(*layout, panel);  // each pass writes every panel row
     if (n == 1) {
-        PanelSink sink(*layout, panel);
         if (Status s = rows->renderRows(scene, rig, one, method, sink); !s) return s;
         return panel;
     }
@@ -131,14 +131,21 @@ Result<Image> renderDirectLenticular(Backend& backend, const Scene& scene, const
     for (int k = 0; k < n; ++k) {
         const Rig moved =
             offsetRig(rig, samplePositions(n)[std::size_t(k)], settings.width, settings.height);
-        PanelSink sink(*layout, panel);
         if (Status s = rows->renderRows(scene, moved, one, method, sink); !s) return s;
-        const std::uint8_t* __restrict c = panel.rgba.data();
-        std::uint16_t* __restrict sum = sums.data();
-        for (std::size_t i = 0; i < sums.size(); ++i) sum[i] = std::uint16_t(sum[i] + c[i]);
+        accumulateSamples(panel.rgba.data(), sums.data(), sums.size());
     }
     resolveSampleSums(sums.data(), panel.rgba.data(), sums.size(), n);
     return panel;
+}
+
+Result<WrittenFrame> writeDirectPanel(const std::filesystem::path& dir, Image panel,
+                                      const Rig& rig, const FrameOutputs& outputs,
+                                      const Backend* backend, const std::string& method) {
+    ComposedImages composed;
+    composed.images.emplace_back("lenticular", std::move(panel));
+    RenderOutput none;
+    none.method = method;
+    return writeOutputs(dir, none, rig, outputs, backend, {}, {}, &composed);
 }
 
 }  // namespace mvr::session

@@ -151,11 +151,8 @@ int runDirect(const RenderOptions& o, const Prepared& p, Backend& backend,
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const int panelWidth = panel->width, panelHeight = panel->height;
-    session::ComposedImages composed;
-    composed.images.emplace_back("lenticular", std::move(panel).value());
-    RenderOutput none;
-    none.method = method;
-    auto files = session::writeOutputs(o.outDir, none, p.rig, outputs, &backend, {}, {}, &composed);
+    auto files = session::writeDirectPanel(o.outDir, std::move(panel).value(), p.rig, outputs,
+                                           &backend, method);
     if (!files) return fail(files.status());
     if (!o.quiet) {
         fmt::print("rendered {} ({} triangles) from {} views at {}x{} straight into a {}x{} "

@@ -45,6 +45,10 @@ std::span<const glm::vec2> samplePositions(int samples);
 /// to the same NDC offset per unit w for the centre camera.
 Rig offsetRig(const Rig& rig, glm::vec2 offsetPx, int width, int height);
 
+/// One more pass added into the sums: sums[i] += bytes[i], for `count` bytes (renderSampled()'s,
+/// and that of a panel composed per pass).
+void accumulateSamples(const std::uint8_t* bytes, std::uint16_t* sums, std::size_t count);
+
 /// The resolve of N passes' sums (N = 2, 4, 8): out[i] = (sums[i] + N/2) / N, for `count`
 /// bytes — renderSampled()'s, and that of a panel composed per pass (mvr/session/direct.h).
 void resolveSampleSums(const std::uint16_t* sums, std::uint8_t* out, std::size_t count,

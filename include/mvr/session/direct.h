@@ -5,6 +5,7 @@
 // composite::lenticularRow() of the rows it reads, only taken from the band scratch.
 #pragma once
 
+#include <filesystem>
 #include <string>
 
 #include "mvr/composite/compose.h"
@@ -39,5 +40,11 @@ Status checkDirect(const Prepared& prepared, const FrameOutputs& outputs,
 Result<Image> renderDirectLenticular(Backend& backend, const Scene& scene, const Rig& rig,
                                      const RenderSettings& settings, const std::string& method,
                                      const composite::LenticularCalibration& calibration);
+
+/// Writes the panel as the frame's lenticular file into `dir`: writeOutputs() with the image
+/// precomposed and no view (its staging, names and errors). `method` names the method rendered.
+Result<WrittenFrame> writeDirectPanel(const std::filesystem::path& dir, Image panel,
+                                      const Rig& rig, const FrameOutputs& outputs,
+                                      const Backend* backend, const std::string& method);
 
 }  // namespace mvr::session
