@@ -1,7 +1,11 @@
 #include "caps.h"
 
+#include <algorithm>
+#include <vector>
+
 #include <epoxy/gl.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace mvr::gl::detail {
 
@@ -12,6 +16,23 @@ int getInt(GLenum e) {
     while (glGetError() != GL_NO_ERROR) {
     }  // an enum the driver lacks reads as 0
     return v;
+}
+// The sample counts `target` takes for `format` (glGetInternalformativ; none on error).
+std::set<int> sampleCountsOf(GLenum target, GLenum format) {
+    GLint n = 0;
+    glGetInternalformativ(target, format, GL_NUM_SAMPLE_COUNTS, 1, &n);
+    std::vector<GLint> counts(std::size_t(std::max(n, 0)));
+    if (n > 0) glGetInternalformativ(target, format, GL_SAMPLES, n, counts.data());
+    std::set<int> out;
+    if (glGetError() != GL_NO_ERROR) {
+        while (glGetError() != GL_NO_ERROR) {
+        }
+        return out;
+    }
+    for (GLint c : counts) {
+        if (c > 1) out.insert(c);
+    }
+    return out;
 }
 std::string getString(GLenum e) {
     const GLubyte* s = glGetString(e);
@@ -65,6 +86,18 @@ GlCaps GlCaps::query() {
     while (glGetError() != GL_NO_ERROR) {
     }
     c.timerBits = bits;
+    bool first = true;
+    for (GLenum target : {GL_TEXTURE_2D_MULTISAMPLE, GL_TEXTURE_2D_MULTISAMPLE_ARRAY}) {
+        for (GLenum format : {GL_RGBA8, GL_DEPTH_COMPONENT32F}) {
+            std::set<int> counts = sampleCountsOf(target, format);
+            if (first) {
+                c.sampleCounts = std::move(counts);
+                first = false;
+                continue;
+            }
+            std::erase_if(c.sampleCounts, [&](int n) { return counts.count(n) == 0; });
+        }
+    }
     return c;
 }
 
@@ -87,6 +120,8 @@ std::vector<std::string> GlCaps::describe() const {
         fmt::format("GL_MAX_CLIP_DISTANCES: {}", maxClipDistances),
         fmt::format("GL_MAX_VIEWS_OVR: {}", maxViewsOvr),
         fmt::format("GL_TIME_ELAPSED counter bits: {}", timerBits),
+        fmt::format("multisample counts (RGBA8 and DEPTH32F targets): {}",
+                    sampleCounts.empty() ? "none" : fmt::format("{}", fmt::join(sampleCounts, ", "))),
         yesNo("GL_ARB_shader_viewport_layer_array"),
         yesNo("GL_AMD_vertex_shader_layer"),
         yesNo("GL_OVR_multiview"),

@@ -20,6 +20,12 @@ struct GlCaps {
     int maxUniformBlockSize = 0;
     int maxViewsOvr = 0;  ///< GL_MAX_VIEWS_OVR, 0 without GL_OVR_multiview
     int timerBits = 0;    ///< GL_QUERY_COUNTER_BITS of GL_TIME_ELAPSED (0 = no timer)
+    /// The sample counts (> 1) every multisampled target of the backend takes here: RGBA8 and
+    /// DEPTH_COMPONENT32F, as 2D and 2D-array multisample textures (glGetInternalformativ's
+    /// GL_SAMPLES, intersected). `--aa N` multisamples where N is one of them.
+    std::set<int> sampleCounts;
+
+    bool multisamples(int samples) const { return sampleCounts.count(samples) != 0; }
 
     /// A rasteriser on the CPU (Mesa llvmpipe / softpipe, or zink over lavapipe): a pixel-pack
     /// buffer is a second CPU copy there, so the views are read straight into their images.

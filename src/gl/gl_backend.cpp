@@ -22,7 +22,10 @@ public:
     // faults) where they have the request's size.
     Status renderInto(const Scene& scene, const Rig& rig, const RenderSettings& requested,
                       const std::string& method, RenderOutput& out) override {
-        if (requested.samples > 1) return renderSampled(*this, scene, rig, requested, method, out);
+        // --aa N: multisampled targets where the method and the driver take N samples (one
+        // shading a pixel), else N sub-pixel passes.
+        if (requested.samples > 1 && !mRenderer.multisamples(method, requested.samples))
+            return renderSampled(*this, scene, rig, requested, method, out);
         const RenderSettings settings = shadedSettings(requested);
         if (!settings.shadows) return mRenderer.renderInto(scene, rig, settings, method, out);
         // Shadows (issue 15): the casters' maps once for all views, as one multi-view pass
@@ -49,6 +52,7 @@ public:
         s.readbackWallMs = gl->readbackWallMs;
         s.totalWallMs = gl->totalWallMs;
         s.passes = gl->passes;
+        s.samples = gl->samples;
         return s;
     }
 
@@ -66,8 +70,8 @@ const std::vector<std::string>& glMethodNames() { return detail::methodNames(); 
 std::optional<GlFrameStats> lastFrameStats(const mvr::Backend& backend) {
     const auto s = backend.lastStats();
     if (!s) return std::nullopt;
-    return GlFrameStats{s->method,         s->gpuMs,       s->drawWallMs,
-                        s->readbackWallMs, s->totalWallMs, s->passes};
+    return GlFrameStats{s->method,         s->gpuMs,       s->drawWallMs, s->readbackWallMs,
+                        s->totalWallMs,    s->passes,      s->samples};
 }
 
 }  // namespace mvr::gl

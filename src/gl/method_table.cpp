@@ -237,6 +237,9 @@ const std::vector<GlMethod>& glMethods() {
             },
             .flatProvoking = true,
             .draw = &Renderer::drawMultiview,
+            // GL_OVR_multiview attaches 2D-array textures; multisampled views need
+            // GL_OVR_multiview_multisampled_render_to_texture (GLES only): sub-pixel passes.
+            .multisample = false,
         },
         {
             // kalaiah2007 §4: 3·N dummy vertices per triangle, viewport transform in the VS

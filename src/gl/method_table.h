@@ -62,6 +62,9 @@ struct GlMethod {
     Status (Renderer::*draw)(const Frame& f, GLuint program) = nullptr;
     /// "auto": measures the exact methods that run here and renders with the fastest.
     bool measuresExact = false;
+    /// `--aa N` draws into multisampled targets (renderer.h) where the driver takes N samples;
+    /// false: sub-pixel passes (antialias.h renderSampled), as on drivers without N.
+    bool multisample = true;
 
     bool exact() const { return artifact == nullptr && !measuresExact; }
 };

@@ -23,12 +23,13 @@ Status checkFramebuffer(GLuint fbo, const char* what) {
 
 // multipass: the reference. One full pass of the scene per view, each into its own layer.
 Status Renderer::drawMultipass(const Frame& f, GLuint prog) {
-    ensureLayered(f.settings->width, f.settings->height, f.targetViews);
-    const GLuint fbo = mGpu->layered.fbo.get();
+    ensureLayered(f.settings->width, f.settings->height, f.targetViews, f.samples);
+    const LayeredTarget& t = mGpu->layered;
+    const GLuint fbo = t.fbo.get();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
     for (int v = 0; v < f.views; ++v) {
-        glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, mGpu->layered.color.get(), 0, v);
-        glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, mGpu->layered.depth.get(), 0, v);
+        glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, t.drawColor(), 0, v);
+        glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, t.drawDepth(), 0, v);
         if (v == 0) {
             if (Status s = checkFramebuffer(fbo, f.method->name); !s) return s;
         }
@@ -41,8 +42,8 @@ Status Renderer::drawMultipass(const Frame& f, GLuint prog) {
 
 // gs-layered / gs-invocations: one pass; the geometry shader sends each copy to gl_Layer.
 Status Renderer::drawLayeredGs(const Frame& f, GLuint prog) {
-    ensureLayered(f.settings->width, f.settings->height, f.targetViews);
-    attachLayered(mGpu->layered.fbo.get(), mGpu->layered.color.get(), mGpu->layered.depth.get());
+    ensureLayered(f.settings->width, f.settings->height, f.targetViews, f.samples);
+    attachLayered(mGpu->layered.fbo.get(), mGpu->layered.drawColor(), mGpu->layered.drawDepth());
     if (Status s = checkFramebuffer(mGpu->layered.fbo.get(), "layered target"); !s) return s;
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mGpu->layered.fbo.get());
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);  // clears every layer
@@ -52,8 +53,8 @@ Status Renderer::drawLayeredGs(const Frame& f, GLuint prog) {
 
 // instanced-layer: N instances of every draw; the vertex shader picks gl_Layer = instance.
 Status Renderer::drawInstancedLayer(const Frame& f, GLuint prog) {
-    ensureLayered(f.settings->width, f.settings->height, f.targetViews);
-    attachLayered(mGpu->layered.fbo.get(), mGpu->layered.color.get(), mGpu->layered.depth.get());
+    ensureLayered(f.settings->width, f.settings->height, f.targetViews, f.samples);
+    attachLayered(mGpu->layered.fbo.get(), mGpu->layered.drawColor(), mGpu->layered.drawDepth());
     if (Status s = checkFramebuffer(mGpu->layered.fbo.get(), "layered target"); !s) return s;
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mGpu->layered.fbo.get());
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -65,7 +66,8 @@ Status Renderer::drawInstancedLayer(const Frame& f, GLuint prog) {
 // own framebuffer: re-attaching one framebuffer between multiview and per-layer / layered
 // attachments left NVIDIA's driver drawing views 1.. wrong after other methods had run.
 Status Renderer::drawMultiview(const Frame& f, GLuint prog) {
-    ensureLayered(f.settings->width, f.settings->height, f.targetViews);
+    // One sample (GlMethod::multisample: --aa N renders sub-pixel passes).
+    ensureLayered(f.settings->width, f.settings->height, f.targetViews, 1);
     const GLuint fbo = mGpu->layered.multiviewFbo.get();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
     glFramebufferTextureMultiviewOVR(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
@@ -82,7 +84,7 @@ Status Renderer::drawMultiview(const Frame& f, GLuint prog) {
 // viewport is scissored to its tile so that no view draws into its neighbour.
 Status Renderer::drawViewportArray(const Frame& f, GLuint prog) {
     const TileLayout& t = *f.tiles;
-    ensureTiled(t.columns * t.width, t.rows * t.height);
+    ensureTiled(t.columns * t.width, t.rows * t.height, f.samples);
     if (Status s = checkFramebuffer(mGpu->tiled.fbo.get(), "tiled target"); !s) return s;
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mGpu->tiled.fbo.get());
     glViewport(0, 0, t.columns * t.width, t.rows * t.height);
@@ -114,7 +116,7 @@ Status Renderer::prepareKalaiah(const Frame& f) {
 // view's partition is done in the vertex shader, per-view clipping by 4 clip distances.
 Status Renderer::drawKalaiah(const Frame& f, GLuint prog) {
     const TileLayout& t = *f.tiles;
-    ensureTiled(t.columns * t.width, t.rows * t.height);
+    ensureTiled(t.columns * t.width, t.rows * t.height, f.samples);
     if (Status s = checkFramebuffer(mGpu->tiled.fbo.get(), "partitioned target"); !s) return s;
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, mGpu->tiled.fbo.get());
     glViewport(0, 0, t.columns * t.width, t.rows * t.height);
@@ -143,7 +145,7 @@ Status Renderer::drawGsDepthMap(const Frame& f, GLuint prog) { return drawSorbie
 
 Status Renderer::drawSorbier(const Frame& f, GLuint prog, bool depthMap) {
     const int w = f.settings->width, h = f.settings->height;
-    ensureMrt(w, h);
+    ensureMrt(w, h, f.samples);
     Frame sorted = f;
     const glm::vec3 eye = f.rig->centerEye();
     std::vector<float> dist(f.scene->instances.size());

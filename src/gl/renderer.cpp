@@ -627,57 +627,93 @@ void Renderer::drawScene(const Frame& f, GLuint prog, int instances) {
 
 // ---- targets ---------------------------------------------------------------------------------
 
-void Renderer::ensureLayered(int w, int h, int layers) {
-    if (mGpu->layered.w == w && mGpu->layered.h == h && mGpu->layered.layers == layers) return;
-    mGpu->layered.color = createTexture(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(mGpu->layered.color.get(), 1, GL_RGBA8, w, h, layers);
-    mGpu->layered.depth = createTexture(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(mGpu->layered.depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h, layers);
-    mGpu->layered.fbo = createFramebuffer();
-    mGpu->layered.multiviewFbo = createFramebuffer();
-    mGpu->layered.w = w;
-    mGpu->layered.h = h;
-    mGpu->layered.layers = layers;
-}
-
-void Renderer::ensureMrt(int w, int h) {
-    if (mGpu->mrt.w == w && mGpu->mrt.h == h) return;
-    mGpu->mrt.fbo = createFramebuffer();
-    for (int i = 0; i < 2; ++i) {
-        mGpu->mrt.color[i] = createTexture(GL_TEXTURE_2D);
-        glTextureStorage2D(mGpu->mrt.color[i].get(), 1, GL_RGBA8, w, h);
-        glNamedFramebufferTexture(mGpu->mrt.fbo.get(), GL_COLOR_ATTACHMENT0 + i,
-                                  mGpu->mrt.color[i].get(), 0);
+void Renderer::ensureLayered(int w, int h, int layers, int samples) {
+    LayeredTarget& t = mGpu->layered;
+    if (t.w == w && t.h == h && t.layers == layers && t.samples == samples) return;
+    t.color = createTexture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(t.color.get(), 1, GL_RGBA8, w, h, layers);
+    t.depth = createTexture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(t.depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h, layers);
+    t.msColor = {};
+    t.msDepth = {};
+    if (samples > 1) {
+        // Fixed sample locations: every layer (and every pixel) samples the same positions.
+        t.msColor = createTexture(GL_TEXTURE_2D_MULTISAMPLE_ARRAY);
+        glTextureStorage3DMultisample(t.msColor.get(), samples, GL_RGBA8, w, h, layers, GL_TRUE);
+        t.msDepth = createTexture(GL_TEXTURE_2D_MULTISAMPLE_ARRAY);
+        glTextureStorage3DMultisample(t.msDepth.get(), samples, GL_DEPTH_COMPONENT32F, w, h,
+                                      layers, GL_TRUE);
     }
-    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(mGpu->mrt.fbo.get(), 2, bufs);
-    mGpu->mrt.depthMap = createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(mGpu->mrt.depthMap.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
-    mGpu->mrt.depthFbo = createFramebuffer();
-    glNamedFramebufferTexture(mGpu->mrt.depthFbo.get(), GL_DEPTH_ATTACHMENT,
-                              mGpu->mrt.depthMap.get(), 0);
-    glNamedFramebufferDrawBuffer(mGpu->mrt.depthFbo.get(), GL_NONE);
-    mGpu->mrt.w = w;
-    mGpu->mrt.h = h;
+    t.fbo = createFramebuffer();
+    t.multiviewFbo = createFramebuffer();
+    t.resolveFbo = createFramebuffer();
+    t.w = w;
+    t.h = h;
+    t.layers = layers;
+    t.samples = samples;
 }
 
-void Renderer::ensureTiled(int w, int h) {
+void Renderer::ensureMrt(int w, int h, int samples) {
+    MrtTarget& t = mGpu->mrt;
+    if (t.w == w && t.h == h && t.samples == samples) return;
+    t.fbo = createFramebuffer();
+    t.resolveFbo = createFramebuffer();
+    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    for (int i = 0; i < 2; ++i) {
+        t.color[i] = createTexture(GL_TEXTURE_2D);
+        glTextureStorage2D(t.color[i].get(), 1, GL_RGBA8, w, h);
+        t.msColor[i] = {};
+        if (samples > 1) {
+            t.msColor[i] = createTexture(GL_TEXTURE_2D_MULTISAMPLE);
+            glTextureStorage2DMultisample(t.msColor[i].get(), samples, GL_RGBA8, w, h, GL_TRUE);
+        }
+        glNamedFramebufferTexture(t.fbo.get(), bufs[i],
+                                  samples > 1 ? t.msColor[i].get() : t.color[i].get(), 0);
+        glNamedFramebufferTexture(t.resolveFbo.get(), bufs[i], t.color[i].get(), 0);
+    }
+    glNamedFramebufferDrawBuffers(t.fbo.get(), 2, bufs);
+    glNamedFramebufferDrawBuffers(t.resolveFbo.get(), 2, bufs);
+    // gs-depthmap's left-eye depth map: one sample (its fragment test reads it per pixel).
+    t.depthMap = createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.depthMap.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
+    t.depthFbo = createFramebuffer();
+    glNamedFramebufferTexture(t.depthFbo.get(), GL_DEPTH_ATTACHMENT, t.depthMap.get(), 0);
+    glNamedFramebufferDrawBuffer(t.depthFbo.get(), GL_NONE);
+    t.w = w;
+    t.h = h;
+    t.samples = samples;
+}
+
+void Renderer::ensureTiled(int w, int h, int samples) {
     // Kept while it holds w × h and is not much larger (passes of fewer views use its top-left
     // corner); remade otherwise.
-    const TiledTarget& t = mGpu->tiled;
+    TiledTarget& t = mGpu->tiled;
     const double area = double(t.w) * t.h, need = double(w) * h;
-    if (t.w >= w && t.h >= h && area <= 4.0 * need) return;
-    mGpu->tiled.color = createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(mGpu->tiled.color.get(), 1, GL_RGBA8, w, h);
-    mGpu->tiled.depth = createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(mGpu->tiled.depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
-    mGpu->tiled.fbo = createFramebuffer();
-    glNamedFramebufferTexture(mGpu->tiled.fbo.get(), GL_COLOR_ATTACHMENT0, mGpu->tiled.color.get(),
-                              0);
-    glNamedFramebufferTexture(mGpu->tiled.fbo.get(), GL_DEPTH_ATTACHMENT, mGpu->tiled.depth.get(),
-                              0);
-    mGpu->tiled.w = w;
-    mGpu->tiled.h = h;
+    if (t.w >= w && t.h >= h && area <= 4.0 * need && t.samples == samples) return;
+    t.color = createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.color.get(), 1, GL_RGBA8, w, h);
+    t.depth = createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
+    t.msColor = {};
+    t.msDepth = {};
+    if (samples > 1) {
+        t.msColor = createTexture(GL_TEXTURE_2D_MULTISAMPLE);
+        glTextureStorage2DMultisample(t.msColor.get(), samples, GL_RGBA8, w, h, GL_TRUE);
+        t.msDepth = createTexture(GL_TEXTURE_2D_MULTISAMPLE);
+        glTextureStorage2DMultisample(t.msDepth.get(), samples, GL_DEPTH_COMPONENT32F, w, h,
+                                      GL_TRUE);
+    }
+    t.fbo = createFramebuffer();
+    glNamedFramebufferTexture(t.fbo.get(), GL_COLOR_ATTACHMENT0,
+                              samples > 1 ? t.msColor.get() : t.color.get(), 0);
+    glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT,
+                              samples > 1 ? t.msDepth.get() : t.depth.get(), 0);
+    t.resolveFbo = createFramebuffer();
+    glNamedFramebufferTexture(t.resolveFbo.get(), GL_COLOR_ATTACHMENT0, t.color.get(), 0);
+    glNamedFramebufferTexture(t.resolveFbo.get(), GL_DEPTH_ATTACHMENT, t.depth.get(), 0);
+    t.w = w;
+    t.h = h;
+    t.samples = samples;
 }
 
 // ---- render ----------------------------------------------------------------------------------
@@ -719,6 +755,11 @@ Status Renderer::renderOnce(const Scene& scene, const Rig& rig, const RenderSett
     f.settings = &s;
     f.views = views;
     f.targetViews = perPass;
+    // --aa N multisampled (GlBackend sends N > 1 here only where multisamples() says so).
+    f.samples = s.samples;
+    if (f.samples > 1 && (!method.multisample || !mCaps.multisamples(f.samples)))
+        return internalError(fmt::format("gl: {} does not draw {} samples a pixel here",
+                                         method.name, f.samples));
     if (Status st = prepareScene(scene, f, mLastSceneKey); !st) return st;
     if (Status st = prepareEnvironment(scene); !st) return st;
     f.order = drawOrder(scene);
@@ -743,6 +784,7 @@ Status Renderer::renderOnce(const Scene& scene, const Rig& rig, const RenderSett
     stats.method = method.name;
     stats.gpuMs = mCaps.timerBits > 0 ? 0.0 : -1.0;
     stats.passes = passes;
+    stats.samples = f.samples;
     // A pass's rig: its views, side by side (the whole rig when one pass takes them all).
     Rig passRig;
     if (passes > 1) {
@@ -823,8 +865,9 @@ Status Renderer::renderOnce(const Scene& scene, const Rig& rig, const RenderSett
 Status Renderer::drawPass(Frame& f, int pass, GlFrameStats& stats) {
     const GlMethod& method = *f.method;
     const RenderSettings& s = *f.settings;
-    const ProgramDesc desc = passProgram(method, s.shading, f.views, mShadows != nullptr,
-                                         shadesFromEachEye(s));
+    ProgramDesc desc = passProgram(method, s.shading, f.views, mShadows != nullptr,
+                                   shadesFromEachEye(s));
+    if (f.samples > 1) addDefine(desc, "CENTROID");
     Result<GLuint> prog = program(method.name, desc);
     if (!prog) return prog.status();
     if (method.prepare) {
@@ -859,9 +902,10 @@ Status Renderer::drawPass(Frame& f, int pass, GlFrameStats& stats) {
             mGpu->timers.push_back(createQuery(GL_TIME_ELAPSED));
         glBeginQuery(GL_TIME_ELAPSED, mGpu->timers[std::size_t(pass)].get());
     }
-    const Status drawn = method.draw
-                             ? (this->*method.draw)(f, *prog)
-                             : internalError(fmt::format("gl: no draw path for {}", method.name));
+    Status drawn = method.draw
+                       ? (this->*method.draw)(f, *prog)
+                       : internalError(fmt::format("gl: no draw path for {}", method.name));
+    if (drawn && f.samples > 1) drawn = resolveSamples(f);
     if (timed) glEndQuery(GL_TIME_ELAPSED);
     // Software rasterisers draw on the CPU: wait, so that the draw's wall time is its own. A
     // GPU keeps drawing while the CPU copies the previous pass's pixels (renderOnce).
@@ -882,8 +926,9 @@ Status Renderer::renderAuto(const Scene& scene, const Rig& rig, const RenderSett
     std::uint64_t sceneKey = 0;
     if (Status st = prepareScene(scene, probe, sceneKey); !st) return st;
     const std::string key =
-        fmt::format("{:x}/{}x{}/{}/{}/{}{}/{}", sceneKey, s.width, s.height, rig.viewCount(),
-                    shadingName(s.shading), s.cullBackFaces, s.wireframe, int(s.specular));
+        fmt::format("{:x}/{}x{}/{}/{}/{}{}/{}/{}", sceneKey, s.width, s.height, rig.viewCount(),
+                    shadingName(s.shading), s.cullBackFaces, s.wireframe, int(s.specular),
+                    s.samples);
     if (auto it = mAutoChoices.find(key); it != mAutoChoices.end()) {
         if (Status st = renderOnce(scene, rig, s, *it->second.method, out); !st) return st;
         out.method = it->second.method->name;
@@ -895,6 +940,10 @@ Status Renderer::renderAuto(const Scene& scene, const Rig& rig, const RenderSett
     for (const GlMethod& m : glMethods()) {
         if (!m.exact()) continue;
         const std::string name = m.name;
+        if (s.samples > 1 && !m.multisample) {
+            skipped.push_back(name + " (no multisampled target)");
+            continue;
+        }
         if (Status st = supportsMethod(m); !st) {
             skipped.push_back(name + " (unsupported)");
             continue;

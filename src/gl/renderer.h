@@ -159,6 +159,7 @@ struct Frame {
     int views = 0;                    ///< of this pass (rig->views are this pass's views)
     int firstView = 0;                ///< the request's index of this pass's view 0
     int targetViews = 0;              ///< views the target holds: the largest pass's
+    int samples = 1;                  ///< the targets' samples a pixel (> 1: multisampled)
     std::vector<GpuMesh*> meshes;     ///< per scene mesh
     std::vector<int> order;           ///< instance draw order (AlphaMode::Blend ones last)
     std::vector<GLuint> textures;     ///< per scene texture: its GL texture
@@ -173,20 +174,31 @@ std::vector<int> drawOrder(const Scene& scene);
 /// The render targets: one colour + depth pair per target kind, reallocated when the size
 /// changes. Multiview attachments get a framebuffer of their own (never shared with the
 /// layered / per-layer attachments of the other methods).
+///
+/// `--aa N` where the driver multisamples N (GlCaps::sampleCounts, GlMethod::multisample): the
+/// methods draw into multisampled twins of the colour and depth (ms*, `samples` a pixel), and
+/// Renderer::resolveSamples() resolves them into the single-sample textures through
+/// `resolveFbo` (antialias.h's resolve: the mean colour rounded half up, the nearest depth),
+/// which the read-back reads as at one sample.
 struct LayeredTarget {
-    int w = 0, h = 0, layers = 0;
+    int w = 0, h = 0, layers = 0, samples = 1;
     Texture color, depth;
-    Framebuffer fbo, multiviewFbo;
+    Texture msColor, msDepth;  ///< samples > 1: what the methods draw into
+    Framebuffer fbo, multiviewFbo, resolveFbo;
+    GLuint drawColor() const { return samples > 1 ? msColor.get() : color.get(); }
+    GLuint drawDepth() const { return samples > 1 ? msDepth.get() : depth.get(); }
 };
 struct MrtTarget {
-    int w = 0, h = 0;
+    int w = 0, h = 0, samples = 1;
     Texture color[2], depthMap;
-    Framebuffer fbo, depthFbo;
+    Texture msColor[2];  ///< samples > 1: fbo's attachments (the depth map stays one sample)
+    Framebuffer fbo, depthFbo, resolveFbo;
 };
 struct TiledTarget {
-    int w = 0, h = 0;
+    int w = 0, h = 0, samples = 1;
     Texture color, depth;
-    Framebuffer fbo;
+    Texture msColor, msDepth;  ///< samples > 1: fbo's attachments
+    Framebuffer fbo, resolveFbo;
 };
 
 /// A pixel-pack buffer the views' pixels are read into (mapped once they have arrived).
@@ -228,6 +240,8 @@ struct GpuObjects {
     std::array<glm::vec3, 9> environmentSh{};
     Texture splitSum;
     Program depthRangeProgram;  ///< readback.cpp: the views' depth ranges (built on first use)
+    /// resolveSamples()'s programs, by target kind and sample count (built on first use).
+    std::map<std::pair<int, int>, Program> resolvePrograms;
     Buffer depthRanges;         ///< 2 uints a view: the nearest and farthest depth's bits
 };
 
@@ -243,6 +257,11 @@ public:
 
     /// Can this driver run `method` at all? (Usage for an unknown name.)
     Status supports(const std::string& method);
+    /// Does `method` draw `samples` samples a pixel into multisampled targets here (the row's
+    /// GlMethod::multisample and the driver's GlCaps::sampleCounts; "auto": the driver's)?
+    /// Else the backend's `--aa N` renders sub-pixel passes (antialias.h renderSampled).
+    /// MVR_GL_MULTISAMPLE=off says no to every request (the passes, for comparisons).
+    bool multisamples(const std::string& method, int samples);
     /// The largest view count `method` allows here for this shading and view size (0: none);
     /// in pixel shading with normal maps (mNormalMaps), their geometry shaders' limits.
     int viewLimit(const GlMethod& method, Shading shading, int width, int height) const;
@@ -331,10 +350,14 @@ private:
     Status drawSorbier(const Frame& f, GLuint program, bool depthMap);
     void drawScene(const Frame& f, GLuint program, int instances);
 
-    // Targets, reallocated when their size changes.
-    void ensureLayered(int w, int h, int layers);
-    void ensureMrt(int w, int h);
-    void ensureTiled(int w, int h);
+    // Targets, reallocated when their size or sample count changes.
+    void ensureLayered(int w, int h, int layers, int samples);
+    void ensureMrt(int w, int h, int samples);
+    void ensureTiled(int w, int h, int samples);
+    /// f.samples > 1: the multisampled target of f's pass resolved into its single-sample
+    /// textures (LayeredTarget), view by view: colour = (Σ samples' bytes + N/2) / N, depth =
+    /// the nearest sample. Leaves the state setCommonState() sets again.
+    Status resolveSamples(const Frame& f);
     /// Reads pass f's views back. Software rasterisers: straight into out's images (rows in
     /// image order: the targets are drawn with an upper-left origin, no flip). Else: into a
     /// pixel-pack buffer with a fence, returned pending; finishRead() maps it after the next

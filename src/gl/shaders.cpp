@@ -657,6 +657,14 @@ void main() {
 )glsl";
 
 const char* const kFragment = R"glsl(
+// CENTROID (multisampled targets, multisample.cpp): the interpolated inputs at a covered
+// sample, where the pixel centre may lie outside the primitive (extrapolated colours at a
+// silhouette); the texture coordinates stay at the centre (their derivatives pick the level).
+#ifdef CENTROID
+#define SMOOTH centroid
+#else
+#define SMOOTH
+#endif
 layout(location = 5) in vec2 iTexcoord;
 layout(binding = 2) uniform sampler2D uBaseColor;  // sRGB texture: sampled in linear
 // The other slots (lighting.h SurfaceMaps; units: materials.cpp kSlotUnits, 3 is the shadow
@@ -665,17 +673,17 @@ layout(binding = 4) uniform sampler2D uMetallicRoughnessMap;  // linear: G rough
 layout(binding = 5) uniform sampler2D uOcclusionMap;          // linear: R
 layout(binding = 6) uniform sampler2D uEmissiveMap;           // sRGB: sampled in linear
 #ifdef VERTEX_COLORS
-layout(location = 7) in vec4 iVertexColor;
+layout(location = 7) SMOOTH in vec4 iVertexColor;
 #endif
 #if !defined(DEPTH_ONLY)
-layout(location = 0) in vec3 iWorld;
-layout(location = 1) in vec3 iNormal;
+layout(location = 0) SMOOTH in vec3 iWorld;
+layout(location = 1) SMOOTH in vec3 iNormal;
 #if defined(SHADING_FLAT)
 layout(location = 2) flat in vec3 iColor;
 layout(location = 6) flat in vec3 iSpecular;
 #else
-layout(location = 2) in vec3 iColor;
-layout(location = 6) in vec3 iSpecular;
+layout(location = 2) SMOOTH in vec3 iColor;
+layout(location = 6) SMOOTH in vec3 iSpecular;
 #endif
 #ifdef DEPTHMAP
 layout(location = 3) in vec4 iLeftClip;
@@ -693,7 +701,7 @@ layout(location = 8) flat in int iEyeView;
 // Pixel shading in a frame with normal maps (Renderer::mNormalMaps): the world tangent and the
 // normal map (slot bit 16, unit 7: materials.cpp kSlotUnits), linear, through the base colour's
 // coordinates and sampler.
-layout(location = 9) in vec4 iTangent;
+layout(location = 9) SMOOTH in vec4 iTangent;
 layout(binding = 7) uniform sampler2D uNormalMap;
 
 // lighting.h perturbedNormal(): the texel as a tangent-space normal (2·rgb − 1, x and y ×

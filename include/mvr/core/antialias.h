@@ -2,13 +2,18 @@
 // standard multisample positions, rendered as N sub-pixel-offset passes of the whole rig and
 // resolved (box filter: the mean colour, the nearest depth).
 //
-// Every backend and method takes it the same way: RenderSettings::samples > 1 makes a
-// backend's renderInto() call renderSampled(), which renders the rig N times with every view
-// (and, for the soft backend's shear form, the centre camera: Rig::clipJitter) moved by the
-// sample's offset, one sample a pixel each, and resolves them. So soft:unified equals
-// soft:multipass bit for bit at any N (each pass is an exact pair), and gl stays within its
-// bound of soft. One shading per sample (supersampling), not per pixel: the cost is N renders
-// (bench/README.md); a hardware-multisampled gl path is future work.
+// Two ways, the same positions and the same resolve:
+// - Sub-pixel passes (soft, vk, and gl where the driver or the method cannot multisample N):
+//   RenderSettings::samples > 1 makes a backend's renderInto() call renderSampled(), which
+//   renders the rig N times with every view (and, for the soft backend's shear form, the centre
+//   camera: Rig::clipJitter) moved by the sample's offset, one sample a pixel each, and resolves
+//   them. So soft:unified equals soft:multipass bit for bit at any N (each pass is an exact
+//   pair). One shading per sample (supersampling): the cost is N renders (bench/README.md).
+// - Multisampled targets (gl, where the driver takes N samples: src/gl/multisample.cpp): N
+//   coverage and depth samples a pixel, one shading a pixel (MSAA), resolved on the device by
+//   the formula below; RenderStats::samples says N. Within gl's bound of soft's passes
+//   (tests/conformance/tolerances.h): the coverage is the same, the shading is the pixel
+//   centre's where the passes average N shadings.
 //
 // Sample positions: Direct3D's standard multisample patterns (D3D11_STANDARD_MULTISAMPLE_
 // PATTERN; the positions GL drivers use on desktop GPUs), in 1/16 pixel from the pixel centre,
@@ -19,7 +24,8 @@
 //     8: (1, −3) (−1, 3) (5, 1) (−3, −5) (−5, 5) (−7, −1) (3, 7) (7, −7)
 // The resolve: colour channel = (Σ samples + N/2) / N (integer, round half up), alpha the same;
 // depth = the nearest sample (the depth outputs, the comfort report and auto convergence read
-// it); gl's device-measured depth range (RenderOutput::depthRange) the union over the samples.
+// it); a device-measured depth range (RenderOutput::depthRange) the union over the passes'
+// samples, or, multisampled, the range of the resolved (nearest-sample) depth.
 #pragma once
 
 #include <cstddef>

@@ -101,6 +101,10 @@ struct RenderStats {
     /// gl: the batches of at most the method's per-pass view limit it drew the views in
     /// (kalaiah2007 §3); 1 when all views fit in one pass (and for soft).
     int passes = 1;
+    /// The samples a pixel the last render drew into its targets: N where `--aa N` was
+    /// multisampled on the device (gl), 1 for one sample and for each sub-pixel pass of
+    /// renderSampled() (mvr/core/antialias.h).
+    int samples = 1;
 };
 
 /// The window depth of the nearest and the farthest pixel a view drew (depth < 1).

@@ -80,6 +80,7 @@ struct GlFrameStats {
     double readbackWallMs = 0.0;  ///< wall time of reading back every view's color (+ depth)
     double totalWallMs = 0.0;     ///< the whole render() call
     int passes = 1;               ///< batches of at most the method's per-pass view limit
+    int samples = 1;              ///< samples a pixel of its targets (RenderStats::samples)
 };
 
 /// `backend.lastStats()` in the gl backend's terms (kept for callers of the gl API; every
