@@ -554,6 +554,41 @@ TEST_F(BenchCli, ViewsJsonSoft) {
     }
 }
 
+// --aa: each count at each sample count, × one sample of the same job, and the path the backend
+// took (drawn_samples: RenderStats::samples, N multisampled on gl where the driver takes N, 1
+// for soft's sub-pixel passes).
+TEST_F(BenchCli, ViewsAaSaysTimesOneSampleAndThePath) {
+    const CliRun r =
+        run(fmt::format("bench views '{}' --counts 2 --size 32x24 --frames 1 --warmup 0 "
+                        "--aa 1,4 --methods soft:unified,gl:multipass --json",
+                        model("suzanne.obj")));
+    ASSERT_EQ(r.exitCode == 3 ? 3 : 0, r.exitCode) << r.err;
+    if (r.exitCode == 3) MVR_SKIP(NoGlContext) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    std::map<std::string, double> oneSample;
+    int aaRows = 0;
+    for (const auto& row : j["results"]) {
+        ASSERT_FALSE(row.contains("error")) << row.dump();
+        const std::string spec =
+            row["backend"].get<std::string>() + ":" + row["method"].get<std::string>();
+        if (!row.contains("samples")) {
+            EXPECT_EQ(row["config"], "2x1") << row.dump();
+            oneSample[spec] = row["wall_ms"]["median"];
+            continue;
+        }
+        ++aaRows;
+        EXPECT_EQ(row["samples"], 4) << row.dump();
+        EXPECT_EQ(row["config"], "2x1 aa4") << row.dump();
+        ASSERT_TRUE(oneSample.count(spec)) << spec;  // one sample is measured first
+        EXPECT_NEAR(row["times_one_sample"].get<double>(),
+                    row["wall_ms"]["median"].get<double>() / oneSample[spec], 1e-9);
+        const int drawn = row["drawn_samples"];
+        if (spec.rfind("soft:", 0) == 0) EXPECT_EQ(drawn, 1) << spec;
+        if (spec.rfind("gl:", 0) == 0) EXPECT_TRUE(drawn == 1 || drawn == 4) << spec;
+    }
+    EXPECT_EQ(aaRows, 3);  // soft:unified, soft:multipass (its baseline), gl:multipass
+}
+
 // --rounds in the table's caption and in the progress lines.
 TEST_F(BenchCli, ViewsRoundsAreReported) {
     const CliRun table =

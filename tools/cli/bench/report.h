@@ -65,6 +65,9 @@ struct RenderRow {
     /// of the same job and views (0: not measured).
     int samples = 1;
     double timesOneSample = 0;
+    /// views --aa: the samples a pixel the backend drew into its targets (RenderStats::samples:
+    /// N multisampled, 1 for sub-pixel passes; 0: not recorded).
+    int drawnSamples = 0;
     /// views --synthesize: K (1: every view exact), time / time of the same job and views
     /// rendered exactly (0: not measured) and the lowest PSNR of a warped view against its
     /// exact render (dB; 0: not measured).

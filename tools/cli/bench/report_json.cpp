@@ -129,6 +129,12 @@ Status emitJson(const RenderReport& report, const CommonOptions& o) {
             if (r.ran != r.method) e["ran"] = r.ran;
             if (r.timesOne > 0) e["times_one_view"] = r.timesOne;
             if (r.passes > 0) e["passes"] = r.passes;
+            if (r.samples > 1) {
+                e["samples"] = r.samples;  // --aa N
+                if (r.timesOneSample > 0) e["times_one_sample"] = r.timesOneSample;
+                // RenderStats::samples: N multisampled, 1 for sub-pixel passes
+                if (r.drawnSamples > 0) e["drawn_samples"] = r.drawnSamples;
+            }
             if (r.synthesize > 1) e["synthesize"] = r.synthesize;
             if (r.timesExact > 0) e["times_exact"] = r.timesExact;
             if (r.psnr > 0) e["psnr_db"] = r.psnr;

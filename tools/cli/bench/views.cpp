@@ -199,6 +199,7 @@ int runViews(const ViewsOptions& o) {
             if (k > 1 && !m[j].failed()) row.psnr = lowestPsnr(*jobs[j].backend, jobs[j].spec.method, p);
             row.width = p.settings.width, row.height = p.settings.height;
             if (!m[j].stats.empty()) row.passes = m[j].stats.back().passes;
+            if (!m[j].stats.empty()) row.drawnSamples = m[j].stats.back().samples;
             report.rows.push_back(row);
         }
         fillSpeedups(report.rows, first);
@@ -240,6 +241,9 @@ int runViews(const ViewsOptions& o) {
             std::string cell = fmt::format("{:.1f} ms", r.wall.median);
             if (r.timesOne > 0) cell += fmt::format(", {:.2f}× one view", r.timesOne);
             if (r.timesOneSample > 0) cell += fmt::format(", {:.2f}× one sample", r.timesOneSample);
+            if (r.samples > 1 && r.drawnSamples > 0)
+                cell += r.drawnSamples > 1 ? ", multisampled"
+                                           : fmt::format(", {} sub-pixel passes", r.samples);
             if (r.timesExact > 0) cell += fmt::format(", {:.2f}× exact", r.timesExact);
             if (r.psnr > 0) cell += fmt::format(", PSNR ≥ {:.1f} dB", r.psnr);
             if (r.speedup > 0) cell += fmt::format(", {:.2f}× vs multipass", r.speedup);
