@@ -280,15 +280,21 @@ Status Renderer::checkViews(const GlMethod& m, int views, const RenderSettings& 
             return unsupportedError(fmt::format("gl: {}: --specular per-view {}", m.name, why));
     }
     // Colour (4 bytes) + depth (4 bytes) per pixel per view on the GPU side, the same again
-    // for the images handed back: refuse what would not fit in memory instead of failing
-    // (or being killed) halfway.
+    // for the images handed back, and multisampled (samples > 1 reaches here only then) the
+    // targets' twins, N times that a view of a pass (at most a target's views): refuse what
+    // would not fit in memory instead of failing (or being killed) halfway.
     constexpr double kBudgetBytes = 4.0 * 1024 * 1024 * 1024;
-    const double bytes = 8.0 * s.width * s.height * views;
+    const double pixels = double(s.width) * s.height;
+    const int passViews = std::min(views, viewsPerTarget(m.target));
+    const double bytes = 8.0 * pixels * views +
+                         (s.samples > 1 ? 8.0 * s.samples * pixels * passViews : 0.0);
     if (bytes > kBudgetBytes) {
         return unsupportedError(fmt::format(
-            "gl: {} views of {}x{} need {:.1f} GiB of colour + depth targets (limit {:.0f} GiB)",
-            views, s.width, s.height, bytes / (1024.0 * 1024 * 1024),
-            kBudgetBytes / (1024.0 * 1024 * 1024)));
+            "gl: {} views of {}x{}{} need {:.1f} GiB of colour + depth targets (limit {:.0f} "
+            "GiB)",
+            views, s.width, s.height,
+            s.samples > 1 ? fmt::format(" at {} samples a pixel", s.samples) : "",
+            bytes / (1024.0 * 1024 * 1024), kBudgetBytes / (1024.0 * 1024 * 1024)));
     }
     return checkMethodViews(m, mCaps, views, s, mNormalMaps && s.shading == Shading::Pixel);
 }

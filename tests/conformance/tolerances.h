@@ -212,11 +212,17 @@ inline constexpr Tolerance kTolerances[] = {
      "silhouette texel of the map (a band about one pixel wide); measured: vertex 0 %, pixel "
      "0.005 % (one pixel of 19 200, delta 28-29/255: one tap) in every exact method; bound "
      "kShadowedGlVsSoft. Every gl method samples the same map: vs gl:multipass kGlExact"},
+    {"gl", "multiview", "aa", 0, Depth::PerView, kMultisampledGlVsSoft, "multipass",
+     kMultisampledGlVsSoft,
+     "--aa N in multiview: always N sub-pixel passes (its attachments cannot be multisampled: "
+     "GlMethod::multisample), so within kGlVsSoft of soft, while gl:multipass multisamples "
+     "where the driver takes N: the two differ by kMultisampledGlVsSoft's one-shading-a-pixel "
+     "differences (never run on llvmpipe, which has no GL_OVR_multiview)"},
     {"gl", "*", "aa", 0, Depth::PerView, kMultisampledGlVsSoft, "multipass", kGlExact,
      "--aa N in the exact methods (auto among them): multisampled where the driver takes N "
      "(kMultisampledGlVsSoft: one shading a pixel against soft's N), else N sub-pixel passes "
-     "(within kGlVsSoft); every method draws the same samples as gl:multipass (measured 0 "
-     "pixels > 2/255 but kalaiah-emulation's 0.005 %)"},
+     "(within kGlVsSoft); every method but multiview (the row above) draws as gl:multipass "
+     "does (measured 0 pixels > 2/255 but kalaiah-emulation's 0.005 %)"},
     {"gl", "auto", "*", 0, Depth::PerView, kGlVsSoft, "multipass", kGlExact,
      "auto renders with the exact method it measured fastest (never gs-mrt / gs-depthmap: "
      "GlBackend.AutoPicksAMeasuredExactMethod), so the exact methods' bounds"},

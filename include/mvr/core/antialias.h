@@ -12,8 +12,8 @@
 // - Multisampled targets (gl, where the driver takes N samples: src/gl/multisample.cpp): N
 //   coverage and depth samples a pixel, one shading a pixel (MSAA), resolved on the device by
 //   the formula below; RenderStats::samples says N. Within gl's bound of soft's passes
-//   (tests/conformance/tolerances.h): the coverage is the same, the shading is the pixel
-//   centre's where the passes average N shadings.
+//   (tests/conformance/tolerances.h): the coverage is the same, the shading is one a pixel
+//   and primitive (centroid interpolation: at a covered sample) where the passes average N.
 //
 // Sample positions: Direct3D's standard multisample patterns (D3D11_STANDARD_MULTISAMPLE_
 // PATTERN; the positions GL drivers use on desktop GPUs), in 1/16 pixel from the pixel centre,
