@@ -81,15 +81,10 @@ TEST(GlAntialias, EdgePixelsAreTheCoverageOfTheSamplePositions) {
                         ++checked;
                         partial += k > 0 && k < n;
                         const Rgba8 got = aa->color[std::size_t(v)].at(x, row);
-                        auto mix = [&](int in, int f, int c) {
-                            return (f * in + c * (n - in) + n / 2) / n;
-                        };
                         // Is the pixel `in` samples of the triangle's colour, n − in of the
                         // clear colour?
                         auto is = [&](int in) {
-                            return in >= 0 && in <= n && got.r == mix(in, fill.r, clear.r) &&
-                                   got.g == mix(in, fill.g, clear.g) &&
-                                   got.b == mix(in, fill.b, clear.b);
+                            return in >= 0 && in <= n && got == resolvedMix(in, n, fill, clear);
                         };
                         // Exact where the driver samples the standard positions (llvmpipe);
                         // within one sample (±1/N) elsewhere, as the issue states it.

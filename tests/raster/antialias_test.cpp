@@ -43,11 +43,9 @@ TEST(Antialias, EdgePixelsAreTheCoverageOfTheSamplePositions) {
                     const int k = *covered;
                     ++checked;
                     partial += k > 0 && k < n;
-                    const Rgba8 got = aa->color[0].at(x, row);
-                    auto mix = [&](int f, int c) { return (f * k + c * (n - k) + n / 2) / n; };
-                    EXPECT_EQ(got.r, mix(fill.r, clear.r)) << x << "," << row << " k " << k;
-                    EXPECT_EQ(got.g, mix(fill.g, clear.g)) << x << "," << row << " k " << k;
-                    EXPECT_EQ(got.b, mix(fill.b, clear.b)) << x << "," << row << " k " << k;
+                    const Rgba8 got = aa->color[0].at(x, row), want = resolvedMix(k, n, fill, clear);
+                    EXPECT_EQ(got, want) << x << "," << row << " k " << k << ": " << int(got.r)
+                                         << "," << int(got.g) << "," << int(got.b);
                     // The nearest sample's depth: the triangle's wherever a sample is on it.
                     // (within rounding: the plane's depth interpolated at a moved position)
                     EXPECT_NEAR(aa->depth[0].at(x, row), k > 0 ? triangleDepth : 1.0f, 1e-6f)

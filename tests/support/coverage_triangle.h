@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -13,6 +14,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "mvr/core/image.h"
 #include "mvr/core/rig.h"
 #include "mvr/core/scene.h"
 
@@ -56,6 +58,13 @@ inline std::optional<int> coveredSamples(int x, int row, int n) {
         k += *in;
     }
     return k;
+}
+
+/// The resolve of `in` samples of `fill` and n − in of `clear` (antialias.h's: each channel
+/// (Σ + n/2) / n), written out here.
+inline Rgba8 resolvedMix(int in, int n, Rgba8 fill, Rgba8 clear) {
+    auto mix = [&](int f, int c) { return std::uint8_t((f * in + c * (n - in) + n / 2) / n); };
+    return {mix(fill.r, clear.r), mix(fill.g, clear.g), mix(fill.b, clear.b), mix(fill.a, clear.a)};
 }
 
 /// The triangle, one unlit-looking colour (no specular) at z = -1.
