@@ -66,12 +66,17 @@ void main() {
 
 }  // namespace
 
+bool Renderer::drawsSamples(const GlMethod& method, int samples) const {
+    return method.multisample && mCaps.multisamples(samples);
+}
+
 bool Renderer::multisamples(const std::string& method, int samples) {
     const char* force = std::getenv("MVR_GL_MULTISAMPLE");
     if (force && std::string_view(force) == "off") return false;
-    if (!ensureContext() || !mCaps.multisamples(samples)) return false;
+    if (!ensureContext()) return false;
     const GlMethod* m = findMethod(method);
-    return m && (m->measuresExact || m->multisample);
+    // auto: the driver's counts (it measures only the methods that draw them: renderAuto).
+    return m && (m->measuresExact ? mCaps.multisamples(samples) : drawsSamples(*m, samples));
 }
 
 Status Renderer::resolveSamples(const Frame& f) {

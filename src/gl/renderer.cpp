@@ -633,6 +633,20 @@ void Renderer::drawScene(const Frame& f, GLuint prog, int instances) {
 
 // ---- targets ---------------------------------------------------------------------------------
 
+namespace {
+/// A multisampled colour or depth texture of `samples` a pixel with fixed sample locations
+/// (every pixel and layer samples the same positions); 2D, or a 2D array of `layers` (> 0).
+Texture multisampledTexture(int samples, GLenum format, int w, int h, int layers = 0) {
+    Texture t = createTexture(layers > 0 ? GL_TEXTURE_2D_MULTISAMPLE_ARRAY
+                                         : GL_TEXTURE_2D_MULTISAMPLE);
+    if (layers > 0)
+        glTextureStorage3DMultisample(t.get(), samples, format, w, h, layers, GL_TRUE);
+    else
+        glTextureStorage2DMultisample(t.get(), samples, format, w, h, GL_TRUE);
+    return t;
+}
+}  // namespace
+
 void Renderer::ensureLayered(int w, int h, int layers, int samples) {
     LayeredTarget& t = mGpu->layered;
     if (t.w == w && t.h == h && t.layers == layers && t.samples == samples) return;
@@ -643,12 +657,8 @@ void Renderer::ensureLayered(int w, int h, int layers, int samples) {
     t.msColor = {};
     t.msDepth = {};
     if (samples > 1) {
-        // Fixed sample locations: every layer (and every pixel) samples the same positions.
-        t.msColor = createTexture(GL_TEXTURE_2D_MULTISAMPLE_ARRAY);
-        glTextureStorage3DMultisample(t.msColor.get(), samples, GL_RGBA8, w, h, layers, GL_TRUE);
-        t.msDepth = createTexture(GL_TEXTURE_2D_MULTISAMPLE_ARRAY);
-        glTextureStorage3DMultisample(t.msDepth.get(), samples, GL_DEPTH_COMPONENT32F, w, h,
-                                      layers, GL_TRUE);
+        t.msColor = multisampledTexture(samples, GL_RGBA8, w, h, layers);
+        t.msDepth = multisampledTexture(samples, GL_DEPTH_COMPONENT32F, w, h, layers);
     }
     t.fbo = createFramebuffer();
     t.multiviewFbo = createFramebuffer();
@@ -669,10 +679,7 @@ void Renderer::ensureMrt(int w, int h, int samples) {
         t.color[i] = createTexture(GL_TEXTURE_2D);
         glTextureStorage2D(t.color[i].get(), 1, GL_RGBA8, w, h);
         t.msColor[i] = {};
-        if (samples > 1) {
-            t.msColor[i] = createTexture(GL_TEXTURE_2D_MULTISAMPLE);
-            glTextureStorage2DMultisample(t.msColor[i].get(), samples, GL_RGBA8, w, h, GL_TRUE);
-        }
+        if (samples > 1) t.msColor[i] = multisampledTexture(samples, GL_RGBA8, w, h);
         glNamedFramebufferTexture(t.fbo.get(), bufs[i],
                                   samples > 1 ? t.msColor[i].get() : t.color[i].get(), 0);
         glNamedFramebufferTexture(t.resolveFbo.get(), bufs[i], t.color[i].get(), 0);
@@ -703,11 +710,8 @@ void Renderer::ensureTiled(int w, int h, int samples) {
     t.msColor = {};
     t.msDepth = {};
     if (samples > 1) {
-        t.msColor = createTexture(GL_TEXTURE_2D_MULTISAMPLE);
-        glTextureStorage2DMultisample(t.msColor.get(), samples, GL_RGBA8, w, h, GL_TRUE);
-        t.msDepth = createTexture(GL_TEXTURE_2D_MULTISAMPLE);
-        glTextureStorage2DMultisample(t.msDepth.get(), samples, GL_DEPTH_COMPONENT32F, w, h,
-                                      GL_TRUE);
+        t.msColor = multisampledTexture(samples, GL_RGBA8, w, h);
+        t.msDepth = multisampledTexture(samples, GL_DEPTH_COMPONENT32F, w, h);
     }
     t.fbo = createFramebuffer();
     glNamedFramebufferTexture(t.fbo.get(), GL_COLOR_ATTACHMENT0,
@@ -763,7 +767,7 @@ Status Renderer::renderOnce(const Scene& scene, const Rig& rig, const RenderSett
     f.targetViews = perPass;
     // --aa N multisampled (GlBackend sends N > 1 here only where multisamples() says so).
     f.samples = s.samples;
-    if (f.samples > 1 && (!method.multisample || !mCaps.multisamples(f.samples)))
+    if (f.samples > 1 && !drawsSamples(method, f.samples))
         return internalError(fmt::format("gl: {} does not draw {} samples a pixel here",
                                          method.name, f.samples));
     if (Status st = prepareScene(scene, f, mLastSceneKey); !st) return st;
@@ -946,7 +950,7 @@ Status Renderer::renderAuto(const Scene& scene, const Rig& rig, const RenderSett
     for (const GlMethod& m : glMethods()) {
         if (!m.exact()) continue;
         const std::string name = m.name;
-        if (s.samples > 1 && !m.multisample) {
+        if (s.samples > 1 && !drawsSamples(m, s.samples)) {
             skipped.push_back(name + " (no multisampled target)");
             continue;
         }

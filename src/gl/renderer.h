@@ -262,6 +262,9 @@ public:
     /// Else the backend's `--aa N` renders sub-pixel passes (antialias.h renderSampled).
     /// MVR_GL_MULTISAMPLE=off says no to every request (the passes, for comparisons).
     bool multisamples(const std::string& method, int samples);
+    /// Does the row `method` draw `samples` a pixel into multisampled targets on this driver
+    /// (GlMethod::multisample and GlCaps::sampleCounts)?
+    bool drawsSamples(const GlMethod& method, int samples) const;
     /// The largest view count `method` allows here for this shading and view size (0: none);
     /// in pixel shading with normal maps (mNormalMaps), their geometry shaders' limits.
     int viewLimit(const GlMethod& method, Shading shading, int width, int height) const;
